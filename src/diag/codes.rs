@@ -1,0 +1,156 @@
+//! Every diagnostic code, in one place so that codes stay unique and stable.
+//! README.md lists them; a test checks that it does.
+
+use super::Severity;
+
+/// A stable diagnostic code with its default severity and a one-line summary.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Code {
+    pub id: &'static str,
+    pub severity: Severity,
+    pub summary: &'static str,
+}
+
+const fn error(id: &'static str, summary: &'static str) -> Code {
+    Code {
+        id,
+        severity: Severity::Error,
+        summary,
+    }
+}
+
+const fn warning(id: &'static str, summary: &'static str) -> Code {
+    Code {
+        id,
+        severity: Severity::Warning,
+        summary,
+    }
+}
+
+// czech front end
+pub const CZ_SYNTAX: Code = error("CZ001", "the block cannot be read");
+pub const CZ_ENTRY_WITHOUT_POINT: Code =
+    error("CZ002", "E (entry) written without a decimal point");
+pub const CZ_LEAD_TOO_LARGE: Code = error("CZ003", "lead over 99.99 written directly in F");
+pub const CZ_NO_CONSTANT8: Code = error(
+    "CZ004",
+    "J/E used but the profile has no machine constant 8",
+);
+pub const CZ_ANGLE_PARAM_UNSET: Code = error(
+    "CZ005",
+    "the runout/entry angle parameter is not assigned before the block",
+);
+pub const CZ_ANGLE_TOO_LARGE: Code = error("CZ006", "runout/entry angle over 60°");
+pub const CZ_BAD_AXIS: Code = error("CZ007", "axis decade of a runout/entry angle is not 1–3");
+pub const CZ_FORBIDDEN_PARAM: Code = error("CZ008", "R00 or R80 used as an angle parameter");
+pub const CZ_BLOCK_AFTER_RUNOUT: Code =
+    error("CZ009", "the block after a J/E thread block is not empty");
+pub const CZ_AXES_AFTER_RUNOUT: Code = error(
+    "CZ010",
+    "the block after the empty block does not program every axis",
+);
+pub const CZ_UNSUPPORTED: Code = error(
+    "CZ011",
+    "construct not documented for this control (unsupported)",
+);
+pub const CZ_NO_LEAD: Code = error(
+    "CZ012",
+    "G33 block without a lead, or with an ambiguous one",
+);
+pub const CZ_START_ANGLE_RANGE: Code = error("CZ013", "start angle I outside 0 ≤ I < 360");
+pub const CZ_UNKNOWN_POSITION: Code =
+    error("CZ014", "the move needs a position that is not known yet");
+pub const CZ_NUMBER: Code = error(
+    "CZ015",
+    "number not representable (too many decimals, too large, or not whole)",
+);
+pub const CZ_RUNOUT_AXIS: Code = error("CZ016", "runout/entry on an axis other than X");
+pub const CZ_THREAD_GEOMETRY: Code = error(
+    "CZ017",
+    "thread travel cannot hold the runout/entry, or has no Z travel",
+);
+pub const CZ_PARAM_UNSET: Code = error("CZ018", "parameter used before it is assigned");
+pub const CZ_CONFLICT: Code = error("CZ019", "conflicting or repeated words in one block");
+pub const CZ_NO_FEED: Code = error(
+    "CZ020",
+    "feed move without a feed, or with an ambiguous one",
+);
+pub const CZ_NEGATIVE_LENGTH: Code = error("CZ021", "J/E length must be positive");
+pub const CZ_MISSING_BLOCK: Code = error(
+    "CZ022",
+    "the program ends before the blocks a J/E thread block requires",
+);
+
+// machine profile
+pub const PF_INVALID: Code = error(
+    "PF001",
+    "the profile cannot be read (syntax, unknown key, wrong type)",
+);
+pub const PF_CONSTANT8: Code = error("PF002", "machine constant 8 is malformed");
+
+// iso target
+pub const ISO_OPAQUE: Code = warning("ISO001", "undocumented source word kept only as a comment");
+pub const ISO_MCODE: Code = warning(
+    "ISO002",
+    "M code LinuxCNC does not define, kept only as a comment",
+);
+pub const ISO_START_ANGLE: Code = error(
+    "ISO003",
+    "start angle on a pass whose start point is unknown",
+);
+pub const ISO_SPINDLE_OFF: Code = error("ISO004", "thread pass while the spindle is not turning");
+pub const ISO_BAD_MAPPING: Code = error("ISO005", "profile M code mapping is not an M word");
+
+// general
+pub const NOT_IMPLEMENTED: Code = error(
+    "NT001",
+    "this dialect pair is not implemented in this version",
+);
+
+/// Every code, for documentation and uniqueness checks.
+pub const ALL: &[Code] = &[
+    CZ_SYNTAX,
+    CZ_ENTRY_WITHOUT_POINT,
+    CZ_LEAD_TOO_LARGE,
+    CZ_NO_CONSTANT8,
+    CZ_ANGLE_PARAM_UNSET,
+    CZ_ANGLE_TOO_LARGE,
+    CZ_BAD_AXIS,
+    CZ_FORBIDDEN_PARAM,
+    CZ_BLOCK_AFTER_RUNOUT,
+    CZ_AXES_AFTER_RUNOUT,
+    CZ_UNSUPPORTED,
+    CZ_NO_LEAD,
+    CZ_START_ANGLE_RANGE,
+    CZ_UNKNOWN_POSITION,
+    CZ_NUMBER,
+    CZ_RUNOUT_AXIS,
+    CZ_THREAD_GEOMETRY,
+    CZ_PARAM_UNSET,
+    CZ_CONFLICT,
+    CZ_NO_FEED,
+    CZ_NEGATIVE_LENGTH,
+    CZ_MISSING_BLOCK,
+    PF_INVALID,
+    PF_CONSTANT8,
+    ISO_OPAQUE,
+    ISO_MCODE,
+    ISO_START_ANGLE,
+    ISO_SPINDLE_OFF,
+    ISO_BAD_MAPPING,
+    NOT_IMPLEMENTED,
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn codes_are_unique() {
+        let mut ids: Vec<_> = ALL.iter().map(|c| c.id).collect();
+        ids.sort();
+        let n = ids.len();
+        ids.dedup();
+        assert_eq!(ids.len(), n);
+    }
+}

@@ -1,0 +1,238 @@
+//! Diagnostics: a stable code, a severity, where (file, line, column, the source line) and a
+//! help text. Rendered like rustc's (`error[CZ003]: …`) or as one JSON object per line.
+
+pub mod codes;
+
+use std::ops::Range;
+
+use annotate_snippets::{AnnotationKind, Group, Level, Renderer, Snippet};
+use serde::Serialize;
+
+pub use codes::Code;
+
+use crate::source::{SourceFile, Span};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Severity {
+    Warning,
+    Error,
+}
+
+/// Where a diagnostic points: the file, the 1-based line and column, and a copy of the line
+/// so that the diagnostic can be printed without the source at hand.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Location {
+    pub file: String,
+    pub line: u32,
+    pub column: u32,
+    pub source_line: String,
+    /// Byte range of the marked text inside `source_line`.
+    pub range: Range<usize>,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Diagnostic {
+    pub code: Code,
+    pub severity: Severity,
+    pub message: String,
+    pub location: Option<Location>,
+    /// A short text printed beside the caret.
+    pub label: Option<String>,
+    pub help: Option<String>,
+}
+
+impl Diagnostic {
+    pub fn new(code: Code, message: impl Into<String>) -> Diagnostic {
+        Diagnostic {
+            code,
+            severity: code.severity,
+            message: message.into(),
+            location: None,
+            label: None,
+            help: None,
+        }
+    }
+
+    /// Points the diagnostic at `span` of `src`. A span running past its line is cut at the
+    /// line's end.
+    pub fn at(mut self, src: &SourceFile, span: Span) -> Diagnostic {
+        let line = src.line(span.line);
+        let start = span.start.saturating_sub(line.offset).min(line.text.len());
+        let end = span
+            .end
+            .saturating_sub(line.offset)
+            .clamp(start, line.text.len());
+        self.location = Some(Location {
+            file: src.name.clone(),
+            line: span.line,
+            column: span.column,
+            source_line: line.text.to_string(),
+            range: start..end,
+        });
+        self
+    }
+
+    pub fn label(mut self, label: impl Into<String>) -> Diagnostic {
+        self.label = Some(label.into());
+        self
+    }
+
+    pub fn help(mut self, help: impl Into<String>) -> Diagnostic {
+        self.help = Some(help.into());
+        self
+    }
+
+    /// Lowers an error to a warning (e.g. `--unsupported warn`).
+    pub fn as_warning(mut self) -> Diagnostic {
+        self.severity = Severity::Warning;
+        self
+    }
+
+    pub fn is_error(&self) -> bool {
+        self.severity == Severity::Error
+    }
+
+    /// The rustc-like text form; `color` adds ANSI styles.
+    pub fn render(&self, color: bool) -> String {
+        let level = match self.severity {
+            Severity::Error => Level::ERROR,
+            Severity::Warning => Level::WARNING,
+        };
+        let title = level.primary_title(self.message.as_str()).id(self.code.id);
+        let mut group = match &self.location {
+            Some(loc) => {
+                let mut annotation = AnnotationKind::Primary.span(loc.range.clone());
+                if let Some(label) = &self.label {
+                    annotation = annotation.label(label.as_str());
+                }
+                title.element(
+                    Snippet::source(loc.source_line.as_str())
+                        .line_start(loc.line as usize)
+                        .path(loc.file.as_str())
+                        .annotation(annotation),
+                )
+            }
+            None => Group::with_title(title),
+        };
+        if let Some(help) = &self.help {
+            group = group.element(Level::HELP.message(help.as_str()));
+        }
+        let renderer = if color {
+            Renderer::styled()
+        } else {
+            Renderer::plain()
+        };
+        renderer.render(&[group])
+    }
+
+    /// One JSON object (no trailing newline).
+    pub fn to_json(&self) -> String {
+        #[derive(Serialize)]
+        struct Json<'a> {
+            code: &'a str,
+            severity: Severity,
+            message: &'a str,
+            file: Option<&'a str>,
+            line: Option<u32>,
+            column: Option<u32>,
+            end_column: Option<u32>,
+            source_line: Option<&'a str>,
+            label: Option<&'a str>,
+            help: Option<&'a str>,
+        }
+        let loc = self.location.as_ref();
+        let end_column =
+            loc.map(|l| l.column + l.source_line[l.range.clone()].chars().count() as u32);
+        let json = Json {
+            code: self.code.id,
+            severity: self.severity,
+            message: &self.message,
+            file: loc.map(|l| l.file.as_str()),
+            line: loc.map(|l| l.line),
+            column: loc.map(|l| l.column),
+            end_column,
+            source_line: loc.map(|l| l.source_line.as_str()),
+            label: self.label.as_deref(),
+            help: self.help.as_deref(),
+        };
+        serde_json::to_string(&json).unwrap_or_default()
+    }
+}
+
+/// How diagnostics are printed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Format {
+    #[default]
+    Human,
+    Json,
+}
+
+/// All diagnostics in one text: human ones separated by blank lines, JSON one per line.
+pub fn render_all(diags: &[Diagnostic], format: Format, color: bool) -> String {
+    let mut out = String::new();
+    for d in diags {
+        match format {
+            Format::Human => {
+                out.push_str(&d.render(color));
+                out.push_str("\n\n");
+            }
+            Format::Json => {
+                out.push_str(&d.to_json());
+                out.push('\n');
+            }
+        }
+    }
+    out
+}
+
+/// Orders diagnostics by file position (those without one first); stable otherwise.
+pub fn sort(diags: &mut [Diagnostic]) {
+    diags.sort_by_key(|d| d.location.as_ref().map(|l| (l.line, l.column)));
+}
+
+pub fn has_errors(diags: &[Diagnostic]) -> bool {
+    diags.iter().any(Diagnostic::is_error)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn renders_like_rustc() {
+        let src = SourceFile::new("ex6.nc", "N10 M04\nN30 Z3 F6.0 E12 G33\n");
+        let line = src.line(2);
+        let span = src.span_in_line(line, 12..15);
+        let d = Diagnostic::new(
+            codes::CZ_ENTRY_WITHOUT_POINT,
+            "entry length written without a decimal point",
+        )
+        .at(&src, span)
+        .label("needs a decimal point")
+        .help("write `E12.`");
+        let text = d.render(false);
+        assert!(
+            text.starts_with("error[CZ002]: entry length written without a decimal point"),
+            "{text}"
+        );
+        assert!(text.contains("--> ex6.nc:2:13"), "{text}");
+        assert!(text.contains("2 | N30 Z3 F6.0 E12 G33"), "{text}");
+        assert!(text.contains("^^^ needs a decimal point"), "{text}");
+        assert!(text.contains("help: write `E12.`"), "{text}");
+    }
+
+    #[test]
+    fn json_names_every_field() {
+        let src = SourceFile::new("a.nc", "N10 F120.\n");
+        let span = src.span_in_line(src.line(1), 4..9);
+        let d = Diagnostic::new(codes::CZ_LEAD_TOO_LARGE, "lead too large").at(&src, span);
+        let v: serde_json::Value = serde_json::from_str(&d.to_json()).unwrap();
+        assert_eq!(v["code"], "CZ003");
+        assert_eq!(v["severity"], "error");
+        assert_eq!(v["line"], 1);
+        assert_eq!(v["column"], 5);
+        assert_eq!(v["end_column"], 10);
+        assert_eq!(v["source_line"], "N10 F120.");
+    }
+}

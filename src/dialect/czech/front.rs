@@ -1,0 +1,993 @@
+//! The czech front end: blocks → IR items, with the dialect's rules as diagnostics.
+
+use std::collections::HashMap;
+use std::ops::Range;
+
+use super::syntax::{self, Block, Value, Word};
+use crate::diag::{Code, Diagnostic, codes};
+use crate::dialect::Dialect;
+use crate::fixed::{Angle, Decimal, Length, NumberError};
+use crate::ir::{
+    Chamfer, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, ThreadPass,
+};
+use crate::profile::{AngleSource, InitialMotion, Profile};
+use crate::source::{Line, SourceFile, Span};
+
+/// What to do with constructs the manual does not document.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Unsupported {
+    /// Refuse the program (default).
+    #[default]
+    Error,
+    /// Warn and keep the block as an opaque item (only the czech emitter writes it back).
+    Warn,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct Options {
+    pub unsupported: Unsupported,
+}
+
+/// The largest lead `F` may give directly. **[seed]** 99.99 mm.
+const MAX_DIRECT_LEAD: Length = Length(999_900);
+/// The largest runout/entry angle. **[seed]** 60°.
+const MAX_ANGLE: Angle = Angle(60_000);
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Motion {
+    Rapid,
+    Feed,
+    Thread,
+}
+
+/// The F register: its value and whether it was last written as a lead (in a G33 block).
+#[derive(Clone, Copy, Debug)]
+struct FRegister {
+    value: Length,
+    is_lead: bool,
+}
+
+/// What the blocks after a J/E thread block must be. **[seed]**
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum AfterRunout {
+    Nothing,
+    EmptyBlock { thread: Span },
+    AllAxes { thread: Span },
+}
+
+struct FrontEnd<'a> {
+    src: &'a SourceFile,
+    profile: &'a Profile,
+    options: &'a Options,
+    diags: Vec<Diagnostic>,
+    items: Vec<Item>,
+    motion: Motion,
+    incremental: bool,
+    pos: Pos,
+    f: Option<FRegister>,
+    params: HashMap<u32, Decimal>,
+    after_runout: AfterRunout,
+}
+
+/// Reads a czech program. The program holds every item that could be read; the program is
+/// usable only when no diagnostic is an error.
+pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program, Vec<Diagnostic>) {
+    let mut fe = FrontEnd {
+        src,
+        profile,
+        options,
+        diags: Vec::new(),
+        items: Vec::new(),
+        motion: match profile.czech.initial_motion {
+            InitialMotion::Rapid => Motion::Rapid,
+            InitialMotion::Feed => Motion::Feed,
+        },
+        incremental: false,
+        pos: Pos::UNKNOWN,
+        f: None,
+        params: HashMap::new(),
+        after_runout: AfterRunout::Nothing,
+    };
+    for line in src.lines() {
+        if line.text.trim().is_empty() {
+            continue;
+        }
+        match syntax::parse_line(line.text) {
+            Ok(block) => fe.block(line, &block),
+            Err(e) => {
+                let code = if e.number_too_large {
+                    codes::CZ_NUMBER
+                } else {
+                    codes::CZ_SYNTAX
+                };
+                let span = src.span_in_line(line, e.offset..(e.offset + 1).min(line.text.len()));
+                fe.diags
+                    .push(Diagnostic::new(code, e.message).at(src, span).help(e.help));
+            }
+        }
+    }
+    if let AfterRunout::EmptyBlock { thread } | AfterRunout::AllAxes { thread } = fe.after_runout {
+        fe.diags.push(
+            Diagnostic::new(codes::CZ_MISSING_BLOCK, "the program ends before the blocks this J/E thread block requires")
+                .at(src, thread)
+                .help("after a thread block with J or E write an empty block, then a block that programs X and Z"),
+        );
+    }
+    (Program { items: fe.items }, fe.diags)
+}
+
+/// The words of one block, sorted by meaning.
+#[derive(Default)]
+struct Words<'b> {
+    motion: Option<(Motion, &'b Word)>,
+    distance: Option<(bool, &'b Word)>,
+    feed_mode: Option<(FeedMode, &'b Word)>,
+    spindle: Option<(Option<SpindleDirection>, &'b Word)>,
+    end: Option<(EndCode, &'b Word)>,
+    gears: Vec<(u32, &'b Word)>,
+    by_letter: HashMap<char, &'b Word>,
+    unsupported: Vec<(&'b Word, String)>,
+}
+
+impl<'b> Words<'b> {
+    fn get(&self, letter: char) -> Option<&'b Word> {
+        self.by_letter.get(&letter).copied()
+    }
+}
+
+impl<'a> FrontEnd<'a> {
+    fn span(&self, line: Line<'_>, range: Range<usize>) -> Span {
+        self.src.span_in_line(line, range)
+    }
+
+    fn error(
+        &self,
+        code: Code,
+        line: Line<'_>,
+        range: Range<usize>,
+        message: impl Into<String>,
+    ) -> Diagnostic {
+        Diagnostic::new(code, message).at(self.src, self.span(line, range))
+    }
+
+    fn report(&mut self, d: Diagnostic) {
+        self.diags.push(d);
+    }
+
+    fn push(&mut self, kind: ItemKind, span: Span, number: Option<u32>) {
+        self.items.push(Item {
+            kind,
+            span,
+            block_number: number,
+            comment: None,
+        });
+    }
+
+    fn block(&mut self, line: Line<'_>, block: &Block) {
+        let first_item = self.items.len();
+        let code_span = self.span(line, block.code_range.clone());
+        self.check_after_runout(line, block, code_span);
+        if block.delimiter {
+            self.push(ItemKind::Delimiter, code_span, None);
+        } else if let Some(words) = self.classify(line, block) {
+            if words.unsupported.is_empty() {
+                self.meaning(line, block, &words, code_span);
+            } else {
+                self.unsupported(line, block, &words, code_span);
+            }
+        }
+        // Assignments take effect after the block's motion. **[decided]**
+        for a in &block.assignments {
+            self.params.insert(a.param, a.value);
+        }
+        if let Some(comment) = &block.comment {
+            match self.items.get_mut(first_item) {
+                Some(item) => item.comment = Some(comment.clone()),
+                None => {
+                    let span = self.span(line, 0..line.text.len());
+                    self.push(ItemKind::Comment(comment.clone()), span, block.number);
+                }
+            }
+        }
+        for item in &mut self.items[first_item..] {
+            item.block_number = block.number;
+        }
+    }
+
+    /// The empty block and the all-axes block that must follow a J/E thread block.
+    fn check_after_runout(&mut self, line: Line<'_>, block: &Block, code_span: Span) {
+        match self.after_runout {
+            AfterRunout::Nothing => {}
+            AfterRunout::EmptyBlock { thread } => {
+                if block.is_empty() {
+                    self.after_runout = AfterRunout::AllAxes { thread };
+                } else {
+                    let range = block
+                        .words
+                        .first()
+                        .map(|w| w.range.clone())
+                        .or_else(|| block.assignments.first().map(|a| a.range.clone()))
+                        .unwrap_or(block.code_range.clone());
+                    self.report(self.error(codes::CZ_BLOCK_AFTER_RUNOUT, line, range, "the block after a thread block with J or E must be empty")
+                        .label("expected an empty block")
+                        .help(format!(
+                            "insert an empty block (only a block number and/or a comment) after line {}",
+                            thread.line
+                        )));
+                    self.after_runout = AfterRunout::Nothing;
+                }
+            }
+            AfterRunout::AllAxes { thread } => {
+                let has = |c| block.words.iter().any(|w| w.letter == c);
+                let missing: Vec<&str> = [("X", has('X')), ("Z", has('Z'))]
+                    .into_iter()
+                    .filter(|(_, h)| !h)
+                    .map(|(n, _)| n)
+                    .collect();
+                if !missing.is_empty() {
+                    let d = Diagnostic::new(
+                        codes::CZ_AXES_AFTER_RUNOUT,
+                        format!("this block must program every axis after the J/E thread block on line {}", thread.line),
+                    )
+                    .at(self.src, code_span)
+                    .label(format!("missing {}", missing.join(" and ")))
+                    .help("write X and Z here; if the tool should not move, repeat the end position of the thread block");
+                    self.diags.push(d);
+                }
+                self.after_runout = AfterRunout::Nothing;
+            }
+        }
+    }
+
+    /// Sorts the words by meaning; reports repeated and conflicting words.
+    fn classify<'b>(&mut self, line: Line<'_>, block: &'b Block) -> Option<Words<'b>> {
+        let mut words = Words::default();
+        let mut ok = true;
+        for word in &block.words {
+            let whole = |w: &Word| match w.value {
+                Value::Number(d) => d.to_whole().ok().filter(|v| *v >= 0),
+                Value::Param(_) => None,
+            };
+            match word.letter {
+                'G' => {
+                    let Some(g) = whole(word) else {
+                        words
+                            .unsupported
+                            .push((word, "a G code that is not a whole number".into()));
+                        continue;
+                    };
+                    let conflict = match g {
+                        0 | 1 | 33 => {
+                            let m = [Motion::Rapid, Motion::Feed, Motion::Thread][match g {
+                                0 => 0,
+                                1 => 1,
+                                _ => 2,
+                            }];
+                            words.motion.replace((m, word)).map(|(_, w)| w)
+                        }
+                        90 | 91 => words.distance.replace((g == 91, word)).map(|(_, w)| w),
+                        94 | 95 => {
+                            let mode = if g == 95 {
+                                FeedMode::PerRev
+                            } else {
+                                FeedMode::PerMin
+                            };
+                            words.feed_mode.replace((mode, word)).map(|(_, w)| w)
+                        }
+                        84 => {
+                            words.unsupported.push((
+                                word,
+                                "the G84 thread cycle (its parameters are not in the manual)"
+                                    .into(),
+                            ));
+                            None
+                        }
+                        2 | 3 => {
+                            words.unsupported.push((
+                                word,
+                                format!("G0{g} arcs (their syntax is not in the manual)"),
+                            ));
+                            None
+                        }
+                        _ => {
+                            words.unsupported.push((word, format!("G{g}")));
+                            None
+                        }
+                    };
+                    if let Some(previous) = conflict {
+                        ok = false;
+                        let range = word.range.clone();
+                        let prev = &line.text[previous.range.clone()];
+                        self.report(self.error(codes::CZ_CONFLICT, line, range, format!("this G code conflicts with `{prev}` in the same block"))
+                            .label("same group as an earlier G code")
+                            .help("write one G code of each group (motion, G90/G91, G94/G95) per block"));
+                    }
+                }
+                'M' => {
+                    let Some(m) = whole(word) else {
+                        words
+                            .unsupported
+                            .push((word, "an M code that is not a whole number".into()));
+                        continue;
+                    };
+                    let conflict = match m {
+                        3 => words
+                            .spindle
+                            .replace((Some(SpindleDirection::Clockwise), word)),
+                        4 => words
+                            .spindle
+                            .replace((Some(SpindleDirection::CounterClockwise), word)),
+                        5 => words.spindle.replace((None, word)),
+                        2 => words
+                            .end
+                            .replace((EndCode::M2, word))
+                            .map(|(_, w)| (None, w)),
+                        30 => words
+                            .end
+                            .replace((EndCode::M30, word))
+                            .map(|(_, w)| (None, w)),
+                        _ if self.profile.czech.gear_range_mcodes.contains(&(m as u32)) => {
+                            words.gears.push((m as u32, word));
+                            None
+                        }
+                        _ => {
+                            words.unsupported.push((word, format!("M{m:02}")));
+                            None
+                        }
+                    };
+                    if let Some((_, previous)) = conflict {
+                        ok = false;
+                        let prev = &line.text[previous.range.clone()];
+                        self.report(self.error(codes::CZ_CONFLICT, line, word.range.clone(), format!("this M code conflicts with `{prev}` in the same block"))
+                            .help("write one spindle M code (M03, M04, M05) and one end code per block"));
+                    }
+                }
+                'X' | 'Z' | 'F' | 'S' | 'T' | 'D' | 'I' | 'J' | 'E' => {
+                    if let Some(previous) = words.by_letter.insert(word.letter, word) {
+                        ok = false;
+                        let prev = &line.text[previous.range.clone()];
+                        self.report(
+                            self.error(
+                                codes::CZ_CONFLICT,
+                                line,
+                                word.range.clone(),
+                                format!("address {} is written twice in this block", word.letter),
+                            )
+                            .label(format!("`{prev}` came earlier"))
+                            .help("write each address once per block"),
+                        );
+                    }
+                    if matches!(word.value, Value::Param(_)) && word.letter != 'F' {
+                        words.unsupported.push((
+                            word,
+                            format!(
+                                "a parameter as the value of {} (only FRnn is documented)",
+                                word.letter
+                            ),
+                        ));
+                    }
+                }
+                'N' => {
+                    ok = false;
+                    self.report(
+                        self.error(
+                            codes::CZ_CONFLICT,
+                            line,
+                            word.range.clone(),
+                            "a block number must come first in the block",
+                        )
+                        .help("write `N<number>` at the start of the block, once"),
+                    );
+                }
+                'Y' => words
+                    .unsupported
+                    .push((word, "the Y axis (ncthread models ZX lathes)".into())),
+                'R' => words.unsupported.push((
+                    word,
+                    "an R word without `=` (R-parameter arithmetic is not documented)".into(),
+                )),
+                c => words.unsupported.push((word, format!("address {c}"))),
+            }
+        }
+        // I, J and E mean something only in a G33 block.
+        let thread = words.motion.map_or(self.motion, |(m, _)| m) == Motion::Thread;
+        if !thread {
+            for letter in ['I', 'J', 'E'] {
+                if let Some(w) = words.get(letter) {
+                    words.unsupported.push((
+                        w,
+                        format!(
+                            "{letter} outside a G33 block (arc and cycle words are not documented)"
+                        ),
+                    ));
+                }
+            }
+        }
+        ok.then_some(words)
+    }
+
+    fn unsupported(&mut self, line: Line<'_>, block: &Block, words: &Words<'_>, code_span: Span) {
+        let warn = self.options.unsupported == Unsupported::Warn;
+        for (word, what) in &words.unsupported {
+            let text = &line.text[word.range.clone()];
+            let mut d = Diagnostic::new(
+                codes::CZ_UNSUPPORTED,
+                format!("`{text}`: {what} is not supported"),
+            )
+            .at(self.src, self.span(line, word.range.clone()));
+            d = if warn {
+                d.as_warning().help("the block is kept as written; only the czech emitter can write it back, and positions after it are unknown")
+            } else {
+                d.help("ncthread never guesses the meaning of undocumented constructs; `--unsupported warn` keeps the block as an opaque item")
+            };
+            self.diags.push(d);
+        }
+        if warn {
+            let text = line.text[block.code_range.clone()].to_string();
+            self.push(
+                ItemKind::Opaque {
+                    dialect: Dialect::Czech,
+                    text,
+                    block: true,
+                },
+                code_span,
+                None,
+            );
+            self.pos = Pos::UNKNOWN;
+        }
+    }
+
+    /// A number on the 0.0001 mm grid, or a diagnostic.
+    fn length(&mut self, line: Line<'_>, word: &Word, value: Decimal) -> Option<Length> {
+        match value.to_length() {
+            Ok(v) => Some(v),
+            Err(e) => {
+                self.number_error(line, word.range.clone(), e, "0.0001 mm");
+                None
+            }
+        }
+    }
+
+    fn number_error(&mut self, line: Line<'_>, range: Range<usize>, e: NumberError, grid: &str) {
+        let text = line.text[range.clone()].to_string();
+        let (message, help) = match e {
+            NumberError::TooPrecise { .. } if grid == "whole" => (
+                format!("`{text}` must be a whole number"),
+                "write it without a fraction".to_string(),
+            ),
+            NumberError::TooPrecise { .. } => (
+                format!("`{text}` is finer than {grid}"),
+                format!(
+                    "ncthread keeps numbers exact on a {grid} grid; round the value in the source"
+                ),
+            ),
+            NumberError::TooLarge => (
+                format!("`{text}` is too large"),
+                "check the value".to_string(),
+            ),
+        };
+        self.report(
+            self.error(codes::CZ_NUMBER, line, range, message)
+                .help(help),
+        );
+    }
+
+    fn whole(&mut self, line: Line<'_>, word: &Word) -> Option<u32> {
+        let Value::Number(d) = word.value else {
+            return None;
+        };
+        if d.is_negative() {
+            let text = line.text[word.range.clone()].to_string();
+            self.report(
+                self.error(
+                    codes::CZ_NUMBER,
+                    line,
+                    word.range.clone(),
+                    format!("`{text}` must not be negative"),
+                )
+                .help("write a positive whole number"),
+            );
+            return None;
+        }
+        match d.to_whole() {
+            Ok(v) if v <= u32::MAX as i64 => Some(v as u32),
+            Ok(_) => {
+                self.number_error(line, word.range.clone(), NumberError::TooLarge, "whole");
+                None
+            }
+            Err(e) => {
+                self.number_error(line, word.range.clone(), e, "whole");
+                None
+            }
+        }
+    }
+
+    /// Resolves an axis word to an absolute coordinate.
+    fn axis(
+        &mut self,
+        line: Line<'_>,
+        word: Option<&Word>,
+        current: Option<Length>,
+    ) -> Option<Option<Length>> {
+        let Some(word) = word else { return Some(None) };
+        let Value::Number(d) = word.value else {
+            return None;
+        };
+        let v = self.length(line, word, d)?;
+        if !self.incremental {
+            return Some(Some(v));
+        }
+        match current {
+            Some(c) => Some(Some(c + v)),
+            None => {
+                self.report(
+                    self.error(
+                        codes::CZ_UNKNOWN_POSITION,
+                        line,
+                        word.range.clone(),
+                        "incremental move from an unknown position",
+                    )
+                    .label("G91 adds this to a position not programmed yet")
+                    .help("program an absolute position (G90) for this axis first"),
+                );
+                None
+            }
+        }
+    }
+
+    fn meaning(&mut self, line: Line<'_>, block: &Block, words: &Words<'_>, code_span: Span) {
+        let number = block.number;
+        let word_span = |fe: &Self, w: &Word| fe.span(line, w.range.clone());
+        if let Some((incremental, _)) = words.distance {
+            self.incremental = incremental;
+        }
+        if let Some((motion, _)) = words.motion {
+            self.motion = motion;
+        }
+        if let Some((mode, w)) = words.feed_mode {
+            let span = word_span(self, w);
+            self.push(ItemKind::FeedMode(mode), span, number);
+        }
+        for a in &block.assignments {
+            let span = self.span(line, a.range.clone());
+            self.push(
+                ItemKind::ParamAssign {
+                    number: a.param,
+                    value: a.value,
+                },
+                span,
+                number,
+            );
+        }
+        let tool = words.get('T').and_then(|w| self.whole(line, w));
+        let offset = words.get('D').and_then(|w| self.whole(line, w));
+        if tool.is_some() || offset.is_some() {
+            let w = words
+                .get('T')
+                .or(words.get('D'))
+                .expect("T or D is present");
+            let span = word_span(self, w);
+            self.push(
+                ItemKind::Tool {
+                    number: tool,
+                    offset,
+                },
+                span,
+                number,
+            );
+        }
+        for (gear, w) in &words.gears {
+            let span = word_span(self, w);
+            self.push(ItemKind::GearRange(*gear), span, number);
+        }
+        for (text, range) in &block.opaque {
+            let span = self.span(line, range.clone());
+            self.push(
+                ItemKind::Opaque {
+                    dialect: Dialect::Czech,
+                    text: text.clone(),
+                    block: false,
+                },
+                span,
+                number,
+            );
+        }
+        let speed = words.get('S').and_then(|w| self.whole(line, w));
+        let direction = words.spindle.and_then(|(d, _)| d);
+        if speed.is_some() || direction.is_some() {
+            let w = words
+                .get('S')
+                .or(words.spindle.map(|(_, w)| w))
+                .expect("S or M03/M04 is present");
+            let span = word_span(self, w);
+            self.push(ItemKind::Spindle { speed, direction }, span, number);
+        }
+        self.motion_item(line, words, code_span, number);
+        if let Some((None, w)) = words.spindle {
+            let span = word_span(self, w);
+            self.push(ItemKind::SpindleStop, span, number);
+        }
+        if let Some((end, w)) = words.end {
+            let span = word_span(self, w);
+            self.push(ItemKind::ProgramEnd(end), span, number);
+        }
+    }
+
+    /// The F word's value: a number, or the value of the parameter in `FRnn`.
+    fn f_value(&mut self, line: Line<'_>, word: &Word) -> Option<Length> {
+        let d = match word.value {
+            Value::Number(d) => d,
+            Value::Param(p) => match self.params.get(&p) {
+                Some(d) => *d,
+                None => {
+                    self.report(
+                        self.error(
+                            codes::CZ_PARAM_UNSET,
+                            line,
+                            word.range.clone(),
+                            format!("R{p:02} is used before it is assigned"),
+                        )
+                        .label("no earlier block assigns it")
+                        .help(format!(
+                            "assign it in an earlier block, e.g. `R{p:02}=250.0`"
+                        )),
+                    );
+                    return None;
+                }
+            },
+        };
+        self.length(line, word, d)
+    }
+
+    fn motion_item(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        code_span: Span,
+        number: Option<u32>,
+    ) {
+        let f_word = words.get('F');
+        let f = match f_word {
+            Some(w) => match self.f_value(line, w) {
+                Some(v) => Some((v, w)),
+                None => return,
+            },
+            None => None,
+        };
+        let thread = self.motion == Motion::Thread;
+        if let Some((value, _)) = f {
+            self.f = Some(FRegister {
+                value,
+                is_lead: thread,
+            });
+        }
+        let (x_word, z_word) = (words.get('X'), words.get('Z'));
+        let has_thread_words = ['I', 'J', 'E'].iter().any(|&c| words.get(c).is_some());
+        if x_word.is_none() && z_word.is_none() {
+            if thread && has_thread_words {
+                self.report(
+                    self.error(
+                        codes::CZ_THREAD_GEOMETRY,
+                        line,
+                        code_span_range(line, code_span),
+                        "a G33 block with I, J or E but no end point",
+                    )
+                    .help("program the end of the thread with Z (and X for a taper)"),
+                );
+            }
+            return;
+        }
+        let start = self.pos;
+        let Some(x) = self.axis(line, x_word, start.x) else {
+            return;
+        };
+        let Some(z) = self.axis(line, z_word, start.z) else {
+            return;
+        };
+        let to = Pos { x, z };
+        let kind = match self.motion {
+            Motion::Rapid => ItemKind::Rapid { to },
+            Motion::Feed => match self.f {
+                Some(FRegister {
+                    value,
+                    is_lead: false,
+                }) => ItemKind::Feed { to, feed: value },
+                other => {
+                    let message = if other.is_some() {
+                        "G01 move whose F was last programmed as a thread lead"
+                    } else {
+                        "G01 move without a feed"
+                    };
+                    self.report(
+                        self.error(
+                            codes::CZ_NO_FEED,
+                            line,
+                            code_span_range(line, code_span),
+                            message,
+                        )
+                        .help("program the feed with F in this block or an earlier G01 block"),
+                    );
+                    return;
+                }
+            },
+            Motion::Thread => match self.thread_pass(
+                line,
+                words,
+                f.map(|(v, w)| (v, w.clone())),
+                start,
+                to,
+                code_span,
+            ) {
+                Some(pass) => ItemKind::ThreadPass(pass),
+                None => return,
+            },
+        };
+        self.pos = kind.end_position(self.pos);
+        self.push(kind, code_span, number);
+    }
+
+    fn thread_pass(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        f: Option<(Length, Word)>,
+        start: Pos,
+        to: Pos,
+        code_span: Span,
+    ) -> Option<ThreadPass> {
+        let block_range = code_span_range(line, code_span);
+        let lead = match (f, self.f) {
+            (Some((lead, word)), _) => {
+                if matches!(word.value, Value::Number(_)) && lead > MAX_DIRECT_LEAD {
+                    let text = line.text[word.range.clone()].to_string();
+                    self.report(self.error(codes::CZ_LEAD_TOO_LARGE, line, word.range.clone(), format!("lead `{text}` is over 99.99 mm, the most F can give directly"))
+                        .label("over 99.99")
+                        .help(format!("assign the lead to a parameter in an earlier block and use it: `R10={}` … `FR10`", lead.mm_with_point())));
+                    return None;
+                }
+                if lead <= Length::ZERO {
+                    self.report(
+                        self.error(
+                            codes::CZ_NO_LEAD,
+                            line,
+                            word.range.clone(),
+                            "the lead must be positive",
+                        )
+                        .help("F in a G33 block is the lead in mm per spindle revolution"),
+                    );
+                    return None;
+                }
+                lead
+            }
+            (
+                None,
+                Some(FRegister {
+                    value,
+                    is_lead: true,
+                }),
+            ) => value,
+            (None, other) => {
+                let message = if other.is_some() {
+                    "G33 block without F, and the last F was a feed, not a lead"
+                } else {
+                    "G33 block without a lead"
+                };
+                self.report(
+                    self.error(codes::CZ_NO_LEAD, line, block_range, message)
+                        .help("write the lead in the G33 block: F<mm per revolution> or FR<nn>"),
+                );
+                return None;
+            }
+        };
+        let start_angle = match words.get('I') {
+            Some(w) => {
+                let Value::Number(d) = w.value else {
+                    return None;
+                };
+                let angle = match d.to_angle() {
+                    Ok(a) => a,
+                    Err(e) => {
+                        self.number_error(line, w.range.clone(), e, "0.001°");
+                        return None;
+                    }
+                };
+                if !(Angle::ZERO..Angle::from_deg(360)).contains(&angle) {
+                    self.report(self.error(codes::CZ_START_ANGLE_RANGE, line, w.range.clone(), "the start angle must be at least 0° and less than 360°")
+                        .help("I is the spindle angle after the index pulse at which the thread starts"));
+                    return None;
+                }
+                angle
+            }
+            None => Angle::ZERO,
+        };
+        let (j, e) = (words.get('J'), words.get('E'));
+        let end = Pos {
+            x: to.x.or(start.x),
+            z: to.z.or(start.z),
+        };
+        let changes_x = to.x.is_some() && to.x != start.x;
+        if (changes_x || j.is_some() || e.is_some()) && start.known().is_none() {
+            let why = if changes_x {
+                "a taper thread"
+            } else {
+                "a thread with runout or entry"
+            };
+            self.report(
+                self.error(
+                    codes::CZ_UNKNOWN_POSITION,
+                    line,
+                    block_range.clone(),
+                    format!("{why} needs its start point, which is not known here"),
+                )
+                .label("start point unknown")
+                .help("move to the start of the thread with X and Z before this block"),
+            );
+            return None;
+        }
+        let travel = match (start.z, end.z) {
+            (Some(a), Some(b)) => Some((b - a).abs()),
+            _ => None,
+        };
+        if travel == Some(Length::ZERO) {
+            self.report(
+                self.error(
+                    codes::CZ_THREAD_GEOMETRY,
+                    line,
+                    block_range,
+                    "this G33 block has no Z travel",
+                )
+                .help("ncthread measures the lead along Z; face threads are not supported"),
+            );
+            return None;
+        }
+        let mut entry = None;
+        let mut exit = None;
+        if let Some(w) = e {
+            if let Value::Number(d) = w.value
+                && !d.has_point
+            {
+                let text = line.text[w.range.clone()].to_string();
+                self.report(self.error(codes::CZ_ENTRY_WITHOUT_POINT, line, w.range.clone(), format!("entry length `{text}` is written without a decimal point"))
+                    .label("E needs a decimal point")
+                    .help(format!("write `{text}.`: the manual requires E with a decimal point (E10. or E10.0)")));
+                return None;
+            }
+            entry = Some(self.chamfer(line, w, AngleUse::Entry)?);
+        }
+        if let Some(w) = j {
+            exit = Some(self.chamfer(line, w, AngleUse::Runout)?);
+        }
+        let used =
+            entry.map_or(Length::ZERO, |c| c.length) + exit.map_or(Length::ZERO, |c| c.length);
+        if let Some(travel) = travel
+            && used > travel
+        {
+            self.report(self.error(codes::CZ_THREAD_GEOMETRY, line, block_range, format!("entry and runout ({} mm) are longer than the thread's Z travel ({} mm)", used, travel))
+                .help("the programmed end point includes the runout: J and E must fit inside the travel"));
+            return None;
+        }
+        if entry.is_some() || exit.is_some() {
+            self.after_runout = AfterRunout::EmptyBlock { thread: code_span };
+        }
+        // The thread line is the programmed line shifted by −(entry offset). **[decided]**
+        let line_end_x = end.x.map(|x| x - entry.map_or(Length::ZERO, |c| c.offset));
+        Some(ThreadPass {
+            to: Pos {
+                x: line_end_x,
+                z: end.z,
+            },
+            lead,
+            start_angle,
+            entry,
+            exit,
+        })
+    }
+
+    /// J or E: its length, and its offset from the angle that machine constant 8 selects.
+    fn chamfer(&mut self, line: Line<'_>, word: &Word, usage: AngleUse) -> Option<Chamfer> {
+        let Value::Number(d) = word.value else {
+            return None;
+        };
+        let length = self.length(line, word, d)?;
+        let letter = word.letter;
+        if length <= Length::ZERO {
+            self.report(self.error(codes::CZ_NEGATIVE_LENGTH, line, word.range.clone(), format!("{letter} must be a positive length"))
+                .help(format!("{letter} is a length along the thread axis, always positive whatever the direction of travel")));
+            return None;
+        }
+        let profile_name = self
+            .profile
+            .name
+            .clone()
+            .unwrap_or_else(|| "the built-in profile".into());
+        let Some(c8) = self.profile.czech.constant8 else {
+            self.report(self.error(codes::CZ_NO_CONSTANT8, line, word.range.clone(), format!("{} needs the {} angle from machine constant 8, which the profile does not give", letter, usage.name()))
+                .label("angle unknown")
+                .help("give the machine's TAB0.REK constant 8 in a profile (`--profile FILE`): [czech] constant8 = \"04000000\""));
+            return None;
+        };
+        let (angle_word, source) = match c8.angle_source() {
+            AngleSource::Direct { word } => {
+                (word, format!("machine constant 8 ({c8}, {profile_name})"))
+            }
+            AngleSource::Parameters { runout, entry } => {
+                let param = match usage {
+                    AngleUse::Runout => runout,
+                    AngleUse::Entry => entry.unwrap_or(runout),
+                };
+                if param == 0 || param == 80 {
+                    self.report(self.error(codes::CZ_FORBIDDEN_PARAM, line, word.range.clone(), format!("machine constant 8 ({c8}, {profile_name}) names R{param:02} for the {} angle; R00 and R80 may not hold angles", usage.name()))
+                        .help("choose another parameter in constant 8 (the manual recommends R04)"));
+                    return None;
+                }
+                let Some(value) = self.params.get(&param).copied() else {
+                    self.report(self.error(codes::CZ_ANGLE_PARAM_UNSET, line, word.range.clone(), format!("the {} angle parameter R{param:02} is not assigned before this block", usage.name()))
+                        .label(format!("needs R{param:02}"))
+                        .help(format!("assign it in an earlier block: `R{param:02}=120.0` is axis X, +20° (machine constant 8 = {c8})")));
+                    return None;
+                };
+                match value.to_scaled(Angle::DECIMALS) {
+                    Ok(w) => (w, format!("R{param:02}")),
+                    Err(e) => {
+                        self.number_error(line, word.range.clone(), e, "0.001°");
+                        return None;
+                    }
+                }
+            }
+        };
+        // sign · (axis·100 + angle) in 0.001°. **[seed]**
+        let magnitude = angle_word.abs();
+        let axis = magnitude / 100_000;
+        let angle = Angle(magnitude % 100_000);
+        if !(1..=3).contains(&axis) {
+            self.report(self.error(codes::CZ_BAD_AXIS, line, word.range.clone(), format!("the {} angle in {source} names axis {axis}; the axis decade must be 1 (X), 2 (Y) or 3 (Z)", usage.name()))
+                .help("write the axis in the hundreds: `R04=120.0` is axis X, 20°"));
+            return None;
+        }
+        if axis != 1 {
+            self.report(self.error(codes::CZ_RUNOUT_AXIS, line, word.range.clone(), format!("the {} angle in {source} moves axis {}; only X runout is supported on a ZX lathe", usage.name(), if axis == 2 { "Y" } else { "Z" }))
+                .help("use axis 1 (X): `R04=120.0`"));
+            return None;
+        }
+        if angle > MAX_ANGLE {
+            self.report(
+                self.error(
+                    codes::CZ_ANGLE_TOO_LARGE,
+                    line,
+                    word.range.clone(),
+                    format!(
+                        "the {} angle {}° in {source} is over 60°",
+                        usage.name(),
+                        angle
+                    ),
+                )
+                .help("runout and entry angles are 0 to 60°"),
+            );
+            return None;
+        }
+        let offset = Length::from_mm_f64(2.0 * length.to_mm_f64() * angle.tan());
+        Some(Chamfer {
+            length,
+            offset: if angle_word < 0 { -offset } else { offset },
+        })
+    }
+}
+
+#[derive(Clone, Copy)]
+enum AngleUse {
+    Runout,
+    Entry,
+}
+
+impl AngleUse {
+    fn name(self) -> &'static str {
+        match self {
+            AngleUse::Runout => "runout",
+            AngleUse::Entry => "entry",
+        }
+    }
+}
+
+fn code_span_range(line: Line<'_>, span: Span) -> Range<usize> {
+    (span.start - line.offset)..(span.end - line.offset)
+}

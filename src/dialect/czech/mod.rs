@@ -1,0 +1,7 @@
+//! Dialect `czech`: the Czech lathe control of manual chapter 5 (G33 with F, I, J, E,
+//! R-parameter angles, `FRnn`).
+
+mod front;
+pub mod syntax;
+
+pub use front::{Options, Unsupported, parse};

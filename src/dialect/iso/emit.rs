@@ -1,0 +1,322 @@
+//! IR → RS274/NGC as LinuxCNC reads it (diameter mode, ZX plane, mm, feed per revolution).
+
+use std::fmt::Write as _;
+
+use crate::diag::{Code, Diagnostic, codes};
+use crate::dialect::Dialect;
+use crate::ir::{EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, ThreadPass};
+use crate::lower::{self, SyncSegment};
+use crate::profile::{Profile, ToolChange};
+use crate::source::SourceFile;
+
+/// Decimals of K: a 400 mm thread drifts by 400·0.5e-8/K mm at most — far under 0.001 mm.
+const K_DECIMALS: usize = 8;
+
+struct Emitter<'a> {
+    src: &'a SourceFile,
+    profile: &'a Profile,
+    out: String,
+    diags: Vec<Diagnostic>,
+    pos: Pos,
+    /// The last speed and the direction while the spindle turns.
+    speed: Option<u32>,
+    turning: Option<SpindleDirection>,
+}
+
+/// Writes `program` (read from `src` in dialect `from`) as ISO G-code. `None` when any
+/// item cannot be expressed; the diagnostics say why.
+pub fn emit(
+    program: &Program,
+    src: &SourceFile,
+    from: Dialect,
+    profile: &Profile,
+) -> (Option<String>, Vec<Diagnostic>) {
+    let mut e = Emitter {
+        src,
+        profile,
+        out: String::new(),
+        diags: Vec::new(),
+        pos: Pos::UNKNOWN,
+        speed: None,
+        turning: None,
+    };
+    e.out.push_str("%\n");
+    let _ = writeln!(
+        e.out,
+        "({}, dialect {from}, converted by ncthread)",
+        comment_text(&src.name)
+    );
+    e.out.push_str("G7 G18 G21 G90 G95\n");
+    for item in &program.items {
+        e.item(item);
+    }
+    e.out.push_str("%\n");
+    let ok = !e.diags.iter().any(Diagnostic::is_error);
+    (ok.then_some(e.out), e.diags)
+}
+
+/// Makes text safe inside `( )`: no nested parentheses, and no leading word that LinuxCNC
+/// would act on (`MSG,`, `DEBUG,`, `PRINT,`, `LOG…`, `PROBE…`, `ABORT,`).
+fn comment_text(text: &str) -> String {
+    let text: String = text
+        .chars()
+        .map(|c| match c {
+            '(' => '[',
+            ')' => ']',
+            c if c.is_control() => ' ',
+            c => c,
+        })
+        .collect();
+    let upper = text.trim_start().to_ascii_uppercase();
+    let active = ["MSG,", "DEBUG,", "PRINT,", "LOG", "PROBE", "ABORT,"];
+    if active.iter().any(|a| upper.starts_with(a)) {
+        format!("- {text}")
+    } else {
+        text
+    }
+}
+
+fn k_value(segment: &SyncSegment) -> String {
+    let text = format!("{:.*}", K_DECIMALS, segment.lead_along_path());
+    text.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+fn axes(to: Pos) -> String {
+    let mut s = String::new();
+    if let Some(x) = to.x {
+        let _ = write!(s, " X{}", x.mm());
+    }
+    if let Some(z) = to.z {
+        let _ = write!(s, " Z{}", z.mm());
+    }
+    s
+}
+
+impl Emitter<'_> {
+    fn diag(
+        &mut self,
+        code: Code,
+        item: &Item,
+        message: impl Into<String>,
+        help: impl Into<String>,
+    ) {
+        self.diags.push(
+            Diagnostic::new(code, message)
+                .at(self.src, item.span)
+                .help(help),
+        );
+    }
+
+    fn line(&mut self, text: &str) -> usize {
+        let at = self.out.len();
+        self.out.push_str(text.trim_start());
+        self.out.push('\n');
+        at
+    }
+
+    fn spindle_line(&self) -> String {
+        let mut s = String::new();
+        if let Some(speed) = self.speed {
+            let _ = write!(s, "S{speed} ");
+        }
+        match self.turning {
+            Some(SpindleDirection::Clockwise) => s.push_str("M3"),
+            Some(SpindleDirection::CounterClockwise) => s.push_str("M4"),
+            None => {}
+        }
+        s
+    }
+
+    fn item(&mut self, item: &Item) {
+        let start = self.out.len();
+        match &item.kind {
+            ItemKind::Rapid { to } => {
+                self.line(&format!("G0{}", axes(*to)));
+            }
+            ItemKind::Feed { to, feed } => {
+                self.line(&format!("G1{} F{}", axes(*to), feed.mm()));
+            }
+            ItemKind::ThreadPass(pass) => self.thread_pass(item, pass),
+            ItemKind::Spindle { speed, direction } => {
+                if speed.is_some() {
+                    self.speed = *speed;
+                }
+                if direction.is_some() {
+                    self.turning = *direction;
+                }
+                let mut text = String::new();
+                if let Some(s) = speed {
+                    let _ = write!(text, "S{s} ");
+                }
+                match direction {
+                    Some(SpindleDirection::Clockwise) => text.push_str("M3"),
+                    Some(SpindleDirection::CounterClockwise) => text.push_str("M4"),
+                    None => {}
+                }
+                self.line(&text);
+            }
+            ItemKind::SpindleStop => {
+                self.turning = None;
+                self.line("M5");
+            }
+            ItemKind::Tool { number, offset } => {
+                let mut text = String::new();
+                if let Some(t) = number {
+                    let _ = write!(text, "T{t}");
+                    if self.profile.iso.tool_change == ToolChange::M6 {
+                        text.push_str(" M6");
+                    }
+                }
+                if let Some(d) = offset {
+                    let _ = write!(text, " G43 H{d}");
+                }
+                self.line(&text);
+                // LinuxCNC's M6 stops the spindle; the source control's tool change did not.
+                if number.is_some()
+                    && self.profile.iso.tool_change == ToolChange::M6
+                    && self.turning.is_some()
+                {
+                    let restart = self.spindle_line();
+                    self.line(&format!("{restart} (restart the spindle after M6)"));
+                }
+            }
+            ItemKind::GearRange(m) => match self.profile.iso.mcodes.get(m) {
+                Some(word) => {
+                    let word = word.clone();
+                    self.line(&word);
+                }
+                None => {
+                    self.line(&format!("(M{m}: gear range, not converted)"));
+                    self.diag(
+                        codes::ISO_MCODE,
+                        item,
+                        format!("M{m} selects a gear range; LinuxCNC has no such M code, so it is written as a comment"),
+                        format!("map it in the profile if the machine needs it: [iso] mcodes = {{ {m} = \"M1{m:02}\" }}"),
+                    );
+                }
+            },
+            ItemKind::FeedMode(FeedMode::PerRev) => {
+                self.line("G95");
+            }
+            ItemKind::FeedMode(FeedMode::PerMin) => {
+                self.line("G94");
+            }
+            ItemKind::ProgramEnd(EndCode::M2) => {
+                self.line("M2");
+            }
+            ItemKind::ProgramEnd(EndCode::M30) => {
+                self.line("M30");
+            }
+            ItemKind::Comment(text) => {
+                self.line(&format!("({})", comment_text(text)));
+            }
+            ItemKind::ParamAssign { number, value } => {
+                // Its effect is already in the items that use it; keep it for the reader.
+                self.line(&format!("(R{number:02}={value})"));
+            }
+            ItemKind::Opaque {
+                dialect,
+                text,
+                block,
+            } => {
+                self.line(&format!("({dialect}: {})", comment_text(text)));
+                let what = if *block { "block" } else { "word" };
+                self.diag(
+                    codes::ISO_OPAQUE,
+                    item,
+                    format!("the {dialect} {what} `{text}` has no documented meaning; it is written as a comment"),
+                    "check the ISO program by hand where this matters; only the same dialect can write it back",
+                );
+            }
+            ItemKind::Delimiter => {}
+        }
+        self.pos = item.kind.end_position(self.pos);
+        if let Some(comment) = &item.comment {
+            let comment = format!("({})", comment_text(comment));
+            // Inline on the item's first line, unless that line is a comment itself
+            // (LinuxCNC keeps only the last comment of a line).
+            if self.out.len() > start && !self.out[start..].starts_with('(') {
+                let eol = start + self.out[start..].find('\n').unwrap_or(0);
+                self.out.insert_str(eol, &format!(" {comment}"));
+            } else {
+                self.line(&comment);
+            }
+        }
+    }
+
+    fn thread_pass(&mut self, item: &Item, pass: &ThreadPass) {
+        if self.turning.is_none() {
+            self.diag(
+                codes::ISO_SPINDLE_OFF,
+                item,
+                "thread pass while the spindle is not turning",
+                "start the spindle (M03/M04 with S) before the thread; LinuxCNC refuses G33 otherwise",
+            );
+            return;
+        }
+        let mut segments = match lower::pass_segments(self.pos, pass) {
+            Ok(s) => s,
+            Err(_) => {
+                self.diag(
+                    codes::ISO_START_ANGLE,
+                    item,
+                    "this thread pass needs its start point, which is not known",
+                    "move to the start of the thread with X and Z first",
+                );
+                return;
+            }
+        };
+        match lower::start_angle_as_shift(&mut segments, pass.start_angle) {
+            Ok(Some(start)) => {
+                let shift = pass.lead.mul_div(pass.start_angle.0, 360_000);
+                self.line(&format!(
+                    "G0{} (start angle {}°: start {} mm earlier along the pass)",
+                    axes(start),
+                    pass.start_angle,
+                    shift
+                ));
+            }
+            Ok(None) => {}
+            Err(_) => {
+                self.diag(
+                    codes::ISO_START_ANGLE,
+                    item,
+                    format!("start angle {}° on a pass whose start point is not known", pass.start_angle),
+                    "RS274/NGC G33 has no start angle: ncthread starts the pass lead·angle/360 earlier, which needs the start point; move to it with X and Z first",
+                );
+                return;
+            }
+        }
+        for seg in &segments {
+            self.line(&format!("G33{} K{}", axes(seg.to), k_value(seg)));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixed::Length;
+
+    #[test]
+    fn comments_cannot_nest_or_command() {
+        assert_eq!(comment_text("A (B) C"), "A [B] C");
+        assert_eq!(comment_text("msg, hello"), "- msg, hello");
+        assert_eq!(comment_text("ROZTOČENÍ"), "ROZTOČENÍ");
+    }
+
+    #[test]
+    fn k_keeps_enough_digits() {
+        let seg = SyncSegment {
+            from: Pos::new(Length::from_mm(226), Length::from_mm(3)),
+            to: Pos::new(Length::from_mm(246), Length::from_mm(-100)),
+            lead: Length(15_000),
+        };
+        assert_eq!(k_value(&seg), "1.50705289");
+        let straight = SyncSegment {
+            to: Pos::new(Length::from_mm(226), Length::from_mm(-100)),
+            ..seg
+        };
+        assert_eq!(k_value(&straight), "1.5");
+    }
+}

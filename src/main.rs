@@ -1,0 +1,189 @@
+//! The `ncthread` command line: argument parsing and exit codes only.
+//! Exit codes: 0 success, 1 the input has errors (nothing written), 2 usage or I/O error.
+
+use std::io::{self, IsTerminal, Read, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+use ncthread::diag::{self, Format};
+use ncthread::profile::Profile;
+use ncthread::source::SourceFile;
+use ncthread::{ConvertOptions, Dialect, Unsupported};
+
+#[derive(Parser)]
+#[command(
+    name = "ncthread",
+    version,
+    about = "Lathe thread-cutting programs between the czech control, the НЦ-31 and ISO G-code: exact or refused."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Convert one program (stdin to stdout by default).
+    Convert(ConvertArgs),
+}
+
+#[derive(clap::Args)]
+struct ConvertArgs {
+    /// The program to read; `-` or nothing reads stdin.
+    input: Option<PathBuf>,
+    /// The source dialect.
+    #[arg(long, value_enum)]
+    from: SourceDialect,
+    /// The target dialect.
+    #[arg(long, value_enum)]
+    to: TargetDialect,
+    /// Where to write the program; `-` or nothing writes stdout.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Machine profile (TOML) with the machine's constants, e.g. czech constant 8.
+    #[arg(long)]
+    profile: Option<PathBuf>,
+    /// How to print diagnostics on stderr.
+    #[arg(long, value_enum, default_value_t = DiagnosticsFormat::Human)]
+    diagnostics: DiagnosticsFormat,
+    /// Undocumented constructs: refuse the program, or warn and keep them as opaque items.
+    #[arg(long, value_enum, default_value_t = UnsupportedArg::Error)]
+    unsupported: UnsupportedArg,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum SourceDialect {
+    Czech,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum TargetDialect {
+    Iso,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum DiagnosticsFormat {
+    Human,
+    Json,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum UnsupportedArg {
+    Error,
+    Warn,
+}
+
+impl From<SourceDialect> for Dialect {
+    fn from(d: SourceDialect) -> Dialect {
+        match d {
+            SourceDialect::Czech => Dialect::Czech,
+        }
+    }
+}
+
+impl From<TargetDialect> for Dialect {
+    fn from(d: TargetDialect) -> Dialect {
+        match d {
+            TargetDialect::Iso => Dialect::Iso,
+        }
+    }
+}
+
+/// A failure that is the user's invocation or the file system, not the program's content.
+struct Fatal(String);
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Convert(args) => convert(args),
+    };
+    match result {
+        Ok(code) => code,
+        Err(Fatal(message)) => {
+            eprintln!("ncthread: {message}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn is_stdio(path: &Option<PathBuf>) -> bool {
+    path.as_ref().is_none_or(|p| p.as_os_str() == "-")
+}
+
+fn read_input(path: &Option<PathBuf>) -> Result<(String, Vec<u8>), Fatal> {
+    if is_stdio(path) {
+        let mut bytes = Vec::new();
+        io::stdin()
+            .read_to_end(&mut bytes)
+            .map_err(|e| Fatal(format!("cannot read stdin: {e}")))?;
+        return Ok(("<stdin>".into(), bytes));
+    }
+    let path = path.as_ref().expect("not stdio");
+    let bytes =
+        std::fs::read(path).map_err(|e| Fatal(format!("cannot read {}: {e}", path.display())))?;
+    Ok((path.display().to_string(), bytes))
+}
+
+fn print_diagnostics(diags: &[diag::Diagnostic], format: DiagnosticsFormat) {
+    let format = match format {
+        DiagnosticsFormat::Human => Format::Human,
+        DiagnosticsFormat::Json => Format::Json,
+    };
+    let color = format == Format::Human
+        && io::stderr().is_terminal()
+        && std::env::var_os("NO_COLOR").is_none();
+    let text = diag::render_all(diags, format, color);
+    let _ = io::stderr().write_all(text.as_bytes());
+}
+
+fn load_profile(path: &Option<PathBuf>, format: DiagnosticsFormat) -> Result<Profile, Fatal> {
+    let Some(path) = path else {
+        return Ok(Profile::default());
+    };
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Fatal(format!("cannot read profile {}: {e}", path.display())))?;
+    Profile::from_toml(&SourceFile::new(path.display().to_string(), text)).map_err(|diags| {
+        print_diagnostics(&diags, format);
+        Fatal(format!("the profile {} has errors", path.display()))
+    })
+}
+
+fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
+    let profile = load_profile(&args.profile, args.diagnostics)?;
+    let from: Dialect = args.from.into();
+    let (name, bytes) = read_input(&args.input)?;
+    let (text, _encoding) = ncthread::text::decode(&bytes, from);
+    let src = SourceFile::new(name, text);
+    let options = ConvertOptions {
+        from,
+        to: args.to.into(),
+        profile,
+        unsupported: match args.unsupported {
+            UnsupportedArg::Error => Unsupported::Error,
+            UnsupportedArg::Warn => Unsupported::Warn,
+        },
+    };
+    let conversion = ncthread::convert(&src, &options);
+    print_diagnostics(&conversion.diagnostics, args.diagnostics);
+    let Some(output) = conversion.output else {
+        return Ok(ExitCode::from(1));
+    };
+    write_output(&args.output, output.as_bytes())?;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn write_output(path: &Option<PathBuf>, bytes: &[u8]) -> Result<(), Fatal> {
+    if is_stdio(path) {
+        let mut out = io::stdout().lock();
+        return match out.write_all(bytes).and_then(|()| out.flush()) {
+            // The reader (e.g. `head`) has what it wanted.
+            Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
+            Err(e) => Err(Fatal(format!("cannot write stdout: {e}"))),
+            Ok(()) => Ok(()),
+        };
+    }
+    let path = path.as_ref().expect("not stdio");
+    std::fs::write(path, bytes).map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))
+}

@@ -1,0 +1,139 @@
+//! Source text, lines and spans.
+
+use std::ops::Range;
+
+/// Where something stands in a source file: 1-based line and column (in characters) and the
+/// byte range in the whole text.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Span {
+    pub line: u32,
+    pub column: u32,
+    pub start: usize,
+    pub end: usize,
+}
+
+/// One program text with its name (a path, or `<stdin>`).
+#[derive(Clone, Debug)]
+pub struct SourceFile {
+    pub name: String,
+    pub text: String,
+    line_starts: Vec<usize>,
+}
+
+/// One line of a source file, without its line ending.
+#[derive(Clone, Copy, Debug)]
+pub struct Line<'a> {
+    /// 1-based line number.
+    pub number: u32,
+    /// Byte offset of the line's first character in the whole text.
+    pub offset: usize,
+    pub text: &'a str,
+}
+
+impl SourceFile {
+    pub fn new(name: impl Into<String>, text: impl Into<String>) -> SourceFile {
+        let text = text.into();
+        let mut line_starts = vec![0];
+        line_starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
+        if line_starts.last() == Some(&text.len()) && text.len() > 0 {
+            line_starts.pop();
+        }
+        SourceFile {
+            name: name.into(),
+            text,
+            line_starts,
+        }
+    }
+
+    /// Every line, LF or CRLF endings removed.
+    pub fn lines(&self) -> impl Iterator<Item = Line<'_>> {
+        (0..self.line_starts.len()).map(|i| self.line(i as u32 + 1))
+    }
+
+    /// Line `number` (1-based). Out-of-range numbers give an empty line at the end.
+    pub fn line(&self, number: u32) -> Line<'_> {
+        let i = (number.max(1) - 1) as usize;
+        let Some(&start) = self.line_starts.get(i) else {
+            return Line {
+                number,
+                offset: self.text.len(),
+                text: "",
+            };
+        };
+        let end = self
+            .line_starts
+            .get(i + 1)
+            .copied()
+            .unwrap_or(self.text.len());
+        let text = &self.text[start..end];
+        let text = text.strip_suffix('\n').unwrap_or(text);
+        let text = text.strip_suffix('\r').unwrap_or(text);
+        Line {
+            number,
+            offset: start,
+            text,
+        }
+    }
+
+    /// The span of `range` (bytes within `line`'s text).
+    pub fn span_in_line(&self, line: Line<'_>, range: Range<usize>) -> Span {
+        let column = line.text[..range.start.min(line.text.len())]
+            .chars()
+            .count() as u32
+            + 1;
+        Span {
+            line: line.number,
+            column,
+            start: line.offset + range.start,
+            end: line.offset + range.end,
+        }
+    }
+
+    /// The span of a byte range of the whole text (it should not cross a line end).
+    pub fn span_of(&self, range: Range<usize>) -> Span {
+        let index = self
+            .line_starts
+            .partition_point(|&s| s <= range.start)
+            .max(1);
+        let line = self.line(index as u32);
+        let start = range.start - line.offset;
+        let end = (range.end - line.offset).max(start);
+        self.span_in_line(line, start..end)
+    }
+
+    /// The span of a whole line.
+    pub fn line_span(&self, line: Line<'_>) -> Span {
+        self.span_in_line(line, 0..line.text.len())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn splits_lf_and_crlf_lines() {
+        let src = SourceFile::new("t", "N10 X1\r\nN20 Z2\nN30");
+        let lines: Vec<_> = src.lines().map(|l| (l.number, l.offset, l.text)).collect();
+        assert_eq!(
+            lines,
+            vec![(1, 0, "N10 X1"), (2, 8, "N20 Z2"), (3, 15, "N30")]
+        );
+        assert_eq!(SourceFile::new("t", "A\n").lines().count(), 1);
+        assert_eq!(SourceFile::new("t", "").lines().count(), 1);
+    }
+
+    #[test]
+    fn columns_count_characters() {
+        let src = SourceFile::new("t", "“ŘÍ X1");
+        let line = src.line(1);
+        let x = line.text.find('X').unwrap();
+        let span = src.span_in_line(line, x..x + 2);
+        assert_eq!((span.line, span.column), (1, 5));
+        assert_eq!(span.start, x);
+        assert_eq!(src.span_of(x..x + 2), span);
+        let two = SourceFile::new("t", "ab\ncd");
+        assert_eq!(two.span_of(4..5).line, 2);
+        assert_eq!(two.span_of(4..5).column, 2);
+    }
+}
