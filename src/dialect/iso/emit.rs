@@ -234,12 +234,12 @@ impl Emitter<'_> {
         if let Some(comment) = &item.comment {
             let comment = format!("({})", comment_text(comment));
             // Inline on the item's first line, unless that line is a comment itself
-            // (LinuxCNC keeps only the last comment of a line).
-            if self.out.len() > start && !self.out[start..].starts_with('(') {
+            // (LinuxCNC keeps only the last comment of a line): then on a line before it.
+            if self.out.len() == start || self.out[start..].starts_with('(') {
+                self.out.insert_str(start, &format!("{comment}\n"));
+            } else {
                 let eol = start + self.out[start..].find('\n').unwrap_or(0);
                 self.out.insert_str(eol, &format!(" {comment}"));
-            } else {
-                self.line(&comment);
             }
         }
     }

@@ -1,0 +1,244 @@
+//! Helpers shared by the integration tests: corpus cases, conversions, and LinuxCNC's rs274
+//! as the oracle for ISO output.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::OnceLock;
+
+use ncthread::profile::Profile;
+use ncthread::source::SourceFile;
+use ncthread::{Conversion, ConvertOptions, Dialect, Unsupported};
+
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// One corpus file, with or without the profile beside it (`NAME.profile.toml`).
+#[derive(Clone, Debug)]
+pub struct Case {
+    /// `czech/ex4-runout-constant` or `czech/ex4-runout-constant+profile`.
+    pub name: String,
+    /// Relative to the repository root, with `/`.
+    pub path: String,
+    pub profile: Option<String>,
+    pub from: Dialect,
+}
+
+/// Every corpus file × {no profile, its profile}, sorted by name.
+pub fn corpus_cases() -> Vec<Case> {
+    let mut cases = Vec::new();
+    for (folder, from) in [("czech", Dialect::Czech), ("bad", Dialect::Czech)] {
+        let dir = root().join("corpus").join(folder);
+        let mut files: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+            .map(|e| e.expect("dir entry").path())
+            .filter(|p| p.extension().is_some_and(|e| e == "nc"))
+            .collect();
+        files.sort();
+        for file in files {
+            let stem = file.file_stem().unwrap().to_string_lossy().to_string();
+            let path = format!("corpus/{folder}/{stem}.nc");
+            cases.push(Case {
+                name: format!("{folder}/{stem}"),
+                path: path.clone(),
+                profile: None,
+                from,
+            });
+            let profile = format!("corpus/{folder}/{stem}.profile.toml");
+            if root().join(&profile).exists() {
+                cases.push(Case {
+                    name: format!("{folder}/{stem}+profile"),
+                    path,
+                    profile: Some(profile),
+                    from,
+                });
+            }
+        }
+    }
+    cases
+}
+
+pub fn load_profile(path: &str) -> Profile {
+    let text = std::fs::read_to_string(root().join(path)).unwrap();
+    Profile::from_toml(&SourceFile::new(path, text)).unwrap_or_else(|d| panic!("{path}: {d:?}"))
+}
+
+pub fn convert_case(case: &Case, to: Dialect) -> Conversion {
+    let bytes = std::fs::read(root().join(&case.path)).unwrap();
+    let (text, _) = ncthread::text::decode(&bytes, case.from);
+    let src = SourceFile::new(case.path.clone(), text);
+    let options = ConvertOptions {
+        from: case.from,
+        to,
+        profile: case
+            .profile
+            .as_deref()
+            .map(load_profile)
+            .unwrap_or_default(),
+        unsupported: Unsupported::Error,
+    };
+    ncthread::convert(&src, &options)
+}
+
+/// A conversion as one text: diagnostics, then the program (or that it was refused).
+pub fn render(case: &Case, to: Dialect, conversion: &Conversion) -> String {
+    let diags = ncthread::diag::render_all(
+        &conversion.diagnostics,
+        ncthread::diag::Format::Human,
+        false,
+    );
+    format!(
+        "source: {}\nprofile: {}\ntarget: {to}\n--- diagnostics\n{}--- output\n{}",
+        case.path,
+        case.profile
+            .as_deref()
+            .unwrap_or("none (built-in defaults)"),
+        diags,
+        conversion
+            .output
+            .as_deref()
+            .unwrap_or("(refused: nothing written)\n"),
+    )
+}
+
+/// One canonical machine call of rs274 that moves the tool. X is a diameter here.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Canon {
+    Traverse {
+        x: f64,
+        z: f64,
+    },
+    Feed {
+        x: f64,
+        z: f64,
+    },
+    /// START_SPEED_FEED_SYNC: K, the advance per revolution along the path.
+    SyncStart {
+        k: f64,
+    },
+    SyncStop,
+    RigidTap {
+        x: f64,
+        z: f64,
+    },
+}
+
+/// The command that runs rs274, or `None` (with a loud message) when there is none.
+/// `$NCTHREAD_RS274` names a command run as `CMD FILE.ngc`; otherwise `scripts/rs274`
+/// provides the interpreter (it fetches the Debian package on first use).
+pub fn rs274() -> Option<&'static Path> {
+    static FOUND: OnceLock<Option<PathBuf>> = OnceLock::new();
+    FOUND
+        .get_or_init(|| {
+            if let Some(cmd) = std::env::var_os("NCTHREAD_RS274") {
+                return Some(PathBuf::from(cmd));
+            }
+            let script = root().join("scripts/rs274");
+            let ok = Command::new(&script).arg("--install").output().map(|o| o.status.success()).unwrap_or(false);
+            if ok {
+                return Some(script);
+            }
+            if std::env::var_os("CI").is_some() {
+                panic!("rs274 is not available in CI: run `scripts/rs274 --install` before the tests");
+            }
+            eprintln!("\n!!!!! SKIPPING the rs274 oracle checks: no LinuxCNC interpreter could be had !!!!!");
+            eprintln!("!!!!! run `scripts/rs274 --install` or set NCTHREAD_RS274 to run them       !!!!!\n");
+            None
+        })
+        .as_deref()
+}
+
+/// Runs rs274 on `ngc`; Err with rs274's complaint when it refuses the program.
+pub fn run_rs274(cmd: &Path, ngc: &str) -> Result<Vec<Canon>, String> {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("program.ngc");
+    std::fs::write(&file, ngc).unwrap();
+    let out = Command::new(cmd).arg(&file).output().expect("rs274 runs");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let complaint = stderr
+        .lines()
+        .filter(|l| l.trim() != "executing" && !l.trim().is_empty())
+        .collect::<Vec<_>>();
+    if !out.status.success() || !complaint.is_empty() {
+        return Err(format!(
+            "rs274 exit {:?}: {}",
+            out.status.code(),
+            complaint.join("\n")
+        ));
+    }
+    if !stdout.contains("FINISH()") && !stdout.contains("PROGRAM_END()") {
+        return Err("rs274 did not reach the end of the program".into());
+    }
+    Ok(stdout.lines().filter_map(parse_canon).collect())
+}
+
+fn numbers(args: &str) -> Vec<f64> {
+    args.split([',', ' '])
+        .filter_map(|a| a.trim().parse().ok())
+        .collect()
+}
+
+fn parse_canon(line: &str) -> Option<Canon> {
+    let call = line.split_once("N..... ")?.1;
+    let (name, rest) = call.split_once('(')?;
+    let args = numbers(rest.trim_end_matches(')'));
+    Some(match name {
+        "STRAIGHT_TRAVERSE" => Canon::Traverse {
+            x: 2.0 * args[0],
+            z: args[2],
+        },
+        "STRAIGHT_FEED" => Canon::Feed {
+            x: 2.0 * args[0],
+            z: args[2],
+        },
+        "RIGID_TAP" => Canon::RigidTap {
+            x: 2.0 * args[0],
+            z: args[2],
+        },
+        "START_SPEED_FEED_SYNC" => Canon::SyncStart { k: args[0] },
+        "STOP_SPEED_FEED_SYNCH" => Canon::SyncStop,
+        _ => return None,
+    })
+}
+
+/// A synchronised move as rs274 runs it: start, end and the lead along Z derived from K.
+#[derive(Clone, Debug)]
+pub struct SyncMove {
+    pub from: (f64, f64),
+    pub to: (f64, f64),
+    pub k: f64,
+    pub z_lead: f64,
+}
+
+/// The synchronised feed moves of a canonical call list (positions start at X0 Z0).
+pub fn sync_moves(canon: &[Canon]) -> Vec<SyncMove> {
+    let (mut pos, mut k) = ((0.0, 0.0), None);
+    let mut moves = Vec::new();
+    for c in canon {
+        match *c {
+            Canon::Traverse { x, z } | Canon::RigidTap { x, z } => pos = (x, z),
+            Canon::Feed { x, z } => {
+                if let Some(k) = k {
+                    let (dx, dz): (f64, f64) = ((x - pos.0) / 2.0, z - pos.1);
+                    let z_lead = k * dz.abs() / dx.hypot(dz);
+                    moves.push(SyncMove {
+                        from: pos,
+                        to: (x, z),
+                        k,
+                        z_lead,
+                    });
+                }
+                pos = (x, z);
+            }
+            Canon::SyncStart { k: new } => k = Some(new),
+            Canon::SyncStop => k = None,
+        }
+    }
+    moves
+}
+
+pub fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol
+}

@@ -1,0 +1,44 @@
+//! Every corpus file × every target as an insta snapshot (diagnostics and output).
+mod common;
+
+use ncthread::Dialect;
+
+#[test]
+fn corpus_snapshots() {
+    let cases = common::corpus_cases();
+    assert!(
+        cases.len() > 40,
+        "the corpus went missing: {} cases",
+        cases.len()
+    );
+    for case in &cases {
+        for to in [Dialect::Iso] {
+            let conversion = common::convert_case(case, to);
+            let text = common::render(case, to, &conversion);
+            let name = format!("{}__to_{to}", case.name.replace('/', "__"));
+            insta::with_settings!({ prepend_module_to_snapshot => false, omit_expression => true }, {
+                insta::assert_snapshot!(name, text);
+            });
+        }
+    }
+}
+
+/// Every file in corpus/bad/ is refused (with its profile when it has one).
+#[test]
+fn bad_programs_are_refused() {
+    for case in common::corpus_cases()
+        .iter()
+        .filter(|c| c.path.starts_with("corpus/bad/"))
+    {
+        let conversion = common::convert_case(case, Dialect::Iso);
+        assert!(conversion.output.is_none(), "{} converted", case.name);
+        for d in conversion.diagnostics.iter().filter(|d| d.is_error()) {
+            let loc = d
+                .location
+                .as_ref()
+                .unwrap_or_else(|| panic!("{}: {} has no location", case.name, d.code.id));
+            assert!(loc.line >= 1 && loc.column >= 1, "{}", case.name);
+            assert!(d.help.is_some(), "{}: {} has no help", case.name, d.code.id);
+        }
+    }
+}
