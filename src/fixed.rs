@@ -263,7 +263,7 @@ mod tests {
         assert_eq!((d.mantissa, d.scale, d.has_point), (-120000, 3, true));
         assert_eq!(d.to_length(), Ok(Length(-1_200_000)));
         assert_eq!(Decimal::parse("Z").map(|d| d.mantissa), None);
-        assert_eq!(Decimal::parse("12").unwrap().has_point, false);
+        assert!(!Decimal::parse("12").unwrap().has_point);
         assert_eq!(
             Decimal::parse("12.").unwrap().to_length(),
             Ok(Length::from_mm(12))

@@ -35,7 +35,7 @@ impl SourceFile {
         let text = text.into();
         let mut line_starts = vec![0];
         line_starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
-        if line_starts.last() == Some(&text.len()) && text.len() > 0 {
+        if line_starts.last() == Some(&text.len()) && !text.is_empty() {
             line_starts.pop();
         }
         SourceFile {

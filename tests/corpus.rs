@@ -1,8 +1,6 @@
 //! Every corpus file × every target as an insta snapshot (diagnostics and output).
 mod common;
 
-use ncthread::Dialect;
-
 #[test]
 fn corpus_snapshots() {
     let cases = common::corpus_cases();
@@ -12,7 +10,7 @@ fn corpus_snapshots() {
         cases.len()
     );
     for case in &cases {
-        for to in [Dialect::Iso] {
+        for &to in common::TARGETS {
             let conversion = common::convert_case(case, to);
             let text = common::render(case, to, &conversion);
             let name = format!("{}__to_{to}", case.name.replace('/', "__"));
@@ -30,7 +28,7 @@ fn bad_programs_are_refused() {
         .iter()
         .filter(|c| c.path.starts_with("corpus/bad/"))
     {
-        let conversion = common::convert_case(case, Dialect::Iso);
+        let conversion = common::convert_case(case, ncthread::Dialect::Iso);
         assert!(conversion.output.is_none(), "{} converted", case.name);
         for d in conversion.diagnostics.iter().filter(|d| d.is_error()) {
             let loc = d

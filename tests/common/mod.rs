@@ -10,6 +10,9 @@ use ncthread::profile::Profile;
 use ncthread::source::SourceFile;
 use ncthread::{Conversion, ConvertOptions, Dialect, Unsupported};
 
+/// Every target dialect ncthread writes; each corpus file is snapshotted for each.
+pub const TARGETS: &[Dialect] = &[Dialect::Iso];
+
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }

@@ -991,3 +991,222 @@ impl AngleUse {
 fn code_span_range(line: Line<'_>, span: Span) -> Range<usize> {
     (span.start - line.offset)..(span.end - line.offset)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::profile::Constant8;
+
+    fn run(text: &str, constant8: Option<&str>) -> (Program, Vec<Diagnostic>) {
+        let mut profile = Profile::default();
+        profile.czech.constant8 = constant8.map(|c| Constant8::parse(c).unwrap());
+        parse(
+            &SourceFile::new("t.nc", text),
+            &profile,
+            &Options::default(),
+        )
+    }
+
+    /// The first error's code, line and column.
+    fn first_error(text: &str, constant8: Option<&str>) -> (&'static str, u32, u32) {
+        let (_, diags) = run(text, constant8);
+        let d = diags
+            .iter()
+            .find(|d| d.is_error())
+            .unwrap_or_else(|| panic!("no error for {text:?}"));
+        let loc = d.location.as_ref().expect("located");
+        (d.code.id, loc.line, loc.column)
+    }
+
+    fn passes(text: &str, constant8: Option<&str>) -> Vec<ThreadPass> {
+        let (program, diags) = run(text, constant8);
+        assert!(!diag::has_errors(&diags), "{diags:?}");
+        program
+            .items
+            .iter()
+            .filter_map(|i| match &i.kind {
+                ItemKind::ThreadPass(p) => Some(*p),
+                _ => None,
+            })
+            .collect()
+    }
+
+    use crate::diag;
+
+    const RUNOUT: &str =
+        "N10 M03 S50\nN20 G00 X64. Z5.\nN30 G33 Z-100. F6. J12\nN40\nN50 G00 X70. Z-100.\n";
+
+    #[test]
+    fn every_rule_has_its_code_line_and_column() {
+        type Case<'a> = (&'a str, Option<&'a str>, (&'a str, u32, u32));
+        let cases: &[Case] = &[
+            ("N10 G00 X30. Z", None, ("CZ001", 1, 14)),
+            (
+                "N10 M03 S1\nN20 G00 X1. Z1.\nN30 G33 Z-5. F1. E2",
+                Some("+00120000"),
+                ("CZ002", 3, 18),
+            ),
+            (
+                "N10 M03 S1\nN20 G00 X1. Z1.\nN30 G33 Z-50. F120.",
+                None,
+                ("CZ003", 3, 15),
+            ),
+            (RUNOUT, None, ("CZ004", 3, 20)),
+            (RUNOUT, Some("04000000"), ("CZ005", 3, 20)),
+            (
+                &format!("N5 R04=161.0\n{RUNOUT}"),
+                Some("04000000"),
+                ("CZ006", 4, 20),
+            ),
+            (
+                &format!("N5 R04=20.0\n{RUNOUT}"),
+                Some("04000000"),
+                ("CZ007", 4, 20),
+            ),
+            (
+                &format!("N5 R04=420.0\n{RUNOUT}"),
+                Some("04000000"),
+                ("CZ007", 4, 20),
+            ),
+            (RUNOUT, Some("80000000"), ("CZ008", 3, 20)),
+            (
+                "N10 M03 S50\nN20 G00 X64. Z5.\nN30 G33 Z-100. F6. J12\nN40 X70.\n",
+                Some("+00120000"),
+                ("CZ009", 4, 5),
+            ),
+            (
+                "N10 M03 S50\nN20 G00 X64. Z5.\nN30 G33 Z-100. F6. J12\nN40\nN50 Z-100.\n",
+                Some("+00120000"),
+                ("CZ010", 5, 1),
+            ),
+            ("N10 G84 X1.", None, ("CZ011", 1, 5)),
+            ("N10 G02 X1. Z1.", None, ("CZ011", 1, 5)),
+            ("N10 G00 X1. P5", None, ("CZ011", 1, 13)),
+            ("N10 G00 X1. Z1.\nN20 G33 Z-5.", None, ("CZ012", 2, 1)),
+            (
+                "N10 G00 X1. Z1.\nN20 G33 Z-5. F1. I400",
+                None,
+                ("CZ013", 2, 18),
+            ),
+            ("N10 G91 X1.", None, ("CZ014", 1, 9)),
+            ("N10 G33 X5. Z-5. F1.", None, ("CZ014", 1, 1)),
+            ("N10 X1.000001", None, ("CZ015", 1, 5)),
+            ("N10 S12.5", None, ("CZ015", 1, 5)),
+            (RUNOUT, Some("+00320000"), ("CZ016", 3, 20)),
+            (
+                "N10 G00 X1. Z1.\nN20 G33 Z-5. F1. J7",
+                Some("+00120000"),
+                ("CZ017", 2, 1),
+            ),
+            ("N10 G00 X1. Z1.\nN20 G33 X9. F1.", None, ("CZ017", 2, 1)),
+            ("N10 G33 Z1. FR3", None, ("CZ018", 1, 13)),
+            ("N10 G00 G01 X1.", None, ("CZ019", 1, 9)),
+            ("N10 X1. N20", None, ("CZ019", 1, 9)),
+            ("N10 M03 M04", None, ("CZ019", 1, 9)),
+            ("N10 G00 X1. Z1.\nN20 G01 Z-5.", None, ("CZ020", 2, 1)),
+            (
+                "N10 G00 X1. Z1.\nN20 G33 Z-5. F1. J0",
+                Some("+00120000"),
+                ("CZ021", 2, 18),
+            ),
+            (
+                "N10 G00 X1. Z1.\nN20 G33 Z-5. F1. J1",
+                Some("+00120000"),
+                ("CZ022", 2, 1),
+            ),
+        ];
+        for (text, c8, expected) in cases {
+            assert_eq!(
+                first_error(text, *c8),
+                *expected,
+                "{text:?} with constant 8 {c8:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn runout_and_entry_angles_come_from_constant_8_or_parameters() {
+        // Direct mode, axis X, +12.5°: offset 2·12·tan 12.5° = 24·0.2216947 = 5.3207.
+        let p = passes(RUNOUT, Some("+00112500"))[0];
+        assert_eq!(
+            p.exit,
+            Some(Chamfer {
+                length: Length::from_mm(12),
+                offset: Length(53_207)
+            })
+        );
+        // Negative sign: towards −X.
+        let p = passes(RUNOUT, Some("-00112500"))[0];
+        assert_eq!(p.exit.unwrap().offset, Length(-53_207));
+        // Parameter mode R04 = -120.000: axis X, 20° towards −X: 2·12·tan 20° = 8.7353.
+        let p = passes(&format!("N5 R04= -00120.000\n{RUNOUT}"), Some("04000000"))[0];
+        assert_eq!(p.exit.unwrap().offset, Length(-87_353));
+        // Entry without its own parameter uses the runout parameter. **[decided]**
+        let entry = "N5 R04=118.0\nN10 M04 S50\nN20 X71.798 Z-100.\nN30 Z3 F6.0 E12. G33\nN40\nN50 X64. Z3 G0\n";
+        let p = passes(entry, Some("04000000"))[0];
+        assert_eq!(p.entry.unwrap().offset, Length(77_981));
+    }
+
+    #[test]
+    fn seed_entry_check_thread_at_diameter_64() {
+        // czech.md: start X71.798, E12., 18° → the thread is cut at Ø64.000.
+        let text = "N10 M04 S50\nN20 X71.798 Z-100. R16=118.0\nN30 Z3 F6.0 E12. G33\nN40\nN50 X64. Z3 G0\n";
+        let p = passes(text, Some("15160000"))[0];
+        let line_x = p.to.x.unwrap();
+        assert!(
+            (line_x - Length::from_mm(64)).abs() <= Length(1),
+            "{line_x}"
+        );
+        assert_eq!(p.to.z, Some(Length::from_mm(3)));
+        assert_eq!(p.lead, Length::from_mm(6));
+    }
+
+    #[test]
+    fn modal_state_and_parameters_resolve_into_items() {
+        // Modal G00 from the profile, modal G33 lead from the previous G33, FRnn.
+        let text = "N5 R10=250.0\nN10 M03 S100\nN20 X30. Z5.\nN30 G33 Z-20. F2.\nN40 G00 X32.\nN50 Z5.\nN60 X29.8\nN70 G33 Z-20.\nN80 G00 X40. Z300.\nN90 G33 Z0. FR10\n";
+        let leads: Vec<_> = passes(text, None).iter().map(|p| p.lead).collect();
+        assert_eq!(
+            leads,
+            vec![Length::from_mm(2), Length::from_mm(2), Length::from_mm(250)]
+        );
+        // G91 adds to the position; G90 restores absolute words.
+        let (program, _) = run("N10 G00 X10. Z10.\nN20 G91 X-2. Z-3.\nN30 G90 X5.\n", None);
+        let ends: Vec<_> = program
+            .items
+            .iter()
+            .map(|i| i.kind.end_position(Pos::UNKNOWN))
+            .collect();
+        assert_eq!(ends[1], Pos::new(Length::from_mm(8), Length::from_mm(7)));
+        assert_eq!(ends[2].x, Some(Length::from_mm(5)));
+    }
+
+    #[test]
+    fn comments_attach_to_the_first_item_of_their_block() {
+        let (program, _) = run("N10 M03 S50 \"START\nN20 \"ONLY A COMMENT\n", None);
+        assert_eq!(program.items[0].comment.as_deref(), Some("START"));
+        assert_eq!(program.items[0].block_number, Some(10));
+        assert_eq!(
+            program.items[1].kind,
+            ItemKind::Comment("ONLY A COMMENT".into())
+        );
+    }
+
+    #[test]
+    fn unsupported_warn_keeps_the_block_opaque_and_forgets_the_position() {
+        let src = SourceFile::new(
+            "t.nc",
+            "N10 G00 X1. Z1.\nN20 G84 X2. Z-5. F1.\nN30 G91 X1.\n",
+        );
+        let options = Options {
+            unsupported: Unsupported::Warn,
+        };
+        let (program, diags) = parse(&src, &Profile::default(), &options);
+        assert_eq!(diags[0].severity, diag::Severity::Warning);
+        assert!(
+            matches!(&program.items[1].kind, ItemKind::Opaque { block: true, text, .. } if text == "N20 G84 X2. Z-5. F1.")
+        );
+        // The incremental move after it has no known position to add to.
+        assert_eq!(diags[1].code, codes::CZ_UNKNOWN_POSITION);
+    }
+}
