@@ -144,6 +144,15 @@ fn format_scaled(value: i64, decimals: u32, trailing: Trailing) -> String {
     format!("{sign}{whole}.{}", frac.trim_end_matches('0'))
 }
 
+/// Splits an optional leading `+`/`-` from `text`: (negative, the rest). `None` for "".
+pub fn split_sign(text: &str) -> Option<(bool, &str)> {
+    Some(match text.as_bytes().first()? {
+        b'-' => (true, &text[1..]),
+        b'+' => (false, &text[1..]),
+        _ => (false, text),
+    })
+}
+
 /// A number exactly as written in a program: `-00120.000`, `26.618`, `12`, `.5`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Decimal {
@@ -167,11 +176,7 @@ pub enum NumberError {
 impl Decimal {
     /// Parses `[+-]digits[.digits]` or `[+-].digits`; `None` when the text is not such a number.
     pub fn parse(text: &str) -> Option<Decimal> {
-        let (negative, rest) = match text.as_bytes().first()? {
-            b'-' => (true, &text[1..]),
-            b'+' => (false, &text[1..]),
-            _ => (false, text),
-        };
+        let (negative, rest) = split_sign(text)?;
         let (int, frac, has_point) = match rest.split_once('.') {
             Some((i, f)) => (i, f, true),
             None => (rest, "", false),

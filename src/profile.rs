@@ -92,11 +92,7 @@ pub enum AngleSource {
 impl Constant8 {
     /// Parses `[+|-]dddddddd`.
     pub fn parse(text: &str) -> Option<Constant8> {
-        let (negative, digits) = match text.as_bytes().first()? {
-            b'-' => (true, &text[1..]),
-            b'+' => (false, &text[1..]),
-            _ => (false, text),
-        };
+        let (negative, digits) = crate::fixed::split_sign(text)?;
         if digits.len() != 8 || !digits.bytes().all(|b| b.is_ascii_digit()) {
             return None;
         }
