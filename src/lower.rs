@@ -66,16 +66,16 @@ pub fn pass_segments(start: Pos, pass: &ThreadPass) -> Result<Vec<SyncSegment>, 
     }
     let (sx, sz) = start.known().ok_or(LowerError::UnknownStart)?;
     let (ex, ez) = end.known().ok_or(LowerError::UnknownStart)?;
-    let direction = Length((ez - sz).signum());
+    let direction = (ez - sz).signum();
     let line_from = (sx - pass.entry.map_or(Length::ZERO, |e| e.offset), sz);
     let line_to = (ex, ez);
     let mut points = vec![Pos::new(sx, sz)];
     if let Some(entry) = pass.entry {
-        let z = sz + Length(direction.0 * entry.length.0);
+        let z = sz + Length(direction * entry.length.0);
         points.push(Pos::new(x_on_line(line_from, line_to, z), z));
     }
     if let Some(exit) = pass.exit {
-        let z = ez - Length(direction.0 * exit.length.0);
+        let z = ez - Length(direction * exit.length.0);
         points.push(Pos::new(x_on_line(line_from, line_to, z), z));
         points.push(Pos::new(ex + exit.offset, ez));
     } else {

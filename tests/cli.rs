@@ -17,23 +17,24 @@ fn ncthread(args: &[&str], stdin: Option<&[u8]>) -> Output {
     child.wait_with_output().unwrap()
 }
 
+/// `ncthread convert ARGS… --from czech --to iso`.
+fn czech_to_iso(args: &[&str], stdin: Option<&[u8]>) -> Output {
+    let all: Vec<&str> = ["convert"]
+        .iter()
+        .chain(args)
+        .chain(&["--from", "czech", "--to", "iso"])
+        .copied()
+        .collect();
+    ncthread(&all, stdin)
+}
+
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
 
 #[test]
 fn converts_a_file_to_stdout() {
-    let out = ncthread(
-        &[
-            "convert",
-            "corpus/czech/ex3-taper.nc",
-            "--from",
-            "czech",
-            "--to",
-            "iso",
-        ],
-        None,
-    );
+    let out = czech_to_iso(&["corpus/czech/ex3-taper.nc"], None);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     assert!(text(&out.stdout).contains("G33 X246 Z-100 K1.50705289"));
     // Warnings go to stderr and do not fail the conversion.
@@ -43,16 +44,10 @@ fn converts_a_file_to_stdout() {
 #[test]
 fn is_a_pipe_filter() {
     let program = b"N10 M03 S100\nN20 G00 X30. Z5.\nN30 G33 Z-20. F1.5\n";
-    let out = ncthread(
-        &["convert", "--from", "czech", "--to", "iso"],
-        Some(program),
-    );
+    let out = czech_to_iso(&[], Some(program));
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     assert!(text(&out.stdout).contains("G33 X30 Z-20 K1.5"));
-    let out = ncthread(
-        &["convert", "-", "--from", "czech", "--to", "iso", "-o", "-"],
-        Some(program),
-    );
+    let out = czech_to_iso(&["-", "-o", "-"], Some(program));
     assert_eq!(out.status.code(), Some(0));
     assert!(text(&out.stdout).starts_with("%\n(<stdin>, dialect czech"));
 }
@@ -61,14 +56,9 @@ fn is_a_pipe_filter() {
 fn input_errors_exit_1_and_write_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let target = dir.path().join("out.ngc");
-    let out = ncthread(
+    let out = czech_to_iso(
         &[
-            "convert",
             "corpus/bad/lead-over-99.99.nc",
-            "--from",
-            "czech",
-            "--to",
-            "iso",
             "-o",
             target.to_str().unwrap(),
         ],
@@ -94,14 +84,9 @@ fn input_errors_exit_1_and_write_nothing() {
 fn writes_the_output_file() {
     let dir = tempfile::tempdir().unwrap();
     let target = dir.path().join("out.ngc");
-    let out = ncthread(
+    let out = czech_to_iso(
         &[
-            "convert",
             "corpus/czech/ex6b-entry-param-with-point.nc",
-            "--from",
-            "czech",
-            "--to",
-            "iso",
             "--profile",
             "corpus/czech/ex6b-entry-param-with-point.profile.toml",
             "-o",
@@ -120,17 +105,8 @@ fn writes_the_output_file() {
 
 #[test]
 fn json_diagnostics_are_one_object_per_line() {
-    let out = ncthread(
-        &[
-            "convert",
-            "corpus/bad/syntax-error.nc",
-            "--from",
-            "czech",
-            "--to",
-            "iso",
-            "--diagnostics",
-            "json",
-        ],
+    let out = czech_to_iso(
+        &["corpus/bad/syntax-error.nc", "--diagnostics", "json"],
         None,
     );
     assert_eq!(out.status.code(), Some(1));
@@ -150,30 +126,15 @@ fn json_diagnostics_are_one_object_per_line() {
 fn usage_and_io_errors_exit_2() {
     let out = ncthread(&["convert", "--from", "klingon", "--to", "iso"], None);
     assert_eq!(out.status.code(), Some(2));
-    let out = ncthread(
-        &[
-            "convert",
-            "no/such/file.nc",
-            "--from",
-            "czech",
-            "--to",
-            "iso",
-        ],
-        None,
-    );
+    let out = czech_to_iso(&["no/such/file.nc"], None);
     assert_eq!(out.status.code(), Some(2));
     assert!(text(&out.stderr).contains("cannot read no/such/file.nc"));
     let dir = tempfile::tempdir().unwrap();
     let profile = dir.path().join("p.toml");
     std::fs::write(&profile, "[czech]\nconstant8 = \"12\"\n").unwrap();
-    let out = ncthread(
+    let out = czech_to_iso(
         &[
-            "convert",
             "corpus/czech/ex3-taper.nc",
-            "--from",
-            "czech",
-            "--to",
-            "iso",
             "--profile",
             profile.to_str().unwrap(),
         ],
@@ -190,23 +151,9 @@ fn usage_and_io_errors_exit_2() {
 #[test]
 fn unsupported_warn_keeps_the_block_as_a_comment() {
     let program = b"N10 M03 S100\nN20 G00 X30. Z5.\nN30 G84 X26. Z-20. F1.5\n";
-    let out = ncthread(
-        &["convert", "--from", "czech", "--to", "iso"],
-        Some(program),
-    );
+    let out = czech_to_iso(&[], Some(program));
     assert_eq!(out.status.code(), Some(1));
-    let out = ncthread(
-        &[
-            "convert",
-            "--from",
-            "czech",
-            "--to",
-            "iso",
-            "--unsupported",
-            "warn",
-        ],
-        Some(program),
-    );
+    let out = czech_to_iso(&["--unsupported", "warn"], Some(program));
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     assert!(text(&out.stdout).contains("(czech: N30 G84 X26. Z-20. F1.5)"));
     let err = text(&out.stderr);

@@ -96,7 +96,7 @@ pub const ISO_MCODE: Code = warning(
 );
 pub const ISO_START_ANGLE: Code = error(
     "ISO003",
-    "start angle on a pass whose start point is unknown",
+    "thread pass whose start angle, entry or runout needs an unknown start point",
 );
 pub const ISO_SPINDLE_OFF: Code = error("ISO004", "thread pass while the spindle is not turning");
 pub const ISO_BAD_MAPPING: Code = error("ISO005", "profile M code mapping is not an M word");

@@ -258,11 +258,11 @@ impl<'a> FrontEnd<'a> {
                     };
                     let conflict = match g {
                         0 | 1 | 33 => {
-                            let m = [Motion::Rapid, Motion::Feed, Motion::Thread][match g {
-                                0 => 0,
-                                1 => 1,
-                                _ => 2,
-                            }];
+                            let m = match g {
+                                0 => Motion::Rapid,
+                                1 => Motion::Feed,
+                                _ => Motion::Thread,
+                            };
                             words.motion.replace((m, word)).map(|(_, w)| w)
                         }
                         90 | 91 => words.distance.replace((g == 91, word)).map(|(_, w)| w),
@@ -423,17 +423,13 @@ impl<'a> FrontEnd<'a> {
             self.diags.push(d);
         }
         if warn {
-            let text = line.text[block.code_range.clone()].to_string();
-            self.push(
-                ItemKind::Opaque {
-                    dialect: Dialect::Czech,
-                    text,
-                    block: true,
-                },
-                code_span,
-                None,
-            );
-            self.pos = Pos::UNKNOWN;
+            let kind = ItemKind::Opaque {
+                dialect: Dialect::Czech,
+                text: line.text[block.code_range.clone()].to_string(),
+                block: true,
+            };
+            self.pos = kind.end_position(self.pos);
+            self.push(kind, code_span, None);
         }
     }
 
@@ -710,14 +706,7 @@ impl<'a> FrontEnd<'a> {
                     return;
                 }
             },
-            Motion::Thread => match self.thread_pass(
-                line,
-                words,
-                f.map(|(v, w)| (v, w.clone())),
-                start,
-                to,
-                code_span,
-            ) {
+            Motion::Thread => match self.thread_pass(line, words, f, start, to, code_span) {
                 Some(pass) => ItemKind::ThreadPass(pass),
                 None => return,
             },
@@ -730,7 +719,7 @@ impl<'a> FrontEnd<'a> {
         &mut self,
         line: Line<'_>,
         words: &Words<'_>,
-        f: Option<(Length, Word)>,
+        f: Option<(Length, &Word)>,
         start: Pos,
         to: Pos,
         code_span: Span,

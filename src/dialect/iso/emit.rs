@@ -81,6 +81,20 @@ fn k_value(segment: &SyncSegment) -> String {
     text.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
+/// `S500 M3`, `M4`, `S500`: the words for a spindle speed and/or direction.
+fn spindle_words(speed: Option<u32>, direction: Option<SpindleDirection>) -> String {
+    let mut s = String::new();
+    if let Some(speed) = speed {
+        let _ = write!(s, "S{speed} ");
+    }
+    match direction {
+        Some(SpindleDirection::Clockwise) => s.push_str("M3"),
+        Some(SpindleDirection::CounterClockwise) => s.push_str("M4"),
+        None => {}
+    }
+    s.trim_end().to_string()
+}
+
 fn axes(to: Pos) -> String {
     let mut s = String::new();
     if let Some(x) = to.x {
@@ -107,24 +121,9 @@ impl Emitter<'_> {
         );
     }
 
-    fn line(&mut self, text: &str) -> usize {
-        let at = self.out.len();
+    fn line(&mut self, text: &str) {
         self.out.push_str(text.trim_start());
         self.out.push('\n');
-        at
-    }
-
-    fn spindle_line(&self) -> String {
-        let mut s = String::new();
-        if let Some(speed) = self.speed {
-            let _ = write!(s, "S{speed} ");
-        }
-        match self.turning {
-            Some(SpindleDirection::Clockwise) => s.push_str("M3"),
-            Some(SpindleDirection::CounterClockwise) => s.push_str("M4"),
-            None => {}
-        }
-        s
     }
 
     fn item(&mut self, item: &Item) {
@@ -144,16 +143,7 @@ impl Emitter<'_> {
                 if direction.is_some() {
                     self.turning = *direction;
                 }
-                let mut text = String::new();
-                if let Some(s) = speed {
-                    let _ = write!(text, "S{s} ");
-                }
-                match direction {
-                    Some(SpindleDirection::Clockwise) => text.push_str("M3"),
-                    Some(SpindleDirection::CounterClockwise) => text.push_str("M4"),
-                    None => {}
-                }
-                self.line(&text);
+                self.line(&spindle_words(*speed, *direction));
             }
             ItemKind::SpindleStop => {
                 self.turning = None;
@@ -176,7 +166,7 @@ impl Emitter<'_> {
                     && self.profile.iso.tool_change == ToolChange::M6
                     && self.turning.is_some()
                 {
-                    let restart = self.spindle_line();
+                    let restart = spindle_words(self.speed, self.turning);
                     self.line(&format!("{restart} (restart the spindle after M6)"));
                 }
             }
