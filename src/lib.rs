@@ -14,8 +14,7 @@ pub mod source;
 pub mod text;
 
 use diag::{Diagnostic, codes};
-pub use dialect::Dialect;
-pub use dialect::czech::Unsupported;
+pub use dialect::{Dialect, Unsupported};
 use ir::Program;
 use profile::Profile;
 use source::SourceFile;
@@ -48,7 +47,7 @@ pub fn parse(
         Dialect::Czech => {
             dialect::czech::parse(src, profile, &dialect::czech::Options { unsupported })
         }
-        Dialect::Iso => (
+        Dialect::Nc31 | Dialect::Iso => (
             Program::default(),
             vec![not_yet(&format!("reading dialect {from}"))],
         ),
@@ -65,7 +64,7 @@ pub fn emit(
 ) -> (Option<String>, Vec<Diagnostic>) {
     match to {
         Dialect::Iso => dialect::iso::emit(program, src, from, profile),
-        Dialect::Czech => (None, vec![not_yet(&format!("writing dialect {to}"))]),
+        Dialect::Czech | Dialect::Nc31 => (None, vec![not_yet(&format!("writing dialect {to}"))]),
     }
 }
 

@@ -2,7 +2,7 @@
 //! moves. Emitters, `explain`, `plot` and the simulator all call these functions.
 
 use crate::fixed::{Angle, Length};
-use crate::ir::{Pos, ThreadPass};
+use crate::ir::{Chamfer, ItemKind, Pos, Schedule, ThreadCycle, ThreadPass};
 
 /// One straight spindle-synchronised move.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -121,6 +121,269 @@ pub fn start_angle_as_shift(
     };
     first.from = Pos { x, z: Some(z) };
     Ok(Some(first.from))
+}
+
+/// More passes than any real thread needs: a cycle asking for more is a typing error, and
+/// expanding it would only exhaust memory.
+pub const MAX_PASSES: usize = 1000;
+
+/// Why a thread cycle cannot be cut.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExpandError {
+    /// The lead is zero or negative.
+    Lead,
+    /// The end Z equals the start Z.
+    NoTravel,
+    /// The first depth is zero or negative.
+    FirstDepth,
+    /// The total depth is smaller than the schedule's minimum.
+    DepthTooSmall { minimum: Length },
+    /// The schedule needs more than [`MAX_PASSES`] passes.
+    TooManyPasses,
+    /// The Z travel of pass `pass` (after its infeed shift) cannot hold the runout.
+    ShortPass { pass: usize, travel: Length },
+}
+
+impl ExpandError {
+    /// What is wrong, for a diagnostic message.
+    pub fn message(&self, cycle: &ThreadCycle) -> String {
+        match self {
+            ExpandError::Lead => format!("the lead {} mm is not positive", cycle.lead.mm()),
+            ExpandError::NoTravel => format!(
+                "the cycle ends at Z{} where it starts: there is no thread length",
+                cycle.end_z.mm()
+            ),
+            ExpandError::FirstDepth => format!(
+                "the first-pass depth {} mm is not positive",
+                cycle.first_depth.mm()
+            ),
+            ExpandError::DepthTooSmall { minimum } => format!(
+                "the thread depth {} mm is smaller than the {} schedule needs for a first pass of {} mm (at least {} mm)",
+                cycle.depth.mm(),
+                cycle.schedule.id(),
+                cycle.first_depth.mm(),
+                minimum.mm()
+            ),
+            ExpandError::TooManyPasses => format!(
+                "a depth of {} mm in first passes of {} mm needs more than {MAX_PASSES} passes",
+                cycle.depth.mm(),
+                cycle.first_depth.mm()
+            ),
+            ExpandError::ShortPass { pass, travel } => format!(
+                "pass {pass} travels {} mm along Z, which cannot hold the {} mm runout",
+                travel.mm(),
+                cycle.runout.mm()
+            ),
+        }
+    }
+}
+
+/// The cumulative depth after each pass of `schedule`, ending exactly at `depth`.
+pub fn pass_depths(
+    schedule: Schedule,
+    depth: Length,
+    first: Length,
+) -> Result<Vec<Length>, ExpandError> {
+    if first.0 <= 0 {
+        return Err(ExpandError::FirstDepth);
+    }
+    let (p1, p2) = (depth.0, first.0);
+    match schedule {
+        Schedule::Halving => {
+            // f = P2/2, P2/4, P2/8, P2/16 (integer division); k passes of P2; a remainder.
+            let last_four = [p2 / 2, p2 / 4, p2 / 8, p2 / 16];
+            let tail: i64 = last_four.iter().sum();
+            if p1 < p2 + tail {
+                return Err(ExpandError::DepthTooSmall {
+                    minimum: Length(p2 + tail),
+                });
+            }
+            let full = (p1 - tail) / p2;
+            let rest = p1 - tail - full * p2;
+            if full as usize + 5 > MAX_PASSES {
+                return Err(ExpandError::TooManyPasses);
+            }
+            let mut cuts = vec![p2; full as usize];
+            if rest > 0 {
+                cuts.push(rest);
+            }
+            cuts.extend(last_four);
+            Ok(cumulative(&cuts))
+        }
+        Schedule::ConstantDepth => {
+            if p1 < p2 {
+                return Err(ExpandError::DepthTooSmall { minimum: first });
+            }
+            let n = (p1 + p2 - 1) / p2;
+            if n as usize > MAX_PASSES {
+                return Err(ExpandError::TooManyPasses);
+            }
+            Ok((1..=n).map(|i| Length((i * p2).min(p1))).collect())
+        }
+        Schedule::ConstantArea => {
+            if p1 < p2 {
+                return Err(ExpandError::DepthTooSmall { minimum: first });
+            }
+            // c_n = P2·√n reaches P1 at n = (P1/P2)².
+            let (p1w, p2w) = (p1 as u128, p2 as u128);
+            if p1w * p1w > p2w * p2w * (MAX_PASSES as u128 - 1) {
+                return Err(ExpandError::TooManyPasses);
+            }
+            let mut depths = Vec::new();
+            for n in 1.. {
+                let c = round_sqrt(p2w * p2w * n) as i64;
+                if c >= p1 {
+                    depths.push(depth);
+                    break;
+                }
+                depths.push(Length(c));
+            }
+            Ok(depths)
+        }
+    }
+}
+
+fn cumulative(cuts: &[i64]) -> Vec<Length> {
+    cuts.iter()
+        .scan(0, |c, cut| {
+            *c += cut;
+            Some(Length(*c))
+        })
+        .collect()
+}
+
+/// √v rounded to the nearest integer.
+fn round_sqrt(v: u128) -> u128 {
+    let r = v.isqrt();
+    if v - r * r > r { r + 1 } else { r }
+}
+
+/// One pass of an expanded cycle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CyclePass {
+    /// 1-based.
+    pub number: usize,
+    /// Cumulative depth per side after this pass.
+    pub depth: Length,
+    /// Depth of cut of this pass.
+    pub cut: Length,
+    /// Where the synchronised move starts (reached by a rapid).
+    pub start: Pos,
+    pub pass: ThreadPass,
+    /// The diameter the tool retracts to before it returns to the start Z.
+    pub retract_x: Length,
+}
+
+/// One move of an expanded cycle, with the pass it belongs to (0: the final return).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CycleMove {
+    pub pass: usize,
+    pub kind: ItemKind,
+}
+
+/// A cycle as passes and as the moves that cut them, in order.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Expansion {
+    pub passes: Vec<CyclePass>,
+    pub moves: Vec<CycleMove>,
+}
+
+/// Lowers a thread cycle to passes: the one implementation used by every emitter,
+/// `explain`, `plot` and the simulator.
+///
+/// For cumulative depth c (external; internal mirrors X): rapid to the thread line − 2c at
+/// Z = start + c·infeed towards the end; synchronised move to the end Z (with the runout
+/// ending on the crest); rapid X out to the crest + 2·retract, or the start X if that is
+/// further out; rapid Z back to the start. At the end the tool returns to the start point.
+pub fn expand(cycle: &ThreadCycle) -> Result<Expansion, ExpandError> {
+    if cycle.lead.0 <= 0 {
+        return Err(ExpandError::Lead);
+    }
+    let (ax, az) = cycle.start;
+    if cycle.end_z == az {
+        return Err(ExpandError::NoTravel);
+    }
+    let depths = pass_depths(cycle.schedule, cycle.depth, cycle.first_depth)?;
+    let towards_end = (cycle.end_z - az).signum();
+    // Outward: +1 for an external thread (the tool comes from larger diameters).
+    let outward = if cycle.internal { -1 } else { 1 };
+    let crest_start = cycle.crest;
+    let crest_end = cycle.crest + cycle.taper;
+    let crest_at = |z: Length| crest_start + cycle.taper.mul_div((z - az).0, (cycle.end_z - az).0);
+    let retract_x = {
+        let clear = Length(outward * 2 * cycle.retract.0);
+        let x = if outward > 0 {
+            crest_start.max(crest_end) + clear
+        } else {
+            crest_start.min(crest_end) + clear
+        };
+        if (ax - x).signum() == outward { ax } else { x }
+    };
+    let mut passes = Vec::with_capacity(depths.len());
+    let mut moves = Vec::with_capacity(4 * depths.len() + 1);
+    let mut previous = Length::ZERO;
+    for (i, &c) in depths.iter().enumerate() {
+        let number = i + 1;
+        let sink = Length(-outward * 2 * c.0);
+        let z = az + Length(towards_end * cycle.infeed.of(c).0);
+        let travel = Length(towards_end * (cycle.end_z - z).0);
+        if travel.0 <= cycle.runout.0 {
+            return Err(ExpandError::ShortPass {
+                pass: number,
+                travel,
+            });
+        }
+        let start = Pos::new(crest_at(z) + sink, z);
+        let pass = ThreadPass {
+            to: Pos::new(crest_end + sink, cycle.end_z),
+            lead: cycle.lead,
+            start_angle: Angle::ZERO,
+            entry: None,
+            exit: (cycle.runout.0 > 0).then_some(Chamfer {
+                length: cycle.runout,
+                offset: -sink,
+            }),
+        };
+        passes.push(CyclePass {
+            number,
+            depth: c,
+            cut: c - previous,
+            start,
+            pass,
+            retract_x,
+        });
+        previous = c;
+        for kind in [
+            ItemKind::Rapid { to: start },
+            ItemKind::ThreadPass(pass),
+            ItemKind::Rapid {
+                to: Pos {
+                    x: Some(retract_x),
+                    z: None,
+                },
+            },
+            ItemKind::Rapid {
+                to: Pos {
+                    x: None,
+                    z: Some(az),
+                },
+            },
+        ] {
+            moves.push(CycleMove { pass: number, kind });
+        }
+    }
+    if retract_x != ax {
+        moves.push(CycleMove {
+            pass: 0,
+            kind: ItemKind::Rapid {
+                to: Pos {
+                    x: Some(ax),
+                    z: None,
+                },
+            },
+        });
+    }
+    Ok(Expansion { passes, moves })
 }
 
 #[cfg(test)]
@@ -250,5 +513,241 @@ mod tests {
             start_angle_as_shift(&mut unknown, Angle::from_deg(180)),
             Err(LowerError::UnknownStart)
         );
+    }
+
+    fn m36(schedule: Schedule) -> ThreadCycle {
+        // The seed's G31 M36×1.5: A = Ø36 Z4.5, X3600, Z-4750, F15000, P96, P20.
+        ThreadCycle {
+            start: (mm(36.0), mm(4.5)),
+            crest: mm(36.0),
+            end_z: mm(-47.5),
+            lead: mm(1.5),
+            depth: mm(0.96),
+            first_depth: mm(0.2),
+            taper: Length::ZERO,
+            infeed: crate::ir::Slope::ZERO,
+            runout: Length::ZERO,
+            retract: mm(0.5),
+            internal: false,
+            schedule,
+        }
+    }
+
+    fn lengths(v: &[f64]) -> Vec<Length> {
+        v.iter().map(|&x| mm(x)).collect()
+    }
+
+    #[test]
+    fn halving_schedule_of_the_seed_m36() {
+        // nc31.md: 0.2, 0.2, 0.2, 0.1725, 0.1, 0.05, 0.025, 0.0125.
+        let depths = pass_depths(Schedule::Halving, mm(0.96), mm(0.2)).unwrap();
+        assert_eq!(
+            depths,
+            lengths(&[0.2, 0.4, 0.6, 0.7725, 0.8725, 0.9225, 0.9475, 0.96])
+        );
+        // Internal remainder case: P1 0.5, P2 0.2: f sums to 0.1875, one full pass, 0.1125.
+        let depths = pass_depths(Schedule::Halving, mm(0.5), mm(0.2)).unwrap();
+        assert_eq!(depths, lengths(&[0.2, 0.3125, 0.4125, 0.4625, 0.4875, 0.5]));
+        // No remainder: P1 = P2 + f exactly (0.2 + 0.1875).
+        let depths = pass_depths(Schedule::Halving, mm(0.3875), mm(0.2)).unwrap();
+        assert_eq!(depths, lengths(&[0.2, 0.3, 0.35, 0.375, 0.3875]));
+    }
+
+    #[test]
+    fn other_schedules() {
+        let depths = pass_depths(Schedule::ConstantDepth, mm(0.96), mm(0.2)).unwrap();
+        assert_eq!(depths, lengths(&[0.2, 0.4, 0.6, 0.8, 0.96]));
+        // 0.2·√n: 0.2, 0.28284, 0.34641, 0.4, 0.44721, …; n = 23 gives 0.95917 < 0.96, n = 24
+        // would pass it, so pass 24 goes to 0.96.
+        let depths = pass_depths(Schedule::ConstantArea, mm(0.96), mm(0.2)).unwrap();
+        assert_eq!(depths.len(), 24);
+        assert_eq!(
+            &depths[..5],
+            &lengths(&[0.2, 0.2828, 0.3464, 0.4, 0.4472])[..]
+        );
+        assert_eq!(depths[22], mm(0.9592));
+        assert_eq!(depths[23], mm(0.96));
+    }
+
+    #[test]
+    fn impossible_depths_are_refused() {
+        assert_eq!(
+            pass_depths(Schedule::Halving, mm(0.3), mm(0.2)),
+            Err(ExpandError::DepthTooSmall {
+                minimum: mm(0.3875)
+            })
+        );
+        assert_eq!(
+            pass_depths(Schedule::Halving, mm(0.3), Length::ZERO),
+            Err(ExpandError::FirstDepth)
+        );
+        assert_eq!(
+            pass_depths(Schedule::ConstantDepth, mm(0.1), mm(0.2)),
+            Err(ExpandError::DepthTooSmall { minimum: mm(0.2) })
+        );
+        assert_eq!(
+            pass_depths(Schedule::ConstantDepth, mm(100.0), Length(1)),
+            Err(ExpandError::TooManyPasses)
+        );
+        assert_eq!(
+            pass_depths(Schedule::ConstantArea, mm(10.0), mm(0.1)),
+            Err(ExpandError::TooManyPasses)
+        );
+        assert_eq!(
+            pass_depths(Schedule::Halving, mm(1000.0), mm(0.01)),
+            Err(ExpandError::TooManyPasses)
+        );
+        let mut c = m36(Schedule::Halving);
+        c.end_z = c.start.1;
+        assert_eq!(expand(&c), Err(ExpandError::NoTravel));
+        c = m36(Schedule::Halving);
+        c.lead = Length::ZERO;
+        assert_eq!(expand(&c), Err(ExpandError::Lead));
+        c = m36(Schedule::Halving);
+        c.runout = mm(52.0);
+        assert_eq!(
+            expand(&c),
+            Err(ExpandError::ShortPass {
+                pass: 1,
+                travel: mm(52.0)
+            })
+        );
+    }
+
+    #[test]
+    fn seed_m36_passes_and_moves() {
+        let e = expand(&m36(Schedule::Halving)).unwrap();
+        let diameters: Vec<_> = e.passes.iter().map(|p| p.start.x.unwrap()).collect();
+        assert_eq!(
+            diameters,
+            lengths(&[35.6, 35.2, 34.8, 34.455, 34.255, 34.155, 34.105, 34.08])
+        );
+        for p in &e.passes {
+            assert_eq!(p.start.z, Some(mm(4.5)));
+            assert_eq!(p.pass.to, Pos::new(p.start.x.unwrap(), mm(-47.5)));
+            assert_eq!(p.pass.lead, mm(1.5));
+            assert_eq!(p.pass.exit, None);
+            // Crest 36 + 2·0.5 = 37 is further out than the start Ø36.
+            assert_eq!(p.retract_x, mm(37.0));
+        }
+        assert_eq!(e.passes[3].cut, mm(0.1725));
+        // Four moves per pass, then the return to Ø36.
+        assert_eq!(e.moves.len(), 8 * 4 + 1);
+        let last = e.moves.last().unwrap();
+        assert_eq!(last.pass, 0);
+        assert_eq!(
+            last.kind,
+            ItemKind::Rapid {
+                to: Pos {
+                    x: Some(mm(36.0)),
+                    z: None
+                }
+            }
+        );
+        assert_eq!(
+            e.moves[3].kind,
+            ItemKind::Rapid {
+                to: Pos {
+                    x: None,
+                    z: Some(mm(4.5))
+                }
+            }
+        );
+    }
+
+    #[test]
+    fn infeed_p6_2365_shifts_each_start_towards_the_end() {
+        // shift = c·2365/4096: c 0.2 → 0.11548 → 0.1155; c 0.7725 → 0.44602 → 0.4460;
+        // c 0.96 → 0.55430 → 0.5543. The thread runs towards -Z, so Z = 4.5 - shift.
+        let mut c = m36(Schedule::Halving);
+        c.infeed = crate::ir::Slope {
+            rise: 2365,
+            run: 4096,
+        };
+        let e = expand(&c).unwrap();
+        let z: Vec<_> = e.passes.iter().map(|p| p.start.z.unwrap()).collect();
+        assert_eq!(z[0], mm(4.3845));
+        assert_eq!(z[3], mm(4.054));
+        assert_eq!(z[7], mm(3.9457));
+        // The depth is unchanged; the tool still returns to Z4.5 between passes.
+        assert_eq!(e.passes[7].start.x, Some(mm(34.08)));
+        assert_eq!(
+            e.moves[3].kind,
+            ItemKind::Rapid {
+                to: Pos {
+                    x: None,
+                    z: Some(mm(4.5))
+                }
+            }
+        );
+    }
+
+    #[test]
+    fn runout_of_one_lead_ends_on_the_crest() {
+        // P7 = 10 → 10 · 0.1 · 1.5 = 1.5 mm: pass 1 runs at Ø35.6 to Z-46, then to Ø36 Z-47.5.
+        let mut c = m36(Schedule::Halving);
+        c.runout = mm(1.5);
+        let e = expand(&c).unwrap();
+        let p = e.passes[0];
+        let segs = pass_segments(p.start, &p.pass).unwrap();
+        assert_eq!(segs.len(), 2);
+        assert_eq!(segs[0].to, Pos::new(mm(35.6), mm(-46.0)));
+        assert_eq!(segs[1].to, Pos::new(mm(36.0), mm(-47.5)));
+        let last = e.passes[7];
+        let segs = pass_segments(last.start, &last.pass).unwrap();
+        assert_eq!(segs[0].to, Pos::new(mm(34.08), mm(-46.0)));
+        assert_eq!(segs[1].to, Pos::new(mm(36.0), mm(-47.5)));
+    }
+
+    #[test]
+    fn internal_thread_cuts_outward_and_retracts_inward() {
+        // Bore Ø22 from A = Ø20 Z5 to Z-30; depth 0.5, first 0.2.
+        let c = ThreadCycle {
+            start: (mm(20.0), mm(5.0)),
+            crest: mm(22.0),
+            end_z: mm(-30.0),
+            depth: mm(0.5),
+            internal: true,
+            ..m36(Schedule::Halving)
+        };
+        let e = expand(&c).unwrap();
+        let diameters: Vec<_> = e.passes.iter().map(|p| p.start.x.unwrap()).collect();
+        assert_eq!(
+            diameters,
+            lengths(&[22.4, 22.625, 22.825, 22.925, 22.975, 23.0])
+        );
+        // Crest − 2·0.5 = 21 is not as far in as the start Ø20: retract to Ø20, which is
+        // the start, so no final return move.
+        assert!(e.passes.iter().all(|p| p.retract_x == mm(20.0)));
+        assert_eq!(e.moves.len(), 6 * 4);
+    }
+
+    #[test]
+    fn taper_passes_follow_the_cone() {
+        // The seed's taper fragment from A = Ø25 Z0: X19.24, Z-77.8, F2, P1.08, P0.3, P6.76.
+        // Halving: f = 0.15, 0.075, 0.0375, 0.0187 (sum 0.2812); two passes of 0.3, then
+        // 0.1988: 0.3, 0.6, 0.7988, 0.9488, 1.0238, 1.0613, 1.08.
+        let c = ThreadCycle {
+            start: (mm(25.0), Length::ZERO),
+            crest: mm(19.24),
+            end_z: mm(-77.8),
+            lead: mm(2.0),
+            depth: mm(1.08),
+            first_depth: mm(0.3),
+            taper: mm(6.76),
+            ..m36(Schedule::Halving)
+        };
+        let e = expand(&c).unwrap();
+        let depths: Vec<_> = e.passes.iter().map(|p| p.depth).collect();
+        assert_eq!(
+            depths,
+            lengths(&[0.3, 0.6, 0.7988, 0.9488, 1.0238, 1.0613, 1.08])
+        );
+        let p = e.passes[0];
+        assert_eq!(p.start, Pos::new(mm(18.64), Length::ZERO));
+        assert_eq!(p.pass.to, Pos::new(mm(25.4), mm(-77.8)));
+        // Above the larger crest Ø26: Ø27, further out than the start Ø25.
+        assert_eq!(p.retract_x, mm(27.0));
+        assert_eq!(e.moves.last().unwrap().pass, 0);
     }
 }

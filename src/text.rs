@@ -8,6 +8,7 @@ use crate::dialect::Dialect;
 pub fn legacy_encoding(dialect: Dialect) -> &'static Encoding {
     match dialect {
         Dialect::Czech => encoding_rs::WINDOWS_1250,
+        Dialect::Nc31 => encoding_rs::IBM866,
         Dialect::Iso => encoding_rs::WINDOWS_1252,
     }
 }

@@ -101,6 +101,12 @@ pub const ISO_START_ANGLE: Code = error(
 pub const ISO_SPINDLE_OFF: Code = error("ISO004", "thread pass while the spindle is not turning");
 pub const ISO_BAD_MAPPING: Code = error("ISO005", "profile M code mapping is not an M word");
 
+// lowering (shared by every target)
+pub const CYCLE_INVALID: Code = error(
+    "LW001",
+    "a thread cycle cannot be expanded into passes (depths, lead, travel)",
+);
+
 // general
 pub const NOT_IMPLEMENTED: Code = error(
     "NT001",
@@ -138,6 +144,7 @@ pub const ALL: &[Code] = &[
     ISO_START_ANGLE,
     ISO_SPINDLE_OFF,
     ISO_BAD_MAPPING,
+    CYCLE_INVALID,
     NOT_IMPLEMENTED,
 ];
 

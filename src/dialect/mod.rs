@@ -2,7 +2,9 @@
 //! meets the others only in the IR.
 
 pub mod czech;
+pub mod detect;
 pub mod iso;
+pub mod nc31;
 
 use std::fmt;
 
@@ -11,14 +13,19 @@ use std::fmt;
 pub enum Dialect {
     /// The Czech lathe control (manual chapter 5).
     Czech,
+    /// The Электроника НЦ-31 (scaled integer words, `*` groups, G31/G32/G33).
+    Nc31,
     /// ISO/RS274-NGC as LinuxCNC reads it.
     Iso,
 }
 
 impl Dialect {
+    pub const ALL: [Dialect; 3] = [Dialect::Czech, Dialect::Nc31, Dialect::Iso];
+
     pub fn id(self) -> &'static str {
         match self {
             Dialect::Czech => "czech",
+            Dialect::Nc31 => "nc31",
             Dialect::Iso => "iso",
         }
     }
@@ -28,4 +35,14 @@ impl fmt::Display for Dialect {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.id())
     }
+}
+
+/// What a front end does with constructs its dialect's documentation does not define.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Unsupported {
+    /// Refuse the program (default).
+    #[default]
+    Error,
+    /// Warn and keep the block as an opaque item (only the same dialect writes it back).
+    Warn,
 }

@@ -100,6 +100,94 @@ pub struct ThreadPass {
     pub exit: Option<Chamfer>,
 }
 
+/// The tangent of an angle as an exact ratio `rise / run` (e.g. the НЦ-31's parameter 6:
+/// `P6 / 4096`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Slope {
+    pub rise: i64,
+    /// Positive.
+    pub run: i64,
+}
+
+impl Slope {
+    pub const ZERO: Slope = Slope { rise: 0, run: 1 };
+
+    /// `length · rise / run`, rounded once onto the grid.
+    pub fn of(self, length: Length) -> Length {
+        length.mul_div(self.rise, self.run)
+    }
+
+    /// The angle in degrees (for people; the arithmetic uses the ratio).
+    pub fn degrees(self) -> f64 {
+        (self.rise as f64 / self.run as f64).atan().to_degrees()
+    }
+}
+
+/// The rule that gives each pass of a [`ThreadCycle`] its cumulative depth.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Schedule {
+    /// Passes of the first depth, a remainder pass, then four passes of 1/2, 1/4, 1/8, 1/16
+    /// of the first depth (the НЦ-31's G31). **[seed]** + **[decided]** exact law.
+    #[default]
+    Halving,
+    /// Passes of the first depth; the last pass takes what is left.
+    ConstantDepth,
+    /// Cumulative depth `first · √n` (equal chip area); the last pass goes to the full depth.
+    ConstantArea,
+}
+
+impl Schedule {
+    pub fn id(self) -> &'static str {
+        match self {
+            Schedule::Halving => "halving",
+            Schedule::ConstantDepth => "constant-depth",
+            Schedule::ConstantArea => "constant-area",
+        }
+    }
+}
+
+/// A multi-pass thread cycle (the НЦ-31's G31; LinuxCNC's G76 cuts the same kind of thing).
+/// [`crate::lower::expand`] turns it into passes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ThreadCycle {
+    /// Where the tool stands when the cycle starts (point A); it returns there at the end.
+    pub start: (Length, Length),
+    /// Crest diameter at the start Z (the smaller diameter of a taper thread).
+    pub crest: Length,
+    /// Z where every pass ends.
+    pub end_z: Length,
+    /// Advance along Z per spindle revolution.
+    pub lead: Length,
+    /// Total thread depth per side.
+    pub depth: Length,
+    /// Depth of the first pass per side (the schedule's parameter).
+    pub first_depth: Length,
+    /// Crest diameter change from the start Z to the end Z (0: a straight thread).
+    pub taper: Length,
+    /// Infeed direction: tan(angle to the radial). The pass start moves towards the thread
+    /// end by cumulative depth · slope.
+    pub infeed: Slope,
+    /// Length along Z of the runout at each pass's end (0: none); the runout ends on the
+    /// crest diameter.
+    pub runout: Length,
+    /// Radial clearance above the crest when the tool returns between passes.
+    pub retract: Length,
+    /// The tool cuts outward (a bore) instead of inward.
+    pub internal: bool,
+    pub schedule: Schedule,
+}
+
+/// A rigid tapping cycle: synchronised feed to `end_z`, spindle reversal, synchronised feed
+/// back to the start Z with the spindle direction restored, then a rapid to `then_x`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct TapCycle {
+    pub end_z: Length,
+    /// Advance along Z per spindle revolution.
+    pub lead: Length,
+    /// Diameter the tool moves to (rapid) after the cycle (the НЦ-31's point C).
+    pub then_x: Option<Length>,
+}
+
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum ItemKind {
     Rapid {
@@ -111,6 +199,8 @@ pub enum ItemKind {
         feed: Length,
     },
     ThreadPass(ThreadPass),
+    ThreadCycle(ThreadCycle),
+    TapCycle(TapCycle),
     /// Spindle speed (rpm) and/or direction; a direction starts the spindle.
     Spindle {
         speed: Option<u32>,
@@ -164,6 +254,11 @@ impl ItemKind {
                     z: pass.to.z.or(current.z),
                 }
             }
+            ItemKind::ThreadCycle(cycle) => Pos::new(cycle.start.0, cycle.start.1),
+            ItemKind::TapCycle(tap) => Pos {
+                x: tap.then_x.or(current.x),
+                z: current.z,
+            },
             ItemKind::Opaque { block: true, .. } => Pos::UNKNOWN,
             _ => current,
         }

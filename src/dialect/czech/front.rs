@@ -5,23 +5,13 @@ use std::ops::Range;
 
 use super::syntax::{self, Block, Value, Word};
 use crate::diag::{Code, Diagnostic, codes};
-use crate::dialect::Dialect;
+use crate::dialect::{Dialect, Unsupported};
 use crate::fixed::{Angle, Decimal, Length, NumberError};
 use crate::ir::{
     Chamfer, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, ThreadPass,
 };
 use crate::profile::{AngleSource, InitialMotion, Profile};
 use crate::source::{Line, SourceFile, Span};
-
-/// What to do with constructs the manual does not document.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Unsupported {
-    /// Refuse the program (default).
-    #[default]
-    Error,
-    /// Warn and keep the block as an opaque item (only the czech emitter writes it back).
-    Warn,
-}
 
 #[derive(Clone, Debug, Default)]
 pub struct Options {

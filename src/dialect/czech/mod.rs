@@ -4,4 +4,4 @@
 mod front;
 pub mod syntax;
 
-pub use front::{Options, Unsupported, parse};
+pub use front::{Options, parse};

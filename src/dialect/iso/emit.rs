@@ -4,7 +4,11 @@ use std::fmt::Write as _;
 
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::Dialect;
-use crate::ir::{EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, ThreadPass};
+use crate::fixed::Length;
+use crate::ir::{
+    EndCode, FeedMode, Item, ItemKind, Pos, Program, Slope, SpindleDirection, TapCycle,
+    ThreadCycle, ThreadPass,
+};
 use crate::lower::{self, SyncSegment};
 use crate::profile::{Profile, ToolChange};
 use crate::source::SourceFile;
@@ -136,6 +140,8 @@ impl Emitter<'_> {
                 self.line(&format!("G1{} F{}", axes(*to), feed.mm()));
             }
             ItemKind::ThreadPass(pass) => self.thread_pass(item, pass),
+            ItemKind::ThreadCycle(cycle) => self.thread_cycle(item, cycle),
+            ItemKind::TapCycle(tap) => self.tap_cycle(item, tap),
             ItemKind::Spindle { speed, direction } => {
                 if speed.is_some() {
                     self.speed = *speed;
@@ -234,14 +240,115 @@ impl Emitter<'_> {
         }
     }
 
-    fn thread_pass(&mut self, item: &Item, pass: &ThreadPass) {
+    /// A thread cycle as the passes [`lower::expand`] gives, each introduced by a comment.
+    fn thread_cycle(&mut self, item: &Item, cycle: &ThreadCycle) {
+        if !self.spindle_turning(item) {
+            return;
+        }
+        let expansion = match lower::expand(cycle) {
+            Ok(e) => e,
+            Err(e) => {
+                self.diag(
+                    codes::CYCLE_INVALID,
+                    item,
+                    e.message(cycle),
+                    "correct the cycle's words; ncthread cuts a cycle only when every pass is defined",
+                );
+                return;
+            }
+        };
+        let n = expansion.passes.len();
+        self.line(&format!(
+            "(thread cycle: {} Ø{} to Z{}, lead {}, depth {} in {n} passes, {} schedule{}{}{})",
+            if cycle.internal {
+                "internal"
+            } else {
+                "external"
+            },
+            cycle.crest.mm(),
+            cycle.end_z.mm(),
+            cycle.lead.mm(),
+            cycle.depth.mm(),
+            cycle.schedule.id(),
+            if cycle.taper == Length::ZERO {
+                String::new()
+            } else {
+                format!(", taper {} on diameter", cycle.taper.mm())
+            },
+            if cycle.infeed == Slope::ZERO {
+                String::new()
+            } else {
+                format!(", infeed {:.3}°", cycle.infeed.degrees())
+            },
+            if cycle.runout == Length::ZERO {
+                String::new()
+            } else {
+                format!(", runout {}", cycle.runout.mm())
+            },
+        ));
+        let mut current = 0;
+        for m in &expansion.moves {
+            if m.pass != current {
+                current = m.pass;
+                match expansion.passes.get(m.pass.wrapping_sub(1)) {
+                    Some(p) => self.line(&format!(
+                        "(pass {}/{n}: depth {}, cut {})",
+                        p.number,
+                        p.depth.mm(),
+                        p.cut.mm()
+                    )),
+                    None => self.line("(back to the cycle start)"),
+                }
+            }
+            match &m.kind {
+                ItemKind::Rapid { to } => self.line(&format!("G0{}", axes(*to))),
+                ItemKind::ThreadPass(pass) => self.thread_pass(item, pass),
+                // `expand` yields only rapids and passes.
+                _ => {}
+            }
+            self.pos = m.kind.end_position(self.pos);
+        }
+    }
+
+    /// `G33.1 Z K` (LinuxCNC's rigid tap: in, spindle reversal, out, direction restored),
+    /// then `G0 X` to point C.
+    fn tap_cycle(&mut self, item: &Item, tap: &TapCycle) {
+        if !self.spindle_turning(item) {
+            return;
+        }
+        if self.pos.z.is_none() {
+            self.diag(
+                codes::ISO_START_ANGLE,
+                item,
+                "the tapping cycle returns to its start Z, which is not known",
+                "move to the start of the hole with X and Z first",
+            );
+            return;
+        }
+        self.line(&format!(
+            "G33.1 Z{} K{} (tap: in, reverse, out)",
+            tap.end_z.mm(),
+            tap.lead.mm()
+        ));
+        if let Some(x) = tap.then_x {
+            self.line(&format!("G0 X{}", x.mm()));
+        }
+    }
+
+    fn spindle_turning(&mut self, item: &Item) -> bool {
         if self.turning.is_none() {
             self.diag(
                 codes::ISO_SPINDLE_OFF,
                 item,
-                "thread pass while the spindle is not turning",
-                "start the spindle (M03/M04 with S) before the thread; LinuxCNC refuses G33 otherwise",
+                "thread cut while the spindle is not turning",
+                "start the spindle (M03/M04 with S) before the thread; LinuxCNC refuses G33 and G33.1 otherwise",
             );
+        }
+        self.turning.is_some()
+    }
+
+    fn thread_pass(&mut self, item: &Item, pass: &ThreadPass) {
+        if !self.spindle_turning(item) {
             return;
         }
         let mut segments = match lower::pass_segments(self.pos, pass) {
@@ -286,7 +393,6 @@ impl Emitter<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fixed::Length;
 
     #[test]
     fn comments_cannot_nest_or_command() {
