@@ -6,6 +6,16 @@
 //! initial_motion = "G00"        # motion mode in force at program start
 //! gear_range_mcodes = [41, 42, 43, 44]
 //!
+//! [nc31]
+//! linear_unit_mm = 0.01         # X (diameter), Z and P words
+//! lead_unit_mm = 0.0001         # F inside G31/G32/G33 groups
+//! feed_unit_mm = 0.01           # F elsewhere (mm/rev)
+//! infeed_p6 = 0                 # machine parameter 6: 4096·tan(infeed angle)
+//! runout_p7 = 0                 # machine parameter 7: runout in 0.1·lead
+//! retract_mm = 0.5              # radial clearance above the crest between G31 passes
+//! schedule = "halving"          # G31 pass law: halving, constant-depth, constant-area
+//! gear_range_mcodes = [38, 39, 40, 41]
+//!
 //! [iso]
 //! mcodes = { 42 = "M142" }      # legacy M codes → LinuxCNC M words
 //! tool_change = "m6"            # "m6" writes `T9 M6`, "t" writes `T9` alone
@@ -15,7 +25,9 @@ use indexmap::IndexMap;
 use serde::Deserialize;
 
 use crate::diag::{Diagnostic, codes};
-use crate::source::SourceFile;
+use crate::fixed::Length;
+use crate::ir::{Schedule, Slope};
+use crate::source::{SourceFile, Span};
 
 /// Machine constants. `Profile::default()` holds the seeds' values.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -23,7 +35,65 @@ pub struct Profile {
     /// The profile file's name, for diagnostics that mention it.
     pub name: Option<String>,
     pub czech: CzechProfile,
+    pub nc31: Nc31Profile,
     pub iso: IsoProfile,
+}
+
+/// The НЦ-31's units and machine parameters. Defaults: the seed's units, radial infeed, no
+/// runout, 0.5 mm retract, halving schedule.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Nc31Profile {
+    /// One unit of X (diameter), Z and P words.
+    pub linear_unit: Length,
+    /// One unit of F inside a G31/G32/G33 group (lead).
+    pub lead_unit: Length,
+    /// One unit of F elsewhere (feed per revolution).
+    pub feed_unit: Length,
+    /// Machine parameter 6: 4096·tan(infeed angle); 0 is radial infeed.
+    pub infeed_p6: u32,
+    /// Machine parameter 7: runout length in units of 0.1·lead; 0 is none.
+    pub runout_p7: u32,
+    /// Radial clearance above the crest when a G31 pass returns. **[decided]** 0.5 mm.
+    pub retract: Length,
+    pub schedule: Schedule,
+    /// M codes that select a spindle speed range. **[seed]** M38…M41.
+    pub gear_range_mcodes: Vec<u32>,
+}
+
+impl Default for Nc31Profile {
+    fn default() -> Self {
+        Nc31Profile {
+            linear_unit: Length(100),
+            lead_unit: Length(1),
+            feed_unit: Length(100),
+            infeed_p6: 0,
+            runout_p7: 0,
+            retract: Length(5_000),
+            schedule: Schedule::Halving,
+            gear_range_mcodes: vec![38, 39, 40, 41],
+        }
+    }
+}
+
+impl Nc31Profile {
+    /// The denominator of parameter 6. **[seed]** P = 4096·tan α.
+    pub const P6_RUN: i64 = 4096;
+    /// The largest parameter 6 accepted: 45° (flank infeed is at most half a thread angle).
+    pub const P6_MAX: u32 = 4096;
+    /// The largest parameter 7: the seed gives runouts of 0.1…3.1 leads.
+    pub const P7_MAX: u32 = 31;
+
+    pub fn infeed(&self) -> Slope {
+        Slope {
+            rise: self.infeed_p6 as i64,
+            run: Self::P6_RUN,
+        }
+    }
+
+    /// The runout length along Z for `lead`: P7 · 0.1 · lead, rounded once onto the grid.
+    pub fn runout(&self, lead: Length) -> Length {
+        lead.mul_div(self.runout_p7 as i64, 10)
+    }
 }
 
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -145,7 +215,43 @@ struct RawProfile {
     #[serde(default)]
     czech: RawCzech,
     #[serde(default)]
+    nc31: RawNc31,
+    #[serde(default)]
     iso: RawIso,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct RawNc31 {
+    linear_unit_mm: Option<toml::Spanned<RawNumber>>,
+    lead_unit_mm: Option<toml::Spanned<RawNumber>>,
+    feed_unit_mm: Option<toml::Spanned<RawNumber>>,
+    infeed_p6: Option<toml::Spanned<i64>>,
+    runout_p7: Option<toml::Spanned<i64>>,
+    retract_mm: Option<toml::Spanned<RawNumber>>,
+    schedule: Option<toml::Spanned<String>>,
+    gear_range_mcodes: Option<Vec<u32>>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(untagged)]
+enum RawNumber {
+    Int(i64),
+    Float(f64),
+}
+
+impl RawNumber {
+    /// The value as a length on the 0.0001 mm grid, if it lies on it.
+    fn length(self) -> Option<Length> {
+        match self {
+            RawNumber::Int(i) => i.checked_mul(10_000).map(Length),
+            RawNumber::Float(f) => {
+                let units = f * 10_000.0;
+                (units.is_finite() && units.abs() < 1e15 && (units - units.round()).abs() < 1e-6)
+                    .then(|| Length(units.round() as i64))
+            }
+        }
+    }
 }
 
 #[derive(Deserialize, Default)]
@@ -174,12 +280,17 @@ impl Profile {
     /// Reads a profile from its text; every problem is a diagnostic pointing into the file.
     pub fn from_toml(src: &SourceFile) -> Result<Profile, Vec<Diagnostic>> {
         let raw: RawProfile = toml::from_str(&src.text).map_err(|e| {
-            let mut d = Diagnostic::new(
-                codes::PF_INVALID,
-                format!("profile: {}", e.message().trim()),
-            );
-            if let Some(range) = e.span() {
-                d = d.at(src, src.span_of(range));
+            let mut message = format!("profile: {}", e.message().trim());
+            let span = e.span().map(|range| src.span_of(range));
+            // Serde's type errors do not name the key: take it from the marked line.
+            if let Some(key) = span.and_then(|s| key_on_line(src, s)) {
+                if !message.contains(&key) {
+                    message.push_str(&format!(" (key `{key}`)"));
+                }
+            }
+            let mut d = Diagnostic::new(codes::PF_INVALID, message);
+            if let Some(span) = span {
+                d = d.at(src, span);
             }
             vec![
                 d.help("see README.md, section \"Machine profile\", for the keys and their values"),
@@ -217,6 +328,7 @@ impl Profile {
         if let Some(g) = raw.czech.gear_range_mcodes {
             profile.czech.gear_range_mcodes = g;
         }
+        nc31(src, raw.nc31, &mut profile.nc31, &mut diags);
         if let Some(t) = raw.iso.tool_change {
             profile.iso.tool_change = t;
         }
@@ -242,6 +354,105 @@ impl Profile {
         } else {
             Err(diags)
         }
+    }
+}
+
+/// `key` of a `key = value` line, when the span lies after the `=`.
+fn key_on_line(src: &SourceFile, span: Span) -> Option<String> {
+    let line = src.line(span.line);
+    let (key, _) = line.text.split_once('=')?;
+    let key = key.trim();
+    (span.start >= line.offset + key.len() && !key.is_empty() && !key.starts_with('['))
+        .then(|| key.to_string())
+}
+
+fn bad_value(src: &SourceFile, span: Span, key: &str, message: String, help: &str) -> Diagnostic {
+    Diagnostic::new(codes::PF_VALUE, format!("profile key `{key}`: {message}"))
+        .at(src, span)
+        .help(help.to_string())
+}
+
+/// Reads the `[nc31]` section into `p`, reporting each bad value with its key.
+fn nc31(src: &SourceFile, raw: RawNc31, p: &mut Nc31Profile, diags: &mut Vec<Diagnostic>) {
+    let units = [
+        (
+            "nc31.linear_unit_mm",
+            raw.linear_unit_mm,
+            &mut p.linear_unit,
+        ),
+        ("nc31.lead_unit_mm", raw.lead_unit_mm, &mut p.lead_unit),
+        ("nc31.feed_unit_mm", raw.feed_unit_mm, &mut p.feed_unit),
+    ];
+    for (key, value, slot) in units {
+        let Some(value) = value else { continue };
+        let span = src.span_of(value.span());
+        match value.into_inner().length() {
+            Some(l) if l.0 > 0 => *slot = l,
+            _ => diags.push(bad_value(
+                src,
+                span,
+                key,
+                "a unit must be a positive multiple of 0.0001 mm".into(),
+                "e.g. 0.01 for words in hundredths of a millimetre, 0.0001 for leads",
+            )),
+        }
+    }
+    if let Some(value) = raw.retract_mm {
+        let span = src.span_of(value.span());
+        match value.into_inner().length() {
+            Some(l) if l.0 >= 0 => p.retract = l,
+            _ => diags.push(bad_value(
+                src,
+                span,
+                "nc31.retract_mm",
+                "the retract must be zero or positive, a multiple of 0.0001 mm".into(),
+                "the built-in value is 0.5",
+            )),
+        }
+    }
+    if let Some(value) = raw.infeed_p6 {
+        let span = src.span_of(value.span());
+        match u32::try_from(*value.get_ref()) {
+            Ok(v) if v <= Nc31Profile::P6_MAX => p.infeed_p6 = v,
+            _ => diags.push(bad_value(
+                src,
+                span,
+                "nc31.infeed_p6",
+                format!("{} is outside 0…{}", value.get_ref(), Nc31Profile::P6_MAX),
+                "parameter 6 is 4096·tan(infeed angle): 0 radial, 2365 for 30°, 1491 for 20°",
+            )),
+        }
+    }
+    if let Some(value) = raw.runout_p7 {
+        let span = src.span_of(value.span());
+        match u32::try_from(*value.get_ref()) {
+            Ok(v) if v <= Nc31Profile::P7_MAX => p.runout_p7 = v,
+            _ => diags.push(bad_value(
+                src,
+                span,
+                "nc31.runout_p7",
+                format!("{} is outside 0…{}", value.get_ref(), Nc31Profile::P7_MAX),
+                "parameter 7 is the runout in tenths of the lead (1…31), 0 for none",
+            )),
+        }
+    }
+    if let Some(value) = raw.schedule {
+        let span = src.span_of(value.span());
+        match value.get_ref().as_str() {
+            "halving" => p.schedule = Schedule::Halving,
+            "constant-depth" => p.schedule = Schedule::ConstantDepth,
+            "constant-area" => p.schedule = Schedule::ConstantArea,
+            other => diags.push(bad_value(
+                src,
+                span,
+                "nc31.schedule",
+                format!("unknown schedule \"{other}\""),
+                "one of \"halving\" (the control's G31), \"constant-depth\", \"constant-area\"",
+            )),
+        }
+    }
+    if let Some(g) = raw.gear_range_mcodes {
+        p.gear_range_mcodes = g;
     }
 }
 
@@ -306,5 +517,47 @@ mod tests {
         assert_eq!(e[0].location.as_ref().unwrap().line, 3);
         let e = load("[iso]\nmcodes = { 42 = \"G1\" }\n").unwrap_err();
         assert_eq!(e[0].code, codes::ISO_BAD_MAPPING);
+    }
+
+    #[test]
+    fn reads_the_nc31_section() {
+        let p = Profile::default();
+        assert_eq!(p.nc31.linear_unit, Length(100));
+        assert_eq!(p.nc31.lead_unit, Length(1));
+        assert_eq!(p.nc31.retract, Length(5000));
+        let p = load("[nc31]\nlinear_unit_mm = 0.001\nlead_unit_mm = 0.001\nfeed_unit_mm = 0.001\ninfeed_p6 = 2365\nruntout_p7 = 1\n").unwrap_err();
+        assert!(p[0].message.contains("runtout_p7"), "{}", p[0].message);
+        let p = load("[nc31]\nlinear_unit_mm = 0.001\nfeed_unit_mm = 1\ninfeed_p6 = 2365\nrunout_p7 = 10\nretract_mm = 1\nschedule = \"constant-area\"\n").unwrap();
+        assert_eq!(p.nc31.linear_unit, Length(10));
+        assert_eq!(p.nc31.feed_unit, Length(10_000));
+        assert_eq!(p.nc31.infeed().of(Length(9600)), Length(5543));
+        assert_eq!(p.nc31.runout(Length(15_000)), Length(15_000));
+        assert_eq!(p.nc31.schedule, Schedule::ConstantArea);
+    }
+
+    #[test]
+    fn reports_bad_nc31_values_with_file_line_and_key() {
+        for (text, line, key) in [
+            (
+                "[nc31]\nlinear_unit_mm = 0.00001\n",
+                2,
+                "nc31.linear_unit_mm",
+            ),
+            ("[nc31]\n\nlead_unit_mm = -1\n", 3, "nc31.lead_unit_mm"),
+            ("[nc31]\ninfeed_p6 = 5000\n", 2, "nc31.infeed_p6"),
+            ("[nc31]\nrunout_p7 = 40\n", 2, "nc31.runout_p7"),
+            ("[nc31]\nschedule = \"fast\"\n", 2, "nc31.schedule"),
+            ("[nc31]\nretract_mm = -0.5\n", 2, "nc31.retract_mm"),
+        ] {
+            let e = load(text).unwrap_err();
+            assert_eq!(e[0].code, codes::PF_VALUE, "{text}");
+            let loc = e[0].location.as_ref().unwrap();
+            assert_eq!((loc.file.as_str(), loc.line), ("p.toml", line), "{text}");
+            assert!(e[0].message.contains(key), "{}", e[0].message);
+        }
+        // A wrong type names the key too.
+        let e = load("[nc31]\ninfeed_p6 = \"30deg\"\n").unwrap_err();
+        assert_eq!(e[0].code, codes::PF_INVALID);
+        assert!(e[0].message.contains("infeed_p6"), "{}", e[0].message);
     }
 }

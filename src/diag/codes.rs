@@ -87,6 +87,7 @@ pub const PF_INVALID: Code = error(
     "the profile cannot be read (syntax, unknown key, wrong type)",
 );
 pub const PF_CONSTANT8: Code = error("PF002", "machine constant 8 is malformed");
+pub const PF_VALUE: Code = error("PF003", "a profile value is out of range or malformed");
 
 // iso target
 pub const ISO_OPAQUE: Code = warning("ISO001", "undocumented source word kept only as a comment");
@@ -139,6 +140,7 @@ pub const ALL: &[Code] = &[
     CZ_MISSING_BLOCK,
     PF_INVALID,
     PF_CONSTANT8,
+    PF_VALUE,
     ISO_OPAQUE,
     ISO_MCODE,
     ISO_START_ANGLE,
