@@ -283,10 +283,10 @@ impl Profile {
             let mut message = format!("profile: {}", e.message().trim());
             let span = e.span().map(|range| src.span_of(range));
             // Serde's type errors do not name the key: take it from the marked line.
-            if let Some(key) = span.and_then(|s| key_on_line(src, s)) {
-                if !message.contains(&key) {
-                    message.push_str(&format!(" (key `{key}`)"));
-                }
+            if let Some(key) = span.and_then(|s| key_on_line(src, s))
+                && !message.contains(&key)
+            {
+                message.push_str(&format!(" (key `{key}`)"));
             }
             let mut d = Diagnostic::new(codes::PF_INVALID, message);
             if let Some(span) = span {
