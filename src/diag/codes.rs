@@ -81,6 +81,44 @@ pub const CZ_MISSING_BLOCK: Code = error(
     "the program ends before the blocks a J/E thread block requires",
 );
 
+// nc31 front end
+pub const NC_SYNTAX: Code = error("NC001", "the frame cannot be read");
+pub const NC_DECIMAL_POINT: Code = error(
+    "NC002",
+    "a word with a decimal point (words are scaled whole numbers)",
+);
+pub const NC_TWO_WORDS: Code = error("NC003", "more than one word in a frame");
+pub const NC_MODIFIER: Code = error("NC004", "a modifier on a word it does not apply to");
+pub const NC_UNSUPPORTED: Code = error(
+    "NC005",
+    "word not documented for this control (unsupported)",
+);
+pub const NC_NUMBER: Code = error("NC006", "number out of range for its word");
+pub const NC_UNKNOWN_POSITION: Code =
+    error("NC007", "the frame needs a position that is not known yet");
+pub const NC_NO_FEED: Code = error(
+    "NC008",
+    "feed move while the feed is undefined (at the start, or after a thread group)",
+);
+pub const NC_OPEN_GROUP: Code = error(
+    "NC009",
+    "a group (`*`) that the program or a `%` line cuts short",
+);
+pub const NC_MISSING_WORD: Code = error("NC010", "a thread group lacks a word it needs");
+pub const NC_GROUP_WORD: Code = error(
+    "NC011",
+    "a word that does not belong in this group, or is repeated",
+);
+pub const NC_DEPTHS: Code = error(
+    "NC012",
+    "G31 depths give no valid pass schedule (P1 too small, P2 not positive, P3 negative)",
+);
+pub const NC_LEAD: Code = error("NC013", "the lead of a thread group is not positive");
+pub const NC_TRAVEL: Code = error(
+    "NC014",
+    "a thread has no Z travel, or too little for its runout",
+);
+
 // machine profile
 pub const PF_INVALID: Code = error(
     "PF001",
@@ -138,6 +176,20 @@ pub const ALL: &[Code] = &[
     CZ_NO_FEED,
     CZ_NEGATIVE_LENGTH,
     CZ_MISSING_BLOCK,
+    NC_SYNTAX,
+    NC_DECIMAL_POINT,
+    NC_TWO_WORDS,
+    NC_MODIFIER,
+    NC_UNSUPPORTED,
+    NC_NUMBER,
+    NC_UNKNOWN_POSITION,
+    NC_NO_FEED,
+    NC_OPEN_GROUP,
+    NC_MISSING_WORD,
+    NC_GROUP_WORD,
+    NC_DEPTHS,
+    NC_LEAD,
+    NC_TRAVEL,
     PF_INVALID,
     PF_CONSTANT8,
     PF_VALUE,

@@ -1,0 +1,350 @@
+//! The НЦ-31 frame syntax (`grammar/nc31.pest`): one line in, one [`Line`] out.
+
+use std::ops::Range;
+
+use pest::Parser;
+use pest_derive::Parser;
+
+use crate::diag::{Code, codes};
+
+#[derive(Parser)]
+#[grammar = "../grammar/nc31.pest"]
+struct Nc31Parser;
+
+/// The most digits a word may have: more than any НЦ-31 word, few enough that scaling by
+/// any unit stays exact in 64 bits.
+const MAX_DIGITS: usize = 12;
+
+/// `X3600`: the address letter (upper case), the integer value, and its byte range.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Word {
+    pub letter: char,
+    pub value: i64,
+    pub range: Range<usize>,
+}
+
+/// A frame modifier.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Modifier {
+    /// `~`: the move is a rapid.
+    Rapid,
+    /// `*`: the next frame belongs to the same group.
+    Group,
+    /// `@`: the coordinate is incremental (on G33: move to X afterwards).
+    Incremental,
+}
+
+impl Modifier {
+    pub fn ascii(self) -> char {
+        match self {
+            Modifier::Rapid => '~',
+            Modifier::Group => '*',
+            Modifier::Incremental => '@',
+        }
+    }
+}
+
+/// One frame: optional number, at most one word, its modifiers.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Frame {
+    pub number: Option<u32>,
+    pub word: Option<Word>,
+    /// In the order written, with their byte ranges.
+    pub modifiers: Vec<(Modifier, Range<usize>)>,
+    /// The frame without leading and trailing blanks.
+    pub code_range: Range<usize>,
+}
+
+impl Frame {
+    pub fn has(&self, m: Modifier) -> bool {
+        self.modifiers.iter().any(|(x, _)| *x == m)
+    }
+
+    pub fn modifier_range(&self, m: Modifier) -> Option<Range<usize>> {
+        self.modifiers
+            .iter()
+            .find(|(x, _)| *x == m)
+            .map(|(_, r)| r.clone())
+    }
+}
+
+/// What one line holds.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Line {
+    /// Blank.
+    Empty,
+    /// `(` comment line: the text after `(` (a closing `)` removed).
+    Comment(String),
+    /// `%`
+    Delimiter,
+    Frame(Frame),
+}
+
+/// Why a line cannot be read: the code, where (bytes in the line), what and how to fix it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SyntaxError {
+    pub code: Code,
+    pub range: Range<usize>,
+    pub message: String,
+    pub help: String,
+}
+
+const FRAME_HELP: &str = "a frame is `N<number>`, one word (a letter and a whole number: `X3600`, `Z-4750`), then modifiers `~` (rapid), `*` (group continues), `@` (incremental)";
+
+/// Parses one line (without its line ending).
+pub fn parse_line(line: &str) -> Result<Line, SyntaxError> {
+    let mut pairs = Nc31Parser::parse(Rule::line, line).map_err(|e| syntax_error(line, &e))?;
+    let line_pair = pairs
+        .next()
+        .expect("the grammar's `line` rule always yields one pair");
+    let Some(content) = line_pair.into_inner().find(|p| p.as_rule() != Rule::EOI) else {
+        return Ok(Line::Empty);
+    };
+    match content.as_rule() {
+        Rule::comment_line => {
+            let text = content.into_inner().next().map_or("", |t| t.as_str());
+            let text = text.trim();
+            let text = text.strip_suffix(')').unwrap_or(text).trim_end();
+            Ok(Line::Comment(text.to_string()))
+        }
+        Rule::delimiter => Ok(Line::Delimiter),
+        _ => frame(line, content),
+    }
+}
+
+fn frame(line: &str, pair: pest::iterators::Pair<'_, Rule>) -> Result<Line, SyntaxError> {
+    let mut frame = Frame::default();
+    let (mut first, mut last) = (None, 0);
+    for part in pair.into_inner() {
+        let span = part.as_span();
+        let range = span.start()..span.end();
+        first.get_or_insert(range.start);
+        last = range.end;
+        match part.as_rule() {
+            Rule::frame_number => {
+                let digits = &span.as_str()[1..];
+                frame.number = Some(digits.parse().map_err(|_| SyntaxError {
+                    code: codes::NC_NUMBER,
+                    range: range.clone(),
+                    message: format!("frame number `{}` is too large", span.as_str()),
+                    help: "frame numbers are small whole numbers (N0, N1, …)".into(),
+                })?);
+            }
+            Rule::word => {
+                let text = span.as_str();
+                let letter = text.chars().next().unwrap_or('?').to_ascii_uppercase();
+                let number = &text[1..];
+                if let Some(previous) = &frame.word {
+                    return Err(SyntaxError {
+                        code: codes::NC_TWO_WORDS,
+                        range,
+                        message: format!(
+                            "a second word `{text}` in the frame of `{}`",
+                            &line[previous.range.clone()]
+                        ),
+                        help: "the НЦ-31 takes one word per frame; put this word in a frame of its own and join the frames with `*` to make one group".into(),
+                    });
+                }
+                if !frame.modifiers.is_empty() {
+                    return Err(SyntaxError {
+                        code: codes::NC_SYNTAX,
+                        range: frame.modifiers[0].1.clone(),
+                        message: "a modifier before the frame's word".into(),
+                        help: FRAME_HELP.into(),
+                    });
+                }
+                if let Some(dot) = number.find('.') {
+                    let at = range.start + 1 + dot;
+                    return Err(SyntaxError {
+                        code: codes::NC_DECIMAL_POINT,
+                        range: at..at + 1,
+                        message: format!("`{text}` has a decimal point"),
+                        help: "НЦ-31 words are scaled whole numbers: X and Z in 0.01 mm (X3600 = Ø36), F in 0.0001 mm inside G31/G32/G33 (F15000 = lead 1.5) and 0.01 mm/rev elsewhere, P in 0.01 mm (the built-in units; the profile's [nc31] section can change them)".into(),
+                    });
+                }
+                let digits = number.trim_start_matches(['+', '-']);
+                let value = if digits.len() > MAX_DIGITS {
+                    None
+                } else {
+                    number.parse::<i64>().ok()
+                };
+                let Some(value) = value else {
+                    return Err(SyntaxError {
+                        code: codes::NC_NUMBER,
+                        range,
+                        message: format!("`{text}` has too many digits"),
+                        help: format!("a word has at most {MAX_DIGITS} digits"),
+                    });
+                };
+                frame.word = Some(Word {
+                    letter,
+                    value,
+                    range,
+                });
+            }
+            Rule::rapid | Rule::group | Rule::incremental => {
+                let m = match part.as_rule() {
+                    Rule::rapid => Modifier::Rapid,
+                    Rule::group => Modifier::Group,
+                    _ => Modifier::Incremental,
+                };
+                if frame.has(m) {
+                    return Err(SyntaxError {
+                        code: codes::NC_SYNTAX,
+                        range,
+                        message: format!("modifier `{}` written twice", m.ascii()),
+                        help: "write each modifier once".into(),
+                    });
+                }
+                frame.modifiers.push((m, range));
+            }
+            _ => {}
+        }
+    }
+    if frame.word.is_none()
+        && let Some((_, range)) = frame.modifiers.first()
+    {
+        return Err(SyntaxError {
+            code: codes::NC_SYNTAX,
+            range: range.clone(),
+            message: "a modifier without a word".into(),
+            help: FRAME_HELP.into(),
+        });
+    }
+    let Some(first) = first else {
+        return Ok(Line::Empty);
+    };
+    frame.code_range = first..last.max(first);
+    Ok(Line::Frame(frame))
+}
+
+fn syntax_error(line: &str, e: &pest::error::Error<Rule>) -> SyntaxError {
+    let offset = match e.location {
+        pest::error::InputLocation::Pos(p) => p,
+        pest::error::InputLocation::Span((s, _)) => s,
+    };
+    let mut offset = offset.min(line.len());
+    // Pest stops after an address letter that has no number: point at the letter.
+    if line[..offset]
+        .chars()
+        .next_back()
+        .is_some_and(|c| c.is_ascii_alphabetic())
+    {
+        offset -= 1;
+    }
+    let rest = &line[offset..];
+    let found = rest.chars().next();
+    let end = offset + found.map_or(0, char::len_utf8);
+    let (message, help) = match found {
+        None => (
+            "the frame ends where a value was expected".to_string(),
+            FRAME_HELP.to_string(),
+        ),
+        Some('(') => (
+            "a comment after a frame".to_string(),
+            "the НЦ-31 has no comments; ncthread reads a line that starts with `(` as a comment line: move the comment to a line of its own".to_string(),
+        ),
+        Some('%') => (
+            "`%` inside a frame".to_string(),
+            "`%` stands alone on its line".to_string(),
+        ),
+        Some(c) if c.is_ascii_alphabetic() => (
+            format!("address `{c}` is not followed by a whole number"),
+            FRAME_HELP.to_string(),
+        ),
+        Some(c) if c.is_ascii_digit() || c == '.' || c == '-' || c == '+' => (
+            format!(
+                "number `{}` does not belong to an address",
+                rest.split([' ', '\t']).next().unwrap_or(rest)
+            ),
+            FRAME_HELP.to_string(),
+        ),
+        Some(c) => (format!("unexpected character `{c}`"), FRAME_HELP.to_string()),
+    };
+    SyntaxError {
+        code: codes::NC_SYNTAX,
+        range: offset..end,
+        message,
+        help,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame(line: &str) -> Frame {
+        match parse_line(line).unwrap() {
+            Line::Frame(f) => f,
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn reads_the_seed_frames() {
+        let f = frame("N4 X10000 ~ *");
+        assert_eq!(f.number, Some(4));
+        assert_eq!(
+            f.word,
+            Some(Word {
+                letter: 'X',
+                value: 10000,
+                range: 3..9
+            })
+        );
+        assert!(f.has(Modifier::Rapid) && f.has(Modifier::Group));
+        assert!(!f.has(Modifier::Incremental));
+        assert_eq!(f.code_range, 0..13);
+        let f = frame("N11 Z-5200 @ *");
+        assert_eq!(f.word.as_ref().unwrap().value, -5200);
+        assert!(f.has(Modifier::Incremental));
+        // Modifiers in any order, with or without spaces, panel symbols too.
+        let f = frame("N9 G33*⇄");
+        assert!(f.has(Modifier::Group) && f.has(Modifier::Incremental));
+        let f = frame("X3600↷*");
+        assert!(f.has(Modifier::Rapid));
+        assert_eq!(frame("N5 Z5000 ⌒").modifiers[0].0, Modifier::Rapid);
+        assert_eq!(frame("z+450").word.unwrap().letter, 'Z');
+        // A frame with only its number.
+        assert_eq!(frame("N7").word, None);
+    }
+
+    #[test]
+    fn reads_comment_and_delimiter_lines() {
+        assert_eq!(
+            parse_line("(M36X1.5 THREAD)").unwrap(),
+            Line::Comment("M36X1.5 THREAD".into())
+        );
+        assert_eq!(
+            parse_line("  (Резьба").unwrap(),
+            Line::Comment("Резьба".into())
+        );
+        assert_eq!(parse_line("%").unwrap(), Line::Delimiter);
+        assert_eq!(parse_line("  ").unwrap(), Line::Empty);
+    }
+
+    #[test]
+    fn explains_the_rules_it_refuses() {
+        let e = parse_line("N10 X36.00 *").unwrap_err();
+        assert_eq!(e.code, codes::NC_DECIMAL_POINT);
+        assert_eq!(e.range, 7..8);
+        assert!(e.help.contains("0.01 mm"), "{}", e.help);
+        let e = parse_line("N10 X3600 Z450").unwrap_err();
+        assert_eq!(e.code, codes::NC_TWO_WORDS);
+        assert_eq!(e.range, 10..14);
+        assert!(e.help.contains("`*`"), "{}", e.help);
+        let e = parse_line("N10 X3600 ~ ~").unwrap_err();
+        assert_eq!(e.code, codes::NC_SYNTAX);
+        let e = parse_line("N10 ~ X3600").unwrap_err();
+        assert_eq!((e.code, e.range), (codes::NC_SYNTAX, 4..5));
+        let e = parse_line("N10 X3600 (diameter").unwrap_err();
+        assert_eq!(e.range, 10..11);
+        assert!(e.message.contains("comment"), "{}", e.message);
+        let e = parse_line("N10 X").unwrap_err();
+        assert_eq!(e.range, 4..5);
+        let e = parse_line("N10 X1234567890123").unwrap_err();
+        assert_eq!(e.code, codes::NC_NUMBER);
+        let e = parse_line("N10 X100 ;").unwrap_err();
+        assert!(e.message.contains("`;`"), "{}", e.message);
+    }
+}
