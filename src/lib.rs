@@ -47,7 +47,10 @@ pub fn parse(
         Dialect::Czech => {
             dialect::czech::parse(src, profile, &dialect::czech::Options { unsupported })
         }
-        Dialect::Nc31 | Dialect::Iso => (
+        Dialect::Nc31 => {
+            dialect::nc31::parse(src, profile, &dialect::nc31::Options { unsupported })
+        }
+        Dialect::Iso => (
             Program::default(),
             vec![not_yet(&format!("reading dialect {from}"))],
         ),

@@ -112,6 +112,11 @@ pub struct Slope {
 impl Slope {
     pub const ZERO: Slope = Slope { rise: 0, run: 1 };
 
+    /// Radial (tan 0), whatever the denominator.
+    pub fn is_zero(self) -> bool {
+        self.rise == 0
+    }
+
     /// `length · rise / run`, rounded once onto the grid.
     pub fn of(self, length: Length) -> Length {
         length.mul_div(self.rise, self.run)

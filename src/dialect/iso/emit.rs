@@ -6,8 +6,8 @@ use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::Dialect;
 use crate::fixed::Length;
 use crate::ir::{
-    EndCode, FeedMode, Item, ItemKind, Pos, Program, Slope, SpindleDirection, TapCycle,
-    ThreadCycle, ThreadPass,
+    EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, TapCycle, ThreadCycle,
+    ThreadPass,
 };
 use crate::lower::{self, SyncSegment};
 use crate::profile::{Profile, ToolChange};
@@ -275,7 +275,7 @@ impl Emitter<'_> {
             } else {
                 format!(", taper {} on diameter", cycle.taper.mm())
             },
-            if cycle.infeed == Slope::ZERO {
+            if cycle.infeed.is_zero() {
                 String::new()
             } else {
                 format!(", infeed {:.3}°", cycle.infeed.degrees())

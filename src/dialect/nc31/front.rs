@@ -1,0 +1,1279 @@
+//! The nc31 front end: frames → groups → IR items, with the dialect's rules as diagnostics.
+//!
+//! Frames joined by `*` form a group that executes as one block. A group that starts with
+//! G31, G32 or G33 is a thread group; any other group sets feed, spindle, tool, speed range
+//! and/or moves the tool (rapid when any coordinate has `~`).
+
+use std::ops::Range;
+
+use super::syntax::{self, Frame, Line as SyntaxLine, Modifier, Word};
+use crate::diag::{Code, Diagnostic, codes};
+use crate::dialect::{Dialect, Unsupported};
+use crate::fixed::Length;
+use crate::ir::{
+    EndCode, Item, ItemKind, Pos, Program, SpindleDirection, TapCycle, ThreadCycle, ThreadPass,
+};
+use crate::lower::{self, ExpandError};
+use crate::profile::{Nc31Profile, Profile};
+use crate::source::{SourceFile, Span};
+
+#[derive(Clone, Debug, Default)]
+pub struct Options {
+    pub unsupported: Unsupported,
+}
+
+/// The feed register.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Feed {
+    /// No F frame yet.
+    Unset,
+    /// mm per revolution.
+    Set(Length),
+    /// A thread group (starting on this line) left the feed undefined. **[decided]**
+    AfterThread(u32),
+}
+
+/// A frame of a group with the line it stands on.
+struct GroupFrame {
+    frame: Frame,
+    line: u32,
+}
+
+impl GroupFrame {
+    fn word(&self) -> &Word {
+        self.frame
+            .word
+            .as_ref()
+            .expect("groups hold only frames with a word")
+    }
+
+    fn text<'s>(&self, src: &'s SourceFile) -> &'s str {
+        &src.line(self.line).text[self.word().range.clone()]
+    }
+}
+
+struct FrontEnd<'a> {
+    src: &'a SourceFile,
+    profile: &'a Nc31Profile,
+    options: &'a Options,
+    diags: Vec<Diagnostic>,
+    items: Vec<Item>,
+    pos: Pos,
+    feed: Feed,
+    /// The frames of the group being read.
+    group: Vec<GroupFrame>,
+    /// The open group contains a frame that could not be read: it is dropped when it ends.
+    group_broken: bool,
+}
+
+/// Reads an nc31 program. The program is usable only when no diagnostic is an error.
+pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program, Vec<Diagnostic>) {
+    let mut fe = FrontEnd {
+        src,
+        profile: &profile.nc31,
+        options,
+        diags: Vec::new(),
+        items: Vec::new(),
+        pos: Pos::UNKNOWN,
+        feed: Feed::Unset,
+        group: Vec::new(),
+        group_broken: false,
+    };
+    for line in src.lines() {
+        match syntax::parse_line(line.text) {
+            Ok(SyntaxLine::Empty) => {}
+            Ok(SyntaxLine::Comment(text)) => {
+                let span = src.line_span(line);
+                fe.push(ItemKind::Comment(text), span, None);
+            }
+            Ok(SyntaxLine::Delimiter) => {
+                let span = src.line_span(line);
+                if !fe.group.is_empty() || fe.group_broken {
+                    fe.open_group_error(span, "a `%` line");
+                    fe.group.clear();
+                    fe.group_broken = false;
+                }
+                fe.push(ItemKind::Delimiter, span, None);
+            }
+            Ok(SyntaxLine::Frame(frame)) => {
+                let continues = frame.has(Modifier::Group);
+                if frame.word.is_some() {
+                    fe.group.push(GroupFrame {
+                        frame,
+                        line: line.number,
+                    });
+                }
+                if !continues {
+                    fe.end_group();
+                }
+            }
+            Err(e) => {
+                let span = src.span_in_line(line, e.range.clone());
+                fe.diags.push(
+                    Diagnostic::new(e.code, e.message)
+                        .at(src, span)
+                        .help(e.help),
+                );
+                // Whether the unreadable frame continued its group: its `*` tells.
+                fe.group_broken = true;
+                if !line.text.contains('*') {
+                    fe.end_group();
+                }
+            }
+        }
+    }
+    if let Some(last) = fe.group.last() {
+        let span = fe.word_span(last);
+        fe.open_group_error(span, "the end of the program");
+    }
+    (Program { items: fe.items }, fe.diags)
+}
+
+/// What a thread group's words are, by letter.
+#[derive(Default)]
+struct ThreadWords<'g> {
+    x: Option<&'g GroupFrame>,
+    z: Option<&'g GroupFrame>,
+    f: Option<&'g GroupFrame>,
+    p: Vec<&'g GroupFrame>,
+}
+
+impl<'a> FrontEnd<'a> {
+    fn push(&mut self, kind: ItemKind, span: Span, number: Option<u32>) {
+        self.items.push(Item {
+            kind,
+            span,
+            block_number: number,
+            comment: None,
+        });
+    }
+
+    fn span(&self, f: &GroupFrame, range: Range<usize>) -> Span {
+        self.src.span_in_line(self.src.line(f.line), range)
+    }
+
+    fn word_span(&self, f: &GroupFrame) -> Span {
+        self.span(f, f.word().range.clone())
+    }
+
+    fn error(
+        &mut self,
+        code: Code,
+        span: Span,
+        message: impl Into<String>,
+        help: impl Into<String>,
+    ) {
+        self.diags
+            .push(Diagnostic::new(code, message).at(self.src, span).help(help));
+    }
+
+    fn word_error(
+        &mut self,
+        code: Code,
+        f: &GroupFrame,
+        message: impl Into<String>,
+        help: impl Into<String>,
+    ) {
+        let span = self.word_span(f);
+        self.error(code, span, message, help);
+    }
+
+    fn open_group_error(&mut self, span: Span, what: &str) {
+        self.error(
+            codes::NC_OPEN_GROUP,
+            span,
+            format!("{what} cuts the group short: the frame before it ends with `*`"),
+            "remove the `*` from the group's last frame, or add the frames the group is missing",
+        );
+    }
+
+    /// The span of a whole group: its first line, from the first word to the end of the
+    /// last frame.
+    fn group_span(&self, frames: &[GroupFrame]) -> Span {
+        let first = &frames[0];
+        let mut span = self.span(first, first.frame.code_range.clone());
+        if let Some(last) = frames.last() {
+            span.end = self.src.line(last.line).offset + last.frame.code_range.end;
+        }
+        span
+    }
+
+    fn end_group(&mut self) {
+        let frames = std::mem::take(&mut self.group);
+        if std::mem::take(&mut self.group_broken) || frames.is_empty() {
+            return;
+        }
+        if !self.check_supported(&frames) {
+            return;
+        }
+        let span = self.group_span(&frames);
+        let number = frames[0].frame.number;
+        let first_item = self.items.len();
+        let gs: Vec<&GroupFrame> = frames.iter().filter(|f| f.word().letter == 'G').collect();
+        match gs.as_slice() {
+            [] => self.plain_group(&frames, span),
+            [g] if std::ptr::eq(*g, &frames[0]) => match g.word().value {
+                31 => self.g31(&frames, span),
+                32 => self.g32(&frames, span),
+                _ => self.g33(&frames, span),
+            },
+            [g, ..] => {
+                let g = if std::ptr::eq(*g, &frames[0]) {
+                    gs[1]
+                } else {
+                    *g
+                };
+                self.word_error(
+                    codes::NC_GROUP_WORD,
+                    g,
+                    format!("`{}` inside a group", g.text(self.src)),
+                    "a G word opens its own group (`G31 *`, then the cycle's words); end the previous group first",
+                );
+            }
+        }
+        for item in &mut self.items[first_item..] {
+            item.block_number = number;
+        }
+    }
+
+    /// Reports words the guide does not document; with `--unsupported warn` the group is kept
+    /// as one opaque item. Returns whether the group can be read.
+    fn check_supported(&mut self, frames: &[GroupFrame]) -> bool {
+        let mut found = Vec::new();
+        for f in frames {
+            let w = f.word();
+            let reason = match w.letter {
+                'X' | 'Z' | 'F' | 'P' | 'S' | 'T' => None,
+                'G' if matches!(w.value, 31..=33) => None,
+                'G' => Some(format!(
+                    "G{} is not among the documented G words (G31, G32, G33)",
+                    w.value
+                )),
+                'M' if matches!(w.value, 3 | 4 | 5 | 30)
+                    || self.profile.gear_range_mcodes.contains(&(w.value as u32)) =>
+                {
+                    None
+                }
+                'M' => Some(format!(
+                    "M{} is not among the documented M words (M3, M4, M5, M30, speed ranges {})",
+                    w.value,
+                    self.profile
+                        .gear_range_mcodes
+                        .iter()
+                        .map(|m| format!("M{m}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )),
+                other => Some(format!("address {other} is not documented for the НЦ-31")),
+            };
+            if let Some(reason) = reason {
+                found.push((f, reason));
+            }
+        }
+        if found.is_empty() {
+            return true;
+        }
+        let warn = self.options.unsupported == Unsupported::Warn;
+        for (f, reason) in &found {
+            let mut d = Diagnostic::new(
+                codes::NC_UNSUPPORTED,
+                format!("`{}`: {reason}", f.text(self.src)),
+            )
+            .at(self.src, self.word_span(f));
+            d = if warn {
+                d.help("kept as an opaque group: only an nc31 target writes it back, and positions after it are unknown")
+                    .as_warning()
+            } else {
+                d.help("ncthread converts only what the guide documents; `--unsupported warn` keeps such a group as an opaque item")
+            };
+            self.diags.push(d);
+        }
+        if warn {
+            let text = frames
+                .iter()
+                .map(|f| &self.src.line(f.line).text[f.frame.code_range.clone()])
+                .collect::<Vec<_>>()
+                .join("\n");
+            let span = self.group_span(frames);
+            self.push(
+                ItemKind::Opaque {
+                    dialect: Dialect::Nc31,
+                    text,
+                    block: true,
+                },
+                span,
+                frames[0].frame.number,
+            );
+            self.pos = Pos::UNKNOWN;
+        }
+        false
+    }
+
+    /// Reports `~` and `@` on a frame that does not take them.
+    fn check_modifiers(&mut self, f: &GroupFrame, rapid: bool, incremental: bool) -> bool {
+        let mut ok = true;
+        for (m, allowed, what) in [
+            (
+                Modifier::Rapid,
+                rapid,
+                "`~` (rapid) applies to X and Z frames outside thread groups",
+            ),
+            (
+                Modifier::Incremental,
+                incremental,
+                "`@` (incremental) applies to X and Z frames, and on G33 to its X offset",
+            ),
+        ] {
+            if let Some(range) = f.frame.modifier_range(m).filter(|_| !allowed) {
+                let span = self.span(f, range);
+                self.error(
+                    codes::NC_MODIFIER,
+                    span,
+                    format!("`{}` on `{}`", m.ascii(), f.text(self.src)),
+                    what,
+                );
+                ok = false;
+            }
+        }
+        ok
+    }
+
+    /// A word's value times `unit`.
+    fn scaled(&mut self, f: &GroupFrame, unit: Length) -> Option<Length> {
+        let value = f.word().value.checked_mul(unit.0).map(Length);
+        if value.is_none() {
+            self.word_error(
+                codes::NC_NUMBER,
+                f,
+                format!("`{}` is too large", f.text(self.src)),
+                "check the word's digits and the profile's units",
+            );
+        }
+        value
+    }
+
+    /// An X or Z coordinate: absolute, or added to `base` with `@`.
+    fn coordinate(&mut self, f: &GroupFrame, base: Option<Length>) -> Option<Length> {
+        let value = self.scaled(f, self.profile.linear_unit)?;
+        if !f.frame.has(Modifier::Incremental) {
+            return Some(value);
+        }
+        match base {
+            Some(b) => Some(b + value),
+            None => {
+                let range = f
+                    .frame
+                    .modifier_range(Modifier::Incremental)
+                    .unwrap_or(f.word().range.clone());
+                let span = self.span(f, range);
+                let axis = f.word().letter;
+                self.error(
+                    codes::NC_UNKNOWN_POSITION,
+                    span,
+                    format!(
+                        "incremental `{}` but the {axis} position is not known yet",
+                        f.text(self.src)
+                    ),
+                    format!(
+                        "program an absolute {axis} (without `@`) before the first incremental move"
+                    ),
+                );
+                None
+            }
+        }
+    }
+
+    fn repeated(&mut self, f: &GroupFrame, first: &GroupFrame) {
+        let line = first.line;
+        self.word_error(
+            codes::NC_GROUP_WORD,
+            f,
+            format!(
+                "`{}` repeats the {} word of this group (line {line})",
+                f.text(self.src),
+                f.word().letter
+            ),
+            "each address appears once per group",
+        );
+    }
+
+    /// A group without a G word: feed, tool, speed range, spindle, motion, stop, end.
+    fn plain_group(&mut self, frames: &[GroupFrame], span: Span) {
+        let mut ok = true;
+        let (mut x, mut z, mut f, mut s, mut t) = (None, None, None, None, None);
+        let mut direction: Option<(SpindleDirection, &GroupFrame)> = None;
+        let (mut stop, mut end) = (false, false);
+        let mut gears = Vec::new();
+        for fr in frames {
+            let w = fr.word();
+            let axis = matches!(w.letter, 'X' | 'Z');
+            ok &= self.check_modifiers(fr, axis, axis);
+            let slot = match w.letter {
+                'X' => Some(&mut x),
+                'Z' => Some(&mut z),
+                'F' => Some(&mut f),
+                'S' => Some(&mut s),
+                'T' => Some(&mut t),
+                _ => None,
+            };
+            if let Some(slot) = slot {
+                if let Some(first) = *slot {
+                    self.repeated(fr, first);
+                    ok = false;
+                } else {
+                    *slot = Some(fr);
+                }
+                continue;
+            }
+            match (w.letter, w.value) {
+                ('M', 3 | 4) => {
+                    let d = if w.value == 3 {
+                        SpindleDirection::Clockwise
+                    } else {
+                        SpindleDirection::CounterClockwise
+                    };
+                    if let Some((_, first)) = direction {
+                        self.repeated(fr, first);
+                        ok = false;
+                    }
+                    direction = Some((d, fr));
+                }
+                ('M', 5) => stop = true,
+                ('M', 30) => end = true,
+                ('M', m) => gears.push(m as u32),
+                _ => {
+                    // P outside G31.
+                    self.word_error(
+                        codes::NC_GROUP_WORD,
+                        fr,
+                        format!("`{}` outside a G31 group", fr.text(self.src)),
+                        "P words give the depths of a G31 cycle: `G31 *`, X, Z, F, then P (depth), P (first pass), optional P (taper)",
+                    );
+                    ok = false;
+                }
+            }
+        }
+        if direction.is_some() && stop {
+            let fr = frames
+                .iter()
+                .find(|f| f.word().letter == 'M' && f.word().value == 5)
+                .expect("M5 is in the group");
+            self.word_error(
+                codes::NC_GROUP_WORD,
+                fr,
+                "M5 in the same group as a spindle start",
+                "start and stop the spindle in different groups",
+            );
+            ok = false;
+        }
+        let feed = match f {
+            Some(fr) => match self.scaled(fr, self.profile.feed_unit) {
+                Some(v) if v.0 > 0 => Some(v),
+                Some(_) => {
+                    self.word_error(
+                        codes::NC_NUMBER,
+                        fr,
+                        format!("feed `{}` is not positive", fr.text(self.src)),
+                        "F outside a thread group is the feed in 0.01 mm/rev, e.g. F30 = 0.3 mm/rev",
+                    );
+                    None
+                }
+                None => None,
+            },
+            None => None,
+        };
+        if f.is_some() && feed.is_none() {
+            ok = false;
+        }
+        let speed = s.and_then(|fr| self.whole(fr));
+        let tool = t.and_then(|fr| self.whole(fr));
+        ok &= s.is_none() || speed.is_some();
+        ok &= t.is_none() || tool.is_some();
+        let to_x = x.map(|fr| self.coordinate(fr, self.pos.x));
+        let to_z = z.map(|fr| self.coordinate(fr, self.pos.z));
+        if matches!(to_x, Some(None)) || matches!(to_z, Some(None)) {
+            ok = false;
+        }
+        if let Some(feed) = feed {
+            self.feed = Feed::Set(feed);
+        }
+        let moves = x.is_some() || z.is_some();
+        let rapid = [x, z]
+            .into_iter()
+            .flatten()
+            .any(|fr| fr.frame.has(Modifier::Rapid));
+        let feed_now = match self.feed {
+            Feed::Set(v) => Some(v),
+            _ => None,
+        };
+        if moves && !rapid && feed_now.is_none() {
+            let fr = x.or(z).expect("the group moves");
+            let why = match self.feed {
+                Feed::AfterThread(line) => {
+                    format!("the feed is undefined after the thread group on line {line}")
+                }
+                _ => "no feed has been programmed yet".to_string(),
+            };
+            self.word_error(
+                codes::NC_NO_FEED,
+                fr,
+                format!("feed move `{}` but {why}", fr.text(self.src)),
+                "program the feed in a frame of its own (e.g. `F60` = 0.6 mm/rev) before this move, or mark the move rapid with `~`",
+            );
+            ok = false;
+        }
+        if !ok {
+            return;
+        }
+        if let Some(number) = tool {
+            self.push(
+                ItemKind::Tool {
+                    number: Some(number),
+                    offset: None,
+                },
+                span,
+                None,
+            );
+        }
+        for g in gears {
+            self.push(ItemKind::GearRange(g), span, None);
+        }
+        if speed.is_some() || direction.is_some() {
+            self.push(
+                ItemKind::Spindle {
+                    speed,
+                    direction: direction.map(|(d, _)| d),
+                },
+                span,
+                None,
+            );
+        }
+        if moves {
+            let to = Pos {
+                x: to_x.flatten(),
+                z: to_z.flatten(),
+            };
+            let kind = match (rapid, feed_now) {
+                (false, Some(feed)) => ItemKind::Feed { to, feed },
+                _ => ItemKind::Rapid { to },
+            };
+            self.pos = kind.end_position(self.pos);
+            self.push(kind, span, None);
+        }
+        if stop {
+            self.push(ItemKind::SpindleStop, span, None);
+        }
+        if end {
+            self.push(ItemKind::ProgramEnd(EndCode::M30), span, None);
+        }
+    }
+
+    /// S, T: a whole number that fits.
+    fn whole(&mut self, f: &GroupFrame) -> Option<u32> {
+        let v = u32::try_from(f.word().value).ok();
+        if v.is_none() {
+            self.word_error(
+                codes::NC_NUMBER,
+                f,
+                format!(
+                    "`{}` is not a valid {} value",
+                    f.text(self.src),
+                    f.word().letter
+                ),
+                "S is the speed in rpm and T the turret position: whole numbers from 0",
+            );
+        }
+        v
+    }
+
+    /// Sorts a thread group's words; reports words that do not belong and repeats.
+    fn thread_words<'g>(
+        &mut self,
+        frames: &'g [GroupFrame],
+        allowed: &[char],
+        max_p: usize,
+        about: &str,
+    ) -> Option<ThreadWords<'g>> {
+        let mut words = ThreadWords::default();
+        let mut ok = true;
+        let g = &frames[0];
+        let g33 = g.word().value == 33;
+        ok &= self.check_modifiers(g, false, g33);
+        for fr in &frames[1..] {
+            let letter = fr.word().letter;
+            let coordinate = matches!(letter, 'X' | 'Z');
+            ok &= self.check_modifiers(fr, false, coordinate);
+            if !allowed.contains(&letter) {
+                let help = if g.word().value == 32 && letter == 'X' {
+                    "G32 cuts along Z at the current diameter; move to the pass diameter in a group before `G32 *`".to_string()
+                } else {
+                    format!("{about}; other words go in groups of their own")
+                };
+                self.word_error(
+                    codes::NC_GROUP_WORD,
+                    fr,
+                    format!(
+                        "`{}` does not belong in a {} group",
+                        fr.text(self.src),
+                        g.text(self.src)
+                    ),
+                    help,
+                );
+                ok = false;
+                continue;
+            }
+            let slot = match letter {
+                'X' => &mut words.x,
+                'Z' => &mut words.z,
+                'F' => &mut words.f,
+                _ => {
+                    if words.p.len() == max_p {
+                        self.word_error(
+                            codes::NC_GROUP_WORD,
+                            fr,
+                            format!("`{}` is a P word too many", fr.text(self.src)),
+                            "G31 takes P (thread depth), P (first-pass depth) and an optional third P (taper)",
+                        );
+                        ok = false;
+                    } else {
+                        words.p.push(fr);
+                    }
+                    continue;
+                }
+            };
+            if let Some(first) = *slot {
+                self.repeated(fr, first);
+                ok = false;
+            } else {
+                *slot = Some(fr);
+            }
+        }
+        ok.then_some(words)
+    }
+
+    fn missing(&mut self, g: &GroupFrame, missing: &[&str], about: &str) -> bool {
+        if missing.is_empty() {
+            return false;
+        }
+        self.word_error(
+            codes::NC_MISSING_WORD,
+            g,
+            format!(
+                "the {} group has no {}",
+                g.text(self.src),
+                missing.join(", no ")
+            ),
+            about.to_string(),
+        );
+        true
+    }
+
+    fn lead(&mut self, f: &GroupFrame) -> Option<Length> {
+        let lead = self.scaled(f, self.profile.lead_unit)?;
+        if lead.0 <= 0 {
+            self.word_error(
+                codes::NC_LEAD,
+                f,
+                format!("lead `{}` is not positive", f.text(self.src)),
+                "F in a thread group is the lead in 0.0001 mm: F15000 = 1.5 mm",
+            );
+            return None;
+        }
+        Some(lead)
+    }
+
+    fn start_unknown(&mut self, g: &GroupFrame, what: &str) {
+        self.word_error(
+            codes::NC_UNKNOWN_POSITION,
+            g,
+            format!("{} starts from the tool position, and the {what} is not known", g.text(self.src)),
+            "move to the start point with X and Z (e.g. `X3600 ~ *` then `Z450 ~`) before the cycle",
+        );
+    }
+
+    /// `G31 *` X Z F P P [P]: the multi-pass cycle.
+    fn g31(&mut self, frames: &[GroupFrame], span: Span) {
+        const ABOUT: &str = "G31 takes X (thread diameter), Z (end), F (lead), P (thread depth per side), P (first-pass depth) and an optional P (taper on diameter)";
+        let g = &frames[0];
+        let Some(w) = self.thread_words(frames, &['X', 'Z', 'F', 'P'], 3, ABOUT) else {
+            return;
+        };
+        let mut missing = Vec::new();
+        for (present, name) in [
+            (w.x.is_some(), "X (thread diameter)"),
+            (w.z.is_some(), "Z (end)"),
+            (w.f.is_some(), "F (lead)"),
+            (!w.p.is_empty(), "P (thread depth)"),
+            (w.p.len() >= 2, "P (first-pass depth)"),
+        ] {
+            if !present {
+                missing.push(name);
+            }
+        }
+        if self.missing(g, &missing, ABOUT) {
+            return;
+        }
+        let (Some(xf), Some(zf), Some(ff)) = (w.x, w.z, w.f) else {
+            return;
+        };
+        let Some((ax, az)) = self.pos.known() else {
+            self.start_unknown(g, "start point");
+            return;
+        };
+        let unit = self.profile.linear_unit;
+        let crest = self.coordinate(xf, Some(ax));
+        let end_z = self.coordinate(zf, Some(az));
+        let lead = self.lead(ff);
+        let depth = self.scaled(w.p[0], unit);
+        let first = self.scaled(w.p[1], unit);
+        let taper = match w.p.get(2) {
+            Some(pf) => self.scaled(pf, unit),
+            None => Some(Length::ZERO),
+        };
+        let (Some(crest), Some(end_z), Some(lead), Some(depth), Some(first), Some(taper)) =
+            (crest, end_z, lead, depth, first, taper)
+        else {
+            return;
+        };
+        if crest.0 <= 0 {
+            self.word_error(
+                codes::NC_NUMBER,
+                xf,
+                format!("thread diameter `{}` is not positive", xf.text(self.src)),
+                "X in G31 is the thread's crest diameter in 0.01 mm (X3600 = Ø36)",
+            );
+            return;
+        }
+        if taper.0 < 0 {
+            self.word_error(
+                codes::NC_DEPTHS,
+                w.p[2],
+                format!("taper `{}` is negative", w.p[2].text(self.src)),
+                "the third P is the difference of the larger and the smaller diameter; X is the smaller one at the start",
+            );
+            return;
+        }
+        let cycle = ThreadCycle {
+            start: (ax, az),
+            crest,
+            end_z,
+            lead,
+            depth,
+            first_depth: first,
+            taper,
+            infeed: self.profile.infeed(),
+            runout: self.profile.runout(lead),
+            retract: self.profile.retract,
+            internal: ax < crest,
+            schedule: self.profile.schedule,
+        };
+        if let Err(e) = lower::expand(&cycle) {
+            let (code, frame, help) = match e {
+                ExpandError::Lead => (codes::NC_LEAD, ff, "the lead must be positive".to_string()),
+                ExpandError::NoTravel => (
+                    codes::NC_TRAVEL,
+                    zf,
+                    "Z is where every pass ends; it must differ from the start Z".to_string(),
+                ),
+                ExpandError::FirstDepth | ExpandError::TooManyPasses => (
+                    codes::NC_DEPTHS,
+                    w.p[1],
+                    "the second P is the first pass's depth per side in 0.01 mm (P20 = 0.2 mm)".to_string(),
+                ),
+                ExpandError::DepthTooSmall { .. } => (
+                    codes::NC_DEPTHS,
+                    w.p[0],
+                    format!(
+                        "with the {} schedule the thread depth (first P) must be at least the first-pass depth (second P){}",
+                        cycle.schedule.id(),
+                        if cycle.schedule == crate::ir::Schedule::Halving {
+                            " plus the four halving passes P/2 + P/4 + P/8 + P/16"
+                        } else {
+                            ""
+                        }
+                    ),
+                ),
+                ExpandError::ShortPass { .. } => (
+                    codes::NC_TRAVEL,
+                    zf,
+                    "the runout (machine parameter 7) and the infeed shift (parameter 6) must fit inside the pass; move the start point further out or shorten the runout".to_string(),
+                ),
+            };
+            let message = e.message(&cycle);
+            self.word_error(code, frame, message, help);
+            return;
+        }
+        self.push(ItemKind::ThreadCycle(cycle), span, None);
+        self.pos = Pos::new(ax, az);
+        self.feed = Feed::AfterThread(g.line);
+    }
+
+    /// `G32 *` F Z: one synchronised pass along Z at the current diameter.
+    fn g32(&mut self, frames: &[GroupFrame], span: Span) {
+        const ABOUT: &str = "G32 takes F (lead) and Z (end)";
+        let g = &frames[0];
+        let Some(w) = self.thread_words(frames, &['Z', 'F'], 0, ABOUT) else {
+            return;
+        };
+        let mut missing = Vec::new();
+        if w.f.is_none() {
+            missing.push("F (lead)");
+        }
+        if w.z.is_none() {
+            missing.push("Z (end)");
+        }
+        if self.missing(g, &missing, ABOUT) {
+            return;
+        }
+        let (Some(zf), Some(ff)) = (w.z, w.f) else {
+            return;
+        };
+        let lead = self.lead(ff);
+        let end_z = self.coordinate(zf, self.pos.z);
+        let (Some(lead), Some(end_z)) = (lead, end_z) else {
+            return;
+        };
+        if self.pos.z == Some(end_z) {
+            self.word_error(
+                codes::NC_TRAVEL,
+                zf,
+                format!("the pass ends at Z{} where it starts", end_z.mm()),
+                "Z is the end of the pass; it must differ from the current Z",
+            );
+            return;
+        }
+        let pass = ThreadPass {
+            to: Pos {
+                x: self.pos.x,
+                z: Some(end_z),
+            },
+            lead,
+            start_angle: Default::default(),
+            entry: None,
+            exit: None,
+        };
+        let kind = ItemKind::ThreadPass(pass);
+        self.pos = kind.end_position(self.pos);
+        self.push(kind, span, None);
+        self.feed = Feed::AfterThread(g.line);
+    }
+
+    /// `G33 [@] *` X Z F: tapping; with `@` the tool then moves to X (point C).
+    fn g33(&mut self, frames: &[GroupFrame], span: Span) {
+        const ABOUT: &str = "G33 takes X (point C, with `@` on G33), Z (end) and F (lead)";
+        let g = &frames[0];
+        let offset = g.frame.has(Modifier::Incremental);
+        let Some(w) = self.thread_words(frames, &['X', 'Z', 'F'], 0, ABOUT) else {
+            return;
+        };
+        let mut missing = Vec::new();
+        if offset && w.x.is_none() {
+            missing.push("X (point C after `@`)");
+        }
+        if w.z.is_none() {
+            missing.push("Z (end)");
+        }
+        if w.f.is_none() {
+            missing.push("F (lead)");
+        }
+        if self.missing(g, &missing, ABOUT) {
+            return;
+        }
+        let (Some(zf), Some(ff)) = (w.z, w.f) else {
+            return;
+        };
+        let Some(start_z) = self.pos.z else {
+            self.start_unknown(g, "Z position");
+            return;
+        };
+        let lead = self.lead(ff);
+        let end_z = self.coordinate(zf, Some(start_z));
+        let x = match w.x {
+            Some(xf) => match self.coordinate(xf, self.pos.x) {
+                Some(x) => Some((x, xf)),
+                None => return,
+            },
+            None => None,
+        };
+        let (Some(lead), Some(end_z)) = (lead, end_z) else {
+            return;
+        };
+        if end_z == start_z {
+            self.word_error(
+                codes::NC_TRAVEL,
+                zf,
+                format!("the tap ends at Z{} where it starts", end_z.mm()),
+                "Z is the bottom of the tapped hole; it must differ from the start Z",
+            );
+            return;
+        }
+        let then_x = match x {
+            Some((x, _)) if offset => Some(x),
+            Some((x, xf)) if self.pos.x != Some(x) => {
+                let current = self
+                    .pos
+                    .x
+                    .map_or("not known".to_string(), |c| format!("Ø{}", c.mm()));
+                self.word_error(
+                    codes::NC_GROUP_WORD,
+                    xf,
+                    format!("`{}` in a G33 group without `@`, but the tool stands at {current}", xf.text(self.src)),
+                    "without `@` on G33 the tap does not move in X; write `G33 @ *` to move to X (point C) after the cycle",
+                );
+                return;
+            }
+            _ => None,
+        };
+        let kind = ItemKind::TapCycle(TapCycle {
+            end_z,
+            lead,
+            then_x,
+        });
+        self.pos = kind.end_position(self.pos);
+        self.push(kind, span, None);
+        self.feed = Feed::AfterThread(g.line);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diag::Severity;
+    use crate::ir::Schedule;
+
+    fn run(text: &str) -> (Program, Vec<Diagnostic>) {
+        run_with(text, &Profile::default(), Unsupported::Error)
+    }
+
+    fn run_with(
+        text: &str,
+        profile: &Profile,
+        unsupported: Unsupported,
+    ) -> (Program, Vec<Diagnostic>) {
+        parse(
+            &SourceFile::new("t.nc", text),
+            profile,
+            &Options { unsupported },
+        )
+    }
+
+    fn kinds(text: &str) -> Vec<ItemKind> {
+        let (program, diags) = run(text);
+        assert!(diags.is_empty(), "{text:?}: {diags:?}");
+        program.items.into_iter().map(|i| i.kind).collect()
+    }
+
+    fn mm(v: f64) -> Length {
+        Length::from_mm_f64(v)
+    }
+
+    /// (code, line, column) of the first error.
+    fn first_error(text: &str) -> (&'static str, u32, u32) {
+        let (_, diags) = run(text);
+        let d = diags
+            .iter()
+            .find(|d| d.is_error())
+            .unwrap_or_else(|| panic!("no error for {text:?}"));
+        let loc = d.location.as_ref().expect("located");
+        assert!(d.help.is_some(), "{text:?}: no help");
+        (d.code.id, loc.line, loc.column)
+    }
+
+    const START: &str = "N0 M3\nN1 S700\nN2 X3600 ~ *\nN3 Z450 ~\n";
+
+    #[test]
+    fn groups_move_both_axes_at_once_rapid_if_any_frame_says_so() {
+        let k = kinds("N3 F30\nN4 X10000 ~ *\nN5 Z5000\nN6 X3600\nN7 Z-100 @\n");
+        assert_eq!(
+            k,
+            vec![
+                ItemKind::Rapid {
+                    to: Pos::new(mm(100.0), mm(50.0))
+                },
+                ItemKind::Feed {
+                    to: Pos {
+                        x: Some(mm(36.0)),
+                        z: None
+                    },
+                    feed: mm(0.3)
+                },
+                ItemKind::Feed {
+                    to: Pos {
+                        x: None,
+                        z: Some(mm(49.0))
+                    },
+                    feed: mm(0.3)
+                },
+            ]
+        );
+    }
+
+    #[test]
+    fn spindle_tool_and_speed_range_words() {
+        let k = kinds("N0 M40\nN1 M3\nN2 S700\nN6 T5\nN17 M5\nN18 M30\n");
+        assert_eq!(
+            k,
+            vec![
+                ItemKind::GearRange(40),
+                ItemKind::Spindle {
+                    speed: None,
+                    direction: Some(SpindleDirection::Clockwise)
+                },
+                ItemKind::Spindle {
+                    speed: Some(700),
+                    direction: None
+                },
+                ItemKind::Tool {
+                    number: Some(5),
+                    offset: None
+                },
+                ItemKind::SpindleStop,
+                ItemKind::ProgramEnd(EndCode::M30),
+            ]
+        );
+        // One group: S and M4 become one spindle item.
+        let k = kinds("M4 *\nS150\n");
+        assert_eq!(
+            k,
+            vec![ItemKind::Spindle {
+                speed: Some(150),
+                direction: Some(SpindleDirection::CounterClockwise)
+            }]
+        );
+    }
+
+    #[test]
+    fn g31_becomes_one_cycle_from_the_start_point() {
+        let text = format!(
+            "{START}N9 G31 *\nN10 X3600 *\nN11 Z-4750 *\nN12 F15000 *\nN13 P96 *\nN14 P20\n"
+        );
+        let (program, diags) = run(&text);
+        assert!(diags.is_empty(), "{diags:?}");
+        let item = program.items.last().unwrap();
+        assert_eq!(item.block_number, Some(9));
+        assert_eq!((item.span.line, item.span.column), (5, 1));
+        let ItemKind::ThreadCycle(c) = item.kind else {
+            panic!("{:?}", item.kind)
+        };
+        assert_eq!(c.start, (mm(36.0), mm(4.5)));
+        assert_eq!(c.crest, mm(36.0));
+        assert_eq!(c.end_z, mm(-47.5));
+        assert_eq!(c.lead, mm(1.5));
+        assert_eq!(
+            (c.depth, c.first_depth, c.taper),
+            (mm(0.96), mm(0.2), Length::ZERO)
+        );
+        assert!(!c.internal);
+        assert_eq!(c.retract, mm(0.5));
+        assert_eq!(c.schedule, Schedule::Halving);
+        // `Z-5200 @` from Z4.5 is the same end.
+        let inc = text.replace("Z-4750 *", "Z-5200 @ *");
+        let (program, _) = run(&inc);
+        assert_eq!(program.items.last().unwrap().kind, item.kind);
+    }
+
+    #[test]
+    fn g31_takes_parameters_6_and_7_and_the_taper() {
+        let mut profile = Profile::default();
+        profile.nc31.infeed_p6 = 2365;
+        profile.nc31.runout_p7 = 10;
+        let text = format!("{START}G31 *\nX3600 *\nZ-4750 *\nF15000 *\nP96 *\nP20 *\nP676\n");
+        let (program, diags) = run_with(&text, &profile, Unsupported::Error);
+        assert!(diags.is_empty(), "{diags:?}");
+        let ItemKind::ThreadCycle(c) = program.items.last().unwrap().kind else {
+            panic!()
+        };
+        assert_eq!(c.infeed.of(mm(0.96)), mm(0.5543));
+        assert_eq!(c.runout, mm(1.5));
+        assert_eq!(c.taper, mm(6.76));
+        // A start inside the thread diameter: internal.
+        let text = "M3\nS100\nX2000 ~ *\nZ500 ~\nG31 *\nX2200 *\nZ-3000 *\nF15000 *\nP50 *\nP20\n";
+        let (program, diags) = run(text);
+        assert!(diags.is_empty(), "{diags:?}");
+        assert!(
+            matches!(program.items.last().unwrap().kind, ItemKind::ThreadCycle(c) if c.internal)
+        );
+    }
+
+    #[test]
+    fn g32_is_one_pass_at_the_current_diameter() {
+        let k = kinds(&format!("{START}N9 G32 *\nN10 F15000 *\nN11 Z-4700\n"));
+        assert_eq!(
+            k.last(),
+            Some(&ItemKind::ThreadPass(ThreadPass {
+                to: Pos::new(mm(36.0), mm(-47.0)),
+                lead: mm(1.5),
+                start_angle: Default::default(),
+                entry: None,
+                exit: None
+            }))
+        );
+    }
+
+    #[test]
+    fn g33_taps_and_moves_to_point_c_with_the_offset() {
+        let text = "M3\nS150\nX0 ~ *\nZ600 ~\nN9 G33 @ *\nN10 X2000 *\nN11 Z-10000 *\nN12 F15000\nX10000 ~\n";
+        let k = kinds(text);
+        assert_eq!(
+            k[3],
+            ItemKind::TapCycle(TapCycle {
+                end_z: mm(-100.0),
+                lead: mm(1.5),
+                then_x: Some(mm(20.0))
+            })
+        );
+        // Without `@`, X must be where the tool is.
+        let k = kinds("M3\nS150\nX0 ~ *\nZ600 ~\nG33 *\nX0 *\nZ-10000 *\nF15000\n");
+        assert!(matches!(
+            k[3],
+            ItemKind::TapCycle(TapCycle { then_x: None, .. })
+        ));
+    }
+
+    #[test]
+    fn feed_is_undefined_after_a_thread_group() {
+        let text = format!("N3 F30\n{START}N9 G32 *\nN10 F15000 *\nN11 Z-4700\nN12 X4000\n");
+        assert_eq!(first_error(&text), ("NC008", 9, 5));
+        let (_, diags) = run(&text);
+        assert!(diags[0].message.contains("line 6"), "{}", diags[0].message);
+        // F60 after the pass defines it again (the seed's program).
+        let ok = format!("N3 F30\n{START}N9 G32 *\nN10 F15000 *\nN11 Z-4700\nN12 F60\nN13 X4000\n");
+        assert!(run(&ok).1.is_empty());
+    }
+
+    #[test]
+    fn every_rule_has_its_code_and_place() {
+        let g31 = |p1: &str, p2: &str| {
+            format!("{START}G31 *\nX3600 *\nZ-4750 *\nF15000 *\n{p1} *\n{p2}\n")
+        };
+        let cases: Vec<(String, (&str, u32, u32))> = vec![
+            ("X36.00".into(), ("NC002", 1, 4)),
+            ("N4 X3600 Z450".into(), ("NC003", 1, 10)),
+            ("N4 F30 ~".into(), ("NC004", 1, 8)),
+            ("N4 S700 @".into(), ("NC004", 1, 9)),
+            ("N4 G1 *\nX100".into(), ("NC005", 1, 4)),
+            ("N4 M8".into(), ("NC005", 1, 4)),
+            ("N4 H5".into(), ("NC005", 1, 4)),
+            ("N4 F0".into(), ("NC006", 1, 4)),
+            ("N4 S-5".into(), ("NC006", 1, 4)),
+            ("N4 X100 @".into(), ("NC007", 1, 9)),
+            (
+                "N4 G31 *\nX3600 *\nZ-4750 *\nF15000 *\nP96 *\nP20".into(),
+                ("NC007", 1, 4),
+            ),
+            ("N4 X3600".into(), ("NC008", 1, 4)),
+            ("N4 X3600 ~ *".into(), ("NC009", 1, 4)),
+            ("N4 X3600 ~ *\n%".into(), ("NC009", 2, 1)),
+            (
+                format!("{START}G31 *\nX3600 *\nZ-4750 *\nP96 *\nP20\n"),
+                ("NC010", 5, 1),
+            ),
+            (format!("{START}G32 *\nF15000\n"), ("NC010", 5, 1)),
+            (
+                format!("{START}G33 @ *\nZ-100 *\nF15000\n"),
+                ("NC010", 5, 1),
+            ),
+            (
+                format!("{START}G32 *\nX3500 *\nF15000 *\nZ-4700\n"),
+                ("NC011", 6, 1),
+            ),
+            (
+                format!("{START}G31 *\nX3600 *\nZ-4750 *\nF15000 *\nS700 *\nP96 *\nP20\n"),
+                ("NC011", 9, 1),
+            ),
+            (
+                format!("{START}G31 *\nX3600 *\nX3600 *\nZ-4750 *\nF15000 *\nP96 *\nP20\n"),
+                ("NC011", 7, 1),
+            ),
+            (
+                format!("{START}X3600 *\nG32 *\nF15000 *\nZ-4700\n"),
+                ("NC011", 6, 1),
+            ),
+            (format!("{START}P20\n"), ("NC011", 5, 1)),
+            (
+                format!("{START}G33 *\nX2000 *\nZ-100 *\nF15000\n"),
+                ("NC011", 6, 1),
+            ),
+            (g31("P30", "P20"), ("NC012", 9, 1)),
+            (g31("P96", "P0"), ("NC012", 10, 1)),
+            (
+                format!("{START}G31 *\nX3600 *\nZ-4750 *\nF15000 *\nP96 *\nP20 *\nP-10\n"),
+                ("NC012", 11, 1),
+            ),
+            (format!("{START}G32 *\nF0 *\nZ-4700\n"), ("NC013", 6, 1)),
+            (
+                format!("{START}G31 *\nX3600 *\nZ450 *\nF15000 *\nP96 *\nP20\n"),
+                ("NC014", 7, 1),
+            ),
+            (format!("{START}G32 *\nF15000 *\nZ0 @\n"), ("NC014", 7, 1)),
+            ("N4 G31 ~ *\nX1".into(), ("NC004", 1, 8)),
+            ("N4 X100 (comment".into(), ("NC001", 1, 9)),
+        ];
+        for (text, expected) in &cases {
+            assert_eq!(first_error(text), *expected, "{text:?}");
+        }
+    }
+
+    #[test]
+    fn runout_that_does_not_fit_is_refused_at_z() {
+        let mut profile = Profile::default();
+        profile.nc31.runout_p7 = 31;
+        // 3.1 leads of 2 = 6.2 mm; the pass is 5 mm long.
+        let text = "M3\nS100\nX3600 ~ *\nZ0 ~\nG31 *\nX3600 *\nZ-500 *\nF20000 *\nP96 *\nP20\n";
+        let (_, diags) = run_with(text, &profile, Unsupported::Error);
+        assert_eq!(diags[0].code, codes::NC_TRAVEL);
+        assert_eq!(diags[0].location.as_ref().unwrap().line, 7);
+    }
+
+    #[test]
+    fn a_bad_frame_inside_a_group_does_not_cascade() {
+        let (_, diags) = run("X36.00 ~ *\nZ450 ~\nF30\n");
+        assert_eq!(diags.len(), 1, "{diags:?}");
+        assert_eq!(diags[0].code, codes::NC_DECIMAL_POINT);
+    }
+
+    #[test]
+    fn unsupported_warn_keeps_the_group_opaque_and_forgets_the_position() {
+        let (program, diags) = run_with(
+            "X100 ~ *\nZ100 ~\nN5 G4 *\nP100\nX10 @ ~\n",
+            &Profile::default(),
+            Unsupported::Warn,
+        );
+        assert_eq!(diags[0].severity, Severity::Warning);
+        assert!(
+            matches!(&program.items[1].kind, ItemKind::Opaque { block: true, text, .. } if text == "N5 G4 *\nP100")
+        );
+        assert_eq!(program.items[1].block_number, Some(5));
+        assert_eq!(diags[1].code, codes::NC_UNKNOWN_POSITION);
+    }
+
+    #[test]
+    fn comments_and_delimiters_are_items() {
+        let k = kinds("%\n(M36X1.5)\nM30\n%\n");
+        assert_eq!(
+            k,
+            vec![
+                ItemKind::Delimiter,
+                ItemKind::Comment("M36X1.5".into()),
+                ItemKind::ProgramEnd(EndCode::M30),
+                ItemKind::Delimiter
+            ]
+        );
+    }
+
+    #[test]
+    fn units_come_from_the_profile() {
+        let mut profile = Profile::default();
+        profile.nc31.linear_unit = Length(10);
+        profile.nc31.feed_unit = Length(10);
+        let (program, diags) = run_with("F300\nX36000 *\nZ4500\n", &profile, Unsupported::Error);
+        assert!(diags.is_empty());
+        assert_eq!(
+            program.items[0].kind,
+            ItemKind::Feed {
+                to: Pos::new(mm(36.0), mm(4.5)),
+                feed: mm(0.3)
+            }
+        );
+    }
+}
