@@ -33,7 +33,7 @@ enum Command {
 struct ConvertArgs {
     /// The program to read; `-` or nothing reads stdin.
     input: Option<PathBuf>,
-    /// The source dialect.
+    /// The source dialect; `auto` chooses from the text (and says so on stderr when unsure).
     #[arg(long, value_enum)]
     from: SourceDialect,
     /// The target dialect.
@@ -42,7 +42,8 @@ struct ConvertArgs {
     /// Where to write the program; `-` or nothing writes stdout.
     #[arg(short, long)]
     output: Option<PathBuf>,
-    /// Machine profile (TOML) with the machine's constants, e.g. czech constant 8.
+    /// Machine profile (TOML) with the machine's constants: czech constant 8, nc31 units
+    /// and parameters 6/7, ISO M code mappings.
     #[arg(long)]
     profile: Option<PathBuf>,
     /// How to print diagnostics on stderr.
@@ -53,9 +54,11 @@ struct ConvertArgs {
     unsupported: UnsupportedArg,
 }
 
-#[derive(Clone, Copy, ValueEnum)]
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum SourceDialect {
     Czech,
+    Nc31,
+    Auto,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -73,14 +76,6 @@ enum DiagnosticsFormat {
 enum UnsupportedArg {
     Error,
     Warn,
-}
-
-impl From<SourceDialect> for Dialect {
-    fn from(d: SourceDialect) -> Dialect {
-        match d {
-            SourceDialect::Czech => Dialect::Czech,
-        }
-    }
 }
 
 impl From<TargetDialect> for Dialect {
@@ -152,9 +147,27 @@ fn load_profile(path: &Option<PathBuf>, format: DiagnosticsFormat) -> Result<Pro
 
 fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
     let profile = load_profile(&args.profile, args.diagnostics)?;
-    let from: Dialect = args.from.into();
     let (name, bytes) = read_input(&args.input)?;
-    let (text, _encoding) = ncthread::text::decode(&bytes, from);
+    let (text, from) = match args.from {
+        SourceDialect::Czech => (
+            ncthread::text::decode(&bytes, Dialect::Czech).0,
+            Dialect::Czech,
+        ),
+        SourceDialect::Nc31 => (
+            ncthread::text::decode(&bytes, Dialect::Nc31).0,
+            Dialect::Nc31,
+        ),
+        SourceDialect::Auto => {
+            let (text, _, detection) = ncthread::text::decode_detect(&bytes);
+            if !detection.certain {
+                eprintln!(
+                    "ncthread: --from auto: reading {name} as {} ({}); give --from to be sure",
+                    detection.dialect, detection.reason
+                );
+            }
+            (text, detection.dialect)
+        }
+    };
     let src = SourceFile::new(name, text);
     let options = ConvertOptions {
         from,

@@ -3,6 +3,7 @@
 use encoding_rs::Encoding;
 
 use crate::dialect::Dialect;
+use crate::dialect::detect::{Detection, detect};
 
 /// The legacy encoding of a dialect's files when they are not UTF-8.
 pub fn legacy_encoding(dialect: Dialect) -> &'static Encoding {
@@ -27,6 +28,24 @@ pub fn decode(bytes: &[u8], dialect: Dialect) -> (String, &'static Encoding) {
     }
 }
 
+/// Decodes a program whose dialect is not given, and chooses the dialect: the text is read
+/// as UTF-8 when valid; otherwise the dialect is chosen from the ASCII part and the bytes are
+/// decoded with that dialect's legacy encoding.
+pub fn decode_detect(bytes: &[u8]) -> (String, &'static Encoding, Detection) {
+    let body = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    if let Ok(text) = std::str::from_utf8(body) {
+        let detection = detect(text);
+        return (text.to_string(), encoding_rs::UTF_8, detection);
+    }
+    let ascii: String = body
+        .iter()
+        .map(|&b| if b.is_ascii() { b as char } else { '?' })
+        .collect();
+    let detection = detect(&ascii);
+    let (text, encoding) = decode(bytes, detection.dialect);
+    (text, encoding, detection)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -41,5 +60,15 @@ mod tests {
         let (text, enc) = decode(b"\"ROZTO\xC8EN\xCD", Dialect::Czech);
         assert_eq!(text, "\"ROZTOČENÍ");
         assert_eq!(enc, encoding_rs::WINDOWS_1250);
+    }
+
+    #[test]
+    fn detects_then_decodes_legacy_bytes() {
+        // IBM866 «Резьба» on an nc31 comment line.
+        let (text, enc, d) =
+            decode_detect(b"(\x90\xa5\xa7\xec\xa1\xa0\nN4 X10000 ~ *\nN5 Z5000 ~\n");
+        assert_eq!(d.dialect, Dialect::Nc31);
+        assert_eq!(enc, encoding_rs::IBM866);
+        assert!(text.starts_with("(Резьба"), "{text}");
     }
 }
