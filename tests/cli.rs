@@ -58,7 +58,7 @@ fn input_errors_exit_1_and_write_nothing() {
     let target = dir.path().join("out.ngc");
     let out = czech_to_iso(
         &[
-            "corpus/bad/lead-over-99.99.nc",
+            "corpus/bad/czech/lead-over-99.99.nc",
             "-o",
             target.to_str().unwrap(),
         ],
@@ -72,7 +72,7 @@ fn input_errors_exit_1_and_write_nothing() {
     let err = text(&out.stderr);
     assert!(err.contains("error[CZ003]"), "{err}");
     assert!(
-        err.contains("--> corpus/bad/lead-over-99.99.nc:3:15"),
+        err.contains("--> corpus/bad/czech/lead-over-99.99.nc:3:15"),
         "{err}"
     );
     assert!(err.contains("3 | N30 G33 Z-50. F120."), "{err}");
@@ -106,7 +106,7 @@ fn writes_the_output_file() {
 #[test]
 fn json_diagnostics_are_one_object_per_line() {
     let out = czech_to_iso(
-        &["corpus/bad/syntax-error.nc", "--diagnostics", "json"],
+        &["corpus/bad/czech/syntax-error.nc", "--diagnostics", "json"],
         None,
     );
     assert_eq!(out.status.code(), Some(1));
@@ -159,6 +159,86 @@ fn unsupported_warn_keeps_the_block_as_a_comment() {
     let err = text(&out.stderr);
     assert!(
         err.contains("warning[CZ011]") && err.contains("warning[ISO001]"),
+        "{err}"
+    );
+}
+
+#[test]
+fn reads_nc31_and_refuses_its_faults_with_line_and_column() {
+    let out = ncthread(
+        &[
+            "convert",
+            "corpus/nc31/g31-m36x1.5.nc",
+            "--from",
+            "nc31",
+            "--to",
+            "iso",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert_eq!(text(&out.stdout).matches("G33 X").count(), 8);
+    let out = ncthread(
+        &[
+            "convert",
+            "corpus/bad/nc31/decimal-point.nc",
+            "--from",
+            "nc31",
+            "--to",
+            "iso",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(out.stdout.is_empty());
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("error[NC002]") && err.contains("--> corpus/bad/nc31/decimal-point.nc:8:7"),
+        "{err}"
+    );
+}
+
+#[test]
+fn from_auto_chooses_the_dialect_and_says_so_when_unsure() {
+    // Certain: `*`/`~` frames. Nothing said.
+    let program = std::fs::read("corpus/nc31/g33-tap-m20x1.5.nc").unwrap();
+    let out = ncthread(
+        &["convert", "--from", "auto", "--to", "iso"],
+        Some(&program),
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(text(&out.stdout).contains("G33.1 Z-100 K1.5"));
+    assert!(
+        !text(&out.stderr).contains("--from auto"),
+        "{}",
+        text(&out.stderr)
+    );
+    // Czech marks: `"` comments.
+    let out = ncthread(
+        &[
+            "convert",
+            "corpus/czech/ex3-taper.nc",
+            "--from",
+            "auto",
+            "--to",
+            "iso",
+        ],
+        None,
+    );
+    assert!(
+        text(&out.stdout).contains("dialect czech"),
+        "{}",
+        text(&out.stderr)
+    );
+    // Unsure: decimal words without any mark are read as czech, and it says so.
+    let out = ncthread(
+        &["convert", "--from", "auto", "--to", "iso"],
+        Some(b"N10 M03 S100\nN20 G00 X30. Z5.\nN30 G33 Z-20. F1.5\n"),
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("--from auto: reading <stdin> as czech"),
         "{err}"
     );
 }

@@ -97,3 +97,89 @@ fn start_angle_becomes_the_same_helix_one_half_lead_earlier() {
     );
     assert!(close(moves[1].z_lead, 3.0, 1e-6));
 }
+
+/// The traverses rs274 runs after the last synchronised move, as (diameter, Z).
+fn traverses_after_last_sync(canon: &[common::Canon]) -> Vec<(f64, f64)> {
+    let last = canon
+        .iter()
+        .rposition(|c| matches!(c, common::Canon::SyncStop))
+        .expect("a synchronised move");
+    canon[last..]
+        .iter()
+        .filter_map(|c| match *c {
+            common::Canon::Traverse { x, z } => Some((x, z)),
+            _ => None,
+        })
+        .collect()
+}
+
+fn assert_points(actual: &[(f64, f64)], expected: &[(f64, f64)]) {
+    assert_eq!(actual.len(), expected.len(), "{actual:?}");
+    for (a, e) in actual.iter().zip(expected) {
+        assert!(
+            close(a.0, e.0, 1e-4) && close(a.1, e.1, 1e-4),
+            "{actual:?} vs {expected:?}"
+        );
+    }
+}
+
+#[test]
+fn seed_g31_m36_cuts_eight_passes_then_returns_to_the_start() {
+    let Some(cmd) = rs274() else { return };
+    // nc31.md: cumulative depths 0.2, 0.4, 0.6, 0.7725, 0.8725, 0.9225, 0.9475, 0.96 on Ø36.
+    let diameters = [35.6, 35.2, 34.8, 34.455, 34.255, 34.155, 34.105, 34.08];
+    for name in ["nc31/g31-m36x1.5", "nc31/g31-m36x1.5-incremental-z"] {
+        let canon = run_rs274(cmd, &iso(name)).unwrap();
+        let moves = sync_moves(&canon);
+        assert_eq!(moves.len(), 8, "{name}: {moves:?}");
+        for (m, d) in moves.iter().zip(diameters) {
+            assert_points(&[m.from, m.to], &[(d, 4.5), (d, -47.5)]);
+            assert!(close(m.z_lead, 1.5, 1e-9), "{name}: {m:?}");
+        }
+        // Retract above the crest (Ø36 + 2·0.5), back to Z4.5, back to the start Ø36; then
+        // the program's own N15/N16 return to Ø100 Z50.
+        assert_points(
+            &traverses_after_last_sync(&canon),
+            &[(37.0, -47.5), (37.0, 4.5), (36.0, 4.5), (100.0, 50.0)],
+        );
+    }
+}
+
+#[test]
+fn seed_g32_cuts_three_passes() {
+    let Some(cmd) = rs274() else { return };
+    let moves = sync_moves(&run_rs274(cmd, &iso("nc31/g32-three-passes")).unwrap());
+    assert_eq!(moves.len(), 3, "{moves:?}");
+    for (m, d) in moves.iter().zip([35.0, 34.4, 34.08]) {
+        assert_points(&[m.from, m.to], &[(d, 4.5), (d, -47.0)]);
+        assert!(close(m.z_lead, 1.5, 1e-9), "{m:?}");
+    }
+}
+
+#[test]
+fn seed_g33_taps_to_z_minus_100_then_moves_to_diameter_20() {
+    let Some(cmd) = rs274() else { return };
+    let canon = run_rs274(cmd, &iso("nc31/g33-tap-m20x1.5")).unwrap();
+    let tap = canon
+        .iter()
+        .position(|c| matches!(c, common::Canon::RigidTap { .. }))
+        .expect("a rigid tap");
+    assert_eq!(canon[tap - 1], common::Canon::SyncStart { k: 1.5 });
+    assert_eq!(canon[tap], common::Canon::RigidTap { x: 0.0, z: -100.0 });
+    // The tap returns to Z6; then point C at Ø20.
+    assert_eq!(canon[tap + 2], common::Canon::Traverse { x: 20.0, z: 6.0 });
+}
+
+#[test]
+fn g31_runout_of_one_lead_ends_every_pass_on_the_crest() {
+    let Some(cmd) = rs274() else { return };
+    let moves = sync_moves(&run_rs274(cmd, &iso("nc31/g31-runout-p7+profile")).unwrap());
+    assert_eq!(moves.len(), 16, "{moves:?}");
+    for pair in moves.chunks(2) {
+        assert!(close(pair[0].to.1, -46.0, 1e-4), "{pair:?}");
+        assert_points(&[pair[1].to], &[(36.0, -47.5)]);
+        for m in pair {
+            assert!(close(m.z_lead, 1.5, 1e-6), "{m:?}");
+        }
+    }
+}

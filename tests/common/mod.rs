@@ -20,7 +20,7 @@ pub fn root() -> PathBuf {
 /// One corpus file, with or without the profile beside it (`NAME.profile.toml`).
 #[derive(Clone, Debug)]
 pub struct Case {
-    /// `czech/ex4-runout-constant` or `czech/ex4-runout-constant+profile`.
+    /// `czech/ex4-runout-constant`, `czech/ex4-runout-constant+profile`, `bad/nc31/…`.
     pub name: String,
     /// Relative to the repository root, with `/`.
     pub path: String,
@@ -31,7 +31,12 @@ pub struct Case {
 /// Every corpus file × {no profile, its profile}, sorted by name.
 pub fn corpus_cases() -> Vec<Case> {
     let mut cases = Vec::new();
-    for (folder, from) in [("czech", Dialect::Czech), ("bad", Dialect::Czech)] {
+    for (folder, from) in [
+        ("czech", Dialect::Czech),
+        ("nc31", Dialect::Nc31),
+        ("bad/czech", Dialect::Czech),
+        ("bad/nc31", Dialect::Nc31),
+    ] {
         let dir = root().join("corpus").join(folder);
         let mut files: Vec<_> = std::fs::read_dir(&dir)
             .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
@@ -221,7 +226,9 @@ pub fn sync_moves(canon: &[Canon]) -> Vec<SyncMove> {
     let mut moves = Vec::new();
     for c in canon {
         match *c {
-            Canon::Traverse { x, z } | Canon::RigidTap { x, z } => pos = (x, z),
+            Canon::Traverse { x, z } => pos = (x, z),
+            // A rigid tap returns to where it started.
+            Canon::RigidTap { .. } => {}
             Canon::Feed { x, z } => {
                 if let Some(k) = k {
                     let (dx, dz): (f64, f64) = ((x - pos.0) / 2.0, z - pos.1);

@@ -1,0 +1,9 @@
+N0 M40
+N1 M3
+N2 S700
+N3 F30
+N4 X10000 ~ *
+N5 Z5000 ~
+N6 T5
+N7 X3600 ~ * (start diameter)
+N8 Z450 ~
