@@ -290,7 +290,8 @@ impl Emitter<'_> {
         for m in &expansion.moves {
             if m.pass != current {
                 current = m.pass;
-                match expansion.passes.get(m.pass.wrapping_sub(1)) {
+                // Pass 0 is the final return to the start point.
+                match m.pass.checked_sub(1).and_then(|i| expansion.passes.get(i)) {
                     Some(p) => self.line(&format!(
                         "(pass {}/{n}: depth {}, cut {})",
                         p.number,
@@ -414,5 +415,45 @@ mod tests {
             ..seg
         };
         assert_eq!(k_value(&straight), "1.5");
+    }
+
+    #[test]
+    fn a_cycle_that_cannot_be_expanded_is_refused() {
+        use crate::ir::{Schedule, Slope, ThreadCycle};
+        use crate::source::Span;
+        let src = SourceFile::new("t", "");
+        let item = |kind| Item {
+            kind,
+            span: Span::default(),
+            block_number: None,
+            comment: None,
+        };
+        let cycle = ThreadCycle {
+            start: (Length::from_mm(36), Length::from_mm(5)),
+            crest: Length::from_mm(36),
+            end_z: Length::from_mm(-40),
+            lead: Length(15_000),
+            depth: Length(3_000),
+            first_depth: Length(2_000),
+            taper: Length::ZERO,
+            infeed: Slope::ZERO,
+            runout: Length::ZERO,
+            retract: Length(5_000),
+            internal: false,
+            schedule: Schedule::Halving,
+        };
+        let program = Program {
+            items: vec![
+                item(ItemKind::Spindle {
+                    speed: Some(100),
+                    direction: Some(SpindleDirection::Clockwise),
+                }),
+                item(ItemKind::ThreadCycle(cycle)),
+            ],
+        };
+        let (out, diags) = emit(&program, &src, Dialect::Nc31, &Profile::default());
+        assert!(out.is_none());
+        assert_eq!(diags[0].code, codes::CYCLE_INVALID);
+        assert!(diags[0].message.contains("0.3875"), "{}", diags[0].message);
     }
 }
