@@ -410,29 +410,33 @@ fn nc31(src: &SourceFile, raw: RawNc31, p: &mut Nc31Profile, diags: &mut Vec<Dia
             )),
         }
     }
-    if let Some(value) = raw.infeed_p6 {
+    let parameters = [
+        (
+            "nc31.infeed_p6",
+            raw.infeed_p6,
+            Nc31Profile::P6_MAX,
+            &mut p.infeed_p6,
+            "parameter 6 is 4096·tan(infeed angle): 0 radial, 2365 for 30°, 1491 for 20°",
+        ),
+        (
+            "nc31.runout_p7",
+            raw.runout_p7,
+            Nc31Profile::P7_MAX,
+            &mut p.runout_p7,
+            "parameter 7 is the runout in tenths of the lead (1…31), 0 for none",
+        ),
+    ];
+    for (key, value, max, slot, help) in parameters {
+        let Some(value) = value else { continue };
         let span = src.span_of(value.span());
         match u32::try_from(*value.get_ref()) {
-            Ok(v) if v <= Nc31Profile::P6_MAX => p.infeed_p6 = v,
+            Ok(v) if v <= max => *slot = v,
             _ => diags.push(bad_value(
                 src,
                 span,
-                "nc31.infeed_p6",
-                format!("{} is outside 0…{}", value.get_ref(), Nc31Profile::P6_MAX),
-                "parameter 6 is 4096·tan(infeed angle): 0 radial, 2365 for 30°, 1491 for 20°",
-            )),
-        }
-    }
-    if let Some(value) = raw.runout_p7 {
-        let span = src.span_of(value.span());
-        match u32::try_from(*value.get_ref()) {
-            Ok(v) if v <= Nc31Profile::P7_MAX => p.runout_p7 = v,
-            _ => diags.push(bad_value(
-                src,
-                span,
-                "nc31.runout_p7",
-                format!("{} is outside 0…{}", value.get_ref(), Nc31Profile::P7_MAX),
-                "parameter 7 is the runout in tenths of the lead (1…31), 0 for none",
+                key,
+                format!("{} is outside 0…{max}", value.get_ref()),
+                help,
             )),
         }
     }
