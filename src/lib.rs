@@ -10,6 +10,7 @@ pub mod fixed;
 pub mod ir;
 pub mod lower;
 pub mod profile;
+pub mod sim;
 pub mod source;
 pub mod text;
 

@@ -146,6 +146,12 @@ pub const CYCLE_INVALID: Code = error(
     "a thread cycle cannot be expanded into passes (depths, lead, travel)",
 );
 
+// simulator
+pub const SIM_UNKNOWN: Code = warning(
+    "SIM001",
+    "the motion depends on a position or spindle state that is not known",
+);
+
 // general
 pub const NOT_IMPLEMENTED: Code = error(
     "NT001",
@@ -199,6 +205,7 @@ pub const ALL: &[Code] = &[
     ISO_SPINDLE_OFF,
     ISO_BAD_MAPPING,
     CYCLE_INVALID,
+    SIM_UNKNOWN,
     NOT_IMPLEMENTED,
 ];
 

@@ -1,0 +1,395 @@
+//! Normalisation and comparison of two simulations ("Simulation and equivalence" in the
+//! spec): collinear segments of one kind merge, rapids compare by end point only, and a
+//! synchronised segment may start earlier along its own line by less than one lead.
+
+use super::{Motion, Segment, TURN};
+use crate::fixed::{Angle, Length};
+use crate::ir::Pos;
+
+/// Position tolerance: 0.001 mm.
+pub const TOLERANCE: Length = Length(10);
+/// Phase tolerance: 0.01°.
+pub const PHASE_TOLERANCE: Angle = Angle(10);
+
+/// The first place where two motions differ.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Difference {
+    /// Index in the normalised lists.
+    pub index: usize,
+    pub left: Option<Segment>,
+    pub right: Option<Segment>,
+    /// What differs, with both values.
+    pub what: String,
+}
+
+impl std::fmt::Display for Difference {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let place = |s: &Option<Segment>| match s {
+            Some(s) => match s.pass {
+                Some(p) => format!("line {} (pass {p})", s.line),
+                None => format!("line {}", s.line),
+            },
+            None => "the end".to_string(),
+        };
+        write!(
+            f,
+            "{} vs {}: {}",
+            place(&self.left),
+            place(&self.right),
+            self.what
+        )
+    }
+}
+
+fn same_kind(a: &Motion, b: &Motion) -> bool {
+    match (a, b) {
+        (Motion::Rapid, Motion::Rapid) => true,
+        (Motion::Feed { feed: f }, Motion::Feed { feed: g }) => f == g,
+        (
+            Motion::Sync {
+                lead: l,
+                direction: d,
+                phase: p,
+            },
+            Motion::Sync {
+                lead: m,
+                direction: e,
+                phase: q,
+            },
+        ) => l == m && d == e && p == q,
+        _ => false,
+    }
+}
+
+fn xz(p: Pos) -> Option<(f64, f64)> {
+    let (x, z) = p.known()?;
+    Some((x.to_mm_f64(), z.to_mm_f64()))
+}
+
+/// Whether `b` lies on the line through `a` and `c` (within the tolerance).
+fn collinear(a: Pos, b: Pos, c: Pos) -> bool {
+    let (Some(a), Some(b), Some(c)) = (xz(a), xz(b), xz(c)) else {
+        return false;
+    };
+    let (dx, dz) = (c.0 - a.0, c.1 - a.1);
+    let len = dx.hypot(dz);
+    if len == 0.0 {
+        return false;
+    }
+    let cross = dx * (b.1 - a.1) - dz * (b.0 - a.0);
+    (cross / len).abs() <= TOLERANCE.to_mm_f64()
+}
+
+/// Merges consecutive collinear segments of the same kind; consecutive rapids collapse to
+/// their final point.
+pub fn normalise(segments: &[Segment]) -> Vec<Segment> {
+    let mut out: Vec<Segment> = Vec::with_capacity(segments.len());
+    for s in segments {
+        if let Some(last) = out.last_mut() {
+            let rapids = matches!((last.motion, s.motion), (Motion::Rapid, Motion::Rapid));
+            let merge = rapids
+                || (!matches!(s.motion, Motion::Tap { .. })
+                    && same_kind(&last.motion, &s.motion)
+                    && last.to == s.from
+                    && collinear(last.from, last.to, s.to));
+            if merge {
+                last.to = s.to;
+                continue;
+            }
+        }
+        out.push(*s);
+    }
+    out
+}
+
+fn close(a: Option<Length>, b: Option<Length>) -> bool {
+    match (a, b) {
+        (Some(a), Some(b)) => (a - b).abs() <= TOLERANCE,
+        (None, None) => true,
+        _ => false,
+    }
+}
+
+fn close_pos(a: Pos, b: Pos) -> bool {
+    close(a.x, b.x) && close(a.z, b.z)
+}
+
+fn show(p: Pos) -> String {
+    let axis = |v: Option<Length>| v.map_or("?".to_string(), |v| v.mm());
+    format!("X{} Z{}", axis(p.x), axis(p.z))
+}
+
+fn describe(m: &Motion) -> String {
+    match m {
+        Motion::Rapid => "a rapid".into(),
+        Motion::Feed { feed } => format!("a feed at {}", feed.mm()),
+        Motion::Sync { lead, .. } => format!("a thread move with lead {}", lead.mm()),
+        Motion::Tap { lead, .. } => format!("a tap with lead {}", lead.mm()),
+    }
+}
+
+/// The circular distance between two angles.
+fn angle_gap(a: Angle, b: Angle) -> i64 {
+    let d = (a.0 - b.0).rem_euclid(TURN);
+    d.min(TURN - d)
+}
+
+/// Whether the synchronised segment `b` starts where `a` does, or earlier along `a`'s line
+/// by less than one lead.
+fn sync_start_ok(a: &Segment, b: &Segment, lead: Length) -> bool {
+    if close_pos(a.from, b.from) {
+        return true;
+    }
+    let (Some(az), Some(bz), Some(ez)) = (a.from.z, b.from.z, a.to.z) else {
+        return false;
+    };
+    let towards = (ez - az).signum();
+    let earlier = Length(towards * (az - bz).0);
+    earlier.0 > 0 && earlier < lead && collinear(b.from, a.from, a.to)
+}
+
+/// Compares two normalised motions; `None` when they are equivalent.
+pub fn compare(left: &[Segment], right: &[Segment]) -> Option<Difference> {
+    let n = left.len().max(right.len());
+    for i in 0..n {
+        let (Some(a), Some(b)) = (left.get(i), right.get(i)) else {
+            let extra = left.get(i).or(right.get(i)).expect("one side has it");
+            return Some(Difference {
+                index: i,
+                left: left.get(i).copied(),
+                right: right.get(i).copied(),
+                what: format!(
+                    "{} to {} on one side only",
+                    describe(&extra.motion),
+                    show(extra.to)
+                ),
+            });
+        };
+        let differ = |what: String| {
+            Some(Difference {
+                index: i,
+                left: Some(*a),
+                right: Some(*b),
+                what,
+            })
+        };
+        match (a.motion, b.motion) {
+            (Motion::Rapid, Motion::Rapid) => {
+                // A rapid to the start of a thread move may end earlier along the thread
+                // line: the thread move's comparison decides.
+                let before_sync = matches!(
+                    (left.get(i + 1), right.get(i + 1)),
+                    (
+                        Some(Segment {
+                            motion: Motion::Sync { .. },
+                            ..
+                        }),
+                        Some(Segment {
+                            motion: Motion::Sync { .. },
+                            ..
+                        })
+                    )
+                );
+                if !before_sync && !close_pos(a.to, b.to) {
+                    return differ(format!("rapid ends at {} ≠ {}", show(a.to), show(b.to)));
+                }
+            }
+            (Motion::Feed { feed: f }, Motion::Feed { feed: g }) => {
+                if f != g {
+                    return differ(format!("feed {} ≠ {}", f.mm(), g.mm()));
+                }
+                if !close_pos(a.from, b.from) || !close_pos(a.to, b.to) {
+                    return differ(format!(
+                        "feed move {} → {} ≠ {} → {}",
+                        show(a.from),
+                        show(a.to),
+                        show(b.from),
+                        show(b.to)
+                    ));
+                }
+            }
+            (
+                Motion::Sync {
+                    lead: l,
+                    direction: d,
+                    phase: p,
+                },
+                Motion::Sync {
+                    lead: m,
+                    direction: e,
+                    phase: q,
+                },
+            ) => {
+                // Leads differ when the helices drift apart by more than the tolerance over
+                // the move.
+                let travel = match (a.from.z, a.to.z) {
+                    (Some(z0), Some(z1)) => (z1 - z0).abs(),
+                    _ => Length::ZERO,
+                };
+                let drift = (l - m).abs().mul_div(travel.0, l.0.max(1));
+                if drift > TOLERANCE || (travel == Length::ZERO && l != m) {
+                    return differ(format!("lead {} ≠ {}", l.mm(), m.mm()));
+                }
+                if d != e {
+                    return differ("spindle direction differs (the hand of the thread)".into());
+                }
+                if !close_pos(a.to, b.to) {
+                    return differ(format!(
+                        "thread move ends at {} ≠ {}",
+                        show(a.to),
+                        show(b.to)
+                    ));
+                }
+                if !sync_start_ok(a, b, l) {
+                    return differ(format!(
+                        "thread move starts at {} ≠ {}",
+                        show(a.from),
+                        show(b.from)
+                    ));
+                }
+                match (p, q) {
+                    (Some(p), Some(q)) if angle_gap(p, q) <= PHASE_TOLERANCE.0 => {}
+                    (None, None) => {}
+                    _ => {
+                        let show =
+                            |p: Option<Angle>| p.map_or("unknown".into(), |p| format!("{p}°"));
+                        return differ(format!(
+                            "thread phase (spindle angle at Z0) {} ≠ {}",
+                            show(p),
+                            show(q)
+                        ));
+                    }
+                }
+            }
+            (
+                Motion::Tap {
+                    lead: l,
+                    direction: d,
+                },
+                Motion::Tap {
+                    lead: m,
+                    direction: e,
+                },
+            ) => {
+                if l != m || d != e || !close_pos(a.from, b.from) || !close_pos(a.to, b.to) {
+                    return differ(format!(
+                        "tap {} → {} lead {} ≠ {} → {} lead {}",
+                        show(a.from),
+                        show(a.to),
+                        l.mm(),
+                        show(b.from),
+                        show(b.to),
+                        m.mm()
+                    ));
+                }
+            }
+            _ => {
+                return differ(format!("{} ≠ {}", describe(&a.motion), describe(&b.motion)));
+            }
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ir::SpindleDirection;
+
+    fn mm(v: f64) -> Length {
+        Length::from_mm_f64(v)
+    }
+
+    fn seg(motion: Motion, from: (f64, f64), to: (f64, f64), line: u32) -> Segment {
+        Segment {
+            motion,
+            from: Pos::new(mm(from.0), mm(from.1)),
+            to: Pos::new(mm(to.0), mm(to.1)),
+            line,
+            pass: None,
+        }
+    }
+
+    fn sync(lead: f64, phase: i64) -> Motion {
+        Motion::Sync {
+            lead: mm(lead),
+            direction: Some(SpindleDirection::Clockwise),
+            phase: Some(Angle::from_deg(phase)),
+        }
+    }
+
+    #[test]
+    fn normalising_merges_rapids_and_collinear_moves() {
+        let segs = [
+            seg(Motion::Rapid, (100.0, 50.0), (100.0, 5.0), 1),
+            seg(Motion::Rapid, (100.0, 5.0), (30.0, 5.0), 2),
+            seg(sync(1.5, 0), (30.0, 5.0), (30.0, -10.0), 3),
+            seg(sync(1.5, 0), (30.0, -10.0), (30.0, -20.0), 4),
+            seg(sync(1.5, 0), (30.0, -20.0), (32.0, -22.0), 5),
+        ];
+        let n = normalise(&segs);
+        assert_eq!(n.len(), 3);
+        assert_eq!(n[0].to, Pos::new(mm(30.0), mm(5.0)));
+        assert_eq!(n[1].to, Pos::new(mm(30.0), mm(-20.0)));
+        assert_eq!(n[1].line, 3);
+    }
+
+    #[test]
+    fn a_start_earlier_by_less_than_a_lead_is_the_same_helix() {
+        let a = [
+            seg(Motion::Rapid, (40.0, 10.0), (30.0, 5.0), 1),
+            seg(sync(3.0, 180), (30.0, 5.0), (30.0, -30.0), 2),
+        ];
+        let b = [
+            seg(Motion::Rapid, (40.0, 10.0), (30.0, 6.5), 1),
+            seg(sync(3.0, 180), (30.0, 6.5), (30.0, -30.0), 3),
+        ];
+        assert_eq!(compare(&a, &b), None);
+        // A full lead earlier is a different program (and later is never allowed).
+        let c = [
+            seg(Motion::Rapid, (40.0, 10.0), (30.0, 8.0), 1),
+            seg(sync(3.0, 180), (30.0, 8.0), (30.0, -30.0), 3),
+        ];
+        assert!(compare(&a, &c).is_some());
+        let d = [
+            seg(Motion::Rapid, (40.0, 10.0), (30.0, 4.0), 1),
+            seg(sync(3.0, 180), (30.0, 4.0), (30.0, -30.0), 3),
+        ];
+        assert!(compare(&a, &d).unwrap().what.contains("starts"));
+    }
+
+    #[test]
+    fn mutations_are_found_and_named() {
+        let a = [seg(sync(1.5, 0), (35.6, 4.5), (35.6, -47.5), 9)];
+        let deeper = [seg(sync(1.5, 0), (35.58, 4.5), (35.58, -47.5), 12)];
+        let d = compare(&a, &deeper).unwrap();
+        assert!(
+            d.what.contains("ends at X35.6 Z-47.5 ≠ X35.58"),
+            "{}",
+            d.what
+        );
+        assert_eq!(
+            d.to_string().split(':').next().unwrap(),
+            "line 9 vs line 12"
+        );
+        let lead = [seg(sync(1.501, 0), (35.6, 4.5), (35.6, -47.5), 9)];
+        assert!(
+            compare(&a, &lead)
+                .unwrap()
+                .what
+                .contains("lead 1.5 ≠ 1.501")
+        );
+        let phase = [seg(sync(1.5, 5), (35.6, 4.5), (35.6, -47.5), 9)];
+        assert!(compare(&a, &phase).unwrap().what.contains("phase"));
+        let missing: [Segment; 0] = [];
+        assert!(
+            compare(&a, &missing)
+                .unwrap()
+                .what
+                .contains("one side only")
+        );
+        // Within tolerance: 0.0005 mm.
+        let near = [seg(sync(1.5, 0), (35.6005, 4.5), (35.6005, -47.5), 9)];
+        assert_eq!(compare(&a, &near), None);
+    }
+}

@@ -1,0 +1,516 @@
+//! The motion simulator: what the machine does with a program, as straight segments in
+//! fixed-point X (diameter) and Z. It is the arbiter of "exact or refuse": it reads only the
+//! IR, shares the cycle and pass geometry with the emitters through [`crate::lower`], and
+//! knows nothing of any dialect's text.
+
+mod compare;
+
+pub use compare::{Difference, compare, normalise};
+
+use crate::diag::{Diagnostic, codes};
+use crate::fixed::{Angle, Length, div_round};
+use crate::ir::{ItemKind, Pos, Program, SpindleDirection, ThreadPass};
+use crate::lower;
+use crate::source::{SourceFile, Span};
+
+/// A full spindle turn in [`Angle`] units.
+pub const TURN: i64 = 360_000;
+
+/// What a segment does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Motion {
+    Rapid,
+    /// A linear feed at `feed` (per revolution, or per minute after G94).
+    Feed {
+        feed: Length,
+    },
+    /// A spindle-synchronised move: `lead` along Z per revolution, the spindle `direction`,
+    /// and the `phase`: the spindle angle at which the tool is (or would be, on the line
+    /// extended) at Z = 0. Two passes with equal lead, direction and phase cut the same helix.
+    /// `None` when the start Z is unknown.
+    Sync {
+        lead: Length,
+        direction: Option<SpindleDirection>,
+        phase: Option<Angle>,
+    },
+    /// A rigid tap to `to.z` and back to `from.z`, the spindle reversing at the bottom.
+    Tap {
+        lead: Length,
+        direction: Option<SpindleDirection>,
+    },
+}
+
+/// One straight move.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Segment {
+    pub motion: Motion,
+    pub from: Pos,
+    pub to: Pos,
+    /// The source line of the item it comes from.
+    pub line: u32,
+    /// The pass number inside a thread cycle.
+    pub pass: Option<usize>,
+}
+
+/// Something the simulator could not know.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Problem {
+    /// The item it concerns.
+    pub span: Span,
+    pub message: String,
+}
+
+impl Problem {
+    /// As a warning diagnostic pointing into `src` (the program the simulation came from).
+    pub fn diagnostic(&self, src: &SourceFile) -> Diagnostic {
+        Diagnostic::new(codes::SIM_UNKNOWN, self.message.clone())
+            .at(src, self.span)
+            .help("move to a known position with absolute X and Z before this, so that the motion can be checked")
+    }
+}
+
+/// The motion of a program, and what could not be determined.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Simulation {
+    pub segments: Vec<Segment>,
+    pub problems: Vec<Problem>,
+}
+
+struct Machine {
+    pos: Pos,
+    direction: Option<SpindleDirection>,
+    /// The spindle angle where the last synchronised segment ended, when the next one may
+    /// continue it without waiting for the index pulse.
+    sync_end: Option<(Pos, Angle, Length)>,
+    out: Simulation,
+}
+
+/// The spindle angle at Z = 0 of a synchronised move through `z` at spindle angle `angle`,
+/// travelling towards `towards` (the sign of its Z travel).
+fn phase_at_zero(z: Length, angle: Angle, lead: Length, towards: i64) -> Angle {
+    // Travelling towards -Z the spindle turns 360° per lead from z down to 0, so the angle
+    // at 0 is angle + 360·z/lead; travelling towards +Z it is angle − 360·z/lead.
+    let turned = div_round(z.0 as i128 * TURN as i128, lead.0 as i128) as i64;
+    Angle((angle.0 - towards * turned).rem_euclid(TURN))
+}
+
+/// The spindle angle at `z` on a helix with phase `phase` (the inverse of
+/// [`phase_at_zero`]).
+fn angle_at(z: Length, phase: Angle, lead: Length, towards: i64) -> Angle {
+    let turned = div_round(z.0 as i128 * TURN as i128, lead.0 as i128) as i64;
+    Angle((phase.0 + towards * turned).rem_euclid(TURN))
+}
+
+impl Machine {
+    fn problem(&mut self, span: Span, message: impl Into<String>) {
+        self.out.problems.push(Problem {
+            span,
+            message: message.into(),
+        });
+    }
+
+    fn segment(&mut self, motion: Motion, to: Pos, span: Span, pass: Option<usize>) {
+        let to = Pos {
+            x: to.x.or(self.pos.x),
+            z: to.z.or(self.pos.z),
+        };
+        if to == self.pos && !matches!(motion, Motion::Tap { .. }) {
+            return;
+        }
+        let from = self.pos;
+        if !matches!(motion, Motion::Rapid) && from.known().is_none() {
+            self.problem(
+                span,
+                "the move starts from a position that is not known: its path cannot be compared",
+            );
+        }
+        self.out.segments.push(Segment {
+            motion,
+            from,
+            to,
+            line: span.line,
+            pass,
+        });
+        if !matches!(motion, Motion::Tap { .. }) {
+            self.pos = to;
+        }
+        if !matches!(motion, Motion::Sync { .. }) {
+            self.sync_end = None;
+        }
+    }
+
+    fn thread_pass(&mut self, pass: &ThreadPass, span: Span, number: Option<usize>) {
+        if self.direction.is_none() {
+            self.problem(span, "a thread pass while the spindle is not turning");
+        }
+        let segments = match lower::pass_segments(self.pos, pass) {
+            Ok(s) => s,
+            Err(_) => {
+                self.problem(
+                    span,
+                    "the thread pass needs its start point, which is not known",
+                );
+                self.pos = ItemKind::ThreadPass(*pass).end_position(self.pos);
+                self.sync_end = None;
+                return;
+            }
+        };
+        for seg in segments {
+            let towards = match (seg.from.z, seg.to.z) {
+                (Some(a), Some(b)) => (b - a).signum(),
+                _ => 0,
+            };
+            // A pass starts at its start angle after the index pulse, unless it continues a
+            // synchronised move that ended right here with the same lead.
+            let start_angle = match self.sync_end {
+                Some((end, angle, lead)) if end == seg.from && lead == seg.lead => angle,
+                _ => pass.start_angle,
+            };
+            let phase = match seg.from.z {
+                Some(z) if towards != 0 => Some(phase_at_zero(z, start_angle, seg.lead, towards)),
+                _ => None,
+            };
+            self.segment(
+                Motion::Sync {
+                    lead: seg.lead,
+                    direction: self.direction,
+                    phase,
+                },
+                seg.to,
+                span,
+                number,
+            );
+            self.sync_end = match (phase, seg.to.z) {
+                (Some(phase), Some(z)) => {
+                    Some((self.pos, angle_at(z, phase, seg.lead, towards), seg.lead))
+                }
+                _ => None,
+            };
+        }
+    }
+
+    fn item(&mut self, kind: &ItemKind, span: Span) {
+        match kind {
+            ItemKind::Rapid { to } => self.segment(Motion::Rapid, *to, span, None),
+            ItemKind::Feed { to, feed } => {
+                self.segment(Motion::Feed { feed: *feed }, *to, span, None)
+            }
+            ItemKind::ThreadPass(pass) => self.thread_pass(pass, span, None),
+            ItemKind::ThreadCycle(cycle) => match lower::expand(cycle) {
+                Ok(expansion) => {
+                    for m in &expansion.moves {
+                        let pass = (m.pass > 0).then_some(m.pass);
+                        match &m.kind {
+                            ItemKind::ThreadPass(p) => self.thread_pass(p, span, pass),
+                            ItemKind::Rapid { to } => self.segment(Motion::Rapid, *to, span, pass),
+                            // `expand` yields only rapids and passes.
+                            _ => {}
+                        }
+                    }
+                }
+                Err(e) => {
+                    let message = e.message(cycle);
+                    self.problem(span, message);
+                    self.pos = kind.end_position(self.pos);
+                }
+            },
+            ItemKind::TapCycle(tap) => {
+                if self.pos.z.is_none() {
+                    self.problem(span, "the tapping cycle starts from a Z that is not known");
+                }
+                if self.direction.is_none() {
+                    self.problem(span, "a tapping cycle while the spindle is not turning");
+                }
+                self.segment(
+                    Motion::Tap {
+                        lead: tap.lead,
+                        direction: self.direction,
+                    },
+                    Pos {
+                        x: None,
+                        z: Some(tap.end_z),
+                    },
+                    span,
+                    None,
+                );
+                if let Some(x) = tap.then_x {
+                    self.segment(
+                        Motion::Rapid,
+                        Pos {
+                            x: Some(x),
+                            z: None,
+                        },
+                        span,
+                        None,
+                    );
+                }
+            }
+            ItemKind::Spindle {
+                direction: Some(d), ..
+            } => self.direction = Some(*d),
+            ItemKind::SpindleStop | ItemKind::ProgramEnd(_) => self.direction = None,
+            ItemKind::Opaque { block: true, .. } => {
+                self.pos = Pos::UNKNOWN;
+                self.sync_end = None;
+            }
+            _ => {}
+        }
+    }
+}
+
+impl Segment {
+    /// One line of text: `line 14 pass 1  thread  X35.6 Z4.5 → X35.6 Z-47.5  lead 1.5 M3 phase 0°`.
+    pub fn to_text(&self) -> String {
+        let pos = |p: Pos| {
+            let axis = |v: Option<Length>| v.map_or("?".to_string(), |v| v.mm());
+            format!("X{} Z{}", axis(p.x), axis(p.z))
+        };
+        let dir = |d: Option<SpindleDirection>| match d {
+            Some(SpindleDirection::Clockwise) => "M3",
+            Some(SpindleDirection::CounterClockwise) => "M4",
+            None => "spindle stopped",
+        };
+        let (name, extra) = match self.motion {
+            Motion::Rapid => ("rapid", String::new()),
+            Motion::Feed { feed } => ("feed", format!("  feed {}", feed.mm())),
+            Motion::Sync {
+                lead,
+                direction,
+                phase,
+            } => (
+                "thread",
+                format!(
+                    "  lead {} {} phase {}",
+                    lead.mm(),
+                    dir(direction),
+                    phase.map_or("unknown".to_string(), |p| format!("{p}°"))
+                ),
+            ),
+            Motion::Tap { lead, direction } => (
+                "tap",
+                format!("  lead {} {} and back", lead.mm(), dir(direction)),
+            ),
+        };
+        let pass = self.pass.map_or(String::new(), |p| format!(" pass {p}"));
+        format!(
+            "line {}{pass}  {name}  {} → {}{extra}",
+            self.line,
+            pos(self.from),
+            pos(self.to)
+        )
+    }
+
+    /// One JSON object: line, pass, motion, from, to (mm, X a diameter), and lead, feed,
+    /// spindle direction and phase (degrees) where they apply.
+    pub fn to_json(&self) -> serde_json::Value {
+        let num = |v: Length| serde_json::json!(v.to_mm_f64());
+        let pos = |p: Pos| serde_json::json!({ "x": p.x.map(num), "z": p.z.map(num) });
+        let dir = |d: Option<SpindleDirection>| match d {
+            Some(SpindleDirection::Clockwise) => Some("M3"),
+            Some(SpindleDirection::CounterClockwise) => Some("M4"),
+            None => None,
+        };
+        let mut v = serde_json::json!({
+            "line": self.line,
+            "pass": self.pass,
+            "from": pos(self.from),
+            "to": pos(self.to),
+        });
+        let extra = match self.motion {
+            Motion::Rapid => serde_json::json!({ "motion": "rapid" }),
+            Motion::Feed { feed } => serde_json::json!({ "motion": "feed", "feed": num(feed) }),
+            Motion::Sync {
+                lead,
+                direction,
+                phase,
+            } => serde_json::json!({
+                "motion": "thread",
+                "lead": num(lead),
+                "spindle": dir(direction),
+                "phase": phase.map(|p| p.to_deg_f64()),
+            }),
+            Motion::Tap { lead, direction } => serde_json::json!({
+                "motion": "tap",
+                "lead": num(lead),
+                "spindle": dir(direction),
+            }),
+        };
+        if let (Some(v), serde_json::Value::Object(extra)) = (v.as_object_mut(), extra) {
+            v.extend(extra);
+        }
+        v
+    }
+}
+
+/// Runs `program` from an unknown position with the spindle stopped.
+pub fn simulate(program: &Program) -> Simulation {
+    let mut m = Machine {
+        pos: Pos::UNKNOWN,
+        direction: None,
+        sync_end: None,
+        out: Simulation::default(),
+    };
+    for item in &program.items {
+        m.item(&item.kind, item.span);
+    }
+    m.out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ir::{Item, Schedule, Slope, TapCycle, ThreadCycle};
+    use crate::source::Span;
+
+    fn mm(v: f64) -> Length {
+        Length::from_mm_f64(v)
+    }
+
+    fn program(kinds: Vec<ItemKind>) -> Program {
+        Program {
+            items: kinds
+                .into_iter()
+                .enumerate()
+                .map(|(i, kind)| Item {
+                    kind,
+                    span: Span {
+                        line: i as u32 + 1,
+                        ..Span::default()
+                    },
+                    block_number: None,
+                    comment: None,
+                })
+                .collect(),
+        }
+    }
+
+    fn spindle() -> ItemKind {
+        ItemKind::Spindle {
+            speed: Some(100),
+            direction: Some(SpindleDirection::Clockwise),
+        }
+    }
+
+    fn pass(x: f64, z: f64, lead: f64, angle: i64) -> ItemKind {
+        ItemKind::ThreadPass(ThreadPass {
+            to: Pos::new(mm(x), mm(z)),
+            lead: mm(lead),
+            start_angle: Angle::from_deg(angle),
+            entry: None,
+            exit: None,
+        })
+    }
+
+    fn rapid(x: f64, z: f64) -> ItemKind {
+        ItemKind::Rapid {
+            to: Pos::new(mm(x), mm(z)),
+        }
+    }
+
+    fn phase(s: &Segment) -> Option<Angle> {
+        match s.motion {
+            Motion::Sync { phase, .. } => phase,
+            _ => None,
+        }
+    }
+
+    #[test]
+    fn phase_is_the_spindle_angle_at_z0() {
+        // From Z3 towards -Z, lead 1.5, at the index pulse: at Z0 the spindle has turned
+        // 2 revolutions → phase 0. From Z3.75: 2.5 revolutions → 180°.
+        let sim = simulate(&program(vec![
+            spindle(),
+            rapid(26.0, 3.0),
+            pass(26.0, -9.0, 1.5, 0),
+            rapid(26.0, 3.75),
+            pass(26.0, -9.0, 1.5, 0),
+            rapid(26.0, 3.0),
+            pass(26.0, -9.0, 1.5, 180),
+        ]));
+        assert!(sim.problems.is_empty(), "{:?}", sim.problems);
+        let phases: Vec<_> = sim.segments.iter().filter_map(phase).collect();
+        assert_eq!(
+            phases,
+            vec![Angle::ZERO, Angle::from_deg(180), Angle::from_deg(180)]
+        );
+    }
+
+    #[test]
+    fn consecutive_sync_segments_keep_the_spindle_turning() {
+        // A runout: the second segment continues the first, so its phase is the same helix.
+        let sim = simulate(&program(vec![
+            spindle(),
+            rapid(64.0, 5.0),
+            ItemKind::ThreadPass(ThreadPass {
+                to: Pos::new(mm(64.0), mm(-100.0)),
+                lead: mm(6.0),
+                start_angle: Angle::ZERO,
+                entry: None,
+                exit: Some(crate::ir::Chamfer {
+                    length: mm(12.0),
+                    offset: mm(8.0),
+                }),
+            }),
+        ]));
+        let phases: Vec<_> = sim.segments.iter().filter_map(phase).collect();
+        // 5 / 6 of a turn before Z0 → 300°.
+        assert_eq!(phases, vec![Angle::from_deg(300), Angle::from_deg(300)]);
+    }
+
+    #[test]
+    fn cycles_run_through_expand_with_pass_numbers_and_taps_return() {
+        let cycle = ThreadCycle {
+            start: (mm(36.0), mm(4.5)),
+            crest: mm(36.0),
+            end_z: mm(-47.5),
+            lead: mm(1.5),
+            depth: mm(0.96),
+            first_depth: mm(0.2),
+            taper: Length::ZERO,
+            infeed: Slope::ZERO,
+            runout: Length::ZERO,
+            retract: mm(0.5),
+            internal: false,
+            schedule: Schedule::Halving,
+        };
+        let sim = simulate(&program(vec![
+            spindle(),
+            rapid(36.0, 4.5),
+            ItemKind::ThreadCycle(cycle),
+            rapid(0.0, 6.0),
+            ItemKind::TapCycle(TapCycle {
+                end_z: mm(-100.0),
+                lead: mm(1.5),
+                then_x: Some(mm(20.0)),
+            }),
+        ]));
+        assert!(sim.problems.is_empty(), "{:?}", sim.problems);
+        let passes: Vec<_> = sim
+            .segments
+            .iter()
+            .filter(|s| matches!(s.motion, Motion::Sync { .. }))
+            .map(|s| (s.pass, s.from.x))
+            .collect();
+        assert_eq!(passes.len(), 8);
+        assert_eq!(passes[7], (Some(8), Some(mm(34.08))));
+        let tap = sim
+            .segments
+            .iter()
+            .find(|s| matches!(s.motion, Motion::Tap { .. }))
+            .unwrap();
+        assert_eq!(
+            (tap.from, tap.to),
+            (Pos::new(mm(0.0), mm(6.0)), Pos::new(mm(0.0), mm(-100.0)))
+        );
+        // After the tap the tool is back at Z6 and moves to Ø20.
+        assert_eq!(sim.segments.last().unwrap().to, Pos::new(mm(20.0), mm(6.0)));
+    }
+
+    #[test]
+    fn unknown_positions_are_reported() {
+        let sim = simulate(&program(vec![spindle(), pass(30.0, -20.0, 1.5, 0)]));
+        assert_eq!(sim.problems.len(), 1);
+        assert_eq!(sim.problems[0].span.line, 2);
+        assert_eq!(phase(&sim.segments[0]), None);
+    }
+}
