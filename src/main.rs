@@ -27,6 +27,35 @@ struct Cli {
 enum Command {
     /// Convert one program (stdin to stdout by default).
     Convert(ConvertArgs),
+    /// Print the machine motion of a program: every rapid, feed, thread and tap segment.
+    Simulate(SimulateArgs),
+}
+
+#[derive(clap::Args)]
+struct SimulateArgs {
+    /// The program to read; `-` or nothing reads stdin.
+    input: Option<PathBuf>,
+    /// The dialect of the program; `auto` chooses from the text.
+    #[arg(long, value_enum)]
+    from: SourceDialect,
+    /// Machine profile (TOML).
+    #[arg(long)]
+    profile: Option<PathBuf>,
+    /// `text`: one segment per line; `json`: one JSON object per segment.
+    #[arg(long, value_enum, default_value_t = OutputFormat::Text)]
+    format: OutputFormat,
+    /// How to print diagnostics on stderr.
+    #[arg(long, value_enum, default_value_t = DiagnosticsFormat::Human)]
+    diagnostics: DiagnosticsFormat,
+    /// Undocumented constructs: refuse the program, or warn and keep them as opaque items.
+    #[arg(long, value_enum, default_value_t = UnsupportedArg::Error)]
+    unsupported: UnsupportedArg,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum OutputFormat {
+    Text,
+    Json,
 }
 
 #[derive(clap::Args)]
@@ -93,6 +122,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Convert(args) => convert(args),
+        Command::Simulate(args) => simulate(args),
     };
     match result {
         Ok(code) => code,
@@ -145,10 +175,13 @@ fn load_profile(path: &Option<PathBuf>, format: DiagnosticsFormat) -> Result<Pro
     })
 }
 
-fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
-    let profile = load_profile(&args.profile, args.diagnostics)?;
-    let (name, bytes) = read_input(&args.input)?;
-    let (text, from) = match args.from {
+/// Reads the input and decodes it in the given dialect, or chooses the dialect (`auto`).
+fn read_source(
+    input: &Option<PathBuf>,
+    from: SourceDialect,
+) -> Result<(SourceFile, Dialect), Fatal> {
+    let (name, bytes) = read_input(input)?;
+    let (text, from) = match from {
         SourceDialect::Czech => (
             ncthread::text::decode(&bytes, Dialect::Czech).0,
             Dialect::Czech,
@@ -168,15 +201,24 @@ fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
             (text, detection.dialect)
         }
     };
-    let src = SourceFile::new(name, text);
+    Ok((SourceFile::new(name, text), from))
+}
+
+fn unsupported(arg: UnsupportedArg) -> Unsupported {
+    match arg {
+        UnsupportedArg::Error => Unsupported::Error,
+        UnsupportedArg::Warn => Unsupported::Warn,
+    }
+}
+
+fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
+    let profile = load_profile(&args.profile, args.diagnostics)?;
+    let (src, from) = read_source(&args.input, args.from)?;
     let options = ConvertOptions {
         from,
         to: args.to.into(),
         profile,
-        unsupported: match args.unsupported {
-            UnsupportedArg::Error => Unsupported::Error,
-            UnsupportedArg::Warn => Unsupported::Warn,
-        },
+        unsupported: unsupported(args.unsupported),
     };
     let conversion = ncthread::convert(&src, &options);
     print_diagnostics(&conversion.diagnostics, args.diagnostics);
@@ -184,6 +226,31 @@ fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
         return Ok(ExitCode::from(1));
     };
     write_output(&args.output, output.as_bytes())?;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn simulate(args: SimulateArgs) -> Result<ExitCode, Fatal> {
+    let profile = load_profile(&args.profile, args.diagnostics)?;
+    let (src, from) = read_source(&args.input, args.from)?;
+    let (program, mut diags) = ncthread::parse(&src, from, &profile, unsupported(args.unsupported));
+    if diag::has_errors(&diags) {
+        diag::sort(&mut diags);
+        print_diagnostics(&diags, args.diagnostics);
+        return Ok(ExitCode::from(1));
+    }
+    let simulation = ncthread::sim::simulate(&program);
+    diags.extend(simulation.problems.iter().map(|p| p.diagnostic(&src)));
+    diag::sort(&mut diags);
+    print_diagnostics(&diags, args.diagnostics);
+    let mut out = String::new();
+    for segment in &simulation.segments {
+        match args.format {
+            OutputFormat::Text => out.push_str(&segment.to_text()),
+            OutputFormat::Json => out.push_str(&segment.to_json().to_string()),
+        }
+        out.push('\n');
+    }
+    write_output(&None, out.as_bytes())?;
     Ok(ExitCode::SUCCESS)
 }
 

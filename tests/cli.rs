@@ -242,3 +242,51 @@ fn from_auto_chooses_the_dialect_and_says_so_when_unsure() {
         "{err}"
     );
 }
+
+#[test]
+fn simulate_prints_the_motion_as_text_or_json() {
+    let out = ncthread(
+        &["simulate", "corpus/nc31/g31-m36x1.5.nc", "--from", "nc31"],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout
+            .contains("line 10 pass 8  thread  X34.08 Z4.5 → X34.08 Z-47.5  lead 1.5 M3 phase 0°"),
+        "{stdout}"
+    );
+    let out = ncthread(
+        &[
+            "simulate",
+            "corpus/czech/ex7-large-pitch.nc",
+            "--from",
+            "czech",
+            "--format",
+            "json",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(0));
+    let first: serde_json::Value =
+        serde_json::from_str(text(&out.stdout).lines().next().unwrap()).unwrap();
+    assert_eq!(first["motion"], "thread");
+    assert_eq!(first["lead"], 250.0);
+    // The pass starts from an unknown position: a warning says so.
+    assert!(
+        text(&out.stderr).contains("warning[SIM001]"),
+        "{}",
+        text(&out.stderr)
+    );
+    let out = ncthread(
+        &[
+            "simulate",
+            "corpus/bad/nc31/decimal-point.nc",
+            "--from",
+            "nc31",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(out.stdout.is_empty());
+}

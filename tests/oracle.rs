@@ -183,3 +183,55 @@ fn g31_runout_of_one_lead_ends_every_pass_on_the_crest() {
         }
     }
 }
+
+/// Two independent readings of every conversion agree: the synchronised moves LinuxCNC runs
+/// for the ISO output are the simulator's thread segments of the source program — same end
+/// points, lead and helix phase; the start may be earlier along the line by less than a lead
+/// (a start angle written as a shift).
+#[test]
+fn rs274_cuts_what_the_simulator_says_the_source_cuts() {
+    use ncthread::sim::{Motion, normalise};
+    let Some(cmd) = rs274() else { return };
+    let mut checked = 0;
+    for case in corpus_cases() {
+        let Some(ngc) = convert_case(&case, Dialect::Iso).output else {
+            continue;
+        };
+        let moves = sync_moves(&run_rs274(cmd, &ngc).unwrap());
+        let phases = common::sync_phases(&moves);
+        let sim = normalise(&common::simulate_case(&case).segments);
+        let threads: Vec<_> = sim
+            .iter()
+            .filter(|s| matches!(s.motion, Motion::Sync { .. }))
+            .collect();
+        assert_eq!(
+            threads.len(),
+            moves.len(),
+            "{}: {threads:?}\n{moves:?}",
+            case.name
+        );
+        for ((s, m), phase) in threads.iter().zip(&moves).zip(&phases) {
+            let Motion::Sync { lead, phase: p, .. } = s.motion else {
+                unreachable!()
+            };
+            let mm = |v: Option<ncthread::fixed::Length>| v.map(|v| v.to_mm_f64());
+            let here = format!("{} line {}: {s:?} vs {m:?}", case.name, s.line);
+            // rs274 prints radii to 0.0001 and K to 1e-6: the Z lead read back is that exact.
+            assert!(close(m.z_lead, lead.to_mm_f64(), 1e-4), "lead {here}");
+            let (tx, tz) = (mm(s.to.x), mm(s.to.z));
+            assert!(tz.is_some_and(|z| close(z, m.to.1, 1e-3)), "end Z {here}");
+            assert!(tx.is_none_or(|x| close(x, m.to.0, 1e-3)), "end X {here}");
+            if let Some(z) = mm(s.from.z) {
+                let towards = (m.to.1 - m.from.1).signum();
+                let earlier = towards * (z - m.from.1);
+                assert!(earlier > -1e-3 && earlier < m.z_lead, "start {here}");
+            }
+            if let Some(p) = p {
+                let gap = (p.to_deg_f64() - phase).rem_euclid(360.0);
+                assert!(gap.min(360.0 - gap) < 0.01, "phase {p} vs {phase}: {here}");
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked > 100, "only {checked} synchronised moves compared");
+}

@@ -252,3 +252,43 @@ pub fn sync_moves(canon: &[Canon]) -> Vec<SyncMove> {
 pub fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol
 }
+
+/// The simulation of a corpus case's source program (parsed with its profile).
+pub fn simulate_case(case: &Case) -> ncthread::sim::Simulation {
+    let bytes = std::fs::read(root().join(&case.path)).unwrap();
+    let (text, _) = ncthread::text::decode(&bytes, case.from);
+    let src = SourceFile::new(case.path.clone(), text);
+    let profile = case
+        .profile
+        .as_deref()
+        .map(load_profile)
+        .unwrap_or_default();
+    let (program, diags) = ncthread::parse(&src, case.from, &profile, Unsupported::Error);
+    assert!(
+        !ncthread::diag::has_errors(&diags),
+        "{}: {diags:?}",
+        case.name
+    );
+    ncthread::sim::simulate(&program)
+}
+
+/// The spindle phase (angle at Z0, degrees) of each synchronised move as LinuxCNC runs it:
+/// a chain of moves starts at the index pulse, and a move that continues the previous one
+/// where it ended stays on its helix.
+pub fn sync_phases(moves: &[SyncMove]) -> Vec<f64> {
+    let mut phases: Vec<f64> = Vec::new();
+    for (i, m) in moves.iter().enumerate() {
+        let towards = (m.to.1 - m.from.1).signum();
+        let continues = i > 0 && {
+            let p = &moves[i - 1];
+            close(p.to.0, m.from.0, 1e-9) && close(p.to.1, m.from.1, 1e-9)
+        };
+        let phase = if continues {
+            phases[i - 1]
+        } else {
+            (-towards * 360.0 * m.from.1 / m.z_lead).rem_euclid(360.0)
+        };
+        phases.push(phase);
+    }
+    phases
+}
