@@ -2,7 +2,7 @@
 //! spec): collinear segments of one kind merge, rapids compare by end point only, and a
 //! synchronised segment may start earlier along its own line by less than one lead.
 
-use super::{Motion, Segment, TURN};
+use super::{Motion, Segment, TURN, show_pos as show};
 use crate::fixed::{Angle, Length};
 use crate::ir::Pos;
 
@@ -41,26 +41,6 @@ impl std::fmt::Display for Difference {
     }
 }
 
-fn same_kind(a: &Motion, b: &Motion) -> bool {
-    match (a, b) {
-        (Motion::Rapid, Motion::Rapid) => true,
-        (Motion::Feed { feed: f }, Motion::Feed { feed: g }) => f == g,
-        (
-            Motion::Sync {
-                lead: l,
-                direction: d,
-                phase: p,
-            },
-            Motion::Sync {
-                lead: m,
-                direction: e,
-                phase: q,
-            },
-        ) => l == m && d == e && p == q,
-        _ => false,
-    }
-}
-
 fn xz(p: Pos) -> Option<(f64, f64)> {
     let (x, z) = p.known()?;
     Some((x.to_mm_f64(), z.to_mm_f64()))
@@ -89,7 +69,7 @@ pub fn normalise(segments: &[Segment]) -> Vec<Segment> {
             let rapids = matches!((last.motion, s.motion), (Motion::Rapid, Motion::Rapid));
             let merge = rapids
                 || (!matches!(s.motion, Motion::Tap { .. })
-                    && same_kind(&last.motion, &s.motion)
+                    && last.motion == s.motion
                     && last.to == s.from
                     && collinear(last.from, last.to, s.to));
             if merge {
@@ -112,11 +92,6 @@ fn close(a: Option<Length>, b: Option<Length>) -> bool {
 
 fn close_pos(a: Pos, b: Pos) -> bool {
     close(a.x, b.x) && close(a.z, b.z)
-}
-
-fn show(p: Pos) -> String {
-    let axis = |v: Option<Length>| v.map_or("?".to_string(), |v| v.mm());
-    format!("X{} Z{}", axis(p.x), axis(p.z))
 }
 
 fn describe(m: &Motion) -> String {

@@ -258,13 +258,16 @@ impl Machine {
     }
 }
 
+/// `X35.6 Z-47.5`, with `?` for an unknown axis.
+pub(crate) fn show_pos(p: Pos) -> String {
+    let axis = |v: Option<Length>| v.map_or("?".to_string(), |v| v.mm());
+    format!("X{} Z{}", axis(p.x), axis(p.z))
+}
+
 impl Segment {
     /// One line of text: `line 14 pass 1  thread  X35.6 Z4.5 → X35.6 Z-47.5  lead 1.5 M3 phase 0°`.
     pub fn to_text(&self) -> String {
-        let pos = |p: Pos| {
-            let axis = |v: Option<Length>| v.map_or("?".to_string(), |v| v.mm());
-            format!("X{} Z{}", axis(p.x), axis(p.z))
-        };
+        let pos = show_pos;
         let dir = |d: Option<SpindleDirection>| match d {
             Some(SpindleDirection::Clockwise) => "M3",
             Some(SpindleDirection::CounterClockwise) => "M4",
