@@ -386,6 +386,26 @@ pub fn expand(cycle: &ThreadCycle) -> Result<Expansion, ExpandError> {
     Ok(Expansion { passes, moves })
 }
 
+/// The seed's G31 M36×1.5 as a cycle: A = Ø36 Z4.5, X3600, Z-4750, F15000, P96, P20, no
+/// infeed or runout, 0.5 mm retract. A fixture for tests across the crate.
+#[cfg(test)]
+pub(crate) fn seed_m36_cycle(schedule: Schedule) -> ThreadCycle {
+    ThreadCycle {
+        start: (Length(360_000), Length(45_000)),
+        crest: Length(360_000),
+        end_z: Length(-475_000),
+        lead: Length(15_000),
+        depth: Length(9_600),
+        first_depth: Length(2_000),
+        taper: Length::ZERO,
+        infeed: crate::ir::Slope::ZERO,
+        runout: Length::ZERO,
+        retract: Length(5_000),
+        internal: false,
+        schedule,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -516,21 +536,7 @@ mod tests {
     }
 
     fn m36(schedule: Schedule) -> ThreadCycle {
-        // The seed's G31 M36×1.5: A = Ø36 Z4.5, X3600, Z-4750, F15000, P96, P20.
-        ThreadCycle {
-            start: (mm(36.0), mm(4.5)),
-            crest: mm(36.0),
-            end_z: mm(-47.5),
-            lead: mm(1.5),
-            depth: mm(0.96),
-            first_depth: mm(0.2),
-            taper: Length::ZERO,
-            infeed: crate::ir::Slope::ZERO,
-            runout: Length::ZERO,
-            retract: mm(0.5),
-            internal: false,
-            schedule,
-        }
+        seed_m36_cycle(schedule)
     }
 
     fn lengths(v: &[f64]) -> Vec<Length> {

@@ -26,6 +26,18 @@ pub struct Item {
     pub comment: Option<String>,
 }
 
+impl Item {
+    /// An item with no block number and no comment yet.
+    pub fn new(kind: ItemKind, span: Span) -> Item {
+        Item {
+            kind,
+            span,
+            block_number: None,
+            comment: None,
+        }
+    }
+}
+
 /// A point whose axes may still be unknown (before the first absolute word for that axis).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Pos {

@@ -362,7 +362,7 @@ pub fn simulate(program: &Program) -> Simulation {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ir::{Item, Schedule, Slope, TapCycle, ThreadCycle};
+    use crate::ir::{Item, Schedule, TapCycle};
     use crate::source::Span;
 
     fn mm(v: f64) -> Length {
@@ -374,14 +374,12 @@ mod tests {
             items: kinds
                 .into_iter()
                 .enumerate()
-                .map(|(i, kind)| Item {
-                    kind,
-                    span: Span {
+                .map(|(i, kind)| {
+                    let span = Span {
                         line: i as u32 + 1,
                         ..Span::default()
-                    },
-                    block_number: None,
-                    comment: None,
+                    };
+                    Item::new(kind, span)
                 })
                 .collect(),
         }
@@ -462,20 +460,7 @@ mod tests {
 
     #[test]
     fn cycles_run_through_expand_with_pass_numbers_and_taps_return() {
-        let cycle = ThreadCycle {
-            start: (mm(36.0), mm(4.5)),
-            crest: mm(36.0),
-            end_z: mm(-47.5),
-            lead: mm(1.5),
-            depth: mm(0.96),
-            first_depth: mm(0.2),
-            taper: Length::ZERO,
-            infeed: Slope::ZERO,
-            runout: Length::ZERO,
-            retract: mm(0.5),
-            internal: false,
-            schedule: Schedule::Halving,
-        };
+        let cycle = crate::lower::seed_m36_cycle(Schedule::Halving);
         let sim = simulate(&program(vec![
             spindle(),
             rapid(36.0, 4.5),

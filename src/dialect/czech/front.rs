@@ -146,10 +146,8 @@ impl<'a> FrontEnd<'a> {
 
     fn push(&mut self, kind: ItemKind, span: Span, number: Option<u32>) {
         self.items.push(Item {
-            kind,
-            span,
             block_number: number,
-            comment: None,
+            ..Item::new(kind, span)
         });
     }
 

@@ -419,28 +419,14 @@ mod tests {
 
     #[test]
     fn a_cycle_that_cannot_be_expanded_is_refused() {
-        use crate::ir::{Schedule, Slope, ThreadCycle};
+        use crate::ir::{Schedule, ThreadCycle};
         use crate::source::Span;
         let src = SourceFile::new("t", "");
-        let item = |kind| Item {
-            kind,
-            span: Span::default(),
-            block_number: None,
-            comment: None,
-        };
+        let item = |kind| Item::new(kind, Span::default());
+        // Depth 0.3 is less than the halving law needs for a first pass of 0.2 (0.3875).
         let cycle = ThreadCycle {
-            start: (Length::from_mm(36), Length::from_mm(5)),
-            crest: Length::from_mm(36),
-            end_z: Length::from_mm(-40),
-            lead: Length(15_000),
             depth: Length(3_000),
-            first_depth: Length(2_000),
-            taper: Length::ZERO,
-            infeed: Slope::ZERO,
-            runout: Length::ZERO,
-            retract: Length(5_000),
-            internal: false,
-            schedule: Schedule::Halving,
+            ..crate::lower::seed_m36_cycle(Schedule::Halving)
         };
         let program = Program {
             items: vec![
