@@ -154,7 +154,7 @@ pub fn split_sign(text: &str) -> Option<(bool, &str)> {
 }
 
 /// A number exactly as written in a program: `-00120.000`, `26.618`, `12`, `.5`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Decimal {
     /// All digits as one integer, sign included (`-00120.000` → -120000).
     pub mantissa: i128,
@@ -242,6 +242,13 @@ impl Decimal {
 
     pub fn is_negative(self) -> bool {
         self.mantissa < 0
+    }
+
+    /// The nearest `f64` (what a C program's `strtod` reads from the same text).
+    pub fn to_f64(self) -> f64 {
+        // The mantissa and the power of ten are exact in f64 for the numbers programs
+        // hold (up to 15 digits), so one correctly rounded division gives strtod's value.
+        self.mantissa as f64 / 10f64.powi(self.scale as i32)
     }
 }
 

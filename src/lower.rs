@@ -2,7 +2,9 @@
 //! moves. Emitters, `explain`, `plot` and the simulator all call these functions.
 
 use crate::fixed::{Angle, Length};
-use crate::ir::{Chamfer, ItemKind, Pos, Schedule, ThreadCycle, ThreadPass};
+use crate::ir::{
+    Chamfer, Degression, Finish, ItemKind, Pos, Retract, Rise, Schedule, ThreadCycle, ThreadPass,
+};
 
 /// One straight spindle-synchronised move.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -169,11 +171,20 @@ impl ExpandError {
                 cycle.depth.mm(),
                 cycle.first_depth.mm()
             ),
-            ExpandError::ShortPass { pass, travel } => format!(
-                "pass {pass} travels {} mm along Z, which cannot hold the {} mm runout",
-                travel.mm(),
-                cycle.runout.mm()
-            ),
+            ExpandError::ShortPass { pass, travel } => {
+                let what = match (cycle.entry, cycle.runout) {
+                    (Some(e), Some(r)) => {
+                        format!("{} mm of entry and runout", (e.length + r.length).mm())
+                    }
+                    (Some(e), None) => format!("{} mm entry", e.length.mm()),
+                    (None, Some(r)) => format!("{} mm runout", r.length.mm()),
+                    (None, None) => "pass".to_string(),
+                };
+                format!(
+                    "pass {pass} travels {} mm along Z, which cannot hold the {what}",
+                    travel.mm()
+                )
+            }
         }
     }
 }
@@ -240,7 +251,38 @@ pub fn pass_depths(
             }
             Ok(depths)
         }
+        Schedule::Degression(d) => degression_depths(&d, depth),
     }
+}
+
+/// LinuxCNC's G76 loop, in its own floating-point arithmetic so that the pass count is
+/// the one LinuxCNC cuts: depth `|I| + |J|·n^(1/R)` (program units, halved for diameter
+/// words) while it is less than `|I| + |K|`, then the full depth (`depth`, exact).
+fn degression_depths(d: &Degression, depth: Length) -> Result<Vec<Length>, ExpandError> {
+    let unit = |v: crate::fixed::Decimal| {
+        let v = v.to_f64();
+        (if d.halve { v / 2.0 } else { v }).abs()
+    };
+    let (i, j, k) = (unit(d.i), unit(d.j), unit(d.k));
+    if j <= 0.0 {
+        return Err(ExpandError::FirstDepth);
+    }
+    let r = d.r.to_f64().max(1.0);
+    let to_mm = if d.inch { 25.4 } else { 1.0 };
+    let end = k + i;
+    let mut current = i + j;
+    let mut n = 1;
+    let mut depths = Vec::new();
+    while current < end {
+        if depths.len() >= MAX_PASSES {
+            return Err(ExpandError::TooManyPasses);
+        }
+        depths.push(Length::from_mm_f64((current - i) * to_mm).min(depth));
+        n += 1;
+        current = i + j * (n as f64).powf(1.0 / r);
+    }
+    depths.push(depth);
+    Ok(depths)
 }
 
 fn cumulative(cuts: &[i64]) -> Vec<Length> {
@@ -291,10 +333,14 @@ pub struct Expansion {
 /// Lowers a thread cycle to passes: the one implementation used by every emitter,
 /// `explain`, `plot` and the simulator.
 ///
-/// For cumulative depth c (external; internal mirrors X): rapid to the thread line − 2c at
-/// Z = start + c·infeed towards the end; synchronised move to the end Z (with the runout
-/// ending on the crest); rapid X out to the crest + 2·retract, or the start X if that is
-/// further out; rapid Z back to the start. At the end the tool returns to the start point.
+/// For cumulative depth c (external; internal mirrors X) the pass's line lies 2c inside the
+/// crest line, from Z = start + c·infeed towards the end to the end Z (or, when the infeed
+/// moves the end too, (depth − c)·infeed short of it). The tool comes in with a rapid (for
+/// [`Retract::AboveCut`] first to the retract height over the pass start), cuts the pass with
+/// its entry and runout, and leaves: out to the retract diameter and back along Z to the
+/// start ([`Retract::AboveCrest`]), or out to the retract height at the pass end
+/// ([`Retract::AboveCut`]). Spring passes repeat the full depth. At the end the tool
+/// returns to the start point, or goes to the [`Finish::EndAt`] diameter at the end Z.
 pub fn expand(cycle: &ThreadCycle) -> Result<Expansion, ExpandError> {
     if cycle.lead.0 <= 0 {
         return Err(ExpandError::Lead);
@@ -303,46 +349,102 @@ pub fn expand(cycle: &ThreadCycle) -> Result<Expansion, ExpandError> {
     if cycle.end_z == az {
         return Err(ExpandError::NoTravel);
     }
-    let depths = pass_depths(cycle.schedule, cycle.depth, cycle.first_depth)?;
+    let mut depths = pass_depths(cycle.schedule, cycle.depth, cycle.first_depth)?;
+    if depths.len() + cycle.spring_passes as usize > MAX_PASSES {
+        return Err(ExpandError::TooManyPasses);
+    }
+    depths.extend((0..cycle.spring_passes).map(|_| cycle.depth));
     let towards_end = (cycle.end_z - az).signum();
     // Outward: +1 for an external thread (the tool comes from larger diameters).
     let outward = if cycle.internal { -1 } else { 1 };
+    let out = |l: Length| Length(outward * l.0);
     let crest_start = cycle.crest;
     let crest_end = cycle.crest + cycle.taper;
     let crest_at = |z: Length| crest_start + cycle.taper.mul_div((z - az).0, (cycle.end_z - az).0);
-    let retract_x = {
-        let clear = Length(outward * 2 * cycle.retract.0);
+    let clearance_x = |clearance: Length| {
         let x = if outward > 0 {
-            crest_start.max(crest_end) + clear
+            crest_start.max(crest_end)
         } else {
-            crest_start.min(crest_end) + clear
-        };
+            crest_start.min(crest_end)
+        } + out(clearance + clearance);
         if (ax - x).signum() == outward { ax } else { x }
     };
+    let rise = |r: Rise, c: Length| match r {
+        Rise::ToCrest => out(c + c),
+        Rise::ThreadDepth => out(cycle.depth + cycle.depth),
+    };
+    let needed = cycle.entry.map_or(Length::ZERO, |e| e.length)
+        + cycle.runout.map_or(Length::ZERO, |r| r.length);
     let mut passes = Vec::with_capacity(depths.len());
     let mut moves = Vec::with_capacity(4 * depths.len() + 1);
     let mut previous = Length::ZERO;
+    let rapid = |to: Pos| ItemKind::Rapid { to };
     for (i, &c) in depths.iter().enumerate() {
         let number = i + 1;
-        let sink = Length(-outward * 2 * c.0);
+        let sink = out(-(c + c));
         let z = az + Length(towards_end * cycle.infeed.of(c).0);
-        let travel = Length(towards_end * (cycle.end_z - z).0);
-        if travel.0 <= cycle.runout.0 {
+        let end_z = if cycle.infeed_moves_end {
+            cycle.end_z - Length(towards_end * cycle.infeed.of(cycle.depth - c).0)
+        } else {
+            cycle.end_z
+        };
+        let travel = Length(towards_end * (end_z - z).0);
+        if travel.0 <= needed.0 {
             return Err(ExpandError::ShortPass {
                 pass: number,
                 travel,
             });
         }
-        let start = Pos::new(crest_at(z) + sink, z);
+        let line_start = Pos::new(crest_at(z) + sink, z);
+        let line_end = Pos::new(crest_at(end_z) + sink, end_z);
+        let entry = cycle.entry.map(|e| Chamfer {
+            length: e.length,
+            offset: rise(e.rise, c),
+        });
+        let start = Pos::new(
+            line_start.x.unwrap_or_default() + entry.map_or(Length::ZERO, |e| e.offset),
+            z,
+        );
         let pass = ThreadPass {
-            to: Pos::new(crest_end + sink, cycle.end_z),
+            to: line_end,
             lead: cycle.lead,
-            start_angle: Angle::ZERO,
-            entry: None,
-            exit: (cycle.runout.0 > 0).then_some(Chamfer {
-                length: cycle.runout,
-                offset: -sink,
+            start_angle: cycle.start_angle,
+            entry,
+            exit: cycle.runout.map(|r| Chamfer {
+                length: r.length,
+                offset: rise(r.rise, c),
             }),
+        };
+        let x_only = |x: Length| Pos {
+            x: Some(x),
+            z: None,
+        };
+        let (retract_x, approach, leave) = match cycle.retract {
+            Retract::AboveCrest(clearance) => {
+                let x = clearance_x(clearance);
+                (
+                    x,
+                    vec![rapid(start)],
+                    vec![
+                        rapid(x_only(x)),
+                        rapid(Pos {
+                            x: None,
+                            z: Some(az),
+                        }),
+                    ],
+                )
+            }
+            Retract::AboveCut(height) => {
+                let lift = out(height + height);
+                let back = Pos::new(line_start.x.unwrap_or_default() + lift, z);
+                let x = line_end.x.unwrap_or_default() + lift;
+                let approach = if back == start {
+                    vec![rapid(start)]
+                } else {
+                    vec![rapid(back), rapid(start)]
+                };
+                (x, approach, vec![rapid(x_only(x))])
+            }
         };
         passes.push(CyclePass {
             number,
@@ -353,34 +455,27 @@ pub fn expand(cycle: &ThreadCycle) -> Result<Expansion, ExpandError> {
             retract_x,
         });
         previous = c;
-        for kind in [
-            ItemKind::Rapid { to: start },
-            ItemKind::ThreadPass(pass),
-            ItemKind::Rapid {
-                to: Pos {
-                    x: Some(retract_x),
-                    z: None,
-                },
-            },
-            ItemKind::Rapid {
-                to: Pos {
-                    x: None,
-                    z: Some(az),
-                },
-            },
-        ] {
-            moves.push(CycleMove { pass: number, kind });
-        }
+        let kinds = approach
+            .into_iter()
+            .chain([ItemKind::ThreadPass(pass)])
+            .chain(leave);
+        moves.extend(kinds.map(|kind| CycleMove { pass: number, kind }));
     }
-    if retract_x != ax {
+    let last = moves
+        .iter()
+        .fold(Pos::new(ax, az), |p, m| m.kind.end_position(p));
+    let home = match cycle.finish {
+        Finish::Start => Pos::new(ax, az),
+        Finish::EndAt(x) => Pos::new(x, cycle.end_z),
+    };
+    if last != home {
+        let to = Pos {
+            x: (last.x != home.x).then_some(home.x).flatten(),
+            z: (last.z != home.z).then_some(home.z).flatten(),
+        };
         moves.push(CycleMove {
             pass: 0,
-            kind: ItemKind::Rapid {
-                to: Pos {
-                    x: Some(ax),
-                    z: None,
-                },
-            },
+            kind: rapid(to),
         });
     }
     Ok(Expansion { passes, moves })
@@ -399,8 +494,13 @@ pub(crate) fn seed_m36_cycle(schedule: Schedule) -> ThreadCycle {
         first_depth: Length(2_000),
         taper: Length::ZERO,
         infeed: crate::ir::Slope::ZERO,
-        runout: Length::ZERO,
-        retract: Length(5_000),
+        infeed_moves_end: false,
+        start_angle: Angle::ZERO,
+        entry: None,
+        runout: None,
+        retract: Retract::AboveCrest(Length(5_000)),
+        spring_passes: 0,
+        finish: Finish::Start,
         internal: false,
         schedule,
     }
@@ -610,7 +710,10 @@ mod tests {
         c.lead = Length::ZERO;
         assert_eq!(expand(&c), Err(ExpandError::Lead));
         c = m36(Schedule::Halving);
-        c.runout = mm(52.0);
+        c.runout = Some(crate::ir::CycleChamfer {
+            length: mm(52.0),
+            rise: Rise::ToCrest,
+        });
         assert_eq!(
             expand(&c),
             Err(ExpandError::ShortPass {
@@ -692,7 +795,10 @@ mod tests {
     fn runout_of_one_lead_ends_on_the_crest() {
         // P7 = 10 → 10 · 0.1 · 1.5 = 1.5 mm: pass 1 runs at Ø35.6 to Z-46, then to Ø36 Z-47.5.
         let mut c = m36(Schedule::Halving);
-        c.runout = mm(1.5);
+        c.runout = Some(crate::ir::CycleChamfer {
+            length: mm(1.5),
+            rise: Rise::ToCrest,
+        });
         let e = expand(&c).unwrap();
         let p = e.passes[0];
         let segs = pass_segments(p.start, &p.pass).unwrap();

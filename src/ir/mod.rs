@@ -151,6 +151,25 @@ pub enum Schedule {
     ConstantDepth,
     /// Cumulative depth `first · √n` (equal chip area); the last pass goes to the full depth.
     ConstantArea,
+    /// LinuxCNC's G76: cumulative depth `first · n^(1/R)` while it is less than the full
+    /// depth, then the full depth.
+    Degression(Degression),
+}
+
+/// LinuxCNC's G76 depth law with the numbers as the program wrote them, so that the pass
+/// count is decided exactly as LinuxCNC's floating-point loop decides it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Degression {
+    /// The degression exponent R (values under 1 mean 1).
+    pub r: Decimal,
+    /// I, J and K as written (program units).
+    pub i: Decimal,
+    pub j: Decimal,
+    pub k: Decimal,
+    /// I, J and K are diameters (G7): LinuxCNC halves them.
+    pub halve: bool,
+    /// Program units are inches (G20).
+    pub inch: bool,
 }
 
 impl Schedule {
@@ -159,19 +178,58 @@ impl Schedule {
             Schedule::Halving => "halving",
             Schedule::ConstantDepth => "constant-depth",
             Schedule::ConstantArea => "constant-area",
+            Schedule::Degression(_) => "degression",
         }
     }
 }
 
-/// A multi-pass thread cycle (the НЦ-31's G31; LinuxCNC's G76 cuts the same kind of thing).
-/// [`crate::lower::expand`] turns it into passes.
+/// How far the tool rises from a pass's line at an entry or runout.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Rise {
+    /// To the crest line, whatever the pass's depth (the НЦ-31's runout, parameter 7).
+    ToCrest,
+    /// By the full thread depth at every pass, so the chamfers of all passes are parallel
+    /// (LinuxCNC's G76 E/L).
+    ThreadDepth,
+}
+
+/// An entry or runout of every pass of a cycle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct CycleChamfer {
+    /// Length along Z (positive).
+    pub length: Length,
+    pub rise: Rise,
+}
+
+/// Where the tool goes between passes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Retract {
+    /// Out to a fixed diameter `clearance` per side above the crest (or the start X if that
+    /// is further out), back along Z to the start, then in to the next pass (the НЦ-31).
+    AboveCrest(Length),
+    /// Out to `height` per side above the pass's own line, then straight to the same height
+    /// above the next pass's start, then in (LinuxCNC's G76: height = I + K).
+    AboveCut(Length),
+}
+
+/// Where the tool goes after the last pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Finish {
+    /// Back to the start point A.
+    Start,
+    /// Retracted at the end Z, then to this diameter (LinuxCNC's G76 X).
+    EndAt(Length),
+}
+
+/// A multi-pass thread cycle (the НЦ-31's G31, LinuxCNC's G76). [`crate::lower::expand`]
+/// turns it into passes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct ThreadCycle {
-    /// Where the tool stands when the cycle starts (point A); it returns there at the end.
+    /// Where the tool stands when the cycle starts (point A).
     pub start: (Length, Length),
     /// Crest diameter at the start Z (the smaller diameter of a taper thread).
     pub crest: Length,
-    /// Z where every pass ends.
+    /// Z where the last pass ends.
     pub end_z: Length,
     /// Advance along Z per spindle revolution.
     pub lead: Length,
@@ -184,11 +242,17 @@ pub struct ThreadCycle {
     /// Infeed direction: tan(angle to the radial). The pass start moves towards the thread
     /// end by cumulative depth · slope.
     pub infeed: Slope,
-    /// Length along Z of the runout at each pass's end (0: none); the runout ends on the
-    /// crest diameter.
-    pub runout: Length,
-    /// Radial clearance above the crest when the tool returns between passes.
-    pub retract: Length,
+    /// The pass end moves with the infeed too, so that only the last pass ends at `end_z`
+    /// and every pass is the same length (LinuxCNC's G76 Q).
+    pub infeed_moves_end: bool,
+    /// Spindle angle after the index pulse at which each pass starts.
+    pub start_angle: Angle,
+    pub entry: Option<CycleChamfer>,
+    pub runout: Option<CycleChamfer>,
+    pub retract: Retract,
+    /// Extra passes at the full depth (LinuxCNC's H).
+    pub spring_passes: u32,
+    pub finish: Finish,
     /// The tool cuts outward (a bore) instead of inward.
     pub internal: bool,
     pub schedule: Schedule,
@@ -251,6 +315,10 @@ pub enum ItemKind {
     },
     /// A `%` program delimiter line.
     Delimiter,
+    /// A pause with no motion (G4).
+    Dwell {
+        seconds: Decimal,
+    },
 }
 
 impl ItemKind {
@@ -271,7 +339,10 @@ impl ItemKind {
                     z: pass.to.z.or(current.z),
                 }
             }
-            ItemKind::ThreadCycle(cycle) => Pos::new(cycle.start.0, cycle.start.1),
+            ItemKind::ThreadCycle(cycle) => match cycle.finish {
+                Finish::Start => Pos::new(cycle.start.0, cycle.start.1),
+                Finish::EndAt(x) => Pos::new(x, cycle.end_z),
+            },
             ItemKind::TapCycle(tap) => Pos {
                 x: tap.then_x.or(current.x),
                 z: current.z,

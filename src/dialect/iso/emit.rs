@@ -224,6 +224,9 @@ impl Emitter<'_> {
                     "check the ISO program by hand where this matters; only the same dialect can write it back",
                 );
             }
+            ItemKind::Dwell { seconds } => {
+                self.line(&format!("G4 P{seconds}"));
+            }
             ItemKind::Delimiter => {}
         }
         self.pos = item.kind.end_position(self.pos);
@@ -258,8 +261,8 @@ impl Emitter<'_> {
             }
         };
         let n = expansion.passes.len();
-        self.line(&format!(
-            "(thread cycle: {} Ø{} to Z{}, lead {}, depth {} in {n} passes, {} schedule{}{}{})",
+        let mut about = format!(
+            "thread cycle: {} Ø{} to Z{}, lead {}, depth {} in {n} passes, {} schedule",
             if cycle.internal {
                 "internal"
             } else {
@@ -270,22 +273,26 @@ impl Emitter<'_> {
             cycle.lead.mm(),
             cycle.depth.mm(),
             cycle.schedule.id(),
-            if cycle.taper == Length::ZERO {
-                String::new()
-            } else {
-                format!(", taper {} on diameter", cycle.taper.mm())
-            },
-            if cycle.infeed.is_zero() {
-                String::new()
-            } else {
-                format!(", infeed {:.3}°", cycle.infeed.degrees())
-            },
-            if cycle.runout == Length::ZERO {
-                String::new()
-            } else {
-                format!(", runout {}", cycle.runout.mm())
-            },
-        ));
+        );
+        if let crate::ir::Schedule::Degression(d) = cycle.schedule {
+            let _ = write!(about, " R{}", d.r);
+        }
+        if cycle.taper != Length::ZERO {
+            let _ = write!(about, ", taper {} on diameter", cycle.taper.mm());
+        }
+        if !cycle.infeed.is_zero() {
+            let _ = write!(about, ", infeed {:.3}°", cycle.infeed.degrees());
+        }
+        if let Some(e) = cycle.entry {
+            let _ = write!(about, ", entry {}", e.length.mm());
+        }
+        if let Some(r) = cycle.runout {
+            let _ = write!(about, ", runout {}", r.length.mm());
+        }
+        if cycle.spring_passes > 0 {
+            let _ = write!(about, ", {} spring passes", cycle.spring_passes);
+        }
+        self.line(&format!("({about})"));
         let mut current = 0;
         for m in &expansion.moves {
             if m.pass != current {

@@ -9,9 +9,10 @@ use std::ops::Range;
 use super::syntax::{self, Frame, Line as SyntaxLine, Modifier, Word};
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::{Dialect, Unsupported};
-use crate::fixed::Length;
+use crate::fixed::{Angle, Length};
 use crate::ir::{
-    EndCode, Item, ItemKind, Pos, Program, SpindleDirection, TapCycle, ThreadCycle, ThreadPass,
+    CycleChamfer, EndCode, Finish, Item, ItemKind, Pos, Program, Retract, Rise, SpindleDirection,
+    TapCycle, ThreadCycle, ThreadPass,
 };
 use crate::lower::{self, ExpandError};
 use crate::profile::{Nc31Profile, Profile};
@@ -760,8 +761,18 @@ impl<'a> FrontEnd<'a> {
             first_depth: first,
             taper,
             infeed: self.profile.infeed(),
-            runout: self.profile.runout(lead),
-            retract: self.profile.retract,
+            infeed_moves_end: false,
+            start_angle: Angle::ZERO,
+            entry: None,
+            runout: Some(self.profile.runout(lead))
+                .filter(|r| r.0 > 0)
+                .map(|length| CycleChamfer {
+                    length,
+                    rise: Rise::ToCrest,
+                }),
+            retract: Retract::AboveCrest(self.profile.retract),
+            spring_passes: 0,
+            finish: Finish::Start,
             internal: ax < crest,
             schedule: self.profile.schedule,
         };
@@ -1062,7 +1073,7 @@ mod tests {
             (mm(0.96), mm(0.2), Length::ZERO)
         );
         assert!(!c.internal);
-        assert_eq!(c.retract, mm(0.5));
+        assert_eq!(c.retract, crate::ir::Retract::AboveCrest(mm(0.5)));
         assert_eq!(c.schedule, Schedule::Halving);
         // `Z-5200 @` from Z4.5 is the same end.
         let inc = text.replace("Z-4750 *", "Z-5200 @ *");
@@ -1082,7 +1093,7 @@ mod tests {
             panic!()
         };
         assert_eq!(c.infeed.of(mm(0.96)), mm(0.5543));
-        assert_eq!(c.runout, mm(1.5));
+        assert_eq!(c.runout.map(|r| r.length), Some(mm(1.5)));
         assert_eq!(c.taper, mm(6.76));
         // A start inside the thread diameter: internal.
         let text = "M3\nS100\nX2000 ~ *\nZ500 ~\nG31 *\nX2200 *\nZ-3000 *\nF15000 *\nP50 *\nP20\n";
