@@ -280,7 +280,7 @@ pub enum ItemKind {
         feed: Length,
     },
     ThreadPass(ThreadPass),
-    ThreadCycle(ThreadCycle),
+    ThreadCycle(Box<ThreadCycle>),
     TapCycle(TapCycle),
     /// Spindle speed (rpm) and/or direction; a direction starts the spindle.
     Spindle {

@@ -464,7 +464,7 @@ mod tests {
         let sim = simulate(&program(vec![
             spindle(),
             rapid(36.0, 4.5),
-            ItemKind::ThreadCycle(cycle),
+            ItemKind::ThreadCycle(Box::new(cycle)),
             rapid(0.0, 6.0),
             ItemKind::TapCycle(TapCycle {
                 end_z: mm(-100.0),

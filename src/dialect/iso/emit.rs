@@ -441,7 +441,7 @@ mod tests {
                     speed: Some(100),
                     direction: Some(SpindleDirection::Clockwise),
                 }),
-                item(ItemKind::ThreadCycle(cycle)),
+                item(ItemKind::ThreadCycle(Box::new(cycle))),
             ],
         };
         let (out, diags) = emit(&program, &src, Dialect::Nc31, &Profile::default());

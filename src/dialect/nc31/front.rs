@@ -812,7 +812,7 @@ impl<'a> FrontEnd<'a> {
             self.word_error(code, frame, message, help);
             return;
         }
-        self.push(ItemKind::ThreadCycle(cycle), span, None);
+        self.push(ItemKind::ThreadCycle(Box::new(cycle)), span, None);
         self.pos = Pos::new(ax, az);
         self.feed = Feed::AfterThread(g.line);
     }
@@ -1061,7 +1061,7 @@ mod tests {
         let item = program.items.last().unwrap();
         assert_eq!(item.block_number, Some(9));
         assert_eq!((item.span.line, item.span.column), (5, 1));
-        let ItemKind::ThreadCycle(c) = item.kind else {
+        let ItemKind::ThreadCycle(c) = &item.kind else {
             panic!("{:?}", item.kind)
         };
         assert_eq!(c.start, (mm(36.0), mm(4.5)));
@@ -1089,7 +1089,7 @@ mod tests {
         let text = format!("{START}G31 *\nX3600 *\nZ-4750 *\nF15000 *\nP96 *\nP20 *\nP676\n");
         let (program, diags) = run_with(&text, &profile, Unsupported::Error);
         assert!(diags.is_empty(), "{diags:?}");
-        let ItemKind::ThreadCycle(c) = program.items.last().unwrap().kind else {
+        let ItemKind::ThreadCycle(c) = &program.items.last().unwrap().kind else {
             panic!()
         };
         assert_eq!(c.infeed.of(mm(0.96)), mm(0.5543));
@@ -1100,7 +1100,7 @@ mod tests {
         let (program, diags) = run(text);
         assert!(diags.is_empty(), "{diags:?}");
         assert!(
-            matches!(program.items.last().unwrap().kind, ItemKind::ThreadCycle(c) if c.internal)
+            matches!(&program.items.last().unwrap().kind, ItemKind::ThreadCycle(c) if c.internal)
         );
     }
 
