@@ -51,10 +51,7 @@ pub fn parse(
         Dialect::Nc31 => {
             dialect::nc31::parse(src, profile, &dialect::nc31::Options { unsupported })
         }
-        Dialect::Iso => (
-            Program::default(),
-            vec![not_yet(&format!("reading dialect {from}"))],
-        ),
+        Dialect::Iso => dialect::iso::parse(src, &dialect::iso::Options { unsupported }),
     }
 }
 
@@ -96,5 +93,87 @@ pub fn convert(src: &SourceFile, options: &ConvertOptions) -> Conversion {
     Conversion {
         output,
         diagnostics,
+    }
+}
+
+/// What `verify` found.
+#[derive(Clone, Debug)]
+pub enum Outcome {
+    /// The normalised motions agree; `segments` were compared.
+    Equivalent { segments: usize },
+    /// The first place where they differ.
+    Different(sim::Difference),
+    /// A program could not be read or converted (the diagnostics say why).
+    Refused,
+}
+
+/// The result of [`verify`]: the outcome, every diagnostic, and the two motions compared.
+#[derive(Clone, Debug)]
+pub struct Verification {
+    pub outcome: Outcome,
+    pub diagnostics: Vec<Diagnostic>,
+    /// The source's normalised motion and the other program's.
+    pub left: Vec<sim::Segment>,
+    pub right: Vec<sim::Segment>,
+}
+
+/// Proves a conversion: simulates `src` (dialect `options.from`) and the program in
+/// `options.to` — `against` when given (a hand conversion), else ncthread's own conversion
+/// read back — and compares the normalised motions.
+pub fn verify(
+    src: &SourceFile,
+    options: &ConvertOptions,
+    against: Option<&SourceFile>,
+) -> Verification {
+    let refused = |mut diagnostics: Vec<Diagnostic>| {
+        diag::sort(&mut diagnostics);
+        Verification {
+            outcome: Outcome::Refused,
+            diagnostics,
+            left: Vec::new(),
+            right: Vec::new(),
+        }
+    };
+    let (program, mut diagnostics) = parse(src, options.from, &options.profile, options.unsupported);
+    if diag::has_errors(&diagnostics) {
+        return refused(diagnostics);
+    }
+    let converted;
+    let other = match against {
+        Some(other) => other,
+        None => {
+            let (output, more) = emit(&program, src, options.from, options.to, &options.profile);
+            diagnostics.extend(more);
+            let Some(output) = output else {
+                return refused(diagnostics);
+            };
+            converted = SourceFile::new(format!("{} (converted to {})", src.name, options.to), output);
+            &converted
+        }
+    };
+    let (other_program, more) = parse(other, options.to, &options.profile, options.unsupported);
+    let other_failed = diag::has_errors(&more);
+    diagnostics.extend(more);
+    if other_failed {
+        return refused(diagnostics);
+    }
+    let left = sim::simulate(&program);
+    let right = sim::simulate(&other_program);
+    diagnostics.extend(left.problems.iter().map(|p| p.diagnostic(src)));
+    diagnostics.extend(right.problems.iter().map(|p| p.diagnostic(other)));
+    diag::sort(&mut diagnostics);
+    let left = sim::normalise(&left.segments);
+    let right = sim::normalise(&right.segments);
+    let outcome = match sim::compare(&left, &right) {
+        None => Outcome::Equivalent {
+            segments: left.len(),
+        },
+        Some(d) => Outcome::Different(d),
+    };
+    Verification {
+        outcome,
+        diagnostics,
+        left,
+        right,
     }
 }

@@ -29,6 +29,34 @@ enum Command {
     Convert(ConvertArgs),
     /// Print the machine motion of a program: every rapid, feed, thread and tap segment.
     Simulate(SimulateArgs),
+    /// Prove a conversion (or check a hand conversion with --against): the two programs'
+    /// simulated motions must agree within 0.001 mm and 0.01°.
+    Verify(VerifyArgs),
+}
+
+#[derive(clap::Args)]
+struct VerifyArgs {
+    /// The source program; `-` or nothing reads stdin.
+    input: Option<PathBuf>,
+    /// The source dialect; `auto` chooses from the text.
+    #[arg(long, value_enum)]
+    from: SourceDialect,
+    /// The target dialect.
+    #[arg(long, value_enum)]
+    to: TargetDialect,
+    /// An existing program in the target dialect (e.g. the shop's hand conversion) to check
+    /// instead of ncthread's own conversion.
+    #[arg(long)]
+    against: Option<PathBuf>,
+    /// Machine profile (TOML), used for both programs.
+    #[arg(long)]
+    profile: Option<PathBuf>,
+    /// How to print diagnostics on stderr.
+    #[arg(long, value_enum, default_value_t = DiagnosticsFormat::Human)]
+    diagnostics: DiagnosticsFormat,
+    /// Undocumented constructs: refuse the program, or warn and keep them as opaque items.
+    #[arg(long, value_enum, default_value_t = UnsupportedArg::Error)]
+    unsupported: UnsupportedArg,
 }
 
 #[derive(clap::Args)]
@@ -87,11 +115,14 @@ struct ConvertArgs {
 enum SourceDialect {
     Czech,
     Nc31,
+    Iso,
     Auto,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
 enum TargetDialect {
+    Czech,
+    Nc31,
     Iso,
 }
 
@@ -110,6 +141,8 @@ enum UnsupportedArg {
 impl From<TargetDialect> for Dialect {
     fn from(d: TargetDialect) -> Dialect {
         match d {
+            TargetDialect::Czech => Dialect::Czech,
+            TargetDialect::Nc31 => Dialect::Nc31,
             TargetDialect::Iso => Dialect::Iso,
         }
     }
@@ -123,6 +156,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Convert(args) => convert(args),
         Command::Simulate(args) => simulate(args),
+        Command::Verify(args) => verify(args),
     };
     match result {
         Ok(code) => code,
@@ -190,6 +224,10 @@ fn read_source(
             ncthread::text::decode(&bytes, Dialect::Nc31).0,
             Dialect::Nc31,
         ),
+        SourceDialect::Iso => (
+            ncthread::text::decode(&bytes, Dialect::Iso).0,
+            Dialect::Iso,
+        ),
         SourceDialect::Auto => {
             let (text, _, detection) = ncthread::text::decode_detect(&bytes);
             if !detection.certain {
@@ -252,6 +290,63 @@ fn simulate(args: SimulateArgs) -> Result<ExitCode, Fatal> {
     }
     write_output(&None, out.as_bytes())?;
     Ok(ExitCode::SUCCESS)
+}
+
+fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
+    let profile = load_profile(&args.profile, args.diagnostics)?;
+    let (src, from) = read_source(&args.input, args.from)?;
+    let to: Dialect = args.to.into();
+    let against = match &args.against {
+        Some(path) => {
+            let bytes = std::fs::read(path)
+                .map_err(|e| Fatal(format!("cannot read {}: {e}", path.display())))?;
+            let text = ncthread::text::decode(&bytes, to).0;
+            Some(SourceFile::new(path.display().to_string(), text))
+        }
+        None => None,
+    };
+    let options = ConvertOptions {
+        from,
+        to,
+        profile,
+        unsupported: unsupported(args.unsupported),
+    };
+    let v = ncthread::verify(&src, &options, against.as_ref());
+    print_diagnostics(&v.diagnostics, args.diagnostics);
+    let other = against
+        .as_ref()
+        .map_or(format!("ncthread's {to} conversion"), |a| a.name.clone());
+    let (text, code) = match &v.outcome {
+        ncthread::Outcome::Equivalent { segments } => (
+            format!(
+                "equivalent: {} ({from}) and {other} ({to}) make the same motion ({segments} segments after normalising; 0.001 mm, 0.01°)\n",
+                src.name
+            ),
+            ExitCode::SUCCESS,
+        ),
+        ncthread::Outcome::Different(d) => {
+            let seg = |s: &Option<ncthread::sim::Segment>| {
+                s.map_or("(nothing: the program has ended)".to_string(), |s| s.to_text())
+            };
+            (
+                format!(
+                    "DIFFERENT: {}\n  {} ({from}): {}\n  {other} ({to}): {}\n  first difference: {d}\n",
+                    d.what,
+                    src.name,
+                    seg(&d.left),
+                    seg(&d.right),
+                ),
+                ExitCode::from(1),
+            )
+        }
+        ncthread::Outcome::Refused => (
+            "not verified: a program could not be read or converted (see the errors above)\n"
+                .to_string(),
+            ExitCode::from(1),
+        ),
+    };
+    write_output(&None, text.as_bytes())?;
+    Ok(code)
 }
 
 fn write_output(path: &Option<PathBuf>, bytes: &[u8]) -> Result<(), Fatal> {

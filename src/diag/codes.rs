@@ -127,6 +127,43 @@ pub const PF_INVALID: Code = error(
 pub const PF_CONSTANT8: Code = error("PF002", "machine constant 8 is malformed");
 pub const PF_VALUE: Code = error("PF003", "a profile value is out of range or malformed");
 
+// iso front end (RS274/NGC as LinuxCNC reads it)
+pub const NGC_SYNTAX: Code = error("NGC001", "the line cannot be read");
+pub const NGC_UNSUPPORTED: Code = error(
+    "NGC002",
+    "construct ncthread does not read (arcs, offsets, parameters, other axes…)",
+);
+pub const NGC_CONFLICT: Code = error(
+    "NGC003",
+    "a word is repeated, or two codes of one modal group share a line",
+);
+pub const NGC_WORD: Code = error(
+    "NGC004",
+    "a command lacks a word it needs, or a word is used by no command",
+);
+pub const NGC_NUMBER: Code = error("NGC005", "number out of range for its word");
+pub const NGC_UNKNOWN_POSITION: Code = error(
+    "NGC006",
+    "the move needs a position that is not known yet",
+);
+pub const NGC_SPINDLE: Code = error(
+    "NGC007",
+    "G33, G33.1 or G76 while the spindle is not turning",
+);
+pub const NGC_THREAD_GEOMETRY: Code = error(
+    "NGC008",
+    "a thread move without Z travel, or a tap that moves X",
+);
+pub const NGC_G76: Code = error("NGC009", "G76 words that LinuxCNC refuses or that cannot be cut");
+pub const NGC_ROUNDED: Code = warning(
+    "NGC010",
+    "a value is rounded onto the 0.0001 mm grid (inches, or more decimals)",
+);
+pub const NGC_RADIUS_MODE: Code = warning(
+    "NGC011",
+    "X read as a radius because neither G7 nor G8 came first (LinuxCNC's default)",
+);
+
 // iso target
 pub const ISO_OPAQUE: Code = warning("ISO001", "undocumented source word kept only as a comment");
 pub const ISO_MCODE: Code = warning(
@@ -199,6 +236,17 @@ pub const ALL: &[Code] = &[
     PF_INVALID,
     PF_CONSTANT8,
     PF_VALUE,
+    NGC_SYNTAX,
+    NGC_UNSUPPORTED,
+    NGC_CONFLICT,
+    NGC_WORD,
+    NGC_NUMBER,
+    NGC_UNKNOWN_POSITION,
+    NGC_SPINDLE,
+    NGC_THREAD_GEOMETRY,
+    NGC_G76,
+    NGC_ROUNDED,
+    NGC_RADIUS_MODE,
     ISO_OPAQUE,
     ISO_MCODE,
     ISO_START_ANGLE,

@@ -164,7 +164,7 @@ mod tests {
         assert_eq!(b.number, Some(20));
         assert_eq!(letters(&b), "GXZK");
         assert_eq!(b.words[0].value, Decimal::parse("33").unwrap());
-        assert_eq!(b.words[1].range, 8..14);
+        assert_eq!(b.words[1].range, 8..13);
         assert_eq!(b.comments, ["pass 1", "rest"]);
         let b = parse_line("G33.1Z-10K1.25").unwrap();
         assert_eq!(letters(&b), "GZK");
@@ -188,7 +188,7 @@ mod tests {
         assert_eq!(b.unread[0].what, "parameter assignment");
         let b = parse_line("G0 X#1 Z[2*3]").unwrap();
         assert_eq!(b.unread.len(), 2);
-        assert_eq!(b.unread[1].range, 6..13);
+        assert_eq!(b.unread[1].range, 7..13);
         let b = parse_line("o100 sub").unwrap();
         assert!(b.unread[0].what.starts_with("O-word"));
         let b = parse_line("/G0 X1").unwrap();

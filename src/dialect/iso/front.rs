@@ -1,0 +1,1194 @@
+//! The iso front end: RS274/NGC lines as LinuxCNC reads them → IR items.
+//!
+//! It reads what ncthread writes and what a programmer writes by hand for a LinuxCNC lathe:
+//! G0/G1/G33/G33.1/G76, G4, G7/G8, G18, G20/G21, G90/G91, G94/G95, S/M3/M4/M5, T/M6, G43,
+//! M2/M30, comments and `%` lines. Words that change nothing ncthread models (coolant,
+//! path control, the default work offset…) are kept as opaque words for ISO output.
+//! Everything else — arcs, other planes and axes, work offsets, parameters, subroutines —
+//! is named as unsupported. Within a line the commands run in LinuxCNC's order.
+
+use std::ops::Range;
+
+use indexmap::IndexMap;
+
+use super::syntax::{self, Block, Word};
+use crate::diag::{Code, Diagnostic, codes};
+use crate::dialect::{Dialect, Unsupported};
+use crate::fixed::{Angle, Decimal, Length, div_round};
+use crate::ir::{
+    CycleChamfer, Degression, EndCode, FeedMode, Finish, Item, ItemKind, Pos, Program, Retract,
+    Rise, Schedule, Slope, SpindleDirection, TapCycle, ThreadCycle, ThreadPass,
+};
+use crate::lower;
+use crate::source::{Line, SourceFile, Span};
+
+#[derive(Clone, Debug, Default)]
+pub struct Options {
+    pub unsupported: Unsupported,
+}
+
+/// The modal motion (LinuxCNC's group 1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Motion {
+    Rapid,
+    Feed,
+    Thread,
+    Tap,
+    Cycle,
+}
+
+/// The denominator of the slope that stands for tan(Q) of a G76.
+const SLOPE_RUN: i64 = 1_000_000_000;
+
+struct FrontEnd<'a> {
+    src: &'a SourceFile,
+    options: &'a Options,
+    diags: Vec<Diagnostic>,
+    items: Vec<Item>,
+    pos: Pos,
+    motion: Option<Motion>,
+    /// G7 (true) or G8 (false); `None` until one is programmed (LinuxCNC then reads radii).
+    diameter: Option<bool>,
+    inch: bool,
+    incremental: bool,
+    feed: Option<Length>,
+    /// `None` until the program sets one: LinuxCNC then feeds per minute (G94).
+    feed_mode: Option<FeedMode>,
+    speed: Option<u32>,
+    turning: Option<SpindleDirection>,
+    selected_tool: Option<u32>,
+    warned_rounding: bool,
+    warned_radius: bool,
+}
+
+/// Reads an RS274/NGC program. The program is usable only when no diagnostic is an error.
+pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) {
+    let mut fe = FrontEnd {
+        src,
+        options,
+        diags: Vec::new(),
+        items: Vec::new(),
+        pos: Pos::UNKNOWN,
+        motion: None,
+        diameter: None,
+        inch: false,
+        incremental: false,
+        feed: None,
+        feed_mode: None,
+        speed: None,
+        turning: None,
+        selected_tool: None,
+        warned_rounding: false,
+        warned_radius: false,
+    };
+    for line in src.lines() {
+        fe.line(line);
+    }
+    (Program { items: fe.items }, fe.diags)
+}
+
+/// The words of one line, sorted by what reads them.
+struct Words<'b> {
+    /// G codes ×10 (`G33.1` → 331) with their words.
+    g: Vec<(i64, &'b Word)>,
+    /// M codes with their words.
+    m: Vec<(i64, &'b Word)>,
+    /// Every other word by letter (each letter once).
+    other: IndexMap<char, &'b Word>,
+    /// Letters a command has read.
+    used: Vec<char>,
+}
+
+impl<'b> Words<'b> {
+    fn take(&mut self, letter: char) -> Option<&'b Word> {
+        let w = self.other.get(&letter).copied()?;
+        self.used.push(letter);
+        Some(w)
+    }
+
+    fn has_g(&self, code: i64) -> Option<&'b Word> {
+        self.g.iter().find(|(c, _)| *c == code).map(|(_, w)| *w)
+    }
+
+    fn has_m(&self, code: i64) -> Option<&'b Word> {
+        self.m.iter().find(|(c, _)| *c == code).map(|(_, w)| *w)
+    }
+}
+
+/// What a G or M code is to ncthread.
+enum Meaning {
+    /// Read and modelled.
+    Known,
+    /// Changes nothing ncthread models: kept as an opaque word for ISO output.
+    Kept,
+    /// Not read: the reason.
+    Unsupported(&'static str),
+}
+
+fn g_meaning(code: i64) -> Meaning {
+    match code {
+        0 | 10 | 330 | 331 | 760 | 40 | 70 | 80 | 180 | 200 | 210 | 430 | 900 | 910 | 940
+        | 950 => Meaning::Known,
+        // Cutter compensation off, tool length offset off, the default work offset, exact
+        // path / blending, canned cycle off, arc distance modes, rpm mode.
+        400 | 490 | 540 | 610 | 611 | 640 | 800 | 901 | 911 | 970 => Meaning::Kept,
+        20 | 30 => Meaning::Unsupported("arcs (G2/G3)"),
+        170 | 190 | 171 | 181 | 191 => Meaning::Unsupported("planes other than ZX (G18)"),
+        410 | 420 | 411 | 421 => Meaning::Unsupported("cutter radius compensation"),
+        550..=593 | 100 | 920..=923 | 530 => {
+            Meaning::Unsupported("work offsets and coordinate changes")
+        }
+        280 | 281 | 300 | 301 => Meaning::Unsupported("homing and reference points"),
+        930 => Meaning::Unsupported("inverse-time feed (G93)"),
+        960 => Meaning::Unsupported("constant surface speed (G96)"),
+        700 | 710 | 711 | 720 | 721 => Meaning::Unsupported("roughing and finishing cycles"),
+        810..=890 | 730 | 740 => Meaning::Unsupported("drilling and boring cycles"),
+        _ => Meaning::Unsupported("this G code"),
+    }
+}
+
+fn m_meaning(code: i64) -> Meaning {
+    match code {
+        2 | 3 | 4 | 5 | 6 | 30 => Meaning::Known,
+        // Program stop, optional stop, coolant.
+        0 | 1 | 7 | 8 | 9 => Meaning::Kept,
+        _ => Meaning::Unsupported("this M code"),
+    }
+}
+
+impl FrontEnd<'_> {
+    fn diag(&mut self, code: Code, line: Line<'_>, range: Range<usize>, message: String, help: &str) {
+        let span = self.src.span_in_line(line, range);
+        self.diags
+            .push(Diagnostic::new(code, message).at(self.src, span).help(help));
+    }
+
+    fn push(&mut self, kind: ItemKind, span: Span) {
+        self.items.push(Item::new(kind, span));
+    }
+
+    fn line(&mut self, line: Line<'_>) {
+        let block = match syntax::parse_line(line.text) {
+            Ok(b) => b,
+            Err(e) => {
+                let end = (e.offset + 1).min(line.text.len()).max(e.offset);
+                self.diag(
+                    codes::NGC_SYNTAX,
+                    line,
+                    e.offset..end,
+                    e.message,
+                    "a line is words (a letter and a number: `G33`, `X35.6`, `K1.5`), `( )` comments and a `;` comment to its end",
+                );
+                return;
+            }
+        };
+        let first = self.items.len();
+        let span = self.src.line_span(line);
+        if block.delimiter {
+            self.push(ItemKind::Delimiter, span);
+        } else if block.is_empty() {
+            if !block.comments.is_empty() {
+                self.push(ItemKind::Comment(block.comments.join("; ")), span);
+            }
+            return;
+        } else {
+            self.block(line, &block);
+        }
+        if let Some(item) = self.items.get_mut(first) {
+            item.block_number = block.number;
+            if !block.comments.is_empty() && !matches!(item.kind, ItemKind::Comment(_)) {
+                item.comment = Some(block.comments.join("; "));
+            }
+        } else if !block.comments.is_empty() {
+            // A line whose words made no item (G21, G90…): its comment stays.
+            self.push(ItemKind::Comment(block.comments.join("; ")), span);
+            if let Some(item) = self.items.last_mut() {
+                item.block_number = block.number;
+            }
+        }
+    }
+
+    /// Reports what the line holds that ncthread does not read; true when the line must
+    /// be skipped (or was kept opaque).
+    fn unsupported(&mut self, line: Line<'_>, block: &Block) -> bool {
+        let mut found: Vec<(Range<usize>, String)> = block
+            .unread
+            .iter()
+            .map(|u| (u.range.clone(), format!("{} is not read by ncthread", u.what)))
+            .collect();
+        for w in &block.words {
+            let text = &line.text[w.range.clone()];
+            let why = match w.letter {
+                'G' => match w.value.to_scaled(1).map(g_meaning) {
+                    Ok(Meaning::Unsupported(why)) => Some(why),
+                    Err(_) => Some("this G code"),
+                    _ => None,
+                },
+                'M' => match w.value.to_whole().map(m_meaning) {
+                    Ok(Meaning::Unsupported(why)) => Some(why),
+                    Err(_) => Some("this M code"),
+                    _ => None,
+                },
+                'Y' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W' => {
+                    Some("axes other than X and Z")
+                }
+                _ => None,
+            };
+            if let Some(why) = why {
+                found.push((w.range.clone(), format!("`{text}`: {why} — not read by ncthread")));
+            }
+        }
+        if found.is_empty() {
+            return false;
+        }
+        let warn = self.options.unsupported == Unsupported::Warn;
+        for (range, message) in found {
+            let span = self.src.span_in_line(line, range);
+            let d = Diagnostic::new(codes::NGC_UNSUPPORTED, message)
+                .at(self.src, span)
+                .help(if warn {
+                    "kept as an opaque block: only ISO output writes it back, and positions after it are unknown"
+                } else {
+                    "ncthread reads lathe thread programs in X and Z; rewrite this line, or pass --unsupported warn to keep it opaque"
+                });
+            self.diags.push(if warn { d.as_warning() } else { d });
+        }
+        if warn {
+            let text = line.text.trim().to_string();
+            self.push(
+                ItemKind::Opaque {
+                    dialect: Dialect::Iso,
+                    text,
+                    block: true,
+                },
+                self.src.line_span(line),
+            );
+            self.pos = Pos::UNKNOWN;
+        }
+        true
+    }
+
+    fn sort_words<'b>(&mut self, line: Line<'_>, block: &'b Block) -> Option<Words<'b>> {
+        let mut words = Words {
+            g: Vec::new(),
+            m: Vec::new(),
+            other: IndexMap::new(),
+            used: Vec::new(),
+        };
+        let mut ok = true;
+        for w in &block.words {
+            match w.letter {
+                // Checked by `unsupported` already.
+                'G' => words
+                    .g
+                    .push((w.value.to_scaled(1).unwrap_or_default(), w)),
+                'M' => words.m.push((w.value.to_whole().unwrap_or_default(), w)),
+                letter => {
+                    if let Some(first) = words.other.get(&letter) {
+                        let first = line.text[first.range.clone()].to_string();
+                        self.diag(
+                            codes::NGC_CONFLICT,
+                            line,
+                            w.range.clone(),
+                            format!("a second {letter} word on the line (the first is `{first}`)"),
+                            "LinuxCNC refuses a line with two words of one letter; split the line",
+                        );
+                        ok = false;
+                    } else {
+                        words.other.insert(letter, w);
+                    }
+                }
+            }
+        }
+        // One code per modal group.
+        let groups: [(&str, &[i64]); 7] = [
+            ("motion", &[0, 10, 330, 331, 760]),
+            ("units", &[200, 210]),
+            ("distance", &[900, 910]),
+            ("feed mode", &[940, 950]),
+            ("diameter mode", &[70, 80]),
+            ("dwell", &[40]),
+            ("tool length", &[430, 490]),
+        ];
+        for (name, members) in groups {
+            let found: Vec<_> = words.g.iter().filter(|(c, _)| members.contains(c)).collect();
+            if found.len() > 1 {
+                let (a, b) = (found[0].1, found[1].1);
+                self.diag(
+                    codes::NGC_CONFLICT,
+                    line,
+                    b.range.clone(),
+                    format!(
+                        "`{}` and `{}` are both {name} codes",
+                        &line.text[a.range.clone()],
+                        &line.text[b.range.clone()]
+                    ),
+                    "one code of each modal group per line",
+                );
+                ok = false;
+            }
+        }
+        let spindle: Vec<_> = words.m.iter().filter(|(c, _)| [3, 4, 5].contains(c)).collect();
+        if spindle.len() > 1 {
+            self.diag(
+                codes::NGC_CONFLICT,
+                line,
+                spindle[1].1.range.clone(),
+                "two spindle codes on one line".into(),
+                "one of M3, M4, M5 per line",
+            );
+            ok = false;
+        }
+        ok.then_some(words)
+    }
+
+    /// A length word in program units → mm on the grid; warns once when it rounds.
+    fn length(&mut self, line: Line<'_>, w: &Word) -> Option<Length> {
+        let d = w.value;
+        let factor: i128 = if self.inch { 254_000 } else { 10_000 };
+        let den = 10i128.checked_pow(d.scale);
+        let num = d.mantissa.checked_mul(factor);
+        let (Some(num), Some(den)) = (num, den) else {
+            self.too_large(line, w);
+            return None;
+        };
+        let v = div_round(num, den);
+        if v.abs() > 1 << 50 {
+            self.too_large(line, w);
+            return None;
+        }
+        if num % den != 0 && !self.warned_rounding {
+            self.warned_rounding = true;
+            let exact = num as f64 / den as f64 / 10_000.0;
+            self.diag(
+                codes::NGC_ROUNDED,
+                line,
+                w.range.clone(),
+                format!(
+                    "`{}` is {exact} mm, rounded to {} mm (ncthread computes on a 0.0001 mm grid; later values that round are not reported again)",
+                    &line.text[w.range.clone()],
+                    Length(v as i64).mm()
+                ),
+                "the rounding is at most 0.00005 mm, far inside the 0.001 mm that `verify` allows",
+            );
+        }
+        Some(Length(v as i64))
+    }
+
+    fn too_large(&mut self, line: Line<'_>, w: &Word) {
+        self.diag(
+            codes::NGC_NUMBER,
+            line,
+            w.range.clone(),
+            format!("`{}` is too large", &line.text[w.range.clone()]),
+            "lengths are at most about 10^11 mm",
+        );
+    }
+
+    fn number_error(&mut self, line: Line<'_>, w: &Word, message: String, help: &str) {
+        self.diag(codes::NGC_NUMBER, line, w.range.clone(), message, help);
+    }
+
+    fn whole(&mut self, line: Line<'_>, w: &Word, what: &str) -> Option<u32> {
+        match w.value.to_whole().ok().and_then(|v| u32::try_from(v).ok()) {
+            Some(v) => Some(v),
+            None => {
+                self.number_error(
+                    line,
+                    w,
+                    format!(
+                        "{what} `{}` is not a whole number of 0 or more",
+                        &line.text[w.range.clone()]
+                    ),
+                    "write it as a whole number",
+                );
+                None
+            }
+        }
+    }
+
+    fn missing(&mut self, line: Line<'_>, at: &Word, message: String, help: &str) {
+        self.diag(codes::NGC_WORD, line, at.range.clone(), message, help);
+    }
+
+    fn block(&mut self, line: Line<'_>, block: &Block) {
+        if self.unsupported(line, block) {
+            return;
+        }
+        let Some(mut words) = self.sort_words(line, block) else {
+            return;
+        };
+        let span = self.src.line_span(line);
+        let errors = self.diags.iter().filter(|d| d.is_error()).count();
+
+        // LinuxCNC's order of execution within a line.
+        if words.has_g(940).is_some() {
+            self.feed_mode = Some(FeedMode::PerMin);
+            self.push(ItemKind::FeedMode(FeedMode::PerMin), span);
+        }
+        if words.has_g(950).is_some() {
+            self.feed_mode = Some(FeedMode::PerRev);
+            self.push(ItemKind::FeedMode(FeedMode::PerRev), span);
+        }
+        // Units first: F, K and every length on the line are in the new units.
+        if words.has_g(200).is_some() {
+            self.inch = true;
+        }
+        if words.has_g(210).is_some() {
+            self.inch = false;
+        }
+        if let Some(f) = words.take('F') {
+            if let Some(feed) = self.length(line, f) {
+                if feed.0 < 0 {
+                    self.number_error(line, f, "the feed is negative".into(), "F is 0 or more");
+                } else {
+                    self.feed = Some(feed);
+                }
+            }
+        }
+        let speed = match words.take('S') {
+            Some(s) => self.whole(line, s, "spindle speed"),
+            None => None,
+        };
+        if let Some(t) = words.take('T') {
+            self.selected_tool = self.whole(line, t, "tool number");
+        }
+        let mut tool_changed = None;
+        if let Some(m6) = words.has_m(6) {
+            match self.selected_tool {
+                Some(t) => tool_changed = Some(t),
+                None => self.missing(
+                    line,
+                    m6,
+                    "M6 without a tool selected by a T word".into(),
+                    "select the tool first: `T5 M6`",
+                ),
+            }
+        }
+        let offset = match words.has_g(430) {
+            Some(_) => match words.take('H') {
+                Some(h) => self.whole(line, h, "tool length offset"),
+                None => tool_changed.or(self.selected_tool),
+            },
+            None => None,
+        };
+        if tool_changed.is_some() || offset.is_some() {
+            self.push(
+                ItemKind::Tool {
+                    number: tool_changed,
+                    offset,
+                },
+                span,
+            );
+            // LinuxCNC's M6 stops the spindle.
+            if tool_changed.is_some() && self.turning.is_some() {
+                self.turning = None;
+                self.push(ItemKind::SpindleStop, span);
+            }
+        }
+        let direction = if words.has_m(3).is_some() {
+            Some(SpindleDirection::Clockwise)
+        } else if words.has_m(4).is_some() {
+            Some(SpindleDirection::CounterClockwise)
+        } else {
+            None
+        };
+        if speed.is_some() || direction.is_some() {
+            if speed.is_some() {
+                self.speed = speed;
+            }
+            if direction.is_some() {
+                self.turning = direction;
+            }
+            self.push(ItemKind::Spindle { speed, direction }, span);
+        }
+        if words.has_m(5).is_some() {
+            self.turning = None;
+            self.push(ItemKind::SpindleStop, span);
+        }
+        for (code, w) in words.m.clone() {
+            if [7, 8, 9].contains(&code) {
+                self.kept(line, w, &[]);
+            }
+        }
+        if let Some(g4) = words.has_g(40) {
+            match words.take('P') {
+                Some(p) if !p.value.is_negative() => {
+                    self.push(ItemKind::Dwell { seconds: p.value }, span)
+                }
+                Some(p) => self.number_error(
+                    line,
+                    p,
+                    "the dwell time is negative".into(),
+                    "G4 P is seconds, 0 or more",
+                ),
+                None => self.missing(
+                    line,
+                    g4,
+                    "G4 without P (the dwell time in seconds)".into(),
+                    "write `G4 P0.5`",
+                ),
+            }
+        }
+        if words.has_g(70).is_some() {
+            self.diameter = Some(true);
+        }
+        if words.has_g(80).is_some() {
+            self.diameter = Some(false);
+        }
+        for (code, w) in words.g.clone() {
+            if matches!(g_meaning(code), Meaning::Kept) {
+                // G64's tolerances belong to it.
+                let extra: Vec<&Word> = if code == 640 {
+                    ['P', 'Q'].iter().filter_map(|&l| words.take(l)).collect()
+                } else {
+                    Vec::new()
+                };
+                self.kept(line, w, &extra);
+            }
+        }
+        if words.has_g(900).is_some() {
+            self.incremental = false;
+        }
+        if words.has_g(910).is_some() {
+            self.incremental = true;
+        }
+        let motion_code = words.g.iter().find_map(|&(c, _)| match c {
+            0 => Some(Motion::Rapid),
+            10 => Some(Motion::Feed),
+            330 => Some(Motion::Thread),
+            331 => Some(Motion::Tap),
+            760 => Some(Motion::Cycle),
+            _ => None,
+        });
+        if let Some(m) = motion_code {
+            self.motion = Some(m);
+        }
+        let axes = words.other.contains_key(&'X') || words.other.contains_key(&'Z');
+        if axes || matches!(motion_code, Some(Motion::Tap | Motion::Cycle)) {
+            match self.motion {
+                Some(m) => self.motion(line, &mut words, m, span),
+                None => {
+                    let w = words.other.get(&'X').or(words.other.get(&'Z')).copied();
+                    if let Some(w) = w {
+                        self.missing(
+                            line,
+                            w,
+                            "an axis word with no motion mode (G0, G1, G33…) in force".into(),
+                            "write the motion code first: `G0 X20 Z5`",
+                        );
+                    }
+                    words.take('X');
+                    words.take('Z');
+                }
+            }
+        }
+        for (code, w) in words.m.clone() {
+            match code {
+                0 | 1 => self.kept(line, w, &[]),
+                2 => self.push(ItemKind::ProgramEnd(EndCode::M2), span),
+                30 => self.push(ItemKind::ProgramEnd(EndCode::M30), span),
+                _ => {}
+            }
+            if matches!(code, 2 | 30) {
+                self.turning = None;
+            }
+        }
+        // Words no command read (LinuxCNC refuses them too), unless an error on this line
+        // already explains the line.
+        if self.diags.iter().filter(|d| d.is_error()).count() == errors {
+            let unused: Vec<&Word> = words
+                .other
+                .iter()
+                .filter(|(l, _)| !words.used.contains(l))
+                .map(|(_, w)| *w)
+                .collect();
+            for w in unused {
+                let text = &line.text[w.range.clone()];
+                self.missing(
+                    line,
+                    w,
+                    format!("`{text}` is not used by any command on this line"),
+                    "LinuxCNC refuses words no command on the line uses (K belongs to G33/G33.1/G76, P to G4/G76, H to G43/G76…)",
+                );
+            }
+        }
+    }
+
+    fn kept(&mut self, line: Line<'_>, w: &Word, extra: &[&Word]) {
+        let mut text = line.text[w.range.clone()].to_string();
+        for e in extra {
+            text.push(' ');
+            text.push_str(&line.text[e.range.clone()]);
+        }
+        let span = self.src.span_in_line(line, w.range.clone());
+        self.push(
+            ItemKind::Opaque {
+                dialect: Dialect::Iso,
+                text,
+                block: false,
+            },
+            span,
+        );
+    }
+
+    /// X and Z of the line as an absolute target (diameter), or `None` after an error.
+    fn target(&mut self, line: Line<'_>, words: &mut Words<'_>) -> Option<Pos> {
+        let mut to = Pos::UNKNOWN;
+        if let Some(w) = words.take('X') {
+            let v = self.length(line, w)?;
+            let diameter = match self.diameter {
+                Some(d) => d,
+                None => {
+                    if !self.warned_radius {
+                        self.warned_radius = true;
+                        self.diag(
+                            codes::NGC_RADIUS_MODE,
+                            line,
+                            w.range.clone(),
+                            "X is read as a radius: the program has not chosen G7 (diameter) or G8 (radius), and LinuxCNC starts in G8".into(),
+                            "write G7 or G8 at the start so that the program does not depend on the machine's start-up codes",
+                        );
+                    }
+                    false
+                }
+            };
+            let v = if diameter { v } else { v + v };
+            to.x = Some(if self.incremental {
+                match self.pos.x {
+                    Some(x) => x + v,
+                    None => return self.unknown(line, w),
+                }
+            } else {
+                v
+            });
+        }
+        if let Some(w) = words.take('Z') {
+            let v = self.length(line, w)?;
+            to.z = Some(if self.incremental {
+                match self.pos.z {
+                    Some(z) => z + v,
+                    None => return self.unknown(line, w),
+                }
+            } else {
+                v
+            });
+        }
+        Some(to)
+    }
+
+    fn unknown(&mut self, line: Line<'_>, w: &Word) -> Option<Pos> {
+        self.diag(
+            codes::NGC_UNKNOWN_POSITION,
+            line,
+            w.range.clone(),
+            format!(
+                "`{}` is incremental (G91) from a position that is not known yet",
+                &line.text[w.range.clone()]
+            ),
+            "move to an absolute position (G90) first",
+        );
+        None
+    }
+
+    fn spindle_turning(&mut self, line: Line<'_>, w: Option<&Word>, what: &str) -> bool {
+        if self.turning.is_some() {
+            return true;
+        }
+        let range = w.map_or(0..line.text.len(), |w| w.range.clone());
+        self.diag(
+            codes::NGC_SPINDLE,
+            line,
+            range,
+            format!("{what} while the spindle is not turning"),
+            "start the spindle with S and M3/M4 before the thread; LinuxCNC refuses this line too",
+        );
+        false
+    }
+
+    fn motion(&mut self, line: Line<'_>, words: &mut Words<'_>, motion: Motion, span: Span) {
+        let code_word = words.g.iter().find(|(c, _)| [0, 10, 330, 331, 760].contains(c)).map(|(_, w)| *w);
+        match motion {
+            Motion::Rapid => {
+                if let Some(to) = self.target(line, words) {
+                    self.push(ItemKind::Rapid { to }, span);
+                    self.pos = ItemKind::Rapid { to }.end_position(self.pos);
+                }
+            }
+            Motion::Feed => {
+                let Some(to) = self.target(line, words) else {
+                    return;
+                };
+                let feed = match self.feed {
+                    Some(f) if f.0 > 0 => f,
+                    _ => {
+                        let at = code_word
+                            .or(words.other.get(&'X').copied())
+                            .or(words.other.get(&'Z').copied());
+                        if let Some(at) = at {
+                            self.missing(
+                                line,
+                                at,
+                                "G1 with no feed rate (F) set, or F0".into(),
+                                "set the feed with F before or on this line",
+                            );
+                        }
+                        return;
+                    }
+                };
+                if self.feed_mode.is_none() {
+                    // LinuxCNC's start-up feed mode, written out for targets that differ.
+                    self.feed_mode = Some(FeedMode::PerMin);
+                    self.push(ItemKind::FeedMode(FeedMode::PerMin), span);
+                }
+                self.push(ItemKind::Feed { to, feed }, span);
+                self.pos = ItemKind::Feed { to, feed }.end_position(self.pos);
+            }
+            Motion::Thread => self.thread(line, words, code_word, span),
+            Motion::Tap => self.tap(line, words, code_word, span),
+            Motion::Cycle => self.cycle(line, words, code_word, span),
+        }
+    }
+
+    /// The K word of G33/G33.1 (advance per revolution along the path), positive.
+    fn k_word<'b>(&mut self, line: Line<'_>, words: &mut Words<'b>, at: Option<&Word>, what: &str) -> Option<&'b Word> {
+        match words.take('K') {
+            Some(k) if k.value.mantissa > 0 => Some(k),
+            Some(k) => {
+                self.number_error(line, k, "the lead K is not positive".into(), "K is the advance per spindle revolution, more than 0");
+                None
+            }
+            None => {
+                if let Some(at) = at.or(words.other.get(&'Z').copied()) {
+                    self.missing(line, at, format!("{what} without K (the lead)"), "write the advance per revolution: `K1.5`");
+                }
+                None
+            }
+        }
+    }
+
+    fn thread(&mut self, line: Line<'_>, words: &mut Words<'_>, at: Option<&Word>, span: Span) {
+        let k = self.k_word(line, words, at, "G33");
+        let z_word = words.other.get(&'Z').copied();
+        let x_word = words.other.get(&'X').copied();
+        let Some(to) = self.target(line, words) else {
+            return;
+        };
+        let Some(k) = k else {
+            return;
+        };
+        if !self.spindle_turning(line, at.or(z_word), "G33") {
+            return;
+        }
+        let from = self.pos;
+        let end = ItemKind::Rapid { to }.end_position(from);
+        let dz = match (from.z, end.z) {
+            (Some(a), Some(b)) => Some(b - a),
+            _ => None,
+        };
+        let moves_x = to.x.is_some() && to.x != from.x;
+        if dz == Some(Length::ZERO) || z_word.is_none() {
+            let w = z_word.or(x_word).or(at).expect("a G33 line has X or Z");
+            self.diag(
+                codes::NGC_THREAD_GEOMETRY,
+                line,
+                w.range.clone(),
+                "G33 without Z travel (a face thread) is not read by ncthread".into(),
+                "ncthread's leads are along Z; program the thread along Z",
+            );
+            return;
+        }
+        // K is along the path; the IR's lead is along Z.
+        let lead = if moves_x {
+            let (Some(x0), Some(dz)) = (from.x, dz) else {
+                let w = x_word.expect("X moves");
+                self.unknown_start(line, w);
+                return;
+            };
+            let dr = (end.x.expect("X is given") - x0).to_mm_f64() / 2.0;
+            let dz = dz.to_mm_f64();
+            let k = k.value.to_f64() * if self.inch { 25.4 } else { 1.0 };
+            Length::from_mm_f64(k * dz.abs() / dz.hypot(dr))
+        } else {
+            match self.length(line, k) {
+                Some(l) => l,
+                None => return,
+            }
+        };
+        let pass = ThreadPass {
+            to,
+            lead,
+            start_angle: Angle::ZERO,
+            entry: None,
+            exit: None,
+        };
+        self.push(ItemKind::ThreadPass(pass), span);
+        self.pos = ItemKind::ThreadPass(pass).end_position(from);
+    }
+
+    fn unknown_start(&mut self, line: Line<'_>, w: &Word) {
+        self.diag(
+            codes::NGC_UNKNOWN_POSITION,
+            line,
+            w.range.clone(),
+            "the move starts from a position that is not known yet".into(),
+            "move to the start with absolute X and Z first",
+        );
+    }
+
+    fn tap(&mut self, line: Line<'_>, words: &mut Words<'_>, at: Option<&Word>, span: Span) {
+        let k = self.k_word(line, words, at, "G33.1");
+        let x_word = words.other.get(&'X').copied();
+        let z_word = words.other.get(&'Z').copied();
+        let Some(to) = self.target(line, words) else {
+            return;
+        };
+        let (Some(k), Some(z_word)) = (k, z_word) else {
+            if let (None, Some(at)) = (z_word, at) {
+                self.missing(line, at, "G33.1 without Z (the depth of the hole)".into(), "write `G33.1 Z-20 K1.5`");
+            }
+            return;
+        };
+        if let (Some(x), Some(w)) = (to.x, x_word) {
+            if Some(x) != self.pos.x {
+                self.diag(
+                    codes::NGC_THREAD_GEOMETRY,
+                    line,
+                    w.range.clone(),
+                    "G33.1 that also moves X".into(),
+                    "move to the hole's X first; the tap runs along Z only",
+                );
+                return;
+            }
+        }
+        if !self.spindle_turning(line, at, "G33.1") {
+            return;
+        }
+        if self.pos.z.is_none() {
+            self.unknown_start(line, z_word);
+            return;
+        }
+        let Some(lead) = self.length(line, k) else {
+            return;
+        };
+        self.push(
+            ItemKind::TapCycle(TapCycle {
+                end_z: to.z.expect("Z is given"),
+                lead,
+                then_x: None,
+            }),
+            span,
+        );
+    }
+
+    fn g76_error(&mut self, line: Line<'_>, w: &Word, message: String, help: &str) {
+        self.diag(codes::NGC_G76, line, w.range.clone(), message, help);
+    }
+
+    /// LinuxCNC's G76 (`convert_threading_cycle`) as a thread cycle.
+    fn cycle(&mut self, line: Line<'_>, words: &mut Words<'_>, at: Option<&Word>, span: Span) {
+        let Some(at) = at.or(words.other.get(&'Z').copied()) else {
+            return;
+        };
+        let mut get = |l: char| words.take(l);
+        let (p, i, j, k) = (get('P'), get('I'), get('J'), get('K'));
+        let (r, q, h, e, l) = (get('R'), get('Q'), get('H'), get('E'), get('L'));
+        let z_given = words.other.contains_key(&'Z');
+        let Some(to) = self.target(line, words) else {
+            return;
+        };
+        let (Some(p), Some(i), Some(j), Some(k), true) = (p, i, j, k, z_given) else {
+            let missing: String = [('P', p), ('Z', words.other.get(&'Z').copied()), ('I', i), ('J', j), ('K', k)]
+                .iter()
+                .filter(|(_, w)| w.is_none())
+                .map(|(c, _)| c.to_string())
+                .collect::<Vec<_>>()
+                .join(", ");
+            self.missing(
+                line,
+                at,
+                format!("G76 without {missing}"),
+                "G76 needs P (pitch), Z (end), I (crest offset from the drive line), J (first depth) and K (thread depth)",
+            );
+            return;
+        };
+        // LinuxCNC's own checks, on the numbers as written.
+        let (iv, jv, kv) = (i.value.to_f64(), j.value.to_f64(), k.value.to_f64());
+        if iv == 0.0 {
+            return self.g76_error(line, i, "in G76, I must not be 0".into(), "I is the crest's offset from the drive line: negative outside, positive in a bore");
+        }
+        if jv <= 0.0 {
+            return self.g76_error(line, j, "in G76, J must be greater than 0".into(), "J is the depth of the first pass");
+        }
+        if kv <= jv {
+            return self.g76_error(line, k, "in G76, K must be greater than J".into(), "K is the full thread depth, J the first pass's");
+        }
+        if p.value.mantissa <= 0 {
+            return self.g76_error(line, p, "the G76 pitch P is not positive".into(), "P is the advance per spindle revolution");
+        }
+        let (Some(start_x), Some(start_z)) = (self.pos.x, self.pos.z) else {
+            return self.unknown_start(line, at);
+        };
+        if !self.spindle_turning(line, Some(at), "G76") {
+            return;
+        }
+        let diameter = self.diameter.unwrap_or(false);
+        let Some(lead) = self.length(line, p) else {
+            return;
+        };
+        let (Some(i_len), Some(j_len), Some(k_len)) =
+            (self.length(line, i), self.length(line, j), self.length(line, k))
+        else {
+            return;
+        };
+        // Per side (radius) and as a diameter.
+        let side = |v: Length| if diameter { v.mul_div(1, 2) } else { v };
+        let i_dia = if diameter { i_len } else { i_len + i_len };
+        let depth = side(k_len);
+        let first = side(j_len);
+        let height = side(i_len.abs() + k_len);
+        let spring_passes = match h {
+            Some(h) => match self.whole(line, h, "the number of spring passes H") {
+                Some(v) => v,
+                None => return,
+            },
+            None => 0,
+        };
+        let flags = match l {
+            Some(l) => match l.value.to_whole() {
+                Ok(v) => v.max(0),
+                Err(_) => {
+                    return self.number_error(line, l, "G76 L is not a whole number".into(), "L0 none, L1 entry taper, L2 exit taper, L3 both");
+                }
+            },
+            None => 0,
+        };
+        let taper = match e {
+            Some(e) => match self.length(line, e) {
+                Some(v) => v.max(Length::ZERO),
+                None => return,
+            },
+            None => Length::ZERO,
+        };
+        let chamfer = |on: bool| {
+            (on && taper.0 > 0).then_some(CycleChamfer {
+                length: taper,
+                rise: Rise::ThreadDepth,
+            })
+        };
+        let entry = chamfer(flags & 1 != 0);
+        let runout = chamfer(flags & 2 != 0);
+        // Q as LinuxCNC reads it (an unwritten Q is −1 there, and −1 means 0).
+        let q_deg = q.map_or(0.0, |q| q.value.to_f64());
+        let q_deg = if q_deg == -1.0 { 0.0 } else { q_deg };
+        if q_deg.abs() >= 90.0 {
+            if let Some(q) = q {
+                return self.g76_error(line, q, "the compound angle Q must be less than 90°".into(), "Q is the infeed angle from the radial, usually 29.5");
+            }
+        }
+        let infeed = Slope {
+            rise: (q_deg.to_radians().tan() * SLOPE_RUN as f64).round() as i64,
+            run: SLOPE_RUN,
+        };
+        // With an entry taper LinuxCNC starts synchronised motion at the retract height and
+        // feeds in radially by |I| first: the entry starts |I|/K_taper turns after the index.
+        let start_angle = match entry {
+            Some(_) => {
+                let unit = |v: f64| if diameter { v / 2.0 } else { v };
+                let (i_r, k_r) = (unit(iv).abs(), unit(kv).abs());
+                let e_v = e.map_or(0.0, |e| e.value.to_f64());
+                let pitch = p.value.to_f64();
+                let taper_pitch = pitch * e_v.hypot(k_r) / e_v;
+                let turns = (i_r / taper_pitch).fract();
+                Angle((turns * 360_000.0).round() as i64 % 360_000)
+            }
+            None => Angle::ZERO,
+        };
+        let end_z = to.z.expect("Z is given");
+        let cycle = ThreadCycle {
+            start: (start_x, start_z),
+            crest: start_x + i_dia,
+            end_z,
+            lead,
+            depth,
+            first_depth: first,
+            taper: Length::ZERO,
+            infeed,
+            infeed_moves_end: true,
+            start_angle,
+            entry,
+            runout,
+            retract: Retract::AboveCut(height),
+            spring_passes,
+            finish: Finish::EndAt(to.x.unwrap_or(start_x)),
+            internal: iv > 0.0,
+            schedule: Schedule::Degression(Degression {
+                r: r.map_or(Decimal::parse("1").expect("a number"), |r| r.value),
+                i: i.value,
+                j: j.value,
+                k: k.value,
+                halve: diameter,
+                inch: self.inch,
+            }),
+        };
+        if let Err(err) = lower::expand(&cycle) {
+            return self.g76_error(line, at, err.message(&cycle), "correct the G76 words; ncthread cuts a cycle only when every pass is defined");
+        }
+        self.pos = Pos::new(to.x.unwrap_or(start_x), end_z);
+        self.push(ItemKind::ThreadCycle(Box::new(cycle)), span);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diag::Severity;
+
+    fn run(text: &str) -> (Program, Vec<Diagnostic>) {
+        parse(&SourceFile::new("t.ngc", text), &Options::default())
+    }
+
+    fn kinds(p: &Program) -> Vec<ItemKind> {
+        p.items.iter().map(|i| i.kind.clone()).collect()
+    }
+
+    fn mm(v: f64) -> Length {
+        Length::from_mm_f64(v)
+    }
+
+    const HEAD: &str = "G7 G18 G21 G90 G95\nS500 M3\n";
+
+    #[test]
+    fn reads_what_ncthread_writes() {
+        let text = format!("%\n(a.nc, dialect nc31)\n{HEAD}G0 X36 Z4.5\nG33 X35.6 Z-47.5 K1.5\nG0 X37\nM30\n%\n");
+        let (p, d) = run(&text);
+        assert!(d.is_empty(), "{d:?}");
+        let k = kinds(&p);
+        assert_eq!(k[0], ItemKind::Delimiter);
+        assert_eq!(k[1], ItemKind::Comment("a.nc, dialect nc31".into()));
+        assert_eq!(k[2], ItemKind::FeedMode(FeedMode::PerRev));
+        assert_eq!(
+            k[5],
+            ItemKind::ThreadPass(ThreadPass {
+                to: Pos::new(mm(35.6), mm(-47.5)),
+                lead: mm(1.5),
+                start_angle: Angle::ZERO,
+                entry: None,
+                exit: None,
+            })
+        );
+        assert_eq!(k[7], ItemKind::ProgramEnd(EndCode::M30));
+    }
+
+    #[test]
+    fn taper_k_is_along_the_path() {
+        // iso.md: Ø226 → Ø246, Z3 → Z−100, K1.50705289 is a Z lead of 1.5.
+        let (p, d) = run(&format!("{HEAD}G0 X226 Z3\nG33 X246 Z-100 K1.50705289\n"));
+        assert!(d.is_empty(), "{d:?}");
+        let ItemKind::ThreadPass(pass) = &p.items.last().unwrap().kind else { panic!() };
+        assert_eq!(pass.lead, mm(1.5));
+    }
+
+    #[test]
+    fn radius_mode_inches_and_incremental() {
+        // No G7: X is a radius (with a warning); G20 converts; G91 adds.
+        let (p, d) = run("G20 G0 X1 Z0.1\nG91 G0 Z-0.5\n");
+        assert_eq!(d.len(), 1);
+        assert_eq!(d[0].code, codes::NGC_RADIUS_MODE);
+        let k = kinds(&p);
+        assert_eq!(k[0], ItemKind::Rapid { to: Pos::new(mm(50.8), mm(2.54)) });
+        assert_eq!(k[1], ItemKind::Rapid { to: Pos { x: None, z: Some(mm(-10.16)) } });
+        // 0.0001 inch is 0.00254 mm: rounded once, with one warning.
+        let (_, d) = run("G7 G20 G0 X0.0001\nG0 X0.0003\n");
+        assert_eq!(d.iter().filter(|d| d.code == codes::NGC_ROUNDED).count(), 1);
+    }
+
+    #[test]
+    fn feed_mode_defaults_to_per_minute() {
+        let (p, d) = run("G7 G0 X10 Z0\nG1 Z-5 F100\n");
+        assert!(d.is_empty(), "{d:?}");
+        let k = kinds(&p);
+        assert_eq!(k[1], ItemKind::FeedMode(FeedMode::PerMin));
+        assert_eq!(k[2], ItemKind::Feed { to: Pos { x: None, z: Some(mm(-5.0)) }, feed: mm(100.0) });
+    }
+
+    #[test]
+    fn tool_change_stops_the_spindle_like_linuxcnc() {
+        let (p, d) = run(&format!("{HEAD}T5 M6 G43\n"));
+        assert!(d.is_empty(), "{d:?}");
+        let k = kinds(&p);
+        assert_eq!(k[2], ItemKind::Tool { number: Some(5), offset: Some(5) });
+        assert_eq!(k[3], ItemKind::SpindleStop);
+    }
+
+    #[test]
+    fn refusals_name_the_word() {
+        let cases: &[(&str, Code, &str)] = &[
+            ("G7 G0 X1\nG2 X2 Z0 R1\n", codes::NGC_UNSUPPORTED, "G2"),
+            ("G0 Y1\n", codes::NGC_UNSUPPORTED, "Y1"),
+            ("#1 = 2\n", codes::NGC_UNSUPPORTED, "#1 = 2"),
+            ("G0 X1 X2\n", codes::NGC_CONFLICT, "X2"),
+            ("G0 G1 X1\n", codes::NGC_CONFLICT, "G1"),
+            ("G7 G0 X1 Z1 K2\n", codes::NGC_WORD, "K2"),
+            ("G7 G0 X10 Z1\nG33 Z-10 K1\n", codes::NGC_SPINDLE, "G33"),
+            ("G7 S100 M3\nG0 X10 Z1\nG33 X12 K1\n", codes::NGC_THREAD_GEOMETRY, "X12"),
+            ("G7 S100 M3\nG0 X10 Z1\nG33 Z-10\n", codes::NGC_WORD, "G33"),
+            ("G7 G1 X1 Z1\n", codes::NGC_WORD, "G1"),
+            ("G91 G7 G0 X1\n", codes::NGC_UNKNOWN_POSITION, "X1"),
+            ("X1\n", codes::NGC_WORD, "X1"),
+            ("G7 S100 M3\nG0 X10 Z1\nG33.1 X12 Z-5 K1\n", codes::NGC_THREAD_GEOMETRY, "X12"),
+            ("G7 S100 M3\nG0 X10 Z1\nG76 P1 Z-10 I0 J0.1 K1\n", codes::NGC_G76, "I0"),
+            ("G7 S100 M3\nG0 X10 Z1\nG76 P1 Z-10 I-1 J1 K1\n", codes::NGC_G76, "K1"),
+            ("G7 S100 M3\nG0 X10 Z1\nG76 P1 Z-10 I-1 K1\n", codes::NGC_WORD, "G76"),
+            ("G0 X1 (open\n", codes::NGC_SYNTAX, "("),
+        ];
+        for (text, code, marked) in cases {
+            let src = SourceFile::new("t.ngc", *text);
+            let (_, d) = parse(&src, &Options::default());
+            let e = d
+                .iter()
+                .find(|d| d.severity == Severity::Error)
+                .unwrap_or_else(|| panic!("{text:?}: no error in {d:?}"));
+            assert_eq!(e.code, *code, "{text:?}: {e:?}");
+            let loc = e.location.as_ref().unwrap();
+            assert_eq!(&loc.source_line[loc.range.clone()], *marked, "{text:?}");
+        }
+    }
+
+    #[test]
+    fn unsupported_warn_keeps_the_line_and_forgets_the_position() {
+        let src = SourceFile::new("t.ngc", "G7 G0 X10 Z1\nG28\nG0 X5\n");
+        let (p, d) = parse(&src, &Options { unsupported: Unsupported::Warn });
+        assert_eq!(d.len(), 1);
+        assert_eq!(d[0].severity, Severity::Warning);
+        assert!(matches!(&p.items[1].kind, ItemKind::Opaque { block: true, text, .. } if text == "G28"));
+        assert!(matches!(p.items[2].kind, ItemKind::Rapid { to } if to.z.is_none()));
+    }
+
+    #[test]
+    fn g76_reads_linuxcnc_words() {
+        // The LinuxCNC example shape: drive line Ø20 Z5, I-1 J0.4 K1.8 (diameters, G7),
+        // R2, Q29.5, H1, E2 L3.
+        let text = format!("{HEAD}G0 X20 Z5\nG76 P1.5 Z-20 I-1 J0.4 K1.8 Q29.5 R2 H1 E2 L3\n");
+        let (p, d) = run(&text);
+        assert!(d.is_empty(), "{d:?}");
+        let ItemKind::ThreadCycle(c) = &p.items.last().unwrap().kind else { panic!() };
+        assert_eq!(c.crest, mm(19.0));
+        assert_eq!((c.depth, c.first_depth), (mm(0.9), mm(0.2)));
+        assert_eq!(c.retract, Retract::AboveCut(mm(1.4)));
+        assert_eq!(c.spring_passes, 1);
+        assert!(!c.internal);
+        // |I| = 0.5 per side at K_taper = 1.5·√(2² + 0.9²)/2 = 1.644878: 0.30397 turns.
+        assert!((c.start_angle.to_deg_f64() - 109.43).abs() < 0.01, "{}", c.start_angle);
+        let e = lower::expand(c).unwrap();
+        // 0.2·√n < 0.9 for n = 1…20, then the full depth and one spring pass.
+        assert_eq!(e.passes.len(), 22);
+        let p1 = e.passes[0];
+        // Pass 1: line Ø18.6 from Z5 − 0.2·tan 29.5° = 4.8868 (rs274: X9.3 Z4.8868).
+        assert_eq!(p1.start, Pos::new(mm(20.4), mm(4.8868)));
+        assert_eq!(p1.pass.to, Pos::new(mm(18.6), mm(-19.604)));
+        let last = e.passes[21];
+        assert_eq!(last.pass.to, Pos::new(mm(17.2), mm(-20.0)));
+        assert_eq!(last.retract_x, mm(20.0));
+    }
+}
