@@ -102,7 +102,7 @@ pub enum Outcome {
     /// The normalised motions agree; `segments` were compared.
     Equivalent { segments: usize },
     /// The first place where they differ.
-    Different(sim::Difference),
+    Different(Box<sim::Difference>),
     /// A program could not be read or converted (the diagnostics say why).
     Refused,
 }
@@ -134,7 +134,8 @@ pub fn verify(
             right: Vec::new(),
         }
     };
-    let (program, mut diagnostics) = parse(src, options.from, &options.profile, options.unsupported);
+    let (program, mut diagnostics) =
+        parse(src, options.from, &options.profile, options.unsupported);
     if diag::has_errors(&diagnostics) {
         return refused(diagnostics);
     }
@@ -147,7 +148,10 @@ pub fn verify(
             let Some(output) = output else {
                 return refused(diagnostics);
             };
-            converted = SourceFile::new(format!("{} (converted to {})", src.name, options.to), output);
+            converted = SourceFile::new(
+                format!("{} (converted to {})", src.name, options.to),
+                output,
+            );
             &converted
         }
     };
@@ -168,7 +172,7 @@ pub fn verify(
         None => Outcome::Equivalent {
             segments: left.len(),
         },
-        Some(d) => Outcome::Different(d),
+        Some(d) => Outcome::Different(Box::new(d)),
     };
     Verification {
         outcome,

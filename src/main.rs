@@ -224,10 +224,7 @@ fn read_source(
             ncthread::text::decode(&bytes, Dialect::Nc31).0,
             Dialect::Nc31,
         ),
-        SourceDialect::Iso => (
-            ncthread::text::decode(&bytes, Dialect::Iso).0,
-            Dialect::Iso,
-        ),
+        SourceDialect::Iso => (ncthread::text::decode(&bytes, Dialect::Iso).0, Dialect::Iso),
         SourceDialect::Auto => {
             let (text, _, detection) = ncthread::text::decode_detect(&bytes);
             if !detection.certain {
@@ -326,7 +323,9 @@ fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
         ),
         ncthread::Outcome::Different(d) => {
             let seg = |s: &Option<ncthread::sim::Segment>| {
-                s.map_or("(nothing: the program has ended)".to_string(), |s| s.to_text())
+                s.map_or("(nothing: the program has ended)".to_string(), |s| {
+                    s.to_text()
+                })
             };
             (
                 format!(

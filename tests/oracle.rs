@@ -235,3 +235,87 @@ fn rs274_cuts_what_the_simulator_says_the_source_cuts() {
     }
     assert!(checked > 100, "only {checked} synchronised moves compared");
 }
+
+/// Two independent readings of one ISO program must agree: LinuxCNC's canonical motion and
+/// ncthread's iso front end + simulator, compared by `sim::compare`. Run over every ISO
+/// snapshot (every conversion ncthread writes) and every ISO source in the corpus.
+#[test]
+fn rs274_motion_equals_the_iso_front_end_simulation() {
+    let Some(cmd) = rs274() else { return };
+    let mut programs: Vec<(String, String)> = Vec::new();
+    for case in corpus_cases() {
+        if let Some(ngc) = convert_case(&case, Dialect::Iso).output {
+            programs.push((format!("{} → iso", case.name), ngc));
+        }
+        if case.from == Dialect::Iso && !case.path.starts_with("corpus/bad/") {
+            let text = std::fs::read_to_string(common::root().join(&case.path)).unwrap();
+            programs.push((case.path.clone(), text));
+        }
+    }
+    let mut threads = 0;
+    for (name, text) in &mut programs {
+        // rs274 starts at X0 Z0; a program that moves before it states a position leaves
+        // ncthread's reading unknown there (SIM001): tell it where rs274 starts.
+        if !common::simulate_iso(name, text).problems.is_empty() {
+            let body = text.strip_prefix("%\n").unwrap_or(text);
+            *text = format!("%\nG0 X0 Z0 (rs274 starts here)\n{body}");
+        }
+        let (name, text) = (&*name, &*text);
+        let canon = run_rs274(cmd, text).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let theirs = ncthread::sim::normalise(&common::rs274_segments(&canon));
+        let ours = ncthread::sim::normalise(&common::simulate_iso(name, text).segments);
+        if let Some(d) = ncthread::sim::compare(&ours, &theirs) {
+            panic!(
+                "{name}: ncthread's reading differs from rs274's: {d}\n  ours:   {:?}\n  rs274:  {:?}",
+                d.left, d.right
+            );
+        }
+        threads += ours
+            .iter()
+            .filter(|s| matches!(s.motion, ncthread::sim::Motion::Sync { .. }))
+            .count();
+    }
+    assert!(
+        programs.len() >= 40 && threads >= 100,
+        "{} programs, {threads} thread moves",
+        programs.len()
+    );
+}
+
+/// G76 acceptance: a LinuxCNC G76 program (external; internal with an exit taper) converted
+/// to ISO (expanded passes) cuts, per rs274, exactly what rs274 cuts for the G76 itself.
+#[test]
+fn g76_expanded_cuts_what_linuxcnc_cuts_for_the_g76() {
+    let Some(cmd) = rs274() else { return };
+    for (name, passes) in [
+        ("iso/g76-external", 45),
+        ("iso/g76-internal-exit-taper", 31),
+        ("iso/g76-entry-and-exit-taper", 22),
+    ] {
+        let c = case(name);
+        let source = std::fs::read_to_string(common::root().join(&c.path)).unwrap();
+        let g76 =
+            ncthread::sim::normalise(&common::rs274_segments(&run_rs274(cmd, &source).unwrap()));
+        let expanded_text = iso(name);
+        assert!(
+            !expanded_text.lines().any(|l| l.starts_with("G76")),
+            "{name}: the output still holds G76"
+        );
+        let expanded = ncthread::sim::normalise(&common::rs274_segments(
+            &run_rs274(cmd, &expanded_text).unwrap(),
+        ));
+        if let Some(d) = ncthread::sim::compare(&g76, &expanded) {
+            panic!(
+                "{name}: {d}\n  G76: {:?}\n  expanded: {:?}",
+                d.left, d.right
+            );
+        }
+        // Every pass starts a new synchronised chain: count the chains rs274 runs.
+        let chains = run_rs274(cmd, &source)
+            .unwrap()
+            .windows(2)
+            .filter(|w| matches!(w[0], common::Canon::SyncStop))
+            .count();
+        assert_eq!(chains, passes, "{name}");
+    }
+}

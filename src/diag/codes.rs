@@ -142,10 +142,8 @@ pub const NGC_WORD: Code = error(
     "a command lacks a word it needs, or a word is used by no command",
 );
 pub const NGC_NUMBER: Code = error("NGC005", "number out of range for its word");
-pub const NGC_UNKNOWN_POSITION: Code = error(
-    "NGC006",
-    "the move needs a position that is not known yet",
-);
+pub const NGC_UNKNOWN_POSITION: Code =
+    error("NGC006", "the move needs a position that is not known yet");
 pub const NGC_SPINDLE: Code = error(
     "NGC007",
     "G33, G33.1 or G76 while the spindle is not turning",
@@ -154,7 +152,10 @@ pub const NGC_THREAD_GEOMETRY: Code = error(
     "NGC008",
     "a thread move without Z travel, or a tap that moves X",
 );
-pub const NGC_G76: Code = error("NGC009", "G76 words that LinuxCNC refuses or that cannot be cut");
+pub const NGC_G76: Code = error(
+    "NGC009",
+    "G76 words that LinuxCNC refuses or that cannot be cut",
+);
 pub const NGC_ROUNDED: Code = warning(
     "NGC010",
     "a value is rounded onto the 0.0001 mm grid (inches, or more decimals)",

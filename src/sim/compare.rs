@@ -3,13 +3,24 @@
 //! synchronised segment may start earlier along its own line by less than one lead.
 
 use super::{Motion, Segment, TURN, show_pos as show};
-use crate::fixed::{Angle, Length};
+use crate::fixed::{Angle, Length, div_round};
 use crate::ir::Pos;
 
 /// Position tolerance: 0.001 mm.
 pub const TOLERANCE: Length = Length(10);
-/// Phase tolerance: 0.01°.
+/// Phase tolerance: 0.01°, but never finer than the angle the spindle turns while the tool
+/// advances [`PHASE_GRID`] along Z (positions live on a 0.0001 mm grid, so a thread start
+/// that is rounded once on each side can differ by two grid steps).
 pub const PHASE_TOLERANCE: Angle = Angle(10);
+/// The axial offset of two helices that is below the grid's resolution: 0.0002 mm.
+pub const PHASE_GRID: Length = Length(2);
+
+/// The phase tolerance for a thread of `lead`: [`PHASE_TOLERANCE`] or the angle of
+/// [`PHASE_GRID`], whichever is larger.
+pub fn phase_tolerance(lead: Length) -> Angle {
+    let grid = div_round(PHASE_GRID.0 as i128 * TURN as i128, lead.0.max(1) as i128) as i64;
+    Angle(PHASE_TOLERANCE.0.max(grid))
+}
 
 /// The first place where two motions differ.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -97,7 +108,7 @@ fn close_pos(a: Pos, b: Pos) -> bool {
 fn describe(m: &Motion) -> String {
     match m {
         Motion::Rapid => "a rapid".into(),
-        Motion::Feed { feed } => format!("a feed at {}", feed.mm()),
+        Motion::Feed { feed, .. } => format!("a feed at {}", feed.mm()),
         Motion::Sync { lead, .. } => format!("a thread move with lead {}", lead.mm()),
         Motion::Tap { lead, .. } => format!("a tap with lead {}", lead.mm()),
     }
@@ -169,9 +180,25 @@ pub fn compare(left: &[Segment], right: &[Segment]) -> Option<Difference> {
                     return differ(format!("rapid ends at {} ≠ {}", show(a.to), show(b.to)));
                 }
             }
-            (Motion::Feed { feed: f }, Motion::Feed { feed: g }) => {
-                if f != g {
-                    return differ(format!("feed {} ≠ {}", f.mm(), g.mm()));
+            (
+                Motion::Feed {
+                    feed: f,
+                    per_minute: p,
+                },
+                Motion::Feed {
+                    feed: g,
+                    per_minute: q,
+                },
+            ) => {
+                let unit = |m: bool| if m { "mm/min" } else { "mm/rev" };
+                if f != g || p != q {
+                    return differ(format!(
+                        "feed {} {} ≠ {} {}",
+                        f.mm(),
+                        unit(p),
+                        g.mm(),
+                        unit(q)
+                    ));
                 }
                 if !close_pos(a.from, b.from) || !close_pos(a.to, b.to) {
                     return differ(format!(
@@ -223,7 +250,7 @@ pub fn compare(left: &[Segment], right: &[Segment]) -> Option<Difference> {
                     ));
                 }
                 match (p, q) {
-                    (Some(p), Some(q)) if angle_gap(p, q) <= PHASE_TOLERANCE.0 => {}
+                    (Some(p), Some(q)) if angle_gap(p, q) <= phase_tolerance(l).0 => {}
                     (None, None) => {}
                     _ => {
                         let show =

@@ -20,9 +20,10 @@ pub const TURN: i64 = 360_000;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Motion {
     Rapid,
-    /// A linear feed at `feed` (per revolution, or per minute after G94).
+    /// A linear feed at `feed`: mm per revolution, or mm per minute when `per_minute`.
     Feed {
         feed: Length,
+        per_minute: bool,
     },
     /// A spindle-synchronised move: `lead` along Z per revolution, the spindle `direction`,
     /// and the `phase`: the spindle angle at which the tool is (or would be, on the line
@@ -78,6 +79,8 @@ pub struct Simulation {
 
 struct Machine {
     pos: Pos,
+    /// G94 in force (feeds per revolution until a program says otherwise).
+    per_minute: bool,
     direction: Option<SpindleDirection>,
     /// The spindle angle where the last synchronised segment ended, when the next one may
     /// continue it without waiting for the index pulse.
@@ -193,7 +196,16 @@ impl Machine {
         match kind {
             ItemKind::Rapid { to } => self.segment(Motion::Rapid, *to, span, None),
             ItemKind::Feed { to, feed } => {
-                self.segment(Motion::Feed { feed: *feed }, *to, span, None)
+                let per_minute = self.per_minute;
+                self.segment(
+                    Motion::Feed {
+                        feed: *feed,
+                        per_minute,
+                    },
+                    *to,
+                    span,
+                    None,
+                )
             }
             ItemKind::ThreadPass(pass) => self.thread_pass(pass, span, None),
             ItemKind::ThreadCycle(cycle) => match lower::expand(cycle) {
@@ -249,6 +261,7 @@ impl Machine {
                 direction: Some(d), ..
             } => self.direction = Some(*d),
             ItemKind::SpindleStop | ItemKind::ProgramEnd(_) => self.direction = None,
+            ItemKind::FeedMode(mode) => self.per_minute = *mode == crate::ir::FeedMode::PerMin,
             ItemKind::Opaque { block: true, .. } => {
                 self.pos = Pos::UNKNOWN;
                 self.sync_end = None;
@@ -275,7 +288,14 @@ impl Segment {
         };
         let (name, extra) = match self.motion {
             Motion::Rapid => ("rapid", String::new()),
-            Motion::Feed { feed } => ("feed", format!("  feed {}", feed.mm())),
+            Motion::Feed { feed, per_minute } => (
+                "feed",
+                format!(
+                    "  feed {} {}",
+                    feed.mm(),
+                    if per_minute { "mm/min" } else { "mm/rev" }
+                ),
+            ),
             Motion::Sync {
                 lead,
                 direction,
@@ -321,7 +341,11 @@ impl Segment {
         });
         let extra = match self.motion {
             Motion::Rapid => serde_json::json!({ "motion": "rapid" }),
-            Motion::Feed { feed } => serde_json::json!({ "motion": "feed", "feed": num(feed) }),
+            Motion::Feed { feed, per_minute } => serde_json::json!({
+                "motion": "feed",
+                "feed": num(feed),
+                "feed_unit": if per_minute { "mm/min" } else { "mm/rev" },
+            }),
             Motion::Sync {
                 lead,
                 direction,
@@ -349,6 +373,7 @@ impl Segment {
 pub fn simulate(program: &Program) -> Simulation {
     let mut m = Machine {
         pos: Pos::UNKNOWN,
+        per_minute: false,
         direction: None,
         sync_end: None,
         out: Simulation::default(),

@@ -34,19 +34,22 @@ pub fn corpus_cases() -> Vec<Case> {
     for (folder, from) in [
         ("czech", Dialect::Czech),
         ("nc31", Dialect::Nc31),
+        ("iso", Dialect::Iso),
         ("bad/czech", Dialect::Czech),
         ("bad/nc31", Dialect::Nc31),
+        ("bad/iso", Dialect::Iso),
     ] {
+        let ext = extension(from);
         let dir = root().join("corpus").join(folder);
         let mut files: Vec<_> = std::fs::read_dir(&dir)
             .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
             .map(|e| e.expect("dir entry").path())
-            .filter(|p| p.extension().is_some_and(|e| e == "nc"))
+            .filter(|p| p.extension().is_some_and(|e| e == ext))
             .collect();
         files.sort();
         for file in files {
             let stem = file.file_stem().unwrap().to_string_lossy().to_string();
-            let path = format!("corpus/{folder}/{stem}.nc");
+            let path = format!("corpus/{folder}/{stem}.{ext}");
             cases.push(Case {
                 name: format!("{folder}/{stem}"),
                 path: path.clone(),
@@ -65,6 +68,14 @@ pub fn corpus_cases() -> Vec<Case> {
         }
     }
     cases
+}
+
+/// The corpus files' extension for a dialect.
+pub fn extension(d: Dialect) -> &'static str {
+    match d {
+        Dialect::Iso => "ngc",
+        _ => "nc",
+    }
 }
 
 pub fn load_profile(path: &str) -> Profile {
@@ -130,6 +141,15 @@ pub enum Canon {
         x: f64,
         z: f64,
     },
+    SpindleClockwise,
+    SpindleCounterClockwise,
+    SpindleStop,
+    /// SET_FEED_RATE
+    FeedRate(f64),
+    /// SET_FEED_MODE: per revolution when true.
+    FeedPerRev(bool),
+    /// USE_LENGTH_UNITS: inches when true (the calls' lengths are then in inches).
+    Inches(bool),
 }
 
 /// The command that runs rs274, or `None` (with a loud message) when there is none.
@@ -189,7 +209,13 @@ fn numbers(args: &str) -> Vec<f64> {
 }
 
 fn parse_canon(line: &str) -> Option<Canon> {
-    let call = line.split_once("N..... ")?.1;
+    // `   12 N.....  CALL(…)` or `   27 N50    CALL(…)` (the source line's N number).
+    let (_, rest) = line.trim_start().split_once(' ')?;
+    let (n, call) = rest.trim_start().split_once(' ')?;
+    if !n.starts_with('N') {
+        return None;
+    }
+    let call = call.trim_start();
     let (name, rest) = call.split_once('(')?;
     let args = numbers(rest.trim_end_matches(')'));
     Some(match name {
@@ -207,6 +233,12 @@ fn parse_canon(line: &str) -> Option<Canon> {
         },
         "START_SPEED_FEED_SYNC" => Canon::SyncStart { k: args[0] },
         "STOP_SPEED_FEED_SYNCH" => Canon::SyncStop,
+        "START_SPINDLE_CLOCKWISE" => Canon::SpindleClockwise,
+        "START_SPINDLE_COUNTERCLOCKWISE" => Canon::SpindleCounterClockwise,
+        "STOP_SPINDLE_TURNING" => Canon::SpindleStop,
+        "SET_FEED_RATE" => Canon::FeedRate(args[0]),
+        "SET_FEED_MODE" => Canon::FeedPerRev(args.get(1).is_some_and(|&m| m == 1.0)),
+        "USE_LENGTH_UNITS" => Canon::Inches(rest.contains("INCHES")),
         _ => return None,
     })
 }
@@ -244,6 +276,7 @@ pub fn sync_moves(canon: &[Canon]) -> Vec<SyncMove> {
             }
             Canon::SyncStart { k: new } => k = Some(new),
             Canon::SyncStop => k = None,
+            _ => {}
         }
     }
     moves
@@ -291,4 +324,122 @@ pub fn sync_phases(moves: &[SyncMove]) -> Vec<f64> {
         phases.push(phase);
     }
     phases
+}
+
+/// LinuxCNC's motion as ncthread's simulator describes motion, so that `sim::compare` can
+/// judge the two readings of one program. A chain of synchronised moves (one after another
+/// in the motion queue: LinuxCNC waits for the index pulse only when a synchronised move
+/// follows an unsynchronised one) starts at the index pulse, and the spindle angle runs on
+/// through the chain at path length / K turns per move; a synchronised move without Z travel (G76's
+/// radial feed in above the crest) cuts nothing and counts as a rapid, but its turns still
+/// pass. Positions are unknown until the first move, as in the simulator.
+pub fn rs274_segments(canon: &[Canon]) -> Vec<ncthread::sim::Segment> {
+    use ncthread::fixed::{Angle, Length};
+    use ncthread::ir::{Pos, SpindleDirection};
+    use ncthread::sim::{Motion, Segment};
+    let mm = Length::from_mm_f64;
+    let mut pos = Pos::UNKNOWN;
+    let (mut k, mut chain_turns): (Option<f64>, Option<f64>) = (None, None);
+    let mut direction = None;
+    let (mut feed, mut per_rev) = (0.0, false);
+    let mut out = Vec::new();
+    let mut scale = 1.0;
+    let push = |out: &mut Vec<Segment>, motion, from: Pos, to: Pos| {
+        if from != to || matches!(motion, Motion::Tap { .. }) {
+            out.push(Segment {
+                motion,
+                from,
+                to,
+                line: 0,
+                pass: None,
+            });
+        }
+    };
+    for c in canon {
+        match *c {
+            Canon::Traverse { x, z } => {
+                let to = Pos::new(mm(x * scale), mm(z * scale));
+                push(&mut out, Motion::Rapid, pos, to);
+                pos = to;
+                chain_turns = None;
+            }
+            Canon::Feed { x, z } => {
+                let (x, z) = (x * scale, z * scale);
+                let to = Pos::new(mm(x), mm(z));
+                match k.map(|k| k * scale) {
+                    Some(k) => {
+                        let (x0, z0) = pos
+                            .known()
+                            .map(|(x, z)| (x.to_mm_f64(), z.to_mm_f64()))
+                            .unwrap_or((0.0, 0.0));
+                        let (dr, dz) = ((x - x0) / 2.0, z - z0);
+                        let length = dr.hypot(dz);
+                        let turns = chain_turns.get_or_insert(0.0);
+                        if dz == 0.0 {
+                            push(&mut out, Motion::Rapid, pos, to);
+                        } else {
+                            let z_lead = k * dz.abs() / length;
+                            // The spindle angle at Z0 on this helix.
+                            let towards = dz.signum();
+                            let at_zero = (*turns - towards * z0 / z_lead) * 360.0;
+                            let phase = Angle(
+                                (at_zero.rem_euclid(360.0) * 1000.0).round() as i64 % 360_000,
+                            );
+                            push(
+                                &mut out,
+                                Motion::Sync {
+                                    lead: mm(z_lead),
+                                    direction,
+                                    phase: Some(phase),
+                                },
+                                pos,
+                                to,
+                            );
+                        }
+                        *turns += length / k;
+                    }
+                    None => {
+                        push(
+                            &mut out,
+                            Motion::Feed {
+                                feed: mm(feed * scale),
+                                per_minute: !per_rev,
+                            },
+                            pos,
+                            to,
+                        );
+                        chain_turns = None;
+                    }
+                }
+                pos = to;
+            }
+            Canon::RigidTap { z, .. } => {
+                let to = Pos {
+                    x: pos.x,
+                    z: Some(mm(z * scale)),
+                };
+                let lead = mm(k.unwrap_or(0.0) * scale);
+                push(&mut out, Motion::Tap { lead, direction }, pos, to);
+                chain_turns = None;
+            }
+            Canon::SyncStart { k: new } => k = Some(new),
+            Canon::SyncStop => k = None,
+            Canon::SpindleClockwise => direction = Some(SpindleDirection::Clockwise),
+            Canon::SpindleCounterClockwise => direction = Some(SpindleDirection::CounterClockwise),
+            Canon::SpindleStop => direction = None,
+            Canon::FeedRate(f) => feed = f,
+            Canon::FeedPerRev(p) => per_rev = p,
+            Canon::Inches(inch) => scale = if inch { 25.4 } else { 1.0 },
+        }
+    }
+    out
+}
+
+/// Our own simulation of an ISO program text (the iso front end, default profile).
+pub fn simulate_iso(name: &str, text: &str) -> ncthread::sim::Simulation {
+    let src = SourceFile::new(name, text);
+    let (program, diags) =
+        ncthread::parse(&src, Dialect::Iso, &Profile::default(), Unsupported::Error);
+    assert!(!ncthread::diag::has_errors(&diags), "{name}: {diags:?}");
+    ncthread::sim::simulate(&program)
 }

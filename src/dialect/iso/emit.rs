@@ -51,8 +51,8 @@ pub fn emit(
         comment_text(&src.name)
     );
     e.out.push_str("G7 G18 G21 G90 G95\n");
-    for item in &program.items {
-        e.item(item);
+    for (i, item) in program.items.iter().enumerate() {
+        e.item(item, program.items.get(i + 1));
     }
     e.out.push_str("%\n");
     let ok = !e.diags.iter().any(Diagnostic::is_error);
@@ -130,7 +130,7 @@ impl Emitter<'_> {
         self.out.push('\n');
     }
 
-    fn item(&mut self, item: &Item) {
+    fn item(&mut self, item: &Item, next: Option<&Item>) {
         let start = self.out.len();
         match &item.kind {
             ItemKind::Rapid { to } => {
@@ -167,10 +167,13 @@ impl Emitter<'_> {
                     let _ = write!(text, " G43 H{d}");
                 }
                 self.line(&text);
-                // LinuxCNC's M6 stops the spindle; the source control's tool change did not.
+                // LinuxCNC's M6 stops the spindle; restart it unless the source stops it here
+                // too (an ISO source says so with the item that follows).
+                let stops = next.is_some_and(|n| n.kind == ItemKind::SpindleStop);
                 if number.is_some()
                     && self.profile.iso.tool_change == ToolChange::M6
                     && self.turning.is_some()
+                    && !stops
                 {
                     let restart = spindle_words(self.speed, self.turning);
                     self.line(&format!("{restart} (restart the spindle after M6)"));
@@ -210,6 +213,12 @@ impl Emitter<'_> {
                 // Its effect is already in the items that use it; keep it for the reader.
                 self.line(&format!("(R{number:02}={value})"));
             }
+            // ISO words ncthread keeps without modelling them (coolant, path control…).
+            ItemKind::Opaque {
+                dialect: Dialect::Iso,
+                text,
+                ..
+            } => self.line(text),
             ItemKind::Opaque {
                 dialect,
                 text,
@@ -290,7 +299,8 @@ impl Emitter<'_> {
             let _ = write!(about, ", runout {}", r.length.mm());
         }
         if cycle.spring_passes > 0 {
-            let _ = write!(about, ", {} spring passes", cycle.spring_passes);
+            let n = cycle.spring_passes;
+            let _ = write!(about, ", {n} spring pass{}", if n == 1 { "" } else { "es" });
         }
         self.line(&format!("({about})"));
         let mut current = 0;

@@ -127,8 +127,9 @@ enum Meaning {
 
 fn g_meaning(code: i64) -> Meaning {
     match code {
-        0 | 10 | 330 | 331 | 760 | 40 | 70 | 80 | 180 | 200 | 210 | 430 | 900 | 910 | 940
-        | 950 => Meaning::Known,
+        0 | 10 | 330 | 331 | 760 | 40 | 70 | 80 | 180 | 200 | 210 | 430 | 900 | 910 | 940 | 950 => {
+            Meaning::Known
+        }
         // Cutter compensation off, tool length offset off, the default work offset, exact
         // path / blending, canned cycle off, arc distance modes, rpm mode.
         400 | 490 | 540 | 610 | 611 | 640 | 800 | 901 | 911 | 970 => Meaning::Kept,
@@ -157,7 +158,14 @@ fn m_meaning(code: i64) -> Meaning {
 }
 
 impl FrontEnd<'_> {
-    fn diag(&mut self, code: Code, line: Line<'_>, range: Range<usize>, message: String, help: &str) {
+    fn diag(
+        &mut self,
+        code: Code,
+        line: Line<'_>,
+        range: Range<usize>,
+        message: String,
+        help: &str,
+    ) {
         let span = self.src.span_in_line(line, range);
         self.diags
             .push(Diagnostic::new(code, message).at(self.src, span).help(help));
@@ -214,7 +222,12 @@ impl FrontEnd<'_> {
         let mut found: Vec<(Range<usize>, String)> = block
             .unread
             .iter()
-            .map(|u| (u.range.clone(), format!("{} is not read by ncthread", u.what)))
+            .map(|u| {
+                (
+                    u.range.clone(),
+                    format!("{} is not read by ncthread", u.what),
+                )
+            })
             .collect();
         for w in &block.words {
             let text = &line.text[w.range.clone()];
@@ -229,13 +242,14 @@ impl FrontEnd<'_> {
                     Err(_) => Some("this M code"),
                     _ => None,
                 },
-                'Y' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W' => {
-                    Some("axes other than X and Z")
-                }
+                'Y' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W' => Some("axes other than X and Z"),
                 _ => None,
             };
             if let Some(why) = why {
-                found.push((w.range.clone(), format!("`{text}`: {why} — not read by ncthread")));
+                found.push((
+                    w.range.clone(),
+                    format!("`{text}`: {why} — not read by ncthread"),
+                ));
             }
         }
         if found.is_empty() {
@@ -279,9 +293,7 @@ impl FrontEnd<'_> {
         for w in &block.words {
             match w.letter {
                 // Checked by `unsupported` already.
-                'G' => words
-                    .g
-                    .push((w.value.to_scaled(1).unwrap_or_default(), w)),
+                'G' => words.g.push((w.value.to_scaled(1).unwrap_or_default(), w)),
                 'M' => words.m.push((w.value.to_whole().unwrap_or_default(), w)),
                 letter => {
                     if let Some(first) = words.other.get(&letter) {
@@ -311,7 +323,11 @@ impl FrontEnd<'_> {
             ("tool length", &[430, 490]),
         ];
         for (name, members) in groups {
-            let found: Vec<_> = words.g.iter().filter(|(c, _)| members.contains(c)).collect();
+            let found: Vec<_> = words
+                .g
+                .iter()
+                .filter(|(c, _)| members.contains(c))
+                .collect();
             if found.len() > 1 {
                 let (a, b) = (found[0].1, found[1].1);
                 self.diag(
@@ -328,7 +344,11 @@ impl FrontEnd<'_> {
                 ok = false;
             }
         }
-        let spindle: Vec<_> = words.m.iter().filter(|(c, _)| [3, 4, 5].contains(c)).collect();
+        let spindle: Vec<_> = words
+            .m
+            .iter()
+            .filter(|(c, _)| [3, 4, 5].contains(c))
+            .collect();
         if spindle.len() > 1 {
             self.diag(
                 codes::NGC_CONFLICT,
@@ -421,13 +441,16 @@ impl FrontEnd<'_> {
         let span = self.src.line_span(line);
         let errors = self.diags.iter().filter(|d| d.is_error()).count();
 
-        // LinuxCNC's order of execution within a line.
+        // LinuxCNC's order of execution within a line. A feed mode code also clears the
+        // feed rate there (G1 needs a new F after it).
         if words.has_g(940).is_some() {
             self.feed_mode = Some(FeedMode::PerMin);
+            self.feed = None;
             self.push(ItemKind::FeedMode(FeedMode::PerMin), span);
         }
         if words.has_g(950).is_some() {
             self.feed_mode = Some(FeedMode::PerRev);
+            self.feed = None;
             self.push(ItemKind::FeedMode(FeedMode::PerRev), span);
         }
         // Units first: F, K and every length on the line are in the new units.
@@ -437,13 +460,13 @@ impl FrontEnd<'_> {
         if words.has_g(210).is_some() {
             self.inch = false;
         }
-        if let Some(f) = words.take('F') {
-            if let Some(feed) = self.length(line, f) {
-                if feed.0 < 0 {
-                    self.number_error(line, f, "the feed is negative".into(), "F is 0 or more");
-                } else {
-                    self.feed = Some(feed);
-                }
+        if let Some(f) = words.take('F')
+            && let Some(feed) = self.length(line, f)
+        {
+            if feed.0 < 0 {
+                self.number_error(line, f, "the feed is negative".into(), "F is 0 or more");
+            } else {
+                self.feed = Some(feed);
             }
         }
         let speed = match words.take('S') {
@@ -707,7 +730,11 @@ impl FrontEnd<'_> {
     }
 
     fn motion(&mut self, line: Line<'_>, words: &mut Words<'_>, motion: Motion, span: Span) {
-        let code_word = words.g.iter().find(|(c, _)| [0, 10, 330, 331, 760].contains(c)).map(|(_, w)| *w);
+        let code_word = words
+            .g
+            .iter()
+            .find(|(c, _)| [0, 10, 330, 331, 760].contains(c))
+            .map(|(_, w)| *w);
         match motion {
             Motion::Rapid => {
                 if let Some(to) = self.target(line, words) {
@@ -751,16 +778,32 @@ impl FrontEnd<'_> {
     }
 
     /// The K word of G33/G33.1 (advance per revolution along the path), positive.
-    fn k_word<'b>(&mut self, line: Line<'_>, words: &mut Words<'b>, at: Option<&Word>, what: &str) -> Option<&'b Word> {
+    fn k_word<'b>(
+        &mut self,
+        line: Line<'_>,
+        words: &mut Words<'b>,
+        at: Option<&Word>,
+        what: &str,
+    ) -> Option<&'b Word> {
         match words.take('K') {
             Some(k) if k.value.mantissa > 0 => Some(k),
             Some(k) => {
-                self.number_error(line, k, "the lead K is not positive".into(), "K is the advance per spindle revolution, more than 0");
+                self.number_error(
+                    line,
+                    k,
+                    "the lead K is not positive".into(),
+                    "K is the advance per spindle revolution, more than 0",
+                );
                 None
             }
             None => {
                 if let Some(at) = at.or(words.other.get(&'Z').copied()) {
-                    self.missing(line, at, format!("{what} without K (the lead)"), "write the advance per revolution: `K1.5`");
+                    self.missing(
+                        line,
+                        at,
+                        format!("{what} without K (the lead)"),
+                        "write the advance per revolution: `K1.5`",
+                    );
                 }
                 None
             }
@@ -845,21 +888,26 @@ impl FrontEnd<'_> {
         };
         let (Some(k), Some(z_word)) = (k, z_word) else {
             if let (None, Some(at)) = (z_word, at) {
-                self.missing(line, at, "G33.1 without Z (the depth of the hole)".into(), "write `G33.1 Z-20 K1.5`");
+                self.missing(
+                    line,
+                    at,
+                    "G33.1 without Z (the depth of the hole)".into(),
+                    "write `G33.1 Z-20 K1.5`",
+                );
             }
             return;
         };
-        if let (Some(x), Some(w)) = (to.x, x_word) {
-            if Some(x) != self.pos.x {
-                self.diag(
-                    codes::NGC_THREAD_GEOMETRY,
-                    line,
-                    w.range.clone(),
-                    "G33.1 that also moves X".into(),
-                    "move to the hole's X first; the tap runs along Z only",
-                );
-                return;
-            }
+        if let (Some(x), Some(w)) = (to.x, x_word)
+            && Some(x) != self.pos.x
+        {
+            self.diag(
+                codes::NGC_THREAD_GEOMETRY,
+                line,
+                w.range.clone(),
+                "G33.1 that also moves X".into(),
+                "move to the hole's X first; the tap runs along Z only",
+            );
+            return;
         }
         if !self.spindle_turning(line, at, "G33.1") {
             return;
@@ -898,12 +946,18 @@ impl FrontEnd<'_> {
             return;
         };
         let (Some(p), Some(i), Some(j), Some(k), true) = (p, i, j, k, z_given) else {
-            let missing: String = [('P', p), ('Z', words.other.get(&'Z').copied()), ('I', i), ('J', j), ('K', k)]
-                .iter()
-                .filter(|(_, w)| w.is_none())
-                .map(|(c, _)| c.to_string())
-                .collect::<Vec<_>>()
-                .join(", ");
+            let missing: String = [
+                ('P', p),
+                ('Z', words.other.get(&'Z').copied()),
+                ('I', i),
+                ('J', j),
+                ('K', k),
+            ]
+            .iter()
+            .filter(|(_, w)| w.is_none())
+            .map(|(c, _)| c.to_string())
+            .collect::<Vec<_>>()
+            .join(", ");
             self.missing(
                 line,
                 at,
@@ -915,16 +969,36 @@ impl FrontEnd<'_> {
         // LinuxCNC's own checks, on the numbers as written.
         let (iv, jv, kv) = (i.value.to_f64(), j.value.to_f64(), k.value.to_f64());
         if iv == 0.0 {
-            return self.g76_error(line, i, "in G76, I must not be 0".into(), "I is the crest's offset from the drive line: negative outside, positive in a bore");
+            return self.g76_error(
+                line,
+                i,
+                "in G76, I must not be 0".into(),
+                "I is the crest's offset from the drive line: negative outside, positive in a bore",
+            );
         }
         if jv <= 0.0 {
-            return self.g76_error(line, j, "in G76, J must be greater than 0".into(), "J is the depth of the first pass");
+            return self.g76_error(
+                line,
+                j,
+                "in G76, J must be greater than 0".into(),
+                "J is the depth of the first pass",
+            );
         }
         if kv <= jv {
-            return self.g76_error(line, k, "in G76, K must be greater than J".into(), "K is the full thread depth, J the first pass's");
+            return self.g76_error(
+                line,
+                k,
+                "in G76, K must be greater than J".into(),
+                "K is the full thread depth, J the first pass's",
+            );
         }
         if p.value.mantissa <= 0 {
-            return self.g76_error(line, p, "the G76 pitch P is not positive".into(), "P is the advance per spindle revolution");
+            return self.g76_error(
+                line,
+                p,
+                "the G76 pitch P is not positive".into(),
+                "P is the advance per spindle revolution",
+            );
         }
         let (Some(start_x), Some(start_z)) = (self.pos.x, self.pos.z) else {
             return self.unknown_start(line, at);
@@ -936,9 +1010,11 @@ impl FrontEnd<'_> {
         let Some(lead) = self.length(line, p) else {
             return;
         };
-        let (Some(i_len), Some(j_len), Some(k_len)) =
-            (self.length(line, i), self.length(line, j), self.length(line, k))
-        else {
+        let (Some(i_len), Some(j_len), Some(k_len)) = (
+            self.length(line, i),
+            self.length(line, j),
+            self.length(line, k),
+        ) else {
             return;
         };
         // Per side (radius) and as a diameter.
@@ -958,7 +1034,12 @@ impl FrontEnd<'_> {
             Some(l) => match l.value.to_whole() {
                 Ok(v) => v.max(0),
                 Err(_) => {
-                    return self.number_error(line, l, "G76 L is not a whole number".into(), "L0 none, L1 entry taper, L2 exit taper, L3 both");
+                    return self.number_error(
+                        line,
+                        l,
+                        "G76 L is not a whole number".into(),
+                        "L0 none, L1 entry taper, L2 exit taper, L3 both",
+                    );
                 }
             },
             None => 0,
@@ -981,10 +1062,15 @@ impl FrontEnd<'_> {
         // Q as LinuxCNC reads it (an unwritten Q is −1 there, and −1 means 0).
         let q_deg = q.map_or(0.0, |q| q.value.to_f64());
         let q_deg = if q_deg == -1.0 { 0.0 } else { q_deg };
-        if q_deg.abs() >= 90.0 {
-            if let Some(q) = q {
-                return self.g76_error(line, q, "the compound angle Q must be less than 90°".into(), "Q is the infeed angle from the radial, usually 29.5");
-            }
+        if q_deg.abs() >= 90.0
+            && let Some(q) = q
+        {
+            return self.g76_error(
+                line,
+                q,
+                "the compound angle Q must be less than 90°".into(),
+                "Q is the infeed angle from the radial, usually 29.5",
+            );
         }
         let infeed = Slope {
             rise: (q_deg.to_radians().tan() * SLOPE_RUN as f64).round() as i64,
@@ -1032,7 +1118,12 @@ impl FrontEnd<'_> {
             }),
         };
         if let Err(err) = lower::expand(&cycle) {
-            return self.g76_error(line, at, err.message(&cycle), "correct the G76 words; ncthread cuts a cycle only when every pass is defined");
+            return self.g76_error(
+                line,
+                at,
+                err.message(&cycle),
+                "correct the G76 words; ncthread cuts a cycle only when every pass is defined",
+            );
         }
         self.pos = Pos::new(to.x.unwrap_or(start_x), end_z);
         self.push(ItemKind::ThreadCycle(Box::new(cycle)), span);
@@ -1060,7 +1151,9 @@ mod tests {
 
     #[test]
     fn reads_what_ncthread_writes() {
-        let text = format!("%\n(a.nc, dialect nc31)\n{HEAD}G0 X36 Z4.5\nG33 X35.6 Z-47.5 K1.5\nG0 X37\nM30\n%\n");
+        let text = format!(
+            "%\n(a.nc, dialect nc31)\n{HEAD}G0 X36 Z4.5\nG33 X35.6 Z-47.5 K1.5\nG0 X37\nM30\n%\n"
+        );
         let (p, d) = run(&text);
         assert!(d.is_empty(), "{d:?}");
         let k = kinds(&p);
@@ -1085,7 +1178,9 @@ mod tests {
         // iso.md: Ø226 → Ø246, Z3 → Z−100, K1.50705289 is a Z lead of 1.5.
         let (p, d) = run(&format!("{HEAD}G0 X226 Z3\nG33 X246 Z-100 K1.50705289\n"));
         assert!(d.is_empty(), "{d:?}");
-        let ItemKind::ThreadPass(pass) = &p.items.last().unwrap().kind else { panic!() };
+        let ItemKind::ThreadPass(pass) = &p.items.last().unwrap().kind else {
+            panic!()
+        };
         assert_eq!(pass.lead, mm(1.5));
     }
 
@@ -1096,8 +1191,21 @@ mod tests {
         assert_eq!(d.len(), 1);
         assert_eq!(d[0].code, codes::NGC_RADIUS_MODE);
         let k = kinds(&p);
-        assert_eq!(k[0], ItemKind::Rapid { to: Pos::new(mm(50.8), mm(2.54)) });
-        assert_eq!(k[1], ItemKind::Rapid { to: Pos { x: None, z: Some(mm(-10.16)) } });
+        assert_eq!(
+            k[0],
+            ItemKind::Rapid {
+                to: Pos::new(mm(50.8), mm(2.54))
+            }
+        );
+        assert_eq!(
+            k[1],
+            ItemKind::Rapid {
+                to: Pos {
+                    x: None,
+                    z: Some(mm(-10.16))
+                }
+            }
+        );
         // 0.0001 inch is 0.00254 mm: rounded once, with one warning.
         let (_, d) = run("G7 G20 G0 X0.0001\nG0 X0.0003\n");
         assert_eq!(d.iter().filter(|d| d.code == codes::NGC_ROUNDED).count(), 1);
@@ -1109,7 +1217,16 @@ mod tests {
         assert!(d.is_empty(), "{d:?}");
         let k = kinds(&p);
         assert_eq!(k[1], ItemKind::FeedMode(FeedMode::PerMin));
-        assert_eq!(k[2], ItemKind::Feed { to: Pos { x: None, z: Some(mm(-5.0)) }, feed: mm(100.0) });
+        assert_eq!(
+            k[2],
+            ItemKind::Feed {
+                to: Pos {
+                    x: None,
+                    z: Some(mm(-5.0))
+                },
+                feed: mm(100.0)
+            }
+        );
     }
 
     #[test]
@@ -1117,7 +1234,13 @@ mod tests {
         let (p, d) = run(&format!("{HEAD}T5 M6 G43\n"));
         assert!(d.is_empty(), "{d:?}");
         let k = kinds(&p);
-        assert_eq!(k[2], ItemKind::Tool { number: Some(5), offset: Some(5) });
+        assert_eq!(
+            k[2],
+            ItemKind::Tool {
+                number: Some(5),
+                offset: Some(5)
+            }
+        );
         assert_eq!(k[3], ItemKind::SpindleStop);
     }
 
@@ -1131,15 +1254,35 @@ mod tests {
             ("G0 G1 X1\n", codes::NGC_CONFLICT, "G1"),
             ("G7 G0 X1 Z1 K2\n", codes::NGC_WORD, "K2"),
             ("G7 G0 X10 Z1\nG33 Z-10 K1\n", codes::NGC_SPINDLE, "G33"),
-            ("G7 S100 M3\nG0 X10 Z1\nG33 X12 K1\n", codes::NGC_THREAD_GEOMETRY, "X12"),
+            (
+                "G7 S100 M3\nG0 X10 Z1\nG33 X12 K1\n",
+                codes::NGC_THREAD_GEOMETRY,
+                "X12",
+            ),
             ("G7 S100 M3\nG0 X10 Z1\nG33 Z-10\n", codes::NGC_WORD, "G33"),
             ("G7 G1 X1 Z1\n", codes::NGC_WORD, "G1"),
             ("G91 G7 G0 X1\n", codes::NGC_UNKNOWN_POSITION, "X1"),
             ("X1\n", codes::NGC_WORD, "X1"),
-            ("G7 S100 M3\nG0 X10 Z1\nG33.1 X12 Z-5 K1\n", codes::NGC_THREAD_GEOMETRY, "X12"),
-            ("G7 S100 M3\nG0 X10 Z1\nG76 P1 Z-10 I0 J0.1 K1\n", codes::NGC_G76, "I0"),
-            ("G7 S100 M3\nG0 X10 Z1\nG76 P1 Z-10 I-1 J1 K1\n", codes::NGC_G76, "K1"),
-            ("G7 S100 M3\nG0 X10 Z1\nG76 P1 Z-10 I-1 K1\n", codes::NGC_WORD, "G76"),
+            (
+                "G7 S100 M3\nG0 X10 Z1\nG33.1 X12 Z-5 K1\n",
+                codes::NGC_THREAD_GEOMETRY,
+                "X12",
+            ),
+            (
+                "G7 S100 M3\nG0 X10 Z1\nG76 P1 Z-10 I0 J0.1 K1\n",
+                codes::NGC_G76,
+                "I0",
+            ),
+            (
+                "G7 S100 M3\nG0 X10 Z1\nG76 P1 Z-10 I-1 J1 K1\n",
+                codes::NGC_G76,
+                "K1",
+            ),
+            (
+                "G7 S100 M3\nG0 X10 Z1\nG76 P1 Z-10 I-1 K1\n",
+                codes::NGC_WORD,
+                "G76",
+            ),
             ("G0 X1 (open\n", codes::NGC_SYNTAX, "("),
         ];
         for (text, code, marked) in cases {
@@ -1158,10 +1301,17 @@ mod tests {
     #[test]
     fn unsupported_warn_keeps_the_line_and_forgets_the_position() {
         let src = SourceFile::new("t.ngc", "G7 G0 X10 Z1\nG28\nG0 X5\n");
-        let (p, d) = parse(&src, &Options { unsupported: Unsupported::Warn });
+        let (p, d) = parse(
+            &src,
+            &Options {
+                unsupported: Unsupported::Warn,
+            },
+        );
         assert_eq!(d.len(), 1);
         assert_eq!(d[0].severity, Severity::Warning);
-        assert!(matches!(&p.items[1].kind, ItemKind::Opaque { block: true, text, .. } if text == "G28"));
+        assert!(
+            matches!(&p.items[1].kind, ItemKind::Opaque { block: true, text, .. } if text == "G28")
+        );
         assert!(matches!(p.items[2].kind, ItemKind::Rapid { to } if to.z.is_none()));
     }
 
@@ -1172,14 +1322,20 @@ mod tests {
         let text = format!("{HEAD}G0 X20 Z5\nG76 P1.5 Z-20 I-1 J0.4 K1.8 Q29.5 R2 H1 E2 L3\n");
         let (p, d) = run(&text);
         assert!(d.is_empty(), "{d:?}");
-        let ItemKind::ThreadCycle(c) = &p.items.last().unwrap().kind else { panic!() };
+        let ItemKind::ThreadCycle(c) = &p.items.last().unwrap().kind else {
+            panic!()
+        };
         assert_eq!(c.crest, mm(19.0));
         assert_eq!((c.depth, c.first_depth), (mm(0.9), mm(0.2)));
         assert_eq!(c.retract, Retract::AboveCut(mm(1.4)));
         assert_eq!(c.spring_passes, 1);
         assert!(!c.internal);
         // |I| = 0.5 per side at K_taper = 1.5·√(2² + 0.9²)/2 = 1.644878: 0.30397 turns.
-        assert!((c.start_angle.to_deg_f64() - 109.43).abs() < 0.01, "{}", c.start_angle);
+        assert!(
+            (c.start_angle.to_deg_f64() - 109.43).abs() < 0.01,
+            "{}",
+            c.start_angle
+        );
         let e = lower::expand(c).unwrap();
         // 0.2·√n < 0.9 for n = 1…20, then the full depth and one spring pass.
         assert_eq!(e.passes.len(), 22);
