@@ -290,3 +290,93 @@ fn simulate_prints_the_motion_as_text_or_json() {
     assert_eq!(out.status.code(), Some(1));
     assert!(out.stdout.is_empty());
 }
+
+#[test]
+fn verify_proves_a_conversion_and_checks_a_hand_conversion() {
+    // Acceptance: the seed G31 M36×1.5 against a hand-written ISO program with its 8 passes.
+    let seed = "corpus/nc31/g31-m36x1.5.nc";
+    let out = ncthread(&["verify", seed, "--from", "nc31", "--to", "iso"], None);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stdout));
+    assert!(text(&out.stdout).starts_with("equivalent:"));
+    let against = |file: &str| {
+        ncthread(
+            &[
+                "verify",
+                seed,
+                "--from",
+                "nc31",
+                "--to",
+                "iso",
+                "--against",
+                file,
+            ],
+            None,
+        )
+    };
+    let out = against("corpus/iso/m36x1.5-by-hand.ngc");
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stdout));
+    // One pass 0.02 mm off: exit 1, and the report names the pass and both lines.
+    let out = against("corpus/iso/m36x1.5-by-hand-pass5-off.ngc");
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out.stdout));
+    let report = text(&out.stdout);
+    assert!(report.starts_with("DIFFERENT:"), "{report}");
+    assert!(report.contains("line 10 (pass 5) vs line 30"), "{report}");
+    assert!(
+        report.contains("X34.255") && report.contains("X34.275"),
+        "{report}"
+    );
+    // A source that cannot be read: refused, exit 1; a missing file: exit 2.
+    let out = ncthread(
+        &[
+            "verify",
+            "corpus/bad/nc31/lead-zero.nc",
+            "--from",
+            "nc31",
+            "--to",
+            "iso",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stdout).starts_with("not verified"));
+    let out = against("corpus/iso/no-such-file.ngc");
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn reads_iso_and_linuxcnc_g76() {
+    let out = ncthread(
+        &[
+            "convert",
+            "corpus/iso/g76-external.ngc",
+            "--from",
+            "iso",
+            "--to",
+            "iso",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let ngc = text(&out.stdout);
+    assert!(ngc.contains("(pass 45/45: depth 1.2267, cut 0)"), "{ngc}");
+    assert!(!ngc.lines().any(|l| l.starts_with("G76")));
+    let out = ncthread(
+        &["simulate", "corpus/iso/g76-external.ngc", "--from", "auto"],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(text(&out.stdout).contains("line 7 pass 45  thread"));
+    let out = ncthread(
+        &[
+            "convert",
+            "corpus/bad/iso/arc-g02.ngc",
+            "--from",
+            "iso",
+            "--to",
+            "iso",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains("error[NGC002]"));
+}

@@ -72,7 +72,7 @@ fn collinear(a: Pos, b: Pos, c: Pos) -> bool {
 }
 
 /// Merges consecutive collinear segments of the same kind; consecutive rapids collapse to
-/// their final point.
+/// their final point (and take the line and pass of the rapid that ends there).
 pub fn normalise(segments: &[Segment]) -> Vec<Segment> {
     let mut out: Vec<Segment> = Vec::with_capacity(segments.len());
     for s in segments {
@@ -85,6 +85,11 @@ pub fn normalise(segments: &[Segment]) -> Vec<Segment> {
                     && collinear(last.from, last.to, s.to));
             if merge {
                 last.to = s.to;
+                if rapids {
+                    // A rapid compares by its end point: name the move that ends there.
+                    last.line = s.line;
+                    last.pass = s.pass;
+                }
                 continue;
             }
         }

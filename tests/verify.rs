@@ -1,0 +1,133 @@
+//! `verify` over the corpus: every conversion ncthread writes proves equivalent to its
+//! source, and hand conversions with a typical mistake are caught.
+mod common;
+
+use ncthread::source::SourceFile;
+use ncthread::{ConvertOptions, Dialect, Outcome, Unsupported};
+
+fn options(from: Dialect, to: Dialect) -> ConvertOptions {
+    ConvertOptions {
+        from,
+        to,
+        profile: Default::default(),
+        unsupported: Unsupported::Error,
+    }
+}
+
+fn read(path: &str) -> SourceFile {
+    let text = std::fs::read_to_string(common::root().join(path)).unwrap();
+    SourceFile::new(path, text)
+}
+
+#[test]
+fn every_corpus_conversion_verifies() {
+    let mut verified = 0;
+    for case in common::corpus_cases() {
+        for &to in common::TARGETS {
+            if common::convert_case(&case, to).output.is_none() {
+                continue;
+            }
+            let bytes = std::fs::read(common::root().join(&case.path)).unwrap();
+            let (text, _) = ncthread::text::decode(&bytes, case.from);
+            let src = SourceFile::new(case.path.clone(), text);
+            let options = ConvertOptions {
+                profile: case
+                    .profile
+                    .as_deref()
+                    .map(common::load_profile)
+                    .unwrap_or_default(),
+                ..options(case.from, to)
+            };
+            let v = ncthread::verify(&src, &options, None);
+            match v.outcome {
+                Outcome::Equivalent { .. } => {}
+                other => panic!("{} → {to}: {other:?}\n{:?}", case.name, v.diagnostics),
+            }
+            verified += 1;
+        }
+    }
+    assert!(verified >= 40, "only {verified} conversions verified");
+}
+
+/// The hand-written M36×1.5 with one change, checked against the seed program.
+fn mutant(change: impl Fn(&str) -> String) -> Outcome {
+    let hand = read("corpus/iso/m36x1.5-by-hand.ngc");
+    let mutated = SourceFile::new("mutant.ngc", change(&hand.text));
+    assert_ne!(mutated.text, hand.text, "the mutation changed nothing");
+    let seed = read("corpus/nc31/g31-m36x1.5.nc");
+    ncthread::verify(&seed, &options(Dialect::Nc31, Dialect::Iso), Some(&mutated)).outcome
+}
+
+fn difference(outcome: Outcome) -> String {
+    match outcome {
+        Outcome::Different(d) => d.to_string(),
+        other => panic!("the mutation was not caught: {other:?}"),
+    }
+}
+
+#[test]
+fn the_unchanged_hand_conversion_verifies() {
+    assert!(matches!(
+        mutant(|t| t.replace("(pass 1)", "(pass one)")),
+        Outcome::Equivalent { .. }
+    ));
+}
+
+#[test]
+fn a_pass_0_01_deeper_is_caught() {
+    // 0.01 mm per side deeper on pass 3: Ø34.8 → Ø34.78.
+    let d = difference(mutant(|t| t.replace("G0 X34.8\n", "G0 X34.78\n")));
+    assert!(d.contains("(pass 3)") && d.contains("X34.78"), "{d}");
+}
+
+#[test]
+fn a_lead_0_001_off_is_caught() {
+    let d = difference(mutant(|t| {
+        t.replacen("G33 Z-47.5 K1.5", "G33 Z-47.5 K1.501", 1)
+    }));
+    assert!(d.contains("lead 1.5 ≠ 1.501"), "{d}");
+}
+
+#[test]
+fn a_start_angle_5_degrees_off_is_caught() {
+    // Pass 4 started 1.5·5/360 = 0.0208 mm earlier from the index pulse: a helix 5° away.
+    let d = difference(mutant(|t| {
+        t.replace(
+            "(pass 4)\nG0 X34.455\nG33 Z-47.5 K1.5",
+            "(pass 4)\nG0 X34.455 Z4.5208\nG33 Z-47.5 K1.5",
+        )
+    }));
+    assert!(d.contains("(pass 4)") && d.contains("phase"), "{d}");
+}
+
+#[test]
+fn a_missing_pass_is_caught() {
+    let d = difference(mutant(|t| {
+        t.replace(
+            "(pass 8)\nG0 X34.08\nG33 Z-47.5 K1.5\n",
+            "(pass 8 left out)\n",
+        )
+    }));
+    assert!(d.contains("(pass 8)"), "{d}");
+}
+
+#[test]
+fn a_missing_spring_pass_is_caught() {
+    // The G76 with H2 against its own expansion without the last (spring) pass.
+    let src = read("corpus/iso/g76-external.ngc");
+    let v = ncthread::convert(&src, &options(Dialect::Iso, Dialect::Iso));
+    let full = v.output.unwrap();
+    let cut = full.find("(pass 45/45").expect("45 passes");
+    let end = cut + full[cut..].find("G0 X50 Z50").unwrap();
+    let without = format!("{}{}", &full[..cut], &full[end..]);
+    let against = SourceFile::new("without-spring.ngc", without);
+    let outcome =
+        ncthread::verify(&src, &options(Dialect::Iso, Dialect::Iso), Some(&against)).outcome;
+    let d = difference(outcome);
+    assert!(d.contains("(pass 45)"), "{d}");
+    // With the pass, it verifies.
+    let against = SourceFile::new("full.ngc", full);
+    let outcome =
+        ncthread::verify(&src, &options(Dialect::Iso, Dialect::Iso), Some(&against)).outcome;
+    assert!(matches!(outcome, Outcome::Equivalent { .. }), "{outcome:?}");
+}
