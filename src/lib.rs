@@ -27,6 +27,10 @@ pub struct ConvertOptions {
     pub to: Dialect,
     pub profile: Profile,
     pub unsupported: Unsupported,
+    /// Block numbering for czech output from another dialect.
+    pub renumber: dialect::czech::Renumber,
+    /// Round values a target cannot hold to its grid (with a warning) instead of refusing.
+    pub round: bool,
 }
 
 /// The result of a conversion: the program text when there was no error, and every
@@ -59,13 +63,18 @@ pub fn parse(
 pub fn emit(
     program: &Program,
     src: &SourceFile,
-    from: Dialect,
-    to: Dialect,
-    profile: &Profile,
+    options: &ConvertOptions,
 ) -> (Option<String>, Vec<Diagnostic>) {
-    match to {
+    let (from, profile) = (options.from, &options.profile);
+    match options.to {
         Dialect::Iso => dialect::iso::emit(program, src, from, profile),
-        Dialect::Czech | Dialect::Nc31 => (None, vec![not_yet(&format!("writing dialect {to}"))]),
+        Dialect::Czech => {
+            dialect::czech::emit(program, src, from, profile, options.renumber, options.round)
+        }
+        Dialect::Nc31 => (
+            None,
+            vec![not_yet(&format!("writing dialect {}", options.to))],
+        ),
     }
 }
 
@@ -87,7 +96,7 @@ pub fn convert(src: &SourceFile, options: &ConvertOptions) -> Conversion {
             diagnostics,
         };
     }
-    let (output, more) = emit(&program, src, options.from, options.to, &options.profile);
+    let (output, more) = emit(&program, src, options);
     diagnostics.extend(more);
     diag::sort(&mut diagnostics);
     Conversion {
@@ -143,7 +152,7 @@ pub fn verify(
     let other = match against {
         Some(other) => other,
         None => {
-            let (output, more) = emit(&program, src, options.from, options.to, &options.profile);
+            let (output, more) = emit(&program, src, options);
             diagnostics.extend(more);
             let Some(output) = output else {
                 return refused(diagnostics);

@@ -48,6 +48,12 @@ struct VerifyArgs {
     /// instead of ncthread's own conversion.
     #[arg(long)]
     against: Option<PathBuf>,
+    /// Block numbers for czech output from another dialect: START,STEP (default 10,10).
+    #[arg(long, value_parser = parse_renumber)]
+    renumber: Option<ncthread::dialect::czech::Renumber>,
+    /// Round values the target cannot hold (czech: 0.001 mm) with a warning instead of refusing.
+    #[arg(long)]
+    round: bool,
     /// Machine profile (TOML), used for both programs.
     #[arg(long)]
     profile: Option<PathBuf>,
@@ -99,6 +105,12 @@ struct ConvertArgs {
     /// Where to write the program; `-` or nothing writes stdout.
     #[arg(short, long)]
     output: Option<PathBuf>,
+    /// Block numbers for czech output from another dialect: START,STEP (default 10,10).
+    #[arg(long, value_parser = parse_renumber)]
+    renumber: Option<ncthread::dialect::czech::Renumber>,
+    /// Round values the target cannot hold (czech: 0.001 mm) with a warning instead of refusing.
+    #[arg(long)]
+    round: bool,
     /// Machine profile (TOML) with the machine's constants: czech constant 8, nc31 units
     /// and parameters 6/7, ISO M code mappings.
     #[arg(long)]
@@ -146,6 +158,21 @@ impl From<TargetDialect> for Dialect {
             TargetDialect::Iso => Dialect::Iso,
         }
     }
+}
+
+fn parse_renumber(text: &str) -> Result<ncthread::dialect::czech::Renumber, String> {
+    let (start, step) = text
+        .split_once(',')
+        .ok_or("expected START,STEP, e.g. 10,10")?;
+    let number = |t: &str| {
+        t.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("`{t}` is not a whole number"))
+    };
+    Ok(ncthread::dialect::czech::Renumber {
+        start: number(start)?,
+        step: number(step)?,
+    })
 }
 
 /// A failure that is the user's invocation or the file system, not the program's content.
@@ -254,6 +281,8 @@ fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
         to: args.to.into(),
         profile,
         unsupported: unsupported(args.unsupported),
+        renumber: args.renumber.unwrap_or_default(),
+        round: args.round,
     };
     let conversion = ncthread::convert(&src, &options);
     print_diagnostics(&conversion.diagnostics, args.diagnostics);
@@ -307,6 +336,8 @@ fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
         to,
         profile,
         unsupported: unsupported(args.unsupported),
+        renumber: args.renumber.unwrap_or_default(),
+        round: args.round,
     };
     let v = ncthread::verify(&src, &options, against.as_ref());
     print_diagnostics(&v.diagnostics, args.diagnostics);

@@ -380,3 +380,52 @@ fn reads_iso_and_linuxcnc_g76() {
     assert_eq!(out.status.code(), Some(1));
     assert!(text(&out.stderr).contains("error[NGC002]"));
 }
+
+#[test]
+fn czech_to_czech_keeps_start_angles_parameters_opaque_words_and_comments() {
+    let convert = |file: &str| {
+        let out = ncthread(&["convert", file, "--from", "czech", "--to", "czech"], None);
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+        text(&out.stdout)
+    };
+    let ex1 = convert("corpus/czech/ex1-multipass.nc");
+    assert!(
+        ex1.contains("&1100") && ex1.contains("\"HLAVNI VETA"),
+        "{ex1}"
+    );
+    assert!(ex1.contains("N335 G33 X26.618 Z-9. F1.5"), "{ex1}");
+    let ex7 = convert("corpus/czech/ex7-large-pitch.nc");
+    assert!(ex7.contains("R10=250.0") && ex7.contains("FR10"), "{ex7}");
+    let i180 = convert("corpus/czech/multistart-i180.nc");
+    assert!(i180.contains("I180"), "{i180}");
+    // A lead over 99.99 from another dialect goes through a free parameter.
+    let out = ncthread(
+        &["convert", "-", "--from", "iso", "--to", "czech"],
+        Some(b"G7 G18 G21 G90 G95\nS100 M3\nG0 X40 Z5\nG33 Z-200 K250\nM30\n"),
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let czech = text(&out.stdout);
+    assert!(
+        czech.contains("R01=250.") && czech.contains("G33 Z-200. FR01"),
+        "{czech}"
+    );
+    // Values that need a 4th decimal: refused, or rounded with --round.
+    let fine = b"G7 G18 G21 G90 G95\nS100 M3\nG0 X26.6185 Z5\nM30\n";
+    let out = ncthread(
+        &["convert", "-", "--from", "iso", "--to", "czech"],
+        Some(fine),
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains("error[CZT001]"));
+    let out = ncthread(
+        &["convert", "-", "--from", "iso", "--to", "czech", "--round"],
+        Some(fine),
+    );
+    assert_eq!(out.status.code(), Some(0));
+    assert!(text(&out.stderr).contains("warning[CZT005]"));
+    assert!(
+        text(&out.stdout).contains("X26.619"),
+        "{}",
+        text(&out.stdout)
+    );
+}

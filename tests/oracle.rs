@@ -319,3 +319,100 @@ fn g76_expanded_cuts_what_linuxcnc_cuts_for_the_g76() {
         assert_eq!(chains, passes, "{name}");
     }
 }
+
+/// G76 acceptance, czech: the G76 programs converted `--to czech --round` (a machine whose
+/// constant 8 is in parameter mode), then read back as czech and written as ISO, cut in rs274
+/// what rs274 cuts for the G76 itself.
+#[test]
+fn g76_through_czech_cuts_what_linuxcnc_cuts_for_the_g76() {
+    let Some(cmd) = rs274() else { return };
+    for name in [
+        "iso/g76-external+profile",
+        "iso/g76-internal-exit-taper+profile",
+        "iso/g76-entry-and-exit-taper+profile",
+    ] {
+        let c = case(name);
+        let source = std::fs::read_to_string(common::root().join(&c.path)).unwrap();
+        let profile = common::load_profile(c.profile.as_deref().unwrap());
+        let options = |from, to| ncthread::ConvertOptions {
+            from,
+            to,
+            profile: profile.clone(),
+            unsupported: ncthread::Unsupported::Error,
+            renumber: Default::default(),
+            round: true,
+        };
+        let src = ncthread::source::SourceFile::new(c.path.clone(), source.clone());
+        let czech = ncthread::convert(&src, &options(Dialect::Iso, Dialect::Czech))
+            .output
+            .unwrap_or_else(|| panic!("{name}: not converted to czech"));
+        let czech_src = ncthread::source::SourceFile::new("czech.ncp", czech);
+        let back = ncthread::convert(&czech_src, &options(Dialect::Czech, Dialect::Iso));
+        let ngc = back
+            .output
+            .unwrap_or_else(|| panic!("{name}: czech not read back: {:?}", back.diagnostics));
+        let g76 =
+            ncthread::sim::normalise(&common::rs274_segments(&run_rs274(cmd, &source).unwrap()));
+        let through =
+            ncthread::sim::normalise(&common::rs274_segments(&run_rs274(cmd, &ngc).unwrap()));
+        if let Some(d) = ncthread::sim::compare(&g76, &through) {
+            panic!(
+                "{name}: {d}\n  G76: {:?}\n  via czech: {:?}",
+                d.left, d.right
+            );
+        }
+    }
+}
+
+/// Issue 5's acceptance for czech as the middle dialect: for every corpus program X that
+/// converts to czech, X → czech → ISO cuts in rs274 what X → ISO cuts.
+#[test]
+fn every_program_through_czech_cuts_what_it_cuts_directly() {
+    let Some(cmd) = rs274() else { return };
+    let mut checked = 0;
+    for c in corpus_cases()
+        .into_iter()
+        .filter(|c| !c.path.starts_with("corpus/bad/"))
+    {
+        let Some(direct) = convert_case(&c, Dialect::Iso).output else {
+            continue;
+        };
+        let Some(czech) = convert_case(&c, Dialect::Czech).output else {
+            continue;
+        };
+        let options = ncthread::ConvertOptions {
+            from: Dialect::Czech,
+            to: Dialect::Iso,
+            profile: c
+                .profile
+                .as_deref()
+                .map(common::load_profile)
+                .unwrap_or_default(),
+            unsupported: ncthread::Unsupported::Error,
+            renumber: Default::default(),
+            round: false,
+        };
+        let back = ncthread::convert(
+            &ncthread::source::SourceFile::new("czech.ncp", czech),
+            &options,
+        );
+        let through = back.output.unwrap_or_else(|| {
+            panic!(
+                "{}: the czech output is not read back: {:?}",
+                c.name, back.diagnostics
+            )
+        });
+        let a =
+            ncthread::sim::normalise(&common::rs274_segments(&run_rs274(cmd, &direct).unwrap()));
+        let b =
+            ncthread::sim::normalise(&common::rs274_segments(&run_rs274(cmd, &through).unwrap()));
+        if let Some(d) = ncthread::sim::compare(&a, &b) {
+            panic!(
+                "{}: {d}\n  direct: {:?}\n  via czech: {:?}",
+                c.name, d.left, d.right
+            );
+        }
+        checked += 1;
+    }
+    assert!(checked >= 25, "only {checked} programs went through czech");
+}

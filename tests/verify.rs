@@ -11,6 +11,8 @@ fn options(from: Dialect, to: Dialect) -> ConvertOptions {
         to,
         profile: Default::default(),
         unsupported: Unsupported::Error,
+        renumber: Default::default(),
+        round: false,
     }
 }
 

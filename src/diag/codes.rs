@@ -165,6 +165,29 @@ pub const NGC_RADIUS_MODE: Code = warning(
     "X read as a radius because neither G7 nor G8 came first (LinuxCNC's default)",
 );
 
+// czech target
+pub const CZT_PRECISION: Code = error(
+    "CZT001",
+    "a value needs more decimals than the czech control takes (3 for lengths)",
+);
+pub const CZT_NO_EQUIVALENT: Code = error(
+    "CZT002",
+    "an operation the czech control has no documented form for (tapping cycle, dwell…)",
+);
+pub const CZT_ANGLE: Code = error(
+    "CZT003",
+    "an entry or runout the czech control cannot give with machine constant 8",
+);
+pub const CZT_COMMENT: Code = warning(
+    "CZT004",
+    "a source word with no czech equivalent is kept only as a comment",
+);
+pub const CZT_ROUNDED: Code = warning("CZT005", "values rounded to 0.001 mm (--round)");
+pub const CZT_SPINDLE_OFF: Code = error(
+    "CZT006",
+    "thread pass while the spindle is not turning (czech target)",
+);
+
 // iso target
 pub const ISO_OPAQUE: Code = warning("ISO001", "undocumented source word kept only as a comment");
 pub const ISO_MCODE: Code = warning(
@@ -248,6 +271,12 @@ pub const ALL: &[Code] = &[
     NGC_G76,
     NGC_ROUNDED,
     NGC_RADIUS_MODE,
+    CZT_PRECISION,
+    CZT_NO_EQUIVALENT,
+    CZT_ANGLE,
+    CZT_COMMENT,
+    CZT_ROUNDED,
+    CZT_SPINDLE_OFF,
     ISO_OPAQUE,
     ISO_MCODE,
     ISO_START_ANGLE,

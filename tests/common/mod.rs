@@ -11,7 +11,7 @@ use ncthread::source::SourceFile;
 use ncthread::{Conversion, ConvertOptions, Dialect, Unsupported};
 
 /// Every target dialect ncthread writes; each corpus file is snapshotted for each.
-pub const TARGETS: &[Dialect] = &[Dialect::Iso];
+pub const TARGETS: &[Dialect] = &[Dialect::Iso, Dialect::Czech];
 
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -96,6 +96,8 @@ pub fn convert_case(case: &Case, to: Dialect) -> Conversion {
             .map(load_profile)
             .unwrap_or_default(),
         unsupported: Unsupported::Error,
+        renumber: Default::default(),
+        round: false,
     };
     ncthread::convert(&src, &options)
 }

@@ -1,0 +1,797 @@
+//! IR → the czech control's blocks.
+//!
+//! Block numbers are kept from a czech source and written `N10, N20, …` otherwise. Every
+//! coordinate has a decimal point and at most 3 decimals, leads at most 4; a lead over 99.99
+//! goes through a free R parameter (`FRnn`). Entry and runout angles come from machine
+//! constant 8: in parameter mode the angle parameter is assigned in a block before the pass
+//! (unless it already holds the angle); in direct mode the pass's angle must be constant 8's.
+//! After a J/E pass come the empty block and a block that programs every axis. Cycles are
+//! written as their passes (one comment block per pass); a tapping cycle and a dwell have no
+//! documented czech form and are refused.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+use crate::diag::{Code, Diagnostic, codes};
+use crate::dialect::Dialect;
+use crate::fixed::{Angle, Decimal, Length};
+use crate::ir::{
+    Chamfer, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, ThreadCycle,
+    ThreadPass,
+};
+use crate::lower;
+use crate::profile::{AngleSource, Profile};
+use crate::source::SourceFile;
+
+/// The largest lead the czech control takes directly in F. **[seed]**
+const MAX_DIRECT_LEAD: Length = Length(999_900);
+/// Runout and entry angles are 0…60°. **[seed]**
+const MAX_ANGLE: Angle = Angle(60_000);
+
+/// How blocks are numbered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Renumber {
+    pub start: u32,
+    pub step: u32,
+}
+
+impl Default for Renumber {
+    fn default() -> Self {
+        Renumber {
+            start: 10,
+            step: 10,
+        }
+    }
+}
+
+#[derive(Default)]
+struct Block {
+    number: Option<u32>,
+    words: Vec<String>,
+    comment: Option<String>,
+}
+
+struct Emitter<'a> {
+    src: &'a SourceFile,
+    profile: &'a Profile,
+    /// Keep the source's block numbers (a czech source) or number from `renumber`.
+    keep_numbers: bool,
+    next_number: u32,
+    step: u32,
+    out: String,
+    diags: Vec<Diagnostic>,
+    pos: Pos,
+    motion: Option<&'static str>,
+    /// The last F written: its value and whether it was a lead (in a G33 block).
+    f: Option<(Length, bool)>,
+    /// R parameters and what they hold, as far as this program sets them.
+    params: BTreeMap<u32, Decimal>,
+    /// After a J/E pass: the next motion must program every axis.
+    all_axes: bool,
+    /// After a J/E pass: the next block must be empty (a comment block serves).
+    pending_empty: bool,
+    /// The last block number written.
+    last_number: Option<u32>,
+    /// The spindle turns.
+    turning: bool,
+    /// Values that need a 4th decimal.
+    inexact: Inexact,
+    /// `--round`: round them (a warning) instead of refusing.
+    round: bool,
+    /// Where the last synchronised move ended, and its lead (a pass starting there continues
+    /// it without waiting for the index pulse).
+    sync_end: Option<(Pos, Length)>,
+}
+
+#[derive(Default)]
+struct Inexact {
+    count: usize,
+    largest: Length,
+    first: Option<(crate::source::Span, String)>,
+}
+
+/// Writes `program` (read from `src` in dialect `from`) as a czech program. `None` when
+/// any item cannot be expressed; the diagnostics say why.
+pub fn emit(
+    program: &Program,
+    src: &SourceFile,
+    from: Dialect,
+    profile: &Profile,
+    renumber: Renumber,
+    round: bool,
+) -> (Option<String>, Vec<Diagnostic>) {
+    let mut params = BTreeMap::new();
+    // Parameters the program assigns are not free for leads.
+    for item in &program.items {
+        if let ItemKind::ParamAssign { number, .. } = item.kind {
+            params
+                .entry(number)
+                .or_insert(Decimal::parse("0").expect("a number"));
+        }
+    }
+    let mut e = Emitter {
+        src,
+        profile,
+        keep_numbers: from == Dialect::Czech,
+        next_number: renumber.start,
+        step: renumber.step.max(1),
+        out: String::new(),
+        diags: Vec::new(),
+        pos: Pos::UNKNOWN,
+        motion: None,
+        f: None,
+        params: BTreeMap::new(),
+        all_axes: false,
+        pending_empty: false,
+        last_number: None,
+        turning: false,
+        inexact: Inexact::default(),
+        round,
+        sync_end: None,
+    };
+    let reserved: Vec<u32> = params.keys().copied().collect();
+    // Items of one source block stay one block when the source is czech.
+    let mut i = 0;
+    while i < program.items.len() {
+        let mut j = i + 1;
+        if e.keep_numbers {
+            while j < program.items.len()
+                && program.items[j].span.line == program.items[i].span.line
+            {
+                j += 1;
+            }
+        }
+        e.group(&program.items[i..j], &reserved);
+        i = j;
+    }
+    if let Some((span, what)) = e.inexact.first.take() {
+        let (n, largest) = (e.inexact.count, e.inexact.largest.mm());
+        let d = if e.round {
+            Diagnostic::new(
+                codes::CZT_ROUNDED,
+                format!("{n} value(s) rounded to 0.001 mm, the first {what}; the largest deviation is {largest} mm"),
+            )
+            .help("thread starts are rounded back along their pass, with the start angle I that keeps the helix")
+        } else {
+            Diagnostic::new(
+                codes::CZT_PRECISION,
+                format!("{what} needs a 4th decimal; the czech control takes 3 ({n} value(s) in this program do)"),
+            )
+            .help(format!("pass --round to round them to 0.001 mm (largest deviation {largest} mm; thread starts keep their helix through I)"))
+        };
+        e.diags.push(d.at(src, span));
+    }
+    let ok = !e.diags.iter().any(Diagnostic::is_error);
+    (ok.then_some(e.out), e.diags)
+}
+
+/// `X26.618`-style text for a coordinate, or `None` when it needs a 4th decimal.
+fn coordinate(v: Length) -> Option<String> {
+    (v.0 % 10 == 0).then(|| v.mm_with_point())
+}
+
+fn comment_text(text: &str) -> String {
+    text.chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect()
+}
+
+impl Emitter<'_> {
+    /// Reports a problem once (a cycle's passes share the cycle's item).
+    fn diag(&mut self, code: Code, item: &Item, message: String, help: &str) {
+        let d = Diagnostic::new(code, message)
+            .at(self.src, item.span)
+            .help(help);
+        if !self.diags.contains(&d) {
+            self.diags.push(d);
+        }
+    }
+
+    fn spindle_turning(&mut self, item: &Item) -> bool {
+        if self.turning {
+            return true;
+        }
+        self.diag(
+            codes::CZT_SPINDLE_OFF,
+            item,
+            "thread cut while the spindle is not turning".into(),
+            "start the spindle (M03/M04 with S) before the thread",
+        );
+        false
+    }
+
+    fn write(&mut self, mut block: Block) {
+        if self.pending_empty {
+            self.pending_empty = false;
+            if !block.words.is_empty() {
+                // A blank line is not a block: the empty block carries a number.
+                let number = self.last_number.map(|n| n + 1);
+                self.write(Block {
+                    number,
+                    ..Block::default()
+                });
+            }
+        }
+        let number = if self.keep_numbers {
+            block.number
+        } else {
+            let n = self.next_number;
+            self.next_number = self.next_number.saturating_add(self.step);
+            Some(n)
+        };
+        let mut line = String::new();
+        if let Some(n) = number {
+            let _ = write!(line, "N{n}");
+            self.last_number = Some(n);
+        }
+        for w in block.words.drain(..) {
+            if !line.is_empty() {
+                line.push(' ');
+            }
+            line.push_str(&w);
+        }
+        if let Some(c) = block.comment {
+            if !line.is_empty() {
+                line.push(' ');
+            }
+            let _ = write!(line, "\"{}", comment_text(&c));
+        }
+        self.out.push_str(&line);
+        self.out.push('\n');
+    }
+
+    /// `v` with a decimal point and at most 3 decimals. A value that needs a 4th is rounded
+    /// (`--round`) or counted for one error; either way the text is usable.
+    fn three_decimals(&mut self, item: &Item, what: &str, v: Length) -> String {
+        if let Some(text) = coordinate(v) {
+            return text;
+        }
+        let rounded = Length(crate::fixed::div_round(v.0 as i128, 10) as i64 * 10);
+        self.inexact.count += 1;
+        self.inexact.largest = self.inexact.largest.max((rounded - v).abs());
+        if self.inexact.first.is_none() {
+            self.inexact.first = Some((item.span, format!("{what} {} mm", v.mm())));
+        }
+        rounded.mm_with_point()
+    }
+
+    fn coordinate_word(&mut self, item: &Item, letter: char, v: Length) -> Option<String> {
+        let text = self.three_decimals(item, &letter.to_string(), v);
+        Some(format!("{letter}{text}"))
+    }
+
+    /// The axis words of a move to `to` (every axis after a J/E pass).
+    fn axes(&mut self, item: &Item, to: Pos) -> Option<Vec<String>> {
+        let mut words = Vec::new();
+        let full = Pos {
+            x: to.x.or(if self.all_axes { self.pos.x } else { None }),
+            z: to.z.or(if self.all_axes { self.pos.z } else { None }),
+        };
+        if let Some(x) = full.x {
+            words.push(self.coordinate_word(item, 'X', x)?);
+        }
+        if let Some(z) = full.z {
+            words.push(self.coordinate_word(item, 'Z', z)?);
+        }
+        Some(words)
+    }
+
+    fn motion_word(&mut self, g: &'static str, words: &mut Vec<String>) {
+        if self.motion != Some(g) {
+            words.insert(0, g.to_string());
+            self.motion = Some(g);
+        }
+    }
+
+    fn group(&mut self, items: &[Item], reserved: &[u32]) {
+        let mut block = Block {
+            number: items[0].block_number,
+            comment: items[0].comment.clone(),
+            ..Block::default()
+        };
+        for item in items {
+            self.item(item, &mut block, reserved);
+        }
+        // An empty numbered block of a czech source stays (it may be a J/E pass's empty
+        // block).
+        if !block.words.is_empty()
+            || block.comment.is_some()
+            || (self.keep_numbers
+                && block.number.is_some()
+                && !items.iter().all(|i| i.kind == ItemKind::Delimiter))
+        {
+            self.write(block);
+        }
+    }
+
+    /// Writes `block` now if it holds anything, and starts a fresh one.
+    fn flush(&mut self, block: &mut Block) {
+        if !block.words.is_empty() || block.comment.is_some() {
+            let b = std::mem::take(block);
+            self.write(b);
+        }
+    }
+
+    fn item(&mut self, item: &Item, block: &mut Block, reserved: &[u32]) {
+        match &item.kind {
+            ItemKind::Rapid { to } => {
+                if let Some(mut words) = self.axes(item, *to) {
+                    self.motion_word("G00", &mut words);
+                    block.words.extend(words);
+                    self.all_axes = false;
+                }
+            }
+            ItemKind::Feed { to, feed } => {
+                let Some(mut words) = self.axes(item, *to) else {
+                    return;
+                };
+                self.motion_word("G01", &mut words);
+                if self.f != Some((*feed, false)) {
+                    let f = self.three_decimals(item, "feed F", *feed);
+                    words.push(format!("F{f}"));
+                    self.f = Some((*feed, false));
+                }
+                block.words.extend(words);
+                self.all_axes = false;
+            }
+            ItemKind::ThreadPass(pass) => {
+                if !self.spindle_turning(item) {
+                    return;
+                }
+                self.ensure_all_axes(item, block);
+                self.thread_pass(item, pass, block, reserved);
+            }
+            ItemKind::ThreadCycle(cycle) => {
+                if !self.spindle_turning(item) {
+                    return;
+                }
+                self.flush(block);
+                self.thread_cycle(item, cycle, reserved);
+            }
+            ItemKind::TapCycle(_) => self.diag(
+                codes::CZT_NO_EQUIVALENT,
+                item,
+                "a rigid tapping cycle has no documented form on the czech control".into(),
+                "the czech manual's chapter documents thread cutting with G33 only (its G84 cycle is undocumented); tap this hole another way",
+            ),
+            ItemKind::Dwell { .. } => self.diag(
+                codes::CZT_NO_EQUIVALENT,
+                item,
+                "a dwell (G4) has no documented form on the czech control".into(),
+                "remove the dwell or add it by hand where the control documents one",
+            ),
+            ItemKind::Spindle { speed, direction } => {
+                self.turning |= direction.is_some();
+                if let Some(s) = speed {
+                    block.words.push(format!("S{s}"));
+                }
+                match direction {
+                    Some(SpindleDirection::Clockwise) => block.words.push("M03".into()),
+                    Some(SpindleDirection::CounterClockwise) => block.words.push("M04".into()),
+                    None => {}
+                }
+            }
+            ItemKind::SpindleStop => {
+                self.turning = false;
+                block.words.push("M05".into());
+            }
+            ItemKind::Tool { number, offset } => {
+                if let Some(t) = number {
+                    block.words.push(format!("T{t}"));
+                }
+                if let Some(d) = offset {
+                    block.words.push(format!("D{d}"));
+                }
+            }
+            ItemKind::GearRange(m) => {
+                if self.profile.czech.gear_range_mcodes.contains(m) {
+                    block.words.push(format!("M{m}"));
+                } else {
+                    self.as_comment(item, block, &format!("M{m}: gear range of the source machine"));
+                }
+            }
+            ItemKind::FeedMode(FeedMode::PerRev) => block.words.push("G95".into()),
+            ItemKind::FeedMode(FeedMode::PerMin) => block.words.push("G94".into()),
+            ItemKind::ProgramEnd(EndCode::M2) => {
+                self.turning = false;
+                self.ensure_all_axes(item, block);
+                block.words.push("M02".into());
+            }
+            ItemKind::ProgramEnd(EndCode::M30) => {
+                self.turning = false;
+                self.ensure_all_axes(item, block);
+                block.words.push("M30".into());
+            }
+            ItemKind::Comment(text) => {
+                if block.words.is_empty() && block.comment.is_none() {
+                    block.comment = Some(text.clone());
+                } else {
+                    self.flush(block);
+                    block.comment = Some(text.clone());
+                }
+            }
+            ItemKind::ParamAssign { number, value } => {
+                self.params.insert(*number, *value);
+                block.words.push(format!("R{number:02}={value}"));
+            }
+            ItemKind::Opaque {
+                dialect: Dialect::Czech,
+                text,
+                ..
+            } => block.words.push(text.clone()),
+            ItemKind::Opaque { dialect, text, .. } => {
+                self.as_comment(item, block, &format!("{dialect}: {text}"));
+            }
+            ItemKind::Delimiter => {
+                self.flush(block);
+                self.out.push_str("%\n");
+            }
+        }
+        if !matches!(
+            item.kind,
+            ItemKind::ThreadCycle(_) | ItemKind::ThreadPass(_)
+        ) {
+            let before = self.pos;
+            self.pos = item.kind.end_position(self.pos);
+            if self.pos != before {
+                self.sync_end = None;
+            }
+        }
+    }
+
+    fn as_comment(&mut self, item: &Item, block: &mut Block, text: &str) {
+        self.flush(block);
+        self.write(Block {
+            comment: Some(format!("{text} (not converted)")),
+            ..Block::default()
+        });
+        self.diag(
+            codes::CZT_COMMENT,
+            item,
+            format!("`{text}` has no czech equivalent; it is written as a comment"),
+            "check the czech program by hand where this matters",
+        );
+    }
+
+    /// A block that follows a J/E pass's empty block must program every axis: when the next
+    /// item is not a move, write one that stays where the tool is.
+    fn ensure_all_axes(&mut self, item: &Item, block: &mut Block) {
+        if !self.all_axes {
+            return;
+        }
+        let (Some(x), Some(z)) = (self.pos.x, self.pos.z) else {
+            return;
+        };
+        if let (Some(x), Some(z)) = (
+            self.coordinate_word(item, 'X', x),
+            self.coordinate_word(item, 'Z', z),
+        ) {
+            self.flush(block);
+            let mut words = vec![x, z];
+            self.motion_word("G00", &mut words);
+            self.write(Block {
+                words,
+                ..Block::default()
+            });
+        }
+        self.all_axes = false;
+    }
+
+    /// The R parameter that should hold `value`: one that already does, else a free one.
+    fn lead_param(&mut self, lead: Length, reserved: &[u32]) -> Option<(u32, bool)> {
+        let value = Decimal::parse(&lead.mm_with_point()).expect("a number");
+        if let Some((&n, _)) = self
+            .params
+            .iter()
+            .find(|(_, d)| d.to_length().ok() == Some(lead))
+        {
+            return Some((n, false));
+        }
+        let angle_params: Vec<u32> = match self.profile.czech.constant8.map(|c| c.angle_source()) {
+            Some(AngleSource::Parameters { runout, entry }) => {
+                vec![runout, entry.unwrap_or(runout)]
+            }
+            _ => Vec::new(),
+        };
+        let free = (1..=99).find(|n| {
+            *n != 80
+                && !reserved.contains(n)
+                && !angle_params.contains(n)
+                && !self.params.contains_key(n)
+        })?;
+        self.params.insert(free, value);
+        Some((free, true))
+    }
+
+    /// The angle word `sign · (100 + angle)` (axis X) that gives `chamfer`'s offset, and
+    /// how far the offset it gives is from the IR's.
+    fn angle_for(chamfer: &Chamfer) -> (Angle, bool, Length) {
+        let ratio = chamfer.offset.abs().to_mm_f64() / (2.0 * chamfer.length.to_mm_f64());
+        let angle = Angle((ratio.atan().to_degrees() * 1000.0).round() as i64);
+        let offset = Length::from_mm_f64(2.0 * chamfer.length.to_mm_f64() * angle.tan());
+        (
+            angle,
+            chamfer.offset.0 < 0,
+            (offset - chamfer.offset.abs()).abs(),
+        )
+    }
+
+    /// Makes the angle of `chamfer` available for `use_` (runout or entry): writes the
+    /// angle parameter's assignment before the pass, or checks constant 8's direct angle.
+    fn chamfer_angle(&mut self, item: &Item, chamfer: &Chamfer, what: &str) -> bool {
+        let Some(c8) = self.profile.czech.constant8 else {
+            self.diag(
+                codes::CZT_ANGLE,
+                item,
+                format!("the pass has a {what}, and the czech control takes its angle from machine constant 8, which the profile does not give"),
+                "give the target machine's constant 8 in a profile: [czech] constant8 = \"04000000\"",
+            );
+            return false;
+        };
+        let (angle, negative, deviation) = Self::angle_for(chamfer);
+        if angle > MAX_ANGLE {
+            self.diag(
+                codes::CZT_ANGLE,
+                item,
+                format!("the {what} angle {angle}° is over the czech control's 60°"),
+                "a steeper runout cannot be cut on this control",
+            );
+            return false;
+        }
+        if deviation > Length(1) {
+            self.diag(
+                codes::CZT_ANGLE,
+                item,
+                format!(
+                    "the {what} offset {} cannot be reached with an angle in 0.001° (off by {})",
+                    chamfer.offset.mm(),
+                    deviation.mm()
+                ),
+                "the angle resolution of the czech control is 0.001°",
+            );
+            return false;
+        }
+        let word = (100_000 + angle.0) * if negative { -1 } else { 1 };
+        match c8.angle_source() {
+            AngleSource::Direct { word: fixed } if fixed == word => true,
+            AngleSource::Direct { word: fixed } => {
+                self.diag(
+                    codes::CZT_ANGLE,
+                    item,
+                    format!("the {what} needs {}{angle}° but machine constant 8 ({c8}) fixes {}°", if negative { "−" } else { "" }, Angle(fixed.abs() % 100_000)),
+                    "constant 8 is in direct mode: every runout and entry has its angle; use a machine in parameter mode or change the angle",
+                );
+                false
+            }
+            AngleSource::Parameters { runout, entry } => {
+                let param = if what == "entry" {
+                    entry.unwrap_or(runout)
+                } else {
+                    runout
+                };
+                let value = Decimal {
+                    mantissa: word as i128,
+                    scale: 3,
+                    has_point: true,
+                };
+                let holds = self
+                    .params
+                    .get(&param)
+                    .is_some_and(|v| v.to_scaled(3).ok() == Some(word));
+                if !holds {
+                    self.params.insert(param, value);
+                    let text = format_param(value);
+                    self.write(Block {
+                        words: vec![format!("R{param:02}={text}")],
+                        comment: Some(format!(
+                            "{what} angle {}{angle}°",
+                            if negative { "−" } else { "+" }
+                        )),
+                        ..Block::default()
+                    });
+                }
+                true
+            }
+        }
+    }
+
+    fn thread_pass(&mut self, item: &Item, pass: &ThreadPass, block: &mut Block, reserved: &[u32]) {
+        // The angle parameters go in blocks before the pass.
+        let entry_param = self.profile.czech.constant8.map(|c| c.angle_source());
+        if (pass.entry.is_some() || pass.exit.is_some()) && !block.words.is_empty() {
+            self.flush(block);
+        }
+        if let (Some(e), Some(r)) = (pass.entry, pass.exit)
+            && matches!(
+                entry_param,
+                Some(AngleSource::Parameters { entry: None, .. })
+            )
+            && Self::angle_for(&e).0 != Self::angle_for(&r).0
+        {
+            return self.diag(
+                codes::CZT_ANGLE,
+                item,
+                "entry and runout need different angles, and constant 8 gives both from one parameter".into(),
+                "use a machine whose constant 8 names an entry parameter (decades 6–5)",
+            );
+        }
+        if let Some(r) = pass.exit
+            && !self.chamfer_angle(item, &r, "runout")
+        {
+            return;
+        }
+        if let Some(e) = pass.entry
+            && !self.chamfer_angle(item, &e, "entry")
+        {
+            return;
+        }
+        // A start that needs a 4th decimal moves along the pass onto the 0.001 grid (less than
+        // 0.001 mm, inside the tolerance), and the start angle changes by the turns that
+        // takes, so the helix stays: a start moved back is reached later, so it starts sooner
+        // after the index pulse. Of the two grid points the nearer one whose angle stays in
+        // 0…360° is taken.
+        let continues = self.sync_end == Some((self.pos, pass.lead));
+        let mut start_angle = pass.start_angle;
+        if !continues
+            && self.round
+            && let (Some(z), Some(end_z)) = (self.pos.z, pass.to.z)
+            && z.0 % 10 != 0
+        {
+            let towards = (end_z - z).signum();
+            let below = Length(z.0.div_euclid(10) * 10);
+            let mut candidates = [below, below + Length(10)];
+            candidates.sort_by_key(|c| (*c - z).abs());
+            let angle_for = |c: Length| {
+                // Positive: the start moves along the travel (later).
+                let later = Length(towards * (c - z).0);
+                let turn =
+                    crate::fixed::div_round(later.0 as i128 * 360_000, pass.lead.0 as i128) as i64;
+                start_angle.0 + turn
+            };
+            if let Some(&at) = candidates
+                .iter()
+                .find(|&&c| (0..360_000).contains(&angle_for(c)))
+            {
+                start_angle = Angle(angle_for(at));
+                self.flush(block);
+                let mut words = vec![format!("Z{}", at.mm_with_point())];
+                self.motion_word("G00", &mut words);
+                self.write(Block {
+                    words,
+                    ..Block::default()
+                });
+            }
+        }
+        let end_x = pass
+            .to
+            .x
+            .map(|x| x + pass.entry.map_or(Length::ZERO, |c| c.offset));
+        let Some(mut words) = self.axes(
+            item,
+            Pos {
+                x: end_x,
+                z: pass.to.z,
+            },
+        ) else {
+            return;
+        };
+        self.motion_word("G33", &mut words);
+        if self.f != Some((pass.lead, true)) {
+            if pass.lead > MAX_DIRECT_LEAD {
+                let Some((n, new)) = self.lead_param(pass.lead, reserved) else {
+                    return self.diag(
+                        codes::CZT_NO_EQUIVALENT,
+                        item,
+                        format!(
+                            "the lead {} is over 99.99 and no R parameter is free to hold it",
+                            pass.lead.mm()
+                        ),
+                        "free an R parameter in the program",
+                    );
+                };
+                if new {
+                    self.flush(block);
+                    self.write(Block {
+                        words: vec![format!("R{n:02}={}", pass.lead.mm_with_point())],
+                        comment: Some("lead over 99.99".into()),
+                        ..Block::default()
+                    });
+                }
+                words.push(format!("FR{n:02}"));
+            } else {
+                words.push(format!("F{}", pass.lead.mm_with_point()));
+            }
+            self.f = Some((pass.lead, true));
+        }
+        if start_angle != Angle::ZERO {
+            words.push(format!("I{}", start_angle.deg()));
+        }
+        if let Some(r) = pass.exit {
+            let j = self.three_decimals(item, "runout J", r.length);
+            words.push(format!("J{j}"));
+        }
+        if let Some(e) = pass.entry {
+            let t = self.three_decimals(item, "entry E", e.length);
+            words.push(format!("E{t}"));
+        }
+        block.words.extend(words);
+        self.pos = ItemKind::ThreadPass(*pass).end_position(self.pos);
+        self.sync_end = Some((self.pos, pass.lead));
+        if pass.entry.is_some() || pass.exit.is_some() {
+            // The empty block, then a block that programs every axis. **[seed]**
+            self.flush(block);
+            self.pending_empty = true;
+            self.all_axes = true;
+        }
+    }
+
+    fn thread_cycle(&mut self, item: &Item, cycle: &ThreadCycle, reserved: &[u32]) {
+        let expansion = match lower::expand(cycle) {
+            Ok(e) => e,
+            Err(e) => {
+                return self.diag(
+                    codes::CYCLE_INVALID,
+                    item,
+                    e.message(cycle),
+                    "correct the cycle's words; ncthread cuts a cycle only when every pass is defined",
+                );
+            }
+        };
+        let n = expansion.passes.len();
+        self.write(Block {
+            comment: Some(format!(
+                "thread cycle: {} D{} to Z{}, lead {}, depth {} in {n} passes, {} schedule",
+                if cycle.internal {
+                    "internal"
+                } else {
+                    "external"
+                },
+                cycle.crest.mm(),
+                cycle.end_z.mm(),
+                cycle.lead.mm(),
+                cycle.depth.mm(),
+                cycle.schedule.id()
+            )),
+            ..Block::default()
+        });
+        let mut current = 0;
+        for m in &expansion.moves {
+            if m.pass != current {
+                current = m.pass;
+                let text = match m.pass.checked_sub(1).and_then(|i| expansion.passes.get(i)) {
+                    Some(p) => format!(
+                        "pass {}/{n}: depth {}, cut {}",
+                        p.number,
+                        p.depth.mm(),
+                        p.cut.mm()
+                    ),
+                    None => "back to the cycle start".to_string(),
+                };
+                self.write(Block {
+                    comment: Some(text),
+                    ..Block::default()
+                });
+            }
+            let moved = Item {
+                kind: m.kind.clone(),
+                comment: None,
+                block_number: None,
+                span: item.span,
+            };
+            let mut block = Block::default();
+            self.item(&moved, &mut block, reserved);
+            self.flush(&mut block);
+        }
+        self.pos = item.kind.end_position(self.pos);
+    }
+}
+
+/// `120.0`, `-118.435`: an angle parameter's value with at least one decimal.
+fn format_param(v: Decimal) -> String {
+    let text = Length(v.mantissa as i64 * 10).mm_with_point();
+    if text.ends_with('.') {
+        format!("{text}0")
+    } else {
+        text
+    }
+}
