@@ -481,6 +481,64 @@ pub fn expand(cycle: &ThreadCycle) -> Result<Expansion, ExpandError> {
     Ok(Expansion { passes, moves })
 }
 
+impl Expansion {
+    /// The comment that introduces the moves of pass `pass` (0: the final return), or `None`
+    /// when `pass` has no moves of its own.
+    pub fn heading(&self, pass: usize) -> String {
+        let n = self.passes.len();
+        match pass.checked_sub(1).and_then(|i| self.passes.get(i)) {
+            Some(p) => format!(
+                "pass {}/{n}: depth {}, cut {}",
+                p.number,
+                p.depth.mm(),
+                p.cut.mm()
+            ),
+            None => "back to the cycle start".to_string(),
+        }
+    }
+
+    /// One line that says what the cycle cuts, for the comment before its passes. `diameter`
+    /// is the sign for a diameter in the target's comments (`Ø`, or `D` where the control's
+    /// character set has no `Ø`).
+    pub fn summary(&self, cycle: &ThreadCycle, diameter: &str) -> String {
+        use std::fmt::Write as _;
+        let mut about = format!(
+            "thread cycle: {} {diameter}{} to Z{}, lead {}, depth {} in {} passes, {} schedule",
+            if cycle.internal {
+                "internal"
+            } else {
+                "external"
+            },
+            cycle.crest.mm(),
+            cycle.end_z.mm(),
+            cycle.lead.mm(),
+            cycle.depth.mm(),
+            self.passes.len(),
+            cycle.schedule.id(),
+        );
+        if let Schedule::Degression(d) = cycle.schedule {
+            let _ = write!(about, " R{}", d.r);
+        }
+        if cycle.taper != Length::ZERO {
+            let _ = write!(about, ", taper {} on diameter", cycle.taper.mm());
+        }
+        if !cycle.infeed.is_zero() {
+            let _ = write!(about, ", infeed {:.3}°", cycle.infeed.degrees());
+        }
+        if let Some(e) = cycle.entry {
+            let _ = write!(about, ", entry {}", e.length.mm());
+        }
+        if let Some(r) = cycle.runout {
+            let _ = write!(about, ", runout {}", r.length.mm());
+        }
+        if cycle.spring_passes > 0 {
+            let n = cycle.spring_passes;
+            let _ = write!(about, ", {n} spring pass{}", if n == 1 { "" } else { "es" });
+        }
+        about
+    }
+}
+
 /// The seed's G31 M36×1.5 as a cycle: A = Ø36 Z4.5, X3600, Z-4750, F15000, P96, P20, no
 /// infeed or runout, 0.5 mm retract. A fixture for tests across the crate.
 #[cfg(test)]

@@ -737,38 +737,16 @@ impl Emitter<'_> {
                 );
             }
         };
-        let n = expansion.passes.len();
         self.write(Block {
-            comment: Some(format!(
-                "thread cycle: {} D{} to Z{}, lead {}, depth {} in {n} passes, {} schedule",
-                if cycle.internal {
-                    "internal"
-                } else {
-                    "external"
-                },
-                cycle.crest.mm(),
-                cycle.end_z.mm(),
-                cycle.lead.mm(),
-                cycle.depth.mm(),
-                cycle.schedule.id()
-            )),
+            comment: Some(expansion.summary(cycle, "D")),
             ..Block::default()
         });
         let mut current = 0;
         for m in &expansion.moves {
             if m.pass != current {
                 current = m.pass;
-                let text = match m.pass.checked_sub(1).and_then(|i| expansion.passes.get(i)) {
-                    Some(p) => format!(
-                        "pass {}/{n}: depth {}, cut {}",
-                        p.number,
-                        p.depth.mm(),
-                        p.cut.mm()
-                    ),
-                    None => "back to the cycle start".to_string(),
-                };
                 self.write(Block {
-                    comment: Some(text),
+                    comment: Some(expansion.heading(m.pass)),
                     ..Block::default()
                 });
             }

@@ -4,7 +4,6 @@ use std::fmt::Write as _;
 
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::Dialect;
-use crate::fixed::Length;
 use crate::ir::{
     EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, TapCycle, ThreadCycle,
     ThreadPass,
@@ -269,54 +268,14 @@ impl Emitter<'_> {
                 return;
             }
         };
-        let n = expansion.passes.len();
-        let mut about = format!(
-            "thread cycle: {} Ø{} to Z{}, lead {}, depth {} in {n} passes, {} schedule",
-            if cycle.internal {
-                "internal"
-            } else {
-                "external"
-            },
-            cycle.crest.mm(),
-            cycle.end_z.mm(),
-            cycle.lead.mm(),
-            cycle.depth.mm(),
-            cycle.schedule.id(),
-        );
-        if let crate::ir::Schedule::Degression(d) = cycle.schedule {
-            let _ = write!(about, " R{}", d.r);
-        }
-        if cycle.taper != Length::ZERO {
-            let _ = write!(about, ", taper {} on diameter", cycle.taper.mm());
-        }
-        if !cycle.infeed.is_zero() {
-            let _ = write!(about, ", infeed {:.3}°", cycle.infeed.degrees());
-        }
-        if let Some(e) = cycle.entry {
-            let _ = write!(about, ", entry {}", e.length.mm());
-        }
-        if let Some(r) = cycle.runout {
-            let _ = write!(about, ", runout {}", r.length.mm());
-        }
-        if cycle.spring_passes > 0 {
-            let n = cycle.spring_passes;
-            let _ = write!(about, ", {n} spring pass{}", if n == 1 { "" } else { "es" });
-        }
-        self.line(&format!("({about})"));
+        let summary = expansion.summary(cycle, "Ø");
+        self.line(&format!("({summary})"));
         let mut current = 0;
         for m in &expansion.moves {
             if m.pass != current {
                 current = m.pass;
-                // Pass 0 is the final return to the start point.
-                match m.pass.checked_sub(1).and_then(|i| expansion.passes.get(i)) {
-                    Some(p) => self.line(&format!(
-                        "(pass {}/{n}: depth {}, cut {})",
-                        p.number,
-                        p.depth.mm(),
-                        p.cut.mm()
-                    )),
-                    None => self.line("(back to the cycle start)"),
-                }
+                let heading = expansion.heading(m.pass);
+                self.line(&format!("({heading})"));
             }
             match &m.kind {
                 ItemKind::Rapid { to } => self.line(&format!("G0{}", axes(*to))),
@@ -411,6 +370,7 @@ impl Emitter<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fixed::Length;
 
     #[test]
     fn comments_cannot_nest_or_command() {
