@@ -37,6 +37,25 @@ impl fmt::Display for Dialect {
     }
 }
 
+/// Where a pest parse of `line` failed, as a byte offset: at the letter when pest stopped
+/// after an address letter that has no number (shared by every dialect's syntax layer).
+pub(crate) fn pest_error_offset<R: pest::RuleType>(line: &str, e: &pest::error::Error<R>) -> usize {
+    let offset = match e.location {
+        pest::error::InputLocation::Pos(p) => p,
+        pest::error::InputLocation::Span((s, _)) => s,
+    };
+    let offset = offset.min(line.len());
+    if line[..offset]
+        .chars()
+        .next_back()
+        .is_some_and(|c| c.is_ascii_alphabetic())
+    {
+        offset - 1
+    } else {
+        offset
+    }
+}
+
 /// What a front end does with constructs its dialect's documentation does not define.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Unsupported {

@@ -165,16 +165,7 @@ pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
 }
 
 fn syntax_error(line: &str, e: &pest::error::Error<Rule>) -> SyntaxError {
-    let offset = match e.location {
-        pest::error::InputLocation::Pos(p) => p,
-        pest::error::InputLocation::Span((s, _)) => s,
-    };
-    let mut offset = offset.min(line.len());
-    // Pest stops after an address letter that has no number: point at the letter.
-    let before = line[..offset].chars().next_back();
-    if before.is_some_and(|c| c.is_ascii_alphabetic()) {
-        offset -= 1;
-    }
+    let offset = crate::dialect::pest_error_offset(line, e);
     let rest = &line[offset..];
     let found = rest.chars().next();
     let help =

@@ -219,19 +219,7 @@ fn frame(line: &str, pair: pest::iterators::Pair<'_, Rule>) -> Result<Line, Synt
 }
 
 fn syntax_error(line: &str, e: &pest::error::Error<Rule>) -> SyntaxError {
-    let offset = match e.location {
-        pest::error::InputLocation::Pos(p) => p,
-        pest::error::InputLocation::Span((s, _)) => s,
-    };
-    let mut offset = offset.min(line.len());
-    // Pest stops after an address letter that has no number: point at the letter.
-    if line[..offset]
-        .chars()
-        .next_back()
-        .is_some_and(|c| c.is_ascii_alphabetic())
-    {
-        offset -= 1;
-    }
+    let offset = crate::dialect::pest_error_offset(line, e);
     let rest = &line[offset..];
     let found = rest.chars().next();
     let end = offset + found.map_or(0, char::len_utf8);
