@@ -48,13 +48,31 @@ struct VerifyArgs {
     /// instead of ncthread's own conversion.
     #[arg(long)]
     against: Option<PathBuf>,
-    /// Block numbers for czech output from another dialect: START,STEP (default 10,10).
-    #[arg(long, value_parser = parse_renumber)]
-    renumber: Option<ncthread::dialect::czech::Renumber>,
-    /// Round values the target cannot hold (czech: 0.001 mm) with a warning instead of refusing.
-    #[arg(long)]
-    round: bool,
-    /// Machine profile (TOML), used for both programs.
+    #[command(flatten)]
+    target: TargetArgs,
+    #[command(flatten)]
+    common: CommonArgs,
+}
+
+#[derive(clap::Args)]
+struct SimulateArgs {
+    /// The program to read; `-` or nothing reads stdin.
+    input: Option<PathBuf>,
+    /// The dialect of the program; `auto` chooses from the text.
+    #[arg(long, value_enum)]
+    from: SourceDialect,
+    /// `text`: one segment per line; `json`: one JSON object per segment.
+    #[arg(long, value_enum, default_value_t = OutputFormat::Text)]
+    format: OutputFormat,
+    #[command(flatten)]
+    common: CommonArgs,
+}
+
+/// Options every subcommand takes.
+#[derive(clap::Args)]
+struct CommonArgs {
+    /// Machine profile (TOML) with the machine's constants: czech constant 8, nc31 units
+    /// and parameters 6/7, ISO M code mappings.
     #[arg(long)]
     profile: Option<PathBuf>,
     /// How to print diagnostics on stderr.
@@ -65,25 +83,40 @@ struct VerifyArgs {
     unsupported: UnsupportedArg,
 }
 
+/// Options of the subcommands that write a program.
 #[derive(clap::Args)]
-struct SimulateArgs {
-    /// The program to read; `-` or nothing reads stdin.
-    input: Option<PathBuf>,
-    /// The dialect of the program; `auto` chooses from the text.
-    #[arg(long, value_enum)]
-    from: SourceDialect,
-    /// Machine profile (TOML).
+struct TargetArgs {
+    /// Block numbers for czech output from another dialect: START,STEP (default 10,10).
+    #[arg(long, value_parser = parse_renumber)]
+    renumber: Option<ncthread::dialect::czech::Renumber>,
+    /// Round values the target cannot hold (czech: 0.001 mm) with a warning instead of refusing.
     #[arg(long)]
-    profile: Option<PathBuf>,
-    /// `text`: one segment per line; `json`: one JSON object per segment.
-    #[arg(long, value_enum, default_value_t = OutputFormat::Text)]
-    format: OutputFormat,
-    /// How to print diagnostics on stderr.
-    #[arg(long, value_enum, default_value_t = DiagnosticsFormat::Human)]
-    diagnostics: DiagnosticsFormat,
-    /// Undocumented constructs: refuse the program, or warn and keep them as opaque items.
-    #[arg(long, value_enum, default_value_t = UnsupportedArg::Error)]
-    unsupported: UnsupportedArg,
+    round: bool,
+}
+
+impl CommonArgs {
+    /// The profile, loaded (before the input is read, so a bad profile stops early).
+    fn profile(&self) -> Result<Profile, Fatal> {
+        load_profile(&self.profile, self.diagnostics)
+    }
+
+    /// The options of a conversion from `from` to `to`.
+    fn options(
+        &self,
+        from: Dialect,
+        to: Dialect,
+        profile: Profile,
+        target: &TargetArgs,
+    ) -> ConvertOptions {
+        ConvertOptions {
+            from,
+            to,
+            profile,
+            unsupported: unsupported(self.unsupported),
+            renumber: target.renumber.unwrap_or_default(),
+            round: target.round,
+        }
+    }
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -105,22 +138,10 @@ struct ConvertArgs {
     /// Where to write the program; `-` or nothing writes stdout.
     #[arg(short, long)]
     output: Option<PathBuf>,
-    /// Block numbers for czech output from another dialect: START,STEP (default 10,10).
-    #[arg(long, value_parser = parse_renumber)]
-    renumber: Option<ncthread::dialect::czech::Renumber>,
-    /// Round values the target cannot hold (czech: 0.001 mm) with a warning instead of refusing.
-    #[arg(long)]
-    round: bool,
-    /// Machine profile (TOML) with the machine's constants: czech constant 8, nc31 units
-    /// and parameters 6/7, ISO M code mappings.
-    #[arg(long)]
-    profile: Option<PathBuf>,
-    /// How to print diagnostics on stderr.
-    #[arg(long, value_enum, default_value_t = DiagnosticsFormat::Human)]
-    diagnostics: DiagnosticsFormat,
-    /// Undocumented constructs: refuse the program, or warn and keep them as opaque items.
-    #[arg(long, value_enum, default_value_t = UnsupportedArg::Error)]
-    unsupported: UnsupportedArg,
+    #[command(flatten)]
+    target: TargetArgs,
+    #[command(flatten)]
+    common: CommonArgs,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -274,18 +295,13 @@ fn unsupported(arg: UnsupportedArg) -> Unsupported {
 }
 
 fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
-    let profile = load_profile(&args.profile, args.diagnostics)?;
+    let profile = args.common.profile()?;
     let (src, from) = read_source(&args.input, args.from)?;
-    let options = ConvertOptions {
-        from,
-        to: args.to.into(),
-        profile,
-        unsupported: unsupported(args.unsupported),
-        renumber: args.renumber.unwrap_or_default(),
-        round: args.round,
-    };
+    let options = args
+        .common
+        .options(from, args.to.into(), profile, &args.target);
     let conversion = ncthread::convert(&src, &options);
-    print_diagnostics(&conversion.diagnostics, args.diagnostics);
+    print_diagnostics(&conversion.diagnostics, args.common.diagnostics);
     let Some(output) = conversion.output else {
         return Ok(ExitCode::from(1));
     };
@@ -294,18 +310,19 @@ fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
 }
 
 fn simulate(args: SimulateArgs) -> Result<ExitCode, Fatal> {
-    let profile = load_profile(&args.profile, args.diagnostics)?;
+    let profile = args.common.profile()?;
     let (src, from) = read_source(&args.input, args.from)?;
-    let (program, mut diags) = ncthread::parse(&src, from, &profile, unsupported(args.unsupported));
+    let (program, mut diags) =
+        ncthread::parse(&src, from, &profile, unsupported(args.common.unsupported));
     if diag::has_errors(&diags) {
         diag::sort(&mut diags);
-        print_diagnostics(&diags, args.diagnostics);
+        print_diagnostics(&diags, args.common.diagnostics);
         return Ok(ExitCode::from(1));
     }
     let simulation = ncthread::sim::simulate(&program);
     diags.extend(simulation.problems.iter().map(|p| p.diagnostic(&src)));
     diag::sort(&mut diags);
-    print_diagnostics(&diags, args.diagnostics);
+    print_diagnostics(&diags, args.common.diagnostics);
     let mut out = String::new();
     for segment in &simulation.segments {
         match args.format {
@@ -319,7 +336,7 @@ fn simulate(args: SimulateArgs) -> Result<ExitCode, Fatal> {
 }
 
 fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
-    let profile = load_profile(&args.profile, args.diagnostics)?;
+    let profile = args.common.profile()?;
     let (src, from) = read_source(&args.input, args.from)?;
     let to: Dialect = args.to.into();
     let against = match &args.against {
@@ -331,16 +348,9 @@ fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
         }
         None => None,
     };
-    let options = ConvertOptions {
-        from,
-        to,
-        profile,
-        unsupported: unsupported(args.unsupported),
-        renumber: args.renumber.unwrap_or_default(),
-        round: args.round,
-    };
+    let options = args.common.options(from, to, profile, &args.target);
     let v = ncthread::verify(&src, &options, against.as_ref());
-    print_diagnostics(&v.diagnostics, args.diagnostics);
+    print_diagnostics(&v.diagnostics, args.common.diagnostics);
     let other = against
         .as_ref()
         .map_or(format!("ncthread's {to} conversion"), |a| a.name.clone());
