@@ -53,6 +53,7 @@ struct Block {
 
 struct Emitter<'a> {
     src: &'a SourceFile,
+    from: Dialect,
     profile: &'a Profile,
     /// Keep the source's block numbers (a czech source) or number from `renumber`.
     keep_numbers: bool,
@@ -111,6 +112,7 @@ pub fn emit(
     }
     let mut e = Emitter {
         src,
+        from,
         profile,
         keep_numbers: from == Dialect::Czech,
         next_number: renumber.start,
@@ -384,7 +386,8 @@ impl Emitter<'_> {
                 }
             }
             ItemKind::GearRange(m) => {
-                if self.profile.czech.gear_range_mcodes.contains(m) {
+                // An M number means a gear range only on the machine it was written for.
+                if self.from == Dialect::Czech && self.profile.czech.gear_range_mcodes.contains(m) {
                     block.words.push(format!("M{m}"));
                 } else {
                     self.as_comment(item, block, &format!("M{m}: gear range of the source machine"));
