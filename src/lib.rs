@@ -14,7 +14,7 @@ pub mod sim;
 pub mod source;
 pub mod text;
 
-use diag::{Diagnostic, codes};
+use diag::Diagnostic;
 pub use dialect::{Dialect, Unsupported};
 use ir::Program;
 use profile::Profile;
@@ -31,6 +31,8 @@ pub struct ConvertOptions {
     pub renumber: dialect::czech::Renumber,
     /// Round values a target cannot hold to its grid (with a warning) instead of refusing.
     pub round: bool,
+    /// nc31 output: write comments as `(` lines instead of dropping them.
+    pub nc31_comments: bool,
 }
 
 /// The result of a conversion: the program text when there was no error, and every
@@ -71,18 +73,17 @@ pub fn emit(
         Dialect::Czech => {
             dialect::czech::emit(program, src, from, profile, options.renumber, options.round)
         }
-        Dialect::Nc31 => (
-            None,
-            vec![not_yet(&format!("writing dialect {}", options.to))],
+        Dialect::Nc31 => dialect::nc31::emit(
+            program,
+            src,
+            from,
+            profile,
+            dialect::nc31::EmitOptions {
+                round: options.round,
+                comments: options.nc31_comments,
+            },
         ),
     }
-}
-
-fn not_yet(what: &str) -> Diagnostic {
-    Diagnostic::new(
-        codes::NOT_IMPLEMENTED,
-        format!("{what} is not implemented in this version"),
-    )
 }
 
 /// Parses and emits. Refuses (no output) when any error remains.

@@ -89,9 +89,14 @@ struct TargetArgs {
     /// Block numbers for czech output from another dialect: START,STEP (default 10,10).
     #[arg(long, value_parser = parse_renumber)]
     renumber: Option<ncthread::dialect::czech::Renumber>,
-    /// Round values the target cannot hold (czech: 0.001 mm) with a warning instead of refusing.
+    /// Round values the target cannot hold (czech: 0.001 mm; nc31: its units) with a
+    /// warning instead of refusing.
     #[arg(long)]
     round: bool,
+    /// nc31 output: write comments as `(` lines (for PC-side archives) instead of dropping
+    /// them with a warning.
+    #[arg(long)]
+    nc31_comments: bool,
 }
 
 impl CommonArgs {
@@ -115,6 +120,7 @@ impl CommonArgs {
             unsupported: unsupported(self.unsupported),
             renumber: target.renumber.unwrap_or_default(),
             round: target.round,
+            nc31_comments: target.nc31_comments,
         }
     }
 }

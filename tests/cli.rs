@@ -429,3 +429,86 @@ fn czech_to_czech_keeps_start_angles_parameters_opaque_words_and_comments() {
         text(&out.stdout)
     );
 }
+
+/// Issue 5's acceptance for nc31 output.
+#[test]
+fn writes_nc31_exactly_or_refuses_with_the_reason() {
+    let to_nc31 = |args: &[&str]| {
+        let all: Vec<&str> = ["convert"]
+            .iter()
+            .chain(args)
+            .chain(&["--to", "nc31"])
+            .copied()
+            .collect();
+        ncthread(&all, None)
+    };
+    // czech X26.618 is not representable at 0.01 mm: refused with its line.
+    let out = to_nc31(&["corpus/czech/ex1-multipass.nc", "--from", "czech"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(out.stdout.is_empty());
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("error[NCT001]: X 26.618 mm is not a whole number")
+            && err.contains("--> corpus/czech/ex1-multipass.nc:2:1"),
+        "{err}"
+    );
+    // With --round it converts and warns with the largest deviation.
+    let out = to_nc31(&[
+        "corpus/czech/ex1-multipass.nc",
+        "--from",
+        "czech",
+        "--round",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("warning[NCT005]: 3 value(s) rounded") && err.contains("0.003 mm"),
+        "{err}"
+    );
+    let nc31 = text(&out.stdout);
+    assert!(
+        nc31.contains("X2662 ~ *") && nc31.contains("G32 *\nN6 F15000 *\nN7 Z-900"),
+        "{nc31}"
+    );
+    // A czech J runout: refused, naming the runout.
+    let out = to_nc31(&[
+        "corpus/czech/ex4-runout-constant.nc",
+        "--from",
+        "czech",
+        "--profile",
+        "corpus/czech/ex4-runout-constant.profile.toml",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("error[NCT003]: the thread pass has a runout (12 mm), which G32 cannot cut"),
+        "{err}"
+    );
+    // nc31 → nc31 keeps G31 as a cycle, and the `(` comments of a PC-side file.
+    let out = to_nc31(&["corpus/nc31/pc-archive-cp866-crlf.nc", "--from", "nc31"]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let nc31 = text(&out.stdout);
+    assert!(
+        nc31.contains("G31 *\nN9 X3600 *\nN10 Z-4750 *\nN11 F15000 *\nN12 P96 *\nN13 P20\n"),
+        "{nc31}"
+    );
+    assert!(nc31.contains("(ПОДВОД В НАЧАЛЬНУЮ ТОЧКУ ЦИКЛА)"), "{nc31}");
+    // Comments from another dialect: dropped with one warning, or kept on request.
+    let out = to_nc31(&["corpus/czech/windows-1250.nc", "--from", "czech"]);
+    assert_eq!(out.status.code(), Some(0));
+    assert!(text(&out.stderr).contains("warning[NCT007]: 3 comment(s) left out"));
+    assert!(!text(&out.stdout).contains('('));
+    let out = to_nc31(&[
+        "corpus/czech/windows-1250.nc",
+        "--from",
+        "czech",
+        "--nc31-comments",
+    ]);
+    assert_eq!(out.status.code(), Some(0));
+    assert!(!text(&out.stderr).contains("NCT007"));
+    assert!(
+        text(&out.stdout).contains("(ROZTOČENÍ"),
+        "{}",
+        text(&out.stdout)
+    );
+}

@@ -341,6 +341,7 @@ fn g76_through_czech_cuts_what_linuxcnc_cuts_for_the_g76() {
             unsupported: ncthread::Unsupported::Error,
             renumber: Default::default(),
             round: true,
+            nc31_comments: false,
         };
         let src = ncthread::source::SourceFile::new(c.path.clone(), source.clone());
         let czech = ncthread::convert(&src, &options(Dialect::Iso, Dialect::Czech))
@@ -364,55 +365,63 @@ fn g76_through_czech_cuts_what_linuxcnc_cuts_for_the_g76() {
     }
 }
 
-/// Issue 5's acceptance for czech as the middle dialect: for every corpus program X that
-/// converts to czech, X → czech → ISO cuts in rs274 what X → ISO cuts.
+/// Issue 5's acceptance: for every corpus program X that converts to a middle dialect Y
+/// (czech, nc31), X → Y → ISO cuts in rs274 what X → ISO cuts.
 #[test]
-fn every_program_through_czech_cuts_what_it_cuts_directly() {
+fn every_program_through_czech_or_nc31_cuts_what_it_cuts_directly() {
     let Some(cmd) = rs274() else { return };
-    let mut checked = 0;
-    for c in corpus_cases()
-        .into_iter()
-        .filter(|c| !c.path.starts_with("corpus/bad/"))
-    {
-        let Some(direct) = convert_case(&c, Dialect::Iso).output else {
-            continue;
-        };
-        let Some(czech) = convert_case(&c, Dialect::Czech).output else {
-            continue;
-        };
-        let options = ncthread::ConvertOptions {
-            from: Dialect::Czech,
-            to: Dialect::Iso,
-            profile: c
-                .profile
-                .as_deref()
-                .map(common::load_profile)
-                .unwrap_or_default(),
-            unsupported: ncthread::Unsupported::Error,
-            renumber: Default::default(),
-            round: false,
-        };
-        let back = ncthread::convert(
-            &ncthread::source::SourceFile::new("czech.ncp", czech),
-            &options,
-        );
-        let through = back.output.unwrap_or_else(|| {
-            panic!(
-                "{}: the czech output is not read back: {:?}",
-                c.name, back.diagnostics
-            )
-        });
-        let a =
-            ncthread::sim::normalise(&common::rs274_segments(&run_rs274(cmd, &direct).unwrap()));
-        let b =
-            ncthread::sim::normalise(&common::rs274_segments(&run_rs274(cmd, &through).unwrap()));
-        if let Some(d) = ncthread::sim::compare(&a, &b) {
-            panic!(
-                "{}: {d}\n  direct: {:?}\n  via czech: {:?}",
-                c.name, d.left, d.right
+    for (middle, at_least) in [(Dialect::Czech, 25), (Dialect::Nc31, 20)] {
+        let mut checked = 0;
+        for c in corpus_cases()
+            .into_iter()
+            .filter(|c| !c.path.starts_with("corpus/bad/"))
+        {
+            let Some(direct) = convert_case(&c, Dialect::Iso).output else {
+                continue;
+            };
+            let Some(text) = convert_case(&c, middle).output else {
+                continue;
+            };
+            let options = ncthread::ConvertOptions {
+                from: middle,
+                to: Dialect::Iso,
+                profile: c
+                    .profile
+                    .as_deref()
+                    .map(common::load_profile)
+                    .unwrap_or_default(),
+                unsupported: ncthread::Unsupported::Error,
+                renumber: Default::default(),
+                round: false,
+                nc31_comments: false,
+            };
+            let back = ncthread::convert(
+                &ncthread::source::SourceFile::new(format!("middle.{middle}"), text),
+                &options,
             );
+            let through = back.output.unwrap_or_else(|| {
+                panic!(
+                    "{}: the {middle} output is not read back: {:?}",
+                    c.name, back.diagnostics
+                )
+            });
+            let a = ncthread::sim::normalise(&common::rs274_segments(
+                &run_rs274(cmd, &direct).unwrap(),
+            ));
+            let b = ncthread::sim::normalise(&common::rs274_segments(
+                &run_rs274(cmd, &through).unwrap(),
+            ));
+            if let Some(d) = ncthread::sim::compare(&a, &b) {
+                panic!(
+                    "{}: {d}\n  direct: {:?}\n  via {middle}: {:?}",
+                    c.name, d.left, d.right
+                );
+            }
+            checked += 1;
         }
-        checked += 1;
+        assert!(
+            checked >= at_least,
+            "only {checked} programs went through {middle}"
+        );
     }
-    assert!(checked >= 25, "only {checked} programs went through czech");
 }

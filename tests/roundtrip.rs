@@ -1,10 +1,14 @@
 //! Property tests: random valid programs survive emit → parse unchanged, for each dialect
 //! that can express them (issue 5). The generated programs hold what both the czech control
 //! and LinuxCNC can say: spindle start, rapids, feeds and thread passes along Z or tapers,
-//! on the 0.001 mm grid (czech's), leads on the 0.0001 mm grid.
+//! on the 0.001 mm grid (czech's), leads on the 0.0001 mm grid. For the НЦ-31: passes along
+//! Z only, G31 cycles, values on its 0.01 mm grid.
 use ncthread::dialect::Dialect;
 use ncthread::fixed::{Angle, Length};
-use ncthread::ir::{FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, ThreadPass};
+use ncthread::ir::{
+    CycleChamfer, FeedMode, Finish, Item, ItemKind, Pos, Program, Retract, Rise, Schedule, Slope,
+    SpindleDirection, ThreadCycle, ThreadPass,
+};
 use ncthread::source::{SourceFile, Span};
 use ncthread::{ConvertOptions, Unsupported};
 use proptest::prelude::*;
@@ -14,11 +18,50 @@ fn on_grid(range: std::ops::Range<i64>) -> impl Strategy<Value = Length> + Clone
     range.prop_map(|v| Length(v * 10))
 }
 
+/// Whole hundredths of a millimetre (the НЦ-31's unit).
+fn on_nc31_grid(range: std::ops::Range<i64>) -> impl Strategy<Value = Length> + Clone {
+    range.prop_map(|v| Length(v * 100))
+}
+
 #[derive(Clone, Debug)]
 enum Step {
     Rapid(Length, Length),
     Feed(Length, Length, Length),
     Pass(Option<Length>, Length, Length, Angle),
+    /// A G31-style cycle from the current position: crest, end Z, lead, depth, first depth,
+    /// runout (in tenths of the lead).
+    Cycle(Length, Length, Length, Length, Length, i64),
+}
+
+fn nc31_step() -> impl Strategy<Value = Step> {
+    let x = on_nc31_grid(100..20_000);
+    let z = on_nc31_grid(-30_000..5_000);
+    prop_oneof![
+        (x.clone(), z.clone()).prop_map(|(x, z)| Step::Rapid(x, z)),
+        (x.clone(), z.clone(), on_nc31_grid(1..200)).prop_map(|(x, z, f)| Step::Feed(x, z, f)),
+        (z.clone(), 1i64..2_000_000).prop_map(|(z, lead)| Step::Pass(
+            None,
+            z,
+            Length(lead),
+            Angle::ZERO
+        )),
+        (
+            x,
+            z,
+            1i64..100_000,
+            on_nc31_grid(1..300),
+            on_nc31_grid(1..60),
+            0i64..4
+        )
+            .prop_map(|(crest, z, lead, depth, first, p7)| Step::Cycle(
+                crest,
+                z,
+                Length(lead),
+                depth,
+                first,
+                p7
+            )),
+    ]
 }
 
 fn step(with_angles: bool) -> impl Strategy<Value = Step> {
@@ -51,18 +94,48 @@ fn program(steps: &[Step]) -> Program {
         }),
     ];
     let mut z_now = Length::from_mm(60);
+    let mut x_now = Length::from_mm(100);
     for s in steps {
         match *s {
             Step::Rapid(x, z) => {
                 items.push(item(ItemKind::Rapid { to: Pos::new(x, z) }));
-                z_now = z;
+                (x_now, z_now) = (x, z);
             }
             Step::Feed(x, z, feed) => {
                 items.push(item(ItemKind::Feed {
                     to: Pos::new(x, z),
                     feed,
                 }));
-                z_now = z;
+                (x_now, z_now) = (x, z);
+            }
+            Step::Cycle(crest, end_z, lead, depth, first_depth, p7) => {
+                let cycle = ThreadCycle {
+                    start: (x_now, z_now),
+                    crest,
+                    end_z,
+                    lead,
+                    depth,
+                    first_depth,
+                    taper: Length::ZERO,
+                    infeed: Slope { rise: 0, run: 4096 },
+                    infeed_moves_end: false,
+                    start_angle: Angle::ZERO,
+                    entry: None,
+                    runout: (p7 > 0).then(|| CycleChamfer {
+                        length: lead.mul_div(p7, 10),
+                        rise: Rise::ToCrest,
+                    }),
+                    retract: Retract::AboveCrest(Length(5_000)),
+                    spring_passes: 0,
+                    finish: Finish::Start,
+                    internal: x_now < crest,
+                    schedule: Schedule::Halving,
+                };
+                // Only cycles that can be cut (depths, travel) and whose start is not on
+                // the crest line.
+                if x_now != crest && ncthread::lower::expand(&cycle).is_ok() {
+                    items.push(item(ItemKind::ThreadCycle(Box::new(cycle))));
+                }
             }
             Step::Pass(x, z, lead, start_angle) if z != z_now => {
                 items.push(item(ItemKind::ThreadPass(ThreadPass {
@@ -101,7 +174,8 @@ fn motion(p: &Program) -> Vec<ItemKind> {
                 let end = i.kind.end_position(pos);
                 ItemKind::ThreadPass(ThreadPass { to: end, ..*pass })
             }
-            ItemKind::Spindle {
+            ItemKind::ThreadCycle(_)
+            | ItemKind::Spindle {
                 direction: Some(_), ..
             }
             | ItemKind::SpindleStop => i.kind.clone(),
@@ -117,19 +191,28 @@ fn motion(p: &Program) -> Vec<ItemKind> {
 }
 
 fn round_trip(program: &Program, to: Dialect) -> Program {
+    round_trip_with(program, to, &Default::default())
+}
+
+fn round_trip_with(
+    program: &Program,
+    to: Dialect,
+    profile: &ncthread::profile::Profile,
+) -> Program {
     let src = SourceFile::new("generated", "");
     let options = ConvertOptions {
         from: Dialect::Iso,
         to,
-        profile: Default::default(),
+        profile: profile.clone(),
         unsupported: Unsupported::Error,
         renumber: Default::default(),
         round: false,
+        nc31_comments: false,
     };
     let (text, diags) = ncthread::emit(program, &src, &options);
     let text = text.unwrap_or_else(|| panic!("not written as {to}: {diags:?}"));
     let back = SourceFile::new("emitted", text.clone());
-    let (parsed, diags) = ncthread::parse(&back, to, &Default::default(), Unsupported::Error);
+    let (parsed, diags) = ncthread::parse(&back, to, profile, Unsupported::Error);
     assert!(
         !ncthread::diag::has_errors(&diags),
         "{to} output not read back: {diags:?}\n{text}"
@@ -150,5 +233,30 @@ proptest! {
     fn iso_emit_then_parse_keeps_the_program(steps in proptest::collection::vec(step(false), 1..12)) {
         let p = program(&steps);
         prop_assert_eq!(motion(&round_trip(&p, Dialect::Iso)), motion(&p));
+    }
+
+    #[test]
+    fn nc31_emit_then_parse_keeps_the_program(
+        steps in proptest::collection::vec(nc31_step(), 1..12),
+        p7 in 0u32..4,
+    ) {
+        // The cycles' runout is the profile's parameter 7, so that they stay G31 groups;
+        // the others become G32 passes or are refused.
+        let mut profile = ncthread::profile::Profile::default();
+        profile.nc31.runout_p7 = p7;
+        let p = program(&steps);
+        let p = Program {
+            items: p
+                .items
+                .into_iter()
+                .filter(|i| match &i.kind {
+                    ItemKind::ThreadCycle(c) => {
+                        c.runout.map_or(0, |r| r.length.0) == profile.nc31.runout(c.lead).0
+                    }
+                    _ => true,
+                })
+                .collect(),
+        };
+        prop_assert_eq!(motion(&round_trip_with(&p, Dialect::Nc31, &profile)), motion(&p));
     }
 }

@@ -13,6 +13,7 @@ fn options(from: Dialect, to: Dialect) -> ConvertOptions {
         unsupported: Unsupported::Error,
         renumber: Default::default(),
         round: false,
+        nc31_comments: false,
     }
 }
 

@@ -201,6 +201,33 @@ pub const ISO_START_ANGLE: Code = error(
 pub const ISO_SPINDLE_OFF: Code = error("ISO004", "thread pass while the spindle is not turning");
 pub const ISO_BAD_MAPPING: Code = error("ISO005", "profile M code mapping is not an M word");
 
+// nc31 target
+pub const NCT_PRECISION: Code = error(
+    "NCT001",
+    "a value is not a whole number of the НЦ-31's units (0.01 mm for X, Z and P)",
+);
+pub const NCT_NO_EQUIVALENT: Code = error(
+    "NCT002",
+    "an operation the НЦ-31 has no documented form for (dwell, feed per minute…)",
+);
+pub const NCT_PASS: Code = error(
+    "NCT003",
+    "a thread pass G32 cannot cut (start angle, entry, runout, taper)",
+);
+pub const NCT_DROPPED: Code = warning(
+    "NCT004",
+    "a source word with no НЦ-31 equivalent is left out (or kept as a comment)",
+);
+pub const NCT_ROUNDED: Code = warning("NCT005", "values rounded to the НЦ-31's units (--round)");
+pub const NCT_SPINDLE_OFF: Code = error(
+    "NCT006",
+    "thread pass while the spindle is not turning (nc31 target)",
+);
+pub const NCT_COMMENTS: Code = warning(
+    "NCT007",
+    "comments left out: the НЦ-31 has none (--nc31-comments keeps them)",
+);
+
 // lowering (shared by every target)
 pub const CYCLE_INVALID: Code = error(
     "LW001",
@@ -211,12 +238,6 @@ pub const CYCLE_INVALID: Code = error(
 pub const SIM_UNKNOWN: Code = warning(
     "SIM001",
     "the motion depends on a position or spindle state that is not known",
-);
-
-// general
-pub const NOT_IMPLEMENTED: Code = error(
-    "NT001",
-    "this dialect pair is not implemented in this version",
 );
 
 /// Every code, for documentation and uniqueness checks.
@@ -282,9 +303,15 @@ pub const ALL: &[Code] = &[
     ISO_START_ANGLE,
     ISO_SPINDLE_OFF,
     ISO_BAD_MAPPING,
+    NCT_PRECISION,
+    NCT_NO_EQUIVALENT,
+    NCT_PASS,
+    NCT_DROPPED,
+    NCT_ROUNDED,
+    NCT_SPINDLE_OFF,
+    NCT_COMMENTS,
     CYCLE_INVALID,
     SIM_UNKNOWN,
-    NOT_IMPLEMENTED,
 ];
 
 #[cfg(test)]

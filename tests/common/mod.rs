@@ -11,7 +11,7 @@ use ncthread::source::SourceFile;
 use ncthread::{Conversion, ConvertOptions, Dialect, Unsupported};
 
 /// Every target dialect ncthread writes; each corpus file is snapshotted for each.
-pub const TARGETS: &[Dialect] = &[Dialect::Iso, Dialect::Czech];
+pub const TARGETS: &[Dialect] = &[Dialect::Iso, Dialect::Czech, Dialect::Nc31];
 
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -98,6 +98,7 @@ pub fn convert_case(case: &Case, to: Dialect) -> Conversion {
         unsupported: Unsupported::Error,
         renumber: Default::default(),
         round: false,
+        nc31_comments: false,
     };
     ncthread::convert(&src, &options)
 }

@@ -1,0 +1,992 @@
+//! IR → the НЦ-31's frames.
+//!
+//! Frames are numbered `N0, N1, …`, one word each; `*` continues a group, `~` marks a rapid
+//! coordinate, `@` the G33 offset. Values are whole numbers in the profile's units: a value
+//! off that grid is refused, or rounded with `--round` (never a lead: its error grows with
+//! every turn). A thread cycle stays one `G31` group when the profile's machine parameters
+//! (6, 7), retract and schedule reproduce it exactly; otherwise it is written as its passes.
+//! A pass is a `G32` group: along Z at the current diameter, from the index pulse, no entry
+//! or runout. Taps are `G33` groups. The control has no comments: they are dropped with one
+//! warning, or written as `(` lines (`--nc31-comments`, or when the source is an nc31 file
+//! that already holds such lines).
+
+use crate::diag::{Code, Diagnostic, codes};
+use crate::dialect::Dialect;
+use crate::fixed::{Angle, Length};
+use crate::ir::{
+    CycleChamfer, EndCode, FeedMode, Finish, Item, ItemKind, Pos, Program, Retract, Rise,
+    SpindleDirection, TapCycle, ThreadCycle, ThreadPass,
+};
+use crate::lower;
+use crate::profile::{Nc31Profile, Profile};
+use crate::source::{SourceFile, Span};
+
+/// How the nc31 emitter writes what the control cannot hold.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Options {
+    /// Round values off the unit grid (a warning) instead of refusing.
+    pub round: bool,
+    /// Write comments as `(` lines (for PC-side archives) instead of dropping them.
+    pub comments: bool,
+}
+
+struct Emitter<'a> {
+    src: &'a SourceFile,
+    from: Dialect,
+    profile: &'a Nc31Profile,
+    options: Options,
+    /// Comments are written (asked for, or the source is an nc31 file with `(` lines).
+    comments: bool,
+    out: String,
+    next_frame: u64,
+    diags: Vec<Diagnostic>,
+    pos: Pos,
+    /// The feed register: `None` at the start and after every thread group. **[decided]**
+    feed: Option<Length>,
+    per_minute: bool,
+    turning: bool,
+    inexact: Inexact,
+    /// Comments dropped: how many, and the first.
+    dropped: (usize, Option<Span>),
+}
+
+#[derive(Default)]
+struct Inexact {
+    count: usize,
+    largest: Length,
+    first: Option<(Span, String)>,
+}
+
+/// Writes `program` (read from `src` in dialect `from`) as НЦ-31 frames. `None` when any
+/// item cannot be expressed; the diagnostics say why.
+pub fn emit(
+    program: &Program,
+    src: &SourceFile,
+    from: Dialect,
+    profile: &Profile,
+    options: Options,
+) -> (Option<String>, Vec<Diagnostic>) {
+    let mut e = Emitter {
+        src,
+        from,
+        profile: &profile.nc31,
+        options,
+        comments: options.comments || from == Dialect::Nc31,
+        out: String::new(),
+        next_frame: 0,
+        diags: Vec::new(),
+        pos: Pos::UNKNOWN,
+        feed: None,
+        per_minute: false,
+        turning: false,
+        inexact: Inexact::default(),
+        dropped: (0, None),
+    };
+    // The items of one nc31 group stay one group.
+    let mut i = 0;
+    while i < program.items.len() {
+        let mut j = i + 1;
+        if from == Dialect::Nc31 {
+            while j < program.items.len() && program.items[j].span == program.items[i].span {
+                j += 1;
+            }
+        }
+        let mut group = Vec::new();
+        for item in &program.items[i..j] {
+            e.item(item, &mut group);
+        }
+        e.write(&mut group);
+        i = j;
+    }
+    e.finish();
+    let ok = !e.diags.iter().any(Diagnostic::is_error);
+    (ok.then_some(e.out), e.diags)
+}
+
+/// A frame's text without its number: one word and its modifiers.
+fn frame(word: String, rapid: bool) -> String {
+    if rapid { format!("{word} ~") } else { word }
+}
+
+fn comment_text(text: &str) -> String {
+    text.chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect()
+}
+
+/// Why a cycle is not the profile's G31, or `None` when it is.
+fn g31_mismatch(cycle: &ThreadCycle, p: &Nc31Profile) -> Option<String> {
+    let infeed = p.infeed();
+    if cycle.infeed.rise as i128 * infeed.run as i128
+        != infeed.rise as i128 * cycle.infeed.run as i128
+    {
+        return Some(format!(
+            "its infeed angle ({:.3}°) is not machine parameter 6's ({:.3}°, P6 = {})",
+            cycle.infeed.degrees(),
+            infeed.degrees(),
+            p.infeed_p6
+        ));
+    }
+    if cycle.infeed_moves_end {
+        return Some("its infeed shifts the end of every pass".into());
+    }
+    if cycle.start_angle != Angle::ZERO {
+        return Some(format!(
+            "it starts {}° after the index pulse",
+            cycle.start_angle.deg()
+        ));
+    }
+    if cycle.entry.is_some() {
+        return Some("it has an entry taper".into());
+    }
+    let runout = Some(p.runout(cycle.lead))
+        .filter(|r| r.0 > 0)
+        .map(|length| CycleChamfer {
+            length,
+            rise: Rise::ToCrest,
+        });
+    if cycle.runout != runout {
+        let what = |r: Option<CycleChamfer>| match r {
+            None => "none".to_string(),
+            Some(c) => format!(
+                "{} mm{}",
+                c.length.mm(),
+                if c.rise == Rise::ToCrest {
+                    ""
+                } else {
+                    " rising by the thread depth"
+                }
+            ),
+        };
+        return Some(format!(
+            "its runout ({}) is not machine parameter 7's ({}, P7 = {})",
+            what(cycle.runout),
+            what(runout),
+            p.runout_p7
+        ));
+    }
+    if cycle.retract != Retract::AboveCrest(p.retract) {
+        return Some(format!(
+            "it retracts differently from the profile's G31 ({} mm above the crest)",
+            p.retract.mm()
+        ));
+    }
+    if cycle.spring_passes != 0 {
+        return Some(format!("it has {} spring pass(es)", cycle.spring_passes));
+    }
+    if cycle.finish != Finish::Start {
+        return Some("it does not return to its start point".into());
+    }
+    if cycle.schedule != p.schedule {
+        return Some(format!(
+            "its pass schedule ({}) is not the profile's ({})",
+            cycle.schedule.id(),
+            p.schedule.id()
+        ));
+    }
+    if cycle.internal != (cycle.start.0 < cycle.crest) {
+        return Some("its start point is on the wrong side of the thread".into());
+    }
+    if cycle.taper.0 < 0 {
+        return Some("its thread narrows towards the end (G31 tapers widen)".into());
+    }
+    let words = [
+        ("X", cycle.crest, p.linear_unit),
+        ("Z", cycle.end_z, p.linear_unit),
+        ("F", cycle.lead, p.lead_unit),
+        ("P (depth)", cycle.depth, p.linear_unit),
+        ("P (first pass)", cycle.first_depth, p.linear_unit),
+        ("P (taper)", cycle.taper, p.linear_unit),
+    ];
+    for (what, v, unit) in words {
+        if v.0 % unit.0 != 0 {
+            return Some(format!(
+                "its {what} {} mm is not a whole number of {} mm units",
+                v.mm(),
+                unit.mm()
+            ));
+        }
+    }
+    None
+}
+
+impl Emitter<'_> {
+    fn diag(&mut self, code: Code, span: Span, message: String, help: impl Into<String>) {
+        let d = Diagnostic::new(code, message).at(self.src, span).help(help);
+        if !self.diags.contains(&d) {
+            self.diags.push(d);
+        }
+    }
+
+    fn errors(&self) -> usize {
+        self.diags.iter().filter(|d| d.is_error()).count()
+    }
+
+    /// Writes a group: numbered frames, `*` on all but the last.
+    fn write(&mut self, group: &mut Vec<String>) {
+        let n = group.len();
+        for (i, f) in group.drain(..).enumerate() {
+            let more = if i + 1 < n { " *" } else { "" };
+            self.out
+                .push_str(&format!("N{} {f}{more}\n", self.next_frame));
+            self.next_frame += 1;
+        }
+    }
+
+    fn comment(&mut self, span: Span, text: &str, group: &mut Vec<String>) {
+        if self.comments {
+            self.write(group);
+            self.out.push_str(&format!("({})\n", comment_text(text)));
+        } else {
+            self.dropped.0 += 1;
+            self.dropped.1.get_or_insert(span);
+        }
+    }
+
+    /// `v` in whole `unit`s. Off the grid: rounded (counted for one diagnostic).
+    fn units(&mut self, span: Span, what: &str, v: Length, unit: Length) -> i64 {
+        if v.0 % unit.0 == 0 {
+            return v.0 / unit.0;
+        }
+        let n = crate::fixed::div_round(v.0 as i128, unit.0 as i128) as i64;
+        self.inexact.count += 1;
+        self.inexact.largest = self.inexact.largest.max((Length(n * unit.0) - v).abs());
+        if self.inexact.first.is_none() {
+            self.inexact.first = Some((span, format!("{what} {} mm", v.mm())));
+        }
+        n
+    }
+
+    /// A lead in lead units; a lead is never rounded.
+    fn lead(&mut self, span: Span, lead: Length) -> Option<i64> {
+        let unit = self.profile.lead_unit;
+        if lead.0 % unit.0 == 0 {
+            return Some(lead.0 / unit.0);
+        }
+        self.diag(
+            codes::NCT_PRECISION,
+            span,
+            format!(
+                "the lead {} mm is not a whole number of the НЦ-31's {} mm lead units",
+                lead.mm(),
+                unit.mm()
+            ),
+            "a lead cannot be rounded (the error grows with every turn); check the profile's nc31.lead_unit_mm",
+        );
+        None
+    }
+
+    fn spindle_turning(&mut self, span: Span) -> bool {
+        if !self.turning {
+            self.diag(
+                codes::NCT_SPINDLE_OFF,
+                span,
+                "thread cut while the spindle is not turning".into(),
+                "start the spindle (M3/M4 with S) before the thread",
+            );
+        }
+        self.turning
+    }
+
+    fn no_equivalent(&mut self, span: Span, message: String, help: &str) {
+        self.diag(codes::NCT_NO_EQUIVALENT, span, message, help);
+    }
+
+    /// Something the НЦ-31 has no word for, but that does not move the tool: a comment line
+    /// when comments are written, and a warning either way.
+    fn not_written(&mut self, item: &Item, text: &str, why: &str, group: &mut Vec<String>) {
+        let kept = self.comments;
+        if kept {
+            self.write(group);
+            self.out
+                .push_str(&format!("({} (not converted))\n", comment_text(text)));
+        }
+        self.diag(
+            codes::NCT_DROPPED,
+            item.span,
+            format!(
+                "`{text}` has no НЦ-31 equivalent; it is {}",
+                if kept {
+                    "written as a comment"
+                } else {
+                    "left out"
+                }
+            ),
+            why,
+        );
+    }
+
+    fn coordinate_frames(&mut self, span: Span, to: Pos, rapid: bool) -> Vec<String> {
+        let unit = self.profile.linear_unit;
+        let mut frames = Vec::new();
+        if let Some(x) = to.x {
+            let n = self.units(span, "X", x, unit);
+            frames.push(frame(format!("X{n}"), rapid));
+        }
+        if let Some(z) = to.z {
+            let n = self.units(span, "Z", z, unit);
+            frames.push(frame(format!("Z{n}"), rapid));
+        }
+        frames
+    }
+
+    fn item(&mut self, item: &Item, group: &mut Vec<String>) {
+        if let Some(c) = &item.comment {
+            self.comment(item.span, c, group);
+        }
+        match &item.kind {
+            ItemKind::Rapid { to } => {
+                let frames = self.coordinate_frames(item.span, *to, true);
+                group.extend(frames);
+            }
+            ItemKind::Feed { to, feed } => {
+                if self.per_minute {
+                    self.no_equivalent(
+                        item.span,
+                        "a feed in mm per minute; the НЦ-31 feeds in mm per revolution".into(),
+                        "program the feed per revolution (G95) in the source",
+                    );
+                } else if self.feed != Some(*feed) {
+                    // The feed goes in a frame of its own, as in the seed programs.
+                    self.write(group);
+                    let n = self.units(item.span, "feed F", *feed, self.profile.feed_unit);
+                    group.push(format!("F{n}"));
+                    self.write(group);
+                    self.feed = Some(*feed);
+                }
+                let frames = self.coordinate_frames(item.span, *to, false);
+                group.extend(frames);
+            }
+            ItemKind::ThreadPass(pass) => {
+                self.write(group);
+                self.thread_pass(item.span, pass, None);
+            }
+            ItemKind::ThreadCycle(cycle) => {
+                self.write(group);
+                self.thread_cycle(item, cycle);
+            }
+            ItemKind::TapCycle(tap) => {
+                self.write(group);
+                self.tap(item.span, tap);
+            }
+            ItemKind::Dwell { .. } => self.no_equivalent(
+                item.span,
+                "a dwell (G4) has no documented form on the НЦ-31".into(),
+                "the guide documents G31, G32 and G33 only; remove the dwell or add it by hand",
+            ),
+            ItemKind::Spindle { speed, direction } => {
+                if let Some(s) = speed {
+                    group.push(format!("S{s}"));
+                }
+                match direction {
+                    Some(SpindleDirection::Clockwise) => group.push("M3".into()),
+                    Some(SpindleDirection::CounterClockwise) => group.push("M4".into()),
+                    None => {}
+                }
+                self.turning |= direction.is_some();
+            }
+            ItemKind::SpindleStop => {
+                self.turning = false;
+                group.push("M5".into());
+            }
+            ItemKind::Tool { number, offset } => {
+                if let Some(t) = number {
+                    group.push(format!("T{t}"));
+                }
+                if let Some(d) = offset {
+                    self.diag(
+                        codes::NCT_DROPPED,
+                        item.span,
+                        format!("tool offset {d} is left out: the НЦ-31's T word selects a turret position and its offset"),
+                        "check that the turret position carries the offset this program needs",
+                    );
+                }
+            }
+            ItemKind::GearRange(m) => {
+                if self.from == Dialect::Nc31 && self.profile.gear_range_mcodes.contains(m) {
+                    group.push(format!("M{m}"));
+                } else {
+                    self.not_written(
+                        item,
+                        &format!("M{m}: gear range of the source machine"),
+                        "the НЦ-31's speed ranges (M38–M41) are not the source machine's gear ranges; add the range by hand",
+                        group,
+                    );
+                }
+            }
+            ItemKind::FeedMode(mode) => {
+                self.per_minute = *mode == FeedMode::PerMin;
+            }
+            ItemKind::ProgramEnd(EndCode::M2 | EndCode::M30) => {
+                // The guide documents M30 as the end of a program. **[decided]** M2 → M30.
+                self.turning = false;
+                group.push("M30".into());
+            }
+            ItemKind::Comment(text) => self.comment(item.span, text, group),
+            ItemKind::ParamAssign { number, value } => self.not_written(
+                item,
+                &format!("R{number:02}={value}"),
+                "the НЦ-31 has no parameters; the values this program takes from it are written where they are used",
+                group,
+            ),
+            ItemKind::Opaque {
+                dialect: Dialect::Nc31,
+                text,
+                ..
+            } => {
+                self.write(group);
+                for line in text.lines() {
+                    // Renumbered: drop the source's frame number.
+                    let rest = line.trim_start();
+                    let rest = rest
+                        .strip_prefix('N')
+                        .map(|r| r.trim_start_matches(|c: char| c.is_ascii_digit()))
+                        .unwrap_or(rest)
+                        .trim();
+                    self.out.push_str(&format!("N{} {rest}\n", self.next_frame));
+                    self.next_frame += 1;
+                }
+            }
+            ItemKind::Opaque { dialect, text, .. } => self.not_written(
+                item,
+                &format!("{dialect}: {text}"),
+                "check the НЦ-31 program by hand where this matters",
+                group,
+            ),
+            ItemKind::Delimiter => {
+                self.write(group);
+                self.out.push_str("%\n");
+            }
+        }
+        if !matches!(
+            item.kind,
+            ItemKind::ThreadCycle(_) | ItemKind::ThreadPass(_) | ItemKind::TapCycle(_)
+        ) {
+            self.pos = item.kind.end_position(self.pos);
+        }
+    }
+
+    /// `G32 *` F Z. `cycle`: why the cycle this pass belongs to is not a G31.
+    fn thread_pass(&mut self, span: Span, pass: &ThreadPass, cycle: Option<&str>) {
+        if !self.spindle_turning(span) {
+            return;
+        }
+        let mut cannot = Vec::new();
+        if pass.start_angle != Angle::ZERO {
+            cannot.push(format!(
+                "a start angle of {}° (a Z shift of {} mm)",
+                pass.start_angle.deg(),
+                pass.lead.mul_div(pass.start_angle.0, 360_000).mm()
+            ));
+        }
+        if let Some(e) = pass.entry {
+            cannot.push(format!("an entry ({} mm)", e.length.mm()));
+        }
+        if let Some(r) = pass.exit {
+            cannot.push(format!("a runout ({} mm)", r.length.mm()));
+        }
+        // The thread line starts where the entry meets it.
+        let line_start = self
+            .pos
+            .x
+            .map(|x| x - pass.entry.map_or(Length::ZERO, |e| e.offset));
+        match (line_start, pass.to.x) {
+            (_, None) => {}
+            (Some(from), Some(to)) if from == to => {}
+            (Some(from), Some(to)) => {
+                cannot.push(format!("a taper (Ø{} to Ø{})", from.mm(), to.mm()));
+            }
+            (None, Some(_)) => cannot.push("a start diameter that is not known".into()),
+        }
+        if !cannot.is_empty() {
+            let context = match cycle {
+                Some(why) => {
+                    format!("; it is a pass of a cycle that is not this machine's G31 ({why})")
+                }
+                None => String::new(),
+            };
+            return self.diag(
+                codes::NCT_PASS,
+                span,
+                format!(
+                    "the thread pass has {}, which G32 cannot cut{context}",
+                    cannot.join(" and ")
+                ),
+                "G32 cuts one pass along Z at the current diameter, from the index pulse, without entry or runout; a start angle can be written as a pass that starts earlier by the Z shift (as the guide writes multi-start threads), by hand in the source",
+            );
+        }
+        let Some(to_z) = pass.to.z else {
+            return;
+        };
+        let Some(lead) = self.lead(span, pass.lead) else {
+            return;
+        };
+        let z = self.units(span, "Z", to_z, self.profile.linear_unit);
+        let mut group = vec!["G32".to_string(), format!("F{lead}"), format!("Z{z}")];
+        self.write(&mut group);
+        self.pos.z = Some(to_z);
+        self.feed = None;
+    }
+
+    fn thread_cycle(&mut self, item: &Item, cycle: &ThreadCycle) {
+        if !self.spindle_turning(item.span) {
+            return;
+        }
+        let expansion = match lower::expand(cycle) {
+            Ok(e) => e,
+            Err(e) => {
+                return self.diag(
+                    codes::CYCLE_INVALID,
+                    item.span,
+                    e.message(cycle),
+                    "correct the cycle's words; ncthread cuts a cycle only when every pass is defined",
+                );
+            }
+        };
+        let start = Pos::new(cycle.start.0, cycle.start.1);
+        let Some(why) = g31_mismatch(cycle, self.profile) else {
+            if self.pos != start {
+                let mut group = self.coordinate_frames(item.span, start, true);
+                self.write(&mut group);
+            }
+            let unit = self.profile.linear_unit;
+            let Some(lead) = self.lead(item.span, cycle.lead) else {
+                return;
+            };
+            let mut group = vec![
+                "G31".to_string(),
+                format!("X{}", cycle.crest.0 / unit.0),
+                format!("Z{}", cycle.end_z.0 / unit.0),
+                format!("F{lead}"),
+                format!("P{}", cycle.depth.0 / unit.0),
+                format!("P{}", cycle.first_depth.0 / unit.0),
+            ];
+            if cycle.taper != Length::ZERO {
+                group.push(format!("P{}", cycle.taper.0 / unit.0));
+            }
+            self.write(&mut group);
+            self.pos = start;
+            self.feed = None;
+            return;
+        };
+        // Not this machine's G31: its passes, each a G32 group.
+        if self.comments {
+            self.out
+                .push_str(&format!("({})\n", expansion.summary(cycle, "D")));
+        }
+        let errors = self.errors();
+        for m in &expansion.moves {
+            match &m.kind {
+                ItemKind::ThreadPass(pass) => self.thread_pass(item.span, pass, Some(&why)),
+                kind => {
+                    let moved = Item {
+                        kind: kind.clone(),
+                        comment: None,
+                        block_number: None,
+                        span: item.span,
+                    };
+                    let mut group = Vec::new();
+                    self.item(&moved, &mut group);
+                    self.write(&mut group);
+                }
+            }
+            if self.errors() > errors {
+                return;
+            }
+        }
+        self.pos = item.kind.end_position(self.pos);
+    }
+
+    /// `G33 [@] *` X Z F.
+    fn tap(&mut self, span: Span, tap: &TapCycle) {
+        if !self.spindle_turning(span) {
+            return;
+        }
+        let Some(lead) = self.lead(span, tap.lead) else {
+            return;
+        };
+        let unit = self.profile.linear_unit;
+        let mut group = vec![if tap.then_x.is_some() { "G33 @" } else { "G33" }.to_string()];
+        // Without `@` the X word names the diameter the tool stands at (the seed writes it).
+        if let Some(x) = tap.then_x.or(self.pos.x) {
+            let n = self.units(span, "X", x, unit);
+            group.push(format!("X{n}"));
+        }
+        let z = self.units(span, "Z", tap.end_z, unit);
+        group.push(format!("Z{z}"));
+        group.push(format!("F{lead}"));
+        self.write(&mut group);
+        self.pos = ItemKind::TapCycle(*tap).end_position(self.pos);
+        self.feed = None;
+    }
+
+    fn finish(&mut self) {
+        if let Some(span) = self.dropped.1 {
+            let n = self.dropped.0;
+            self.diag(
+                codes::NCT_COMMENTS,
+                span,
+                format!("{n} comment(s) left out: the НЦ-31 has no comments"),
+                "pass --nc31-comments to write them as `(` lines for a PC-side archive",
+            );
+        }
+        if let Some((span, what)) = self.inexact.first.take() {
+            let (n, largest) = (self.inexact.count, self.inexact.largest.mm());
+            let unit = self.profile.linear_unit.mm();
+            let d = if self.options.round {
+                Diagnostic::new(
+                    codes::NCT_ROUNDED,
+                    format!("{n} value(s) rounded to the НЦ-31's units, the first {what}; the largest deviation is {largest} mm"),
+                )
+                .help("the rounded program cuts within that deviation of the source")
+            } else {
+                Diagnostic::new(
+                    codes::NCT_PRECISION,
+                    format!("{what} is not a whole number of the НЦ-31's {unit} mm units ({n} value(s) in this program are not)"),
+                )
+                .help(format!("pass --round to round them (largest deviation {largest} mm)"))
+            };
+            self.diags.push(d.at(self.src, span));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diag::Severity;
+    use crate::ir::{Chamfer, Schedule};
+
+    /// nc31 → nc31 with `profile`.
+    fn again(text: &str, profile: &Profile, options: Options) -> (Option<String>, Vec<Diagnostic>) {
+        let src = SourceFile::new("t.nc", text);
+        let (program, diags) = crate::dialect::nc31::parse(&src, profile, &Default::default());
+        assert!(!crate::diag::has_errors(&diags), "{diags:?}");
+        emit(&program, &src, Dialect::Nc31, profile, options)
+    }
+
+    fn write(items: Vec<ItemKind>, options: Options) -> (Option<String>, Vec<Diagnostic>) {
+        let src = SourceFile::new("t", "");
+        let program = Program {
+            items: items
+                .into_iter()
+                .map(|k| Item::new(k, Span::default()))
+                .collect(),
+        };
+        emit(&program, &src, Dialect::Iso, &Profile::default(), options)
+    }
+
+    fn codes_of(diags: &[Diagnostic]) -> Vec<&'static str> {
+        diags.iter().map(|d| d.code.id).collect()
+    }
+
+    fn mm(v: i64) -> Length {
+        Length::from_mm(v)
+    }
+
+    fn turning() -> ItemKind {
+        ItemKind::Spindle {
+            speed: Some(500),
+            direction: Some(SpindleDirection::Clockwise),
+        }
+    }
+
+    fn at(x: Length, z: Length) -> ItemKind {
+        ItemKind::Rapid { to: Pos::new(x, z) }
+    }
+
+    fn pass(z: Length) -> ThreadPass {
+        ThreadPass {
+            to: Pos {
+                x: None,
+                z: Some(z),
+            },
+            lead: Length(15_000),
+            start_angle: Angle::ZERO,
+            entry: None,
+            exit: None,
+        }
+    }
+
+    const SEED_G31: &str = "N0 M3\nN1 S700\nN2 X3600 ~ *\nN3 Z450 ~\nN4 G31 *\nN5 X3600 *\nN6 Z-4750 *\nN7 F15000 *\nN8 P96 *\nN9 P20\nN10 M5\nN11 M30\n";
+
+    #[test]
+    fn a_cycle_of_this_machine_stays_one_g31_group() {
+        let (out, diags) = again(SEED_G31, &Profile::default(), Options::default());
+        assert!(diags.is_empty(), "{diags:?}");
+        assert_eq!(
+            out.unwrap(),
+            "N0 M3\nN1 S700\nN2 X3600 ~ *\nN3 Z450 ~\nN4 G31 *\nN5 X3600 *\nN6 Z-4750 *\nN7 F15000 *\nN8 P96 *\nN9 P20\nN10 M5\nN11 M30\n"
+        );
+        // With parameter 7 in the profile the cycle is still the machine's G31.
+        let mut p7 = Profile::default();
+        p7.nc31.runout_p7 = 10;
+        let (out, _) = again(SEED_G31, &p7, Options::default());
+        assert!(out.unwrap().contains("N4 G31 *"));
+    }
+
+    #[test]
+    fn another_machines_cycle_becomes_g32_passes_that_cut_the_same() {
+        let src = SourceFile::new("t.nc", SEED_G31);
+        let profile = Profile::default();
+        let (program, _) = crate::dialect::nc31::parse(&src, &profile, &Default::default());
+        // The same cycle with a schedule this machine's G31 does not use.
+        let mut other = program.clone();
+        for item in &mut other.items {
+            if let ItemKind::ThreadCycle(c) = &mut item.kind {
+                c.schedule = Schedule::ConstantDepth;
+            }
+        }
+        let (out, diags) = emit(&other, &src, Dialect::Nc31, &profile, Options::default());
+        assert!(!crate::diag::has_errors(&diags), "{diags:?}");
+        let out = out.unwrap();
+        assert!(
+            !out.contains("G31") && out.matches("G32").count() == 5,
+            "{out}"
+        );
+        let back = SourceFile::new("back.nc", out);
+        let (read, diags) = crate::dialect::nc31::parse(&back, &profile, &Default::default());
+        assert!(!crate::diag::has_errors(&diags), "{diags:?}");
+        let a = crate::sim::normalise(&crate::sim::simulate(&other).segments);
+        let b = crate::sim::normalise(&crate::sim::simulate(&read).segments);
+        assert_eq!(crate::sim::compare(&a, &b), None);
+    }
+
+    #[test]
+    fn a_cycle_with_a_runout_the_profile_lacks_is_refused_naming_why() {
+        let mut p7 = Profile::default();
+        p7.nc31.runout_p7 = 10;
+        let src = SourceFile::new("t.nc", SEED_G31);
+        let (program, _) = crate::dialect::nc31::parse(&src, &p7, &Default::default());
+        let (out, diags) = emit(
+            &program,
+            &src,
+            Dialect::Nc31,
+            &Profile::default(),
+            Options::default(),
+        );
+        assert!(out.is_none());
+        let d = diags.iter().find(|d| d.code.id == "NCT003").unwrap();
+        assert!(d.message.contains("a runout (1.5 mm)"), "{}", d.message);
+        assert!(
+            d.message.contains("machine parameter 7's (none, P7 = 0)"),
+            "{}",
+            d.message
+        );
+    }
+
+    #[test]
+    fn g32_refuses_start_angle_entry_runout_and_taper() {
+        let runout = Chamfer {
+            length: mm(2),
+            offset: mm(2),
+        };
+        let cases: [(ThreadPass, &str); 4] = [
+            (
+                ThreadPass {
+                    start_angle: Angle(180_000),
+                    ..pass(mm(-20))
+                },
+                "a start angle of 180° (a Z shift of 0.75 mm)",
+            ),
+            (
+                ThreadPass {
+                    exit: Some(runout),
+                    ..pass(mm(-20))
+                },
+                "a runout (2 mm)",
+            ),
+            (
+                ThreadPass {
+                    entry: Some(runout),
+                    ..pass(mm(-20))
+                },
+                "an entry (2 mm)",
+            ),
+            (
+                ThreadPass {
+                    to: Pos::new(mm(22), mm(-20)),
+                    ..pass(mm(-20))
+                },
+                "a taper (Ø20 to Ø22)",
+            ),
+        ];
+        for (p, what) in cases {
+            let (out, diags) = write(
+                vec![turning(), at(mm(20), mm(5)), ItemKind::ThreadPass(p)],
+                Options::default(),
+            );
+            assert!(out.is_none(), "{what}");
+            assert_eq!(codes_of(&diags), ["NCT003"]);
+            assert!(diags[0].message.contains(what), "{}", diags[0].message);
+        }
+        // A pass at the current diameter is a G32 group; the feed is programmed again after it.
+        let (out, diags) = write(
+            vec![
+                turning(),
+                at(mm(20), mm(5)),
+                ItemKind::ThreadPass(ThreadPass {
+                    to: Pos::new(mm(20), mm(-20)),
+                    ..pass(mm(-20))
+                }),
+                ItemKind::Feed {
+                    to: Pos {
+                        x: Some(mm(30)),
+                        z: None,
+                    },
+                    feed: Length(3_000),
+                },
+            ],
+            Options::default(),
+        );
+        assert!(diags.is_empty(), "{diags:?}");
+        assert_eq!(
+            out.unwrap(),
+            "N0 S500 *\nN1 M3\nN2 X2000 ~ *\nN3 Z500 ~\nN4 G32 *\nN5 F15000 *\nN6 Z-2000\nN7 F30\nN8 X3000\n"
+        );
+    }
+
+    #[test]
+    fn values_off_the_grid_are_refused_or_rounded_but_leads_never() {
+        let items = || {
+            vec![
+                turning(),
+                at(Length(266_180), mm(3)),
+                ItemKind::ThreadPass(pass(mm(-9))),
+                at(Length(264_180), mm(3)),
+            ]
+        };
+        let (out, diags) = write(items(), Options::default());
+        assert!(out.is_none());
+        assert_eq!(codes_of(&diags), ["NCT001"]);
+        assert!(
+            diags[0].message.starts_with("X 26.618 mm"),
+            "{}",
+            diags[0].message
+        );
+        assert!(
+            diags[0].message.contains("(2 value(s)"),
+            "{}",
+            diags[0].message
+        );
+        let (out, diags) = write(
+            items(),
+            Options {
+                round: true,
+                ..Options::default()
+            },
+        );
+        assert!(out.unwrap().contains("N2 X2662 ~ *"));
+        assert_eq!(diags[0].severity, Severity::Warning);
+        assert!(
+            diags[0].message.contains("largest deviation is 0.002 mm"),
+            "{}",
+            diags[0].message
+        );
+        // A lead off the lead unit is refused even with --round.
+        let src = SourceFile::new("t", "");
+        let mut profile = Profile::default();
+        profile.nc31.lead_unit = Length(10);
+        let program = Program {
+            items: vec![
+                turning(),
+                at(mm(20), mm(5)),
+                ItemKind::ThreadPass(pass(mm(-9))),
+            ]
+            .into_iter()
+            .map(|mut k| {
+                if let ItemKind::ThreadPass(p) = &mut k {
+                    p.lead = Length(15_005);
+                }
+                Item::new(k, Span::default())
+            })
+            .collect(),
+        };
+        let (out, diags) = emit(
+            &program,
+            &src,
+            Dialect::Iso,
+            &profile,
+            Options {
+                round: true,
+                ..Options::default()
+            },
+        );
+        assert!(out.is_none());
+        assert_eq!(codes_of(&diags), ["NCT001"]);
+    }
+
+    #[test]
+    fn comments_are_dropped_with_one_warning_or_written() {
+        let items = || {
+            vec![
+                ItemKind::Comment("ONE".into()),
+                at(mm(20), mm(5)),
+                ItemKind::Comment("TWO".into()),
+            ]
+        };
+        let (out, diags) = write(items(), Options::default());
+        assert_eq!(out.unwrap(), "N0 X2000 ~ *\nN1 Z500 ~\n");
+        assert_eq!(codes_of(&diags), ["NCT007"]);
+        assert!(diags[0].message.starts_with("2 comment(s)"));
+        let (out, diags) = write(
+            items(),
+            Options {
+                comments: true,
+                ..Options::default()
+            },
+        );
+        assert!(diags.is_empty());
+        assert_eq!(out.unwrap(), "(ONE)\nN0 X2000 ~ *\nN1 Z500 ~\n(TWO)\n");
+    }
+
+    #[test]
+    fn taps_are_g33_groups_with_and_without_point_c() {
+        let tap = |then_x| {
+            ItemKind::TapCycle(TapCycle {
+                end_z: mm(-25),
+                lead: Length(17_500),
+                then_x,
+            })
+        };
+        let (out, _) = write(
+            vec![turning(), at(mm(0), mm(5)), tap(None)],
+            Options::default(),
+        );
+        assert!(
+            out.unwrap()
+                .ends_with("N4 G33 *\nN5 X0 *\nN6 Z-2500 *\nN7 F17500\n")
+        );
+        let (out, _) = write(
+            vec![turning(), at(mm(0), mm(5)), tap(Some(mm(20)))],
+            Options::default(),
+        );
+        assert!(
+            out.unwrap()
+                .ends_with("N4 G33 @ *\nN5 X2000 *\nN6 Z-2500 *\nN7 F17500\n")
+        );
+    }
+
+    #[test]
+    fn what_the_control_cannot_do_is_refused() {
+        let (_, diags) = write(
+            vec![at(mm(20), mm(5)), ItemKind::ThreadPass(pass(mm(-9)))],
+            Options::default(),
+        );
+        assert_eq!(codes_of(&diags), ["NCT006"]);
+        let (_, diags) = write(
+            vec![
+                ItemKind::FeedMode(FeedMode::PerMin),
+                ItemKind::Feed {
+                    to: Pos::new(mm(20), mm(5)),
+                    feed: mm(100),
+                },
+            ],
+            Options::default(),
+        );
+        assert_eq!(codes_of(&diags), ["NCT002"]);
+        let (out, diags) = write(vec![ItemKind::GearRange(42)], Options::default());
+        assert_eq!(out.unwrap(), "");
+        assert_eq!(codes_of(&diags), ["NCT004"]);
+    }
+}
