@@ -8,6 +8,7 @@ pub mod diag;
 pub mod dialect;
 pub mod fixed;
 pub mod ir;
+pub mod legalise;
 pub mod lower;
 pub mod profile;
 pub mod sim;
@@ -68,6 +69,10 @@ pub fn emit(
     options: &ConvertOptions,
 ) -> (Option<String>, Vec<Diagnostic>) {
     let (from, profile) = (options.from, &options.profile);
+    let shared = legalise::check(program, src);
+    if diag::has_errors(&shared) {
+        return (None, shared);
+    }
     match options.to {
         Dialect::Iso => dialect::iso::emit(program, src, from, profile),
         Dialect::Czech => {

@@ -183,10 +183,6 @@ pub const CZT_COMMENT: Code = warning(
     "a source word with no czech equivalent is kept only as a comment",
 );
 pub const CZT_ROUNDED: Code = warning("CZT005", "values rounded to 0.001 mm (--round)");
-pub const CZT_SPINDLE_OFF: Code = error(
-    "CZT006",
-    "thread pass while the spindle is not turning (czech target)",
-);
 
 // iso target
 pub const ISO_OPAQUE: Code = warning("ISO001", "undocumented source word kept only as a comment");
@@ -198,7 +194,6 @@ pub const ISO_START_ANGLE: Code = error(
     "ISO003",
     "thread pass whose start angle, entry or runout needs an unknown start point",
 );
-pub const ISO_SPINDLE_OFF: Code = error("ISO004", "thread pass while the spindle is not turning");
 pub const ISO_BAD_MAPPING: Code = error("ISO005", "profile M code mapping is not an M word");
 
 // nc31 target
@@ -219,16 +214,13 @@ pub const NCT_DROPPED: Code = warning(
     "a source word with no НЦ-31 equivalent is left out (or kept as a comment)",
 );
 pub const NCT_ROUNDED: Code = warning("NCT005", "values rounded to the НЦ-31's units (--round)");
-pub const NCT_SPINDLE_OFF: Code = error(
-    "NCT006",
-    "thread pass while the spindle is not turning (nc31 target)",
-);
 pub const NCT_COMMENTS: Code = warning(
     "NCT007",
     "comments left out: the НЦ-31 has none (--nc31-comments keeps them)",
 );
 
-// lowering (shared by every target)
+// shared by every target (legalise, lower)
+pub const SPINDLE_OFF: Code = error("LG001", "thread cut while the spindle is not turning");
 pub const CYCLE_INVALID: Code = error(
     "LW001",
     "a thread cycle cannot be expanded into passes (depths, lead, travel)",
@@ -297,19 +289,17 @@ pub const ALL: &[Code] = &[
     CZT_ANGLE,
     CZT_COMMENT,
     CZT_ROUNDED,
-    CZT_SPINDLE_OFF,
     ISO_OPAQUE,
     ISO_MCODE,
     ISO_START_ANGLE,
-    ISO_SPINDLE_OFF,
     ISO_BAD_MAPPING,
     NCT_PRECISION,
     NCT_NO_EQUIVALENT,
     NCT_PASS,
     NCT_DROPPED,
     NCT_ROUNDED,
-    NCT_SPINDLE_OFF,
     NCT_COMMENTS,
+    SPINDLE_OFF,
     CYCLE_INVALID,
     SIM_UNKNOWN,
 ];

@@ -73,8 +73,6 @@ struct Emitter<'a> {
     pending_empty: bool,
     /// The last block number written.
     last_number: Option<u32>,
-    /// The spindle turns.
-    turning: bool,
     /// Values that need a 4th decimal.
     inexact: Inexact,
     /// `--round`: round them (a warning) instead of refusing.
@@ -126,7 +124,6 @@ pub fn emit(
         all_axes: false,
         pending_empty: false,
         last_number: None,
-        turning: false,
         inexact: Inexact::default(),
         round,
         sync_end: None,
@@ -187,19 +184,6 @@ impl Emitter<'_> {
         if !self.diags.contains(&d) {
             self.diags.push(d);
         }
-    }
-
-    fn spindle_turning(&mut self, item: &Item) -> bool {
-        if self.turning {
-            return true;
-        }
-        self.diag(
-            codes::CZT_SPINDLE_OFF,
-            item,
-            "thread cut while the spindle is not turning".into(),
-            "start the spindle (M03/M04 with S) before the thread",
-        );
-        false
     }
 
     fn write(&mut self, mut block: Block) {
@@ -337,16 +321,10 @@ impl Emitter<'_> {
                 self.all_axes = false;
             }
             ItemKind::ThreadPass(pass) => {
-                if !self.spindle_turning(item) {
-                    return;
-                }
                 self.ensure_all_axes(item, block);
                 self.thread_pass(item, pass, block, reserved);
             }
             ItemKind::ThreadCycle(cycle) => {
-                if !self.spindle_turning(item) {
-                    return;
-                }
                 self.flush(block);
                 self.thread_cycle(item, cycle, reserved);
             }
@@ -363,7 +341,6 @@ impl Emitter<'_> {
                 "remove the dwell or add it by hand where the control documents one",
             ),
             ItemKind::Spindle { speed, direction } => {
-                self.turning |= direction.is_some();
                 if let Some(s) = speed {
                     block.words.push(format!("S{s}"));
                 }
@@ -374,7 +351,6 @@ impl Emitter<'_> {
                 }
             }
             ItemKind::SpindleStop => {
-                self.turning = false;
                 block.words.push("M05".into());
             }
             ItemKind::Tool { number, offset } => {
@@ -396,12 +372,10 @@ impl Emitter<'_> {
             ItemKind::FeedMode(FeedMode::PerRev) => block.words.push("G95".into()),
             ItemKind::FeedMode(FeedMode::PerMin) => block.words.push("G94".into()),
             ItemKind::ProgramEnd(EndCode::M2) => {
-                self.turning = false;
                 self.ensure_all_axes(item, block);
                 block.words.push("M02".into());
             }
             ItemKind::ProgramEnd(EndCode::M30) => {
-                self.turning = false;
                 self.ensure_all_axes(item, block);
                 block.words.push("M30".into());
             }

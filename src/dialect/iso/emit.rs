@@ -253,9 +253,6 @@ impl Emitter<'_> {
 
     /// A thread cycle as the passes [`lower::expand`] gives, each introduced by a comment.
     fn thread_cycle(&mut self, item: &Item, cycle: &ThreadCycle) {
-        if !self.spindle_turning(item) {
-            return;
-        }
         let expansion = match lower::expand(cycle) {
             Ok(e) => e,
             Err(e) => {
@@ -290,9 +287,6 @@ impl Emitter<'_> {
     /// `G33.1 Z K` (LinuxCNC's rigid tap: in, spindle reversal, out, direction restored),
     /// then `G0 X` to point C.
     fn tap_cycle(&mut self, item: &Item, tap: &TapCycle) {
-        if !self.spindle_turning(item) {
-            return;
-        }
         if self.pos.z.is_none() {
             self.diag(
                 codes::ISO_START_ANGLE,
@@ -312,22 +306,7 @@ impl Emitter<'_> {
         }
     }
 
-    fn spindle_turning(&mut self, item: &Item) -> bool {
-        if self.turning.is_none() {
-            self.diag(
-                codes::ISO_SPINDLE_OFF,
-                item,
-                "thread cut while the spindle is not turning",
-                "start the spindle (M03/M04 with S) before the thread; LinuxCNC refuses G33 and G33.1 otherwise",
-            );
-        }
-        self.turning.is_some()
-    }
-
     fn thread_pass(&mut self, item: &Item, pass: &ThreadPass) {
-        if !self.spindle_turning(item) {
-            return;
-        }
         let mut segments = match lower::pass_segments(self.pos, pass) {
             Ok(s) => s,
             Err(_) => {

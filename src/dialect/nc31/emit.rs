@@ -44,7 +44,6 @@ struct Emitter<'a> {
     /// The feed register: `None` at the start and after every thread group. **[decided]**
     feed: Option<Length>,
     per_minute: bool,
-    turning: bool,
     inexact: Inexact,
     /// Comments dropped: how many, and the first.
     dropped: (usize, Option<Span>),
@@ -78,7 +77,6 @@ pub fn emit(
         pos: Pos::UNKNOWN,
         feed: None,
         per_minute: false,
-        turning: false,
         inexact: Inexact::default(),
         dropped: (0, None),
     };
@@ -276,18 +274,6 @@ impl Emitter<'_> {
         None
     }
 
-    fn spindle_turning(&mut self, span: Span) -> bool {
-        if !self.turning {
-            self.diag(
-                codes::NCT_SPINDLE_OFF,
-                span,
-                "thread cut while the spindle is not turning".into(),
-                "start the spindle (M3/M4 with S) before the thread",
-            );
-        }
-        self.turning
-    }
-
     fn no_equivalent(&mut self, span: Span, message: String, help: &str) {
         self.diag(codes::NCT_NO_EQUIVALENT, span, message, help);
     }
@@ -383,10 +369,8 @@ impl Emitter<'_> {
                     Some(SpindleDirection::CounterClockwise) => group.push("M4".into()),
                     None => {}
                 }
-                self.turning |= direction.is_some();
             }
             ItemKind::SpindleStop => {
-                self.turning = false;
                 group.push("M5".into());
             }
             ItemKind::Tool { number, offset } => {
@@ -419,7 +403,6 @@ impl Emitter<'_> {
             }
             ItemKind::ProgramEnd(EndCode::M2 | EndCode::M30) => {
                 // The guide documents M30 as the end of a program. **[decided]** M2 → M30.
-                self.turning = false;
                 group.push("M30".into());
             }
             ItemKind::Comment(text) => self.comment(item.span, text, group),
@@ -468,9 +451,6 @@ impl Emitter<'_> {
 
     /// `G32 *` F Z. `cycle`: why the cycle this pass belongs to is not a G31.
     fn thread_pass(&mut self, span: Span, pass: &ThreadPass, cycle: Option<&str>) {
-        if !self.spindle_turning(span) {
-            return;
-        }
         let mut cannot = Vec::new();
         if pass.start_angle != Angle::ZERO {
             cannot.push(format!(
@@ -529,9 +509,6 @@ impl Emitter<'_> {
     }
 
     fn thread_cycle(&mut self, item: &Item, cycle: &ThreadCycle) {
-        if !self.spindle_turning(item.span) {
-            return;
-        }
         let expansion = match lower::expand(cycle) {
             Ok(e) => e,
             Err(e) => {
@@ -599,9 +576,6 @@ impl Emitter<'_> {
 
     /// `G33 [@] *` X Z F.
     fn tap(&mut self, span: Span, tap: &TapCycle) {
-        if !self.spindle_turning(span) {
-            return;
-        }
         let Some(lead) = self.lead(span, tap.lead) else {
             return;
         };
@@ -969,11 +943,6 @@ mod tests {
 
     #[test]
     fn what_the_control_cannot_do_is_refused() {
-        let (_, diags) = write(
-            vec![at(mm(20), mm(5)), ItemKind::ThreadPass(pass(mm(-9)))],
-            Options::default(),
-        );
-        assert_eq!(codes_of(&diags), ["NCT006"]);
         let (_, diags) = write(
             vec![
                 ItemKind::FeedMode(FeedMode::PerMin),
