@@ -4,6 +4,7 @@
 //! The stages are public functions: [`parse`] (text → [`ir::Program`]), [`emit`]
 //! (program → text), and [`convert`] (both). Every problem is a [`diag::Diagnostic`].
 
+pub mod batch;
 pub mod diag;
 pub mod dialect;
 pub mod fixed;
@@ -109,6 +110,24 @@ pub fn convert(src: &SourceFile, options: &ConvertOptions) -> Conversion {
         output,
         diagnostics,
     }
+}
+
+/// Every diagnostic of a program without writing it (`ncthread check`): the front end's,
+/// the shared legalisation's, and the simulator's (unknown positions).
+pub fn check(
+    src: &SourceFile,
+    from: Dialect,
+    profile: &Profile,
+    unsupported: Unsupported,
+) -> Vec<Diagnostic> {
+    let (program, mut diagnostics) = parse(src, from, profile, unsupported);
+    if !diag::has_errors(&diagnostics) {
+        diagnostics.extend(legalise::check(&program, src));
+        let simulation = sim::simulate(&program);
+        diagnostics.extend(simulation.problems.iter().map(|p| p.diagnostic(src)));
+    }
+    diag::sort(&mut diagnostics);
+    diagnostics
 }
 
 /// What `verify` found.

@@ -10,6 +10,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use ncthread::diag::{self, Format};
 use ncthread::profile::Profile;
 use ncthread::source::SourceFile;
+use ncthread::text::{Eol, OutputOptions, TextEncoding};
 use ncthread::{ConvertOptions, Dialect, Unsupported};
 
 #[derive(Parser)]
@@ -32,6 +33,115 @@ enum Command {
     /// Prove a conversion (or check a hand conversion with --against): the two programs'
     /// simulated motions must agree within 0.001 mm and 0.01°.
     Verify(VerifyArgs),
+    /// Lint programs: every diagnostic of each file, no output program.
+    Check(CheckArgs),
+    /// Convert a whole tree of programs into a mirrored tree, in parallel.
+    Batch(BatchArgs),
+    /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
+    Completions {
+        #[arg(value_enum)]
+        shell: clap_complete::Shell,
+    },
+    /// Print the manual page (roff) on stdout.
+    Man,
+}
+
+#[derive(clap::Args)]
+struct CheckArgs {
+    /// The programs to check; `-` or nothing reads stdin.
+    files: Vec<PathBuf>,
+    /// The dialect of the programs; `auto` chooses per file from the text.
+    #[arg(long, value_enum, default_value_t = SourceDialect::Auto)]
+    dialect: SourceDialect,
+    #[command(flatten)]
+    common: CommonArgs,
+}
+
+#[derive(clap::Args)]
+struct BatchArgs {
+    /// The folder of programs to convert (walked recursively; never written to).
+    src_dir: PathBuf,
+    /// The folder the converted tree is written to (created when missing).
+    out_dir: PathBuf,
+    /// The source dialect; `auto` chooses per file from the text.
+    #[arg(long, value_enum)]
+    from: SourceDialect,
+    /// The target dialect.
+    #[arg(long, value_enum)]
+    to: TargetDialect,
+    /// Worker threads (default: one per core).
+    #[arg(long, short = 'j')]
+    jobs: Option<usize>,
+    /// Write a JSON report of every file here.
+    #[arg(long)]
+    report: Option<PathBuf>,
+    /// Overwrite outputs that exist.
+    #[arg(long)]
+    force: bool,
+    /// The outputs' extension (default: ngc for iso, ncp for czech, nc31 for nc31).
+    #[arg(long)]
+    ext: Option<String>,
+    /// Only convert files whose path below SRC_DIR matches this glob (e.g. `**/*.nc`).
+    #[arg(long)]
+    glob: Option<String>,
+    #[command(flatten)]
+    target: TargetArgs,
+    #[command(flatten)]
+    output: OutputArgs,
+    #[command(flatten)]
+    common: CommonArgs,
+}
+
+/// How output programs become bytes.
+#[derive(clap::Args)]
+struct OutputArgs {
+    /// The output's encoding (an encoding_rs/WHATWG label, or IBM852); default UTF-8.
+    #[arg(long, value_parser = parse_output_encoding)]
+    output_encoding: Option<TextEncoding>,
+    /// Write a character the output encoding lacks as its ASCII transliteration (Č → C)
+    /// instead of refusing.
+    #[arg(long)]
+    transliterate: bool,
+    /// Line endings: `keep` the input's, or `lf`, `crlf`.
+    #[arg(long, value_enum, default_value_t = EolArg::Keep)]
+    eol: EolArg,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum EolArg {
+    Keep,
+    Lf,
+    Crlf,
+}
+
+impl OutputArgs {
+    fn options(&self) -> OutputOptions {
+        OutputOptions {
+            encoding: self.output_encoding.unwrap_or(TextEncoding::UTF_8),
+            transliterate: self.transliterate,
+            eol: match self.eol {
+                EolArg::Keep => Eol::Keep,
+                EolArg::Lf => Eol::Lf,
+                EolArg::Crlf => Eol::CrLf,
+            },
+        }
+    }
+}
+
+fn parse_encoding(label: &str) -> Result<TextEncoding, String> {
+    TextEncoding::for_label(label).ok_or_else(|| {
+        format!("`{label}` is not an encoding label (e.g. utf-8, windows-1250, ibm866, ibm852)")
+    })
+}
+
+fn parse_output_encoding(label: &str) -> Result<TextEncoding, String> {
+    let e = parse_encoding(label)?;
+    if !e.can_encode() {
+        return Err(format!(
+            "ncthread cannot write {e}; choose utf-8 or a single-byte encoding"
+        ));
+    }
+    Ok(e)
 }
 
 #[derive(clap::Args)]
@@ -81,6 +191,10 @@ struct CommonArgs {
     /// Undocumented constructs: refuse the program, or warn and keep them as opaque items.
     #[arg(long, value_enum, default_value_t = UnsupportedArg::Error)]
     unsupported: UnsupportedArg,
+    /// The input's encoding (an encoding_rs/WHATWG label, or IBM852); default: UTF-8 when the
+    /// bytes are valid UTF-8, else the dialect's legacy one (czech windows-1250, nc31 IBM866).
+    #[arg(long, value_parser = parse_encoding)]
+    encoding: Option<TextEncoding>,
 }
 
 /// Options of the subcommands that write a program.
@@ -147,6 +261,8 @@ struct ConvertArgs {
     #[command(flatten)]
     target: TargetArgs,
     #[command(flatten)]
+    output_format: OutputArgs,
+    #[command(flatten)]
     common: CommonArgs,
 }
 
@@ -211,6 +327,23 @@ fn main() -> ExitCode {
         Command::Convert(args) => convert(args),
         Command::Simulate(args) => simulate(args),
         Command::Verify(args) => verify(args),
+        Command::Check(args) => check(args),
+        Command::Batch(args) => batch(args),
+        Command::Completions { shell } => {
+            let mut cmd = <Cli as clap::CommandFactory>::command();
+            let mut out = Vec::new();
+            clap_complete::generate(shell, &mut cmd, "ncthread", &mut out);
+            write_output(&None, &out).map(|()| ExitCode::SUCCESS)
+        }
+        Command::Man => {
+            let cmd = <Cli as clap::CommandFactory>::command();
+            let mut out = Vec::new();
+            clap_mangen::Man::new(cmd)
+                .render(&mut out)
+                .map_err(|e| Fatal(format!("cannot render the manual page: {e}")))
+                .and_then(|()| write_output(&None, &out))
+                .map(|()| ExitCode::SUCCESS)
+        }
     };
     match result {
         Ok(code) => code,
@@ -267,30 +400,44 @@ fn load_profile(path: &Option<PathBuf>, format: DiagnosticsFormat) -> Result<Pro
 fn read_source(
     input: &Option<PathBuf>,
     from: SourceDialect,
+    encoding: Option<TextEncoding>,
 ) -> Result<(SourceFile, Dialect), Fatal> {
     let (name, bytes) = read_input(input)?;
-    let (text, from) = match from {
-        SourceDialect::Czech => (
-            ncthread::text::decode(&bytes, Dialect::Czech).0,
-            Dialect::Czech,
-        ),
-        SourceDialect::Nc31 => (
-            ncthread::text::decode(&bytes, Dialect::Nc31).0,
-            Dialect::Nc31,
-        ),
-        SourceDialect::Iso => (ncthread::text::decode(&bytes, Dialect::Iso).0, Dialect::Iso),
-        SourceDialect::Auto => {
-            let (text, _, detection) = ncthread::text::decode_detect(&bytes);
+    let (src, from, _) = decode_source(name, &bytes, from, encoding);
+    Ok((src, from))
+}
+
+/// Decodes a program in the given dialect, or chooses the dialect (`auto`, saying so on
+/// stderr when unsure). Also returns the encoding used.
+fn decode_source(
+    name: String,
+    bytes: &[u8],
+    from: SourceDialect,
+    encoding: Option<TextEncoding>,
+) -> (SourceFile, Dialect, TextEncoding) {
+    let known = match from {
+        SourceDialect::Czech => Some(Dialect::Czech),
+        SourceDialect::Nc31 => Some(Dialect::Nc31),
+        SourceDialect::Iso => Some(Dialect::Iso),
+        SourceDialect::Auto => None,
+    };
+    let (text, encoding, from) = match known {
+        Some(d) => {
+            let (text, e) = ncthread::text::decode_as(bytes, encoding, d);
+            (text, e, d)
+        }
+        None => {
+            let (text, e, detection) = ncthread::text::decode_detect_as(bytes, encoding);
             if !detection.certain {
                 eprintln!(
                     "ncthread: --from auto: reading {name} as {} ({}); give --from to be sure",
                     detection.dialect, detection.reason
                 );
             }
-            (text, detection.dialect)
+            (text, e, detection.dialect)
         }
     };
-    Ok((SourceFile::new(name, text), from))
+    (SourceFile::new(name, text), from, encoding)
 }
 
 fn unsupported(arg: UnsupportedArg) -> Unsupported {
@@ -302,22 +449,43 @@ fn unsupported(arg: UnsupportedArg) -> Unsupported {
 
 fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
     let profile = args.common.profile()?;
-    let (src, from) = read_source(&args.input, args.from)?;
+    let (src, from) = read_source(&args.input, args.from, args.common.encoding)?;
     let options = args
         .common
         .options(from, args.to.into(), profile, &args.target);
-    let conversion = ncthread::convert(&src, &options);
+    let mut conversion = ncthread::convert(&src, &options);
+    let bytes = conversion.output.as_ref().map(|output| {
+        let name = args
+            .output
+            .as_ref()
+            .filter(|_| !is_stdio(&args.output))
+            .map_or("<stdout>".to_string(), |p| p.display().to_string());
+        ncthread::text::encode_output(
+            output,
+            &name,
+            &args.output_format.options(),
+            ncthread::text::uses_crlf(&src.text),
+        )
+    });
+    let bytes = match bytes {
+        Some(Ok(b)) => Some(b),
+        Some(Err(d)) => {
+            conversion.diagnostics.push(*d);
+            None
+        }
+        None => None,
+    };
     print_diagnostics(&conversion.diagnostics, args.common.diagnostics);
-    let Some(output) = conversion.output else {
+    let Some(bytes) = bytes else {
         return Ok(ExitCode::from(1));
     };
-    write_output(&args.output, output.as_bytes())?;
+    write_output(&args.output, &bytes)?;
     Ok(ExitCode::SUCCESS)
 }
 
 fn simulate(args: SimulateArgs) -> Result<ExitCode, Fatal> {
     let profile = args.common.profile()?;
-    let (src, from) = read_source(&args.input, args.from)?;
+    let (src, from) = read_source(&args.input, args.from, args.common.encoding)?;
     let (program, mut diags) =
         ncthread::parse(&src, from, &profile, unsupported(args.common.unsupported));
     if diag::has_errors(&diags) {
@@ -343,13 +511,13 @@ fn simulate(args: SimulateArgs) -> Result<ExitCode, Fatal> {
 
 fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
     let profile = args.common.profile()?;
-    let (src, from) = read_source(&args.input, args.from)?;
+    let (src, from) = read_source(&args.input, args.from, args.common.encoding)?;
     let to: Dialect = args.to.into();
     let against = match &args.against {
         Some(path) => {
             let bytes = std::fs::read(path)
                 .map_err(|e| Fatal(format!("cannot read {}: {e}", path.display())))?;
-            let text = ncthread::text::decode(&bytes, to).0;
+            let text = ncthread::text::decode_as(&bytes, args.common.encoding, to).0;
             Some(SourceFile::new(path.display().to_string(), text))
         }
         None => None,
@@ -407,4 +575,144 @@ fn write_output(path: &Option<PathBuf>, bytes: &[u8]) -> Result<(), Fatal> {
     }
     let path = path.as_ref().expect("not stdio");
     std::fs::write(path, bytes).map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))
+}
+
+fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
+    let profile = args.common.profile()?;
+    let files: Vec<Option<PathBuf>> = if args.files.is_empty() {
+        vec![None]
+    } else {
+        args.files.iter().cloned().map(Some).collect()
+    };
+    let (mut errors, mut warnings, mut failed_files) = (0, 0, 0);
+    let mut out = String::new();
+    for file in &files {
+        let (name, bytes) = read_input(file)?;
+        let (src, from, _) = decode_source(name, &bytes, args.dialect, args.common.encoding);
+        let diags = ncthread::check(&src, from, &profile, unsupported(args.common.unsupported));
+        let e = diags.iter().filter(|d| d.is_error()).count();
+        errors += e;
+        warnings += diags.len() - e;
+        failed_files += usize::from(e > 0);
+        let format = match args.common.diagnostics {
+            DiagnosticsFormat::Human => Format::Human,
+            DiagnosticsFormat::Json => Format::Json,
+        };
+        let color = format == Format::Human
+            && io::stdout().is_terminal()
+            && std::env::var_os("NO_COLOR").is_none();
+        out.push_str(&diag::render_all(&diags, format, color));
+    }
+    write_output(&None, out.as_bytes())?;
+    if args.common.diagnostics == DiagnosticsFormat::Human {
+        eprintln!(
+            "ncthread: checked {} file(s): {errors} error(s) in {failed_files} file(s), {warnings} warning(s)",
+            files.len()
+        );
+    }
+    Ok(if errors > 0 {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
+    let profile = args.common.profile()?;
+    let to: Dialect = args.to.into();
+    let from = match args.from {
+        SourceDialect::Czech => Some(Dialect::Czech),
+        SourceDialect::Nc31 => Some(Dialect::Nc31),
+        SourceDialect::Iso => Some(Dialect::Iso),
+        SourceDialect::Auto => None,
+    };
+    let glob = match &args.glob {
+        Some(pattern) => Some(
+            globset::Glob::new(pattern)
+                .map_err(|e| Fatal(format!("--glob {pattern}: {e}")))?
+                .compile_matcher(),
+        ),
+        None => None,
+    };
+    let extension = args
+        .ext
+        .clone()
+        .unwrap_or_else(|| ncthread::batch::default_extension(to).to_string());
+    let extension = extension.trim_start_matches('.').to_string();
+    let options = ncthread::batch::BatchOptions {
+        src_dir: args.src_dir.clone(),
+        out_dir: args.out_dir.clone(),
+        from,
+        conversion: args
+            .common
+            .options(from.unwrap_or(Dialect::Czech), to, profile, &args.target),
+        jobs: args.jobs.unwrap_or(0),
+        force: args.force,
+        extension,
+        glob,
+        input_encoding: args.common.encoding,
+        output: args.output.options(),
+    };
+    let total = ncthread::batch::inputs(&options.src_dir, options.glob.as_ref())
+        .map(|f| f.len())
+        .unwrap_or(0);
+    let bar = if io::stderr().is_terminal() {
+        let bar = indicatif::ProgressBar::new(total as u64);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {wide_msg}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let format = args.common.diagnostics;
+    let progress = |f: &ncthread::batch::FileReport| {
+        if f.status != ncthread::batch::Status::Converted {
+            let text = file_problem(f, format);
+            bar.suspend(|| {
+                let _ = io::stderr().write_all(text.as_bytes());
+            });
+        }
+        bar.inc(1);
+    };
+    let report = ncthread::batch::run(&options, &progress).map_err(Fatal)?;
+    bar.finish_and_clear();
+    if let Some(path) = &args.report {
+        let json = serde_json::to_string_pretty(&report.to_json(&options))
+            .map_err(|e| Fatal(format!("cannot write the report: {e}")))?;
+        std::fs::write(path, json + "\n")
+            .map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))?;
+    }
+    eprintln!("ncthread: {}", report.summary());
+    Ok(if report.all_converted() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
+}
+
+/// What went wrong with one batch file: its errors (human: `path:line:col: error[CODE]
+/// message`; JSON: one object per line), or the reason it failed or was skipped.
+fn file_problem(f: &ncthread::batch::FileReport, format: DiagnosticsFormat) -> String {
+    let mut text = String::new();
+    let path = f.input.display();
+    if let Some(reason) = &f.reason {
+        text.push_str(&format!("{path}: {}: {reason}\n", f.status.name()));
+    }
+    for d in f.diagnostics.iter().filter(|d| d.is_error()) {
+        match format {
+            DiagnosticsFormat::Json => {
+                text.push_str(&d.to_json());
+                text.push('\n');
+            }
+            DiagnosticsFormat::Human => {
+                let at = d.location.as_ref().map_or(format!("{path}"), |l| {
+                    format!("{}:{}:{}", l.file, l.line, l.column)
+                });
+                text.push_str(&format!("{at}: error[{}]: {}\n", d.code.id, d.message));
+            }
+        }
+    }
+    text
 }

@@ -1,41 +1,148 @@
-//! Bytes ↔ text: input decoding with each dialect's legacy default.
+//! Bytes ↔ text: input decoding with each dialect's legacy default, output encoding with
+//! line endings and (optionally) ASCII transliteration.
+//!
+//! Encodings are encoding_rs's (every WHATWG label) plus IBM852 (DOS Latin 2, common on
+//! Czech shop-floor PCs), which encoding_rs lacks: its tables come from `oem_cp`, generated
+//! from Microsoft's code page definitions.
 
 use encoding_rs::Encoding;
 
+use crate::diag::{Diagnostic, codes};
 use crate::dialect::Dialect;
 use crate::dialect::detect::{Detection, detect};
+use crate::source::SourceFile;
 
-/// The legacy encoding of a dialect's files when they are not UTF-8.
-pub fn legacy_encoding(dialect: Dialect) -> &'static Encoding {
-    match dialect {
-        Dialect::Czech => encoding_rs::WINDOWS_1250,
-        Dialect::Nc31 => encoding_rs::IBM866,
-        Dialect::Iso => encoding_rs::WINDOWS_1252,
-    }
+/// A text encoding.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TextEncoding {
+    /// One of encoding_rs's.
+    Standard(&'static Encoding),
+    /// IBM852 / CP852.
+    Ibm852,
 }
 
-/// Decodes a program: UTF-8 (a BOM is removed) when the bytes are valid UTF-8, else the
-/// dialect's legacy encoding. Returns the text and the encoding used.
-pub fn decode(bytes: &[u8], dialect: Dialect) -> (String, &'static Encoding) {
-    let body = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-    match std::str::from_utf8(body) {
-        Ok(text) => (text.to_string(), encoding_rs::UTF_8),
-        Err(_) => {
-            let encoding = legacy_encoding(dialect);
-            let (text, _) = encoding.decode_without_bom_handling(body);
-            (text.into_owned(), encoding)
+impl TextEncoding {
+    pub const UTF_8: TextEncoding = TextEncoding::Standard(encoding_rs::UTF_8);
+
+    /// The encoding a label names: a WHATWG label (`windows-1250`, `cp1250`, `ibm866`,
+    /// `utf-8`…) or `ibm852`/`cp852`/`852`. Labels are case-insensitive.
+    pub fn for_label(label: &str) -> Option<TextEncoding> {
+        let l = label.trim().to_ascii_lowercase();
+        if matches!(
+            l.as_str(),
+            "ibm852" | "cp852" | "852" | "ibm-852" | "cp-852" | "cspcp852" | "x-cp852"
+        ) {
+            return Some(TextEncoding::Ibm852);
+        }
+        Encoding::for_label(l.as_bytes()).map(TextEncoding::Standard)
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            TextEncoding::Standard(e) => e.name(),
+            TextEncoding::Ibm852 => "IBM852",
+        }
+    }
+
+    /// Whether text can be written in it (encoding_rs writes UTF-16 and `replacement` as
+    /// UTF-8, which would not be what was asked for).
+    pub fn can_encode(self) -> bool {
+        match self {
+            TextEncoding::Standard(e) => e.output_encoding() == e,
+            TextEncoding::Ibm852 => true,
+        }
+    }
+
+    /// Decodes `bytes` (a UTF-8 BOM is removed; malformed bytes become U+FFFD).
+    pub fn decode(self, bytes: &[u8]) -> String {
+        match self {
+            TextEncoding::Standard(e) if e == encoding_rs::UTF_8 => {
+                let body = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+                String::from_utf8_lossy(body).into_owned()
+            }
+            TextEncoding::Standard(e) => e.decode_with_bom_removal(bytes).0.into_owned(),
+            TextEncoding::Ibm852 => oem_cp::decode_string_complete_table(
+                bytes,
+                &oem_cp::code_table::DECODING_TABLE_CP852,
+            ),
+        }
+    }
+
+    /// The bytes of one character, or `None` when the encoding has no such character.
+    fn encode_char(self, c: char) -> Option<Vec<u8>> {
+        if c.is_ascii() {
+            return Some(vec![c as u8]);
+        }
+        match self {
+            TextEncoding::Standard(e) => {
+                let mut buf = [0u8; 4];
+                let (bytes, _, had_errors) = e.encode(c.encode_utf8(&mut buf));
+                (!had_errors).then(|| bytes.into_owned())
+            }
+            TextEncoding::Ibm852 => {
+                oem_cp::encode_char_checked(c, &oem_cp::code_table::ENCODING_TABLE_CP852)
+                    .map(|b| vec![b])
+            }
         }
     }
 }
 
+impl std::fmt::Display for TextEncoding {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The legacy encoding of a dialect's files when they are not UTF-8.
+pub fn legacy_encoding(dialect: Dialect) -> TextEncoding {
+    TextEncoding::Standard(match dialect {
+        Dialect::Czech => encoding_rs::WINDOWS_1250,
+        Dialect::Nc31 => encoding_rs::IBM866,
+        Dialect::Iso => encoding_rs::WINDOWS_1252,
+    })
+}
+
+/// Decodes a program: UTF-8 (a BOM is removed) when the bytes are valid UTF-8, else the
+/// dialect's legacy encoding. Returns the text and the encoding used.
+pub fn decode(bytes: &[u8], dialect: Dialect) -> (String, TextEncoding) {
+    let body = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    match std::str::from_utf8(body) {
+        Ok(text) => (text.to_string(), TextEncoding::UTF_8),
+        Err(_) => {
+            let encoding = legacy_encoding(dialect);
+            (encoding.decode(body), encoding)
+        }
+    }
+}
+
+/// [`decode`], or with `encoding` when one is given.
+pub fn decode_as(
+    bytes: &[u8],
+    encoding: Option<TextEncoding>,
+    dialect: Dialect,
+) -> (String, TextEncoding) {
+    match encoding {
+        Some(e) => (e.decode(bytes), e),
+        None => decode(bytes, dialect),
+    }
+}
+
 /// Decodes a program whose dialect is not given, and chooses the dialect: the text is read
-/// as UTF-8 when valid; otherwise the dialect is chosen from the ASCII part and the bytes are
-/// decoded with that dialect's legacy encoding.
-pub fn decode_detect(bytes: &[u8]) -> (String, &'static Encoding, Detection) {
+/// as UTF-8 when valid (or in `encoding` when given); otherwise the dialect is chosen from the
+/// ASCII part and the bytes are decoded with that dialect's legacy encoding.
+pub fn decode_detect_as(
+    bytes: &[u8],
+    encoding: Option<TextEncoding>,
+) -> (String, TextEncoding, Detection) {
+    if let Some(e) = encoding {
+        let text = e.decode(bytes);
+        let detection = detect(&text);
+        return (text, e, detection);
+    }
     let body = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     if let Ok(text) = std::str::from_utf8(body) {
         let detection = detect(text);
-        return (text.to_string(), encoding_rs::UTF_8, detection);
+        return (text.to_string(), TextEncoding::UTF_8, detection);
     }
     let ascii: String = body
         .iter()
@@ -44,6 +151,101 @@ pub fn decode_detect(bytes: &[u8]) -> (String, &'static Encoding, Detection) {
     let detection = detect(&ascii);
     let (text, encoding) = decode(bytes, detection.dialect);
     (text, encoding, detection)
+}
+
+/// [`decode_detect_as`] without an encoding.
+pub fn decode_detect(bytes: &[u8]) -> (String, TextEncoding, Detection) {
+    decode_detect_as(bytes, None)
+}
+
+/// Line endings of an output.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Eol {
+    /// The input's: CRLF when its first line ends with CRLF, else LF.
+    #[default]
+    Keep,
+    Lf,
+    CrLf,
+}
+
+/// How an output program becomes bytes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct OutputOptions {
+    pub encoding: TextEncoding,
+    /// Write a character the encoding lacks as its ASCII transliteration instead of refusing.
+    pub transliterate: bool,
+    pub eol: Eol,
+}
+
+impl Default for OutputOptions {
+    fn default() -> Self {
+        OutputOptions {
+            encoding: TextEncoding::UTF_8,
+            transliterate: false,
+            eol: Eol::Keep,
+        }
+    }
+}
+
+/// Whether a text's lines end with CRLF (judged by its first line end).
+pub fn uses_crlf(text: &str) -> bool {
+    text.find('\n')
+        .is_some_and(|i| i > 0 && text.as_bytes()[i - 1] == b'\r')
+}
+
+/// Encodes an output program (lines ending in LF) with the line endings and encoding asked
+/// for. `input_crlf`: the input's line endings (for [`Eol::Keep`]). A character the encoding
+/// lacks is an error located in the output (`output_name`), unless transliterated.
+pub fn encode_output(
+    text: &str,
+    output_name: &str,
+    options: &OutputOptions,
+    input_crlf: bool,
+) -> Result<Vec<u8>, Box<Diagnostic>> {
+    let crlf = match options.eol {
+        Eol::Keep => input_crlf,
+        Eol::Lf => false,
+        Eol::CrLf => true,
+    };
+    let mut out = Vec::with_capacity(text.len() + text.len() / 16);
+    for (index, line) in text.split_inclusive('\n').enumerate() {
+        let body = line.strip_suffix('\n').unwrap_or(line);
+        let body = body.strip_suffix('\r').unwrap_or(body);
+        for (at, c) in body.char_indices() {
+            if let Some(bytes) = options.encoding.encode_char(c) {
+                out.extend_from_slice(&bytes);
+                continue;
+            }
+            let ascii = deunicode::deunicode_char(c).filter(|t| !t.is_empty() && t.is_ascii());
+            match ascii {
+                Some(t) if options.transliterate => out.extend_from_slice(t.as_bytes()),
+                None if options.transliterate => out.push(b'?'),
+                _ => {
+                    let src = SourceFile::new(output_name, text);
+                    let line_number = index as u32 + 1;
+                    let line = src.line(line_number);
+                    let span = src.span_in_line(line, at..at + c.len_utf8());
+                    return Err(Box::new(Diagnostic::new(
+                        codes::ENCODING,
+                        format!(
+                            "`{c}` (U+{:04X}) in output line {line_number} cannot be written in {}",
+                            c as u32,
+                            options.encoding
+                        ),
+                    )
+                    .at(&src, span)
+                    .help(format!(
+                        "pass --transliterate to write it as `{}`, or choose an --output-encoding that has it (e.g. utf-8)",
+                        ascii.unwrap_or("?")
+                    ))));
+                }
+            }
+        }
+        if line.ends_with('\n') {
+            out.extend_from_slice(if crlf { b"\r\n" } else { b"\n" });
+        }
+    }
+    Ok(out)
 }
 
 #[cfg(test)]
@@ -59,7 +261,7 @@ mod tests {
         assert_eq!(decode(b"\xEF\xBB\xBFN10", Dialect::Czech).0, "N10");
         let (text, enc) = decode(b"\"ROZTO\xC8EN\xCD", Dialect::Czech);
         assert_eq!(text, "\"ROZTOČENÍ");
-        assert_eq!(enc, encoding_rs::WINDOWS_1250);
+        assert_eq!(enc, TextEncoding::Standard(encoding_rs::WINDOWS_1250));
     }
 
     #[test]
@@ -68,7 +270,65 @@ mod tests {
         let (text, enc, d) =
             decode_detect(b"(\x90\xa5\xa7\xec\xa1\xa0\nN4 X10000 ~ *\nN5 Z5000 ~\n");
         assert_eq!(d.dialect, Dialect::Nc31);
-        assert_eq!(enc, encoding_rs::IBM866);
+        assert_eq!(enc, TextEncoding::Standard(encoding_rs::IBM866));
         assert!(text.starts_with("(Резьба"), "{text}");
+    }
+
+    #[test]
+    fn labels_include_ibm852() {
+        for label in ["IBM852", "cp852", " 852 "] {
+            assert_eq!(TextEncoding::for_label(label), Some(TextEncoding::Ibm852));
+        }
+        assert_eq!(
+            TextEncoding::for_label("CP1250").map(TextEncoding::name),
+            Some("windows-1250")
+        );
+        assert_eq!(TextEncoding::for_label("klingon"), None);
+        // DOS Latin 2: Č = 0xAC, Í = 0xD6 (Microsoft's cp852 table).
+        assert_eq!(TextEncoding::Ibm852.decode(b"ROZTO\xACEN\xD6"), "ROZTOČENÍ");
+        assert!(!TextEncoding::for_label("utf-16le").unwrap().can_encode());
+    }
+
+    #[test]
+    fn output_takes_the_encoding_line_endings_and_transliteration() {
+        let utf8 = OutputOptions::default();
+        assert_eq!(
+            encode_output("A\nB\n", "o", &utf8, true).unwrap(),
+            b"A\r\nB\r\n"
+        );
+        assert_eq!(encode_output("A\nB", "o", &utf8, false).unwrap(), b"A\nB");
+        let cp852 = OutputOptions {
+            encoding: TextEncoding::Ibm852,
+            eol: Eol::CrLf,
+            ..utf8
+        };
+        assert_eq!(
+            encode_output("\"ROZTOČENÍ\n", "o", &cp852, false).unwrap(),
+            b"\"ROZTO\xACEN\xD6\r\n"
+        );
+        let ascii = OutputOptions {
+            encoding: TextEncoding::for_label("us-ascii").unwrap(),
+            ..utf8
+        };
+        // windows-1252 (WHATWG's "us-ascii") has no Č: refused with its output line.
+        let d = encode_output("N10\nN20 \"ROZTOČENÍ\n", "out", &ascii, false).unwrap_err();
+        assert!(
+            d.message.starts_with("`Č` (U+010C) in output line 2"),
+            "{}",
+            d.message
+        );
+        assert_eq!(
+            d.location.as_ref().map(|l| (l.line, l.column)),
+            Some((2, 11))
+        );
+        let t = OutputOptions {
+            transliterate: true,
+            ..ascii
+        };
+        // Č becomes C; windows-1252 has Í.
+        assert_eq!(
+            encode_output("\"ROZTOČENÍ\n", "o", &t, false).unwrap(),
+            b"\"ROZTOCEN\xCD\n"
+        );
     }
 }

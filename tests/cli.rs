@@ -487,7 +487,9 @@ fn writes_nc31_exactly_or_refuses_with_the_reason() {
     // nc31 → nc31 keeps G31 as a cycle, and the `(` comments of a PC-side file.
     let out = to_nc31(&["corpus/nc31/pc-archive-cp866-crlf.nc", "--from", "nc31"]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
-    let nc31 = text(&out.stdout);
+    // The file's CRLF line endings are kept.
+    assert!(text(&out.stdout).ends_with("M30\r\n%\r\n"));
+    let nc31 = text(&out.stdout).replace("\r\n", "\n");
     assert!(
         nc31.contains("G31 *\nN9 X3600 *\nN10 Z-4750 *\nN11 F15000 *\nN12 P96 *\nN13 P20\n"),
         "{nc31}"

@@ -219,6 +219,12 @@ pub const NCT_COMMENTS: Code = warning(
     "comments left out: the НЦ-31 has none (--nc31-comments keeps them)",
 );
 
+// output encoding
+pub const ENCODING: Code = error(
+    "ENC001",
+    "a character of the output that the output encoding cannot represent",
+);
+
 // shared by every target (legalise, lower)
 pub const SPINDLE_OFF: Code = error("LG001", "thread cut while the spindle is not turning");
 pub const CYCLE_INVALID: Code = error(
@@ -299,6 +305,7 @@ pub const ALL: &[Code] = &[
     NCT_DROPPED,
     NCT_ROUNDED,
     NCT_COMMENTS,
+    ENCODING,
     SPINDLE_OFF,
     CYCLE_INVALID,
     SIM_UNKNOWN,

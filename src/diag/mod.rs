@@ -128,6 +128,11 @@ impl Diagnostic {
 
     /// One JSON object (no trailing newline).
     pub fn to_json(&self) -> String {
+        self.to_json_value().to_string()
+    }
+
+    /// The JSON object of [`Diagnostic::to_json`] as a value (for reports that hold many).
+    pub fn to_json_value(&self) -> serde_json::Value {
         #[derive(Serialize)]
         struct Json<'a> {
             code: &'a str,
@@ -156,7 +161,7 @@ impl Diagnostic {
             label: self.label.as_deref(),
             help: self.help.as_deref(),
         };
-        serde_json::to_string(&json).unwrap_or_default()
+        serde_json::to_value(&json).unwrap_or_default()
     }
 }
 

@@ -1,0 +1,453 @@
+//! `ncthread batch`, `check`, encodings and the pipe (issue 6's acceptance).
+use std::collections::BTreeMap;
+use std::io::{BufRead, BufReader, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+fn ncthread(args: &[&str], stdin: Option<&[u8]>) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ncthread"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("ncthread runs");
+    let mut pipe = child.stdin.take().unwrap();
+    pipe.write_all(stdin.unwrap_or_default()).unwrap();
+    drop(pipe);
+    child.wait_with_output().unwrap()
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// Every file below `dir`: path → (bytes, modification time).
+fn snapshot(dir: &Path) -> BTreeMap<PathBuf, (Vec<u8>, std::time::SystemTime)> {
+    fn walk(dir: &Path, out: &mut BTreeMap<PathBuf, (Vec<u8>, std::time::SystemTime)>) {
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                walk(&path, out);
+            } else {
+                let modified = std::fs::metadata(&path).unwrap().modified().unwrap();
+                out.insert(path.clone(), (std::fs::read(&path).unwrap(), modified));
+            }
+        }
+    }
+    let mut out = BTreeMap::new();
+    walk(dir, &mut out);
+    out
+}
+
+/// A valid czech program that differs with `i`.
+fn program(i: usize) -> String {
+    format!(
+        "N10 G95 M03 S500 \"PROGRAM {i}\nN20 G00 X{}. Z5.\nN30 G33 Z-{}. F1.5\nN40 G00 X40.\nN50 Z5.\nN60 M30\n",
+        30 + i % 7,
+        20 + i % 5
+    )
+}
+
+/// The acceptance tree: 150 valid czech programs in nested folders, 3 invalid ones, one
+/// windows-1250 file.
+fn acceptance_tree(src: &Path) {
+    for i in 0..150 {
+        let dir = src.join(format!("shop{}/machine{}", i % 5, i % 3));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join(format!("p{i:03}.nc")), program(i)).unwrap();
+    }
+    let bad = src.join("bad");
+    std::fs::create_dir_all(&bad).unwrap();
+    std::fs::write(bad.join("syntax.nc"), "N10 M03 S500\nN20 G00 X30. Z\n").unwrap();
+    std::fs::write(
+        bad.join("no-feed.nc"),
+        "N10 M03 S500\nN20 G00 X30. Z5.\nN30 G01 Z-10.\n",
+    )
+    .unwrap();
+    std::fs::write(
+        bad.join("arc.nc"),
+        "N10 M03 S500\nN20 G00 X30. Z5.\nN30 G02 X40. Z-5. I5. K0.\n",
+    )
+    .unwrap();
+    let cp1250 =
+        std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("corpus/czech/windows-1250.nc"))
+            .unwrap();
+    std::fs::write(src.join("shop0/windows-1250.nc"), cp1250).unwrap();
+}
+
+#[test]
+fn batch_converts_a_tree_keeps_going_and_reports_every_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let (src, out) = (dir.path().join("src"), dir.path().join("out"));
+    acceptance_tree(&src);
+    let before = snapshot(&src);
+    let report_path = dir.path().join("report.json");
+    let (s, o, r) = (
+        src.to_str().unwrap(),
+        out.to_str().unwrap(),
+        report_path.to_str().unwrap(),
+    );
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "batch", s, o, "--from", "czech", "--to", "iso", "--report", r,
+        ];
+        args.extend(extra);
+        ncthread(&args, None)
+    };
+
+    let first = run(&["--jobs", "2"]);
+    assert_eq!(first.status.code(), Some(1), "{}", text(&first.stderr));
+    let err = text(&first.stderr);
+    assert!(
+        err.contains("ncthread: converted 151, failed 3, skipped 0 in "),
+        "{err}"
+    );
+    // Each failure is named with its line on stderr.
+    assert!(err.contains("bad/syntax.nc:2:14: error[CZ001]"), "{err}");
+    assert!(err.contains("bad/no-feed.nc:3:1: error[CZ020]"), "{err}");
+    // No progress bar on a pipe.
+    assert!(!err.contains('█') && !err.contains("151/154"), "{err}");
+
+    let outputs = snapshot(&out);
+    assert_eq!(outputs.len(), 151);
+    assert!(outputs.contains_key(&out.join("shop2/machine2/p047.ngc")));
+    assert!(outputs.keys().all(|p| p.extension().unwrap() == "ngc"));
+    let converted = text(&outputs[&out.join("shop0/windows-1250.ngc")].0);
+    assert!(
+        converted.contains("S50 M3 (ROZTOČENÍ VŘETENE)\n"),
+        "{converted}"
+    );
+
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report_path).unwrap()).unwrap();
+    let files = report["files"].as_array().unwrap();
+    assert_eq!(files.len(), 154);
+    let failed: Vec<&serde_json::Value> =
+        files.iter().filter(|f| f["status"] == "failed").collect();
+    assert_eq!(failed.len(), 3);
+    for f in &failed {
+        let d = &f["diagnostics"][0];
+        assert!(d["line"].as_u64().unwrap() >= 2, "{f}");
+        assert!(d["code"].as_str().unwrap().starts_with("CZ"), "{f}");
+    }
+    let cp = files
+        .iter()
+        .find(|f| f["path"].as_str().unwrap().ends_with("windows-1250.nc"))
+        .unwrap();
+    assert_eq!(cp["encoding"], "windows-1250");
+    assert_eq!(cp["status"], "converted");
+    assert!(
+        cp["output"]
+            .as_str()
+            .unwrap()
+            .ends_with("shop0/windows-1250.ngc")
+    );
+    let utf8 = files
+        .iter()
+        .find(|f| f["path"].as_str().unwrap().ends_with("p000.nc"))
+        .unwrap();
+    assert_eq!(utf8["encoding"], "UTF-8");
+    assert_eq!(report["converted"], 151);
+
+    // The source tree is untouched.
+    assert_eq!(snapshot(&src), before);
+
+    // Again without --force: nothing is overwritten, and the run fails.
+    let again = run(&[]);
+    assert_eq!(again.status.code(), Some(1));
+    assert!(
+        text(&again.stderr).contains("converted 0, failed 3, skipped 151"),
+        "{}",
+        text(&again.stderr)
+    );
+    assert!(text(&again.stderr).contains("skipped: the output exists (--force overwrites it)"));
+    assert_eq!(snapshot(&out), outputs);
+
+    // With --force it converts again (new files, same content).
+    let forced = run(&["--force", "--jobs", "1"]);
+    assert_eq!(forced.status.code(), Some(1));
+    assert!(text(&forced.stderr).contains("converted 151, failed 3, skipped 0"));
+    let rewritten = snapshot(&out);
+    assert_eq!(rewritten.len(), 151);
+    for (path, (bytes, modified)) in &rewritten {
+        assert_eq!(bytes, &outputs[path].0);
+        assert!(modified >= &outputs[path].1);
+    }
+    assert_eq!(snapshot(&src), before);
+}
+
+#[test]
+fn batch_never_writes_into_the_source_tree_and_checks_its_arguments() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = dir.path().join("src");
+    acceptance_tree(&src);
+    let inside = src.join("converted");
+    let out = ncthread(
+        &[
+            "batch",
+            src.to_str().unwrap(),
+            inside.to_str().unwrap(),
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("is inside the source folder"));
+    assert!(!inside.exists());
+    // All valid: exit 0; --glob chooses files, --ext names the outputs, --from auto per file.
+    let out_dir = dir.path().join("out");
+    let out = ncthread(
+        &[
+            "batch",
+            src.to_str().unwrap(),
+            out_dir.to_str().unwrap(),
+            "--from",
+            "auto",
+            "--to",
+            "nc31",
+            "--glob",
+            "shop1/**/*.nc",
+            "--ext",
+            "nc",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(text(&out.stderr).contains("converted 30, failed 0, skipped 0"));
+    assert!(out_dir.join("shop1/machine0/p006.nc").exists());
+}
+
+#[test]
+fn encodings_line_endings_and_transliteration() {
+    let cp1250 = "corpus/czech/windows-1250.nc";
+    // windows-1250 in, windows-1250 out, byte for byte for the comment.
+    let out = ncthread(
+        &[
+            "convert",
+            cp1250,
+            "--from",
+            "czech",
+            "--to",
+            "czech",
+            "--output-encoding",
+            "windows-1250",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(out.stdout.windows(9).any(|w| w == b"ROZTO\xC8EN\xCD"));
+    // IBM852 (not in encoding_rs).
+    let out = ncthread(
+        &[
+            "convert",
+            cp1250,
+            "--from",
+            "czech",
+            "--to",
+            "czech",
+            "--output-encoding",
+            "cp852",
+            "--eol",
+            "crlf",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(out.stdout.windows(9).any(|w| w == b"ROZTO\xACEN\xD6"));
+    assert!(out.stdout.ends_with(b"\r\n"));
+    let back = ncthread(
+        &[
+            "convert",
+            "-",
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+            "--encoding",
+            "ibm852",
+        ],
+        Some(&out.stdout),
+    );
+    assert_eq!(back.status.code(), Some(0));
+    assert!(
+        text(&back.stdout).contains("(ROZTOČENÍ VŘETENE)"),
+        "{}",
+        text(&back.stdout)
+    );
+    // CRLF in keeps CRLF out.
+    assert!(text(&back.stdout).contains("G7 G18 G21 G90 G95\r\n"));
+    // An output encoding without the character: refused with the output line, or
+    // transliterated.
+    let out = ncthread(
+        &[
+            "convert",
+            cp1250,
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+            "--output-encoding",
+            "ibm866",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(out.stdout.is_empty());
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("error[ENC001]: `Č` (U+010C) in output line 4 cannot be written in IBM866"),
+        "{err}"
+    );
+    let out = ncthread(
+        &[
+            "convert",
+            cp1250,
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+            "--output-encoding",
+            "ibm866",
+            "--transliterate",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(0));
+    assert!(
+        text(&out.stdout).contains("(ROZTOCENI VRETENE)"),
+        "{}",
+        text(&out.stdout)
+    );
+    // Bad labels are usage errors.
+    let out = ncthread(
+        &[
+            "convert",
+            cp1250,
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+            "--encoding",
+            "klingon",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    let out = ncthread(
+        &[
+            "convert",
+            cp1250,
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+            "--output-encoding",
+            "utf-16le",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn check_lints_files_and_exits_1_on_errors() {
+    let ok = ncthread(
+        &[
+            "check",
+            "corpus/czech/ex1-multipass.nc",
+            "corpus/nc31/g31-m36x1.5.nc",
+        ],
+        None,
+    );
+    assert_eq!(ok.status.code(), Some(0), "{}", text(&ok.stdout));
+    assert!(text(&ok.stderr).contains("checked 2 file(s): 0 error(s)"));
+    let bad = ncthread(
+        &[
+            "check",
+            "corpus/czech/ex1-multipass.nc",
+            "corpus/bad/nc31/decimal-point.nc",
+            "--diagnostics",
+            "json",
+        ],
+        None,
+    );
+    assert_eq!(bad.status.code(), Some(1));
+    let lines: Vec<serde_json::Value> = text(&bad.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 2);
+    assert_eq!(lines[0]["code"], "NC002");
+    assert_eq!(lines[0]["file"], "corpus/bad/nc31/decimal-point.nc");
+    assert_eq!(lines[0]["line"], 8);
+    // stdin, with the dialect given.
+    let out = ncthread(
+        &["check", "-", "--dialect", "czech"],
+        Some(b"N10 G00 X30. Z5.\nN20 G33 Z-20. F1.5\n"),
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stdout).contains("error[LG001]"),
+        "{}",
+        text(&out.stdout)
+    );
+}
+
+#[test]
+fn convert_is_a_pipe_filter_that_survives_a_closed_pipe() {
+    let program = std::fs::read("corpus/nc31/g31-m36x1.5.nc").unwrap();
+    // `cat prog.nc | ncthread convert --from auto --to iso | head -1`
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ncthread"))
+        .args(["convert", "--from", "auto", "--to", "iso"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let stdout = child.stdout.take().unwrap();
+    // The reader goes away before ncthread writes anything.
+    drop(stdout);
+    child.stdin.take().unwrap().write_all(&program).unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(!text(&out.stderr).contains("panicked"));
+    // And read as a normal pipe, the first line is the program's.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ncthread"))
+        .args(["convert", "--from", "auto", "--to", "iso"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    child.stdin.take().unwrap().write_all(&program).unwrap();
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut first)
+        .unwrap();
+    assert_eq!(first, "%\n");
+    assert_eq!(child.wait().unwrap().code(), Some(0));
+}
+
+#[test]
+fn completions_and_man_page_come_from_the_clap_definitions() {
+    for shell in ["bash", "zsh", "fish"] {
+        let out = ncthread(&["completions", shell], None);
+        assert_eq!(out.status.code(), Some(0));
+        assert!(text(&out.stdout).contains("batch"), "{shell}");
+    }
+    let man = ncthread(&["man"], None);
+    assert_eq!(man.status.code(), Some(0));
+    let man = text(&man.stdout);
+    assert!(
+        man.starts_with(".ie") || man.contains(".TH ncthread 1"),
+        "{man}"
+    );
+    assert!(man.contains("batch"));
+}
