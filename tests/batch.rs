@@ -1,27 +1,12 @@
 //! `ncthread batch`, `check`, encodings and the pipe (issue 6's acceptance).
 use std::collections::BTreeMap;
+mod common;
+
 use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 
-fn ncthread(args: &[&str], stdin: Option<&[u8]>) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_ncthread"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("ncthread runs");
-    let mut pipe = child.stdin.take().unwrap();
-    pipe.write_all(stdin.unwrap_or_default()).unwrap();
-    drop(pipe);
-    child.wait_with_output().unwrap()
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
+use common::{ncthread, text};
 
 /// Every file below `dir`: path → (bytes, modification time).
 fn snapshot(dir: &Path) -> BTreeMap<PathBuf, (Vec<u8>, std::time::SystemTime)> {
@@ -402,30 +387,25 @@ fn check_lints_files_and_exits_1_on_errors() {
 fn convert_is_a_pipe_filter_that_survives_a_closed_pipe() {
     let program = std::fs::read("corpus/nc31/g31-m36x1.5.nc").unwrap();
     // `cat prog.nc | ncthread convert --from auto --to iso | head -1`
-    let mut child = Command::new(env!("CARGO_BIN_EXE_ncthread"))
-        .args(["convert", "--from", "auto", "--to", "iso"])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let stdout = child.stdout.take().unwrap();
+    let spawn = || {
+        Command::new(env!("CARGO_BIN_EXE_ncthread"))
+            .args(["convert", "--from", "auto", "--to", "iso"])
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap()
+    };
+    let mut child = spawn();
     // The reader goes away before ncthread writes anything.
-    drop(stdout);
+    drop(child.stdout.take());
     child.stdin.take().unwrap().write_all(&program).unwrap();
     let out = child.wait_with_output().unwrap();
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     assert!(!text(&out.stderr).contains("panicked"));
     // And read as a normal pipe, the first line is the program's.
-    let mut child = Command::new(env!("CARGO_BIN_EXE_ncthread"))
-        .args(["convert", "--from", "auto", "--to", "iso"])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
+    let mut child = spawn();
     child.stdin.take().unwrap().write_all(&program).unwrap();
     let mut first = String::new();
     BufReader::new(child.stdout.take().unwrap())

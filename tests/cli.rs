@@ -1,21 +1,9 @@
 //! The command line: exit codes, stdin/stdout, files, and diagnostics on stderr.
-use std::io::Write;
-use std::process::{Command, Output, Stdio};
+mod common;
 
-fn ncthread(args: &[&str], stdin: Option<&[u8]>) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_ncthread"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("ncthread runs");
-    let mut pipe = child.stdin.take().unwrap();
-    pipe.write_all(stdin.unwrap_or_default()).unwrap();
-    drop(pipe);
-    child.wait_with_output().unwrap()
-}
+use std::process::Output;
+
+use common::{ncthread, text};
 
 /// `ncthread convert ARGS… --from czech --to iso`.
 fn czech_to_iso(args: &[&str], stdin: Option<&[u8]>) -> Output {
@@ -26,10 +14,6 @@ fn czech_to_iso(args: &[&str], stdin: Option<&[u8]>) -> Output {
         .copied()
         .collect();
     ncthread(&all, stdin)
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
 }
 
 #[test]

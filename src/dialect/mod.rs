@@ -8,6 +8,9 @@ pub mod nc31;
 
 use std::fmt;
 
+use crate::fixed::Length;
+use crate::source::Span;
+
 /// A program dialect.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Dialect {
@@ -64,4 +67,32 @@ pub enum Unsupported {
     Error,
     /// Warn and keep the block as an opaque item (only the same dialect writes it back).
     Warn,
+}
+
+/// Values a target cannot hold on its grid, gathered for one diagnostic per program (an
+/// error, or with `--round` a warning): how many, the largest deviation, and the first.
+#[derive(Debug, Default)]
+pub(crate) struct Inexact {
+    pub count: usize,
+    pub largest: Length,
+    /// Where the first is, and what it is (`X 26.618 mm`).
+    pub first: Option<(Span, String)>,
+}
+
+impl Inexact {
+    /// Notes that `what` = `value` at `span` is written as `rounded`.
+    pub fn note(&mut self, span: Span, what: &str, value: Length, rounded: Length) {
+        self.count += 1;
+        self.largest = self.largest.max((rounded - value).abs());
+        if self.first.is_none() {
+            self.first = Some((span, format!("{what} {} mm", value.mm())));
+        }
+    }
+}
+
+/// A comment's text on one line: control characters (a stray CR, a tab) become spaces.
+pub(crate) fn one_line(text: &str) -> String {
+    text.chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect()
 }

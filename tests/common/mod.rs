@@ -446,3 +446,25 @@ pub fn simulate_iso(name: &str, text: &str) -> ncthread::sim::Simulation {
     assert!(!ncthread::diag::has_errors(&diags), "{name}: {diags:?}");
     ncthread::sim::simulate(&program)
 }
+
+/// Runs the `ncthread` binary in the crate folder with `args` and `stdin`.
+pub fn ncthread(args: &[&str], stdin: Option<&[u8]>) -> std::process::Output {
+    use std::io::Write;
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ncthread"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("ncthread runs");
+    let mut pipe = child.stdin.take().unwrap();
+    pipe.write_all(stdin.unwrap_or_default()).unwrap();
+    drop(pipe);
+    child.wait_with_output().unwrap()
+}
+
+pub fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}

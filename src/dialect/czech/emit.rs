@@ -13,7 +13,7 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use crate::diag::{Code, Diagnostic, codes};
-use crate::dialect::Dialect;
+use crate::dialect::{Dialect, Inexact, one_line};
 use crate::fixed::{Angle, Decimal, Length};
 use crate::ir::{
     Chamfer, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, ThreadCycle,
@@ -80,13 +80,6 @@ struct Emitter<'a> {
     /// Where the last synchronised move ended, and its lead (a pass starting there continues
     /// it without waiting for the index pulse).
     sync_end: Option<(Pos, Length)>,
-}
-
-#[derive(Default)]
-struct Inexact {
-    count: usize,
-    largest: Length,
-    first: Option<(crate::source::Span, String)>,
 }
 
 /// Writes `program` (read from `src` in dialect `from`) as a czech program. `None` when
@@ -169,12 +162,6 @@ fn coordinate(v: Length) -> Option<String> {
     (v.0 % 10 == 0).then(|| v.mm_with_point())
 }
 
-fn comment_text(text: &str) -> String {
-    text.chars()
-        .map(|c| if c.is_control() { ' ' } else { c })
-        .collect()
-}
-
 impl Emitter<'_> {
     /// Reports a problem once (a cycle's passes share the cycle's item).
     fn diag(&mut self, code: Code, item: &Item, message: String, help: &str) {
@@ -220,7 +207,7 @@ impl Emitter<'_> {
             if !line.is_empty() {
                 line.push(' ');
             }
-            let _ = write!(line, "\"{}", comment_text(&c));
+            let _ = write!(line, "\"{}", one_line(&c));
         }
         self.out.push_str(&line);
         self.out.push('\n');
@@ -233,11 +220,7 @@ impl Emitter<'_> {
             return text;
         }
         let rounded = Length(crate::fixed::div_round(v.0 as i128, 10) as i64 * 10);
-        self.inexact.count += 1;
-        self.inexact.largest = self.inexact.largest.max((rounded - v).abs());
-        if self.inexact.first.is_none() {
-            self.inexact.first = Some((item.span, format!("{what} {} mm", v.mm())));
-        }
+        self.inexact.note(item.span, what, v, rounded);
         rounded.mm_with_point()
     }
 

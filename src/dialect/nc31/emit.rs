@@ -11,7 +11,7 @@
 //! that already holds such lines).
 
 use crate::diag::{Code, Diagnostic, codes};
-use crate::dialect::Dialect;
+use crate::dialect::{Dialect, Inexact, one_line};
 use crate::fixed::{Angle, Length};
 use crate::ir::{
     CycleChamfer, EndCode, FeedMode, Finish, Item, ItemKind, Pos, Program, Retract, Rise,
@@ -47,13 +47,6 @@ struct Emitter<'a> {
     inexact: Inexact,
     /// Comments dropped: how many, and the first.
     dropped: (usize, Option<Span>),
-}
-
-#[derive(Default)]
-struct Inexact {
-    count: usize,
-    largest: Length,
-    first: Option<(Span, String)>,
 }
 
 /// Writes `program` (read from `src` in dialect `from`) as НЦ-31 frames. `None` when any
@@ -104,12 +97,6 @@ pub fn emit(
 /// A frame's text without its number: one word and its modifiers.
 fn frame(word: String, rapid: bool) -> String {
     if rapid { format!("{word} ~") } else { word }
-}
-
-fn comment_text(text: &str) -> String {
-    text.chars()
-        .map(|c| if c.is_control() { ' ' } else { c })
-        .collect()
 }
 
 /// Why a cycle is not the profile's G31, or `None` when it is.
@@ -234,7 +221,7 @@ impl Emitter<'_> {
     fn comment(&mut self, span: Span, text: &str, group: &mut Vec<String>) {
         if self.comments {
             self.write(group);
-            self.out.push_str(&format!("({})\n", comment_text(text)));
+            self.out.push_str(&format!("({})\n", one_line(text)));
         } else {
             self.dropped.0 += 1;
             self.dropped.1.get_or_insert(span);
@@ -247,11 +234,7 @@ impl Emitter<'_> {
             return v.0 / unit.0;
         }
         let n = crate::fixed::div_round(v.0 as i128, unit.0 as i128) as i64;
-        self.inexact.count += 1;
-        self.inexact.largest = self.inexact.largest.max((Length(n * unit.0) - v).abs());
-        if self.inexact.first.is_none() {
-            self.inexact.first = Some((span, format!("{what} {} mm", v.mm())));
-        }
+        self.inexact.note(span, what, v, Length(n * unit.0));
         n
     }
 
@@ -285,7 +268,7 @@ impl Emitter<'_> {
         if kept {
             self.write(group);
             self.out
-                .push_str(&format!("({} (not converted))\n", comment_text(text)));
+                .push_str(&format!("({} (not converted))\n", one_line(text)));
         }
         self.diag(
             codes::NCT_DROPPED,
