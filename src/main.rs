@@ -586,8 +586,17 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
     };
     let (mut errors, mut warnings, mut failed_files) = (0, 0, 0);
     let mut out = String::new();
+    let mut unreadable = 0;
     for file in &files {
-        let (name, bytes) = read_input(file)?;
+        // An unreadable file is reported and the others are still checked.
+        let (name, bytes) = match read_input(file) {
+            Ok(input) => input,
+            Err(Fatal(message)) => {
+                eprintln!("ncthread: {message}");
+                unreadable += 1;
+                continue;
+            }
+        };
         let (src, from, _) = decode_source(name, &bytes, args.dialect, args.common.encoding);
         let diags = ncthread::check(&src, from, &profile, unsupported(args.common.unsupported));
         let e = diags.iter().filter(|d| d.is_error()).count();
@@ -610,7 +619,9 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
             files.len()
         );
     }
-    Ok(if errors > 0 {
+    Ok(if unreadable > 0 {
+        ExitCode::from(2)
+    } else if errors > 0 {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS

@@ -370,6 +370,18 @@ fn check_lints_files_and_exits_1_on_errors() {
     assert_eq!(lines[0]["code"], "NC002");
     assert_eq!(lines[0]["file"], "corpus/bad/nc31/decimal-point.nc");
     assert_eq!(lines[0]["line"], 8);
+    // An unreadable file is an I/O error (exit 2), and the others are still checked.
+    let out = ncthread(
+        &[
+            "check",
+            "no/such/file.nc",
+            "corpus/bad/nc31/decimal-point.nc",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("cannot read no/such/file.nc"));
+    assert!(text(&out.stdout).contains("error[NC002]"));
     // stdin, with the dialect given.
     let out = ncthread(
         &["check", "-", "--dialect", "czech"],
