@@ -295,16 +295,12 @@ fn one(options: &BatchOptions, src_root: &Path, rel: &Path, clash: Option<&Path>
             return report;
         }
     };
-    let (text, encoding, from) = match options.from {
-        Some(d) => {
-            let (t, e) = text::decode_as(&bytes, options.input_encoding, d);
-            (t, e, d)
-        }
-        None => {
-            let (t, e, detection) = text::decode_detect_as(&bytes, options.input_encoding);
-            (t, e, detection.dialect)
-        }
-    };
+    let text::Decoded {
+        text,
+        encoding,
+        dialect: from,
+        ..
+    } = text::decode_program(&bytes, options.from, options.input_encoding);
     report.dialect = Some(from);
     report.encoding = Some(encoding);
     let crlf = text::uses_crlf(&text);

@@ -293,6 +293,18 @@ enum UnsupportedArg {
     Warn,
 }
 
+impl SourceDialect {
+    /// The dialect given, or `None` for `auto`.
+    fn known(self) -> Option<Dialect> {
+        match self {
+            SourceDialect::Czech => Some(Dialect::Czech),
+            SourceDialect::Nc31 => Some(Dialect::Nc31),
+            SourceDialect::Iso => Some(Dialect::Iso),
+            SourceDialect::Auto => None,
+        }
+    }
+}
+
 impl From<TargetDialect> for Dialect {
     fn from(d: TargetDialect) -> Dialect {
         match d {
@@ -415,29 +427,18 @@ fn decode_source(
     from: SourceDialect,
     encoding: Option<TextEncoding>,
 ) -> (SourceFile, Dialect, TextEncoding) {
-    let known = match from {
-        SourceDialect::Czech => Some(Dialect::Czech),
-        SourceDialect::Nc31 => Some(Dialect::Nc31),
-        SourceDialect::Iso => Some(Dialect::Iso),
-        SourceDialect::Auto => None,
-    };
-    let (text, encoding, from) = match known {
-        Some(d) => {
-            let (text, e) = ncthread::text::decode_as(bytes, encoding, d);
-            (text, e, d)
-        }
-        None => {
-            let (text, e, detection) = ncthread::text::decode_detect_as(bytes, encoding);
-            if !detection.certain {
-                eprintln!(
-                    "ncthread: --from auto: reading {name} as {} ({}); give --from to be sure",
-                    detection.dialect, detection.reason
-                );
-            }
-            (text, e, detection.dialect)
-        }
-    };
-    (SourceFile::new(name, text), from, encoding)
+    let decoded = ncthread::text::decode_program(bytes, from.known(), encoding);
+    if let Some(detection) = decoded.detection.filter(|d| !d.certain) {
+        eprintln!(
+            "ncthread: --from auto: reading {name} as {} ({}); give --from to be sure",
+            detection.dialect, detection.reason
+        );
+    }
+    (
+        SourceFile::new(name, decoded.text),
+        decoded.dialect,
+        decoded.encoding,
+    )
 }
 
 fn unsupported(arg: UnsupportedArg) -> Unsupported {
@@ -631,12 +632,7 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
 fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
     let profile = args.common.profile()?;
     let to: Dialect = args.to.into();
-    let from = match args.from {
-        SourceDialect::Czech => Some(Dialect::Czech),
-        SourceDialect::Nc31 => Some(Dialect::Nc31),
-        SourceDialect::Iso => Some(Dialect::Iso),
-        SourceDialect::Auto => None,
-    };
+    let from = args.from.known();
     let glob = match &args.glob {
         Some(pattern) => Some(
             globset::Glob::new(pattern)

@@ -57,8 +57,7 @@ impl TextEncoding {
     pub fn decode(self, bytes: &[u8]) -> String {
         match self {
             TextEncoding::Standard(e) if e == encoding_rs::UTF_8 => {
-                let body = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-                String::from_utf8_lossy(body).into_owned()
+                String::from_utf8_lossy(without_bom(bytes)).into_owned()
             }
             TextEncoding::Standard(e) => e.decode_with_bom_removal(bytes).0.into_owned(),
             TextEncoding::Ibm852 => oem_cp::decode_string_complete_table(
@@ -93,6 +92,11 @@ impl std::fmt::Display for TextEncoding {
     }
 }
 
+/// `bytes` without a leading UTF-8 byte order mark.
+fn without_bom(bytes: &[u8]) -> &[u8] {
+    bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes)
+}
+
 /// The legacy encoding of a dialect's files when they are not UTF-8.
 pub fn legacy_encoding(dialect: Dialect) -> TextEncoding {
     TextEncoding::Standard(match dialect {
@@ -105,7 +109,7 @@ pub fn legacy_encoding(dialect: Dialect) -> TextEncoding {
 /// Decodes a program: UTF-8 (a BOM is removed) when the bytes are valid UTF-8, else the
 /// dialect's legacy encoding. Returns the text and the encoding used.
 pub fn decode(bytes: &[u8], dialect: Dialect) -> (String, TextEncoding) {
-    let body = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    let body = without_bom(bytes);
     match std::str::from_utf8(body) {
         Ok(text) => (text.to_string(), TextEncoding::UTF_8),
         Err(_) => {
@@ -139,7 +143,7 @@ pub fn decode_detect_as(
         let detection = detect(&text);
         return (text, e, detection);
     }
-    let body = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    let body = without_bom(bytes);
     if let Ok(text) = std::str::from_utf8(body) {
         let detection = detect(text);
         return (text.to_string(), TextEncoding::UTF_8, detection);
@@ -151,6 +155,44 @@ pub fn decode_detect_as(
     let detection = detect(&ascii);
     let (text, encoding) = decode(bytes, detection.dialect);
     (text, encoding, detection)
+}
+
+/// A decoded program: its text, the encoding it was read in, its dialect, and how the
+/// dialect was chosen when it was not given.
+pub struct Decoded {
+    pub text: String,
+    pub encoding: TextEncoding,
+    pub dialect: Dialect,
+    pub detection: Option<Detection>,
+}
+
+/// Decodes a program in dialect `from`, or (`None`) chooses the dialect from the text;
+/// `encoding` when given, else UTF-8 when valid, else the dialect's legacy encoding.
+pub fn decode_program(
+    bytes: &[u8],
+    from: Option<Dialect>,
+    encoding: Option<TextEncoding>,
+) -> Decoded {
+    match from {
+        Some(dialect) => {
+            let (text, encoding) = decode_as(bytes, encoding, dialect);
+            Decoded {
+                text,
+                encoding,
+                dialect,
+                detection: None,
+            }
+        }
+        None => {
+            let (text, encoding, detection) = decode_detect_as(bytes, encoding);
+            Decoded {
+                text,
+                encoding,
+                dialect: detection.dialect,
+                detection: Some(detection),
+            }
+        }
+    }
 }
 
 /// [`decode_detect_as`] without an encoding.

@@ -209,39 +209,25 @@ fn batch_never_writes_into_the_source_tree_and_checks_its_arguments() {
 
 #[test]
 fn encodings_line_endings_and_transliteration() {
-    let cp1250 = "corpus/czech/windows-1250.nc";
-    // windows-1250 in, windows-1250 out, byte for byte for the comment.
-    let out = ncthread(
-        &[
+    // `ncthread convert` of the windows-1250 seed file to `to`, with `extra` options.
+    let cp1250_to = |to: &str, extra: &[&str]| {
+        let mut args = vec![
             "convert",
-            cp1250,
+            "corpus/czech/windows-1250.nc",
             "--from",
             "czech",
             "--to",
-            "czech",
-            "--output-encoding",
-            "windows-1250",
-        ],
-        None,
-    );
+            to,
+        ];
+        args.extend(extra);
+        ncthread(&args, None)
+    };
+    // windows-1250 in, windows-1250 out, byte for byte for the comment.
+    let out = cp1250_to("czech", &["--output-encoding", "windows-1250"]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     assert!(out.stdout.windows(9).any(|w| w == b"ROZTO\xC8EN\xCD"));
     // IBM852 (not in encoding_rs).
-    let out = ncthread(
-        &[
-            "convert",
-            cp1250,
-            "--from",
-            "czech",
-            "--to",
-            "czech",
-            "--output-encoding",
-            "cp852",
-            "--eol",
-            "crlf",
-        ],
-        None,
-    );
+    let out = cp1250_to("czech", &["--output-encoding", "cp852", "--eol", "crlf"]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     assert!(out.stdout.windows(9).any(|w| w == b"ROZTO\xACEN\xD6"));
     assert!(out.stdout.ends_with(b"\r\n"));
@@ -268,19 +254,7 @@ fn encodings_line_endings_and_transliteration() {
     assert!(text(&back.stdout).contains("G7 G18 G21 G90 G95\r\n"));
     // An output encoding without the character: refused with the output line, or
     // transliterated.
-    let out = ncthread(
-        &[
-            "convert",
-            cp1250,
-            "--from",
-            "czech",
-            "--to",
-            "iso",
-            "--output-encoding",
-            "ibm866",
-        ],
-        None,
-    );
+    let out = cp1250_to("iso", &["--output-encoding", "ibm866"]);
     assert_eq!(out.status.code(), Some(1));
     assert!(out.stdout.is_empty());
     let err = text(&out.stderr);
@@ -288,20 +262,7 @@ fn encodings_line_endings_and_transliteration() {
         err.contains("error[ENC001]: `Č` (U+010C) in output line 4 cannot be written in IBM866"),
         "{err}"
     );
-    let out = ncthread(
-        &[
-            "convert",
-            cp1250,
-            "--from",
-            "czech",
-            "--to",
-            "iso",
-            "--output-encoding",
-            "ibm866",
-            "--transliterate",
-        ],
-        None,
-    );
+    let out = cp1250_to("iso", &["--output-encoding", "ibm866", "--transliterate"]);
     assert_eq!(out.status.code(), Some(0));
     assert!(
         text(&out.stdout).contains("(ROZTOCENI VRETENE)"),
@@ -309,33 +270,9 @@ fn encodings_line_endings_and_transliteration() {
         text(&out.stdout)
     );
     // Bad labels are usage errors.
-    let out = ncthread(
-        &[
-            "convert",
-            cp1250,
-            "--from",
-            "czech",
-            "--to",
-            "iso",
-            "--encoding",
-            "klingon",
-        ],
-        None,
-    );
+    let out = cp1250_to("iso", &["--encoding", "klingon"]);
     assert_eq!(out.status.code(), Some(2));
-    let out = ncthread(
-        &[
-            "convert",
-            cp1250,
-            "--from",
-            "czech",
-            "--to",
-            "iso",
-            "--output-encoding",
-            "utf-16le",
-        ],
-        None,
-    );
+    let out = cp1250_to("iso", &["--output-encoding", "utf-16le"]);
     assert_eq!(out.status.code(), Some(2));
 }
 
