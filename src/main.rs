@@ -360,10 +360,15 @@ fn main() -> ExitCode {
     match result {
         Ok(code) => code,
         Err(Fatal(message)) => {
-            eprintln!("ncthread: {message}");
+            note(format!("ncthread: {message}"));
             ExitCode::from(2)
         }
     }
+}
+
+/// One line on stderr. Never panics: a closed or broken stderr loses the line, nothing more.
+fn note(message: String) {
+    let _ = writeln!(io::stderr(), "{message}");
 }
 
 fn is_stdio(path: &Option<PathBuf>) -> bool {
@@ -429,10 +434,10 @@ fn decode_source(
 ) -> (SourceFile, Dialect, TextEncoding) {
     let decoded = ncthread::text::decode_program(bytes, from.known(), encoding);
     if let Some(detection) = decoded.detection.filter(|d| !d.certain) {
-        eprintln!(
+        note(format!(
             "ncthread: --from auto: reading {name} as {} ({}); give --from to be sure",
             detection.dialect, detection.reason
-        );
+        ));
     }
     (
         SourceFile::new(name, decoded.text),
@@ -593,7 +598,7 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
         let (name, bytes) = match read_input(file) {
             Ok(input) => input,
             Err(Fatal(message)) => {
-                eprintln!("ncthread: {message}");
+                note(format!("ncthread: {message}"));
                 unreadable += 1;
                 continue;
             }
@@ -615,10 +620,10 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
     }
     write_output(&None, out.as_bytes())?;
     if args.common.diagnostics == DiagnosticsFormat::Human {
-        eprintln!(
+        note(format!(
             "ncthread: checked {} file(s): {errors} error(s) in {failed_files} file(s), {warnings} warning(s)",
             files.len()
-        );
+        ));
     }
     Ok(if unreadable > 0 {
         ExitCode::from(2)
@@ -691,7 +696,7 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
         std::fs::write(path, json + "\n")
             .map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))?;
     }
-    eprintln!("ncthread: {}", report.summary());
+    note(format!("ncthread: {}", report.summary()));
     Ok(if report.all_converted() {
         ExitCode::SUCCESS
     } else {

@@ -75,18 +75,31 @@ impl SourceFile {
         }
     }
 
-    /// The span of `range` (bytes within `line`'s text).
+    /// The span of `range` (bytes within `line`'s text). A range that does not fall on
+    /// character boundaries is widened to the characters it touches, and one that runs past
+    /// the line is cut at its end.
     pub fn span_in_line(&self, line: Line<'_>, range: Range<usize>) -> Span {
-        let column = line.text[..range.start.min(line.text.len())]
-            .chars()
-            .count() as u32
-            + 1;
+        let text = line.text;
+        let start = text.floor_char_boundary(range.start.min(text.len()));
+        let end = text.ceil_char_boundary(range.end.clamp(start, text.len()));
+        let column = text[..start].chars().count() as u32 + 1;
         Span {
             line: line.number,
             column,
-            start: line.offset + range.start,
-            end: line.offset + range.end,
+            start: line.offset + start,
+            end: line.offset + end,
         }
+    }
+
+    /// The span of the one character at byte `offset` of `line` (empty at the line's end):
+    /// where a syntax error points.
+    pub fn char_span(&self, line: Line<'_>, offset: usize) -> Span {
+        let start = line.text.floor_char_boundary(offset.min(line.text.len()));
+        let end = line.text[start..]
+            .chars()
+            .next()
+            .map_or(start, |c| start + c.len_utf8());
+        self.span_in_line(line, start..end)
     }
 
     /// The span of a byte range of the whole text (it should not cross a line end).
@@ -96,8 +109,8 @@ impl SourceFile {
             .partition_point(|&s| s <= range.start)
             .max(1);
         let line = self.line(index as u32);
-        let start = range.start - line.offset;
-        let end = (range.end - line.offset).max(start);
+        let start = range.start.saturating_sub(line.offset);
+        let end = range.end.saturating_sub(line.offset).max(start);
         self.span_in_line(line, start..end)
     }
 
@@ -132,6 +145,14 @@ mod tests {
         assert_eq!((span.line, span.column), (1, 5));
         assert_eq!(span.start, x);
         assert_eq!(src.span_of(x..x + 2), span);
+        // A range inside a multi-byte character widens to the whole character.
+        let accented = SourceFile::new("t", "é X");
+        let span = accented.span_in_line(accented.line(1), 1..2);
+        assert_eq!((span.start, span.end, span.column), (0, 2, 1));
+        let span = accented.char_span(accented.line(1), 0);
+        assert_eq!((span.start, span.end), (0, 2));
+        let span = accented.char_span(accented.line(1), 99);
+        assert_eq!((span.start, span.end, span.column), (4, 4, 4));
         let two = SourceFile::new("t", "ab\ncd");
         assert_eq!(two.span_of(4..5).line, 2);
         assert_eq!(two.span_of(4..5).column, 2);

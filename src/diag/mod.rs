@@ -58,11 +58,14 @@ impl Diagnostic {
     /// line's end.
     pub fn at(mut self, src: &SourceFile, span: Span) -> Diagnostic {
         let line = src.line(span.line);
-        let start = span.start.saturating_sub(line.offset).min(line.text.len());
-        let end = span
-            .end
-            .saturating_sub(line.offset)
-            .clamp(start, line.text.len());
+        let text = line.text;
+        let start =
+            text.floor_char_boundary(span.start.saturating_sub(line.offset).min(text.len()));
+        let end = text.ceil_char_boundary(
+            span.end
+                .saturating_sub(line.offset)
+                .clamp(start, text.len()),
+        );
         self.location = Some(Location {
             file: src.name.clone(),
             line: span.line,

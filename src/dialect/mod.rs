@@ -59,6 +59,16 @@ pub(crate) fn pest_error_offset<R: pest::RuleType>(line: &str, e: &pest::error::
     }
 }
 
+/// How many problems of one kind a reader reports for one line before it only counts them:
+/// a hostile line of 50,000 repeated words gets a few diagnostics and a count.
+pub(crate) const WORD_REPORTS: usize = 5;
+
+/// Counts one more problem on the line; true while it should still be reported.
+pub(crate) fn budget(count: &mut usize) -> bool {
+    *count += 1;
+    *count <= WORD_REPORTS
+}
+
 /// What a front end does with constructs its dialect's documentation does not define.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Unsupported {

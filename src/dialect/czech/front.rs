@@ -5,7 +5,7 @@ use std::ops::Range;
 
 use super::syntax::{self, Block, Value, Word};
 use crate::diag::{Code, Diagnostic, codes};
-use crate::dialect::{Dialect, Unsupported};
+use crate::dialect::{Dialect, Unsupported, WORD_REPORTS, budget};
 use crate::fixed::{Angle, Decimal, Length, NumberError};
 use crate::ir::{
     Chamfer, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, ThreadPass,
@@ -90,7 +90,7 @@ pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program
                 } else {
                     codes::CZ_SYNTAX
                 };
-                let span = src.span_in_line(line, e.offset..(e.offset + 1).min(line.text.len()));
+                let span = src.char_span(line, e.offset);
                 fe.diags
                     .push(Diagnostic::new(code, e.message).at(src, span).help(e.help));
             }
@@ -231,6 +231,9 @@ impl<'a> FrontEnd<'a> {
     fn classify<'b>(&mut self, line: Line<'_>, block: &'b Block) -> Option<Words<'b>> {
         let mut words = Words::default();
         let mut ok = true;
+        // Problems reported for this block: a hostile line of thousands of repeated words
+        // gets a few diagnostics and a count, not one per word.
+        let mut conflicts = 0;
         for word in &block.words {
             let whole = |w: &Word| match w.value {
                 Value::Number(d) => d.to_whole().ok().filter(|v| *v >= 0),
@@ -282,7 +285,9 @@ impl<'a> FrontEnd<'a> {
                             None
                         }
                     };
-                    if let Some(previous) = conflict {
+                    if let Some(previous) = conflict
+                        && budget(&mut conflicts)
+                    {
                         ok = false;
                         let range = word.range.clone();
                         let prev = &line.text[previous.range.clone()];
@@ -323,7 +328,9 @@ impl<'a> FrontEnd<'a> {
                             None
                         }
                     };
-                    if let Some((_, previous)) = conflict {
+                    if let Some((_, previous)) = conflict
+                        && budget(&mut conflicts)
+                    {
                         ok = false;
                         let prev = &line.text[previous.range.clone()];
                         self.report(self.error(codes::CZ_CONFLICT, line, word.range.clone(), format!("this M code conflicts with `{prev}` in the same block"))
@@ -331,7 +338,9 @@ impl<'a> FrontEnd<'a> {
                     }
                 }
                 'X' | 'Z' | 'F' | 'S' | 'T' | 'D' | 'I' | 'J' | 'E' => {
-                    if let Some(previous) = words.by_letter.insert(word.letter, word) {
+                    if let Some(previous) = words.by_letter.insert(word.letter, word)
+                        && budget(&mut conflicts)
+                    {
                         ok = false;
                         let prev = &line.text[previous.range.clone()];
                         self.report(
@@ -355,7 +364,7 @@ impl<'a> FrontEnd<'a> {
                         ));
                     }
                 }
-                'N' => {
+                'N' if budget(&mut conflicts) => {
                     ok = false;
                     self.report(
                         self.error(
@@ -374,8 +383,22 @@ impl<'a> FrontEnd<'a> {
                     word,
                     "an R word without `=` (R-parameter arithmetic is not documented)".into(),
                 )),
+                'N' => {}
                 c => words.unsupported.push((word, format!("address {c}"))),
             }
+        }
+        if conflicts > WORD_REPORTS {
+            ok = false;
+            let more = conflicts - WORD_REPORTS;
+            self.report(
+                self.error(
+                    codes::CZ_CONFLICT,
+                    line,
+                    block.code_range.clone(),
+                    format!("{more} more repeated or conflicting words in this block"),
+                )
+                .help("write each address once per block, and one G code of each group"),
+            );
         }
         // I, J and E mean something only in a G33 block.
         let thread = words.motion.map_or(self.motion, |(m, _)| m) == Motion::Thread;
@@ -396,11 +419,18 @@ impl<'a> FrontEnd<'a> {
 
     fn unsupported(&mut self, line: Line<'_>, block: &Block, words: &Words<'_>, code_span: Span) {
         let warn = self.options.unsupported == Unsupported::Warn;
-        for (word, what) in &words.unsupported {
+        let shown = words.unsupported.len().min(WORD_REPORTS);
+        let more = words.unsupported.len() - shown;
+        for (i, (word, what)) in words.unsupported[..shown].iter().enumerate() {
             let text = &line.text[word.range.clone()];
+            let and_more = if i + 1 == shown && more > 0 {
+                format!(" (and {more} more unsupported words in this block)")
+            } else {
+                String::new()
+            };
             let mut d = Diagnostic::new(
                 codes::CZ_UNSUPPORTED,
-                format!("`{text}`: {what} is not supported"),
+                format!("`{text}`: {what} is not supported{and_more}"),
             )
             .at(self.src, self.span(line, word.range.clone()));
             d = if warn {

@@ -13,7 +13,7 @@ use indexmap::IndexMap;
 
 use super::syntax::{self, Block, Word};
 use crate::diag::{Code, Diagnostic, codes};
-use crate::dialect::{Dialect, Unsupported};
+use crate::dialect::{Dialect, Unsupported, WORD_REPORTS, budget};
 use crate::fixed::{Angle, Decimal, Length, div_round};
 use crate::ir::{
     CycleChamfer, Degression, EndCode, FeedMode, Finish, Item, ItemKind, Pos, Program, Retract,
@@ -179,13 +179,11 @@ impl FrontEnd<'_> {
         let block = match syntax::parse_line(line.text) {
             Ok(b) => b,
             Err(e) => {
-                let end = (e.offset + 1).min(line.text.len()).max(e.offset);
-                self.diag(
-                    codes::NGC_SYNTAX,
-                    line,
-                    e.offset..end,
-                    e.message,
-                    "a line is words (a letter and a number: `G33`, `X35.6`, `K1.5`), `( )` comments and a `;` comment to its end",
+                let span = self.src.char_span(line, e.offset);
+                self.diags.push(
+                    Diagnostic::new(codes::NGC_SYNTAX, e.message)
+                        .at(self.src, span)
+                        .help("a line is words (a letter and a number: `G33`, `X35.6`, `K1.5`), `( )` comments and a `;` comment to its end"),
                 );
                 return;
             }
@@ -255,6 +253,13 @@ impl FrontEnd<'_> {
         if found.is_empty() {
             return false;
         }
+        let more = found.len().saturating_sub(WORD_REPORTS);
+        found.truncate(WORD_REPORTS);
+        if more > 0
+            && let Some((_, message)) = found.last_mut()
+        {
+            message.push_str(&format!(" (and {more} more on this line)"));
+        }
         let warn = self.options.unsupported == Unsupported::Warn;
         for (range, message) in found {
             let span = self.src.span_in_line(line, range);
@@ -290,13 +295,16 @@ impl FrontEnd<'_> {
             used: Vec::new(),
         };
         let mut ok = true;
+        let mut repeats = 0;
         for w in &block.words {
             match w.letter {
                 // Checked by `unsupported` already.
                 'G' => words.g.push((w.value.to_scaled(1).unwrap_or_default(), w)),
                 'M' => words.m.push((w.value.to_whole().unwrap_or_default(), w)),
                 letter => {
-                    if let Some(first) = words.other.get(&letter) {
+                    if words.other.contains_key(&letter) && !budget(&mut repeats) {
+                        ok = false;
+                    } else if let Some(first) = words.other.get(&letter) {
                         let first = line.text[first.range.clone()].to_string();
                         self.diag(
                             codes::NGC_CONFLICT,
@@ -311,6 +319,15 @@ impl FrontEnd<'_> {
                     }
                 }
             }
+        }
+        if repeats > WORD_REPORTS {
+            self.diag(
+                codes::NGC_CONFLICT,
+                line,
+                0..line.text.len(),
+                format!("{} more repeated words on the line", repeats - WORD_REPORTS),
+                "LinuxCNC refuses a line with two words of one letter; split the line",
+            );
         }
         // One code per modal group.
         let groups: [(&str, &[i64]); 7] = [
