@@ -111,6 +111,101 @@ impl fmt::Display for Angle {
     }
 }
 
+/// A lead: the advance per spindle revolution, in units of 10⁻¹² mm.
+///
+/// Leads are kept far finer than lengths because their error grows with every turn: a lead
+/// computed from LinuxCNC's K along a taper is irrational, and on the 0.0001 mm grid it
+/// would drift past the tolerance over a long thread. At 10⁻¹² mm a thread drifts by less
+/// than 10⁻⁶ mm over a million turns. A lead written in a program with up to 12 decimals is
+/// held exactly.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Lead(pub i64);
+
+impl Lead {
+    pub const DECIMALS: u32 = 12;
+    pub const ZERO: Lead = Lead(0);
+    /// Lead units per [`Length`] unit.
+    pub const PER_LENGTH: i64 = 100_000_000;
+    /// The largest lead ncthread holds: 1,000,000 mm (i64 holds more, but products with
+    /// lengths must stay inside i128).
+    pub const MAX: Lead = Lead(1_000_000 * 1_000_000_000_000);
+
+    pub fn from_length(l: Length) -> Lead {
+        Lead(l.0.saturating_mul(Self::PER_LENGTH))
+    }
+
+    /// Rounds a float (the result of trigonometry or of LinuxCNC's arithmetic) onto the
+    /// grid; `None` when it is not finite or over [`Lead::MAX`].
+    pub fn from_mm_f64(mm: f64) -> Option<Lead> {
+        let v = (mm * 1e12).round();
+        (v.is_finite() && v.abs() <= Self::MAX.0 as f64).then_some(Lead(v as i64))
+    }
+
+    pub fn to_mm_f64(self) -> f64 {
+        self.0 as f64 / 1e12
+    }
+
+    /// The lead as a length, when it lies on the 0.0001 mm grid.
+    pub fn exact_length(self) -> Option<Length> {
+        (self.0 % Self::PER_LENGTH == 0).then_some(Length(self.0 / Self::PER_LENGTH))
+    }
+
+    /// The lead in units of `10^-decimals` mm: exactly, or rounded half away from zero with
+    /// `false`.
+    pub fn in_units(self, decimals: u32) -> (i64, bool) {
+        let den = 10i128.pow(Self::DECIMALS.saturating_sub(decimals));
+        let v = div_round(self.0 as i128, den);
+        (v as i64, self.0 as i128 % den == 0)
+    }
+
+    /// The lead of `units` of `10^-decimals` mm.
+    pub fn from_units(units: i64, decimals: u32) -> Lead {
+        Lead(units.saturating_mul(10i64.pow(Self::DECIMALS.saturating_sub(decimals))))
+    }
+
+    /// `self · num / den` as a length, rounded once onto the 0.0001 mm grid (exact integer
+    /// arithmetic): a runout of P7 tenths of the lead, the Z shift of a start angle.
+    pub fn length_times(self, num: i64, den: i64) -> Length {
+        Length(div_round(
+            self.0 as i128 * num as i128,
+            den as i128 * Self::PER_LENGTH as i128,
+        ) as i64)
+    }
+
+    /// The axial shift that stands for a start angle: `lead · angle / 360°`, on the grid.
+    pub fn of_angle(self, angle: Angle) -> Length {
+        self.length_times(angle.0, 360_000)
+    }
+
+    /// How far a helix of this lead drifts from one of `other` over `travel` along Z:
+    /// `|self − other| · travel / self`, on the length grid (rounded up, so that any drift
+    /// shows).
+    pub fn drift(self, other: Lead, travel: Length) -> Length {
+        if self.0 <= 0 {
+            return Length(i64::MAX);
+        }
+        let num = (self.0 as i128 - other.0 as i128).abs() * travel.0.unsigned_abs() as i128;
+        let den = self.0 as i128;
+        Length(((num + den - 1) / den).min(i64::MAX as i128) as i64)
+    }
+
+    /// The lead in millimetres with as few decimals as needed (`1.5`, `1.49979167`).
+    pub fn mm(self) -> String {
+        format_scaled(self.0, Self::DECIMALS, Trailing::None)
+    }
+
+    /// The lead in millimetres, always with a decimal point (`6.`, `1.5`).
+    pub fn mm_with_point(self) -> String {
+        format_scaled(self.0, Self::DECIMALS, Trailing::Point)
+    }
+}
+
+impl fmt::Display for Lead {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.mm())
+    }
+}
+
 /// Integer division rounding half away from zero.
 pub fn div_round(num: i128, den: i128) -> i128 {
     debug_assert!(den != 0);
@@ -231,6 +326,33 @@ impl Decimal {
         self.to_scaled(Length::DECIMALS).map(Length)
     }
 
+    /// The value as a lead (10⁻¹² mm units), exactly, or why not.
+    pub fn to_lead(self) -> Result<Lead, NumberError> {
+        let lead = if self.scale <= Lead::DECIMALS {
+            10i128
+                .checked_pow(Lead::DECIMALS - self.scale)
+                .and_then(|f| self.mantissa.checked_mul(f))
+                .ok_or(NumberError::TooLarge)?
+        } else {
+            let factor =
+                10i128
+                    .checked_pow(self.scale - Lead::DECIMALS)
+                    .ok_or(NumberError::TooPrecise {
+                        decimals: Lead::DECIMALS,
+                    })?;
+            if self.mantissa % factor != 0 {
+                return Err(NumberError::TooPrecise {
+                    decimals: Lead::DECIMALS,
+                });
+            }
+            self.mantissa / factor
+        };
+        if lead.abs() > Lead::MAX.0 as i128 {
+            return Err(NumberError::TooLarge);
+        }
+        Ok(Lead(lead as i64))
+    }
+
     pub fn to_angle(self) -> Result<Angle, NumberError> {
         self.to_scaled(Angle::DECIMALS).map(Angle)
     }
@@ -331,6 +453,40 @@ mod tests {
         assert_eq!(Length(30_000).mm_with_point(), "3.");
         assert_eq!(Length(-5).mm(), "-0.0005");
         assert_eq!(Angle(12_500).deg(), "12.5");
+    }
+
+    #[test]
+    fn leads_are_exact_to_twelve_decimals() {
+        let k = Decimal::parse("1.23456").unwrap().to_lead().unwrap();
+        assert_eq!(k, Lead(1_234_560_000_000));
+        assert_eq!(k.mm(), "1.23456");
+        assert_eq!(k.exact_length(), None);
+        assert_eq!(k.in_units(4), (12_346, false));
+        assert_eq!(
+            Lead::from_length(Length(15_000)).in_units(4),
+            (15_000, true)
+        );
+        assert_eq!(Lead::from_length(Length(15_000)).mm_with_point(), "1.5");
+        assert_eq!(Lead::from_length(Length(60_000)).mm_with_point(), "6.");
+        assert_eq!(
+            Decimal::parse("0.0000000000001").unwrap().to_lead(),
+            Err(NumberError::TooPrecise { decimals: 12 })
+        );
+        assert_eq!(
+            Decimal::parse("2000000").unwrap().to_lead(),
+            Err(NumberError::TooLarge)
+        );
+        // K1.5 along Ø30 → Ø40 over 300 mm of Z: the Z lead 1.5·300/√(300² + 5²).
+        let z = Lead::from_mm_f64(1.5 * 300.0 / 300f64.hypot(5.0)).unwrap();
+        assert_eq!(z.mm(), "1.499791710059");
+        // On the 0.0001 grid (1.4998) it would drift 0.0017 mm over the thread; here it does
+        // not drift at all at that resolution.
+        let grid = Lead::from_length(Length(14_998));
+        assert_eq!(z.drift(grid, Length::from_mm(300)), Length(17));
+        // A start angle of 180° at lead 1.5 is 0.75 mm; a runout of 7 tenths of 1.5 is 1.05.
+        let l = Lead::from_length(Length(15_000));
+        assert_eq!(l.of_angle(Angle::from_deg(180)), Length(7_500));
+        assert_eq!(l.length_times(7, 10), Length(10_500));
     }
 
     #[test]

@@ -65,7 +65,7 @@ mod tests {
     fn a_thread_needs_the_spindle_turning() {
         let tap = ItemKind::TapCycle(TapCycle {
             end_z: Length::from_mm(-10),
-            lead: Length(15_000),
+            lead: crate::fixed::Lead::from_length(Length(15_000)),
             then_x: None,
         });
         let start = ItemKind::Spindle {

@@ -1,9 +1,10 @@
 //! Lowering: the one implementation of how thread operations become straight synchronised
 //! moves. Emitters, `explain`, `plot` and the simulator all call these functions.
 
-use crate::fixed::{Angle, Length};
+use crate::fixed::{Angle, Lead, Length};
 use crate::ir::{
-    Chamfer, Degression, Finish, ItemKind, Pos, Retract, Rise, Schedule, ThreadCycle, ThreadPass,
+    Chamfer, Degression, Finish, ItemKind, Pos, Retract, Rise, Schedule, SyncInfeed, SyncStart,
+    ThreadCycle, ThreadPass,
 };
 
 /// One straight spindle-synchronised move.
@@ -12,7 +13,7 @@ pub struct SyncSegment {
     pub from: Pos,
     pub to: Pos,
     /// Advance along Z per spindle revolution.
-    pub lead: Length,
+    pub lead: Lead,
 }
 
 /// What a pass needs that it does not have.
@@ -23,6 +24,11 @@ pub enum LowerError {
 }
 
 impl SyncSegment {
+    /// A move along X only (a synchronised infeed): its `lead` is the advance along X.
+    pub fn is_radial(&self) -> bool {
+        self.from.z.is_some() && self.from.z == self.to.z
+    }
+
     /// The advance per revolution along the segment's own path (LinuxCNC's G33 K): the Z
     /// lead scaled by path length / |ΔZ|, with X converted from diameter to radius.
     pub fn lead_along_path(&self) -> f64 {
@@ -42,6 +48,17 @@ impl SyncSegment {
     }
 }
 
+/// The lead along Z of a synchronised move that advances `k_mm` per revolution along its
+/// path (LinuxCNC's G33 K) and travels `dz` along Z and `dx` on the diameter: K·|ΔZ|/length,
+/// rounded once onto the lead grid. The one rule for the ISO reader and writer.
+pub fn z_lead_of_k(k_mm: f64, dz: Length, dx: Length) -> Option<Lead> {
+    let (dz, dr) = (dz.to_mm_f64(), dx.to_mm_f64() / 2.0);
+    if dz == 0.0 {
+        return None;
+    }
+    Lead::from_mm_f64(k_mm * dz.abs() / dz.hypot(dr)).filter(|l| l.0 > 0)
+}
+
 /// X on the line through `a` and `b` at `z`, rounded onto the grid.
 fn x_on_line(a: (Length, Length), b: (Length, Length), z: Length) -> Length {
     let (ax, az) = a;
@@ -52,14 +69,15 @@ fn x_on_line(a: (Length, Length), b: (Length, Length), z: Length) -> Length {
     ax + (bx - ax).mul_div((z - az).0, (bz - az).0)
 }
 
-/// The synchronised moves of `pass` starting at `start`: entry, thread, runout, in order,
-/// without empty segments.
+/// The synchronised moves of `pass` starting at `start`: infeed, entry, thread, runout, in
+/// order, without empty segments. An infeed segment has no Z travel; its `lead` is the
+/// advance along X (per side) per revolution.
 pub fn pass_segments(start: Pos, pass: &ThreadPass) -> Result<Vec<SyncSegment>, LowerError> {
     let end = Pos {
         x: pass.to.x.or(start.x),
         z: pass.to.z.or(start.z),
     };
-    if pass.entry.is_none() && pass.exit.is_none() {
+    if pass.entry.is_none() && pass.exit.is_none() && pass.infeed.is_none() {
         return Ok(vec![SyncSegment {
             from: start,
             to: end,
@@ -69,6 +87,19 @@ pub fn pass_segments(start: Pos, pass: &ThreadPass) -> Result<Vec<SyncSegment>, 
     let (sx, sz) = start.known().ok_or(LowerError::UnknownStart)?;
     let (ex, ez) = end.known().ok_or(LowerError::UnknownStart)?;
     let direction = (ez - sz).signum();
+    let mut segments = Vec::with_capacity(4);
+    // The entry (or the thread) starts where the infeed ends.
+    let sx = match pass.infeed {
+        Some(infeed) if infeed.x != sx => {
+            segments.push(SyncSegment {
+                from: Pos::new(sx, sz),
+                to: Pos::new(infeed.x, sz),
+                lead: infeed.advance,
+            });
+            infeed.x
+        }
+        _ => sx,
+    };
     let line_from = (sx - pass.entry.map_or(Length::ZERO, |e| e.offset), sz);
     let line_to = (ex, ez);
     let mut points = vec![Pos::new(sx, sz)];
@@ -84,23 +115,22 @@ pub fn pass_segments(start: Pos, pass: &ThreadPass) -> Result<Vec<SyncSegment>, 
         points.push(Pos::new(ex, ez));
     }
     points.dedup();
-    Ok(points
-        .windows(2)
-        .map(|w| SyncSegment {
-            from: w[0],
-            to: w[1],
-            lead: pass.lead,
-        })
-        .collect())
+    segments.extend(points.windows(2).map(|w| SyncSegment {
+        from: w[0],
+        to: w[1],
+        lead: pass.lead,
+    }));
+    Ok(segments)
 }
 
 /// Expresses a start angle without one: the first segment starts `lead·θ/360` earlier
 /// along its own line, at the index pulse, and so cuts the same helix. Returns the new
-/// start point (the caller moves there first).
+/// start point (the caller moves there first). The shift is rounded once onto the grid and
+/// stays under one lead (an angle just under 360° that rounds to a whole lead is no shift).
 pub fn start_angle_as_shift(
     segments: &mut [SyncSegment],
     angle: Angle,
-) -> Result<Option<Pos>, LowerError> {
+) -> Result<Option<(Pos, Length)>, LowerError> {
     if angle == Angle::ZERO {
         return Ok(None);
     }
@@ -110,7 +140,14 @@ pub fn start_angle_as_shift(
     let (Some(z0), Some(z1)) = (first.from.z, first.to.z) else {
         return Err(LowerError::UnknownStart);
     };
-    let shift = first.lead.mul_div(angle.0, 360_000);
+    let mut shift = first.lead.of_angle(angle);
+    let full_turn = first.lead.length_times(1, 1);
+    if shift >= full_turn {
+        shift = shift - full_turn;
+    }
+    if shift == Length::ZERO {
+        return Ok(None);
+    }
     let direction = (z1 - z0).signum();
     let z = z0 - Length(direction * shift.0);
     let x = match (first.from.x, first.to.x) {
@@ -122,7 +159,7 @@ pub fn start_angle_as_shift(
         (None, None) => None,
     };
     first.from = Pos { x, z: Some(z) };
-    Ok(Some(first.from))
+    Ok(Some((first.from, shift)))
 }
 
 /// More passes than any real thread needs: a cycle asking for more is a typing error, and
@@ -150,7 +187,7 @@ impl ExpandError {
     /// What is wrong, for a diagnostic message.
     pub fn message(&self, cycle: &ThreadCycle) -> String {
         match self {
-            ExpandError::Lead => format!("the lead {} mm is not positive", cycle.lead.mm()),
+            ExpandError::Lead => format!("the lead {} mm is not positive", cycle.lead),
             ExpandError::NoTravel => format!(
                 "the cycle ends at Z{} where it starts: there is no thread length",
                 cycle.end_z.mm()
@@ -256,12 +293,12 @@ pub fn pass_depths(
 }
 
 /// LinuxCNC's G76 loop, in its own floating-point arithmetic so that the pass count is
-/// the one LinuxCNC cuts: depth `|I| + |J|·n^(1/R)` (program units, halved for diameter
+/// the one LinuxCNC cuts: depth `|I| + |J|·n^(1/R)` (program units, scaled as LinuxCNC scales
 /// words) while it is less than `|I| + |K|`, then the full depth (`depth`, exact).
 fn degression_depths(d: &Degression, depth: Length) -> Result<Vec<Length>, ExpandError> {
     let unit = |v: crate::fixed::Decimal| {
         let v = v.to_f64();
-        (if d.halve { v / 2.0 } else { v }).abs()
+        d.scale.apply(v).abs()
     };
     let (i, j, k) = (unit(d.i), unit(d.j), unit(d.k));
     if j <= 0.0 {
@@ -405,10 +442,25 @@ pub fn expand(cycle: &ThreadCycle) -> Result<Expansion, ExpandError> {
             line_start.x.unwrap_or_default() + entry.map_or(Length::ZERO, |e| e.offset),
             z,
         );
+        // LinuxCNC's G76 feeds in along X, synchronised, to the entry's start at the entry's
+        // advance along its path: lead·√(E² + rise²)/E.
+        let infeed = match entry {
+            Some(e) if cycle.entry_infeed && e.length.0 > 0 => {
+                let (len, rise) = (e.length.to_mm_f64(), e.offset.abs().to_mm_f64() / 2.0);
+                Lead::from_mm_f64(cycle.lead.to_mm_f64() * len.hypot(rise) / len).map(|advance| {
+                    SyncInfeed {
+                        x: start.x.unwrap_or_default(),
+                        advance,
+                    }
+                })
+            }
+            _ => None,
+        };
         let pass = ThreadPass {
             to: line_end,
             lead: cycle.lead,
-            start_angle: cycle.start_angle,
+            start: SyncStart::Index(cycle.start_angle),
+            infeed,
             entry,
             exit: cycle.runout.map(|r| Chamfer {
                 length: r.length,
@@ -438,8 +490,8 @@ pub fn expand(cycle: &ThreadCycle) -> Result<Expansion, ExpandError> {
                 let lift = out(height + height);
                 let back = Pos::new(line_start.x.unwrap_or_default() + lift, z);
                 let x = line_end.x.unwrap_or_default() + lift;
-                let approach = if back == start {
-                    vec![rapid(start)]
+                let approach = if back == start || infeed.is_some() {
+                    vec![rapid(back)]
                 } else {
                     vec![rapid(back), rapid(start)]
                 };
@@ -547,7 +599,7 @@ pub(crate) fn seed_m36_cycle(schedule: Schedule) -> ThreadCycle {
         start: (Length(360_000), Length(45_000)),
         crest: Length(360_000),
         end_z: Length(-475_000),
-        lead: Length(15_000),
+        lead: Lead(15_000 * Lead::PER_LENGTH),
         depth: Length(9_600),
         first_depth: Length(2_000),
         taper: Length::ZERO,
@@ -555,6 +607,7 @@ pub(crate) fn seed_m36_cycle(schedule: Schedule) -> ThreadCycle {
         infeed_moves_end: false,
         start_angle: Angle::ZERO,
         entry: None,
+        entry_infeed: false,
         runout: None,
         retract: Retract::AboveCrest(Length(5_000)),
         spring_passes: 0,
@@ -573,6 +626,10 @@ mod tests {
         Length::from_mm_f64(v)
     }
 
+    fn lead_mm(v: f64) -> Lead {
+        Lead::from_mm_f64(v).unwrap()
+    }
+
     fn chamfer(length: f64, angle_deg: f64) -> Chamfer {
         Chamfer {
             length: mm(length),
@@ -585,8 +642,9 @@ mod tests {
         // czech.md: start X71.798, E12., 18° → thread at Ø64 (71.798 − 2·12·tan 18°).
         let pass = ThreadPass {
             to: Pos::new(mm(71.798) - chamfer(12.0, 18.0).offset, mm(3.0)),
-            lead: mm(6.0),
-            start_angle: Angle::ZERO,
+            lead: lead_mm(6.0),
+            start: SyncStart::default(),
+            infeed: None,
             entry: Some(chamfer(12.0, 18.0)),
             exit: None,
         };
@@ -605,8 +663,9 @@ mod tests {
         // Seed example 4: Z5 → Z-100 at Ø64, J12, 20° → ends at Ø64 + 2·12·tan 20°.
         let pass = ThreadPass {
             to: Pos::new(mm(64.0), mm(-100.0)),
-            lead: mm(6.0),
-            start_angle: Angle::ZERO,
+            lead: lead_mm(6.0),
+            start: SyncStart::default(),
+            infeed: None,
             entry: None,
             exit: Some(chamfer(12.0, 20.0)),
         };
@@ -621,8 +680,9 @@ mod tests {
         // Ø20 at Z0 to Ø30 at Z-100, runout 10 with no offset: the knee lies on the line.
         let pass = ThreadPass {
             to: Pos::new(mm(30.0), mm(-100.0)),
-            lead: mm(2.0),
-            start_angle: Angle::ZERO,
+            lead: lead_mm(2.0),
+            start: SyncStart::default(),
+            infeed: None,
             entry: Some(Chamfer {
                 length: mm(20.0),
                 offset: mm(1.0),
@@ -651,7 +711,7 @@ mod tests {
         let seg = SyncSegment {
             from: Pos::new(mm(226.0), mm(3.0)),
             to: Pos::new(mm(246.0), mm(-100.0)),
-            lead: mm(1.5),
+            lead: lead_mm(1.5),
         };
         assert!(
             (seg.lead_along_path() - 1.507_052_89).abs() < 1e-8,
@@ -666,18 +726,29 @@ mod tests {
         let mut segs = vec![SyncSegment {
             from: Pos::new(mm(26.618), mm(3.0)),
             to: Pos::new(mm(26.618), mm(-9.0)),
-            lead: mm(1.5),
+            lead: lead_mm(1.5),
         }];
         let start = start_angle_as_shift(&mut segs, Angle::from_deg(180)).unwrap();
-        assert_eq!(start, Some(Pos::new(mm(26.618), mm(3.75))));
+        assert_eq!(start, Some((Pos::new(mm(26.618), mm(3.75)), mm(0.75))));
         // On a taper, X moves back along the line too.
         let mut taper = vec![SyncSegment {
             from: Pos::new(mm(20.0), mm(0.0)),
             to: Pos::new(mm(30.0), mm(-100.0)),
-            lead: mm(4.0),
+            lead: lead_mm(4.0),
         }];
         let start = start_angle_as_shift(&mut taper, Angle::from_deg(90)).unwrap();
-        assert_eq!(start, Some(Pos::new(mm(19.9), mm(1.0))));
+        assert_eq!(start, Some((Pos::new(mm(19.9), mm(1.0)), mm(1.0))));
+        // 359.999° at lead 2.5 shifts 2.499993 mm, a whole lead on the grid: no shift (the
+        // phase is off by 0.001°), never a start a whole lead early.
+        let mut nearly = vec![SyncSegment {
+            from: Pos::new(mm(9.3), mm(10.0)),
+            to: Pos::new(mm(9.3), mm(-8.047)),
+            lead: lead_mm(2.5),
+        }];
+        assert_eq!(
+            start_angle_as_shift(&mut nearly, Angle(359_999)).unwrap(),
+            None
+        );
         // Without a start Z there is nothing to shift from.
         let mut unknown = vec![SyncSegment {
             from: Pos::UNKNOWN,
@@ -685,7 +756,7 @@ mod tests {
                 x: None,
                 z: Some(mm(200.0)),
             },
-            lead: mm(1.5),
+            lead: lead_mm(1.5),
         }];
         assert_eq!(
             start_angle_as_shift(&mut unknown, Angle::from_deg(180)),
@@ -765,7 +836,7 @@ mod tests {
         c.end_z = c.start.1;
         assert_eq!(expand(&c), Err(ExpandError::NoTravel));
         c = m36(Schedule::Halving);
-        c.lead = Length::ZERO;
+        c.lead = Lead::ZERO;
         assert_eq!(expand(&c), Err(ExpandError::Lead));
         c = m36(Schedule::Halving);
         c.runout = Some(crate::ir::CycleChamfer {
@@ -792,7 +863,7 @@ mod tests {
         for p in &e.passes {
             assert_eq!(p.start.z, Some(mm(4.5)));
             assert_eq!(p.pass.to, Pos::new(p.start.x.unwrap(), mm(-47.5)));
-            assert_eq!(p.pass.lead, mm(1.5));
+            assert_eq!(p.pass.lead, lead_mm(1.5));
             assert_eq!(p.pass.exit, None);
             // Crest 36 + 2·0.5 = 37 is further out than the start Ø36.
             assert_eq!(p.retract_x, mm(37.0));
@@ -901,7 +972,7 @@ mod tests {
             start: (mm(25.0), Length::ZERO),
             crest: mm(19.24),
             end_z: mm(-77.8),
-            lead: mm(2.0),
+            lead: lead_mm(2.0),
             depth: mm(1.08),
             first_depth: mm(0.3),
             taper: mm(6.76),

@@ -25,7 +25,7 @@ use indexmap::IndexMap;
 use serde::Deserialize;
 
 use crate::diag::{Diagnostic, codes};
-use crate::fixed::Length;
+use crate::fixed::{Lead, Length};
 use crate::ir::{Schedule, Slope};
 use crate::source::{SourceFile, Span};
 
@@ -91,8 +91,8 @@ impl Nc31Profile {
     }
 
     /// The runout length along Z for `lead`: P7 · 0.1 · lead, rounded once onto the grid.
-    pub fn runout(&self, lead: Length) -> Length {
-        lead.mul_div(self.runout_p7 as i64, 10)
+    pub fn runout(&self, lead: Lead) -> Length {
+        lead.length_times(self.runout_p7 as i64, 10)
     }
 }
 
@@ -535,7 +535,10 @@ mod tests {
         assert_eq!(p.nc31.linear_unit, Length(10));
         assert_eq!(p.nc31.feed_unit, Length(10_000));
         assert_eq!(p.nc31.infeed().of(Length(9600)), Length(5543));
-        assert_eq!(p.nc31.runout(Length(15_000)), Length(15_000));
+        assert_eq!(
+            p.nc31.runout(Lead::from_length(Length(15_000))),
+            Length(15_000)
+        );
         assert_eq!(p.nc31.schedule, Schedule::ConstantArea);
     }
 

@@ -20,7 +20,7 @@ fn czech_to_iso(args: &[&str], stdin: Option<&[u8]>) -> Output {
 fn converts_a_file_to_stdout() {
     let out = czech_to_iso(&["corpus/czech/ex3-taper.nc"], None);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
-    assert!(text(&out.stdout).contains("G33 X246 Z-100 K1.50705289"));
+    assert!(text(&out.stdout).contains("G33 X246 Z-100 K1.507052888241"));
     // Warnings go to stderr and do not fail the conversion.
     assert!(text(&out.stderr).contains("warning[ISO002]"));
 }

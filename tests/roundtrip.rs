@@ -4,10 +4,10 @@
 //! on the 0.001 mm grid (czech's), leads on the 0.0001 mm grid. For the НЦ-31: passes along
 //! Z only, G31 cycles, values on its 0.01 mm grid.
 use ncthread::dialect::Dialect;
-use ncthread::fixed::{Angle, Length};
+use ncthread::fixed::{Angle, Lead, Length};
 use ncthread::ir::{
     CycleChamfer, FeedMode, Finish, Item, ItemKind, Pos, Program, Retract, Rise, Schedule, Slope,
-    SpindleDirection, ThreadCycle, ThreadPass,
+    SpindleDirection, SyncStart, ThreadCycle, ThreadPass,
 };
 use ncthread::source::{SourceFile, Span};
 use ncthread::{ConvertOptions, Unsupported};
@@ -80,8 +80,10 @@ fn step(with_angles: bool) -> impl Strategy<Value = Step> {
     ]
 }
 
-/// A program from the steps; a pass that would not move along Z is left out.
-fn program(steps: &[Step]) -> Program {
+/// A program from the steps; a pass that would not move along Z is left out. A pass right
+/// after another continues it when `chains` (LinuxCNC's consecutive G33) and otherwise waits
+/// for the index pulse there (the czech control, the НЦ-31).
+fn program(steps: &[Step], chains: bool) -> Program {
     let item = |kind| Item::new(kind, Span::default());
     let mut items = vec![
         item(ItemKind::FeedMode(FeedMode::PerRev)),
@@ -96,6 +98,7 @@ fn program(steps: &[Step]) -> Program {
     let mut z_now = Length::from_mm(60);
     let mut x_now = Length::from_mm(100);
     for s in steps {
+        let after_pass = matches!(items.last().map(|i| &i.kind), Some(ItemKind::ThreadPass(_)));
         match *s {
             Step::Rapid(x, z) => {
                 items.push(item(ItemKind::Rapid { to: Pos::new(x, z) }));
@@ -113,7 +116,7 @@ fn program(steps: &[Step]) -> Program {
                     start: (x_now, z_now),
                     crest,
                     end_z,
-                    lead,
+                    lead: Lead::from_length(lead),
                     depth,
                     first_depth,
                     taper: Length::ZERO,
@@ -121,6 +124,7 @@ fn program(steps: &[Step]) -> Program {
                     infeed_moves_end: false,
                     start_angle: Angle::ZERO,
                     entry: None,
+                    entry_infeed: false,
                     runout: (p7 > 0).then(|| CycleChamfer {
                         length: lead.mul_div(p7, 10),
                         rise: Rise::ToCrest,
@@ -138,13 +142,22 @@ fn program(steps: &[Step]) -> Program {
                 }
             }
             Step::Pass(x, z, lead, start_angle) if z != z_now => {
+                let start = if chains && after_pass {
+                    SyncStart::Continue
+                } else {
+                    SyncStart::Index(start_angle)
+                };
                 items.push(item(ItemKind::ThreadPass(ThreadPass {
                     to: Pos { x, z: Some(z) },
-                    lead,
-                    start_angle,
+                    lead: Lead::from_length(lead),
+                    start,
+                    infeed: None,
                     entry: None,
                     exit: None,
                 })));
+                if let Some(x) = x {
+                    x_now = x;
+                }
                 z_now = z;
             }
             Step::Pass(..) => {}
@@ -225,13 +238,13 @@ proptest! {
 
     #[test]
     fn czech_emit_then_parse_keeps_the_program(steps in proptest::collection::vec(step(true), 1..12)) {
-        let p = program(&steps);
+        let p = program(&steps, false);
         prop_assert_eq!(motion(&round_trip(&p, Dialect::Czech)), motion(&p));
     }
 
     #[test]
     fn iso_emit_then_parse_keeps_the_program(steps in proptest::collection::vec(step(false), 1..12)) {
-        let p = program(&steps);
+        let p = program(&steps, true);
         prop_assert_eq!(motion(&round_trip(&p, Dialect::Iso)), motion(&p));
     }
 
@@ -244,7 +257,7 @@ proptest! {
         // the others become G32 passes or are refused.
         let mut profile = ncthread::profile::Profile::default();
         profile.nc31.runout_p7 = p7;
-        let p = program(&steps);
+        let p = program(&steps, false);
         let p = Program {
             items: p
                 .items

@@ -182,7 +182,14 @@ pub const CZT_COMMENT: Code = warning(
     "CZT004",
     "a source word with no czech equivalent is kept only as a comment",
 );
-pub const CZT_ROUNDED: Code = warning("CZT005", "values rounded to 0.001 mm (--round)");
+pub const CZT_ROUNDED: Code = warning(
+    "CZT005",
+    "values rounded to 0.001 mm, leads to 0.0001 mm (--round)",
+);
+pub const CZT_CONTINUE: Code = error(
+    "CZT007",
+    "a thread move that continues another without the index pulse (every czech G33 block waits for it)",
+);
 
 // iso target
 pub const ISO_OPAQUE: Code = warning("ISO001", "undocumented source word kept only as a comment");
@@ -195,6 +202,10 @@ pub const ISO_START_ANGLE: Code = error(
     "thread pass whose start angle, entry or runout needs an unknown start point",
 );
 pub const ISO_BAD_MAPPING: Code = error("ISO005", "profile M code mapping is not an M word");
+pub const ISO_INDEX_WAIT: Code = error(
+    "ISO006",
+    "a pass that waits for the index pulse where another thread move ended (LinuxCNC would continue it)",
+);
 
 // nc31 target
 pub const NCT_PRECISION: Code = error(
@@ -295,10 +306,12 @@ pub const ALL: &[Code] = &[
     CZT_ANGLE,
     CZT_COMMENT,
     CZT_ROUNDED,
+    CZT_CONTINUE,
     ISO_OPAQUE,
     ISO_MCODE,
     ISO_START_ANGLE,
     ISO_BAD_MAPPING,
+    ISO_INDEX_WAIT,
     NCT_PRECISION,
     NCT_NO_EQUIVALENT,
     NCT_PASS,

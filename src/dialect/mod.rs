@@ -8,7 +8,7 @@ pub mod nc31;
 
 use std::fmt;
 
-use crate::fixed::Length;
+use crate::fixed::{Lead, Length};
 use crate::source::Span;
 
 /// A program dialect.
@@ -84,18 +84,30 @@ pub enum Unsupported {
 #[derive(Debug, Default)]
 pub(crate) struct Inexact {
     pub count: usize,
+    /// The largest deviation: of a length, its rounding; of a lead, the drift it causes at
+    /// the thread's end.
     pub largest: Length,
-    /// Where the first is, and what it is (`X 26.618 mm`).
-    pub first: Option<(Span, String)>,
+    /// Where the first is, what it is (`X 26.618 mm`) and the grid it misses (`0.001 mm`).
+    pub first: Option<(Span, String, String)>,
 }
 
 impl Inexact {
-    /// Notes that `what` = `value` at `span` is written as `rounded`.
-    pub fn note(&mut self, span: Span, what: &str, value: Length, rounded: Length) {
+    /// Notes that `what` = `value` at `span` is written as `rounded` on `grid`.
+    pub fn note(&mut self, span: Span, what: &str, value: Length, rounded: Length, grid: Length) {
         self.count += 1;
         self.largest = self.largest.max((rounded - value).abs());
         if self.first.is_none() {
-            self.first = Some((span, format!("{what} {} mm", value.mm())));
+            self.first = Some((span, format!("{what} {} mm", value.mm()), grid.mm()));
+        }
+    }
+
+    /// Notes that the lead `what` = `lead` at `span` is written rounded onto `grid`, so that
+    /// the thread drifts by `drift` at its end: that is its deviation.
+    pub fn note_lead(&mut self, span: Span, what: &str, lead: Lead, drift: Length, grid: Length) {
+        self.count += 1;
+        self.largest = self.largest.max(drift);
+        if self.first.is_none() {
+            self.first = Some((span, format!("{what} {} mm", lead.mm()), grid.mm()));
         }
     }
 }

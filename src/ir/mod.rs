@@ -5,7 +5,7 @@
 //! angles [`Angle`] (0.001°).
 
 use crate::dialect::Dialect;
-use crate::fixed::{Angle, Decimal, Length};
+use crate::fixed::{Angle, Decimal, Lead, Length};
 use crate::source::Span;
 
 /// A program: items in execution order.
@@ -94,20 +94,62 @@ pub struct Chamfer {
     pub offset: Length,
 }
 
+/// How a synchronised move starts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SyncStart {
+    /// It waits for the spindle's index pulse, then for this angle more (the czech `I`). A
+    /// pass that starts where another synchronised move ended waits there, in the cut.
+    Index(Angle),
+    /// It continues the synchronised move that ended where it starts, without waiting: the
+    /// spindle angle runs on (LinuxCNC's consecutive G33 moves).
+    Continue,
+}
+
+impl SyncStart {
+    /// The start angle after the index pulse, or `None` for a continuation.
+    pub fn angle(self) -> Option<Angle> {
+        match self {
+            SyncStart::Index(a) => Some(a),
+            SyncStart::Continue => None,
+        }
+    }
+}
+
+impl Default for SyncStart {
+    fn default() -> Self {
+        SyncStart::Index(Angle::ZERO)
+    }
+}
+
+/// A synchronised move straight along X before a pass's entry, advancing `advance` along X
+/// per spindle revolution (LinuxCNC's G76 with an entry taper feeds in this way from the
+/// retract height; a G33 that moves only X is one on its own).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct SyncInfeed {
+    /// The diameter it moves to, at the start Z.
+    pub x: Length,
+    /// Advance along X (per side) per spindle revolution.
+    pub advance: Lead,
+}
+
 /// One spindle-synchronised move: from the current position along the thread line to `to`.
 ///
-/// The thread line runs from the start point (shifted in X by −`entry.offset` when there is
-/// an entry) to `to`. The entry leaves the start point and meets the line after
-/// `entry.length` of Z travel; the exit leaves the line `exit.length` before `to.z` and ends
-/// at `to.x + exit.offset`. [`crate::lower::pass_segments`] gives the moves.
+/// With an `infeed` the tool first moves synchronised along X to `infeed.x`; the pass's
+/// start point is then there. The thread line runs from the start point (shifted in X by
+/// −`entry.offset` when there is an entry) to `to`. The entry leaves the start point and
+/// meets the line after `entry.length` of Z travel; the exit leaves the line `exit.length`
+/// before `to.z` and ends at `to.x + exit.offset`. [`crate::lower::pass_segments`] gives the
+/// moves. A pass whose `to` is its start point is only its infeed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct ThreadPass {
     /// End of the thread line (X unknown only for a pure Z pass from an unknown X).
     pub to: Pos,
     /// Advance along Z per spindle revolution.
-    pub lead: Length,
-    /// Spindle angle after the index pulse at which the motion starts.
-    pub start_angle: Angle,
+    pub lead: Lead,
+    /// Whether it waits for the index pulse (and the angle after it) or continues the
+    /// synchronised move before it.
+    pub start: SyncStart,
+    pub infeed: Option<SyncInfeed>,
     pub entry: Option<Chamfer>,
     pub exit: Option<Chamfer>,
 }
@@ -166,10 +208,55 @@ pub struct Degression {
     pub i: Decimal,
     pub j: Decimal,
     pub k: Decimal,
-    /// I, J and K are diameters (G7): LinuxCNC halves them.
-    pub halve: bool,
+    /// How LinuxCNC turns the written I, J and K into radii.
+    pub scale: IjkScale,
     /// Program units are inches (G20).
     pub inch: bool,
+}
+
+/// The factor LinuxCNC applies to a G76's written I, J and K to get radii. It halves them when
+/// G7 (diameter mode) is in force after the line, and when the line itself changes the mode
+/// it first rescales them as it rescales X (G8 on a G7 program: ×2; G7 on a G8 program: ×½),
+/// so the factors are ½ (G7), 1 (G8), 2 (G7 then G8 on the line) and ¼ (G8 then G7 on the
+/// line). **[evidence]** LinuxCNC `convert_lathe_diameter_mode`, `convert_threading_cycle`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum IjkScale {
+    Quarter,
+    Half,
+    One,
+    Double,
+}
+
+impl IjkScale {
+    /// The scale for the diameter mode before the line and after it (true: G7).
+    pub fn of_modes(before: bool, after: bool) -> IjkScale {
+        match (before, after) {
+            (false, false) => IjkScale::One,
+            (true, true) => IjkScale::Half,
+            (true, false) => IjkScale::Double,
+            (false, true) => IjkScale::Quarter,
+        }
+    }
+
+    /// `v` scaled in floating point as LinuxCNC scales it (exact: powers of two).
+    pub fn apply(self, v: f64) -> f64 {
+        match self {
+            IjkScale::Quarter => v / 4.0,
+            IjkScale::Half => v / 2.0,
+            IjkScale::One => v,
+            IjkScale::Double => v * 2.0,
+        }
+    }
+
+    /// A length scaled onto the grid.
+    pub fn length(self, v: Length) -> Length {
+        match self {
+            IjkScale::Quarter => v.mul_div(1, 4),
+            IjkScale::Half => v.mul_div(1, 2),
+            IjkScale::One => v,
+            IjkScale::Double => v + v,
+        }
+    }
 }
 
 impl Schedule {
@@ -232,7 +319,7 @@ pub struct ThreadCycle {
     /// Z where the last pass ends.
     pub end_z: Length,
     /// Advance along Z per spindle revolution.
-    pub lead: Length,
+    pub lead: Lead,
     /// Total thread depth per side.
     pub depth: Length,
     /// Depth of the first pass per side (the schedule's parameter).
@@ -248,6 +335,9 @@ pub struct ThreadCycle {
     /// Spindle angle after the index pulse at which each pass starts.
     pub start_angle: Angle,
     pub entry: Option<CycleChamfer>,
+    /// Each pass with an entry first feeds in synchronised along X from the retract height
+    /// to the entry's start, at the entry's advance along its path (LinuxCNC's G76 L1/L3).
+    pub entry_infeed: bool,
     pub runout: Option<CycleChamfer>,
     pub retract: Retract,
     /// Extra passes at the full depth (LinuxCNC's H).
@@ -264,7 +354,7 @@ pub struct ThreadCycle {
 pub struct TapCycle {
     pub end_z: Length,
     /// Advance along Z per spindle revolution.
-    pub lead: Length,
+    pub lead: Lead,
     /// Diameter the tool moves to (rapid) after the cycle (the НЦ-31's point C).
     pub then_x: Option<Length>,
 }

@@ -3,7 +3,7 @@
 //! synchronised segment may start earlier along its own line by less than one lead.
 
 use super::{Motion, Segment, TURN, show_pos as show};
-use crate::fixed::{Angle, Length, div_round};
+use crate::fixed::{Angle, Lead, Length, div_round};
 use crate::ir::Pos;
 
 /// Position tolerance: 0.001 mm.
@@ -17,8 +17,11 @@ pub const PHASE_GRID: Length = Length(2);
 
 /// The phase tolerance for a thread of `lead`: [`PHASE_TOLERANCE`] or the angle of
 /// [`PHASE_GRID`], whichever is larger.
-pub fn phase_tolerance(lead: Length) -> Angle {
-    let grid = div_round(PHASE_GRID.0 as i128 * TURN as i128, lead.0.max(1) as i128) as i64;
+pub fn phase_tolerance(lead: Lead) -> Angle {
+    let grid = div_round(
+        PHASE_GRID.0 as i128 * TURN as i128 * Lead::PER_LENGTH as i128,
+        lead.0.max(1) as i128,
+    ) as i64;
     Angle(PHASE_TOLERANCE.0.max(grid))
 }
 
@@ -116,6 +119,10 @@ fn describe(m: &Motion) -> String {
         Motion::Feed { feed, .. } => format!("a feed at {}", feed.mm()),
         Motion::Sync { lead, .. } => format!("a thread move with lead {}", lead.mm()),
         Motion::Tap { lead, .. } => format!("a tap with lead {}", lead.mm()),
+        Motion::SyncRadial { advance, .. } => {
+            format!("a synchronised infeed at {} per rev", advance.mm())
+        }
+        Motion::IndexWait => "a wait in the cut for the index pulse".into(),
     }
 }
 
@@ -127,7 +134,7 @@ fn angle_gap(a: Angle, b: Angle) -> i64 {
 
 /// Whether the synchronised segment `b` starts where `a` does, or earlier along `a`'s line
 /// by less than one lead.
-fn sync_start_ok(a: &Segment, b: &Segment, lead: Length) -> bool {
+fn sync_start_ok(a: &Segment, b: &Segment, lead: Lead) -> bool {
     if close_pos(a.from, b.from) {
         return true;
     }
@@ -136,7 +143,9 @@ fn sync_start_ok(a: &Segment, b: &Segment, lead: Length) -> bool {
     };
     let towards = (ez - az).signum();
     let earlier = Length(towards * (az - bz).0);
-    earlier.0 > 0 && earlier < lead && collinear(b.from, a.from, a.to)
+    earlier.0 > 0
+        && (earlier.0 as i128) * (Lead::PER_LENGTH as i128) < lead.0 as i128
+        && collinear(b.from, a.from, a.to)
 }
 
 /// Compares two normalised motions; `None` when they are equivalent.
@@ -233,9 +242,14 @@ pub fn compare(left: &[Segment], right: &[Segment]) -> Option<Difference> {
                     (Some(z0), Some(z1)) => (z1 - z0).abs(),
                     _ => Length::ZERO,
                 };
-                let drift = (l - m).abs().mul_div(travel.0, l.0.max(1));
+                let drift = l.drift(m, travel);
                 if drift > TOLERANCE || (travel == Length::ZERO && l != m) {
-                    return differ(format!("lead {} ≠ {}", l.mm(), m.mm()));
+                    return differ(format!(
+                        "lead {} ≠ {} (the helices drift {} mm apart over the move)",
+                        l.mm(),
+                        m.mm(),
+                        drift.mm()
+                    ));
                 }
                 if d != e {
                     return differ("spindle direction differs (the hand of the thread)".into());
@@ -290,6 +304,50 @@ pub fn compare(left: &[Segment], right: &[Segment]) -> Option<Difference> {
                     ));
                 }
             }
+            (
+                Motion::SyncRadial {
+                    advance: l,
+                    direction: d,
+                    start_angle: p,
+                },
+                Motion::SyncRadial {
+                    advance: m,
+                    direction: e,
+                    start_angle: q,
+                },
+            ) => {
+                let travel = match (a.from.x, a.to.x) {
+                    (Some(x0), Some(x1)) => Length((x1 - x0).0.abs() / 2),
+                    _ => Length::ZERO,
+                };
+                if l.drift(m, travel) > TOLERANCE {
+                    return differ(format!("infeed advance {} ≠ {}", l.mm(), m.mm()));
+                }
+                if d != e {
+                    return differ("spindle direction differs".into());
+                }
+                if !close_pos(a.from, b.from) || !close_pos(a.to, b.to) {
+                    return differ(format!(
+                        "synchronised infeed {} → {} ≠ {} → {}",
+                        show(a.from),
+                        show(a.to),
+                        show(b.from),
+                        show(b.to)
+                    ));
+                }
+                let start_ok = match (p, q) {
+                    (Some(p), Some(q)) => angle_gap(p, q) <= PHASE_TOLERANCE.0,
+                    (None, None) => true,
+                    _ => false,
+                };
+                if !start_ok {
+                    return differ(
+                        "the synchronised infeed starts differently (at the index pulse or continuing)"
+                            .into(),
+                    );
+                }
+            }
+            (Motion::IndexWait, Motion::IndexWait) => {}
             _ => {
                 return differ(format!("{} ≠ {}", describe(&a.motion), describe(&b.motion)));
             }
@@ -319,7 +377,7 @@ mod tests {
 
     fn sync(lead: f64, phase: i64) -> Motion {
         Motion::Sync {
-            lead: mm(lead),
+            lead: Lead::from_mm_f64(lead).unwrap(),
             direction: Some(SpindleDirection::Clockwise),
             phase: Some(Angle::from_deg(phase)),
         }

@@ -4,12 +4,13 @@
 //! knows nothing of any dialect's text.
 
 mod compare;
+pub mod rs274;
 
 pub use compare::{Difference, compare, normalise};
 
 use crate::diag::{Diagnostic, codes};
-use crate::fixed::{Angle, Length, div_round};
-use crate::ir::{ItemKind, Pos, Program, SpindleDirection, ThreadPass};
+use crate::fixed::{Angle, Lead, Length, div_round};
+use crate::ir::{ItemKind, Pos, Program, SpindleDirection, SyncStart, ThreadPass};
 use crate::lower;
 use crate::source::{SourceFile, Span};
 
@@ -30,15 +31,28 @@ pub enum Motion {
     /// extended) at Z = 0. Two passes with equal lead, direction and phase cut the same helix.
     /// `None` when the start Z is unknown.
     Sync {
-        lead: Length,
+        lead: Lead,
         direction: Option<SpindleDirection>,
         phase: Option<Angle>,
     },
     /// A rigid tap to `to.z` and back to `from.z`, the spindle reversing at the bottom.
     Tap {
-        lead: Length,
+        lead: Lead,
         direction: Option<SpindleDirection>,
     },
+    /// A spindle-synchronised move along X only (G76's infeed before an entry taper, a G33
+    /// that moves only X): `advance` along X (per side) per revolution; `start_angle` the
+    /// spindle angle after the index pulse at which it starts, `None` when it continues a
+    /// synchronised move.
+    SyncRadial {
+        advance: Lead,
+        direction: Option<SpindleDirection>,
+        start_angle: Option<Angle>,
+    },
+    /// The tool stands where a synchronised move ended, in the cut, while the spindle turns
+    /// until the index pulse (and the start angle after it): a pass that waits for the
+    /// index right where another ended (`from` = `to`).
+    IndexWait,
 }
 
 /// One straight move.
@@ -82,26 +96,30 @@ struct Machine {
     /// G94 in force (feeds per revolution until a program says otherwise).
     per_minute: bool,
     direction: Option<SpindleDirection>,
-    /// The spindle angle where the last synchronised segment ended, when the next one may
-    /// continue it without waiting for the index pulse.
-    sync_end: Option<(Pos, Angle, Length)>,
+    /// Where the last synchronised segment ended and the spindle angle there, while the
+    /// next one may continue it without waiting for the index pulse.
+    sync_end: Option<(Pos, Angle)>,
     out: Simulation,
 }
 
 /// The spindle angle at Z = 0 of a synchronised move through `z` at spindle angle `angle`,
 /// travelling towards `towards` (the sign of its Z travel).
-fn phase_at_zero(z: Length, angle: Angle, lead: Length, towards: i64) -> Angle {
+fn phase_at_zero(z: Length, angle: Angle, lead: Lead, towards: i64) -> Angle {
     // Travelling towards -Z the spindle turns 360° per lead from z down to 0, so the angle
     // at 0 is angle + 360·z/lead; travelling towards +Z it is angle − 360·z/lead.
-    let turned = div_round(z.0 as i128 * TURN as i128, lead.0 as i128) as i64;
-    Angle((angle.0 - towards * turned).rem_euclid(TURN))
+    Angle((angle.0 - towards * turned(z, lead)).rem_euclid(TURN))
+}
+
+/// The spindle angle (0.001° units, not reduced) that `z` of travel takes at `lead`.
+fn turned(z: Length, lead: Lead) -> i64 {
+    let num = z.0 as i128 * TURN as i128 * Lead::PER_LENGTH as i128;
+    (div_round(num, lead.0.max(1) as i128) % TURN as i128) as i64
 }
 
 /// The spindle angle at `z` on a helix with phase `phase` (the inverse of
 /// [`phase_at_zero`]).
-fn angle_at(z: Length, phase: Angle, lead: Length, towards: i64) -> Angle {
-    let turned = div_round(z.0 as i128 * TURN as i128, lead.0 as i128) as i64;
-    Angle((phase.0 + towards * turned).rem_euclid(TURN))
+fn angle_at(z: Length, phase: Angle, lead: Lead, towards: i64) -> Angle {
+    Angle((phase.0 + towards * turned(z, lead)).rem_euclid(TURN))
 }
 
 impl Machine {
@@ -158,19 +176,74 @@ impl Machine {
                 return;
             }
         };
-        for seg in segments {
+        for (i, seg) in segments.into_iter().enumerate() {
             let towards = match (seg.from.z, seg.to.z) {
                 (Some(a), Some(b)) => (b - a).signum(),
                 _ => 0,
             };
-            // A pass starts at its start angle after the index pulse, unless it continues a
-            // synchronised move that ended right here with the same lead.
-            let start_angle = match self.sync_end {
-                Some((end, angle, lead)) if end == seg.from && lead == seg.lead => angle,
-                _ => pass.start_angle,
+            // The pass's first move starts as the pass says; the rest of the pass (entry,
+            // thread, runout) is one synchronised motion.
+            let start = if i == 0 {
+                pass.start
+            } else {
+                SyncStart::Continue
             };
-            let phase = match seg.from.z {
-                Some(z) if towards != 0 => Some(phase_at_zero(z, start_angle, seg.lead, towards)),
+            let continued = self.sync_end.filter(|(end, _)| *end == seg.from);
+            let start_angle = match start {
+                SyncStart::Continue => match continued {
+                    Some((_, angle)) => Some(angle),
+                    None => {
+                        self.problem(
+                            span,
+                            "the thread move continues a synchronised move, but none ended where it starts",
+                        );
+                        None
+                    }
+                },
+                SyncStart::Index(angle) => {
+                    if continued.is_some() {
+                        // It waits for the index pulse where the last synchronised move
+                        // ended: the tool stands in the cut while the spindle turns.
+                        self.out.segments.push(Segment {
+                            motion: Motion::IndexWait,
+                            from: seg.from,
+                            to: seg.from,
+                            line: span.line,
+                            pass: number,
+                        });
+                    }
+                    Some(angle)
+                }
+            };
+            if seg.is_radial() {
+                let continues = matches!(start, SyncStart::Continue);
+                self.segment(
+                    Motion::SyncRadial {
+                        advance: seg.lead,
+                        direction: self.direction,
+                        start_angle: if continues { None } else { start_angle },
+                    },
+                    seg.to,
+                    span,
+                    number,
+                );
+                // The spindle turns (|ΔX|/2) / advance revolutions on the way.
+                self.sync_end = match (start_angle, seg.from.x, seg.to.x) {
+                    (Some(angle), Some(x0), Some(x1)) => {
+                        let side = Length((x1 - x0).0.abs() / 2);
+                        Some((
+                            self.pos,
+                            Angle((angle.0 + turned(side, seg.lead)).rem_euclid(TURN)),
+                        ))
+                    }
+                    _ => None,
+                };
+                continue;
+            }
+            let phase = match (seg.from.z, start_angle) {
+                (Some(z), Some(angle)) if towards != 0 => {
+                    Some(phase_at_zero(z, angle, seg.lead, towards))
+                }
                 _ => None,
             };
             self.segment(
@@ -184,9 +257,7 @@ impl Machine {
                 number,
             );
             self.sync_end = match (phase, seg.to.z) {
-                (Some(phase), Some(z)) => {
-                    Some((self.pos, angle_at(z, phase, seg.lead, towards), seg.lead))
-                }
+                (Some(phase), Some(z)) => Some((self.pos, angle_at(z, phase, seg.lead, towards))),
                 _ => None,
             };
         }
@@ -313,6 +384,20 @@ impl Segment {
                 "tap",
                 format!("  lead {} {} and back", lead.mm(), dir(direction)),
             ),
+            Motion::SyncRadial {
+                advance,
+                direction,
+                start_angle,
+            } => (
+                "infeed",
+                format!(
+                    "  synchronised, {} per rev along X {}{}",
+                    advance.mm(),
+                    dir(direction),
+                    start_angle.map_or(String::new(), |a| format!(" from the index pulse + {a}°"))
+                ),
+            ),
+            Motion::IndexWait => ("wait", "  in the cut for the index pulse".to_string()),
         };
         let pass = self.pass.map_or(String::new(), |p| format!(" pass {p}"));
         format!(
@@ -352,15 +437,26 @@ impl Segment {
                 phase,
             } => serde_json::json!({
                 "motion": "thread",
-                "lead": num(lead),
+                "lead": lead.to_mm_f64(),
                 "spindle": dir(direction),
                 "phase": phase.map(|p| p.to_deg_f64()),
             }),
             Motion::Tap { lead, direction } => serde_json::json!({
                 "motion": "tap",
-                "lead": num(lead),
+                "lead": lead.to_mm_f64(),
                 "spindle": dir(direction),
             }),
+            Motion::SyncRadial {
+                advance,
+                direction,
+                start_angle,
+            } => serde_json::json!({
+                "motion": "infeed",
+                "advance": advance.to_mm_f64(),
+                "spindle": dir(direction),
+                "start_angle": start_angle.map(|a| a.to_deg_f64()),
+            }),
+            Motion::IndexWait => serde_json::json!({ "motion": "index-wait" }),
         };
         if let (Some(v), serde_json::Value::Object(extra)) = (v.as_object_mut(), extra) {
             v.extend(extra);
@@ -420,8 +516,9 @@ mod tests {
     fn pass(x: f64, z: f64, lead: f64, angle: i64) -> ItemKind {
         ItemKind::ThreadPass(ThreadPass {
             to: Pos::new(mm(x), mm(z)),
-            lead: mm(lead),
-            start_angle: Angle::from_deg(angle),
+            lead: Lead::from_mm_f64(lead).unwrap(),
+            start: SyncStart::Index(Angle::from_deg(angle)),
+            infeed: None,
             entry: None,
             exit: None,
         })
@@ -469,8 +566,9 @@ mod tests {
             rapid(64.0, 5.0),
             ItemKind::ThreadPass(ThreadPass {
                 to: Pos::new(mm(64.0), mm(-100.0)),
-                lead: mm(6.0),
-                start_angle: Angle::ZERO,
+                lead: Lead::from_mm_f64(6.0).unwrap(),
+                start: SyncStart::default(),
+                infeed: None,
                 entry: None,
                 exit: Some(crate::ir::Chamfer {
                     length: mm(12.0),
@@ -493,7 +591,7 @@ mod tests {
             rapid(0.0, 6.0),
             ItemKind::TapCycle(TapCycle {
                 end_z: mm(-100.0),
-                lead: mm(1.5),
+                lead: Lead::from_mm_f64(1.5).unwrap(),
                 then_x: Some(mm(20.0)),
             }),
         ]));

@@ -14,10 +14,10 @@ use std::fmt::Write as _;
 
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::{Dialect, Inexact, one_line};
-use crate::fixed::{Angle, Decimal, Length};
+use crate::fixed::{Angle, Decimal, Lead, Length};
 use crate::ir::{
-    Chamfer, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, ThreadCycle,
-    ThreadPass,
+    Chamfer, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, SyncStart,
+    ThreadCycle, ThreadPass,
 };
 use crate::lower;
 use crate::profile::{AngleSource, Profile};
@@ -64,9 +64,12 @@ struct Emitter<'a> {
     pos: Pos,
     motion: Option<&'static str>,
     /// The last F written: its value and whether it was a lead (in a G33 block).
-    f: Option<(Length, bool)>,
+    f: Option<(Lead, bool)>,
     /// R parameters and what they hold, as far as this program sets them.
     params: BTreeMap<u32, Decimal>,
+    /// Where the last pass ended, while no other move followed: a pass that starts there
+    /// waits for the index pulse with the tool in the cut.
+    in_cut: Option<Pos>,
     /// After a J/E pass: the next motion must program every axis.
     all_axes: bool,
     /// After a J/E pass: the next block must be empty (a comment block serves).
@@ -77,9 +80,6 @@ struct Emitter<'a> {
     inexact: Inexact,
     /// `--round`: round them (a warning) instead of refusing.
     round: bool,
-    /// Where the last synchronised move ended, and its lead (a pass starting there continues
-    /// it without waiting for the index pulse).
-    sync_end: Option<(Pos, Length)>,
 }
 
 /// Writes `program` (read from `src` in dialect `from`) as a czech program. `None` when
@@ -114,12 +114,12 @@ pub fn emit(
         motion: None,
         f: None,
         params: BTreeMap::new(),
+        in_cut: None,
         all_axes: false,
         pending_empty: false,
         last_number: None,
         inexact: Inexact::default(),
         round,
-        sync_end: None,
     };
     let reserved: Vec<u32> = params.keys().copied().collect();
     // Items of one source block stay one block when the source is czech.
@@ -136,20 +136,20 @@ pub fn emit(
         e.group(&program.items[i..j], &reserved);
         i = j;
     }
-    if let Some((span, what)) = e.inexact.first.take() {
+    if let Some((span, what, grid)) = e.inexact.first.take() {
         let (n, largest) = (e.inexact.count, e.inexact.largest.mm());
         let d = if e.round {
             Diagnostic::new(
                 codes::CZT_ROUNDED,
-                format!("{n} value(s) rounded to 0.001 mm, the first {what}; the largest deviation is {largest} mm"),
+                format!("{n} value(s) rounded to the czech control's grid (0.001 mm, leads 0.0001 mm), the first {what}; the largest deviation is {largest} mm"),
             )
             .help("thread starts are rounded back along their pass, with the start angle I that keeps the helix")
         } else {
             Diagnostic::new(
                 codes::CZT_PRECISION,
-                format!("{what} needs a 4th decimal; the czech control takes 3 ({n} value(s) in this program do)"),
+                format!("{what} is finer than the czech control's {grid} mm ({n} value(s) in this program are; lengths take 3 decimals, leads 4)"),
             )
-            .help(format!("pass --round to round them to 0.001 mm (largest deviation {largest} mm; thread starts keep their helix through I)"))
+            .help(format!("pass --round to round them (largest deviation {largest} mm, for a lead its drift at the thread's end; thread starts keep their helix through I)"))
         };
         e.diags.push(d.at(src, span));
     }
@@ -220,7 +220,7 @@ impl Emitter<'_> {
             return text;
         }
         let rounded = Length(crate::fixed::div_round(v.0 as i128, 10) as i64 * 10);
-        self.inexact.note(item.span, what, v, rounded);
+        self.inexact.note(item.span, what, v, rounded, Length(10));
         rounded.mm_with_point()
     }
 
@@ -295,10 +295,10 @@ impl Emitter<'_> {
                     return;
                 };
                 self.motion_word("G01", &mut words);
-                if self.f != Some((*feed, false)) {
+                if self.f != Some((Lead::from_length(*feed), false)) {
                     let f = self.three_decimals(item, "feed F", *feed);
                     words.push(format!("F{f}"));
-                    self.f = Some((*feed, false));
+                    self.f = Some((Lead::from_length(*feed), false));
                 }
                 block.words.extend(words);
                 self.all_axes = false;
@@ -394,7 +394,7 @@ impl Emitter<'_> {
             let before = self.pos;
             self.pos = item.kind.end_position(self.pos);
             if self.pos != before {
-                self.sync_end = None;
+                self.in_cut = None;
             }
         }
     }
@@ -438,12 +438,12 @@ impl Emitter<'_> {
     }
 
     /// The R parameter that should hold `value`: one that already does, else a free one.
-    fn lead_param(&mut self, lead: Length, reserved: &[u32]) -> Option<(u32, bool)> {
-        let value = Decimal::parse(&lead.mm_with_point()).expect("a number");
+    fn lead_param(&mut self, lead: Lead, reserved: &[u32]) -> Option<(u32, bool)> {
+        let value = Decimal::parse(&lead.mm_with_point())?;
         if let Some((&n, _)) = self
             .params
             .iter()
-            .find(|(_, d)| d.to_length().ok() == Some(lead))
+            .find(|(_, d)| d.to_lead().ok() == Some(lead))
         {
             return Some((n, false));
         }
@@ -585,41 +585,69 @@ impl Emitter<'_> {
         {
             return;
         }
-        // A start that needs a 4th decimal moves along the pass onto the 0.001 grid (less than
-        // 0.001 mm, inside the tolerance), and the start angle changes by the turns that
-        // takes, so the helix stays: a start moved back is reached later, so it starts sooner
-        // after the index pulse. Of the two grid points the nearer one whose angle stays in
-        // 0…360° is taken.
-        let continues = self.sync_end == Some((self.pos, pass.lead));
-        let mut start_angle = pass.start_angle;
-        if !continues
-            && self.round
+        if pass.infeed.is_some() {
+            return self.diag(
+                codes::CZT_NO_EQUIVALENT,
+                item,
+                "the pass starts with a synchronised move along X (LinuxCNC's G76 infeed before an entry taper, or a G33 along X), which the czech control has no documented form for".into(),
+                "the czech G33 synchronises the thread's own travel; cut this thread without the synchronised infeed (a G76 without L1/L3) or by hand",
+            );
+        }
+        let mut start_angle = match pass.start {
+            SyncStart::Index(angle) => angle,
+            SyncStart::Continue => {
+                return self.diag(
+                    codes::CZT_CONTINUE,
+                    item,
+                    "this thread move continues the one before it without waiting for the index pulse; every czech G33 block waits for the pulse, so the tool would stand in the cut".into(),
+                    "the czech control cuts one synchronised motion per block: a thread with its entry (E) and runout (J); write the source's thread that way, or retract between the moves",
+                );
+            }
+        };
+        // A start that needs a 4th decimal (--round) moves along the pass onto the 0.001 grid
+        // (less than 0.001 mm, inside the tolerance), and the start angle changes by the turns
+        // that takes, so the helix stays: a start later along the travel is reached later.
+        // Of the two grid points the nearer one whose angle stays in 0…360° is taken (so that
+        // no other control starts almost a turn early), and the tool moves there; in the cut
+        // (right after another pass) the tool stays where the last block left it, and the
+        // angle wraps.
+        if self.round
             && let (Some(z), Some(end_z)) = (self.pos.z, pass.to.z)
             && z.0 % 10 != 0
         {
             let towards = (end_z - z).signum();
-            let below = Length(z.0.div_euclid(10) * 10);
-            let mut candidates = [below, below + Length(10)];
-            candidates.sort_by_key(|c| (*c - z).abs());
             let angle_for = |c: Length| {
-                // Positive: the start moves along the travel (later).
                 let later = Length(towards * (c - z).0);
-                let turn =
-                    crate::fixed::div_round(later.0 as i128 * 360_000, pass.lead.0 as i128) as i64;
+                let turn = crate::fixed::div_round(
+                    later.0 as i128 * 360_000 * Lead::PER_LENGTH as i128,
+                    pass.lead.0.max(1) as i128,
+                ) as i64;
                 start_angle.0 + turn
             };
-            if let Some(&at) = candidates
-                .iter()
-                .find(|&&c| (0..360_000).contains(&angle_for(c)))
+            let nearest = Length(crate::fixed::div_round(z.0 as i128, 10) as i64 * 10);
+            let other = if nearest < z {
+                nearest + Length(10)
+            } else {
+                nearest - Length(10)
+            };
+            let in_cut = self.in_cut == Some(self.pos);
+            match [nearest, other]
+                .into_iter()
+                .find(|&c| (0..360_000).contains(&angle_for(c)))
             {
-                start_angle = Angle(angle_for(at));
-                self.flush(block);
-                let mut words = vec![format!("Z{}", at.mm_with_point())];
-                self.motion_word("G00", &mut words);
-                self.write(Block {
-                    words,
-                    ..Block::default()
-                });
+                Some(at) if !in_cut => {
+                    start_angle = Angle(angle_for(at));
+                    if at != nearest {
+                        self.flush(block);
+                        let mut words = vec![format!("Z{}", at.mm_with_point())];
+                        self.motion_word("G00", &mut words);
+                        self.write(Block {
+                            words,
+                            ..Block::default()
+                        });
+                    }
+                }
+                _ => start_angle = Angle(angle_for(nearest).rem_euclid(360_000)),
             }
         }
         let end_x = pass
@@ -636,15 +664,39 @@ impl Emitter<'_> {
             return;
         };
         self.motion_word("G33", &mut words);
-        if self.f != Some((pass.lead, true)) {
-            if pass.lead > MAX_DIRECT_LEAD {
-                let Some((n, new)) = self.lead_param(pass.lead, reserved) else {
+        // Leads take 4 decimals: another is refused, or with --round rounded with the drift
+        // at the thread's end as its deviation. A lead that rounds to nothing is refused.
+        let (units, exact) = pass.lead.in_units(4);
+        let lead = Lead::from_units(units, 4);
+        if units <= 0 {
+            return self.diag(
+                codes::CZT_PRECISION,
+                item,
+                format!(
+                    "the lead {} mm rounds to 0 in the czech control's 0.0001 mm",
+                    pass.lead
+                ),
+                "a thread needs a lead the control can hold",
+            );
+        }
+        if !exact {
+            let travel = match (self.pos.z, pass.to.z) {
+                (Some(a), Some(b)) => (b - a).abs(),
+                _ => Length::ZERO,
+            };
+            let drift = pass.lead.drift(lead, travel);
+            self.inexact
+                .note_lead(item.span, "lead F", pass.lead, drift, Length(1));
+        }
+        if self.f != Some((lead, true)) {
+            if lead > Lead::from_length(MAX_DIRECT_LEAD) {
+                let Some((n, new)) = self.lead_param(lead, reserved) else {
                     return self.diag(
                         codes::CZT_NO_EQUIVALENT,
                         item,
                         format!(
                             "the lead {} is over 99.99 and no R parameter is free to hold it",
-                            pass.lead.mm()
+                            lead
                         ),
                         "free an R parameter in the program",
                     );
@@ -652,16 +704,16 @@ impl Emitter<'_> {
                 if new {
                     self.flush(block);
                     self.write(Block {
-                        words: vec![format!("R{n:02}={}", pass.lead.mm_with_point())],
+                        words: vec![format!("R{n:02}={}", lead.mm_with_point())],
                         comment: Some("lead over 99.99".into()),
                         ..Block::default()
                     });
                 }
                 words.push(format!("FR{n:02}"));
             } else {
-                words.push(format!("F{}", pass.lead.mm_with_point()));
+                words.push(format!("F{}", lead.mm_with_point()));
             }
-            self.f = Some((pass.lead, true));
+            self.f = Some((lead, true));
         }
         if start_angle != Angle::ZERO {
             words.push(format!("I{}", start_angle.deg()));
@@ -676,7 +728,7 @@ impl Emitter<'_> {
         }
         block.words.extend(words);
         self.pos = ItemKind::ThreadPass(*pass).end_position(self.pos);
-        self.sync_end = Some((self.pos, pass.lead));
+        self.in_cut = Some(self.pos);
         if pass.entry.is_some() || pass.exit.is_some() {
             // The empty block, then a block that programs every axis. **[seed]**
             self.flush(block);

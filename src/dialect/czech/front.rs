@@ -6,9 +6,10 @@ use std::ops::Range;
 use super::syntax::{self, Block, Value, Word};
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::{Dialect, Unsupported, WORD_REPORTS, budget};
-use crate::fixed::{Angle, Decimal, Length, NumberError};
+use crate::fixed::{Angle, Decimal, Lead, Length, NumberError};
 use crate::ir::{
-    Chamfer, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, ThreadPass,
+    Chamfer, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, SyncStart,
+    ThreadPass,
 };
 use crate::profile::{AngleSource, InitialMotion, Profile};
 use crate::source::{Line, SourceFile, Span};
@@ -883,8 +884,10 @@ impl<'a> FrontEnd<'a> {
                 x: line_end_x,
                 z: end.z,
             },
-            lead,
-            start_angle,
+            lead: Lead::from_length(lead),
+            // Every G33 block waits for the index pulse. **[seed]**
+            start: SyncStart::Index(start_angle),
+            infeed: None,
             entry,
             exit,
         })
@@ -1165,7 +1168,7 @@ mod tests {
             "{line_x}"
         );
         assert_eq!(p.to.z, Some(Length::from_mm(3)));
-        assert_eq!(p.lead, Length::from_mm(6));
+        assert_eq!(p.lead, Lead::from_length(Length::from_mm(6)));
     }
 
     #[test]
@@ -1175,7 +1178,7 @@ mod tests {
         let leads: Vec<_> = passes(text, None).iter().map(|p| p.lead).collect();
         assert_eq!(
             leads,
-            vec![Length::from_mm(2), Length::from_mm(2), Length::from_mm(250)]
+            [2, 2, 250].map(|mm| Lead::from_length(Length::from_mm(mm)))
         );
         // G91 adds to the position; G90 restores absolute words.
         let (program, _) = run("N10 G00 X10. Z10.\nN20 G91 X-2. Z-3.\nN30 G90 X5.\n", None);

@@ -4,15 +4,16 @@ use std::fmt::Write as _;
 
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::Dialect;
+use crate::fixed::Angle;
 use crate::ir::{
-    EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, TapCycle, ThreadCycle,
-    ThreadPass,
+    EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, SyncStart, TapCycle,
+    ThreadCycle, ThreadPass,
 };
 use crate::lower::{self, SyncSegment};
 use crate::profile::{Profile, ToolChange};
 use crate::source::SourceFile;
 
-/// Decimals of K: a 400 mm thread drifts by 400·0.5e-8/K mm at most — far under 0.001 mm.
+/// The fewest decimals of a tapered K (more when the Z lead would not read back exactly).
 const K_DECIMALS: usize = 8;
 
 struct Emitter<'a> {
@@ -21,6 +22,9 @@ struct Emitter<'a> {
     out: String,
     diags: Vec<Diagnostic>,
     pos: Pos,
+    /// Where the last G33 ended, while the next line may continue it (LinuxCNC then does
+    /// not wait for the index pulse).
+    sync_end: Option<Pos>,
     /// The last speed and the direction while the spindle turns.
     speed: Option<u32>,
     turning: Option<SpindleDirection>,
@@ -40,6 +44,7 @@ pub fn emit(
         out: String::new(),
         diags: Vec::new(),
         pos: Pos::UNKNOWN,
+        sync_end: None,
         speed: None,
         turning: None,
     };
@@ -79,9 +84,33 @@ fn comment_text(text: &str) -> String {
     }
 }
 
+/// K for a segment: the lead itself for a move along Z (or the advance of a move along X),
+/// exact; for a tapered move the advance along its path with the fewest decimals (at least
+/// [`K_DECIMALS`]) that the iso reader turns back into exactly the same Z lead, so that a
+/// conversion read back (and `verify`, and ISO → ISO) holds the lead it was given.
 fn k_value(segment: &SyncSegment) -> String {
-    let text = format!("{:.*}", K_DECIMALS, segment.lead_along_path());
-    text.trim_end_matches('0').trim_end_matches('.').to_string()
+    let trim = |text: String| text.trim_end_matches('0').trim_end_matches('.').to_string();
+    let (Some(x0), Some(x1), Some(z0), Some(z1)) =
+        (segment.from.x, segment.to.x, segment.from.z, segment.to.z)
+    else {
+        return segment.lead.mm();
+    };
+    if x0 == x1 || z0 == z1 {
+        return segment.lead.mm();
+    }
+    let k = segment.lead_along_path();
+    let reads_back = |text: &str| {
+        crate::fixed::Decimal::parse(text)
+            .and_then(|d| lower::z_lead_of_k(d.to_f64(), z1 - z0, x1 - x0))
+            == Some(segment.lead)
+    };
+    for decimals in K_DECIMALS..=17 {
+        let text = trim(format!("{k:.decimals$}"));
+        if reads_back(&text) {
+            return text;
+        }
+    }
+    trim(format!("{k:.17}"))
 }
 
 /// `S500 M3`, `M4`, `S500`: the words for a spindle speed and/or direction.
@@ -131,6 +160,13 @@ impl Emitter<'_> {
 
     fn item(&mut self, item: &Item, next: Option<&Item>) {
         let start = self.out.len();
+        // Only a comment line keeps a G33 chain going.
+        if !matches!(
+            item.kind,
+            ItemKind::ThreadPass(_) | ItemKind::Comment(_) | ItemKind::Delimiter
+        ) {
+            self.sync_end = None;
+        }
         match &item.kind {
             ItemKind::Rapid { to } => {
                 self.line(&format!("G0{}", axes(*to)));
@@ -275,7 +311,10 @@ impl Emitter<'_> {
                 self.line(&format!("({heading})"));
             }
             match &m.kind {
-                ItemKind::Rapid { to } => self.line(&format!("G0{}", axes(*to))),
+                ItemKind::Rapid { to } => {
+                    self.sync_end = None;
+                    self.line(&format!("G0{}", axes(*to)))
+                }
                 ItemKind::ThreadPass(pass) => self.thread_pass(item, pass),
                 // `expand` yields only rapids and passes.
                 _ => {}
@@ -319,30 +358,66 @@ impl Emitter<'_> {
                 return;
             }
         };
-        match lower::start_angle_as_shift(&mut segments, pass.start_angle) {
-            Ok(Some(start)) => {
-                let shift = pass.lead.mul_div(pass.start_angle.0, 360_000);
-                self.line(&format!(
-                    "G0{} (start angle {}°: start {} mm earlier along the pass)",
-                    axes(start),
-                    pass.start_angle,
-                    shift
-                ));
-            }
-            Ok(None) => {}
-            Err(_) => {
+        // LinuxCNC continues a G33 that starts where another ended without waiting for the
+        // index pulse: a pass that must wait there cannot be written.
+        let in_chain = self.sync_end == Some(self.pos);
+        match pass.start {
+            SyncStart::Continue if !in_chain => {
                 self.diag(
-                    codes::ISO_START_ANGLE,
+                    codes::ISO_INDEX_WAIT,
                     item,
-                    format!("start angle {}° on a pass whose start point is not known", pass.start_angle),
-                    "RS274/NGC G33 has no start angle: ncthread starts the pass lead·angle/360 earlier, which needs the start point; move to it with X and Z first",
+                    "this thread move continues a synchronised move that does not end where it starts",
+                    "this is a bug in the program's reader; report it with the program",
                 );
                 return;
             }
+            SyncStart::Continue => {}
+            SyncStart::Index(angle) if in_chain => {
+                self.diag(
+                    codes::ISO_INDEX_WAIT,
+                    item,
+                    format!(
+                        "this pass waits for the index pulse{} where the thread move before it ended, with the tool in the cut; LinuxCNC continues consecutive G33 moves without waiting",
+                        if angle == Angle::ZERO { String::new() } else { format!(" and {angle}°") }
+                    ),
+                    "retract and return between the two moves in the source, or make the second continue the first (the same helix)",
+                );
+                return;
+            }
+            SyncStart::Index(angle)
+                if angle != Angle::ZERO && segments.first().is_some_and(|s| s.is_radial()) =>
+            {
+                self.diag(
+                    codes::ISO_START_ANGLE,
+                    item,
+                    format!("start angle {angle}° on a pass that starts with a synchronised move along X"),
+                    "RS274/NGC G33 has no start angle, and a move along X cannot start earlier along Z",
+                );
+                return;
+            }
+            SyncStart::Index(angle) => match lower::start_angle_as_shift(&mut segments, angle) {
+                Ok(Some((start, shift))) => {
+                    self.line(&format!(
+                        "G0{} (start angle {angle}°: start {shift} mm earlier along the pass)",
+                        axes(start),
+                    ));
+                }
+                Ok(None) => {}
+                Err(_) => {
+                    self.diag(
+                        codes::ISO_START_ANGLE,
+                        item,
+                        format!("start angle {angle}° on a pass whose start point is not known"),
+                        "RS274/NGC G33 has no start angle: ncthread starts the pass lead·angle/360 earlier, which needs the start point; move to it with X and Z first",
+                    );
+                    return;
+                }
+            },
         }
         for seg in &segments {
             self.line(&format!("G33{} K{}", axes(seg.to), k_value(seg)));
         }
+        self.sync_end = segments.last().map(|s| s.to);
     }
 }
 
@@ -363,9 +438,9 @@ mod tests {
         let seg = SyncSegment {
             from: Pos::new(Length::from_mm(226), Length::from_mm(3)),
             to: Pos::new(Length::from_mm(246), Length::from_mm(-100)),
-            lead: Length(15_000),
+            lead: crate::fixed::Lead::from_length(Length(15_000)),
         };
-        assert_eq!(k_value(&seg), "1.50705289");
+        assert_eq!(k_value(&seg), "1.507052888241");
         let straight = SyncSegment {
             to: Pos::new(Length::from_mm(226), Length::from_mm(-100)),
             ..seg

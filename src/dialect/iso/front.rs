@@ -14,10 +14,11 @@ use indexmap::IndexMap;
 use super::syntax::{self, Block, Word};
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::{Dialect, Unsupported, WORD_REPORTS, budget};
-use crate::fixed::{Angle, Decimal, Length, div_round};
+use crate::fixed::{Angle, Decimal, Lead, Length, div_round};
 use crate::ir::{
-    CycleChamfer, Degression, EndCode, FeedMode, Finish, Item, ItemKind, Pos, Program, Retract,
-    Rise, Schedule, Slope, SpindleDirection, TapCycle, ThreadCycle, ThreadPass,
+    CycleChamfer, Degression, EndCode, FeedMode, Finish, IjkScale, Item, ItemKind, Pos, Program,
+    Retract, Rise, Schedule, Slope, SpindleDirection, SyncInfeed, SyncStart, TapCycle, ThreadCycle,
+    ThreadPass,
 };
 use crate::lower;
 use crate::source::{Line, SourceFile, Span};
@@ -49,6 +50,8 @@ struct FrontEnd<'a> {
     motion: Option<Motion>,
     /// G7 (true) or G8 (false); `None` until one is programmed (LinuxCNC then reads radii).
     diameter: Option<bool>,
+    /// The diameter mode before the current line's G7/G8 (a G76 scales I, J, K by both).
+    diameter_before_line: bool,
     inch: bool,
     incremental: bool,
     feed: Option<Length>,
@@ -57,6 +60,11 @@ struct FrontEnd<'a> {
     speed: Option<u32>,
     turning: Option<SpindleDirection>,
     selected_tool: Option<u32>,
+    /// Where the last G33 ended, while nothing but comments followed it (a G33 there
+    /// continues it).
+    sync_end: Option<Pos>,
+    /// Where the last synchronised move ended, while no other motion followed it.
+    in_cut: Option<Pos>,
     warned_rounding: bool,
     warned_radius: bool,
 }
@@ -71,6 +79,7 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         pos: Pos::UNKNOWN,
         motion: None,
         diameter: None,
+        diameter_before_line: false,
         inch: false,
         incremental: false,
         feed: None,
@@ -78,6 +87,8 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         speed: None,
         turning: None,
         selected_tool: None,
+        sync_end: None,
+        in_cut: None,
         warned_rounding: false,
         warned_radius: false,
     };
@@ -172,6 +183,20 @@ impl FrontEnd<'_> {
     }
 
     fn push(&mut self, kind: ItemKind, span: Span) {
+        // Anything but a comment between two G33 moves ends LinuxCNC's chain; any other
+        // motion takes the tool out of the cut.
+        match kind {
+            ItemKind::ThreadPass(_) | ItemKind::Comment(_) | ItemKind::Delimiter => {}
+            ItemKind::Rapid { .. }
+            | ItemKind::Feed { .. }
+            | ItemKind::ThreadCycle(_)
+            | ItemKind::TapCycle(_)
+            | ItemKind::Opaque { block: true, .. } => {
+                self.sync_end = None;
+                self.in_cut = None;
+            }
+            _ => self.sync_end = None,
+        }
         self.items.push(Item::new(kind, span));
     }
 
@@ -412,6 +437,36 @@ impl FrontEnd<'_> {
         Some(Length(v as i64))
     }
 
+    /// A lead word (K, G76's P) in program units → a [`Lead`], exact to 10⁻¹² mm.
+    fn lead(&mut self, line: Line<'_>, w: &Word) -> Option<Lead> {
+        let d = w.value;
+        // mm: value × 10¹²; inch: value × 25.4 × 10¹² = value × 254 × 10¹¹.
+        let (factor, shift) = if self.inch { (254, 11) } else { (1, 12) };
+        let num = d.mantissa.checked_mul(factor);
+        let scaled = match num {
+            Some(num) if d.scale <= shift => 10i128
+                .checked_pow(shift - d.scale)
+                .and_then(|f| num.checked_mul(f)),
+            Some(num) => 10i128
+                .checked_pow(d.scale - shift)
+                .map(|den| div_round(num, den)),
+            None => None,
+        };
+        match scaled {
+            Some(v) if v.abs() <= Lead::MAX.0 as i128 => Some(Lead(v as i64)),
+            _ => {
+                self.diag(
+                    codes::NGC_NUMBER,
+                    line,
+                    w.range.clone(),
+                    format!("`{}` is too large for a lead", &line.text[w.range.clone()]),
+                    "a lead is at most 1,000,000 mm",
+                );
+                None
+            }
+        }
+    }
+
     fn too_large(&mut self, line: Line<'_>, w: &Word) {
         self.diag(
             codes::NGC_NUMBER,
@@ -570,6 +625,7 @@ impl FrontEnd<'_> {
                 ),
             }
         }
+        self.diameter_before_line = self.diameter.unwrap_or(false);
         if words.has_g(70).is_some() {
             self.diameter = Some(true);
         }
@@ -842,20 +898,63 @@ impl FrontEnd<'_> {
         }
         let from = self.pos;
         let end = ItemKind::Rapid { to }.end_position(from);
+        let word = z_word.or(x_word).or(at).expect("a G33 line has X or Z");
+        // LinuxCNC continues a G33 that follows another without waiting for the index pulse;
+        // after anything else that empties its motion queue it would wait, in the cut.
+        let start = if self.sync_end.is_some() && self.sync_end == Some(from) {
+            SyncStart::Continue
+        } else if self.in_cut.is_some() && self.in_cut == Some(from) {
+            self.diag(
+                codes::NGC_THREAD_GEOMETRY,
+                line,
+                word.range.clone(),
+                "this G33 starts where a thread move ended, after a line that is not a G33: whether LinuxCNC waits for the index pulse here (with the tool in the cut) depends on its motion queue".into(),
+                "write the thread moves on consecutive lines (comments between them are fine), or retract before the next pass",
+            );
+            return;
+        } else {
+            SyncStart::Index(Angle::ZERO)
+        };
         let dz = match (from.z, end.z) {
             (Some(a), Some(b)) => Some(b - a),
             _ => None,
         };
         let moves_x = to.x.is_some() && to.x != from.x;
         if dz == Some(Length::ZERO) || z_word.is_none() {
-            let w = z_word.or(x_word).or(at).expect("a G33 line has X or Z");
-            self.diag(
-                codes::NGC_THREAD_GEOMETRY,
-                line,
-                w.range.clone(),
-                "G33 without Z travel (a face thread) is not read by ncthread".into(),
-                "ncthread's leads are along Z; program the thread along Z",
-            );
+            // A synchronised move along X only: K is the advance along X.
+            if !moves_x {
+                self.diag(
+                    codes::NGC_THREAD_GEOMETRY,
+                    line,
+                    word.range.clone(),
+                    "G33 that does not move".into(),
+                    "give the end of the thread with Z (and X for a taper)",
+                );
+                return;
+            }
+            let (Some(x), Some(z)) = (end.x, from.z) else {
+                self.unknown_start(line, word);
+                return;
+            };
+            if from.x.is_none() {
+                self.unknown_start(line, word);
+                return;
+            }
+            let Some(advance) = self.lead(line, k) else {
+                return;
+            };
+            let pass = ThreadPass {
+                to: Pos::new(x, z),
+                lead: advance,
+                start,
+                infeed: Some(SyncInfeed { x, advance }),
+                entry: None,
+                exit: None,
+            };
+            self.push(ItemKind::ThreadPass(pass), span);
+            self.pos = Pos::new(x, z);
+            self.sync_end = Some(self.pos);
+            self.in_cut = Some(self.pos);
             return;
         }
         // K is along the path; the IR's lead is along Z.
@@ -865,12 +964,26 @@ impl FrontEnd<'_> {
                 self.unknown_start(line, w);
                 return;
             };
-            let dr = (end.x.expect("X is given") - x0).to_mm_f64() / 2.0;
-            let dz = dz.to_mm_f64();
-            let k = k.value.to_f64() * if self.inch { 25.4 } else { 1.0 };
-            Length::from_mm_f64(k * dz.abs() / dz.hypot(dr))
+            let dx = end.x.expect("X is given") - x0;
+            let k_mm = k.value.to_f64() * if self.inch { 25.4 } else { 1.0 };
+            match lower::z_lead_of_k(k_mm, dz, dx) {
+                Some(l) => l,
+                None => {
+                    self.diag(
+                        codes::NGC_NUMBER,
+                        line,
+                        k.range.clone(),
+                        format!(
+                            "`{}` gives no usable lead along Z",
+                            &line.text[k.range.clone()]
+                        ),
+                        "a lead is more than 10⁻¹² mm and at most 1,000,000 mm",
+                    );
+                    return;
+                }
+            }
         } else {
-            match self.length(line, k) {
+            match self.lead(line, k) {
                 Some(l) => l,
                 None => return,
             }
@@ -878,12 +991,15 @@ impl FrontEnd<'_> {
         let pass = ThreadPass {
             to,
             lead,
-            start_angle: Angle::ZERO,
+            start,
+            infeed: None,
             entry: None,
             exit: None,
         };
         self.push(ItemKind::ThreadPass(pass), span);
         self.pos = ItemKind::ThreadPass(pass).end_position(from);
+        self.sync_end = Some(self.pos);
+        self.in_cut = Some(self.pos);
     }
 
     fn unknown_start(&mut self, line: Line<'_>, w: &Word) {
@@ -933,7 +1049,7 @@ impl FrontEnd<'_> {
             self.unknown_start(line, z_word);
             return;
         }
-        let Some(lead) = self.length(line, k) else {
+        let Some(lead) = self.lead(line, k) else {
             return;
         };
         self.push(
@@ -1024,7 +1140,7 @@ impl FrontEnd<'_> {
             return;
         }
         let diameter = self.diameter.unwrap_or(false);
-        let Some(lead) = self.length(line, p) else {
+        let Some(lead) = self.lead(line, p) else {
             return;
         };
         let (Some(i_len), Some(j_len), Some(k_len)) = (
@@ -1034,9 +1150,10 @@ impl FrontEnd<'_> {
         ) else {
             return;
         };
-        // Per side (radius) and as a diameter.
-        let side = |v: Length| if diameter { v.mul_div(1, 2) } else { v };
-        let i_dia = if diameter { i_len } else { i_len + i_len };
+        // Per side (radius) and as a diameter, scaled as LinuxCNC scales them.
+        let scale = IjkScale::of_modes(self.diameter_before_line, diameter);
+        let side = |v: Length| scale.length(v);
+        let i_dia = side(i_len) + side(i_len);
         let depth = side(k_len);
         let first = side(j_len);
         let height = side(i_len.abs() + k_len);
@@ -1093,20 +1210,6 @@ impl FrontEnd<'_> {
             rise: (q_deg.to_radians().tan() * SLOPE_RUN as f64).round() as i64,
             run: SLOPE_RUN,
         };
-        // With an entry taper LinuxCNC starts synchronised motion at the retract height and
-        // feeds in radially by |I| first: the entry starts |I|/K_taper turns after the index.
-        let start_angle = match entry {
-            Some(_) => {
-                let unit = |v: f64| if diameter { v / 2.0 } else { v };
-                let (i_r, k_r) = (unit(iv).abs(), unit(kv).abs());
-                let e_v = e.map_or(0.0, |e| e.value.to_f64());
-                let pitch = p.value.to_f64();
-                let taper_pitch = pitch * e_v.hypot(k_r) / e_v;
-                let turns = (i_r / taper_pitch).fract();
-                Angle((turns * 360_000.0).round() as i64 % 360_000)
-            }
-            None => Angle::ZERO,
-        };
         let end_z = to.z.expect("Z is given");
         let cycle = ThreadCycle {
             start: (start_x, start_z),
@@ -1118,8 +1221,11 @@ impl FrontEnd<'_> {
             taper: Length::ZERO,
             infeed,
             infeed_moves_end: true,
-            start_angle,
+            start_angle: Angle::ZERO,
             entry,
+            // With an entry taper LinuxCNC feeds in along X, synchronised, from the retract
+            // height to the entry's start. **[evidence]** `threading_pass`.
+            entry_infeed: entry.is_some(),
             runout,
             retract: Retract::AboveCut(height),
             spring_passes,
@@ -1130,7 +1236,7 @@ impl FrontEnd<'_> {
                 i: i.value,
                 j: j.value,
                 k: k.value,
-                halve: diameter,
+                scale,
                 inch: self.inch,
             }),
         };
@@ -1169,7 +1275,7 @@ mod tests {
     #[test]
     fn reads_what_ncthread_writes() {
         let text = format!(
-            "%\n(a.nc, dialect nc31)\n{HEAD}G0 X36 Z4.5\nG33 X35.6 Z-47.5 K1.5\nG0 X37\nM30\n%\n"
+            "%\n(a.nc, dialect nc31)\n{HEAD}G0 X35.6 Z4.5\nG33 X35.6 Z-47.5 K1.5\nG0 X37\nM30\n%\n"
         );
         let (p, d) = run(&text);
         assert!(d.is_empty(), "{d:?}");
@@ -1181,8 +1287,9 @@ mod tests {
             k[5],
             ItemKind::ThreadPass(ThreadPass {
                 to: Pos::new(mm(35.6), mm(-47.5)),
-                lead: mm(1.5),
-                start_angle: Angle::ZERO,
+                lead: crate::fixed::Lead::from_mm_f64(1.5).unwrap(),
+                start: crate::ir::SyncStart::Index(Angle::ZERO),
+                infeed: None,
                 entry: None,
                 exit: None,
             })
@@ -1198,7 +1305,15 @@ mod tests {
         let ItemKind::ThreadPass(pass) = &p.items.last().unwrap().kind else {
             panic!()
         };
-        assert_eq!(pass.lead, mm(1.5));
+        // K has 8 decimals: the Z lead is 1.5 within 2·10⁻⁹ mm (a drift of 10⁻⁷ mm over the
+        // thread), kept as it is rather than rounded onto a coarser grid.
+        assert_eq!(pass.lead, Lead(1_500_000_001_751));
+        // A tapered G33 with a round K: its Z lead is K·ΔZ/length, not K.
+        let (p, _) = run(&format!("{HEAD}G0 X30 Z5\nG33 X40 Z-295 K1.5\n"));
+        let ItemKind::ThreadPass(pass) = &p.items.last().unwrap().kind else {
+            panic!()
+        };
+        assert_eq!(pass.lead, Lead(1_499_791_710_059));
     }
 
     #[test]
@@ -1272,9 +1387,9 @@ mod tests {
             ("G7 G0 X1 Z1 K2\n", codes::NGC_WORD, "K2"),
             ("G7 G0 X10 Z1\nG33 Z-10 K1\n", codes::NGC_SPINDLE, "G33"),
             (
-                "G7 S100 M3\nG0 X10 Z1\nG33 X12 K1\n",
+                "G7 S100 M3\nG0 X10 Z1\nG33 X10 K1\n",
                 codes::NGC_THREAD_GEOMETRY,
-                "X12",
+                "X10",
             ),
             ("G7 S100 M3\nG0 X10 Z1\nG33 Z-10\n", codes::NGC_WORD, "G33"),
             ("G7 G1 X1 Z1\n", codes::NGC_WORD, "G1"),
@@ -1347,12 +1462,8 @@ mod tests {
         assert_eq!(c.retract, Retract::AboveCut(mm(1.4)));
         assert_eq!(c.spring_passes, 1);
         assert!(!c.internal);
-        // |I| = 0.5 per side at K_taper = 1.5·√(2² + 0.9²)/2 = 1.644878: 0.30397 turns.
-        assert!(
-            (c.start_angle.to_deg_f64() - 109.43).abs() < 0.01,
-            "{}",
-            c.start_angle
-        );
+        assert!(c.entry_infeed);
+        assert_eq!(c.start_angle, Angle::ZERO);
         let e = lower::expand(c).unwrap();
         // 0.2·√n < 0.9 for n = 1…20, then the full depth and one spring pass.
         assert_eq!(e.passes.len(), 22);
@@ -1360,6 +1471,17 @@ mod tests {
         // Pass 1: line Ø18.6 from Z5 − 0.2·tan 29.5° = 4.8868 (rs274: X9.3 Z4.8868).
         assert_eq!(p1.start, Pos::new(mm(20.4), mm(4.8868)));
         assert_eq!(p1.pass.to, Pos::new(mm(18.6), mm(-19.604)));
+        // rs274: a rapid back to X10.7 (Ø21.4), then in along X, synchronised at
+        // K_taper = 1.5·√(2² + 0.9²)/2 = 1.644878 per rev, to X10.2 (Ø20.4).
+        assert_eq!(
+            e.moves[0].kind,
+            ItemKind::Rapid {
+                to: Pos::new(mm(21.4), mm(4.8868))
+            }
+        );
+        let infeed = p1.pass.infeed.unwrap();
+        assert_eq!(infeed.x, mm(20.4));
+        assert_eq!(infeed.advance.mm(), "1.64487841496");
         let last = e.passes[21];
         assert_eq!(last.pass.to, Pos::new(mm(17.2), mm(-20.0)));
         assert_eq!(last.retract_x, mm(20.0));

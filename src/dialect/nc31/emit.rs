@@ -12,10 +12,10 @@
 
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::{Dialect, Inexact, one_line};
-use crate::fixed::{Angle, Length};
+use crate::fixed::{Angle, Lead, Length};
 use crate::ir::{
     CycleChamfer, EndCode, FeedMode, Finish, Item, ItemKind, Pos, Program, Retract, Rise,
-    SpindleDirection, TapCycle, ThreadCycle, ThreadPass,
+    SpindleDirection, SyncStart, TapCycle, ThreadCycle, ThreadPass,
 };
 use crate::lower;
 use crate::profile::{Nc31Profile, Profile};
@@ -175,10 +175,17 @@ fn g31_mismatch(cycle: &ThreadCycle, p: &Nc31Profile) -> Option<String> {
     if cycle.taper.0 < 0 {
         return Some("its thread narrows towards the end (G31 tapers widen)".into());
     }
+    let lead_unit = Lead::from_length(p.lead_unit);
+    if lead_unit.0 > 0 && cycle.lead.0 % lead_unit.0 != 0 {
+        return Some(format!(
+            "its lead {} mm is not a whole number of {} mm units",
+            cycle.lead,
+            p.lead_unit.mm()
+        ));
+    }
     let words = [
         ("X", cycle.crest, p.linear_unit),
         ("Z", cycle.end_z, p.linear_unit),
-        ("F", cycle.lead, p.lead_unit),
         ("P (depth)", cycle.depth, p.linear_unit),
         ("P (first pass)", cycle.first_depth, p.linear_unit),
         ("P (taper)", cycle.taper, p.linear_unit),
@@ -234,27 +241,38 @@ impl Emitter<'_> {
             return v.0 / unit.0;
         }
         let n = crate::fixed::div_round(v.0 as i128, unit.0 as i128) as i64;
-        self.inexact.note(span, what, v, Length(n * unit.0));
+        self.inexact.note(span, what, v, Length(n * unit.0), unit);
         n
     }
 
-    /// A lead in lead units; a lead is never rounded.
-    fn lead(&mut self, span: Span, lead: Length) -> Option<i64> {
-        let unit = self.profile.lead_unit;
+    /// A lead in whole lead units over `travel` along Z. Off the grid: rounded, with the
+    /// drift at the thread's end as its deviation (counted for one diagnostic); a lead that
+    /// rounds to nothing is refused.
+    fn lead(&mut self, span: Span, lead: Lead, travel: Length) -> Option<i64> {
+        let unit = Lead::from_length(self.profile.lead_unit);
+        if unit.0 <= 0 {
+            return None;
+        }
         if lead.0 % unit.0 == 0 {
             return Some(lead.0 / unit.0);
         }
-        self.diag(
-            codes::NCT_PRECISION,
-            span,
-            format!(
-                "the lead {} mm is not a whole number of the НЦ-31's {} mm lead units",
-                lead.mm(),
-                unit.mm()
-            ),
-            "a lead cannot be rounded (the error grows with every turn); check the profile's nc31.lead_unit_mm",
-        );
-        None
+        let n = crate::fixed::div_round(lead.0 as i128, unit.0 as i128) as i64;
+        if n <= 0 {
+            self.diag(
+                codes::NCT_PRECISION,
+                span,
+                format!(
+                    "the lead {lead} mm rounds to 0 in the НЦ-31's {} mm lead units",
+                    self.profile.lead_unit.mm()
+                ),
+                "a thread needs a lead the control can hold; check the profile's nc31.lead_unit_mm",
+            );
+            return None;
+        }
+        let drift = lead.drift(Lead(n * unit.0), travel);
+        self.inexact
+            .note_lead(span, "lead F", lead, drift, self.profile.lead_unit);
+        Some(n)
     }
 
     fn no_equivalent(&mut self, span: Span, message: String, help: &str) {
@@ -435,12 +453,19 @@ impl Emitter<'_> {
     /// `G32 *` F Z. `cycle`: why the cycle this pass belongs to is not a G31.
     fn thread_pass(&mut self, span: Span, pass: &ThreadPass, cycle: Option<&str>) {
         let mut cannot = Vec::new();
-        if pass.start_angle != Angle::ZERO {
-            cannot.push(format!(
+        match pass.start {
+            SyncStart::Index(Angle::ZERO) => {}
+            SyncStart::Index(angle) => cannot.push(format!(
                 "a start angle of {}° (a Z shift of {} mm)",
-                pass.start_angle.deg(),
-                pass.lead.mul_div(pass.start_angle.0, 360_000).mm()
-            ));
+                angle.deg(),
+                pass.lead.of_angle(angle).mm()
+            )),
+            SyncStart::Continue => {
+                cannot.push("no index pulse: it continues the thread move before it".to_string())
+            }
+        }
+        if pass.infeed.is_some() {
+            cannot.push("a synchronised infeed along X".to_string());
         }
         if let Some(e) = pass.entry {
             cannot.push(format!("an entry ({} mm)", e.length.mm()));
@@ -449,9 +474,10 @@ impl Emitter<'_> {
             cannot.push(format!("a runout ({} mm)", r.length.mm()));
         }
         // The thread line starts where the entry meets it.
-        let line_start = self
-            .pos
-            .x
+        let line_start = pass
+            .infeed
+            .map(|i| i.x)
+            .or(self.pos.x)
             .map(|x| x - pass.entry.map_or(Length::ZERO, |e| e.offset));
         match (line_start, pass.to.x) {
             (_, None) => {}
@@ -481,7 +507,8 @@ impl Emitter<'_> {
         let Some(to_z) = pass.to.z else {
             return;
         };
-        let Some(lead) = self.lead(span, pass.lead) else {
+        let travel = self.pos.z.map_or(Length::ZERO, |z| (to_z - z).abs());
+        let Some(lead) = self.lead(span, pass.lead, travel) else {
             return;
         };
         let z = self.units(span, "Z", to_z, self.profile.linear_unit);
@@ -510,7 +537,8 @@ impl Emitter<'_> {
                 self.write(&mut group);
             }
             let unit = self.profile.linear_unit;
-            let Some(lead) = self.lead(item.span, cycle.lead) else {
+            let travel = (cycle.end_z - cycle.start.1).abs();
+            let Some(lead) = self.lead(item.span, cycle.lead, travel) else {
                 return;
             };
             let mut group = vec![
@@ -559,7 +587,8 @@ impl Emitter<'_> {
 
     /// `G33 [@] *` X Z F.
     fn tap(&mut self, span: Span, tap: &TapCycle) {
-        let Some(lead) = self.lead(span, tap.lead) else {
+        let travel = self.pos.z.map_or(Length::ZERO, |z| (tap.end_z - z).abs());
+        let Some(lead) = self.lead(span, tap.lead, travel) else {
             return;
         };
         let unit = self.profile.linear_unit;
@@ -587,9 +616,8 @@ impl Emitter<'_> {
                 "pass --nc31-comments to write them as `(` lines for a PC-side archive",
             );
         }
-        if let Some((span, what)) = self.inexact.first.take() {
+        if let Some((span, what, unit)) = self.inexact.first.take() {
             let (n, largest) = (self.inexact.count, self.inexact.largest.mm());
-            let unit = self.profile.linear_unit.mm();
             let d = if self.options.round {
                 Diagnostic::new(
                     codes::NCT_ROUNDED,
@@ -658,8 +686,9 @@ mod tests {
                 x: None,
                 z: Some(z),
             },
-            lead: Length(15_000),
-            start_angle: Angle::ZERO,
+            lead: crate::fixed::Lead::from_length(Length(15_000)),
+            start: crate::ir::SyncStart::Index(Angle::ZERO),
+            infeed: None,
             entry: None,
             exit: None,
         }
@@ -741,7 +770,7 @@ mod tests {
         let cases: [(ThreadPass, &str); 4] = [
             (
                 ThreadPass {
-                    start_angle: Angle(180_000),
+                    start: crate::ir::SyncStart::Index(Angle(180_000)),
                     ..pass(mm(-20))
                 },
                 "a start angle of 180° (a Z shift of 0.75 mm)",
@@ -804,7 +833,7 @@ mod tests {
     }
 
     #[test]
-    fn values_off_the_grid_are_refused_or_rounded_but_leads_never() {
+    fn values_off_the_grid_are_refused_or_rounded_and_leads_by_their_drift() {
         let items = || {
             vec![
                 turning(),
@@ -840,7 +869,8 @@ mod tests {
             "{}",
             diags[0].message
         );
-        // A lead off the lead unit is refused even with --round.
+        // A lead off the lead unit is refused, or with --round rounded with its drift at the
+        // thread's end: 1.5005 → F1501 (0.001 mm units), 0.0005·14/1.5005 = 0.00467 mm.
         let src = SourceFile::new("t", "");
         let mut profile = Profile::default();
         profile.nc31.lead_unit = Length(10);
@@ -853,7 +883,7 @@ mod tests {
             .into_iter()
             .map(|mut k| {
                 if let ItemKind::ThreadPass(p) = &mut k {
-                    p.lead = Length(15_005);
+                    p.lead = crate::fixed::Lead::from_length(Length(15_005));
                 }
                 Item::new(k, Span::default())
             })
@@ -869,8 +899,21 @@ mod tests {
                 ..Options::default()
             },
         );
+        assert!(out.unwrap().contains("F1501"));
+        assert_eq!(codes_of(&diags), ["NCT005"]);
+        assert!(
+            diags[0].message.contains("largest deviation is 0.0047 mm"),
+            "{}",
+            diags[0].message
+        );
+        let (out, diags) = emit(&program, &src, Dialect::Iso, &profile, Options::default());
         assert!(out.is_none());
         assert_eq!(codes_of(&diags), ["NCT001"]);
+        assert!(
+            diags[0].message.contains("lead F 1.5005 mm"),
+            "{}",
+            diags[0].message
+        );
     }
 
     #[test]
@@ -902,7 +945,7 @@ mod tests {
         let tap = |then_x| {
             ItemKind::TapCycle(TapCycle {
                 end_z: mm(-25),
-                lead: Length(17_500),
+                lead: crate::fixed::Lead::from_length(Length(17_500)),
                 then_x,
             })
         };

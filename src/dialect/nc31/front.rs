@@ -9,10 +9,10 @@ use std::ops::Range;
 use super::syntax::{self, Frame, Line as SyntaxLine, Modifier, Word};
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::{Dialect, Unsupported};
-use crate::fixed::{Angle, Length};
+use crate::fixed::{Angle, Lead, Length};
 use crate::ir::{
     CycleChamfer, EndCode, Finish, Item, ItemKind, Pos, Program, Retract, Rise, SpindleDirection,
-    TapCycle, ThreadCycle, ThreadPass,
+    SyncStart, TapCycle, ThreadCycle, ThreadPass,
 };
 use crate::lower::{self, ExpandError};
 use crate::profile::{Nc31Profile, Profile};
@@ -667,7 +667,7 @@ impl<'a> FrontEnd<'a> {
         true
     }
 
-    fn lead(&mut self, f: &GroupFrame) -> Option<Length> {
+    fn lead(&mut self, f: &GroupFrame) -> Option<Lead> {
         let lead = self.scaled(f, self.profile.lead_unit)?;
         if lead.0 <= 0 {
             self.word_error(
@@ -675,6 +675,16 @@ impl<'a> FrontEnd<'a> {
                 f,
                 format!("lead `{}` is not positive", f.text(self.src)),
                 "F in a thread group is the lead in 0.0001 mm: F15000 = 1.5 mm",
+            );
+            return None;
+        }
+        let lead = Lead::from_length(lead);
+        if lead > Lead::MAX {
+            self.word_error(
+                codes::NC_NUMBER,
+                f,
+                format!("`{}` is too large for a lead", f.text(self.src)),
+                "a lead is at most 1,000,000 mm",
             );
             return None;
         }
@@ -764,6 +774,7 @@ impl<'a> FrontEnd<'a> {
             infeed_moves_end: false,
             start_angle: Angle::ZERO,
             entry: None,
+            entry_infeed: false,
             runout: Some(self.profile.runout(lead))
                 .filter(|r| r.0 > 0)
                 .map(|length| CycleChamfer {
@@ -857,7 +868,9 @@ impl<'a> FrontEnd<'a> {
                 z: Some(end_z),
             },
             lead,
-            start_angle: Default::default(),
+            // G32 starts from the index pulse. **[seed]**
+            start: SyncStart::Index(Angle::ZERO),
+            infeed: None,
             entry: None,
             exit: None,
         };
@@ -1067,7 +1080,7 @@ mod tests {
         assert_eq!(c.start, (mm(36.0), mm(4.5)));
         assert_eq!(c.crest, mm(36.0));
         assert_eq!(c.end_z, mm(-47.5));
-        assert_eq!(c.lead, mm(1.5));
+        assert_eq!(c.lead, crate::fixed::Lead::from_mm_f64(1.5).unwrap());
         assert_eq!(
             (c.depth, c.first_depth, c.taper),
             (mm(0.96), mm(0.2), Length::ZERO)
@@ -1111,8 +1124,9 @@ mod tests {
             k.last(),
             Some(&ItemKind::ThreadPass(ThreadPass {
                 to: Pos::new(mm(36.0), mm(-47.0)),
-                lead: mm(1.5),
-                start_angle: Default::default(),
+                lead: crate::fixed::Lead::from_mm_f64(1.5).unwrap(),
+                start: crate::ir::SyncStart::default(),
+                infeed: None,
                 entry: None,
                 exit: None
             }))
@@ -1127,7 +1141,7 @@ mod tests {
             k[3],
             ItemKind::TapCycle(TapCycle {
                 end_z: mm(-100.0),
-                lead: mm(1.5),
+                lead: crate::fixed::Lead::from_mm_f64(1.5).unwrap(),
                 then_x: Some(mm(20.0))
             })
         );

@@ -1,0 +1,331 @@
+//! LinuxCNC's `rs274` as a second judge: its canonical machine calls for an ISO program,
+//! read back into the simulator's [`Segment`]s so that [`super::compare`] can hold them
+//! against ncthread's own simulation. The tests use it as the oracle for every ISO output, and
+//! `ncthread verify --rs274` runs it on a conversion.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use super::{Motion, Segment};
+use crate::fixed::{Angle, Lead, Length};
+use crate::ir::{Pos, SpindleDirection};
+
+/// One canonical machine call that moves the tool or changes what a move means. X is a
+/// diameter here (rs274 prints radii in the XZ plane of a lathe).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Canon {
+    Traverse {
+        x: f64,
+        z: f64,
+    },
+    Feed {
+        x: f64,
+        z: f64,
+    },
+    /// START_SPEED_FEED_SYNC: K, the advance per revolution along the path.
+    SyncStart {
+        k: f64,
+    },
+    SyncStop,
+    RigidTap {
+        x: f64,
+        z: f64,
+    },
+    SpindleClockwise,
+    SpindleCounterClockwise,
+    SpindleStop,
+    /// SET_FEED_RATE
+    FeedRate(f64),
+    /// SET_FEED_MODE: per revolution when true.
+    FeedPerRev(bool),
+    /// USE_LENGTH_UNITS: inches when true (the calls' lengths are then in inches).
+    Inches(bool),
+}
+
+fn numbers(args: &str) -> Vec<f64> {
+    args.split([',', ' '])
+        .filter_map(|a| a.trim().parse().ok())
+        .collect()
+}
+
+/// One line of rs274's output (`   12 N.....  CALL(…)`), when it is a call that matters.
+pub fn parse_canon(line: &str) -> Option<Canon> {
+    let (_, rest) = line.trim_start().split_once(' ')?;
+    let (n, call) = rest.trim_start().split_once(' ')?;
+    if !n.starts_with('N') {
+        return None;
+    }
+    let call = call.trim_start();
+    let (name, rest) = call.split_once('(')?;
+    let args = numbers(rest.trim_end_matches(')'));
+    let arg = |i: usize| args.get(i).copied();
+    Some(match name {
+        "STRAIGHT_TRAVERSE" => Canon::Traverse {
+            x: 2.0 * arg(0)?,
+            z: arg(2)?,
+        },
+        "STRAIGHT_FEED" => Canon::Feed {
+            x: 2.0 * arg(0)?,
+            z: arg(2)?,
+        },
+        "RIGID_TAP" => Canon::RigidTap {
+            x: 2.0 * arg(0)?,
+            z: arg(2)?,
+        },
+        "START_SPEED_FEED_SYNC" => Canon::SyncStart { k: arg(0)? },
+        "STOP_SPEED_FEED_SYNCH" => Canon::SyncStop,
+        "START_SPINDLE_CLOCKWISE" => Canon::SpindleClockwise,
+        "START_SPINDLE_COUNTERCLOCKWISE" => Canon::SpindleCounterClockwise,
+        "STOP_SPINDLE_TURNING" => Canon::SpindleStop,
+        "SET_FEED_RATE" => Canon::FeedRate(arg(0)?),
+        "SET_FEED_MODE" => Canon::FeedPerRev(arg(1).is_some_and(|m| m == 1.0)),
+        "USE_LENGTH_UNITS" => Canon::Inches(rest.contains("INCHES")),
+        _ => return None,
+    })
+}
+
+/// How to run LinuxCNC's interpreter.
+#[derive(Clone, Debug)]
+pub enum Interpreter {
+    /// A command run as `CMD FILE` that prints the canonical calls (the project's
+    /// `scripts/rs274`, or `$NCTHREAD_RS274`).
+    Wrapper(PathBuf),
+    /// LinuxCNC's `rs274` itself, run as `rs274 -t TOOLS -g FILE` with a tool table of
+    /// tools 1–999 at zero offsets (rs274 refuses tools it does not know).
+    Binary(PathBuf),
+}
+
+impl Interpreter {
+    /// `$NCTHREAD_RS274` when set, else `rs274` on the PATH.
+    pub fn find() -> Option<Interpreter> {
+        if let Some(cmd) = std::env::var_os("NCTHREAD_RS274") {
+            return Some(Interpreter::Wrapper(PathBuf::from(cmd)));
+        }
+        let path = std::env::var_os("PATH")?;
+        std::env::split_paths(&path)
+            .map(|dir| dir.join("rs274"))
+            .find(|p| p.is_file())
+            .map(Interpreter::Binary)
+    }
+
+    /// Runs the interpreter on `program`: its canonical calls, or its complaint when it
+    /// refuses the program (or cannot be run).
+    pub fn run(&self, program: &str) -> Result<Vec<Canon>, String> {
+        let dir =
+            tempfile::tempdir().map_err(|e| format!("cannot make a temporary folder: {e}"))?;
+        let file = dir.path().join("program.ngc");
+        std::fs::write(&file, program)
+            .map_err(|e| format!("cannot write {}: {e}", file.display()))?;
+        let output = match self {
+            Interpreter::Wrapper(cmd) => Command::new(cmd).arg(&file).output(),
+            Interpreter::Binary(bin) => {
+                let tools = dir.path().join("tools.tbl");
+                let table: String = (1..=999)
+                    .map(|i| format!("T{i} P{i} X0 Z0 D0 ;\n"))
+                    .collect();
+                std::fs::write(&tools, table)
+                    .map_err(|e| format!("cannot write {}: {e}", tools.display()))?;
+                Command::new(bin)
+                    .arg("-t")
+                    .arg(&tools)
+                    .arg("-g")
+                    .arg(&file)
+                    .output()
+            }
+        };
+        let out = output.map_err(|e| format!("cannot run {}: {e}", self.path().display()))?;
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let complaint: Vec<&str> = stderr
+            .lines()
+            .filter(|l| l.trim() != "executing" && !l.trim().is_empty())
+            .collect();
+        if !out.status.success() || !complaint.is_empty() {
+            return Err(format!(
+                "rs274 exit {:?}: {}",
+                out.status.code(),
+                complaint.join("\n")
+            ));
+        }
+        if !stdout.contains("FINISH()") && !stdout.contains("PROGRAM_END()") {
+            return Err("rs274 did not reach the end of the program".into());
+        }
+        Ok(stdout.lines().filter_map(parse_canon).collect())
+    }
+
+    fn path(&self) -> &Path {
+        match self {
+            Interpreter::Wrapper(p) | Interpreter::Binary(p) => p,
+        }
+    }
+}
+
+/// LinuxCNC's motion as ncthread's simulator describes motion. A chain of synchronised moves
+/// (one after another in the motion queue: LinuxCNC waits for the index pulse only when a
+/// synchronised move follows an unsynchronised one) starts at the index pulse, and the
+/// spindle angle runs on through the chain at path length / K turns per move, whatever K
+/// each move has. A synchronised move without Z travel (G76's radial feed in before an entry
+/// taper) is reported as [`Motion::SyncRadial`]. Positions are unknown until the first move,
+/// as in the simulator.
+pub fn segments(canon: &[Canon]) -> Vec<Segment> {
+    let mm = Length::from_mm_f64;
+    let mut pos = Pos::UNKNOWN;
+    let (mut k, mut chain_turns): (Option<f64>, Option<f64>) = (None, None);
+    let mut direction = None;
+    let (mut feed, mut per_rev) = (0.0, false);
+    let mut out = Vec::new();
+    let mut scale = 1.0;
+    let push = |out: &mut Vec<Segment>, motion, from: Pos, to: Pos| {
+        if from != to || matches!(motion, Motion::Tap { .. }) {
+            out.push(Segment {
+                motion,
+                from,
+                to,
+                line: 0,
+                pass: None,
+            });
+        }
+    };
+    for c in canon {
+        match *c {
+            Canon::Traverse { x, z } => {
+                let to = Pos::new(mm(x * scale), mm(z * scale));
+                push(&mut out, Motion::Rapid, pos, to);
+                pos = to;
+                chain_turns = None;
+            }
+            Canon::Feed { x, z } => {
+                let (x, z) = (x * scale, z * scale);
+                let to = Pos::new(mm(x), mm(z));
+                match k.map(|k| k * scale) {
+                    Some(k) => {
+                        let (x0, z0) = pos
+                            .known()
+                            .map(|(x, z)| (x.to_mm_f64(), z.to_mm_f64()))
+                            .unwrap_or((0.0, 0.0));
+                        let (dr, dz) = ((x - x0) / 2.0, z - z0);
+                        let length = dr.hypot(dz);
+                        let turns = chain_turns.get_or_insert(0.0);
+                        let index_start = *turns == 0.0;
+                        if dz == 0.0 {
+                            push(
+                                &mut out,
+                                Motion::SyncRadial {
+                                    advance: Lead::from_mm_f64(k).unwrap_or(Lead::MAX),
+                                    direction,
+                                    start_angle: index_start.then_some(Angle::ZERO),
+                                },
+                                pos,
+                                to,
+                            );
+                        } else {
+                            let z_lead = k * dz.abs() / length;
+                            // The spindle angle at Z0 on this helix.
+                            let towards = dz.signum();
+                            let at_zero = (*turns - towards * z0 / z_lead) * 360.0;
+                            let phase = Angle(
+                                (at_zero.rem_euclid(360.0) * 1000.0).round() as i64 % 360_000,
+                            );
+                            push(
+                                &mut out,
+                                Motion::Sync {
+                                    lead: Lead::from_mm_f64(z_lead).unwrap_or(Lead::MAX),
+                                    direction,
+                                    phase: Some(phase),
+                                },
+                                pos,
+                                to,
+                            );
+                        }
+                        *turns += length / k;
+                    }
+                    None => {
+                        push(
+                            &mut out,
+                            Motion::Feed {
+                                feed: mm(feed * scale),
+                                per_minute: !per_rev,
+                            },
+                            pos,
+                            to,
+                        );
+                        chain_turns = None;
+                    }
+                }
+                pos = to;
+            }
+            Canon::RigidTap { z, .. } => {
+                let to = Pos {
+                    x: pos.x,
+                    z: Some(mm(z * scale)),
+                };
+                let lead = Lead::from_mm_f64(k.unwrap_or(0.0) * scale).unwrap_or(Lead::MAX);
+                push(&mut out, Motion::Tap { lead, direction }, pos, to);
+                chain_turns = None;
+            }
+            Canon::SyncStart { k: new } => k = Some(new),
+            Canon::SyncStop => k = None,
+            Canon::SpindleClockwise => direction = Some(SpindleDirection::Clockwise),
+            Canon::SpindleCounterClockwise => direction = Some(SpindleDirection::CounterClockwise),
+            Canon::SpindleStop => direction = None,
+            Canon::FeedRate(f) => feed = f,
+            Canon::FeedPerRev(p) => per_rev = p,
+            Canon::Inches(inch) => scale = if inch { 25.4 } else { 1.0 },
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_rs274_lines() {
+        assert_eq!(
+            parse_canon(
+                "   15 N..... STRAIGHT_TRAVERSE(9.0000, 0.0000, 4.5000, 0.0000, 0.0000, 0.0000)"
+            ),
+            Some(Canon::Traverse { x: 18.0, z: 4.5 })
+        );
+        assert_eq!(
+            parse_canon("   20 N..... START_SPEED_FEED_SYNC(3.000000,0)"),
+            Some(Canon::SyncStart { k: 3.0 })
+        );
+        assert_eq!(parse_canon("   16 N..... COMMENT(\"x\")"), None);
+        assert_eq!(parse_canon("   16 N..... STRAIGHT_FEED()"), None);
+    }
+
+    #[test]
+    fn a_chain_keeps_its_phase_and_a_radial_move_is_named() {
+        // G76's entry: radial in at K 1.644878 from the index pulse, then the taper and the
+        // thread at K 1.5 without a new index wait.
+        let canon = [
+            Canon::SpindleClockwise,
+            Canon::Traverse { x: 21.4, z: 4.8868 },
+            Canon::SyncStart { k: 1.644878 },
+            Canon::Feed { x: 20.4, z: 4.8868 },
+            Canon::Feed { x: 18.6, z: 2.8868 },
+            Canon::SyncStart { k: 1.5 },
+            Canon::Feed {
+                x: 18.6,
+                z: -17.604,
+            },
+            Canon::SyncStop,
+        ];
+        let s = segments(&canon);
+        assert!(matches!(
+            s[1].motion,
+            Motion::SyncRadial {
+                start_angle: Some(Angle::ZERO),
+                ..
+            }
+        ));
+        let phase = |seg: &Segment| match seg.motion {
+            Motion::Sync { phase, .. } => phase,
+            _ => None,
+        };
+        // Both synchronised moves lie on one helix.
+        assert_eq!(phase(&s[2]), phase(&s[3]));
+    }
+}
