@@ -3,21 +3,40 @@
 //!
 //! - A thread pass, thread cycle or tap needs the spindle turning (M3/M4 before it, no M5 or
 //!   program end between). Every control in scope refuses a synchronised move otherwise.
+//! - A feed per revolution needs the spindle turning at a known, non-zero speed (LinuxCNC
+//!   refuses it; on any control the axis would wait for ever).
+//! - A block kept as written (`--unsupported warn`) may move the machine: it stands in the
+//!   output only when the output is in its own dialect and in the modes it was written under
+//!   (millimetres, diameters, absolute coordinates, the same feed mode). Otherwise its meaning
+//!   would change, so it is refused in every mode.
 
 use crate::diag::{Diagnostic, codes};
-use crate::ir::{ItemKind, Program};
+use crate::dialect::Dialect;
+use crate::ir::{FeedMode, ItemKind, Program};
 use crate::source::SourceFile;
 
-/// The diagnostics of the shared rules (errors).
-pub fn check(program: &Program, src: &SourceFile) -> Vec<Diagnostic> {
+/// The diagnostics of the shared rules (errors). `to` is the target, when the program is to
+/// be written (`None`: `check`).
+pub fn check(program: &Program, src: &SourceFile, to: Option<Dialect>) -> Vec<Diagnostic> {
     let mut diags = Vec::new();
     let mut turning = false;
+    let mut speed: Option<u32> = None;
+    let mut feed_mode: Option<FeedMode> = None;
     for item in &program.items {
         match &item.kind {
             ItemKind::Spindle {
-                direction: Some(_), ..
-            } => turning = true,
+                speed: s,
+                direction,
+            } => {
+                if s.is_some() {
+                    speed = *s;
+                }
+                if direction.is_some() {
+                    turning = true;
+                }
+            }
             ItemKind::SpindleStop | ItemKind::ProgramEnd(_) => turning = false,
+            ItemKind::FeedMode(mode) => feed_mode = Some(*mode),
             ItemKind::ThreadPass(_) | ItemKind::ThreadCycle(_) | ItemKind::TapCycle(_)
                 if !turning =>
             {
@@ -34,6 +53,62 @@ pub fn check(program: &Program, src: &SourceFile) -> Vec<Diagnostic> {
                     .at(src, item.span)
                     .help("start the spindle (M3/M4 with S) before the thread; a synchronised move follows the turning spindle"),
                 );
+            }
+            ItemKind::Feed { .. }
+                if feed_mode != Some(FeedMode::PerMin) && (!turning || speed.unwrap_or(0) == 0) =>
+            {
+                let why = if !turning {
+                    "the spindle is not turning"
+                } else if speed.is_none() {
+                    "no spindle speed (S) is set"
+                } else {
+                    "the spindle speed is S0"
+                };
+                diags.push(
+                    Diagnostic::new(
+                        codes::FEED_SPINDLE_OFF,
+                        format!("a feed per revolution while {why}: the axis would not move"),
+                    )
+                    .at(src, item.span)
+                    .help("start the spindle with S and M3/M4 before the feed, or program the feed per minute (G94)"),
+                );
+            }
+            ItemKind::Opaque {
+                dialect,
+                text,
+                block: Some(context),
+            } => {
+                let why = match to {
+                    Some(to) if to != *dialect => Some(format!(
+                        "it may move the machine and only the {dialect} control can say it; the output is {to}"
+                    )),
+                    Some(_) => context
+                        .differs_from_output()
+                        .map(|modes| format!("it was written in {modes}"))
+                        .or_else(|| {
+                            let per_minute = match feed_mode {
+                                Some(m) => m == FeedMode::PerMin,
+                                // The ISO writer starts in G95.
+                                None if to == Some(Dialect::Iso) => false,
+                                None => return None,
+                            };
+                            (context.per_minute.is_some_and(|p| p != per_minute)).then(|| {
+                                "it was written in another feed mode than the output has there"
+                                    .to_string()
+                            })
+                        }),
+                    None => None,
+                };
+                if let Some(why) = why {
+                    diags.push(
+                        Diagnostic::new(
+                            codes::OPAQUE_MEANING,
+                            format!("the block `{text}`, kept as written, would mean something else in the output: {why}"),
+                        )
+                        .at(src, item.span)
+                        .help("a block ncthread does not read can only be copied where it means the same; rewrite it in what ncthread reads (or convert to the same dialect without changing its modes)"),
+                    );
+                }
             }
             _ => {}
         }
@@ -55,7 +130,7 @@ mod tests {
                 .map(|k| Item::new(k, Span::default()))
                 .collect(),
         };
-        check(&program, &SourceFile::new("t", ""))
+        check(&program, &SourceFile::new("t", ""), None)
             .into_iter()
             .map(|d| d.message)
             .collect()

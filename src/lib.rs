@@ -70,7 +70,7 @@ pub fn emit(
     options: &ConvertOptions,
 ) -> (Option<String>, Vec<Diagnostic>) {
     let (from, profile) = (options.from, &options.profile);
-    let shared = legalise::check(program, src);
+    let shared = legalise::check(program, src, Some(options.to));
     if diag::has_errors(&shared) {
         return (None, shared);
     }
@@ -122,7 +122,7 @@ pub fn check(
 ) -> Vec<Diagnostic> {
     let (program, mut diagnostics) = parse(src, from, profile, unsupported);
     if !diag::has_errors(&diagnostics) {
-        diagnostics.extend(legalise::check(&program, src));
+        diagnostics.extend(legalise::check(&program, src, None));
         let simulation = sim::simulate(&program);
         diagnostics.extend(simulation.problems.iter().map(|p| p.diagnostic(src)));
     }
@@ -133,8 +133,12 @@ pub fn check(
 /// What `verify` found.
 #[derive(Clone, Debug)]
 pub enum Outcome {
-    /// The normalised motions agree; `segments` were compared.
-    Equivalent { segments: usize },
+    /// The normalised motions agree; `segments` were compared, and they differ by at most
+    /// `deviation` (positions, and the drift of each thread's helix over its move).
+    Equivalent {
+        segments: usize,
+        deviation: fixed::Length,
+    },
     /// The first place where they differ.
     Different(Box<sim::Difference>),
     /// A program could not be read or converted (the diagnostics say why).
@@ -149,15 +153,66 @@ pub struct Verification {
     /// The source's normalised motion and the other program's.
     pub left: Vec<sim::Segment>,
     pub right: Vec<sim::Segment>,
+    /// The second judge's findings (`verify --rs274`): LinuxCNC's own run of each ISO
+    /// program held against ncthread's simulation of the other side.
+    pub oracle: Vec<OracleCheck>,
+}
+
+/// One comparison by LinuxCNC's interpreter.
+#[derive(Clone, Debug)]
+pub struct OracleCheck {
+    /// What was compared, for people: `LinuxCNC's run of the ISO output vs the source`.
+    pub what: String,
+    pub outcome: OracleOutcome,
+}
+
+#[derive(Clone, Debug)]
+pub enum OracleOutcome {
+    Equivalent {
+        segments: usize,
+        deviation: fixed::Length,
+    },
+    Different(Box<sim::Difference>),
+    /// rs274 refused the program or could not be run.
+    Failed(String),
+}
+
+/// Runs `program` (ISO text) through LinuxCNC's interpreter and compares its motion with
+/// `expected` (a normalised simulation).
+fn oracle_check(
+    interpreter: &sim::rs274::Interpreter,
+    what: String,
+    program: &str,
+    expected: &[sim::Segment],
+) -> OracleCheck {
+    let outcome = match interpreter.run(program) {
+        Err(e) => OracleOutcome::Failed(e),
+        Ok(canon) => {
+            let theirs = sim::normalise(&sim::rs274::segments(&canon));
+            match sim::compare(expected, &theirs) {
+                None => OracleOutcome::Equivalent {
+                    segments: theirs.len(),
+                    deviation: sim::largest_deviation(expected, &theirs),
+                },
+                Some(d) => OracleOutcome::Different(Box::new(d)),
+            }
+        }
+    };
+    OracleCheck { what, outcome }
 }
 
 /// Proves a conversion: simulates `src` (dialect `options.from`) and the program in
 /// `options.to` — `against` when given (a hand conversion), else ncthread's own conversion
 /// read back — and compares the normalised motions.
+///
+/// With `rs274` (LinuxCNC's interpreter), each ISO program on either side is also run by
+/// LinuxCNC and its motion compared with ncthread's simulation of the other side: a judge
+/// that shares no code with ncthread's readers.
 pub fn verify(
     src: &SourceFile,
     options: &ConvertOptions,
     against: Option<&SourceFile>,
+    rs274: Option<&sim::rs274::Interpreter>,
 ) -> Verification {
     let refused = |mut diagnostics: Vec<Diagnostic>| {
         diag::sort(&mut diagnostics);
@@ -166,6 +221,7 @@ pub fn verify(
             diagnostics,
             left: Vec::new(),
             right: Vec::new(),
+            oracle: Vec::new(),
         }
     };
     let (program, mut diagnostics) =
@@ -205,13 +261,40 @@ pub fn verify(
     let outcome = match sim::compare(&left, &right) {
         None => Outcome::Equivalent {
             segments: left.len(),
+            deviation: sim::largest_deviation(&left, &right),
         },
         Some(d) => Outcome::Different(Box::new(d)),
     };
+    let mut oracle = Vec::new();
+    if let Some(interpreter) = rs274 {
+        if options.to == Dialect::Iso {
+            oracle.push(oracle_check(
+                interpreter,
+                format!(
+                    "LinuxCNC's run of {} vs ncthread's simulation of {}",
+                    other.name, src.name
+                ),
+                &other.text,
+                &left,
+            ));
+        }
+        if options.from == Dialect::Iso {
+            oracle.push(oracle_check(
+                interpreter,
+                format!(
+                    "LinuxCNC's run of {} vs ncthread's simulation of {}",
+                    src.name, other.name
+                ),
+                &src.text,
+                &right,
+            ));
+        }
+    }
     Verification {
         outcome,
         diagnostics,
         left,
         right,
+        oracle,
     }
 }

@@ -158,6 +158,11 @@ struct VerifyArgs {
     /// instead of ncthread's own conversion.
     #[arg(long)]
     against: Option<PathBuf>,
+    /// Also run every ISO program of the comparison through LinuxCNC's interpreter (`rs274`
+    /// on the PATH, or the command in $NCTHREAD_RS274) and hold its motion against
+    /// ncthread's simulation of the other program: a second, independent judge.
+    #[arg(long)]
+    rs274: bool,
     #[command(flatten)]
     target: TargetArgs,
     #[command(flatten)]
@@ -529,42 +534,82 @@ fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
         None => None,
     };
     let options = args.common.options(from, to, profile, &args.target);
-    let v = ncthread::verify(&src, &options, against.as_ref());
+    let interpreter = if args.rs274 {
+        match ncthread::sim::rs274::Interpreter::find() {
+            Some(i) => Some(i),
+            None => {
+                return Err(Fatal(
+                    "--rs274: LinuxCNC's interpreter was not found: put `rs274` on the PATH or name a command in NCTHREAD_RS274 (the project's scripts/rs274 fetches one)".into(),
+                ));
+            }
+        }
+    } else {
+        None
+    };
+    let v = ncthread::verify(&src, &options, against.as_ref(), interpreter.as_ref());
     print_diagnostics(&v.diagnostics, args.common.diagnostics);
     let other = against
         .as_ref()
         .map_or(format!("ncthread's {to} conversion"), |a| a.name.clone());
-    let (text, code) = match &v.outcome {
-        ncthread::Outcome::Equivalent { segments } => (
+    let seg = |s: &Option<ncthread::sim::Segment>| {
+        s.map_or("(nothing: the program has ended)".to_string(), |s| {
+            s.to_text()
+        })
+    };
+    let (mut text, mut code) = match &v.outcome {
+        ncthread::Outcome::Equivalent {
+            segments,
+            deviation,
+        } => (
             format!(
-                "equivalent: {} ({from}) and {other} ({to}) make the same motion ({segments} segments after normalising; 0.001 mm, 0.01°)\n",
-                src.name
+                "equivalent: {} ({from}) and {other} ({to}) make the same motion ({segments} segments after normalising; largest deviation {} mm; tolerance 0.001 mm, 0.01°)\n",
+                src.name,
+                deviation.mm()
             ),
             ExitCode::SUCCESS,
         ),
-        ncthread::Outcome::Different(d) => {
-            let seg = |s: &Option<ncthread::sim::Segment>| {
-                s.map_or("(nothing: the program has ended)".to_string(), |s| {
-                    s.to_text()
-                })
-            };
-            (
-                format!(
-                    "DIFFERENT: {}\n  {} ({from}): {}\n  {other} ({to}): {}\n  first difference: {d}\n",
-                    d.what,
-                    src.name,
-                    seg(&d.left),
-                    seg(&d.right),
-                ),
-                ExitCode::from(1),
-            )
-        }
+        ncthread::Outcome::Different(d) => (
+            format!(
+                "DIFFERENT: {}\n  {} ({from}): {}\n  {other} ({to}): {}\n  first difference: {d}\n",
+                d.what,
+                src.name,
+                seg(&d.left),
+                seg(&d.right),
+            ),
+            ExitCode::from(1),
+        ),
         ncthread::Outcome::Refused => (
             "not verified: a program could not be read or converted (see the errors above)\n"
                 .to_string(),
             ExitCode::from(1),
         ),
     };
+    for check in &v.oracle {
+        match &check.outcome {
+            ncthread::OracleOutcome::Equivalent {
+                segments,
+                deviation,
+            } => text.push_str(&format!(
+                "rs274 agrees: {} ({segments} segments; largest deviation {} mm)\n",
+                check.what,
+                deviation.mm()
+            )),
+            ncthread::OracleOutcome::Different(d) => {
+                code = ExitCode::from(1);
+                text.push_str(&format!(
+                    "rs274 DISAGREES: {}: {}\n  ncthread: {}\n  LinuxCNC: {}\n",
+                    check.what,
+                    d.what,
+                    seg(&d.left),
+                    seg(&d.right)
+                ));
+            }
+            ncthread::OracleOutcome::Failed(e) => {
+                code = ExitCode::from(1);
+                text.push_str(&format!("rs274 could not check {}: {e}\n", check.what));
+            }
+        }
+    }
     write_output(&None, text.as_bytes())?;
     Ok(code)
 }

@@ -41,7 +41,7 @@ fn every_corpus_conversion_verifies() {
                     .unwrap_or_default(),
                 ..options(case.from, to)
             };
-            let v = ncthread::verify(&src, &options, None);
+            let v = ncthread::verify(&src, &options, None, None);
             match v.outcome {
                 Outcome::Equivalent { .. } => {}
                 other => panic!("{} → {to}: {other:?}\n{:?}", case.name, v.diagnostics),
@@ -58,7 +58,13 @@ fn mutant(change: impl Fn(&str) -> String) -> Outcome {
     let mutated = SourceFile::new("mutant.ngc", change(&hand.text));
     assert_ne!(mutated.text, hand.text, "the mutation changed nothing");
     let seed = read("corpus/nc31/g31-m36x1.5.nc");
-    ncthread::verify(&seed, &options(Dialect::Nc31, Dialect::Iso), Some(&mutated)).outcome
+    ncthread::verify(
+        &seed,
+        &options(Dialect::Nc31, Dialect::Iso),
+        Some(&mutated),
+        None,
+    )
+    .outcome
 }
 
 fn difference(outcome: Outcome) -> String {
@@ -124,13 +130,23 @@ fn a_missing_spring_pass_is_caught() {
     let end = cut + full[cut..].find("G0 X50 Z50").unwrap();
     let without = format!("{}{}", &full[..cut], &full[end..]);
     let against = SourceFile::new("without-spring.ngc", without);
-    let outcome =
-        ncthread::verify(&src, &options(Dialect::Iso, Dialect::Iso), Some(&against)).outcome;
+    let outcome = ncthread::verify(
+        &src,
+        &options(Dialect::Iso, Dialect::Iso),
+        Some(&against),
+        None,
+    )
+    .outcome;
     let d = difference(outcome);
     assert!(d.contains("(pass 45)"), "{d}");
     // With the pass, it verifies.
     let against = SourceFile::new("full.ngc", full);
-    let outcome =
-        ncthread::verify(&src, &options(Dialect::Iso, Dialect::Iso), Some(&against)).outcome;
+    let outcome = ncthread::verify(
+        &src,
+        &options(Dialect::Iso, Dialect::Iso),
+        Some(&against),
+        None,
+    )
+    .outcome;
     assert!(matches!(outcome, Outcome::Equivalent { .. }), "{outcome:?}");
 }

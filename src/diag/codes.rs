@@ -164,6 +164,10 @@ pub const NGC_RADIUS_MODE: Code = warning(
     "NGC011",
     "X read as a radius because neither G7 nor G8 came first (LinuxCNC's default)",
 );
+pub const NGC_AFTER_END: Code = warning(
+    "NGC012",
+    "lines after the program's end (M2/M30 or the closing %), which LinuxCNC does not run",
+);
 
 // czech target
 pub const CZT_PRECISION: Code = error(
@@ -229,6 +233,10 @@ pub const NCT_COMMENTS: Code = warning(
     "NCT007",
     "comments left out: the НЦ-31 has none (--nc31-comments keeps them)",
 );
+pub const NCT_NOTHING: Code = error(
+    "NCT008",
+    "nothing in the program can be written as НЦ-31 frames (the output would be empty)",
+);
 
 // output encoding
 pub const ENCODING: Code = error(
@@ -238,6 +246,14 @@ pub const ENCODING: Code = error(
 
 // shared by every target (legalise, lower)
 pub const SPINDLE_OFF: Code = error("LG001", "thread cut while the spindle is not turning");
+pub const FEED_SPINDLE_OFF: Code = error(
+    "LG002",
+    "feed per revolution while the spindle is not turning (or at no speed)",
+);
+pub const OPAQUE_MEANING: Code = error(
+    "LG003",
+    "a block kept as written whose meaning the output would change (another dialect, or other modes)",
+);
 pub const CYCLE_INVALID: Code = error(
     "LW001",
     "a thread cycle cannot be expanded into passes (depths, lead, travel)",
@@ -247,6 +263,10 @@ pub const CYCLE_INVALID: Code = error(
 pub const SIM_UNKNOWN: Code = warning(
     "SIM001",
     "the motion depends on a position or spindle state that is not known",
+);
+pub const SIM_INDEX_WAIT: Code = warning(
+    "SIM002",
+    "a pass waits for the index pulse with the tool in the cut (where the thread move before it ended)",
 );
 
 /// Every code, for documentation and uniqueness checks.
@@ -301,6 +321,7 @@ pub const ALL: &[Code] = &[
     NGC_G76,
     NGC_ROUNDED,
     NGC_RADIUS_MODE,
+    NGC_AFTER_END,
     CZT_PRECISION,
     CZT_NO_EQUIVALENT,
     CZT_ANGLE,
@@ -318,10 +339,14 @@ pub const ALL: &[Code] = &[
     NCT_DROPPED,
     NCT_ROUNDED,
     NCT_COMMENTS,
+    NCT_NOTHING,
     ENCODING,
     SPINDLE_OFF,
+    FEED_SPINDLE_OFF,
+    OPAQUE_MEANING,
     CYCLE_INVALID,
     SIM_UNKNOWN,
+    SIM_INDEX_WAIT,
 ];
 
 #[cfg(test)]

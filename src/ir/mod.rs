@@ -38,6 +38,35 @@ impl Item {
     }
 }
 
+/// The modes a kept (opaque) block was written under: they decide what its words mean, so
+/// it may stand in the output only where the output is in the same modes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ModalContext {
+    /// Lengths in inches (G20).
+    pub inch: bool,
+    /// X words are diameters (G7, the czech control, the НЦ-31).
+    pub diameter: bool,
+    /// Coordinates are incremental (G91).
+    pub incremental: bool,
+    /// Feed per minute (G94), per revolution (G95), or not known.
+    pub per_minute: Option<bool>,
+}
+
+impl ModalContext {
+    /// What the output of every writer is in: mm, diameters, absolute coordinates.
+    pub fn differs_from_output(&self) -> Option<&'static str> {
+        if self.inch {
+            Some("inches (G20), and the output is in millimetres")
+        } else if !self.diameter {
+            Some("radius mode (X as a radius), and the output writes diameters")
+        } else if self.incremental {
+            Some("incremental coordinates (G91), and the output's are absolute")
+        } else {
+            None
+        }
+    }
+}
+
 /// A point whose axes may still be unknown (before the first absolute word for that axis).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Pos {
@@ -399,9 +428,10 @@ pub enum ItemKind {
     Opaque {
         dialect: Dialect,
         text: String,
-        /// The whole block was kept opaque (`--unsupported warn`): positions after it are
-        /// unknown.
-        block: bool,
+        /// The whole block was kept opaque (`--unsupported warn`), under these modes: it
+        /// may move the machine, so positions after it are unknown. `None`: a single word
+        /// that moves nothing (`&1100`, `M8`).
+        block: Option<ModalContext>,
     },
     /// A `%` program delimiter line.
     Delimiter,
@@ -437,7 +467,7 @@ impl ItemKind {
                 x: tap.then_x.or(current.x),
                 z: current.z,
             },
-            ItemKind::Opaque { block: true, .. } => Pos::UNKNOWN,
+            ItemKind::Opaque { block: Some(_), .. } => Pos::UNKNOWN,
             _ => current,
         }
     }

@@ -148,6 +148,38 @@ fn sync_start_ok(a: &Segment, b: &Segment, lead: Lead) -> bool {
         && collinear(b.from, a.from, a.to)
 }
 
+/// The largest deviation between two equivalent normalised motions, segment by segment:
+/// end points (and the starts of feeds and of thread moves that start at the same place), and
+/// for thread moves the drift of their helices over the move.
+pub fn largest_deviation(left: &[Segment], right: &[Segment]) -> Length {
+    let gap = |a: Pos, b: Pos| {
+        let axis = |p: Option<Length>, q: Option<Length>| match (p, q) {
+            (Some(p), Some(q)) => (p - q).abs(),
+            _ => Length::ZERO,
+        };
+        axis(a.x, b.x).max(axis(a.z, b.z))
+    };
+    let mut largest = Length::ZERO;
+    for (a, b) in left.iter().zip(right) {
+        largest = largest.max(gap(a.to, b.to));
+        match (a.motion, b.motion) {
+            (Motion::Feed { .. }, Motion::Feed { .. }) => {
+                largest = largest.max(gap(a.from, b.from))
+            }
+            (Motion::Sync { lead: l, .. }, Motion::Sync { lead: m, .. }) => {
+                if close_pos(a.from, b.from) {
+                    largest = largest.max(gap(a.from, b.from));
+                }
+                if let (Some(z0), Some(z1)) = (a.from.z, a.to.z) {
+                    largest = largest.max(l.drift(m, (z1 - z0).abs()));
+                }
+            }
+            _ => {}
+        }
+    }
+    largest
+}
+
 /// Compares two normalised motions; `None` when they are equivalent.
 pub fn compare(left: &[Segment], right: &[Segment]) -> Option<Difference> {
     let n = left.len().max(right.len());

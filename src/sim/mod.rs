@@ -6,7 +6,7 @@
 mod compare;
 pub mod rs274;
 
-pub use compare::{Difference, compare, normalise};
+pub use compare::{Difference, compare, largest_deviation, normalise};
 
 use crate::diag::{Diagnostic, codes};
 use crate::fixed::{Angle, Lead, Length, div_round};
@@ -73,11 +73,18 @@ pub struct Problem {
     /// The item it concerns.
     pub span: Span,
     pub message: String,
+    /// The tool stands in the cut waiting for the index pulse (not a missing position).
+    pub index_wait: bool,
 }
 
 impl Problem {
     /// As a warning diagnostic pointing into `src` (the program the simulation came from).
     pub fn diagnostic(&self, src: &SourceFile) -> Diagnostic {
+        if self.index_wait {
+            return Diagnostic::new(codes::SIM_INDEX_WAIT, self.message.clone())
+                .at(src, self.span)
+                .help("the pass waits for the spindle's index pulse where the thread move before it ended, so the tool stands in the cut for up to a turn; retract and return between the moves, or write them as one block (entry E, runout J)");
+        }
         Diagnostic::new(codes::SIM_UNKNOWN, self.message.clone())
             .at(src, self.span)
             .help("move to a known position with absolute X and Z before this, so that the motion can be checked")
@@ -127,6 +134,7 @@ impl Machine {
         self.out.problems.push(Problem {
             span,
             message: message.into(),
+            index_wait: false,
         });
     }
 
@@ -204,6 +212,11 @@ impl Machine {
                     if continued.is_some() {
                         // It waits for the index pulse where the last synchronised move
                         // ended: the tool stands in the cut while the spindle turns.
+                        self.out.problems.push(Problem {
+                            span,
+                            message: "the tool stands in the cut until the index pulse: this pass starts where the thread move before it ended".into(),
+                            index_wait: true,
+                        });
                         self.out.segments.push(Segment {
                             motion: Motion::IndexWait,
                             from: seg.from,
@@ -333,7 +346,7 @@ impl Machine {
             } => self.direction = Some(*d),
             ItemKind::SpindleStop | ItemKind::ProgramEnd(_) => self.direction = None,
             ItemKind::FeedMode(mode) => self.per_minute = *mode == crate::ir::FeedMode::PerMin,
-            ItemKind::Opaque { block: true, .. } => {
+            ItemKind::Opaque { block: Some(_), .. } => {
                 self.pos = Pos::UNKNOWN;
                 self.sync_end = None;
             }

@@ -529,6 +529,15 @@ impl Emitter<'_> {
                 } else {
                     runout
                 };
+                if param == 0 || param == 80 {
+                    self.diag(
+                        codes::CZT_ANGLE,
+                        item,
+                        format!("machine constant 8 ({c8}) names R{param:02} for the {what} angle, and R00 and R80 may not hold angles"),
+                        "check the target machine's constant 8 (the manual recommends R04)",
+                    );
+                    return false;
+                }
                 let value = Decimal {
                     mantissa: word as i128,
                     scale: 3,

@@ -8,8 +8,8 @@ use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::{Dialect, Unsupported, WORD_REPORTS, budget};
 use crate::fixed::{Angle, Decimal, Lead, Length, NumberError};
 use crate::ir::{
-    Chamfer, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, SyncStart,
-    ThreadPass,
+    Chamfer, EndCode, FeedMode, Item, ItemKind, ModalContext, Pos, Program, SpindleDirection,
+    SyncStart, ThreadPass,
 };
 use crate::profile::{AngleSource, InitialMotion, Profile};
 use crate::source::{Line, SourceFile, Span};
@@ -442,10 +442,48 @@ impl<'a> FrontEnd<'a> {
             self.diags.push(d);
         }
         if warn {
+            // A kept block must not change what ncthread follows: its motion, distance or
+            // feed mode, F, S, T, D or spindle words would take effect on the control and not
+            // here, and the blocks after it would be read wrongly.
+            let state = words
+                .motion
+                .map(|(_, w)| w)
+                .or(words.distance.map(|(_, w)| w))
+                .or(words.feed_mode.map(|(_, w)| w))
+                .or(words.spindle.map(|(_, w)| w))
+                .or(words.end.map(|(_, w)| w))
+                .or(words.gears.first().map(|(_, w)| *w))
+                .or(['F', 'S', 'T', 'D'].iter().find_map(|&c| words.get(c)));
+            if let Some(w) = state {
+                let text = &line.text[w.range.clone()];
+                self.report(
+                    self.error(
+                        codes::CZ_UNSUPPORTED,
+                        line,
+                        w.range.clone(),
+                        format!("`{text}` in a block kept opaque: it changes state that the blocks after it depend on, which ncthread would not follow"),
+                    )
+                    .help("write this word in a block of its own, so that ncthread reads it and keeps only the unsupported words"),
+                );
+                return;
+            }
+            // The block number is the writer's to give.
+            let code = line.text[block.code_range.clone()].trim_start();
+            let code = match code.strip_prefix(['N', 'n']) {
+                Some(rest) if block.number.is_some() => rest
+                    .trim_start_matches(|c: char| c.is_ascii_digit())
+                    .trim_start(),
+                _ => code,
+            };
             let kind = ItemKind::Opaque {
                 dialect: Dialect::Czech,
-                text: line.text[block.code_range.clone()].to_string(),
-                block: true,
+                text: code.to_string(),
+                block: Some(ModalContext {
+                    inch: false,
+                    diameter: true,
+                    incremental: self.incremental,
+                    per_minute: None,
+                }),
             };
             self.pos = kind.end_position(self.pos);
             self.push(kind, code_span, None);
@@ -601,7 +639,7 @@ impl<'a> FrontEnd<'a> {
                 ItemKind::Opaque {
                     dialect: Dialect::Czech,
                     text: text.clone(),
-                    block: false,
+                    block: None,
                 },
                 span,
                 number,
@@ -703,6 +741,21 @@ impl<'a> FrontEnd<'a> {
         let kind = match self.motion {
             Motion::Rapid => ItemKind::Rapid { to },
             Motion::Feed => match self.f {
+                Some(FRegister {
+                    value,
+                    is_lead: false,
+                }) if value <= Length::ZERO => {
+                    self.report(
+                        self.error(
+                            codes::CZ_NO_FEED,
+                            line,
+                            code_span_range(line, code_span),
+                            format!("G01 move at feed F{}: the axis would not move", value.mm()),
+                        )
+                        .help("program a feed greater than 0 with F"),
+                    );
+                    return;
+                }
                 Some(FRegister {
                     value,
                     is_lead: false,
@@ -878,7 +931,11 @@ impl<'a> FrontEnd<'a> {
             self.after_runout = AfterRunout::EmptyBlock { thread: code_span };
         }
         // The thread line is the programmed line shifted by −(entry offset). **[decided]**
-        let line_end_x = end.x.map(|x| x - entry.map_or(Length::ZERO, |c| c.offset));
+        // A block without X keeps the diameter: the pass says so too (X stays unwritten).
+        let line_end_x = match entry {
+            Some(c) => end.x.map(|x| x - c.offset),
+            None => to.x,
+        };
         Some(ThreadPass {
             to: Pos {
                 x: line_end_x,
@@ -1204,19 +1261,28 @@ mod tests {
 
     #[test]
     fn unsupported_warn_keeps_the_block_opaque_and_forgets_the_position() {
-        let src = SourceFile::new(
-            "t.nc",
-            "N10 G00 X1. Z1.\nN20 G84 X2. Z-5. F1.\nN30 G91 X1.\n",
-        );
+        let src = SourceFile::new("t.nc", "N10 G00 X1. Z1.\nN20 G84 X2. Z-5.\nN30 G91 X1.\n");
         let options = Options {
             unsupported: Unsupported::Warn,
         };
         let (program, diags) = parse(&src, &Profile::default(), &options);
         assert_eq!(diags[0].severity, diag::Severity::Warning);
+        // Kept without its block number (the writer gives one), with the modes it was
+        // written under.
         assert!(
-            matches!(&program.items[1].kind, ItemKind::Opaque { block: true, text, .. } if text == "N20 G84 X2. Z-5. F1.")
+            matches!(&program.items[1].kind, ItemKind::Opaque { block: Some(c), text, .. } if text == "G84 X2. Z-5." && !c.incremental)
         );
         // The incremental move after it has no known position to add to.
         assert_eq!(diags[1].code, codes::CZ_UNKNOWN_POSITION);
+        // A kept block may not change what later blocks depend on (here the F register).
+        let src = SourceFile::new("t.nc", "N10 G00 X1. Z1.\nN20 G84 X2. Z-5. F1.\n");
+        let (_, diags) = parse(&src, &Profile::default(), &options);
+        let e = diags.iter().find(|d| d.is_error()).unwrap();
+        assert_eq!(e.code, codes::CZ_UNSUPPORTED);
+        assert!(
+            e.message.contains("`F1.` in a block kept opaque"),
+            "{}",
+            e.message
+        );
     }
 }

@@ -13,6 +13,12 @@ use crate::lower::{self, SyncSegment};
 use crate::profile::{Profile, ToolChange};
 use crate::source::SourceFile;
 
+/// What the ISO writer says of a rigid tap.
+const TAP_NOTE: &str = "tap: in, reverse, out";
+
+/// How the header comment of a program ncthread wrote ends.
+const HEADER_END: &str = ", converted by ncthread";
+
 /// The fewest decimals of a tapered K (more when the Z lead would not read back exactly).
 const K_DECIMALS: usize = 8;
 
@@ -25,6 +31,9 @@ struct Emitter<'a> {
     /// Where the last G33 ended, while the next line may continue it (LinuxCNC then does
     /// not wait for the index pulse).
     sync_end: Option<Pos>,
+    /// The last item was `T… M6`, which stopped the spindle: a stop right after it is that
+    /// stop, not another.
+    m6_stopped: bool,
     /// The last speed and the direction while the spindle turns.
     speed: Option<u32>,
     turning: Option<SpindleDirection>,
@@ -45,18 +54,51 @@ pub fn emit(
         diags: Vec::new(),
         pos: Pos::UNKNOWN,
         sync_end: None,
+        m6_stopped: false,
         speed: None,
         turning: None,
     };
     e.out.push_str("%\n");
-    let _ = writeln!(
-        e.out,
-        "({}, dialect {from}, converted by ncthread)",
-        comment_text(&src.name)
-    );
+    // A program ncthread wrote keeps its header (where it came from), so that converting
+    // the output again gives the same text.
+    let mut items = program.items.as_slice();
+    while let Some((first, rest)) = items.split_first()
+        && first.kind == ItemKind::Delimiter
+    {
+        items = rest;
+    }
+    match items.split_first() {
+        Some((first, rest)) if matches!(&first.kind, ItemKind::Comment(c) if c.ends_with(HEADER_END)) =>
+        {
+            if let ItemKind::Comment(c) = &first.kind {
+                let _ = writeln!(e.out, "({})", comment_text(c));
+            }
+            items = rest;
+        }
+        _ => {
+            let _ = writeln!(
+                e.out,
+                "({}, dialect {from}{HEADER_END})",
+                comment_text(&src.name)
+            );
+        }
+    }
     e.out.push_str("G7 G18 G21 G90 G95\n");
-    for (i, item) in program.items.iter().enumerate() {
-        e.item(item, program.items.get(i + 1));
+    // The header's modes, as the ISO reader reads them back: they are not written again.
+    let mut skip_header_modes = true;
+    for (i, item) in items.iter().enumerate() {
+        if skip_header_modes && item.kind == ItemKind::FeedMode(FeedMode::PerRev) {
+            skip_header_modes = false;
+            // Its comment stays, on a line of its own.
+            if let Some(c) = &item.comment {
+                let _ = writeln!(e.out, "({})", comment_text(c));
+            }
+            continue;
+        }
+        if !matches!(item.kind, ItemKind::Comment(_) | ItemKind::Delimiter) {
+            skip_header_modes = false;
+        }
+        e.item(item, items.get(i + 1));
     }
     e.out.push_str("%\n");
     let ok = !e.diags.iter().any(Diagnostic::is_error);
@@ -160,6 +202,7 @@ impl Emitter<'_> {
 
     fn item(&mut self, item: &Item, next: Option<&Item>) {
         let start = self.out.len();
+        let m6_stopped = std::mem::take(&mut self.m6_stopped);
         // Only a comment line keeps a G33 chain going.
         if !matches!(
             item.kind,
@@ -186,6 +229,8 @@ impl Emitter<'_> {
                 }
                 self.line(&spindle_words(*speed, *direction));
             }
+            // LinuxCNC's M6 has just stopped the spindle (the iso reader notes that stop).
+            ItemKind::SpindleStop if m6_stopped => {}
             ItemKind::SpindleStop => {
                 self.turning = None;
                 self.line("M5");
@@ -205,11 +250,15 @@ impl Emitter<'_> {
                 // LinuxCNC's M6 stops the spindle; restart it unless the source stops it here
                 // too (an ISO source says so with the item that follows).
                 let stops = next.is_some_and(|n| n.kind == ItemKind::SpindleStop);
-                if number.is_some()
-                    && self.profile.iso.tool_change == ToolChange::M6
-                    && self.turning.is_some()
-                    && !stops
-                {
+                let m6 = number.is_some() && self.profile.iso.tool_change == ToolChange::M6;
+                if m6 && self.turning.is_none() {
+                    self.m6_stopped = true;
+                }
+                if m6 && stops {
+                    self.turning = None;
+                    self.m6_stopped = true;
+                }
+                if m6 && self.turning.is_some() && !stops {
                     let restart = spindle_words(self.speed, self.turning);
                     self.line(&format!("{restart} (restart the spindle after M6)"));
                 }
@@ -260,7 +309,7 @@ impl Emitter<'_> {
                 block,
             } => {
                 self.line(&format!("({dialect}: {})", comment_text(text)));
-                let what = if *block { "block" } else { "word" };
+                let what = if block.is_some() { "block" } else { "word" };
                 self.diag(
                     codes::ISO_OPAQUE,
                     item,
@@ -274,7 +323,13 @@ impl Emitter<'_> {
             ItemKind::Delimiter => {}
         }
         self.pos = item.kind.end_position(self.pos);
-        if let Some(comment) = &item.comment {
+        let comment = match (&item.kind, &item.comment) {
+            (ItemKind::TapCycle(_), Some(c)) if !c.contains(TAP_NOTE) => {
+                Some(format!("{TAP_NOTE}; {c}"))
+            }
+            (_, c) => c.clone(),
+        };
+        if let Some(comment) = &comment {
             let comment = format!("({})", comment_text(comment));
             // Inline on the item's first line, unless that line is a comment itself
             // (LinuxCNC keeps only the last comment of a line): then on a line before it.
@@ -335,8 +390,15 @@ impl Emitter<'_> {
             );
             return;
         }
+        // The note (what G33.1 does) goes into the line's one comment, unless a program
+        // ncthread wrote carries it already.
+        let note = if item.comment.is_some() {
+            String::new()
+        } else {
+            format!(" ({TAP_NOTE})")
+        };
         self.line(&format!(
-            "G33.1 Z{} K{} (tap: in, reverse, out)",
+            "G33.1 Z{} K{}{note}",
             tap.end_z.mm(),
             tap.lead.mm()
         ));

@@ -16,9 +16,9 @@ use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::{Dialect, Unsupported, WORD_REPORTS, budget};
 use crate::fixed::{Angle, Decimal, Lead, Length, div_round};
 use crate::ir::{
-    CycleChamfer, Degression, EndCode, FeedMode, Finish, IjkScale, Item, ItemKind, Pos, Program,
-    Retract, Rise, Schedule, Slope, SpindleDirection, SyncInfeed, SyncStart, TapCycle, ThreadCycle,
-    ThreadPass,
+    CycleChamfer, Degression, EndCode, FeedMode, Finish, IjkScale, Item, ItemKind, ModalContext,
+    Pos, Program, Retract, Rise, Schedule, Slope, SpindleDirection, SyncInfeed, SyncStart,
+    TapCycle, ThreadCycle, ThreadPass,
 };
 use crate::lower;
 use crate::source::{Line, SourceFile, Span};
@@ -67,6 +67,8 @@ struct FrontEnd<'a> {
     in_cut: Option<Pos>,
     warned_rounding: bool,
     warned_radius: bool,
+    /// M2 or M30 has ended the program.
+    ended: bool,
 }
 
 /// Reads an RS274/NGC program. The program is usable only when no diagnostic is an error.
@@ -91,9 +93,64 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         in_cut: None,
         warned_rounding: false,
         warned_radius: false,
+        ended: false,
     };
+    // LinuxCNC: a program whose first non-blank line is a bare `%` ends at the next bare `%`;
+    // a `%` anywhere else is refused; M2/M30 end the program. Nothing after the end runs.
+    // **[evidence]** `Interp::open`, `Interp::read_text`, `convert_stop`.
+    let mut percent = false;
+    let mut first = true;
+    let mut ended: Option<&'static str> = None;
+    let mut warned_after_end = false;
     for line in src.lines() {
+        let code: String = line
+            .text
+            .chars()
+            .filter(|c| !matches!(c, ' ' | '\t' | '\r'))
+            .collect();
+        if code.is_empty() {
+            continue;
+        }
+        let bare_percent = code == "%";
+        if let Some(end) = ended {
+            if bare_percent && percent {
+                fe.push(ItemKind::Delimiter, src.line_span(line));
+            } else if !code.starts_with('(') && !code.starts_with(';') && !warned_after_end {
+                warned_after_end = true;
+                fe.diag(
+                    codes::NGC_AFTER_END,
+                    line,
+                    0..line.text.len(),
+                    format!("this line comes after the program's end ({end}); LinuxCNC does not run it, and neither does ncthread"),
+                    "remove it, or move the program's end after it",
+                );
+            }
+            continue;
+        }
+        if bare_percent {
+            if first {
+                percent = true;
+                fe.push(ItemKind::Delimiter, src.line_span(line));
+            } else if percent {
+                fe.push(ItemKind::Delimiter, src.line_span(line));
+                ended = Some("the closing `%`");
+            } else {
+                fe.diag(
+                    codes::NGC_SYNTAX,
+                    line,
+                    0..line.text.len(),
+                    "LinuxCNC refuses a `%` here (\"Bad character '%' used\"): `%` is read only as the program's first line and, then, as its end".into(),
+                    "remove this line, or put a `%` line first so that this one ends the program",
+                );
+            }
+            first = false;
+            continue;
+        }
+        first = false;
         fe.line(line);
+        if fe.ended {
+            ended = Some("M2/M30");
+        }
     }
     (Program { items: fe.items }, fe.diags)
 }
@@ -159,6 +216,26 @@ fn g_meaning(code: i64) -> Meaning {
     }
 }
 
+/// Whether a word changes modal state that ncthread follows (units, distance, diameter and
+/// feed modes, feed, speed, tool, spindle, program end): such a word cannot sit on a line
+/// kept opaque.
+fn changes_followed_state(w: &Word) -> bool {
+    match w.letter {
+        'F' | 'S' | 'T' => true,
+        'G' => w.value.to_scaled(1).is_ok_and(|g| {
+            matches!(
+                g,
+                70 | 80 | 200 | 210 | 900 | 910 | 930 | 940 | 950 | 960 | 970 | 430 | 490
+            )
+        }),
+        'M' => w
+            .value
+            .to_whole()
+            .is_ok_and(|m| matches!(m, 2 | 3 | 4 | 5 | 6 | 30 | 60)),
+        _ => false,
+    }
+}
+
 fn m_meaning(code: i64) -> Meaning {
     match code {
         2 | 3 | 4 | 5 | 6 | 30 => Meaning::Known,
@@ -191,7 +268,7 @@ impl FrontEnd<'_> {
             | ItemKind::Feed { .. }
             | ItemKind::ThreadCycle(_)
             | ItemKind::TapCycle(_)
-            | ItemKind::Opaque { block: true, .. } => {
+            | ItemKind::Opaque { block: Some(_), .. } => {
                 self.sync_end = None;
                 self.in_cut = None;
             }
@@ -298,16 +375,44 @@ impl FrontEnd<'_> {
             self.diags.push(if warn { d.as_warning() } else { d });
         }
         if warn {
+            // A kept line must not change what ncthread follows: its modes and F, S, T or
+            // spindle words would take effect in LinuxCNC and not here, and the lines after
+            // it would be read wrongly. (A motion code leaves the motion mode unknown.)
+            if let Some(w) = block.words.iter().find(|w| changes_followed_state(w)) {
+                let text = &line.text[w.range.clone()];
+                self.diag(
+                    codes::NGC_UNSUPPORTED,
+                    line,
+                    w.range.clone(),
+                    format!("`{text}` on a line kept opaque: it changes state that the lines after it depend on, which ncthread would not follow"),
+                    "put this word on a line of its own, so that ncthread reads it and keeps only the unsupported words",
+                );
+                return true;
+            }
+            let context = ModalContext {
+                inch: self.inch,
+                diameter: self.diameter.unwrap_or(false),
+                incremental: self.incremental,
+                per_minute: Some(self.feed_mode != Some(FeedMode::PerRev)),
+            };
             let text = line.text.trim().to_string();
             self.push(
                 ItemKind::Opaque {
                     dialect: Dialect::Iso,
                     text,
-                    block: true,
+                    block: Some(context),
                 },
                 self.src.line_span(line),
             );
             self.pos = Pos::UNKNOWN;
+            if block.words.iter().any(|w| {
+                w.letter == 'G'
+                    && w.value
+                        .to_scaled(1)
+                        .is_ok_and(|g| matches!(g, 0 | 10 | 20 | 30 | 330 | 331 | 381..=385 | 730 | 740 | 760 | 800..=899))
+            }) {
+                self.motion = None;
+            }
         }
         true
     }
@@ -682,8 +787,14 @@ impl FrontEnd<'_> {
         for (code, w) in words.m.clone() {
             match code {
                 0 | 1 => self.kept(line, w, &[]),
-                2 => self.push(ItemKind::ProgramEnd(EndCode::M2), span),
-                30 => self.push(ItemKind::ProgramEnd(EndCode::M30), span),
+                2 => {
+                    self.push(ItemKind::ProgramEnd(EndCode::M2), span);
+                    self.ended = true;
+                }
+                30 => {
+                    self.push(ItemKind::ProgramEnd(EndCode::M30), span);
+                    self.ended = true;
+                }
                 _ => {}
             }
             if matches!(code, 2 | 30) {
@@ -722,7 +833,7 @@ impl FrontEnd<'_> {
             ItemKind::Opaque {
                 dialect: Dialect::Iso,
                 text,
-                block: false,
+                block: None,
             },
             span,
         );
@@ -1442,7 +1553,7 @@ mod tests {
         assert_eq!(d.len(), 1);
         assert_eq!(d[0].severity, Severity::Warning);
         assert!(
-            matches!(&p.items[1].kind, ItemKind::Opaque { block: true, text, .. } if text == "G28")
+            matches!(&p.items[1].kind, ItemKind::Opaque { block: Some(_), text, .. } if text == "G28")
         );
         assert!(matches!(p.items[2].kind, ItemKind::Rapid { to } if to.z.is_none()));
     }

@@ -90,6 +90,17 @@ pub fn emit(
         i = j;
     }
     e.finish();
+    if e.out.trim().is_empty() && !e.diags.iter().any(Diagnostic::is_error) {
+        let mut d = Diagnostic::new(
+            codes::NCT_NOTHING,
+            "nothing in this program is written as НЦ-31 frames: the output would be empty",
+        )
+        .help("the warnings above say what was left out; an empty program is not a conversion");
+        if let Some(first) = program.items.first() {
+            d = d.at(src, first.span);
+        }
+        e.diags.push(d);
+    }
     let ok = !e.diags.iter().any(Diagnostic::is_error);
     (ok.then_some(e.out), e.diags)
 }
@@ -980,8 +991,9 @@ mod tests {
             Options::default(),
         );
         assert_eq!(codes_of(&diags), ["NCT002"]);
+        // Nothing left to write is refused, not an empty program with exit 0.
         let (out, diags) = write(vec![ItemKind::GearRange(42)], Options::default());
-        assert_eq!(out.unwrap(), "");
-        assert_eq!(codes_of(&diags), ["NCT004"]);
+        assert_eq!(out, None);
+        assert_eq!(codes_of(&diags), ["NCT004", "NCT008"]);
     }
 }

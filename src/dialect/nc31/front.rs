@@ -11,8 +11,8 @@ use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::{Dialect, Unsupported};
 use crate::fixed::{Angle, Lead, Length};
 use crate::ir::{
-    CycleChamfer, EndCode, Finish, Item, ItemKind, Pos, Program, Retract, Rise, SpindleDirection,
-    SyncStart, TapCycle, ThreadCycle, ThreadPass,
+    CycleChamfer, EndCode, Finish, Item, ItemKind, ModalContext, Pos, Program, Retract, Rise,
+    SpindleDirection, SyncStart, TapCycle, ThreadCycle, ThreadPass,
 };
 use crate::lower::{self, ExpandError};
 use crate::profile::{Nc31Profile, Profile};
@@ -288,6 +288,27 @@ impl<'a> FrontEnd<'a> {
             self.diags.push(d);
         }
         if warn {
+            // A kept group must not change what ncthread follows (the feed, the spindle, a
+            // thread group's words), or the groups after it would be read wrongly.
+            if let Some(f) = frames.iter().find(|f| {
+                let w = f.word();
+                matches!(w.letter, 'F' | 'S' | 'T')
+                    || (w.letter == 'G' && matches!(w.value, 31..=33))
+                    || (w.letter == 'M'
+                        && (matches!(w.value, 3 | 4 | 5 | 30)
+                            || self.profile.gear_range_mcodes.contains(&(w.value as u32))))
+            }) {
+                self.word_error(
+                    codes::NC_UNSUPPORTED,
+                    f,
+                    format!(
+                        "`{}` in a group kept opaque: it changes state that the groups after it depend on, which ncthread would not follow",
+                        f.text(self.src)
+                    ),
+                    "put this word in a group of its own, so that ncthread reads it and keeps only the unsupported words",
+                );
+                return false;
+            }
             let text = frames
                 .iter()
                 .map(|f| &self.src.line(f.line).text[f.frame.code_range.clone()])
@@ -298,7 +319,12 @@ impl<'a> FrontEnd<'a> {
                 ItemKind::Opaque {
                     dialect: Dialect::Nc31,
                     text,
-                    block: true,
+                    block: Some(ModalContext {
+                        inch: false,
+                        diameter: true,
+                        incremental: false,
+                        per_minute: None,
+                    }),
                 },
                 span,
                 frames[0].frame.number,
@@ -1264,7 +1290,7 @@ mod tests {
         );
         assert_eq!(diags[0].severity, Severity::Warning);
         assert!(
-            matches!(&program.items[1].kind, ItemKind::Opaque { block: true, text, .. } if text == "N5 G4 *\nP100")
+            matches!(&program.items[1].kind, ItemKind::Opaque { block: Some(_), text, .. } if text == "N5 G4 *\nP100")
         );
         assert_eq!(program.items[1].block_number, Some(5));
         assert_eq!(diags[1].code, codes::NC_UNKNOWN_POSITION);
