@@ -608,6 +608,9 @@ fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
                 code = ExitCode::from(1);
                 text.push_str(&format!("rs274 could not check {}: {e}\n", check.what));
             }
+            ncthread::OracleOutcome::CannotJudge(why) => {
+                text.push_str(&format!("rs274 cannot judge {}: {why}\n", check.what));
+            }
         }
     }
     write_output(&None, text.as_bytes())?;

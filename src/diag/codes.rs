@@ -172,7 +172,7 @@ pub const NGC_AFTER_END: Code = warning(
 // czech target
 pub const CZT_PRECISION: Code = error(
     "CZT001",
-    "a value needs more decimals than the czech control takes (3 for lengths)",
+    "a value needs more decimals than the czech control takes (3 for lengths, 4 for leads)",
 );
 pub const CZT_NO_EQUIVALENT: Code = error(
     "CZT002",

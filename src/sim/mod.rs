@@ -6,7 +6,7 @@
 mod compare;
 pub mod rs274;
 
-pub use compare::{Difference, compare, largest_deviation, normalise};
+pub use compare::{Difference, compare, largest_deviation, normalise, phase_tolerance};
 
 use crate::diag::{Diagnostic, codes};
 use crate::fixed::{Angle, Lead, Length, div_round};

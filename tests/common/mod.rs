@@ -38,6 +38,8 @@ pub fn corpus_cases() -> Vec<Case> {
         ("bad/czech", Dialect::Czech),
         ("bad/nc31", Dialect::Nc31),
         ("bad/iso", Dialect::Iso),
+        ("fidelity", Dialect::Czech),
+        ("fidelity", Dialect::Iso),
     ] {
         let ext = extension(from);
         let dir = root().join("corpus").join(folder);

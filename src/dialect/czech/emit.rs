@@ -565,6 +565,14 @@ impl Emitter<'_> {
     }
 
     fn thread_pass(&mut self, item: &Item, pass: &ThreadPass, block: &mut Block, reserved: &[u32]) {
+        if pass.infeed.is_some() {
+            return self.diag(
+                codes::CZT_NO_EQUIVALENT,
+                item,
+                "the pass starts with a synchronised move along X (LinuxCNC's G76 infeed before an entry taper, or a G33 along X), which the czech control has no documented form for".into(),
+                "the czech G33 synchronises the thread's own travel; cut this thread without the synchronised infeed (a G76 without L1/L3) or by hand",
+            );
+        }
         // The angle parameters go in blocks before the pass.
         let entry_param = self.profile.czech.constant8.map(|c| c.angle_source());
         if (pass.entry.is_some() || pass.exit.is_some()) && !block.words.is_empty() {
@@ -593,14 +601,6 @@ impl Emitter<'_> {
             && !self.chamfer_angle(item, &e, "entry")
         {
             return;
-        }
-        if pass.infeed.is_some() {
-            return self.diag(
-                codes::CZT_NO_EQUIVALENT,
-                item,
-                "the pass starts with a synchronised move along X (LinuxCNC's G76 infeed before an entry taper, or a G33 along X), which the czech control has no documented form for".into(),
-                "the czech G33 synchronises the thread's own travel; cut this thread without the synchronised infeed (a G76 without L1/L3) or by hand",
-            );
         }
         let mut start_angle = match pass.start {
             SyncStart::Index(angle) => angle,
