@@ -114,7 +114,10 @@ impl Inexact {
 
 /// A comment's text on one line: control characters (a stray CR, a tab) become spaces.
 pub(crate) fn one_line(text: &str) -> String {
-    text.chars()
+    let line: String = text
+        .chars()
         .map(|c| if c.is_control() { ' ' } else { c })
-        .collect()
+        .collect();
+    // Readers trim comments: so do the writers, so that an output reads back as it is.
+    line.trim().to_string()
 }

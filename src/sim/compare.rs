@@ -18,8 +18,13 @@ pub const PHASE_GRID: Length = Length(2);
 /// The phase tolerance for a thread of `lead`: [`PHASE_TOLERANCE`] or the angle of
 /// [`PHASE_GRID`], whichever is larger.
 pub fn phase_tolerance(lead: Lead) -> Angle {
+    phase_tolerance_on(lead, PHASE_GRID)
+}
+
+/// The phase tolerance for a thread of `lead` when positions are known to within `grid`.
+fn phase_tolerance_on(lead: Lead, grid: Length) -> Angle {
     let grid = div_round(
-        PHASE_GRID.0 as i128 * TURN as i128 * Lead::PER_LENGTH as i128,
+        grid.0 as i128 * TURN as i128 * Lead::PER_LENGTH as i128,
         lead.0.max(1) as i128,
     ) as i64;
     Angle(PHASE_TOLERANCE.0.max(grid))
@@ -101,16 +106,16 @@ pub fn normalise(segments: &[Segment]) -> Vec<Segment> {
     out
 }
 
-fn close(a: Option<Length>, b: Option<Length>) -> bool {
+fn close(a: Option<Length>, b: Option<Length>, tol: Length) -> bool {
     match (a, b) {
-        (Some(a), Some(b)) => (a - b).abs() <= TOLERANCE,
+        (Some(a), Some(b)) => (a - b).abs() <= tol,
         (None, None) => true,
         _ => false,
     }
 }
 
-fn close_pos(a: Pos, b: Pos) -> bool {
-    close(a.x, b.x) && close(a.z, b.z)
+fn close_pos(a: Pos, b: Pos, tol: Length) -> bool {
+    close(a.x, b.x, tol) && close(a.z, b.z, tol)
 }
 
 fn describe(m: &Motion) -> String {
@@ -134,8 +139,8 @@ fn angle_gap(a: Angle, b: Angle) -> i64 {
 
 /// Whether the synchronised segment `b` starts where `a` does, or earlier along `a`'s line
 /// by less than one lead.
-fn sync_start_ok(a: &Segment, b: &Segment, lead: Lead) -> bool {
-    if close_pos(a.from, b.from) {
+fn sync_start_ok(a: &Segment, b: &Segment, lead: Lead, tol: Length) -> bool {
+    if close_pos(a.from, b.from, tol) {
         return true;
     }
     let (Some(az), Some(bz), Some(ez)) = (a.from.z, b.from.z, a.to.z) else {
@@ -167,7 +172,7 @@ pub fn largest_deviation(left: &[Segment], right: &[Segment]) -> Length {
                 largest = largest.max(gap(a.from, b.from))
             }
             (Motion::Sync { lead: l, .. }, Motion::Sync { lead: m, .. }) => {
-                if close_pos(a.from, b.from) {
+                if close_pos(a.from, b.from, TOLERANCE) {
                     largest = largest.max(gap(a.from, b.from));
                 }
                 if let (Some(z0), Some(z1)) = (a.from.z, a.to.z) {
@@ -182,24 +187,69 @@ pub fn largest_deviation(left: &[Segment], right: &[Segment]) -> Length {
 
 /// Compares two normalised motions; `None` when they are equivalent.
 pub fn compare(left: &[Segment], right: &[Segment]) -> Option<Difference> {
-    let n = left.len().max(right.len());
-    for i in 0..n {
-        let (Some(a), Some(b)) = (left.get(i), right.get(i)) else {
-            let extra = left.get(i).or(right.get(i)).expect("one side has it");
-            return Some(Difference {
-                index: i,
-                left: left.get(i).copied(),
-                right: right.get(i).copied(),
-                what: format!(
-                    "{} to {} on one side only",
-                    describe(&extra.motion),
-                    show(extra.to)
-                ),
-            });
+    compare_within(left, right, TOLERANCE)
+}
+
+/// [`compare`] with another position tolerance (a reading that is itself rounded, such as
+/// rs274's four decimals of an inch).
+pub fn compare_within(left: &[Segment], right: &[Segment], tol: Length) -> Option<Difference> {
+    // A short rapid on one side only, from where the other side's thread move starts, that
+    // takes the tool back along the thread line before its own thread move starts: that is
+    // how a start angle is written where there is none (the thread starts earlier on its
+    // line, at the index pulse). It is part of the thread move's start, not a move of its own.
+    let shift_rapid = |r: &Segment, next: Option<&Segment>, other: &Segment| {
+        matches!(r.motion, Motion::Rapid)
+            && close_pos(r.from, other.from, tol)
+            && match (other.motion, next) {
+                (
+                    Motion::Sync { lead, .. },
+                    Some(
+                        n @ Segment {
+                            motion: Motion::Sync { .. },
+                            ..
+                        },
+                    ),
+                ) => close_pos(r.to, n.from, tol) && sync_start_ok(other, n, lead, tol),
+                _ => false,
+            }
+    };
+    let phase_grid = PHASE_GRID + (tol - TOLERANCE).max(Length::ZERO);
+    let (mut i, mut j) = (0, 0);
+    loop {
+        if let (Some(a), Some(b)) = (left.get(i), right.get(j)) {
+            if shift_rapid(b, right.get(j + 1), a) {
+                j += 1;
+                continue;
+            }
+            if shift_rapid(a, left.get(i + 1), b) {
+                i += 1;
+                continue;
+            }
+        }
+        let (a, b) = match (left.get(i), right.get(j)) {
+            (None, None) => return None,
+            (Some(a), Some(b)) => (a, b),
+            (l, r) => {
+                let extra = l.or(r).expect("one side has it");
+                return Some(Difference {
+                    index: i,
+                    left: l.copied(),
+                    right: r.copied(),
+                    what: format!(
+                        "{} to {} on one side only",
+                        describe(&extra.motion),
+                        show(extra.to)
+                    ),
+                });
+            }
         };
+        let next = (left.get(i + 1), right.get(j + 1));
+        let index = i;
+        i += 1;
+        j += 1;
         let differ = |what: String| {
             Some(Difference {
-                index: i,
+                index,
                 left: Some(*a),
                 right: Some(*b),
                 what,
@@ -210,7 +260,7 @@ pub fn compare(left: &[Segment], right: &[Segment]) -> Option<Difference> {
                 // A rapid to the start of a thread move may end earlier along the thread
                 // line: the thread move's comparison decides.
                 let before_sync = matches!(
-                    (left.get(i + 1), right.get(i + 1)),
+                    next,
                     (
                         Some(Segment {
                             motion: Motion::Sync { .. },
@@ -222,7 +272,7 @@ pub fn compare(left: &[Segment], right: &[Segment]) -> Option<Difference> {
                         })
                     )
                 );
-                if !before_sync && !close_pos(a.to, b.to) {
+                if !before_sync && !close_pos(a.to, b.to, tol) {
                     return differ(format!("rapid ends at {} ≠ {}", show(a.to), show(b.to)));
                 }
             }
@@ -246,7 +296,7 @@ pub fn compare(left: &[Segment], right: &[Segment]) -> Option<Difference> {
                         unit(q)
                     ));
                 }
-                if !close_pos(a.from, b.from) || !close_pos(a.to, b.to) {
+                if !close_pos(a.from, b.from, tol) || !close_pos(a.to, b.to, tol) {
                     return differ(format!(
                         "feed move {} → {} ≠ {} → {}",
                         show(a.from),
@@ -275,7 +325,7 @@ pub fn compare(left: &[Segment], right: &[Segment]) -> Option<Difference> {
                     _ => Length::ZERO,
                 };
                 let drift = l.drift(m, travel);
-                if drift > TOLERANCE || (travel == Length::ZERO && l != m) {
+                if drift > tol || (travel == Length::ZERO && l != m) {
                     return differ(format!(
                         "lead {} ≠ {} (the helices drift {} mm apart over the move)",
                         l.mm(),
@@ -286,22 +336,34 @@ pub fn compare(left: &[Segment], right: &[Segment]) -> Option<Difference> {
                 if d != e {
                     return differ("spindle direction differs (the hand of the thread)".into());
                 }
-                if !close_pos(a.to, b.to) {
+                if !close_pos(a.to, b.to, tol) {
                     return differ(format!(
                         "thread move ends at {} ≠ {}",
                         show(a.to),
                         show(b.to)
                     ));
                 }
-                if !sync_start_ok(a, b, l) {
+                if !sync_start_ok(a, b, l, tol) {
                     return differ(format!(
                         "thread move starts at {} ≠ {}",
                         show(a.from),
                         show(b.from)
                     ));
                 }
+                // The two helices are compared where the cut starts (the spindle angle at
+                // the start Z on each), not extrapolated to Z0, where a lead that agrees
+                // within the tolerance over the move could still turn a distant phase.
+                let at_start =
+                    |phase: Angle, lead: Lead, s: &Segment| match (a.from.z, s.from.z, s.to.z) {
+                        (Some(z), Some(z0), Some(z1)) => {
+                            super::angle_at(z, phase, lead, (z1 - z0).signum())
+                        }
+                        _ => phase,
+                    };
                 match (p, q) {
-                    (Some(p), Some(q)) if angle_gap(p, q) <= phase_tolerance(l).0 => {}
+                    (Some(p), Some(q))
+                        if angle_gap(at_start(p, l, a), at_start(q, m, b))
+                            <= phase_tolerance_on(l, phase_grid).0 => {}
                     (None, None) => {}
                     _ => {
                         let show =
@@ -324,7 +386,11 @@ pub fn compare(left: &[Segment], right: &[Segment]) -> Option<Difference> {
                     direction: e,
                 },
             ) => {
-                if l != m || d != e || !close_pos(a.from, b.from) || !close_pos(a.to, b.to) {
+                if l != m
+                    || d != e
+                    || !close_pos(a.from, b.from, tol)
+                    || !close_pos(a.to, b.to, tol)
+                {
                     return differ(format!(
                         "tap {} → {} lead {} ≠ {} → {} lead {}",
                         show(a.from),
@@ -352,13 +418,13 @@ pub fn compare(left: &[Segment], right: &[Segment]) -> Option<Difference> {
                     (Some(x0), Some(x1)) => Length((x1 - x0).0.abs() / 2),
                     _ => Length::ZERO,
                 };
-                if l.drift(m, travel) > TOLERANCE {
+                if l.drift(m, travel) > tol {
                     return differ(format!("infeed advance {} ≠ {}", l.mm(), m.mm()));
                 }
                 if d != e {
                     return differ("spindle direction differs".into());
                 }
-                if !close_pos(a.from, b.from) || !close_pos(a.to, b.to) {
+                if !close_pos(a.from, b.from, tol) || !close_pos(a.to, b.to, tol) {
                     return differ(format!(
                         "synchronised infeed {} → {} ≠ {} → {}",
                         show(a.from),
@@ -385,7 +451,6 @@ pub fn compare(left: &[Segment], right: &[Segment]) -> Option<Difference> {
             }
         }
     }
-    None
 }
 
 #[cfg(test)]

@@ -6,7 +6,9 @@
 mod compare;
 pub mod rs274;
 
-pub use compare::{Difference, compare, largest_deviation, normalise, phase_tolerance};
+pub use compare::{
+    Difference, TOLERANCE, compare, compare_within, largest_deviation, normalise, phase_tolerance,
+};
 
 use crate::diag::{Diagnostic, codes};
 use crate::fixed::{Angle, Lead, Length, div_round};
@@ -125,7 +127,7 @@ fn turned(z: Length, lead: Lead) -> i64 {
 
 /// The spindle angle at `z` on a helix with phase `phase` (the inverse of
 /// [`phase_at_zero`]).
-fn angle_at(z: Length, phase: Angle, lead: Lead, towards: i64) -> Angle {
+pub(crate) fn angle_at(z: Length, phase: Angle, lead: Lead, towards: i64) -> Angle {
     Angle((phase.0 + towards * turned(z, lead)).rem_euclid(TURN))
 }
 

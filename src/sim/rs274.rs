@@ -170,6 +170,8 @@ impl Interpreter {
 pub fn segments(canon: &[Canon]) -> Vec<Segment> {
     let mm = Length::from_mm_f64;
     let mut pos = Pos::UNKNOWN;
+    // The position as rs274 printed it, in mm, before rounding onto the grid.
+    let mut exact: Option<(f64, f64)> = None;
     let (mut k, mut chain_turns): (Option<f64>, Option<f64>) = (None, None);
     let mut direction = None;
     let (mut feed, mut per_rev) = (0.0, false);
@@ -192,6 +194,7 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
                 let to = Pos::new(mm(x * scale), mm(z * scale));
                 push(&mut out, Motion::Rapid, pos, to);
                 pos = to;
+                exact = Some((x * scale, z * scale));
                 chain_turns = None;
             }
             Canon::Feed { x, z } => {
@@ -199,10 +202,7 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
                 let to = Pos::new(mm(x), mm(z));
                 match k.map(|k| k * scale) {
                     Some(k) => {
-                        let (x0, z0) = pos
-                            .known()
-                            .map(|(x, z)| (x.to_mm_f64(), z.to_mm_f64()))
-                            .unwrap_or((0.0, 0.0));
+                        let (x0, z0) = exact.unwrap_or((0.0, 0.0));
                         let (dr, dz) = ((x - x0) / 2.0, z - z0);
                         let length = dr.hypot(dz);
                         let turns = chain_turns.get_or_insert(0.0);
@@ -253,6 +253,7 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
                     }
                 }
                 pos = to;
+                exact = Some((x, z));
             }
             Canon::RigidTap { z, .. } => {
                 let to = Pos {

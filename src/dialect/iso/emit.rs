@@ -31,6 +31,8 @@ struct Emitter<'a> {
     /// Where the last G33 ended, while the next line may continue it (LinuxCNC then does
     /// not wait for the index pulse).
     sync_end: Option<Pos>,
+    /// Where the last G33 ended, while no other move followed (the tool is in the cut).
+    in_cut: Option<Pos>,
     /// The last item was `T… M6`, which stopped the spindle: a stop right after it is that
     /// stop, not another.
     m6_stopped: bool,
@@ -54,6 +56,7 @@ pub fn emit(
         diags: Vec::new(),
         pos: Pos::UNKNOWN,
         sync_end: None,
+        in_cut: None,
         m6_stopped: false,
         speed: None,
         turning: None,
@@ -117,6 +120,8 @@ fn comment_text(text: &str) -> String {
             c => c,
         })
         .collect();
+    // The reader trims comments: so does the writer, so that a conversion reads back as it is.
+    let text = text.trim().to_string();
     let upper = text.trim_start().to_ascii_uppercase();
     let active = ["MSG,", "DEBUG,", "PRINT,", "LOG", "PROBE", "ABORT,"];
     if active.iter().any(|a| upper.starts_with(a)) {
@@ -203,12 +208,22 @@ impl Emitter<'_> {
     fn item(&mut self, item: &Item, next: Option<&Item>) {
         let start = self.out.len();
         let m6_stopped = std::mem::take(&mut self.m6_stopped);
-        // Only a comment line keeps a G33 chain going.
+        // Only a comment line keeps a G33 chain going; any other move leaves the cut.
         if !matches!(
             item.kind,
             ItemKind::ThreadPass(_) | ItemKind::Comment(_) | ItemKind::Delimiter
         ) {
             self.sync_end = None;
+        }
+        let moves = item.kind.end_position(self.pos) != self.pos;
+        if matches!(
+            item.kind,
+            ItemKind::ThreadCycle(_)
+                | ItemKind::TapCycle(_)
+                | ItemKind::Opaque { block: Some(_), .. }
+        ) || (moves && matches!(item.kind, ItemKind::Rapid { .. } | ItemKind::Feed { .. }))
+        {
+            self.in_cut = None;
         }
         match &item.kind {
             ItemKind::Rapid { to } => {
@@ -421,8 +436,10 @@ impl Emitter<'_> {
             }
         };
         // LinuxCNC continues a G33 that starts where another ended without waiting for the
-        // index pulse: a pass that must wait there cannot be written.
+        // index pulse (and after other lines between, whether it waits depends on its motion
+        // queue): a pass that must wait in the cut cannot be written.
         let in_chain = self.sync_end == Some(self.pos);
+        let in_cut = self.in_cut == Some(self.pos);
         match pass.start {
             SyncStart::Continue if !in_chain => {
                 self.diag(
@@ -434,7 +451,7 @@ impl Emitter<'_> {
                 return;
             }
             SyncStart::Continue => {}
-            SyncStart::Index(angle) if in_chain => {
+            SyncStart::Index(angle) if in_chain || in_cut => {
                 self.diag(
                     codes::ISO_INDEX_WAIT,
                     item,
@@ -480,6 +497,7 @@ impl Emitter<'_> {
             self.line(&format!("G33{} K{}", axes(seg.to), k_value(seg)));
         }
         self.sync_end = segments.last().map(|s| s.to);
+        self.in_cut = self.sync_end;
     }
 }
 

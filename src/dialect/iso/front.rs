@@ -264,6 +264,12 @@ impl FrontEnd<'_> {
         // motion takes the tool out of the cut.
         match kind {
             ItemKind::ThreadPass(_) | ItemKind::Comment(_) | ItemKind::Delimiter => {}
+            // A move to where the tool already is leaves it in the cut.
+            ItemKind::Rapid { .. } | ItemKind::Feed { .. }
+                if kind.end_position(self.pos) == self.pos =>
+            {
+                self.sync_end = None;
+            }
             ItemKind::Rapid { .. }
             | ItemKind::Feed { .. }
             | ItemKind::ThreadCycle(_)

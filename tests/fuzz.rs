@@ -1,0 +1,746 @@
+//! The differential fuzz harness (issue 12): generated and mutated programs in every dialect,
+//! through every route, against ncthread's own promises and LinuxCNC's interpreter.
+//!
+//! For every input and every target (with and without `--round`):
+//! - nothing panics or hangs (each input runs on a watchdog thread: 20 s);
+//! - a conversion that succeeds without `--round` is proved by `verify` (equivalent), is
+//!   idempotent (`T → T` of the output is the same text), and when the output is ISO,
+//!   LinuxCNC's `rs274` accepts it and its motion equals ncthread's simulation of the source;
+//! - a conversion with `--round` reads back (`verify` does not refuse it);
+//! - `check` runs too.
+//!
+//! Inputs: programs generated from each dialect's constructs (mostly valid, so that the
+//! conversion properties are exercised), corpus files mutated at the byte and line level
+//! (multi-byte characters, CR, NUL, deleted and repeated lines…), and arbitrary bytes. A few
+//! mutated inputs also go through the `ncthread` binary, whose exit code must be 0, 1 or 2.
+//!
+//! `cargo test` runs a bounded number of cases (about half a minute). The long mode runs for a
+//! number of seconds with fresh seeds: `NCTHREAD_FUZZ_SECONDS=1800 cargo test --release --test
+//! fuzz -- --nocapture`. Every failing input is written to `target/fuzz-findings/` (and
+//! proptest shrinks it first); findings become corpus files.
+mod common;
+
+use std::path::PathBuf;
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use ncthread::profile::Profile;
+use ncthread::sim::rs274::Interpreter;
+use ncthread::source::SourceFile;
+use ncthread::{ConvertOptions, Dialect, OracleOutcome, Outcome, Unsupported};
+use proptest::prelude::*;
+use proptest::test_runner::{Config, RngAlgorithm, TestCaseError, TestRng, TestRunner};
+
+/// One fuzz input: a program in a dialect (bytes, as a file would hold them) and an optional
+/// machine profile.
+#[derive(Clone, Debug)]
+struct Input {
+    from: Dialect,
+    bytes: Vec<u8>,
+    profile: Option<String>,
+}
+
+// ---------------------------------------------------------------------------------------
+// Numbers
+
+/// A length in mm with 0 to `decimals` decimals, between `lo` and `hi` (whole mm).
+fn length(lo: i64, hi: i64, decimals: u32) -> impl Strategy<Value = String> + Clone {
+    let scale = 10i64.pow(decimals);
+    ((lo * scale)..(hi * scale), 0..=decimals).prop_map(move |(v, d)| {
+        let step = 10i64.pow(decimals - d);
+        let v = v / step * step;
+        let s = format!(
+            "{}{}.{:0width$}",
+            if v < 0 { "-" } else { "" },
+            v.abs() / scale,
+            v.abs() % scale,
+            width = decimals as usize
+        );
+        let s = s.trim_end_matches('0').to_string();
+        if s.ends_with('.') { s } else { s.to_string() }
+    })
+}
+
+fn comment_text() -> impl Strategy<Value = String> + Clone {
+    prop::sample::select(vec![
+        "ZÁVITOVÁNÍ",
+        "РЕЗЬБА М36",
+        "pass 1",
+        "螺纹",
+        "ÄÖÜ ß",
+        "x",
+        "ŘEZÁNÍ → 🛠",
+    ])
+    .prop_map(str::to_string)
+}
+
+// ---------------------------------------------------------------------------------------
+// Generated czech programs
+
+fn czech_block() -> impl Strategy<Value = Vec<String>> {
+    let x = length(10, 120, 3);
+    let z = length(-150, 30, 3);
+    let lead = length(1, 12, 3);
+    prop_oneof![
+        4 => (x.clone(), z.clone()).prop_map(|(x, z)| vec![format!("G00 X{x} Z{z}")]),
+        2 => x.clone().prop_map(|x| vec![format!("G00 X{x}")]),
+        2 => (x.clone(), z.clone(), prop::sample::select(vec!["0.1", "0.25", "0.05"])).prop_map(|(x, z, f)| vec![format!("G95 G01 X{x} Z{z} F{f}")]),
+        5 => (z.clone(), lead.clone(), prop::option::of(0u32..360)).prop_map(|(z, f, i)| {
+            vec![format!("G33 Z{z} F{f}{}", i.map_or(String::new(), |i| format!(" I{i}")))]
+        }),
+        2 => (x.clone(), z.clone(), lead.clone()).prop_map(|(x, z, f)| vec![format!("G33 X{x} Z{z} F{f}")]),
+        // A runout or entry (constant 8 in the profile): the empty block and the all-axes
+        // block the manual requires.
+        2 => (z.clone(), lead.clone(), 1u32..6, any::<bool>(), x.clone(), z.clone()).prop_map(
+            |(z, f, j, entry, x2, z2)| {
+                let word = if entry { format!("E{j}.") } else { format!("J{j}") };
+                vec![
+                    format!("G33 Z{z} F{f} {word}"),
+                    String::new(),
+                    format!("G00 X{x2} Z{z2}"),
+                ]
+            }
+        ),
+        1 => Just(vec!["M05".to_string()]),
+        1 => (100u32..2000, any::<bool>()).prop_map(|(s, ccw)| vec![format!("S{s} {}", if ccw { "M04" } else { "M03" })]),
+        1 => Just(vec!["G91".to_string()]),
+        1 => Just(vec!["G90".to_string()]),
+        1 => comment_text().prop_map(|c| vec![format!("\"{c}")]),
+        1 => (1u32..20).prop_map(|t| vec![format!("T{t} D{t}")]),
+    ]
+}
+
+fn czech_program() -> impl Strategy<Value = Input> {
+    (
+        prop::collection::vec(czech_block(), 1..10),
+        prop::option::of(prop::sample::select(vec![
+            "00112000",
+            "-00120000",
+            "04000000",
+            "15160000",
+        ])),
+    )
+        .prop_map(|(blocks, c8)| {
+            let mut lines = vec!["G95 S500 M03".to_string(), "G00 X60. Z20.".to_string()];
+            // Parameter mode needs the angle parameters assigned first.
+            if let Some(c8) = c8 {
+                if c8 == "04000000" {
+                    lines.push("R04=115.0".into());
+                }
+                if c8 == "15160000" {
+                    lines.push("R15=120.0 R16=118.0".into());
+                }
+            }
+            lines.extend(blocks.into_iter().flatten());
+            lines.push("M05".into());
+            lines.push("M30".into());
+            let text: String = lines
+                .iter()
+                .enumerate()
+                .map(|(i, l)| format!("N{} {l}\n", (i + 1) * 10))
+                .collect();
+            Input {
+                from: Dialect::Czech,
+                bytes: text.into_bytes(),
+                profile: c8.map(|c| format!("[czech]\nconstant8 = \"{c}\"\n")),
+            }
+        })
+}
+
+// ---------------------------------------------------------------------------------------
+// Generated НЦ-31 programs
+
+fn nc31_group() -> impl Strategy<Value = Vec<String>> {
+    let x = 1000i64..12000;
+    let z = -15000i64..3000;
+    prop_oneof![
+        3 => (x.clone(), z.clone()).prop_map(|(x, z)| vec![format!("X{x} ~ *"), format!("Z{z} ~")]),
+        2 => (x.clone(), z.clone(), 5i64..60).prop_map(|(x, z, f)| vec![format!("F{f}"), format!("X{x} *"), format!("Z{z}")]),
+        3 => (z.clone(), 2000i64..40000).prop_map(|(z, f)| vec!["G32 *".into(), format!("F{f} *"), format!("Z{z}")]),
+        // G31 from the current position.
+        3 => (1000i64..11000, -15000i64..-500, 5000i64..40000, 20i64..200, 5i64..40, prop::option::of(0i64..400))
+            .prop_map(|(x, z, f, p1, p2, taper)| {
+                let mut g = vec!["G31 *".into(), format!("X{x} *"), format!("Z{z} *"), format!("F{f} *"), format!("P{p1} *")];
+                match taper {
+                    Some(t) => { g.push(format!("P{p2} *")); g.push(format!("P{t}")); }
+                    None => g.push(format!("P{p2}")),
+                }
+                g
+            }),
+        1 => (z.clone(), 5000i64..30000, prop::option::of(x.clone())).prop_map(|(z, f, c)| match c {
+            Some(c) => vec!["G33 @ *".into(), format!("X{c} *"), format!("Z{z} *"), format!("F{f}")],
+            None => vec!["G33 *".into(), format!("Z{z} *"), format!("F{f}")],
+        }),
+        1 => Just(vec!["M5".to_string()]),
+        1 => prop::sample::select(vec!["M3", "M4"]).prop_map(|m| vec![m.to_string()]),
+        1 => (100i64..2000).prop_map(|s| vec![format!("S{s}")]),
+        1 => comment_text().prop_map(|c| vec![format!("({c}")]),
+    ]
+}
+
+fn nc31_program() -> impl Strategy<Value = Input> {
+    (
+        prop::collection::vec(nc31_group(), 1..8),
+        prop::option::of((0u32..12, 0u32..4000)),
+    )
+        .prop_map(|(groups, params)| {
+            let mut lines = vec![
+                "M3".to_string(),
+                "S500".into(),
+                "X12000 ~ *".into(),
+                "Z3000 ~".into(),
+            ];
+            lines.extend(groups.into_iter().flatten());
+            lines.push("M5".into());
+            lines.push("M30".into());
+            let mut n = 0;
+            let text: String = lines
+                .iter()
+                .map(|l| {
+                    if l.starts_with('(') {
+                        format!("{l}\n")
+                    } else {
+                        n += 1;
+                        format!("N{} {l}\n", n - 1)
+                    }
+                })
+                .collect();
+            Input {
+                from: Dialect::Nc31,
+                bytes: text.into_bytes(),
+                profile: params
+                    .map(|(p7, p6)| format!("[nc31]\nrunout_p7 = {p7}\ninfeed_p6 = {p6}\n")),
+            }
+        })
+}
+
+// ---------------------------------------------------------------------------------------
+// Generated ISO programs
+
+fn iso_line() -> impl Strategy<Value = Vec<String>> {
+    let x = length(10, 120, 4);
+    let z = length(-150, 30, 4);
+    let k = length(0, 8, 5);
+    prop_oneof![
+        4 => (x.clone(), z.clone()).prop_map(|(x, z)| vec![format!("G0 X{x} Z{z}")]),
+        2 => x.clone().prop_map(|x| vec![format!("G0 X{x}")]),
+        2 => (x.clone(), z.clone()).prop_map(|(x, z)| vec![format!("G1 X{x} Z{z} F0.15")]),
+        5 => (z.clone(), k.clone()).prop_map(|(z, k)| vec![format!("G33 Z{z} K0{k}")]),
+        2 => (x.clone(), z.clone(), k.clone()).prop_map(|(x, z, k)| vec![format!("G33 X{x} Z{z} K0{k}")]),
+        // A chain: entry, thread, runout.
+        2 => (x.clone(), z.clone(), z.clone(), k.clone()).prop_map(|(x, z1, z2, k)| vec![
+            format!("G33 X{x} Z{z1} K1{k}"),
+            format!("G33 Z{z2} K1{k}"),
+        ]),
+        2 => (
+            (prop::sample::select(vec!["1", "1.5", "2", "0.8"]), length(-80, -5, 2), prop::sample::select(vec!["-0.5", "-1", "-0.8", "0.6"])),
+            (prop::sample::select(vec!["0.1", "0.2", "0.05"]), prop::sample::select(vec!["0.6", "0.9", "1.2"]), prop::sample::select(vec!["29.5", "0", "30"])),
+            (prop::sample::select(vec!["1", "1.5", "2"]), prop::option::of(0u32..3), prop::option::of((0u32..4, prop::sample::select(vec!["1", "2", "0.5"])))),
+        ).prop_map(|((p, z, i), (j, k, q), (r, h, taper))| {
+            let mut words = format!("G76 P{p} Z{z} I{i} J{j} K{k} Q{q} R{r}");
+            if let Some(h) = h { words.push_str(&format!(" H{h}")); }
+            if let Some((l, e)) = taper { words.push_str(&format!(" E{e} L{l}")); }
+            vec![words]
+        }),
+        1 => (z.clone(), k.clone()).prop_map(|(z, k)| vec![format!("G33.1 Z{z} K1{k}")]),
+        1 => Just(vec!["M5".to_string()]),
+        1 => (100u32..2000, any::<bool>()).prop_map(|(s, ccw)| vec![format!("S{s} {}", if ccw { "M4" } else { "M3" })]),
+        1 => prop::sample::select(vec!["G94", "G95", "G90", "G91", "G20", "G21", "G7", "G8", "M8", "M9", "G4 P0.5", "T2 M6"]).prop_map(|w| vec![w.to_string()]),
+        1 => comment_text().prop_map(|c| vec![format!("({c})")]),
+    ]
+}
+
+fn iso_program() -> impl Strategy<Value = Input> {
+    (prop::collection::vec(iso_line(), 1..10), any::<bool>()).prop_map(|(lines, percent)| {
+        let mut all = vec![
+            "G7 G18 G21 G90 G95".to_string(),
+            "S500 M3".into(),
+            "G0 X60 Z20".into(),
+        ];
+        all.extend(lines.into_iter().flatten());
+        all.push("M5".into());
+        all.push("M2".into());
+        let mut text: String = all.iter().map(|l| format!("{l}\n")).collect();
+        if percent {
+            text = format!("%\n{text}%\n");
+        }
+        Input {
+            from: Dialect::Iso,
+            bytes: text.into_bytes(),
+            profile: None,
+        }
+    })
+}
+
+// ---------------------------------------------------------------------------------------
+// Mutations of corpus files, and arbitrary bytes
+
+fn corpus_files() -> Vec<(Dialect, Vec<u8>, Option<String>)> {
+    common::corpus_cases()
+        .into_iter()
+        .filter(|c| !c.name.ends_with("+profile"))
+        .map(|c| {
+            let bytes = std::fs::read(common::root().join(&c.path)).unwrap();
+            let profile = c
+                .profile
+                .as_ref()
+                .map(|p| std::fs::read_to_string(common::root().join(p)).unwrap());
+            let profile = profile.or_else(|| {
+                let p = common::root()
+                    .join(c.path.rsplit_once('.').unwrap().0.to_string() + ".profile.toml");
+                std::fs::read_to_string(p).ok()
+            });
+            (c.from, bytes, profile)
+        })
+        .collect()
+}
+
+#[derive(Clone, Debug)]
+enum Mutation {
+    InsertBytes(usize, Vec<u8>),
+    Delete(usize, usize),
+    Flip(usize, u8),
+    DuplicateLine(usize),
+    DeleteLine(usize),
+    SwapLines(usize, usize),
+}
+
+fn mutation() -> impl Strategy<Value = Mutation> {
+    let interesting: Vec<Vec<u8>> = [
+        "é",
+        "Č",
+        "中文",
+        "🛠",
+        "\u{301}",
+        "\r",
+        "\0",
+        "\x1a",
+        "%",
+        "(",
+        ")",
+        "\"",
+        "*",
+        "~",
+        "@",
+        "G33",
+        "G76",
+        "G31 *",
+        "99999999999999999999",
+        "-0",
+        ".",
+        "K0.00001",
+        "I359.999",
+        "J0",
+        "E1",
+        "X",
+        "\u{feff}",
+        "\n",
+        "N",
+        "#1=2",
+        "[1+2]",
+        "o100 sub",
+        "G20",
+        "G91",
+        "M30",
+        "M2",
+    ]
+    .iter()
+    .map(|s| s.as_bytes().to_vec())
+    .collect();
+    prop_oneof![
+        4 => (any::<usize>(), prop::sample::select(interesting)).prop_map(|(i, b)| Mutation::InsertBytes(i, b)),
+        2 => (any::<usize>(), prop::collection::vec(any::<u8>(), 1..4)).prop_map(|(i, b)| Mutation::InsertBytes(i, b)),
+        2 => (any::<usize>(), 1usize..6).prop_map(|(i, n)| Mutation::Delete(i, n)),
+        2 => (any::<usize>(), any::<u8>()).prop_map(|(i, b)| Mutation::Flip(i, b)),
+        1 => any::<usize>().prop_map(Mutation::DuplicateLine),
+        1 => any::<usize>().prop_map(Mutation::DeleteLine),
+        1 => (any::<usize>(), any::<usize>()).prop_map(|(a, b)| Mutation::SwapLines(a, b)),
+    ]
+}
+
+fn apply(bytes: &[u8], mutations: &[Mutation]) -> Vec<u8> {
+    let mut b = bytes.to_vec();
+    for m in mutations {
+        let len = b.len().max(1);
+        match m {
+            Mutation::InsertBytes(i, ins) => {
+                let at = i % (b.len() + 1);
+                b.splice(at..at, ins.iter().copied());
+            }
+            Mutation::Delete(i, n) => {
+                if !b.is_empty() {
+                    let at = i % b.len();
+                    let end = (at + n).min(b.len());
+                    b.drain(at..end);
+                }
+            }
+            Mutation::Flip(i, v) => {
+                if !b.is_empty() {
+                    b[i % len] = *v;
+                }
+            }
+            Mutation::DuplicateLine(i) | Mutation::DeleteLine(i) => {
+                let mut lines: Vec<Vec<u8>> =
+                    b.split(|&c| c == b'\n').map(<[u8]>::to_vec).collect();
+                let at = i % lines.len();
+                if matches!(m, Mutation::DuplicateLine(_)) {
+                    let line = lines[at].clone();
+                    lines.insert(at, line);
+                } else {
+                    lines.remove(at);
+                }
+                b = lines.join(&b'\n');
+            }
+            Mutation::SwapLines(x, y) => {
+                let mut lines: Vec<Vec<u8>> =
+                    b.split(|&c| c == b'\n').map(<[u8]>::to_vec).collect();
+                let n = lines.len();
+                lines.swap(x % n, y % n);
+                b = lines.join(&b'\n');
+            }
+        }
+    }
+    b
+}
+
+fn mutated(files: Vec<(Dialect, Vec<u8>, Option<String>)>) -> impl Strategy<Value = Input> {
+    (
+        prop::sample::select(files),
+        prop::collection::vec(mutation(), 1..6),
+    )
+        .prop_map(|((from, bytes, profile), ms)| Input {
+            from,
+            bytes: apply(&bytes, &ms),
+            profile,
+        })
+}
+
+fn arbitrary() -> impl Strategy<Value = Input> {
+    (
+        prop::sample::select(vec![Dialect::Czech, Dialect::Nc31, Dialect::Iso]),
+        prop::collection::vec(any::<u8>(), 0..400),
+    )
+        .prop_map(|(from, bytes)| Input {
+            from,
+            bytes,
+            profile: None,
+        })
+}
+
+// ---------------------------------------------------------------------------------------
+// The properties
+
+/// What one input exercised.
+#[derive(Default, Debug, Clone, Copy)]
+struct Tally {
+    conversions: usize,
+    proved: usize,
+    rs274: usize,
+}
+
+fn options(from: Dialect, to: Dialect, profile: &Profile, round: bool) -> ConvertOptions {
+    ConvertOptions {
+        from,
+        to,
+        profile: profile.clone(),
+        unsupported: Unsupported::Error,
+        renumber: Default::default(),
+        round,
+        nc31_comments: false,
+    }
+}
+
+/// Every property for one input; `Err` says what broke.
+fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, String> {
+    let profile = match &input.profile {
+        Some(text) => Profile::from_toml(&SourceFile::new("fuzz.profile.toml", text.clone()))
+            .unwrap_or_default(),
+        None => Profile::default(),
+    };
+    let (text, _) = ncthread::text::decode(&input.bytes, input.from);
+    let src = SourceFile::new("fuzz", text);
+    let _ = ncthread::check(&src, input.from, &profile, Unsupported::Error);
+    let _ = ncthread::check(&src, input.from, &profile, Unsupported::Warn);
+    let mut tally = Tally::default();
+    for to in [Dialect::Iso, Dialect::Czech, Dialect::Nc31] {
+        for round in [false, true] {
+            let opts = options(input.from, to, &profile, round);
+            let conversion = ncthread::convert(&src, &opts);
+            let Some(output) = conversion.output else {
+                continue;
+            };
+            tally.conversions += 1;
+            let route = format!(
+                "{} → {to}{}",
+                input.from,
+                if round { " --round" } else { "" }
+            );
+            let judge = if to == Dialect::Iso || input.from == Dialect::Iso {
+                rs274
+            } else {
+                None
+            };
+            let v = ncthread::verify(&src, &opts, None, if round { None } else { judge });
+            match (&v.outcome, round) {
+                (Outcome::Refused, _) => {
+                    return Err(format!(
+                        "{route}: ncthread cannot read its own output back: {:?}\n{output}",
+                        v.diagnostics
+                    ));
+                }
+                (Outcome::Different(d), false) => {
+                    return Err(format!("{route}: verify says DIFFERENT: {d}\n{output}"));
+                }
+                _ => {}
+            }
+            if round {
+                continue;
+            }
+            tally.proved += 1;
+            for check in &v.oracle {
+                match &check.outcome {
+                    OracleOutcome::Equivalent { .. } => tally.rs274 += 1,
+                    OracleOutcome::CannotJudge(_) => {}
+                    other => {
+                        return Err(format!("{route}: {}: {other:?}\n{output}", check.what));
+                    }
+                }
+            }
+            let again = ncthread::convert(
+                &SourceFile::new("fuzz", output.clone()),
+                &options(to, to, &profile, false),
+            );
+            match again.output {
+                Some(second) if second == output => {}
+                Some(second) => {
+                    return Err(format!(
+                        "{route}: not idempotent:\n--- once\n{output}--- twice\n{second}"
+                    ));
+                }
+                None => {
+                    return Err(format!(
+                        "{route}: ncthread refuses its own output: {:?}\n{output}",
+                        again.diagnostics
+                    ));
+                }
+            }
+        }
+    }
+    Ok(tally)
+}
+
+/// Runs `properties` on a watchdog thread: a panic or a hang is a failure too.
+fn guarded(input: &Input, rs274: Option<Interpreter>) -> Result<Tally, String> {
+    let (tx, rx) = mpsc::channel();
+    let owned = input.clone();
+    let handle = std::thread::spawn(move || {
+        let _ = tx.send(properties(&owned, rs274.as_ref()));
+    });
+    match rx.recv_timeout(Duration::from_secs(20)) {
+        Ok(result) => {
+            let _ = handle.join();
+            result
+        }
+        Err(mpsc::RecvTimeoutError::Timeout) => Err("hang: no result within 20 s".into()),
+        Err(mpsc::RecvTimeoutError::Disconnected) => {
+            let panic = handle.join().err();
+            let message = panic
+                .as_ref()
+                .and_then(|p| {
+                    p.downcast_ref::<String>()
+                        .cloned()
+                        .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                })
+                .unwrap_or_default();
+            Err(format!("panic: {message}"))
+        }
+    }
+}
+
+/// Keeps a failing input for the corpus.
+fn keep(input: &Input, why: &str) -> PathBuf {
+    let dir = common::root().join("target/fuzz-findings");
+    let _ = std::fs::create_dir_all(&dir);
+    let hash = input.bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ *b as u64).wrapping_mul(0x100_0000_01b3)
+    });
+    let ext = common::extension(input.from);
+    let path = dir.join(format!("{}-{hash:016x}.{ext}", input.from));
+    let _ = std::fs::write(&path, &input.bytes);
+    if let Some(p) = &input.profile {
+        let _ = std::fs::write(path.with_extension("profile.toml"), p);
+    }
+    let _ = std::fs::write(path.with_extension("why.txt"), why);
+    path
+}
+
+/// How long and how much: `NCTHREAD_FUZZ_SECONDS` for the long mode, else a bounded run.
+fn budget() -> (u32, Option<Duration>) {
+    let cases = std::env::var("NCTHREAD_FUZZ_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(40);
+    let seconds = std::env::var("NCTHREAD_FUZZ_SECONDS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .map(Duration::from_secs);
+    (cases, seconds)
+}
+
+#[derive(Default)]
+struct Totals {
+    inputs: usize,
+    tally: Tally,
+}
+
+/// Runs `strategy` for the budget: rounds of `cases` with fresh seeds until the time is up
+/// (long mode), or one round.
+fn run(name: &str, strategy: impl Strategy<Value = Input>, rs274: Option<Interpreter>) -> Totals {
+    let (cases, seconds) = budget();
+    let started = Instant::now();
+    let totals = std::cell::RefCell::new(Totals::default());
+    let mut findings = Vec::new();
+    let mut round: u64 = 0;
+    loop {
+        let seed = {
+            let mut s = [0u8; 32];
+            s[..8].copy_from_slice(&round.to_le_bytes());
+            s[8..8 + name.len().min(24)].copy_from_slice(&name.as_bytes()[..name.len().min(24)]);
+            s
+        };
+        let mut runner = TestRunner::new_with_rng(
+            Config {
+                cases,
+                failure_persistence: None,
+                max_shrink_iters: 200,
+                ..Config::default()
+            },
+            TestRng::from_seed(RngAlgorithm::ChaCha, &seed),
+        );
+        let result = runner.run(&strategy, |input| {
+            totals.borrow_mut().inputs += 1;
+            match guarded(&input, rs274.clone()) {
+                Ok(t) => {
+                    let mut totals = totals.borrow_mut();
+                    totals.tally.conversions += t.conversions;
+                    totals.tally.proved += t.proved;
+                    totals.tally.rs274 += t.rs274;
+                    Ok(())
+                }
+                Err(why) => Err(TestCaseError::fail(why)),
+            }
+        });
+        if let Err(e) = result {
+            let (why, input) = match &e {
+                proptest::test_runner::TestError::Fail(why, input) => {
+                    (why.to_string(), input.clone())
+                }
+                proptest::test_runner::TestError::Abort(why) => panic!("{name}: aborted: {why}"),
+            };
+            let path = keep(&input, &why);
+            let report = format!(
+                "{name}: {why}\n  input kept in {} ({} bytes, {})",
+                path.display(),
+                input.bytes.len(),
+                input.from
+            );
+            // The long mode goes on and reports every finding at the end.
+            if seconds.is_none() {
+                panic!("{report}");
+            }
+            eprintln!("FINDING {report}");
+            findings.push(report);
+        }
+        round += 1;
+        match seconds {
+            Some(limit) if started.elapsed() < limit => {}
+            _ => break,
+        }
+    }
+    let totals = totals.into_inner();
+    eprintln!(
+        "fuzz {name}: {} inputs, {} conversions, {} proved (verify + idempotent), {} judged by rs274, {} findings, {:.1} s",
+        totals.inputs,
+        totals.tally.conversions,
+        totals.tally.proved,
+        totals.tally.rs274,
+        findings.len(),
+        started.elapsed().as_secs_f64()
+    );
+    if !findings.is_empty() {
+        panic!(
+            "{name}: {} findings:\n{}",
+            findings.len(),
+            findings.join("\n")
+        );
+    }
+    totals
+}
+
+fn interpreter() -> Option<Interpreter> {
+    common::rs274().map(|p| Interpreter::Wrapper(p.to_path_buf()))
+}
+
+#[test]
+fn generated_czech_programs() {
+    let t = run("czech", czech_program(), interpreter());
+    assert!(t.tally.proved > 0, "no generated czech program converted");
+}
+
+#[test]
+fn generated_nc31_programs() {
+    let t = run("nc31", nc31_program(), interpreter());
+    assert!(t.tally.proved > 0, "no generated nc31 program converted");
+}
+
+#[test]
+fn generated_iso_programs() {
+    let t = run("iso", iso_program(), interpreter());
+    assert!(t.tally.proved > 0, "no generated ISO program converted");
+    if common::rs274().is_some() {
+        assert!(t.tally.rs274 > 0, "rs274 judged no generated ISO program");
+    }
+}
+
+#[test]
+fn mutated_corpus_files() {
+    run("mutated", mutated(corpus_files()), interpreter());
+}
+
+#[test]
+fn arbitrary_bytes() {
+    run("bytes", arbitrary(), None);
+}
+
+/// The binary too: mutated inputs through `check` and `convert` exit 0, 1 or 2 (never a
+/// panic's 101), on stdin and stdout.
+#[test]
+fn the_binary_exits_0_1_or_2() {
+    let files = corpus_files();
+    let mut runner = TestRunner::new_with_rng(
+        Config {
+            cases: 24,
+            failure_persistence: None,
+            ..Config::default()
+        },
+        TestRng::from_seed(RngAlgorithm::ChaCha, &[7; 32]),
+    );
+    runner
+        .run(&mutated(files), |input| {
+            for args in [
+                vec!["check", "-", "--dialect", input.from.id()],
+                vec!["convert", "-", "--from", input.from.id(), "--to", "iso"],
+                vec!["convert", "-", "--from", "auto", "--to", "czech", "--round"],
+            ] {
+                let out = common::ncthread(&args, Some(&input.bytes));
+                let code = out.status.code();
+                prop_assert!(
+                    matches!(code, Some(0..=2)),
+                    "{args:?} exit {code:?}: {}",
+                    common::text(&out.stderr)
+                );
+            }
+            Ok(())
+        })
+        .unwrap();
+}
