@@ -266,7 +266,12 @@ pub fn verify(
     }
     let left = sim::simulate(&program);
     let right = sim::simulate(&other_program);
-    let unknown = |s: &sim::Simulation| s.problems.iter().any(|p| !p.index_wait);
+    // Where ncthread does not know a position, LinuxCNC does (it starts at X0 Z0): there
+    // its run cannot judge ncthread's simulation.
+    let unknown = |s: &sim::Simulation| {
+        s.problems.iter().any(|p| !p.index_wait)
+            || s.segments.iter().any(|g| g.to.known().is_none())
+    };
     let (left_unknown, right_unknown) = (unknown(&left), unknown(&right));
     diagnostics.extend(left.problems.iter().map(|p| p.diagnostic(src)));
     diagnostics.extend(right.problems.iter().map(|p| p.diagnostic(other)));
