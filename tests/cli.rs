@@ -538,3 +538,59 @@ fn writes_nc31_exactly_or_refuses_with_the_reason() {
         text(&out.stdout)
     );
 }
+
+/// `verify --round` reports the largest deviation that `convert --round` reports.
+#[test]
+fn verify_and_convert_agree_on_the_rounding_deviation() {
+    let program =
+        b"G7 G18 G21 G90 G95\nS800 M3\nG0 X36.0004 Z3.0003\nG33 Z-20.0004 K1.5\nG0 X38\nM30\n";
+    let args = ["-", "--from", "iso", "--to", "czech", "--round"];
+    let convert = ncthread(&[&["convert"][..], &args].concat(), Some(program));
+    assert_eq!(convert.status.code(), Some(0));
+    assert!(
+        text(&convert.stderr).contains("the largest deviation is 0.0004 mm"),
+        "{}",
+        text(&convert.stderr)
+    );
+    let verify = ncthread(&[&["verify"][..], &args].concat(), Some(program));
+    assert_eq!(verify.status.code(), Some(0));
+    assert!(
+        text(&verify.stdout).contains("largest deviation 0.0004 mm"),
+        "{}",
+        text(&verify.stdout)
+    );
+}
+
+/// `verify --rs274` holds LinuxCNC's run of each ISO side against ncthread's simulation of the
+/// other (the taper whose lead once drifted), and a missing interpreter is an error, not a pass.
+#[test]
+fn verify_rs274_is_a_second_judge() {
+    let run = |rs274: &std::path::Path| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_ncthread"))
+            .args([
+                "verify",
+                "corpus/fidelity/taper-lead-quantised.ngc",
+                "--from",
+                "iso",
+                "--to",
+                "iso",
+                "--rs274",
+            ])
+            .env("NCTHREAD_RS274", rs274)
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .output()
+            .unwrap()
+    };
+    let missing = run(std::path::Path::new("/nonexistent/rs274"));
+    assert_eq!(missing.status.code(), Some(1));
+    assert!(text(&missing.stdout).contains("rs274 could not check"));
+    let Some(rs274) = common::rs274() else { return };
+    let out = run(rs274);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stdout));
+    assert_eq!(
+        text(&out.stdout).matches("rs274 agrees").count(),
+        2,
+        "{}",
+        text(&out.stdout)
+    );
+}

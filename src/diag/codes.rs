@@ -150,7 +150,7 @@ pub const NGC_SPINDLE: Code = error(
 );
 pub const NGC_THREAD_GEOMETRY: Code = error(
     "NGC008",
-    "a thread move without Z travel, or a tap that moves X",
+    "a thread move that does not move, a tap that moves X, or a G33 in the cut after another line",
 );
 pub const NGC_G76: Code = error(
     "NGC009",
