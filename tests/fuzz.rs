@@ -21,7 +21,6 @@
 mod common;
 
 use std::path::PathBuf;
-use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use ncthread::profile::Profile;
@@ -531,30 +530,8 @@ fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, Strin
 
 /// Runs `properties` on a watchdog thread: a panic or a hang is a failure too.
 fn guarded(input: &Input, rs274: Option<Interpreter>) -> Result<Tally, String> {
-    let (tx, rx) = mpsc::channel();
     let owned = input.clone();
-    let handle = std::thread::spawn(move || {
-        let _ = tx.send(properties(&owned, rs274.as_ref()));
-    });
-    match rx.recv_timeout(Duration::from_secs(20)) {
-        Ok(result) => {
-            let _ = handle.join();
-            result
-        }
-        Err(mpsc::RecvTimeoutError::Timeout) => Err("hang: no result within 20 s".into()),
-        Err(mpsc::RecvTimeoutError::Disconnected) => {
-            let panic = handle.join().err();
-            let message = panic
-                .as_ref()
-                .and_then(|p| {
-                    p.downcast_ref::<String>()
-                        .cloned()
-                        .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
-                })
-                .unwrap_or_default();
-            Err(format!("panic: {message}"))
-        }
-    }
+    common::watchdog(20, move || properties(&owned, rs274.as_ref())).and_then(|r| r)
 }
 
 /// Keeps a failing input for the corpus.

@@ -6,9 +6,6 @@
 //! Each input runs on a watchdog thread; a panic or a run over 20 s fails the test.
 mod common;
 
-use std::sync::mpsc;
-use std::time::Duration;
-
 use ncthread::profile::Profile;
 use ncthread::source::SourceFile;
 use ncthread::{ConvertOptions, Dialect, Unsupported};
@@ -149,30 +146,8 @@ fn exercise(from: Dialect, bytes: &[u8], profile: &Profile) {
 
 /// Runs `exercise` on a watchdog thread; the failure names the input.
 fn guarded(name: &str, from: Dialect, bytes: Vec<u8>, profile: Profile) -> Result<(), String> {
-    let (tx, rx) = mpsc::channel();
-    let handle = std::thread::spawn(move || {
-        exercise(from, &bytes, &profile);
-        let _ = tx.send(());
-    });
-    match rx.recv_timeout(Duration::from_secs(20)) {
-        Ok(()) => {
-            let _ = handle.join();
-            Ok(())
-        }
-        Err(mpsc::RecvTimeoutError::Timeout) => Err(format!("{name} ({from}): no end within 20 s")),
-        Err(mpsc::RecvTimeoutError::Disconnected) => {
-            let message = handle
-                .join()
-                .err()
-                .and_then(|p| {
-                    p.downcast_ref::<String>()
-                        .cloned()
-                        .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
-                })
-                .unwrap_or_default();
-            Err(format!("{name} ({from}): panic: {message}"))
-        }
-    }
+    common::watchdog(20, move || exercise(from, &bytes, &profile))
+        .map_err(|why| format!("{name} ({from}): {why}"))
 }
 
 #[test]

@@ -255,3 +255,36 @@ pub fn ncthread(args: &[&str], stdin: Option<&[u8]>) -> std::process::Output {
 pub fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
+
+/// Runs `f` on a thread of its own and waits at most `seconds`: its result, or why there is
+/// none (a panic and its message, or a hang). The fuzz and hostile-input tests run every
+/// input this way.
+pub fn watchdog<T: Send + 'static>(
+    seconds: u64,
+    f: impl FnOnce() -> T + Send + 'static,
+) -> Result<T, String> {
+    use std::sync::mpsc;
+    let (tx, rx) = mpsc::channel();
+    let handle = std::thread::spawn(move || {
+        let _ = tx.send(f());
+    });
+    match rx.recv_timeout(std::time::Duration::from_secs(seconds)) {
+        Ok(result) => {
+            let _ = handle.join();
+            Ok(result)
+        }
+        Err(mpsc::RecvTimeoutError::Timeout) => Err(format!("hang: no result within {seconds} s")),
+        Err(mpsc::RecvTimeoutError::Disconnected) => {
+            let message = handle
+                .join()
+                .err()
+                .and_then(|p| {
+                    p.downcast_ref::<String>()
+                        .cloned()
+                        .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                })
+                .unwrap_or_default();
+            Err(format!("panic: {message}"))
+        }
+    }
+}
