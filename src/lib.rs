@@ -189,27 +189,17 @@ fn oracle_check(
 ) -> OracleCheck {
     let outcome = match interpreter.run(program) {
         Err(e) => OracleOutcome::Failed(e),
-        Ok(canon) => {
-            let theirs = sim::normalise(&sim::rs274::segments(&canon));
-            // rs274 prints four decimals of the program's unit, X as a radius: of an inch
-            // that is 0.00254 mm on the diameter, so its reading of an inch program is that
-            // much coarser.
-            let inch = canon
-                .iter()
-                .any(|c| matches!(c, sim::rs274::Canon::Inches(true)));
-            let tolerance = if inch {
-                sim::TOLERANCE + fixed::Length(26)
-            } else {
-                sim::TOLERANCE
-            };
-            match sim::compare_within(expected, &theirs, tolerance) {
-                None => OracleOutcome::Equivalent {
-                    segments: theirs.len(),
-                    deviation: sim::largest_deviation(expected, &theirs),
-                },
-                Some(d) => OracleOutcome::Different(Box::new(d)),
-            }
-        }
+        Ok(canon) => match sim::rs274::judge(expected, &canon) {
+            sim::rs274::Judgement::Agrees {
+                segments,
+                deviation,
+            } => OracleOutcome::Equivalent {
+                segments,
+                deviation,
+            },
+            sim::rs274::Judgement::Differs(d) => OracleOutcome::Different(d),
+            sim::rs274::Judgement::CannotJudge(why) => OracleOutcome::CannotJudge(why),
+        },
     };
     OracleCheck { what, outcome }
 }

@@ -175,8 +175,12 @@ fn every_fidelity_case_is_exact_or_refused_by_name() {
                 );
                 for check in &v.oracle {
                     // After a kept G28 ncthread does not know where the tool is; LinuxCNC
-                    // does: the judge abstains (and says why).
-                    if r.warn && matches!(check.outcome, ncthread::OracleOutcome::CannotJudge(_)) {
+                    // does. A lead of 0.00004 mm turns 625,000 times over the thread, and
+                    // rs274's printed digits cannot fix such a helix. There the judge
+                    // abstains (and says why).
+                    if (r.warn || r.file == "lead-rounds-to-zero.ngc")
+                        && matches!(check.outcome, ncthread::OracleOutcome::CannotJudge(_))
+                    {
                         continue;
                     }
                     assert!(

@@ -689,6 +689,28 @@ fn arbitrary_bytes() {
     run("bytes", arbitrary(), None);
 }
 
+/// The harness's own findings (`corpus/fuzz/`, see its README) stay fixed.
+#[test]
+fn findings_stay_fixed() {
+    let mut checked = 0;
+    for case in common::corpus_cases()
+        .into_iter()
+        .filter(|c| c.path.starts_with("corpus/fuzz/") && c.profile.is_none())
+    {
+        let profile_path = format!("{}.profile.toml", case.path.rsplit_once('.').unwrap().0);
+        let input = Input {
+            from: case.from,
+            bytes: std::fs::read(common::root().join(&case.path)).unwrap(),
+            profile: std::fs::read_to_string(common::root().join(profile_path)).ok(),
+        };
+        if let Err(why) = guarded(&input, interpreter()) {
+            panic!("{}: {why}", case.path);
+        }
+        checked += 1;
+    }
+    assert!(checked >= 14, "only {checked} findings");
+}
+
 /// The binary too: mutated inputs through `check` and `convert` exit 0, 1 or 2 (never a
 /// panic's 101), on stdin and stdout.
 #[test]

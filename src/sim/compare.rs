@@ -187,12 +187,18 @@ pub fn largest_deviation(left: &[Segment], right: &[Segment]) -> Length {
 
 /// Compares two normalised motions; `None` when they are equivalent.
 pub fn compare(left: &[Segment], right: &[Segment]) -> Option<Difference> {
-    compare_within(left, right, TOLERANCE)
+    compare_within(left, right, TOLERANCE, Angle::ZERO)
 }
 
-/// [`compare`] with another position tolerance (a reading that is itself rounded, such as
-/// rs274's four decimals of an inch).
-pub fn compare_within(left: &[Segment], right: &[Segment], tol: Length) -> Option<Difference> {
+/// [`compare`] with another position tolerance and a phase slack, for a reading that is
+/// itself rounded (rs274 prints four decimals: of an inch, or of a chain whose helix those
+/// decimals fix only to within some degrees).
+pub fn compare_within(
+    left: &[Segment],
+    right: &[Segment],
+    tol: Length,
+    phase_slack: Angle,
+) -> Option<Difference> {
     // A short rapid on one side only, from where the other side's thread move starts, that
     // takes the tool back along the thread line before its own thread move starts: that is
     // how a start angle is written where there is none (the thread starts earlier on its
@@ -363,7 +369,7 @@ pub fn compare_within(left: &[Segment], right: &[Segment], tol: Length) -> Optio
                 match (p, q) {
                     (Some(p), Some(q))
                         if angle_gap(at_start(p, l, a), at_start(q, m, b))
-                            <= phase_tolerance_on(l, phase_grid).0 => {}
+                            <= phase_tolerance_on(l, phase_grid).0.max(phase_slack.0) => {}
                     (None, None) => {}
                     _ => {
                         let show =

@@ -364,6 +364,24 @@ pub(crate) fn show_pos(p: Pos) -> String {
 }
 
 impl Segment {
+    /// The spindle angle at `z` on the helix of a thread move (`None` for other moves, or
+    /// when its phase is unknown).
+    pub fn spindle_angle_at(&self, z: Length) -> Option<Angle> {
+        let Motion::Sync {
+            lead,
+            phase: Some(phase),
+            ..
+        } = self.motion
+        else {
+            return None;
+        };
+        let towards = match (self.from.z, self.to.z) {
+            (Some(a), Some(b)) => (b - a).signum(),
+            _ => return None,
+        };
+        Some(angle_at(z, phase, lead, towards))
+    }
+
     /// One line of text: `line 14 pass 1  thread  X35.6 Z4.5 → X35.6 Z-47.5  lead 1.5 M3 phase 0°`.
     pub fn to_text(&self) -> String {
         let pos = show_pos;

@@ -277,6 +277,83 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
     out
 }
 
+/// How far (in degrees) rs274's printed numbers leave the helix of its synchronised chains
+/// uncertain: positions have four decimals and K six, and a chain's spindle angle is the sum
+/// of path length / K over its moves, so a small K over a long path multiplies those last
+/// digits. The largest over the program's chains.
+pub fn phase_uncertainty(canon: &[Canon]) -> f64 {
+    let mut prev: Option<(f64, f64)> = None;
+    let mut k: Option<f64> = None;
+    let (mut chain, mut worst) = (0.0f64, 0.0f64);
+    for c in canon {
+        match *c {
+            Canon::Traverse { x, z } => {
+                prev = Some((x, z));
+                chain = 0.0;
+            }
+            Canon::Feed { x, z } => {
+                if let (Some(k), Some((x0, z0))) = (k, prev)
+                    && k > 0.0
+                {
+                    let length = ((x - x0) / 2.0).hypot(z - z0);
+                    // Both ends off by half a digit on each axis; K off by half of its last.
+                    chain += 1.5e-4 / k + length * 5e-7 / (k * k);
+                    worst = worst.max(chain * 360.0);
+                } else {
+                    chain = 0.0;
+                }
+                prev = Some((x, z));
+            }
+            Canon::RigidTap { .. } => chain = 0.0,
+            Canon::SyncStart { k: new } => k = Some(new),
+            Canon::SyncStop => k = None,
+            _ => {}
+        }
+    }
+    worst
+}
+
+/// What LinuxCNC's run says of a simulation.
+#[derive(Clone, Debug)]
+pub enum Judgement {
+    /// The motions agree; `segments` were compared, within `deviation`.
+    Agrees {
+        segments: usize,
+        deviation: Length,
+    },
+    Differs(Box<super::Difference>),
+    /// rs274's printed digits cannot decide (why).
+    CannotJudge(String),
+}
+
+/// Holds rs274's canonical calls against `expected` (a normalised simulation), allowing for
+/// what rs274's printing loses: four decimals of an inch (0.00254 mm on the diameter), and the
+/// digits that fix a synchronised chain's helix (a small K over a long path); beyond half a
+/// turn of that, it cannot judge.
+pub fn judge(expected: &[Segment], canon: &[Canon]) -> Judgement {
+    let theirs = super::normalise(&segments(canon));
+    let inch = canon.iter().any(|c| matches!(c, Canon::Inches(true)));
+    let tolerance = if inch {
+        super::TOLERANCE + Length(26)
+    } else {
+        super::TOLERANCE
+    };
+    let slack = phase_uncertainty(canon);
+    if slack >= 180.0 {
+        return Judgement::CannotJudge(format!(
+            "rs274 prints four decimals, which leave the helix of a synchronised chain uncertain by {slack:.0}° (a small K over a long path)"
+        ));
+    }
+    let slack = Angle((slack * 1000.0).ceil() as i64);
+    match super::compare_within(expected, &theirs, tolerance, slack) {
+        None => Judgement::Agrees {
+            segments: theirs.len(),
+            deviation: super::largest_deviation(expected, &theirs),
+        },
+        Some(d) => Judgement::Differs(Box::new(d)),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

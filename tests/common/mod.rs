@@ -40,6 +40,9 @@ pub fn corpus_cases() -> Vec<Case> {
         ("bad/iso", Dialect::Iso),
         ("fidelity", Dialect::Czech),
         ("fidelity", Dialect::Iso),
+        ("fuzz/czech", Dialect::Czech),
+        ("fuzz/nc31", Dialect::Nc31),
+        ("fuzz/iso", Dialect::Iso),
     ] {
         let ext = extension(from);
         let dir = root().join("corpus").join(folder);

@@ -265,11 +265,10 @@ impl Emitter<'_> {
                 // LinuxCNC's M6 stops the spindle; restart it unless the source stops it here
                 // too (an ISO source says so with the item that follows).
                 let stops = next.is_some_and(|n| n.kind == ItemKind::SpindleStop);
+                // The reader notes the stop of a turning spindle that M6 makes: that stop is
+                // this M6's, not an M5 of its own.
                 let m6 = number.is_some() && self.profile.iso.tool_change == ToolChange::M6;
-                if m6 && self.turning.is_none() {
-                    self.m6_stopped = true;
-                }
-                if m6 && stops {
+                if m6 && stops && self.turning.is_some() {
                     self.turning = None;
                     self.m6_stopped = true;
                 }
