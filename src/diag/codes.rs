@@ -80,6 +80,10 @@ pub const CZ_MISSING_BLOCK: Code = error(
     "CZ022",
     "the program ends before the blocks a J/E thread block requires",
 );
+pub const CZ_AFTER_END: Code = warning(
+    "CZ023",
+    "blocks after the program's end (M02/M30), which the control does not run",
+);
 
 // nc31 front end
 pub const NC_SYNTAX: Code = error("NC001", "the frame cannot be read");
@@ -117,6 +121,10 @@ pub const NC_LEAD: Code = error("NC013", "the lead of a thread group is not posi
 pub const NC_TRAVEL: Code = error(
     "NC014",
     "a thread has no Z travel, or too little for its runout",
+);
+pub const NC_AFTER_END: Code = warning(
+    "NC015",
+    "frames after the program's end (M30), which the control does not run",
 );
 
 // machine profile
@@ -167,6 +175,10 @@ pub const NGC_RADIUS_MODE: Code = warning(
 pub const NGC_AFTER_END: Code = warning(
     "NGC012",
     "lines after the program's end (M2/M30 or the closing %), which LinuxCNC does not run",
+);
+pub const NGC_NO_END: Code = warning(
+    "NGC013",
+    "the program has no end (M2/M30, or the closing %), which LinuxCNC reports after running it",
 );
 
 // czech target
@@ -293,6 +305,7 @@ pub const ALL: &[Code] = &[
     CZ_NO_FEED,
     CZ_NEGATIVE_LENGTH,
     CZ_MISSING_BLOCK,
+    CZ_AFTER_END,
     NC_SYNTAX,
     NC_DECIMAL_POINT,
     NC_TWO_WORDS,
@@ -307,6 +320,7 @@ pub const ALL: &[Code] = &[
     NC_DEPTHS,
     NC_LEAD,
     NC_TRAVEL,
+    NC_AFTER_END,
     PF_INVALID,
     PF_CONSTANT8,
     PF_VALUE,
@@ -322,6 +336,7 @@ pub const ALL: &[Code] = &[
     NGC_ROUNDED,
     NGC_RADIUS_MODE,
     NGC_AFTER_END,
+    NGC_NO_END,
     CZT_PRECISION,
     CZT_NO_EQUIVALENT,
     CZT_ANGLE,

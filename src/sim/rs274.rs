@@ -140,14 +140,18 @@ impl Interpreter {
             .lines()
             .filter(|l| l.trim() != "executing" && !l.trim().is_empty())
             .collect();
-        if !out.status.success() || !complaint.is_empty() {
+        // A program without an end runs to its last line; then rs274 complains.
+        let ran_to_the_end = complaint
+            .first()
+            .is_some_and(|c| c.starts_with("File ended with no percent sign"));
+        if (!out.status.success() || !complaint.is_empty()) && !ran_to_the_end {
             return Err(format!(
                 "rs274 exit {:?}: {}",
                 out.status.code(),
                 complaint.join("\n")
             ));
         }
-        if !stdout.contains("FINISH()") && !stdout.contains("PROGRAM_END()") {
+        if !ran_to_the_end && !stdout.contains("FINISH()") && !stdout.contains("PROGRAM_END()") {
             return Err("rs274 did not reach the end of the program".into());
         }
         Ok(stdout.lines().filter_map(parse_canon).collect())

@@ -426,13 +426,20 @@ impl Emitter<'_> {
             self.coordinate_word(item, 'X', x),
             self.coordinate_word(item, 'Z', z),
         ) {
-            self.flush(block);
             let mut words = vec![x, z];
             self.motion_word("G00", &mut words);
-            self.write(Block {
-                words,
-                ..Block::default()
-            });
+            if block.words.is_empty() {
+                // The block being written (its number, its comment) becomes the one that
+                // programs every axis.
+                block.words = words;
+                self.flush(block);
+            } else {
+                self.flush(block);
+                self.write(Block {
+                    words,
+                    ..Block::default()
+                });
+            }
         }
         self.all_axes = false;
     }

@@ -79,12 +79,32 @@ pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program
         params: HashMap::new(),
         after_runout: AfterRunout::Nothing,
     };
+    // M02/M30 end the program: blocks after it never run. **[decided]** (as LinuxCNC)
+    let mut ended = false;
+    let mut warned_after_end = false;
     for line in src.lines() {
         if line.text.trim().is_empty() {
             continue;
         }
         match syntax::parse_line(line.text) {
-            Ok(block) => fe.block(line, &block),
+            Ok(block) if ended && !block.is_empty() && !block.delimiter => {
+                if !warned_after_end {
+                    warned_after_end = true;
+                    let span = src.line_span(line);
+                    fe.diags.push(
+                        Diagnostic::new(codes::CZ_AFTER_END, "this block comes after the program's end (M02/M30); the control does not run it, and neither does ncthread")
+                            .at(src, span)
+                            .help("remove it, or move the program's end after it"),
+                    );
+                }
+            }
+            Ok(block) => {
+                let first = fe.items.len();
+                fe.block(line, &block);
+                ended |= fe.items[first..]
+                    .iter()
+                    .any(|i| matches!(i.kind, ItemKind::ProgramEnd(_)));
+            }
             Err(e) => {
                 let code = if e.number_too_large {
                     codes::CZ_NUMBER

@@ -152,6 +152,22 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
             ended = Some("M2/M30");
         }
     }
+    if ended.is_none() && !fe.items.is_empty() {
+        let last = src.lines().filter(|l| !l.text.trim().is_empty()).last();
+        if let Some(line) = last {
+            fe.diag(
+                codes::NGC_NO_END,
+                line,
+                0..line.text.len(),
+                if percent {
+                    "the program starts with `%` and has no closing `%` or M2/M30: LinuxCNC runs it, then stops with \"File ended with no percent sign\"".into()
+                } else {
+                    "the program ends without M2/M30: LinuxCNC runs it, then stops with \"File ended with no percent sign or program end\"".into()
+                },
+                "end the program with M2 or M30 (or a closing `%` after a first line `%`)",
+            );
+        }
+    }
     (Program { items: fe.items }, fe.diags)
 }
 
@@ -284,6 +300,19 @@ impl FrontEnd<'_> {
     }
 
     fn line(&mut self, line: Line<'_>) {
+        // LinuxCNC reads a line as a C string: it ends at a NUL.
+        if let Some(at) = line.text.find('\0') {
+            let span = self.src.char_span(line, at);
+            self.diags.push(
+                Diagnostic::new(
+                    codes::NGC_SYNTAX,
+                    "a NUL character: LinuxCNC reads the line only up to it",
+                )
+                .at(self.src, span)
+                .help("remove the NUL byte (a damaged file?)"),
+            );
+            return;
+        }
         let block = match syntax::parse_line(line.text) {
             Ok(b) => b,
             Err(e) => {
@@ -788,6 +817,31 @@ impl FrontEnd<'_> {
                     words.take('X');
                     words.take('Z');
                 }
+            }
+        } else if let Some(code_word) = words
+            .g
+            .iter()
+            .find(|(c, _)| [10, 330].contains(c))
+            .map(|(_, w)| *w)
+        {
+            // A motion code without axes: LinuxCNC refuses G33 ("All axes missing with motion
+            // code") and checks G1's feed all the same.
+            if motion_code == Some(Motion::Thread) {
+                words.take('K');
+                self.missing(
+                    line,
+                    code_word,
+                    "G33 without X or Z (LinuxCNC: \"All axes missing with motion code\")".into(),
+                    "give the end of the thread: `G33 Z-20 K1.5`",
+                );
+            } else if self.feed.is_none_or(|f| f.0 <= 0) {
+                self.missing(
+                    line,
+                    code_word,
+                    "G1 with no feed rate (F) set, or F0 (LinuxCNC refuses it even without axes)"
+                        .into(),
+                    "set the feed with F before or on this line",
+                );
             }
         }
         for (code, w) in words.m.clone() {
@@ -1375,8 +1429,40 @@ mod tests {
     use super::*;
     use crate::diag::Severity;
 
+    /// Reads a fragment: without its program end (NGC013, tested on its own).
     fn run(text: &str) -> (Program, Vec<Diagnostic>) {
-        parse(&SourceFile::new("t.ngc", text), &Options::default())
+        let (p, d) = parse(&SourceFile::new("t.ngc", text), &Options::default());
+        (
+            p,
+            d.into_iter()
+                .filter(|d| d.code != codes::NGC_NO_END)
+                .collect(),
+        )
+    }
+
+    #[test]
+    fn programs_end_as_linuxcnc_ends_them() {
+        let codes_of = |text: &str| -> Vec<&str> {
+            let (_, d) = parse(&SourceFile::new("t.ngc", text), &Options::default());
+            d.iter().map(|d| d.code.id).collect()
+        };
+        // No end: LinuxCNC runs it and then complains; a warning here.
+        assert_eq!(codes_of("G7 G0 X10 Z1\n"), ["NGC013"]);
+        assert!(codes_of("G7 G0 X10 Z1\nM2\n").is_empty());
+        assert!(codes_of("%\nG7 G0 X10 Z1\n%\n").is_empty());
+        // After the closing `%` or M2 nothing is read.
+        let (p, d) = parse(
+            &SourceFile::new("t.ngc", "%\nG7 G0 X10 Z1\n%\nG0 X5\n"),
+            &Options::default(),
+        );
+        assert_eq!(d[0].code, codes::NGC_AFTER_END);
+        assert_eq!(p.items.len(), 3);
+        // A `%` elsewhere, a NUL, and motion codes without axes are refused as LinuxCNC does.
+        assert_eq!(codes_of("G7 G0 X10 Z1\n%\nM2\n"), ["NGC001"]);
+        assert_eq!(codes_of("G7 G0 X10 Z1 %\nM2\n"), ["NGC001"]);
+        assert_eq!(codes_of("(a\0b)\nM2\n"), ["NGC001"]);
+        assert_eq!(codes_of("G7 S100 M3\nG33 K1\nM2\n"), ["NGC004"]);
+        assert_eq!(codes_of("G7 G95 G1\nM2\n"), ["NGC004"]);
     }
 
     fn kinds(p: &Program) -> Vec<ItemKind> {
@@ -1556,6 +1642,10 @@ mod tests {
                 unsupported: Unsupported::Warn,
             },
         );
+        let d: Vec<_> = d
+            .into_iter()
+            .filter(|d| d.code != codes::NGC_NO_END)
+            .collect();
         assert_eq!(d.len(), 1);
         assert_eq!(d[0].severity, Severity::Warning);
         assert!(

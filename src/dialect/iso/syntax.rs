@@ -128,7 +128,13 @@ fn syntax_error(line: &str, e: &pest::error::Error<Rule>) -> SyntaxError {
     let rest = &line[offset..];
     let message = match rest.chars().next() {
         None => "the line ends where a value was expected".to_string(),
-        Some('(') => "the comment is not closed with `)`".to_string(),
+        Some('(') => match rest[1..].find(['(', ')']).map(|i| &rest[1 + i..1 + i + 1]) {
+            Some("(") => {
+                "a comment inside a comment: LinuxCNC refuses it (\"Nested comment found\")"
+                    .to_string()
+            }
+            _ => "the comment is not closed with `)`".to_string(),
+        },
         Some(c) if c.is_ascii_alphabetic() => {
             format!("address `{c}` is not followed by a number")
         }
@@ -194,6 +200,9 @@ mod tests {
         let e = parse_line("G0 X1 (open").unwrap_err();
         assert_eq!(e.offset, 6);
         assert!(e.message.contains("not closed"), "{}", e.message);
+        let e = parse_line("((nested)").unwrap_err();
+        assert_eq!(e.offset, 0);
+        assert!(e.message.contains("Nested comment"), "{}", e.message);
         let e = parse_line("G0 12").unwrap_err();
         assert_eq!(e.offset, 3);
     }

@@ -80,8 +80,26 @@ pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program
         group: Vec::new(),
         group_broken: false,
     };
+    // M30 ends the program: frames after it never run. **[decided]** (as LinuxCNC)
+    let mut warned_after_end = false;
+    let (mut ended, mut seen) = (false, 0);
     for line in src.lines() {
+        ended |= fe.items[seen..]
+            .iter()
+            .any(|i| matches!(i.kind, ItemKind::ProgramEnd(_)));
+        seen = fe.items.len();
         match syntax::parse_line(line.text) {
+            Ok(SyntaxLine::Frame(_)) | Err(_) if ended => {
+                if !warned_after_end {
+                    warned_after_end = true;
+                    let span = src.line_span(line);
+                    fe.diags.push(
+                        Diagnostic::new(codes::NC_AFTER_END, "this frame comes after the program's end (M30); the control does not run it, and neither does ncthread")
+                            .at(src, span)
+                            .help("remove it, or move M30 after it"),
+                    );
+                }
+            }
             Ok(SyntaxLine::Empty) => {}
             Ok(SyntaxLine::Comment(text)) => {
                 let span = src.line_span(line);
