@@ -7,8 +7,8 @@
 use std::path::Path;
 use std::time::Instant;
 
+use ncthread::DialectId;
 use ncthread::batch::{BatchOptions, run};
-use ncthread::dialect::Dialect;
 use ncthread::{ConvertOptions, Unsupported};
 
 fn program(i: usize) -> String {
@@ -55,10 +55,10 @@ fn options(src: &Path, out: &Path, jobs: usize) -> BatchOptions {
     BatchOptions {
         src_dir: src.to_path_buf(),
         out_dir: out.to_path_buf(),
-        from: Some(Dialect::Czech),
+        from: Some(ncthread::dialect::czech::ID),
         conversion: ConvertOptions {
-            from: Dialect::Czech,
-            to: Dialect::Iso,
+            from: ncthread::dialect::czech::ID,
+            to: ncthread::dialect::iso::ID,
             profile: Default::default(),
             unsupported: Unsupported::Error,
             renumber: Default::default(),

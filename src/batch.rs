@@ -15,7 +15,7 @@ use rayon::prelude::*;
 use serde_json::json;
 
 use crate::diag::Diagnostic;
-use crate::dialect::Dialect;
+use crate::dialect::{self, DialectId};
 use crate::source::SourceFile;
 use crate::text::{self, OutputOptions, TextEncoding};
 use crate::{ConvertOptions, convert};
@@ -26,7 +26,7 @@ pub struct BatchOptions {
     pub src_dir: PathBuf,
     pub out_dir: PathBuf,
     /// The source dialect, or `None` to choose it per file from the text.
-    pub from: Option<Dialect>,
+    pub from: Option<DialectId>,
     /// The conversion (its `from` is set per file).
     pub conversion: ConvertOptions,
     /// Worker threads; 0 lets rayon choose (one per core).
@@ -43,12 +43,8 @@ pub struct BatchOptions {
 }
 
 /// The default extension of a target's files.
-pub fn default_extension(to: Dialect) -> &'static str {
-    match to {
-        Dialect::Iso => "ngc",
-        Dialect::Czech => "ncp",
-        Dialect::Nc31 => "nc31",
-    }
+pub fn default_extension(to: DialectId) -> &'static str {
+    dialect::get(to).extension()
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -79,7 +75,7 @@ pub struct FileReport {
     /// Where the output is (or would have been) written.
     pub output: PathBuf,
     /// The dialect the file was read as.
-    pub dialect: Option<Dialect>,
+    pub dialect: Option<DialectId>,
     /// The encoding the file was read in.
     pub encoding: Option<TextEncoding>,
     pub diagnostics: Vec<Diagnostic>,

@@ -11,13 +11,13 @@
 //!   would change, so it is refused in every mode.
 
 use crate::diag::{Diagnostic, codes};
-use crate::dialect::Dialect;
+use crate::dialect::{self, DialectId};
 use crate::ir::{FeedMode, ItemKind, Program};
 use crate::source::SourceFile;
 
 /// The diagnostics of the shared rules (errors). `to` is the target, when the program is to
 /// be written (`None`: `check`).
-pub fn check(program: &Program, src: &SourceFile, to: Option<Dialect>) -> Vec<Diagnostic> {
+pub fn check(program: &Program, src: &SourceFile, to: Option<DialectId>) -> Vec<Diagnostic> {
     let mut diags = Vec::new();
     let mut turning = false;
     let mut speed: Option<u32> = None;
@@ -86,12 +86,9 @@ pub fn check(program: &Program, src: &SourceFile, to: Option<Dialect>) -> Vec<Di
                         .differs_from_output()
                         .map(|modes| format!("it was written in {modes}"))
                         .or_else(|| {
-                            let per_minute = match feed_mode {
-                                Some(m) => m == FeedMode::PerMin,
-                                // The ISO writer starts in G95.
-                                None if to == Some(Dialect::Iso) => false,
-                                None => return None,
-                            };
+                            let mode = feed_mode
+                                .or_else(|| to.and_then(|t| dialect::get(t).output_feed_mode()))?;
+                            let per_minute = mode == FeedMode::PerMin;
                             (context.per_minute.is_some_and(|p| p != per_minute)).then(|| {
                                 "it was written in another feed mode than the output has there"
                                     .to_string()
@@ -125,6 +122,7 @@ mod tests {
 
     fn check_kinds(kinds: Vec<ItemKind>) -> Vec<String> {
         let program = Program {
+            dialect: crate::dialect::iso::ID,
             items: kinds
                 .into_iter()
                 .map(|k| Item::new(k, Span::default()))

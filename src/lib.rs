@@ -17,7 +17,7 @@ pub mod source;
 pub mod text;
 
 use diag::Diagnostic;
-pub use dialect::{Dialect, Unsupported};
+pub use dialect::{DialectId, Unsupported};
 use ir::Program;
 use profile::Profile;
 use source::SourceFile;
@@ -25,12 +25,12 @@ use source::SourceFile;
 /// Everything a conversion needs besides the source.
 #[derive(Clone, Debug)]
 pub struct ConvertOptions {
-    pub from: Dialect,
-    pub to: Dialect,
+    pub from: DialectId,
+    pub to: DialectId,
     pub profile: Profile,
     pub unsupported: Unsupported,
-    /// Block numbering for czech output from another dialect.
-    pub renumber: dialect::czech::Renumber,
+    /// Block numbering for a target that numbers its blocks, from another dialect.
+    pub renumber: dialect::Renumber,
     /// Round values a target cannot hold to its grid (with a warning) instead of refusing.
     pub round: bool,
     /// nc31 output: write comments as `(` lines instead of dropping them.
@@ -48,48 +48,30 @@ pub struct Conversion {
 /// Reads `src` in dialect `from`. The program is usable only when no diagnostic is an error.
 pub fn parse(
     src: &SourceFile,
-    from: Dialect,
+    from: DialectId,
     profile: &Profile,
     unsupported: Unsupported,
 ) -> (Program, Vec<Diagnostic>) {
-    match from {
-        Dialect::Czech => {
-            dialect::czech::parse(src, profile, &dialect::czech::Options { unsupported })
-        }
-        Dialect::Nc31 => {
-            dialect::nc31::parse(src, profile, &dialect::nc31::Options { unsupported })
-        }
-        Dialect::Iso => dialect::iso::parse(src, &dialect::iso::Options { unsupported }),
-    }
+    dialect::get(from).read(src, profile, unsupported)
 }
 
-/// Writes `program` (read from `src` in dialect `from`) in dialect `to`.
+/// Writes `program` (read from `src`) in dialect `options.to`, after the rules every target
+/// shares.
 pub fn emit(
     program: &Program,
     src: &SourceFile,
     options: &ConvertOptions,
 ) -> (Option<String>, Vec<Diagnostic>) {
-    let (from, profile) = (options.from, &options.profile);
     let shared = legalise::check(program, src, Some(options.to));
     if diag::has_errors(&shared) {
         return (None, shared);
     }
-    match options.to {
-        Dialect::Iso => dialect::iso::emit(program, src, from, profile),
-        Dialect::Czech => {
-            dialect::czech::emit(program, src, from, profile, options.renumber, options.round)
-        }
-        Dialect::Nc31 => dialect::nc31::emit(
-            program,
-            src,
-            from,
-            profile,
-            dialect::nc31::EmitOptions {
-                round: options.round,
-                comments: options.nc31_comments,
-            },
-        ),
-    }
+    let write = dialect::WriteOptions {
+        renumber: options.renumber,
+        round: options.round,
+        comments: options.nc31_comments,
+    };
+    dialect::get(options.to).write(program, src, &options.profile, &write)
 }
 
 /// Parses and emits. Refuses (no output) when any error remains.
@@ -116,7 +98,7 @@ pub fn convert(src: &SourceFile, options: &ConvertOptions) -> Conversion {
 /// the shared legalisation's, and the simulator's (unknown positions).
 pub fn check(
     src: &SourceFile,
-    from: Dialect,
+    from: DialectId,
     profile: &Profile,
     unsupported: Unsupported,
 ) -> Vec<Diagnostic> {
@@ -296,10 +278,10 @@ pub fn verify(
                     oracle_check(interpreter, what, &program.text, segments)
                 });
         };
-        if options.to == Dialect::Iso {
+        if dialect::get(options.to).linuxcnc_reads() {
             judge(other, src, &left, left_unknown);
         }
-        if options.from == Dialect::Iso {
+        if dialect::get(options.from).linuxcnc_reads() {
             judge(src, other, &right, right_unknown);
         }
     }

@@ -7,11 +7,12 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 
+use clap::builder::TypedValueParser as _;
 use ncthread::diag::{self, Format};
 use ncthread::profile::Profile;
 use ncthread::source::SourceFile;
 use ncthread::text::{Eol, OutputOptions, TextEncoding};
-use ncthread::{ConvertOptions, Dialect, Unsupported};
+use ncthread::{ConvertOptions, DialectId, Unsupported};
 
 #[derive(Parser)]
 #[command(
@@ -51,7 +52,7 @@ struct CheckArgs {
     /// The programs to check; `-` or nothing reads stdin.
     files: Vec<PathBuf>,
     /// The dialect of the programs; `auto` chooses per file from the text.
-    #[arg(long, value_enum, default_value_t = SourceDialect::Auto)]
+    #[arg(long, value_parser = source_dialect(), default_value = "auto")]
     dialect: SourceDialect,
     #[command(flatten)]
     common: CommonArgs,
@@ -64,10 +65,10 @@ struct BatchArgs {
     /// The folder the converted tree is written to (created when missing).
     out_dir: PathBuf,
     /// The source dialect; `auto` chooses per file from the text.
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = source_dialect())]
     from: SourceDialect,
     /// The target dialect.
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = target_dialect())]
     to: TargetDialect,
     /// Worker threads (default: one per core).
     #[arg(long, short = 'j')]
@@ -149,10 +150,10 @@ struct VerifyArgs {
     /// The source program; `-` or nothing reads stdin.
     input: Option<PathBuf>,
     /// The source dialect; `auto` chooses from the text.
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = source_dialect())]
     from: SourceDialect,
     /// The target dialect.
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = target_dialect())]
     to: TargetDialect,
     /// An existing program in the target dialect (e.g. the shop's hand conversion) to check
     /// instead of ncthread's own conversion.
@@ -174,7 +175,7 @@ struct SimulateArgs {
     /// The program to read; `-` or nothing reads stdin.
     input: Option<PathBuf>,
     /// The dialect of the program; `auto` chooses from the text.
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = source_dialect())]
     from: SourceDialect,
     /// `text`: one segment per line; `json`: one JSON object per segment.
     #[arg(long, value_enum, default_value_t = OutputFormat::Text)]
@@ -207,7 +208,7 @@ struct CommonArgs {
 struct TargetArgs {
     /// Block numbers for czech output from another dialect: START,STEP (default 10,10).
     #[arg(long, value_parser = parse_renumber)]
-    renumber: Option<ncthread::dialect::czech::Renumber>,
+    renumber: Option<ncthread::dialect::Renumber>,
     /// Round values the target cannot hold (czech: 0.001 mm; nc31: its units) with a
     /// warning instead of refusing.
     #[arg(long)]
@@ -227,8 +228,8 @@ impl CommonArgs {
     /// The options of a conversion from `from` to `to`.
     fn options(
         &self,
-        from: Dialect,
-        to: Dialect,
+        from: DialectId,
+        to: DialectId,
         profile: Profile,
         target: &TargetArgs,
     ) -> ConvertOptions {
@@ -255,10 +256,10 @@ struct ConvertArgs {
     /// The program to read; `-` or nothing reads stdin.
     input: Option<PathBuf>,
     /// The source dialect; `auto` chooses from the text (and says so on stderr when unsure).
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = source_dialect())]
     from: SourceDialect,
     /// The target dialect.
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = target_dialect())]
     to: TargetDialect,
     /// Where to write the program; `-` or nothing writes stdout.
     #[arg(short, long)]
@@ -271,19 +272,35 @@ struct ConvertArgs {
     common: CommonArgs,
 }
 
-#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum SourceDialect {
-    Czech,
-    Nc31,
-    Iso,
-    Auto,
+/// A source dialect (`--from`, `--dialect`): one of the registry's, or `auto` (`None`).
+#[derive(Clone, Copy, PartialEq, Eq)]
+struct SourceDialect(Option<DialectId>);
+
+/// A target dialect (`--to`).
+#[derive(Clone, Copy, PartialEq, Eq)]
+struct TargetDialect(DialectId);
+
+/// The ids of every dialect in the registry, for clap.
+fn dialect_ids() -> Vec<&'static str> {
+    ncthread::dialect::ALL
+        .iter()
+        .map(|d| d.id().as_str())
+        .collect()
 }
 
-#[derive(Clone, Copy, ValueEnum)]
-enum TargetDialect {
-    Czech,
-    Nc31,
-    Iso,
+fn source_dialect() -> impl clap::builder::TypedValueParser<Value = SourceDialect> {
+    let mut ids = dialect_ids();
+    ids.push("auto");
+    clap::builder::PossibleValuesParser::new(ids)
+        .map(|id: String| SourceDialect(ncthread::dialect::by_id(&id).map(|d| d.id())))
+}
+
+fn target_dialect() -> impl clap::builder::TypedValueParser<Value = TargetDialect> {
+    clap::builder::PossibleValuesParser::new(dialect_ids()).map(|id: String| {
+        TargetDialect(
+            ncthread::dialect::by_id(&id).map_or(ncthread::dialect::ALL[0].id(), |d| d.id()),
+        )
+    })
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -300,27 +317,18 @@ enum UnsupportedArg {
 
 impl SourceDialect {
     /// The dialect given, or `None` for `auto`.
-    fn known(self) -> Option<Dialect> {
-        match self {
-            SourceDialect::Czech => Some(Dialect::Czech),
-            SourceDialect::Nc31 => Some(Dialect::Nc31),
-            SourceDialect::Iso => Some(Dialect::Iso),
-            SourceDialect::Auto => None,
-        }
+    fn known(self) -> Option<DialectId> {
+        self.0
     }
 }
 
-impl From<TargetDialect> for Dialect {
-    fn from(d: TargetDialect) -> Dialect {
-        match d {
-            TargetDialect::Czech => Dialect::Czech,
-            TargetDialect::Nc31 => Dialect::Nc31,
-            TargetDialect::Iso => Dialect::Iso,
-        }
+impl From<TargetDialect> for DialectId {
+    fn from(d: TargetDialect) -> DialectId {
+        d.0
     }
 }
 
-fn parse_renumber(text: &str) -> Result<ncthread::dialect::czech::Renumber, String> {
+fn parse_renumber(text: &str) -> Result<ncthread::dialect::Renumber, String> {
     let (start, step) = text
         .split_once(',')
         .ok_or("expected START,STEP, e.g. 10,10")?;
@@ -329,7 +337,7 @@ fn parse_renumber(text: &str) -> Result<ncthread::dialect::czech::Renumber, Stri
             .parse::<u32>()
             .map_err(|_| format!("`{t}` is not a whole number"))
     };
-    Ok(ncthread::dialect::czech::Renumber {
+    Ok(ncthread::dialect::Renumber {
         start: number(start)?,
         step: number(step)?,
     })
@@ -423,7 +431,7 @@ fn read_source(
     input: &Option<PathBuf>,
     from: SourceDialect,
     encoding: Option<TextEncoding>,
-) -> Result<(SourceFile, Dialect), Fatal> {
+) -> Result<(SourceFile, DialectId), Fatal> {
     let (name, bytes) = read_input(input)?;
     let (src, from, _) = decode_source(name, &bytes, from, encoding);
     Ok((src, from))
@@ -436,7 +444,7 @@ fn decode_source(
     bytes: &[u8],
     from: SourceDialect,
     encoding: Option<TextEncoding>,
-) -> (SourceFile, Dialect, TextEncoding) {
+) -> (SourceFile, DialectId, TextEncoding) {
     let decoded = ncthread::text::decode_program(bytes, from.known(), encoding);
     if let Some(detection) = decoded.detection.filter(|d| !d.certain) {
         note(format!(
@@ -523,7 +531,7 @@ fn simulate(args: SimulateArgs) -> Result<ExitCode, Fatal> {
 fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
     let profile = args.common.profile()?;
     let (src, from) = read_source(&args.input, args.from, args.common.encoding)?;
-    let to: Dialect = args.to.into();
+    let to: DialectId = args.to.into();
     let against = match &args.against {
         Some(path) => {
             let bytes = std::fs::read(path)
@@ -684,7 +692,7 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
 
 fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
     let profile = args.common.profile()?;
-    let to: Dialect = args.to.into();
+    let to: DialectId = args.to.into();
     let from = args.from.known();
     let glob = match &args.glob {
         Some(pattern) => Some(
@@ -703,9 +711,12 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
         src_dir: args.src_dir.clone(),
         out_dir: args.out_dir.clone(),
         from,
-        conversion: args
-            .common
-            .options(from.unwrap_or(Dialect::Czech), to, profile, &args.target),
+        conversion: args.common.options(
+            from.unwrap_or(ncthread::dialect::ALL[0].id()),
+            to,
+            profile,
+            &args.target,
+        ),
         jobs: args.jobs.unwrap_or(0),
         force: args.force,
         extension,

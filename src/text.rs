@@ -8,8 +8,8 @@
 use encoding_rs::Encoding;
 
 use crate::diag::{Diagnostic, codes};
-use crate::dialect::Dialect;
 use crate::dialect::detect::{Detection, detect};
+use crate::dialect::{self, DialectId};
 use crate::source::SourceFile;
 
 /// A text encoding.
@@ -98,17 +98,13 @@ fn without_bom(bytes: &[u8]) -> &[u8] {
 }
 
 /// The legacy encoding of a dialect's files when they are not UTF-8.
-pub fn legacy_encoding(dialect: Dialect) -> TextEncoding {
-    TextEncoding::Standard(match dialect {
-        Dialect::Czech => encoding_rs::WINDOWS_1250,
-        Dialect::Nc31 => encoding_rs::IBM866,
-        Dialect::Iso => encoding_rs::WINDOWS_1252,
-    })
+pub fn legacy_encoding(dialect: DialectId) -> TextEncoding {
+    dialect::get(dialect).legacy_encoding()
 }
 
 /// Decodes a program: UTF-8 (a BOM is removed) when the bytes are valid UTF-8, else the
 /// dialect's legacy encoding. Returns the text and the encoding used.
-pub fn decode(bytes: &[u8], dialect: Dialect) -> (String, TextEncoding) {
+pub fn decode(bytes: &[u8], dialect: DialectId) -> (String, TextEncoding) {
     let body = without_bom(bytes);
     match std::str::from_utf8(body) {
         Ok(text) => (text.to_string(), TextEncoding::UTF_8),
@@ -123,7 +119,7 @@ pub fn decode(bytes: &[u8], dialect: Dialect) -> (String, TextEncoding) {
 pub fn decode_as(
     bytes: &[u8],
     encoding: Option<TextEncoding>,
-    dialect: Dialect,
+    dialect: DialectId,
 ) -> (String, TextEncoding) {
     match encoding {
         Some(e) => (e.decode(bytes), e),
@@ -162,7 +158,7 @@ pub fn decode_detect_as(
 pub struct Decoded {
     pub text: String,
     pub encoding: TextEncoding,
-    pub dialect: Dialect,
+    pub dialect: DialectId,
     pub detection: Option<Detection>,
 }
 
@@ -170,7 +166,7 @@ pub struct Decoded {
 /// `encoding` when given, else UTF-8 when valid, else the dialect's legacy encoding.
 pub fn decode_program(
     bytes: &[u8],
-    from: Option<Dialect>,
+    from: Option<DialectId>,
     encoding: Option<TextEncoding>,
 ) -> Decoded {
     match from {
@@ -297,11 +293,11 @@ mod tests {
     #[test]
     fn decodes_utf8_with_and_without_bom_and_windows_1250() {
         assert_eq!(
-            decode("ROZTOČENÍ".as_bytes(), Dialect::Czech).0,
+            decode("ROZTOČENÍ".as_bytes(), dialect::czech::ID).0,
             "ROZTOČENÍ"
         );
-        assert_eq!(decode(b"\xEF\xBB\xBFN10", Dialect::Czech).0, "N10");
-        let (text, enc) = decode(b"\"ROZTO\xC8EN\xCD", Dialect::Czech);
+        assert_eq!(decode(b"\xEF\xBB\xBFN10", dialect::czech::ID).0, "N10");
+        let (text, enc) = decode(b"\"ROZTO\xC8EN\xCD", dialect::czech::ID);
         assert_eq!(text, "\"ROZTOČENÍ");
         assert_eq!(enc, TextEncoding::Standard(encoding_rs::WINDOWS_1250));
     }
@@ -311,7 +307,7 @@ mod tests {
         // IBM866 «Резьба» on an nc31 comment line.
         let (text, enc, d) =
             decode_detect(b"(\x90\xa5\xa7\xec\xa1\xa0\nN4 X10000 ~ *\nN5 Z5000 ~\n");
-        assert_eq!(d.dialect, Dialect::Nc31);
+        assert_eq!(d.dialect, dialect::nc31::ID);
         assert_eq!(enc, TextEncoding::Standard(encoding_rs::IBM866));
         assert!(text.starts_with("(Резьба"), "{text}");
     }

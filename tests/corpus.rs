@@ -35,7 +35,7 @@ fn bad_programs_are_refused() {
         c.path.starts_with("corpus/bad/")
             && (c.profile.is_some() || !with_profile.contains(&c.path.as_str()))
     }) {
-        let conversion = common::convert_case(case, ncthread::Dialect::Iso);
+        let conversion = common::convert_case(case, ncthread::dialect::iso::ID);
         assert!(conversion.output.is_none(), "{} converted", case.name);
         for d in conversion.diagnostics.iter().filter(|d| d.is_error()) {
             let loc = d

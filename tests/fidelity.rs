@@ -6,7 +6,7 @@ mod common;
 
 use ncthread::sim::rs274::Interpreter;
 use ncthread::source::SourceFile;
-use ncthread::{ConvertOptions, Dialect, Outcome, Unsupported};
+use ncthread::{ConvertOptions, DialectId, Outcome, Unsupported};
 
 enum Expect {
     /// Converted; verify equivalent; rs274 agrees where ISO is involved.
@@ -17,13 +17,13 @@ enum Expect {
 
 struct Route {
     file: &'static str,
-    to: Dialect,
+    to: DialectId,
     round: bool,
     warn: bool,
     expect: Expect,
 }
 
-const fn route(file: &'static str, to: Dialect, expect: Expect) -> Route {
+const fn route(file: &'static str, to: DialectId, expect: Expect) -> Route {
     Route {
         file,
         to,
@@ -33,9 +33,12 @@ const fn route(file: &'static str, to: Dialect, expect: Expect) -> Route {
     }
 }
 
+#[allow(non_upper_case_globals)]
 fn routes() -> Vec<Route> {
-    use Dialect::*;
     use Expect::*;
+    const Czech: DialectId = ncthread::dialect::czech::ID;
+    const Nc31: DialectId = ncthread::dialect::nc31::ID;
+    const Iso: DialectId = ncthread::dialect::iso::ID;
     vec![
         // The Z lead of K1.5 along a taper is kept to 10⁻¹² mm: no drift, and a target
         // whose grid cannot hold it refuses (or --round reports the drift).
@@ -127,9 +130,9 @@ fn every_fidelity_case_is_exact_or_refused_by_name() {
     }
     for r in &routes {
         let from = if r.file.ends_with(".ngc") {
-            Dialect::Iso
+            ncthread::dialect::iso::ID
         } else {
-            Dialect::Czech
+            ncthread::dialect::czech::ID
         };
         let path = format!("corpus/fidelity/{}", r.file);
         let text = std::fs::read_to_string(common::root().join(&path)).unwrap();
@@ -190,7 +193,9 @@ fn every_fidelity_case_is_exact_or_refused_by_name() {
                         check.outcome
                     );
                 }
-                if rs274.is_some() && (from == Dialect::Iso || r.to == Dialect::Iso) {
+                if rs274.is_some()
+                    && (from == ncthread::dialect::iso::ID || r.to == ncthread::dialect::iso::ID)
+                {
                     assert!(!v.oracle.is_empty(), "{here}: rs274 did not judge");
                 }
             }

@@ -26,7 +26,7 @@ use std::time::{Duration, Instant};
 use ncthread::profile::Profile;
 use ncthread::sim::rs274::Interpreter;
 use ncthread::source::SourceFile;
-use ncthread::{ConvertOptions, Dialect, OracleOutcome, Outcome, Unsupported};
+use ncthread::{ConvertOptions, DialectId, OracleOutcome, Outcome, Unsupported};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestCaseError, TestRng, TestRunner};
 
@@ -34,7 +34,7 @@ use proptest::test_runner::{Config, RngAlgorithm, TestCaseError, TestRng, TestRu
 /// machine profile.
 #[derive(Clone, Debug)]
 struct Input {
-    from: Dialect,
+    from: DialectId,
     bytes: Vec<u8>,
     profile: Option<String>,
 }
@@ -139,7 +139,7 @@ fn czech_program() -> impl Strategy<Value = Input> {
                 .map(|(i, l)| format!("N{} {l}\n", (i + 1) * 10))
                 .collect();
             Input {
-                from: Dialect::Czech,
+                from: ncthread::dialect::czech::ID,
                 bytes: text.into_bytes(),
                 profile: c8.map(|c| format!("[czech]\nconstant8 = \"{c}\"\n")),
             }
@@ -205,7 +205,7 @@ fn nc31_program() -> impl Strategy<Value = Input> {
                 })
                 .collect();
             Input {
-                from: Dialect::Nc31,
+                from: ncthread::dialect::nc31::ID,
                 bytes: text.into_bytes(),
                 profile: params
                     .map(|(p7, p6)| format!("[nc31]\nrunout_p7 = {p7}\ninfeed_p6 = {p6}\n")),
@@ -264,7 +264,7 @@ fn iso_program() -> impl Strategy<Value = Input> {
             text = format!("%\n{text}%\n");
         }
         Input {
-            from: Dialect::Iso,
+            from: ncthread::dialect::iso::ID,
             bytes: text.into_bytes(),
             profile: None,
         }
@@ -274,7 +274,7 @@ fn iso_program() -> impl Strategy<Value = Input> {
 // ---------------------------------------------------------------------------------------
 // Mutations of corpus files, and arbitrary bytes
 
-fn corpus_files() -> Vec<(Dialect, Vec<u8>, Option<String>)> {
+fn corpus_files() -> Vec<(DialectId, Vec<u8>, Option<String>)> {
     common::corpus_cases()
         .into_iter()
         .filter(|c| !c.name.ends_with("+profile"))
@@ -402,7 +402,7 @@ fn apply(bytes: &[u8], mutations: &[Mutation]) -> Vec<u8> {
     b
 }
 
-fn mutated(files: Vec<(Dialect, Vec<u8>, Option<String>)>) -> impl Strategy<Value = Input> {
+fn mutated(files: Vec<(DialectId, Vec<u8>, Option<String>)>) -> impl Strategy<Value = Input> {
     (
         prop::sample::select(files),
         prop::collection::vec(mutation(), 1..6),
@@ -416,7 +416,11 @@ fn mutated(files: Vec<(Dialect, Vec<u8>, Option<String>)>) -> impl Strategy<Valu
 
 fn arbitrary() -> impl Strategy<Value = Input> {
     (
-        prop::sample::select(vec![Dialect::Czech, Dialect::Nc31, Dialect::Iso]),
+        prop::sample::select(vec![
+            ncthread::dialect::czech::ID,
+            ncthread::dialect::nc31::ID,
+            ncthread::dialect::iso::ID,
+        ]),
         prop::collection::vec(any::<u8>(), 0..400),
     )
         .prop_map(|(from, bytes)| Input {
@@ -437,7 +441,7 @@ struct Tally {
     rs274: usize,
 }
 
-fn options(from: Dialect, to: Dialect, profile: &Profile, round: bool) -> ConvertOptions {
+fn options(from: DialectId, to: DialectId, profile: &Profile, round: bool) -> ConvertOptions {
     ConvertOptions {
         from,
         to,
@@ -461,7 +465,11 @@ fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, Strin
     let _ = ncthread::check(&src, input.from, &profile, Unsupported::Error);
     let _ = ncthread::check(&src, input.from, &profile, Unsupported::Warn);
     let mut tally = Tally::default();
-    for to in [Dialect::Iso, Dialect::Czech, Dialect::Nc31] {
+    for to in [
+        ncthread::dialect::iso::ID,
+        ncthread::dialect::czech::ID,
+        ncthread::dialect::nc31::ID,
+    ] {
         for round in [false, true] {
             let opts = options(input.from, to, &profile, round);
             let conversion = ncthread::convert(&src, &opts);
@@ -474,11 +482,12 @@ fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, Strin
                 input.from,
                 if round { " --round" } else { "" }
             );
-            let judge = if to == Dialect::Iso || input.from == Dialect::Iso {
-                rs274
-            } else {
-                None
-            };
+            let judge =
+                if to == ncthread::dialect::iso::ID || input.from == ncthread::dialect::iso::ID {
+                    rs274
+                } else {
+                    None
+                };
             let v = ncthread::verify(&src, &opts, None, if round { None } else { judge });
             match (&v.outcome, round) {
                 (Outcome::Refused, _) => {
@@ -727,8 +736,8 @@ fn the_binary_exits_0_1_or_2() {
     runner
         .run(&mutated(files), |input| {
             for args in [
-                vec!["check", "-", "--dialect", input.from.id()],
-                vec!["convert", "-", "--from", input.from.id(), "--to", "iso"],
+                vec!["check", "-", "--dialect", input.from.as_str()],
+                vec!["convert", "-", "--from", input.from.as_str(), "--to", "iso"],
                 vec!["convert", "-", "--from", "auto", "--to", "czech", "--round"],
             ] {
                 let out = common::ncthread(&args, Some(&input.bytes));

@@ -8,9 +8,13 @@ mod common;
 
 use ncthread::profile::Profile;
 use ncthread::source::SourceFile;
-use ncthread::{ConvertOptions, Dialect, Unsupported};
+use ncthread::{ConvertOptions, DialectId, Unsupported};
 
-const DIALECTS: [Dialect; 3] = [Dialect::Czech, Dialect::Nc31, Dialect::Iso];
+const DIALECTS: [DialectId; 3] = [
+    ncthread::dialect::czech::ID,
+    ncthread::dialect::nc31::ID,
+    ncthread::dialect::iso::ID,
+];
 
 /// A small deterministic generator (64-bit LCG, Knuth's constants).
 struct Lcg(u64);
@@ -111,7 +115,7 @@ fn mutate(rng: &mut Lcg, bytes: &[u8]) -> Vec<u8> {
 }
 
 /// check, convert to every target (plain, `--unsupported warn`, `--round`) and verify.
-fn exercise(from: Dialect, bytes: &[u8], profile: &Profile) {
+fn exercise(from: DialectId, bytes: &[u8], profile: &Profile) {
     let (text, _) = ncthread::text::decode(bytes, from);
     let src = SourceFile::new("hostile", text);
     for unsupported in [Unsupported::Error, Unsupported::Warn] {
@@ -145,7 +149,7 @@ fn exercise(from: Dialect, bytes: &[u8], profile: &Profile) {
 }
 
 /// Runs `exercise` on a watchdog thread; the failure names the input.
-fn guarded(name: &str, from: Dialect, bytes: Vec<u8>, profile: Profile) -> Result<(), String> {
+fn guarded(name: &str, from: DialectId, bytes: Vec<u8>, profile: Profile) -> Result<(), String> {
     common::watchdog(20, move || exercise(from, &bytes, &profile))
         .map_err(|why| format!("{name} ({from}): {why}"))
 }
@@ -167,7 +171,7 @@ fn no_panic_and_no_hang_on_400_hostile_inputs_and_the_corpus() {
         .collect();
     // Every corpus file as it is, the hand-written inputs in every dialect, and seeded
     // mutations of the corpus up to 400 hostile inputs.
-    let mut inputs: Vec<(String, Dialect, Vec<u8>, Profile)> = corpus.clone();
+    let mut inputs: Vec<(String, DialectId, Vec<u8>, Profile)> = corpus.clone();
     let mut hostile = 0;
     for (i, bytes) in hand_written().into_iter().enumerate() {
         for from in DIALECTS {

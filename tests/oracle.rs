@@ -3,7 +3,7 @@
 mod common;
 
 use common::{Case, close, convert_case, corpus_cases, rs274, run_rs274, sync_moves};
-use ncthread::Dialect;
+use ncthread::DialectId;
 
 fn case(name: &str) -> Case {
     corpus_cases()
@@ -13,7 +13,7 @@ fn case(name: &str) -> Case {
 }
 
 fn iso(name: &str) -> String {
-    let conversion = convert_case(&case(name), Dialect::Iso);
+    let conversion = convert_case(&case(name), ncthread::dialect::iso::ID);
     conversion
         .output
         .unwrap_or_else(|| panic!("{name} was refused: {:?}", conversion.diagnostics))
@@ -24,7 +24,7 @@ fn every_iso_conversion_runs_in_rs274() {
     let Some(cmd) = rs274() else { return };
     let mut checked = 0;
     for case in corpus_cases() {
-        if let Some(ngc) = convert_case(&case, Dialect::Iso).output {
+        if let Some(ngc) = convert_case(&case, ncthread::dialect::iso::ID).output {
             run_rs274(cmd, &ngc).unwrap_or_else(|e| panic!("{}: {e}\n{ngc}", case.name));
             checked += 1;
         }
@@ -196,7 +196,7 @@ fn rs274_cuts_what_the_simulator_says_the_source_cuts() {
         |s: &&Segment| matches!(s.motion, Motion::Sync { .. } | Motion::SyncRadial { .. });
     let mut checked = 0;
     for case in corpus_cases() {
-        let Some(ngc) = convert_case(&case, Dialect::Iso).output else {
+        let Some(ngc) = convert_case(&case, ncthread::dialect::iso::ID).output else {
             continue;
         };
         let canon = run_rs274(cmd, &ngc).unwrap();
@@ -277,17 +277,17 @@ fn rs274_motion_equals_the_iso_front_end_simulation() {
     let Some(cmd) = rs274() else { return };
     let mut programs: Vec<(String, String)> = Vec::new();
     for case in corpus_cases() {
-        if let Some(ngc) = convert_case(&case, Dialect::Iso).output {
+        if let Some(ngc) = convert_case(&case, ncthread::dialect::iso::ID).output {
             programs.push((format!("{} → iso", case.name), ngc));
         }
-        if case.from == Dialect::Iso && !case.path.starts_with("corpus/bad/") {
+        if case.from == ncthread::dialect::iso::ID && !case.path.starts_with("corpus/bad/") {
             let text = std::fs::read_to_string(common::root().join(&case.path)).unwrap();
             // Fidelity cases that ncthread refuses to read (kept blocks) are judged in
             // tests/fidelity.rs.
             let src = ncthread::source::SourceFile::new(case.path.clone(), text.clone());
             let (_, diags) = ncthread::parse(
                 &src,
-                Dialect::Iso,
+                ncthread::dialect::iso::ID,
                 &Default::default(),
                 ncthread::Unsupported::Error,
             );
@@ -378,7 +378,7 @@ fn g76_through_czech_cuts_what_linuxcnc_cuts_for_the_g76() {
     let Some(cmd) = rs274() else { return };
     let refused = common::convert_case(
         &case("iso/g76-entry-and-exit-taper+profile"),
-        Dialect::Czech,
+        ncthread::dialect::czech::ID,
     );
     assert!(refused.output.is_none());
     assert!(
@@ -406,11 +406,17 @@ fn g76_through_czech_cuts_what_linuxcnc_cuts_for_the_g76() {
             nc31_comments: false,
         };
         let src = ncthread::source::SourceFile::new(c.path.clone(), source.clone());
-        let czech = ncthread::convert(&src, &options(Dialect::Iso, Dialect::Czech))
-            .output
-            .unwrap_or_else(|| panic!("{name}: not converted to czech"));
+        let czech = ncthread::convert(
+            &src,
+            &options(ncthread::dialect::iso::ID, ncthread::dialect::czech::ID),
+        )
+        .output
+        .unwrap_or_else(|| panic!("{name}: not converted to czech"));
         let czech_src = ncthread::source::SourceFile::new("czech.ncp", czech);
-        let back = ncthread::convert(&czech_src, &options(Dialect::Czech, Dialect::Iso));
+        let back = ncthread::convert(
+            &czech_src,
+            &options(ncthread::dialect::czech::ID, ncthread::dialect::iso::ID),
+        );
         let ngc = back
             .output
             .unwrap_or_else(|| panic!("{name}: czech not read back: {:?}", back.diagnostics));
@@ -432,13 +438,16 @@ fn g76_through_czech_cuts_what_linuxcnc_cuts_for_the_g76() {
 #[test]
 fn every_program_through_czech_or_nc31_cuts_what_it_cuts_directly() {
     let Some(cmd) = rs274() else { return };
-    for (middle, at_least) in [(Dialect::Czech, 25), (Dialect::Nc31, 20)] {
+    for (middle, at_least) in [
+        (ncthread::dialect::czech::ID, 25),
+        (ncthread::dialect::nc31::ID, 20),
+    ] {
         let mut checked = 0;
         for c in corpus_cases()
             .into_iter()
             .filter(|c| !c.path.starts_with("corpus/bad/"))
         {
-            let Some(direct) = convert_case(&c, Dialect::Iso).output else {
+            let Some(direct) = convert_case(&c, ncthread::dialect::iso::ID).output else {
                 continue;
             };
             let Some(text) = convert_case(&c, middle).output else {
@@ -446,7 +455,7 @@ fn every_program_through_czech_or_nc31_cuts_what_it_cuts_directly() {
             };
             let options = ncthread::ConvertOptions {
                 from: middle,
-                to: Dialect::Iso,
+                to: ncthread::dialect::iso::ID,
                 profile: c
                     .profile
                     .as_deref()

@@ -3,7 +3,7 @@
 //! and LinuxCNC can say: spindle start, rapids, feeds and thread passes along Z or tapers,
 //! on the 0.001 mm grid (czech's), leads on the 0.0001 mm grid. For the НЦ-31: passes along
 //! Z only, G31 cycles, values on its 0.01 mm grid.
-use ncthread::dialect::Dialect;
+use ncthread::DialectId;
 use ncthread::fixed::{Angle, Lead, Length};
 use ncthread::ir::{
     CycleChamfer, FeedMode, Finish, Item, ItemKind, Pos, Program, Retract, Rise, Schedule, Slope,
@@ -163,7 +163,10 @@ fn program(steps: &[Step], chains: bool) -> Program {
             Step::Pass(..) => {}
         }
     }
-    Program { items }
+    Program {
+        items,
+        dialect: ncthread::dialect::iso::ID,
+    }
 }
 
 /// The items that move the tool or the spindle, with positions made absolute.
@@ -203,18 +206,18 @@ fn motion(p: &Program) -> Vec<ItemKind> {
     out
 }
 
-fn round_trip(program: &Program, to: Dialect) -> Program {
+fn round_trip(program: &Program, to: DialectId) -> Program {
     round_trip_with(program, to, &Default::default())
 }
 
 fn round_trip_with(
     program: &Program,
-    to: Dialect,
+    to: DialectId,
     profile: &ncthread::profile::Profile,
 ) -> Program {
     let src = SourceFile::new("generated", "");
     let options = ConvertOptions {
-        from: Dialect::Iso,
+        from: ncthread::dialect::iso::ID,
         to,
         profile: profile.clone(),
         unsupported: Unsupported::Error,
@@ -239,13 +242,13 @@ proptest! {
     #[test]
     fn czech_emit_then_parse_keeps_the_program(steps in proptest::collection::vec(step(true), 1..12)) {
         let p = program(&steps, false);
-        prop_assert_eq!(motion(&round_trip(&p, Dialect::Czech)), motion(&p));
+        prop_assert_eq!(motion(&round_trip(&p, ncthread::dialect::czech::ID)), motion(&p));
     }
 
     #[test]
     fn iso_emit_then_parse_keeps_the_program(steps in proptest::collection::vec(step(false), 1..12)) {
         let p = program(&steps, true);
-        prop_assert_eq!(motion(&round_trip(&p, Dialect::Iso)), motion(&p));
+        prop_assert_eq!(motion(&round_trip(&p, ncthread::dialect::iso::ID)), motion(&p));
     }
 
     #[test]
@@ -259,6 +262,7 @@ proptest! {
         profile.nc31.runout_p7 = p7;
         let p = program(&steps, false);
         let p = Program {
+            dialect: p.dialect,
             items: p
                 .items
                 .into_iter()
@@ -270,6 +274,6 @@ proptest! {
                 })
                 .collect(),
         };
-        prop_assert_eq!(motion(&round_trip_with(&p, Dialect::Nc31, &profile)), motion(&p));
+        prop_assert_eq!(motion(&round_trip_with(&p, ncthread::dialect::nc31::ID, &profile)), motion(&p));
     }
 }

@@ -3,9 +3,9 @@
 mod common;
 
 use ncthread::source::SourceFile;
-use ncthread::{ConvertOptions, Dialect, Outcome, Unsupported};
+use ncthread::{ConvertOptions, DialectId, Outcome, Unsupported};
 
-fn options(from: Dialect, to: Dialect) -> ConvertOptions {
+fn options(from: DialectId, to: DialectId) -> ConvertOptions {
     ConvertOptions {
         from,
         to,
@@ -60,7 +60,7 @@ fn mutant(change: impl Fn(&str) -> String) -> Outcome {
     let seed = read("corpus/nc31/g31-m36x1.5.nc");
     ncthread::verify(
         &seed,
-        &options(Dialect::Nc31, Dialect::Iso),
+        &options(ncthread::dialect::nc31::ID, ncthread::dialect::iso::ID),
         Some(&mutated),
         None,
     )
@@ -124,7 +124,10 @@ fn a_missing_pass_is_caught() {
 fn a_missing_spring_pass_is_caught() {
     // The G76 with H2 against its own expansion without the last (spring) pass.
     let src = read("corpus/iso/g76-external.ngc");
-    let v = ncthread::convert(&src, &options(Dialect::Iso, Dialect::Iso));
+    let v = ncthread::convert(
+        &src,
+        &options(ncthread::dialect::iso::ID, ncthread::dialect::iso::ID),
+    );
     let full = v.output.unwrap();
     let cut = full.find("(pass 45/45").expect("45 passes");
     let end = cut + full[cut..].find("G0 X50 Z50").unwrap();
@@ -132,7 +135,7 @@ fn a_missing_spring_pass_is_caught() {
     let against = SourceFile::new("without-spring.ngc", without);
     let outcome = ncthread::verify(
         &src,
-        &options(Dialect::Iso, Dialect::Iso),
+        &options(ncthread::dialect::iso::ID, ncthread::dialect::iso::ID),
         Some(&against),
         None,
     )
@@ -143,7 +146,7 @@ fn a_missing_spring_pass_is_caught() {
     let against = SourceFile::new("full.ngc", full);
     let outcome = ncthread::verify(
         &src,
-        &options(Dialect::Iso, Dialect::Iso),
+        &options(ncthread::dialect::iso::ID, ncthread::dialect::iso::ID),
         Some(&against),
         None,
     )

@@ -1,38 +1,24 @@
 //! `--from auto`: which dialect a program text is written in.
 //!
-//! Each dialect has marks no other one uses: the НЦ-31 writes one scaled integer word per
-//! frame with `*`, `~`, `@` modifiers; the czech control writes decimal words several to a
-//! block, `"` comments, `R<nn>=` assignments, `FRnn` and `&` words; ISO G-code writes `( )`
-//! or `;` comments after words, G33 with a K lead, G7/G18/G21 and the like. The choice is certain when
-//! one dialect has marks and no other has any.
+//! Each dialect claims the lines that carry its marks ([`super::Dialect::claim_line`]): the НЦ-31
+//! writes one scaled integer word per frame with `*`, `~`, `@` modifiers; the czech control
+//! writes decimal words several to a block, `"` comments, `R<nn>=` assignments, `FRnn` and `&`
+//! words; ISO G-code writes `( )` or `;` comments after words, G33 with a K lead, G7/G18/G21
+//! and the like. The claim with the highest priority decides a line. The choice is certain
+//! when one dialect has marks and no other has any.
 
-use super::Dialect;
+use super::{ALL, DialectId, LineMark};
 
 /// The chosen dialect, whether the text left any doubt, and why it was chosen.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Detection {
-    pub dialect: Dialect,
+    pub dialect: DialectId,
     pub certain: bool,
     pub reason: String,
 }
 
-#[derive(Default)]
-struct Marks {
-    /// Lines that are one integer word with `*`/`~`/`@`.
-    nc31_modifiers: usize,
-    /// Lines that are one integer word (and perhaps a frame number), no modifiers.
-    single_integer_words: usize,
-    /// Lines with a `"` comment, `R<nn>=`, `FR<nn>` or `&<digits>`.
-    czech: usize,
-    /// Lines with `;`, a `( )` comment after code, or an ISO-only word.
-    iso: usize,
-    /// Lines with several words or a decimal word, and no mark.
-    plain_decimal: usize,
-    /// First line of each kind, for the reason.
-    first: [Option<usize>; 3],
-}
-
-fn words(code: &str) -> Vec<String> {
+/// The words of a line's code, upper case, with their numbers (`G33`, `R04=120.0`, `&1100`).
+pub(crate) fn words(code: &str) -> Vec<String> {
     let mut words = Vec::new();
     let mut current = String::new();
     for c in code.chars() {
@@ -53,115 +39,87 @@ fn words(code: &str) -> Vec<String> {
     words
 }
 
-fn is_nc31_modifier(c: char) -> bool {
+/// A line's code: what stands before a `(` or `;` comment.
+pub(crate) fn code_part(line: &str) -> &str {
+    line.split(['(', ';']).next().unwrap_or("")
+}
+
+/// The НЦ-31's modifiers (`*`, `~`, `@` and the panel's symbols).
+pub(crate) fn is_nc31_modifier(c: char) -> bool {
     matches!(c, '*' | '~' | '@' | '⇄' | '⇆' | '↷' | '⌒')
+}
+
+/// The words of a line's code without its modifiers and its block number.
+pub(crate) fn code_words(line: &str) -> Vec<String> {
+    let code = code_part(line);
+    words(code.trim_matches(|c: char| is_nc31_modifier(c) || c.is_whitespace()))
+        .into_iter()
+        .filter(|w| !w.starts_with('N'))
+        .collect()
 }
 
 /// Chooses the dialect of `text`.
 pub fn detect(text: &str) -> Detection {
-    let mut m = Marks::default();
+    let n = ALL.len();
+    let (mut marks, mut weak, mut first) = (vec![0usize; n], vec![0usize; n], vec![None; n]);
+    let mut plain = 0;
     for (i, line) in text.lines().enumerate() {
         let line = line.trim();
         if line.is_empty() || line == "%" {
             continue;
         }
-        let n = i + 1;
-        let note = |m: &mut Marks, k: usize| {
-            m.first[k].get_or_insert(n);
-        };
-        // czech comments start at a quote; ISO's at `(` or `;`.
-        if line.contains(['"', '“', '„']) {
-            m.czech += 1;
-            note(&mut m, 1);
-            continue;
-        }
-        if line.starts_with('(') {
-            // A comment line: the НЦ-31 (PC archives) and ISO both have them.
-            continue;
-        }
-        let code = line.split(['(', ';']).next().unwrap_or("");
-        if code.len() < line.len() {
-            m.iso += 1;
-            note(&mut m, 2);
-            continue;
-        }
-        let ws = words(code.trim_matches(|c: char| is_nc31_modifier(c) || c.is_whitespace()));
-        let ws: Vec<_> = ws.into_iter().filter(|w| !w.starts_with('N')).collect();
-        let modifiers = code.chars().any(is_nc31_modifier);
-        let integer = |w: &String| {
-            w.len() > 1
-                && w[1..]
-                    .trim_start_matches(['+', '-'])
-                    .bytes()
-                    .all(|b| b.is_ascii_digit())
-        };
-        if ws.len() == 1 && integer(&ws[0]) {
-            if modifiers {
-                m.nc31_modifiers += 1;
-                note(&mut m, 0);
-            } else {
-                m.single_integer_words += 1;
+        let claim = (0..n)
+            .filter_map(|k| ALL[k].claim_line(line).map(|c| (k, c)))
+            .max_by_key(|(k, c)| (c.priority, std::cmp::Reverse(*k)));
+        match claim {
+            None => plain += 1,
+            Some((_, c)) if c.mark == LineMark::Neutral => {}
+            Some((k, c)) if c.mark == LineMark::Weak => weak[k] += 1,
+            Some((k, _)) => {
+                marks[k] += 1;
+                first[k].get_or_insert(i + 1);
             }
-            continue;
-        }
-        let czech_word = ws.iter().any(|w| {
-            (w.starts_with('R') && w.contains('=')) || w.starts_with('&') || w.starts_with("FR")
-        });
-        let g33_with_k = ws.iter().any(|w| w == "G33") && ws.iter().any(|w| w.starts_with('K'));
-        let iso_word = g33_with_k
-            || ws.iter().any(|w| {
-                matches!(
-                    w.as_str(),
-                    "G7" | "G8" | "G18" | "G21" | "G20" | "G33.1" | "G76" | "G64" | "M6" | "G43"
-                )
-            });
-        if czech_word {
-            m.czech += 1;
-            note(&mut m, 1);
-        } else if iso_word {
-            m.iso += 1;
-            note(&mut m, 2);
-        } else if modifiers {
-            m.nc31_modifiers += 1;
-            note(&mut m, 0);
-        } else {
-            m.plain_decimal += 1;
         }
     }
-    let kinds = [m.nc31_modifiers, m.czech, m.iso];
-    let marked = kinds.iter().filter(|&&k| k > 0).count();
-    let line = |k: usize| m.first[k].unwrap_or(0);
+    let marked = marks.iter().filter(|&&m| m > 0).count();
     if marked == 0 {
-        return if m.single_integer_words > 0 && m.plain_decimal == 0 {
-            Detection {
-                dialect: Dialect::Nc31,
-                certain: false,
-                reason: "every frame is one whole-number word, as on the НЦ-31, but no `*`, `~` or `@` confirms it".into(),
-            }
-        } else {
-            Detection {
-                dialect: Dialect::Czech,
-                certain: false,
-                reason: "no dialect's marks (НЦ-31 `*`/`~`/`@`, czech `\"` comments or R/FR/& words, ISO `( )` comments or G33 … K); decimal words read as czech".into(),
-            }
+        let weakest = (0..n)
+            .filter(|&k| weak[k] > 0 && ALL[k].weak_reason().is_some())
+            .max_by_key(|&k| (weak[k], ALL[k].tie_rank()));
+        let fallback = ALL.iter().position(|d| d.is_fallback()).unwrap_or(0);
+        let (k, reason) = match weakest {
+            Some(k) if plain == 0 => (k, ALL[k].weak_reason().unwrap_or_default().to_string()),
+            _ => (
+                fallback,
+                ALL[fallback]
+                    .fallback_reason()
+                    .unwrap_or_default()
+                    .to_string(),
+            ),
+        };
+        return Detection {
+            dialect: ALL[k].id(),
+            certain: false,
+            reason,
         };
     }
     // The dialect with the most marked lines wins; certain when it is the only one.
-    let best = (0..3)
-        .max_by_key(|&k| (kinds[k], std::cmp::Reverse(k)))
+    let best = (0..n)
+        .max_by_key(|&k| (marks[k], ALL[k].tie_rank()))
         .unwrap_or(0);
-    let dialect = [Dialect::Nc31, Dialect::Czech, Dialect::Iso][best];
-    let what = [
-        "a frame with the НЦ-31's `*`/`~`/`@` modifiers",
-        "a czech mark (a `\"` comment, `R<nn>=`, `FR<nn>` or `&`)",
-        "an ISO mark (a `( )` or `;` comment after code, G33 with K, or a G7/G18/G21/G33.1/G76 word)",
-    ];
-    let mut reason = format!("line {} has {}", line(best), what[best]);
-    let certain = marked == 1 && !(best == 0 && m.plain_decimal > 0);
+    let said = |k: usize| {
+        format!(
+            "line {} has {}",
+            first[k].unwrap_or(0),
+            ALL[k].mark_description()
+        )
+    };
+    let mut reason = said(best);
+    let certain = marked == 1 && !(ALL[best].plain_lines_contradict() && plain > 0);
     if !certain {
-        let others: Vec<String> = (0..3)
-            .filter(|&k| k != best && kinds[k] > 0)
-            .map(|k| format!("line {} has {}", line(k), what[k]))
+        let others: Vec<String> = (0..n)
+            .filter(|&k| k != best && marks[k] > 0)
+            .map(said)
             .collect();
         if !others.is_empty() {
             reason.push_str(&format!(", but {}", others.join(" and ")));
@@ -170,7 +128,7 @@ pub fn detect(text: &str) -> Detection {
         }
     }
     Detection {
-        dialect,
+        dialect: ALL[best].id(),
         certain,
         reason,
     }
@@ -184,21 +142,21 @@ mod tests {
     fn recognises_each_dialect() {
         let nc31 = "N0 M40\nN4 X10000 ~ *\nN5 Z5000 ~\nN11 Z-5200 ⇄ *\n";
         let d = detect(nc31);
-        assert_eq!((d.dialect, d.certain), (Dialect::Nc31, true), "{d:?}");
+        assert_eq!((d.dialect.as_str(), d.certain), ("nc31", true), "{d:?}");
         let czech = "N10 G00 X26.618 Z3. \"ROZTOČENÍ\nN20 R04=120.0\nN30 G33 Z-9. FR10\n";
         let d = detect(czech);
-        assert_eq!((d.dialect, d.certain), (Dialect::Czech, true), "{d:?}");
+        assert_eq!((d.dialect.as_str(), d.certain), ("czech", true), "{d:?}");
         let iso = "%\n(ncthread)\nG7 G18 G21 G90 G95\nG33 Z-9 K1.5\n%\n";
         let d = detect(iso);
-        assert_eq!((d.dialect, d.certain), (Dialect::Iso, true), "{d:?}");
+        assert_eq!((d.dialect.as_str(), d.certain), ("iso", true), "{d:?}");
     }
 
     #[test]
     fn says_when_it_is_not_sure() {
         let d = detect("N10 G00 X26.618 Z3.\nN20 G33 Z-9. F1.5\n");
-        assert_eq!((d.dialect, d.certain), (Dialect::Czech, false), "{d:?}");
+        assert_eq!((d.dialect.as_str(), d.certain), ("czech", false), "{d:?}");
         let d = detect("N0 M3\nN1 S700\nN2 X3600\n");
-        assert_eq!((d.dialect, d.certain), (Dialect::Nc31, false), "{d:?}");
+        assert_eq!((d.dialect.as_str(), d.certain), ("nc31", false), "{d:?}");
         let d = detect("N0 X3600 ~ *\nN1 Z450 ~\nN2 G33 Z-9. F1.5 \"X\n");
         assert!(!d.certain, "{d:?}");
         assert!(d.reason.contains("line 3"), "{}", d.reason);

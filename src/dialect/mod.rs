@@ -1,43 +1,137 @@
-//! The dialects. Each lives in its own folder (front end and/or emitter plus its rules) and
-//! meets the others only in the IR.
+//! The dialects. Each lives in its own folder (reader, writer, its rules, its codes) and
+//! meets the others only in the IR. The rest of ncthread knows them only through the
+//! [`Dialect`] trait and the registry [`ALL`]: adding a dialect is a folder and a line there.
 
 pub mod czech;
 pub mod detect;
 pub mod iso;
 pub mod nc31;
 
-use std::fmt;
-
+use crate::diag::Diagnostic;
 use crate::fixed::{Lead, Length};
-use crate::source::Span;
+pub use crate::ir::DialectId;
+use crate::ir::Program;
+use crate::profile::Profile;
+use crate::source::{SourceFile, Span};
+use crate::text::TextEncoding;
 
-/// A program dialect.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Dialect {
-    /// The Czech lathe control (manual chapter 5).
-    Czech,
-    /// The Электроника НЦ-31 (scaled integer words, `*` groups, G31/G32/G33).
-    Nc31,
-    /// ISO/RS274-NGC as LinuxCNC reads it.
-    Iso,
+/// Every dialect, in the order ncthread lists them.
+pub static ALL: [&'static dyn Dialect; 3] = [&czech::Czech, &nc31::Nc31, &iso::Iso];
+
+/// The dialect with this id (`czech`, `nc31`, `iso`), when there is one.
+pub fn by_id(id: &str) -> Option<&'static dyn Dialect> {
+    ALL.iter().copied().find(|d| d.id().as_str() == id)
 }
 
-impl Dialect {
-    pub const ALL: [Dialect; 3] = [Dialect::Czech, Dialect::Nc31, Dialect::Iso];
+/// The dialect of an id that ncthread gave out.
+pub fn get(id: DialectId) -> &'static dyn Dialect {
+    by_id(id.as_str()).unwrap_or(ALL[0])
+}
 
-    pub fn id(self) -> &'static str {
-        match self {
-            Dialect::Czech => "czech",
-            Dialect::Nc31 => "nc31",
-            Dialect::Iso => "iso",
+/// How a writer writes what the reader cannot decide for it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WriteOptions {
+    /// Block numbers for a target that numbers its blocks, when the program's own are not
+    /// that target's.
+    pub renumber: Renumber,
+    /// Round values the target cannot hold to its grid (with a warning) instead of refusing.
+    pub round: bool,
+    /// Write comments as comment lines where the control has none (for a PC-side archive).
+    pub comments: bool,
+}
+
+/// How blocks are numbered: `N{start}`, then every `step`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Renumber {
+    pub start: u32,
+    pub step: u32,
+}
+
+impl Default for Renumber {
+    fn default() -> Self {
+        Renumber {
+            start: 10,
+            step: 10,
         }
     }
 }
 
-impl fmt::Display for Dialect {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.id())
+/// How a line looks to one dialect, for `--from auto` ([`detect`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LineMark {
+    /// Only this dialect writes such a line.
+    Mark,
+    /// It looks like this dialect's but does not prove it (the НЦ-31's one whole-number word
+    /// without a modifier).
+    Weak,
+    /// A line that says nothing of the dialect (a comment line that several dialects have).
+    Neutral,
+}
+
+/// One dialect's claim on a line: the claim with the highest `priority` decides the line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LineClaim {
+    pub priority: u8,
+    pub mark: LineMark,
+}
+
+/// A program dialect: what the rest of ncthread knows of it.
+pub trait Dialect: Sync {
+    /// Its id (`czech`): `--from`, `--to`, the IR's [`DialectId`].
+    fn id(&self) -> DialectId;
+    /// For people: `the czech control`.
+    fn title(&self) -> &'static str;
+    /// The extension `batch` gives its outputs (without the dot).
+    fn extension(&self) -> &'static str;
+    /// The encoding of its files when they are not UTF-8.
+    fn legacy_encoding(&self) -> TextEncoding;
+    /// Its claim on one line of a text whose dialect is not given (`--from auto`).
+    fn claim_line(&self, line: &str) -> Option<LineClaim>;
+    /// What its mark is, for `--from auto`'s reason: `a czech mark (a `"` comment, …)`.
+    fn mark_description(&self) -> &'static str;
+    /// Its weak claims alone choose it (uncertainly), and why: the НЦ-31's whole-number words.
+    fn weak_reason(&self) -> Option<&'static str> {
+        None
     }
+    /// A line no dialect claims (several or decimal words) speaks against it.
+    fn plain_lines_contradict(&self) -> bool {
+        false
+    }
+    /// The dialect chosen, uncertainly, when no line carries any dialect's mark.
+    fn is_fallback(&self) -> bool {
+        self.fallback_reason().is_some()
+    }
+    /// Why it is chosen when no line carries any dialect's mark (for the one fallback).
+    fn fallback_reason(&self) -> Option<&'static str> {
+        None
+    }
+    /// Which of two dialects with as many marked lines wins (the higher).
+    fn tie_rank(&self) -> u8;
+    /// LinuxCNC's interpreter reads its programs (so `rs274` can judge them).
+    fn linuxcnc_reads(&self) -> bool {
+        false
+    }
+    /// The feed mode its output is in before the program sets one (a header that the
+    /// writer always writes), if any.
+    fn output_feed_mode(&self) -> Option<crate::ir::FeedMode> {
+        None
+    }
+    /// Reads a program. It is usable only when no diagnostic is an error.
+    fn read(
+        &self,
+        src: &SourceFile,
+        profile: &Profile,
+        unsupported: Unsupported,
+    ) -> (Program, Vec<Diagnostic>);
+    /// Writes `program` (read from `src`, whose lines the diagnostics point at). `None` when
+    /// an item cannot be written; the diagnostics say why.
+    fn write(
+        &self,
+        program: &Program,
+        src: &SourceFile,
+        profile: &Profile,
+        options: &WriteOptions,
+    ) -> (Option<String>, Vec<Diagnostic>);
 }
 
 /// Where a pest parse of `line` failed, as a byte offset: at the letter when pest stopped

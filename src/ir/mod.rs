@@ -4,14 +4,39 @@
 //! says exactly what the machine does. Lengths are [`Length`] (0.0001 mm, X a diameter),
 //! angles [`Angle`] (0.001°).
 
-use crate::dialect::Dialect;
 use crate::fixed::{Angle, Decimal, Lead, Length};
 use crate::source::Span;
 
+/// A dialect's id (`czech`, `nc31`, `iso`): what the IR records of where a word came from.
+/// The dialects themselves (`crate::dialect`) give out these ids; the IR only compares them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct DialectId(&'static str);
+
+impl DialectId {
+    /// A dialect's id: each dialect declares its own (`crate::dialect::czech::ID`).
+    pub const fn new(id: &'static str) -> DialectId {
+        DialectId(id)
+    }
+
+    pub fn as_str(self) -> &'static str {
+        self.0
+    }
+}
+
+impl std::fmt::Display for DialectId {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.0)
+    }
+}
+
 /// A program: items in execution order.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Program {
     pub items: Vec<Item>,
+    /// The dialect the program was read in: the items' block numbers, the groups of items
+    /// that share a source block, and comment lines are that dialect's. A writer of the same
+    /// dialect may keep them as they were.
+    pub dialect: DialectId,
 }
 
 /// One item with where it came from.
@@ -411,8 +436,12 @@ pub enum ItemKind {
         number: Option<u32>,
         offset: Option<u32>,
     },
-    /// A gear/speed range selected by an M code (kept as its number).
-    GearRange(u32),
+    /// A gear/speed range selected by an M code: its number, and the machine (dialect) whose
+    /// range it is.
+    GearRange {
+        code: u32,
+        machine: DialectId,
+    },
     FeedMode(FeedMode),
     ProgramEnd(EndCode),
     /// A comment on a line of its own.
@@ -426,7 +455,7 @@ pub enum ItemKind {
     /// Source text whose meaning the dialect does not define; only the same dialect can
     /// write it back.
     Opaque {
-        dialect: Dialect,
+        dialect: DialectId,
         text: String,
         /// The whole block was kept opaque (`--unsupported warn`), under these modes: it
         /// may move the machine, so positions after it are unknown. `None`: a single word

@@ -525,6 +525,7 @@ mod tests {
 
     fn program(kinds: Vec<ItemKind>) -> Program {
         Program {
+            dialect: crate::dialect::iso::ID,
             items: kinds
                 .into_iter()
                 .enumerate()

@@ -8,10 +8,14 @@ use std::sync::OnceLock;
 
 use ncthread::profile::Profile;
 use ncthread::source::SourceFile;
-use ncthread::{Conversion, ConvertOptions, Dialect, Unsupported};
+use ncthread::{Conversion, ConvertOptions, DialectId, Unsupported};
 
 /// Every target dialect ncthread writes; each corpus file is snapshotted for each.
-pub const TARGETS: &[Dialect] = &[Dialect::Iso, Dialect::Czech, Dialect::Nc31];
+pub const TARGETS: &[DialectId] = &[
+    ncthread::dialect::iso::ID,
+    ncthread::dialect::czech::ID,
+    ncthread::dialect::nc31::ID,
+];
 
 pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -25,24 +29,24 @@ pub struct Case {
     /// Relative to the repository root, with `/`.
     pub path: String,
     pub profile: Option<String>,
-    pub from: Dialect,
+    pub from: DialectId,
 }
 
 /// Every corpus file × {no profile, its profile}, sorted by name.
 pub fn corpus_cases() -> Vec<Case> {
     let mut cases = Vec::new();
     for (folder, from) in [
-        ("czech", Dialect::Czech),
-        ("nc31", Dialect::Nc31),
-        ("iso", Dialect::Iso),
-        ("bad/czech", Dialect::Czech),
-        ("bad/nc31", Dialect::Nc31),
-        ("bad/iso", Dialect::Iso),
-        ("fidelity", Dialect::Czech),
-        ("fidelity", Dialect::Iso),
-        ("fuzz/czech", Dialect::Czech),
-        ("fuzz/nc31", Dialect::Nc31),
-        ("fuzz/iso", Dialect::Iso),
+        ("czech", ncthread::dialect::czech::ID),
+        ("nc31", ncthread::dialect::nc31::ID),
+        ("iso", ncthread::dialect::iso::ID),
+        ("bad/czech", ncthread::dialect::czech::ID),
+        ("bad/nc31", ncthread::dialect::nc31::ID),
+        ("bad/iso", ncthread::dialect::iso::ID),
+        ("fidelity", ncthread::dialect::czech::ID),
+        ("fidelity", ncthread::dialect::iso::ID),
+        ("fuzz/czech", ncthread::dialect::czech::ID),
+        ("fuzz/nc31", ncthread::dialect::nc31::ID),
+        ("fuzz/iso", ncthread::dialect::iso::ID),
     ] {
         let ext = extension(from);
         let dir = root().join("corpus").join(folder);
@@ -76,9 +80,9 @@ pub fn corpus_cases() -> Vec<Case> {
 }
 
 /// The corpus files' extension for a dialect.
-pub fn extension(d: Dialect) -> &'static str {
+pub fn extension(d: DialectId) -> &'static str {
     match d {
-        Dialect::Iso => "ngc",
+        ncthread::dialect::iso::ID => "ngc",
         _ => "nc",
     }
 }
@@ -88,7 +92,7 @@ pub fn load_profile(path: &str) -> Profile {
     Profile::from_toml(&SourceFile::new(path, text)).unwrap_or_else(|d| panic!("{path}: {d:?}"))
 }
 
-pub fn convert_case(case: &Case, to: Dialect) -> Conversion {
+pub fn convert_case(case: &Case, to: DialectId) -> Conversion {
     let bytes = std::fs::read(root().join(&case.path)).unwrap();
     let (text, _) = ncthread::text::decode(&bytes, case.from);
     let src = SourceFile::new(case.path.clone(), text);
@@ -109,7 +113,7 @@ pub fn convert_case(case: &Case, to: Dialect) -> Conversion {
 }
 
 /// A conversion as one text: diagnostics, then the program (or that it was refused).
-pub fn render(case: &Case, to: Dialect, conversion: &Conversion) -> String {
+pub fn render(case: &Case, to: DialectId, conversion: &Conversion) -> String {
     let diags = ncthread::diag::render_all(
         &conversion.diagnostics,
         ncthread::diag::Format::Human,
@@ -231,8 +235,12 @@ pub fn rs274_segments(canon: &[Canon]) -> Vec<ncthread::sim::Segment> {
 /// Our own simulation of an ISO program text (the iso front end, default profile).
 pub fn simulate_iso(name: &str, text: &str) -> ncthread::sim::Simulation {
     let src = SourceFile::new(name, text);
-    let (program, diags) =
-        ncthread::parse(&src, Dialect::Iso, &Profile::default(), Unsupported::Error);
+    let (program, diags) = ncthread::parse(
+        &src,
+        ncthread::dialect::iso::ID,
+        &Profile::default(),
+        Unsupported::Error,
+    );
     assert!(!ncthread::diag::has_errors(&diags), "{name}: {diags:?}");
     ncthread::sim::simulate(&program)
 }

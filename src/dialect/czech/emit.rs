@@ -13,7 +13,7 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use crate::diag::{Code, Diagnostic, codes};
-use crate::dialect::{Dialect, Inexact, one_line};
+use crate::dialect::{Inexact, Renumber, one_line};
 use crate::fixed::{Angle, Decimal, Lead, Length};
 use crate::ir::{
     Chamfer, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, SyncStart,
@@ -28,22 +28,6 @@ const MAX_DIRECT_LEAD: Length = Length(999_900);
 /// Runout and entry angles are 0…60°. **[seed]**
 const MAX_ANGLE: Angle = Angle(60_000);
 
-/// How blocks are numbered.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Renumber {
-    pub start: u32,
-    pub step: u32,
-}
-
-impl Default for Renumber {
-    fn default() -> Self {
-        Renumber {
-            start: 10,
-            step: 10,
-        }
-    }
-}
-
 #[derive(Default)]
 struct Block {
     number: Option<u32>,
@@ -53,7 +37,6 @@ struct Block {
 
 struct Emitter<'a> {
     src: &'a SourceFile,
-    from: Dialect,
     profile: &'a Profile,
     /// Keep the source's block numbers (a czech source) or number from `renumber`.
     keep_numbers: bool,
@@ -82,12 +65,11 @@ struct Emitter<'a> {
     round: bool,
 }
 
-/// Writes `program` (read from `src` in dialect `from`) as a czech program. `None` when
+/// Writes `program` (read from `src`) as a czech program. `None` when
 /// any item cannot be expressed; the diagnostics say why.
 pub fn emit(
     program: &Program,
     src: &SourceFile,
-    from: Dialect,
     profile: &Profile,
     renumber: Renumber,
     round: bool,
@@ -103,9 +85,8 @@ pub fn emit(
     }
     let mut e = Emitter {
         src,
-        from,
         profile,
-        keep_numbers: from == Dialect::Czech,
+        keep_numbers: program.dialect == super::ID,
         next_number: renumber.start,
         step: renumber.step.max(1),
         out: String::new(),
@@ -344,9 +325,9 @@ impl Emitter<'_> {
                     block.words.push(format!("D{d}"));
                 }
             }
-            ItemKind::GearRange(m) => {
+            ItemKind::GearRange { code: m, machine } => {
                 // An M number means a gear range only on the machine it was written for.
-                if self.from == Dialect::Czech && self.profile.czech.gear_range_mcodes.contains(m) {
+                if *machine == super::ID && self.profile.czech.gear_range_mcodes.contains(m) {
                     block.words.push(format!("M{m}"));
                 } else {
                     self.as_comment(item, block, &format!("M{m}: gear range of the source machine"));
@@ -375,7 +356,7 @@ impl Emitter<'_> {
                 block.words.push(format!("R{number:02}={value}"));
             }
             ItemKind::Opaque {
-                dialect: Dialect::Czech,
+                dialect: super::ID,
                 text,
                 ..
             } => block.words.push(text.clone()),

@@ -5,7 +5,7 @@ use std::ops::Range;
 
 use super::syntax::{self, Block, Value, Word};
 use crate::diag::{Code, Diagnostic, codes};
-use crate::dialect::{Dialect, Unsupported, WORD_REPORTS, budget};
+use crate::dialect::{Unsupported, WORD_REPORTS, budget};
 use crate::fixed::{Angle, Decimal, Lead, Length, NumberError};
 use crate::ir::{
     Chamfer, EndCode, FeedMode, Item, ItemKind, ModalContext, Pos, Program, SpindleDirection,
@@ -124,7 +124,13 @@ pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program
                 .help("after a thread block with J or E write an empty block, then a block that programs X and Z"),
         );
     }
-    (Program { items: fe.items }, fe.diags)
+    (
+        Program {
+            items: fe.items,
+            dialect: super::ID,
+        },
+        fe.diags,
+    )
 }
 
 /// The words of one block, sorted by meaning.
@@ -496,7 +502,7 @@ impl<'a> FrontEnd<'a> {
                 _ => code,
             };
             let kind = ItemKind::Opaque {
-                dialect: Dialect::Czech,
+                dialect: super::ID,
                 text: code.to_string(),
                 block: Some(ModalContext {
                     inch: false,
@@ -651,13 +657,20 @@ impl<'a> FrontEnd<'a> {
         }
         for (gear, w) in &words.gears {
             let span = word_span(self, w);
-            self.push(ItemKind::GearRange(*gear), span, number);
+            self.push(
+                ItemKind::GearRange {
+                    code: *gear,
+                    machine: super::ID,
+                },
+                span,
+                number,
+            );
         }
         for (text, range) in &block.opaque {
             let span = self.span(line, range.clone());
             self.push(
                 ItemKind::Opaque {
-                    dialect: Dialect::Czech,
+                    dialect: super::ID,
                     text: text.clone(),
                     block: None,
                 },

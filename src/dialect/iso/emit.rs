@@ -3,7 +3,6 @@
 use std::fmt::Write as _;
 
 use crate::diag::{Code, Diagnostic, codes};
-use crate::dialect::Dialect;
 use crate::fixed::Angle;
 use crate::ir::{
     EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, SyncStart, TapCycle,
@@ -41,14 +40,14 @@ struct Emitter<'a> {
     turning: Option<SpindleDirection>,
 }
 
-/// Writes `program` (read from `src` in dialect `from`) as ISO G-code. `None` when any
+/// Writes `program` (read from `src`) as ISO G-code. `None` when any
 /// item cannot be expressed; the diagnostics say why.
 pub fn emit(
     program: &Program,
     src: &SourceFile,
-    from: Dialect,
     profile: &Profile,
 ) -> (Option<String>, Vec<Diagnostic>) {
+    let from = program.dialect;
     let mut e = Emitter {
         src,
         profile,
@@ -277,7 +276,7 @@ impl Emitter<'_> {
                     self.line(&format!("{restart} (restart the spindle after M6)"));
                 }
             }
-            ItemKind::GearRange(m) => match self.profile.iso.mcodes.get(m) {
+            ItemKind::GearRange { code: m, .. } => match self.profile.iso.mcodes.get(m) {
                 Some(word) => {
                     let word = word.clone();
                     self.line(&word);
@@ -313,7 +312,7 @@ impl Emitter<'_> {
             }
             // ISO words ncthread keeps without modelling them (coolant, path control…).
             ItemKind::Opaque {
-                dialect: Dialect::Iso,
+                dialect: super::ID,
                 text,
                 ..
             } => self.line(text),
@@ -546,8 +545,9 @@ mod tests {
                 }),
                 item(ItemKind::ThreadCycle(Box::new(cycle))),
             ],
+            dialect: crate::dialect::nc31::ID,
         };
-        let (out, diags) = emit(&program, &src, Dialect::Nc31, &Profile::default());
+        let (out, diags) = emit(&program, &src, &Profile::default());
         assert!(out.is_none());
         assert_eq!(diags[0].code, codes::CYCLE_INVALID);
         assert!(diags[0].message.contains("0.3875"), "{}", diags[0].message);

@@ -13,7 +13,7 @@ use indexmap::IndexMap;
 
 use super::syntax::{self, Block, Word};
 use crate::diag::{Code, Diagnostic, codes};
-use crate::dialect::{Dialect, Unsupported, WORD_REPORTS, budget};
+use crate::dialect::{Unsupported, WORD_REPORTS, budget};
 use crate::fixed::{Angle, Decimal, Lead, Length, div_round};
 use crate::ir::{
     CycleChamfer, Degression, EndCode, FeedMode, Finish, IjkScale, Item, ItemKind, ModalContext,
@@ -168,7 +168,13 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
             );
         }
     }
-    (Program { items: fe.items }, fe.diags)
+    (
+        Program {
+            items: fe.items,
+            dialect: super::ID,
+        },
+        fe.diags,
+    )
 }
 
 /// The words of one line, sorted by what reads them.
@@ -433,7 +439,7 @@ impl FrontEnd<'_> {
             let text = line.text.trim().to_string();
             self.push(
                 ItemKind::Opaque {
-                    dialect: Dialect::Iso,
+                    dialect: super::ID,
                     text,
                     block: Some(context),
                 },
@@ -891,7 +897,7 @@ impl FrontEnd<'_> {
         let span = self.src.span_in_line(line, w.range.clone());
         self.push(
             ItemKind::Opaque {
-                dialect: Dialect::Iso,
+                dialect: super::ID,
                 text,
                 block: None,
             },

@@ -11,7 +11,7 @@
 //! that already holds such lines).
 
 use crate::diag::{Code, Diagnostic, codes};
-use crate::dialect::{Dialect, Inexact, one_line};
+use crate::dialect::{Inexact, WriteOptions, one_line};
 use crate::fixed::{Angle, Lead, Length};
 use crate::ir::{
     CycleChamfer, EndCode, FeedMode, Finish, Item, ItemKind, Pos, Program, Retract, Rise,
@@ -21,20 +21,12 @@ use crate::lower;
 use crate::profile::{Nc31Profile, Profile};
 use crate::source::{SourceFile, Span};
 
-/// How the nc31 emitter writes what the control cannot hold.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Options {
-    /// Round values off the unit grid (a warning) instead of refusing.
-    pub round: bool,
-    /// Write comments as `(` lines (for PC-side archives) instead of dropping them.
-    pub comments: bool,
-}
-
 struct Emitter<'a> {
     src: &'a SourceFile,
-    from: Dialect,
     profile: &'a Nc31Profile,
-    options: Options,
+    /// `round`: values off the unit grid are rounded (a warning) instead of refused;
+    /// `comments`: comments are written as `(` lines (for PC-side archives).
+    options: WriteOptions,
     /// Comments are written (asked for, or the source is an nc31 file with `(` lines).
     comments: bool,
     out: String,
@@ -49,21 +41,21 @@ struct Emitter<'a> {
     dropped: (usize, Option<Span>),
 }
 
-/// Writes `program` (read from `src` in dialect `from`) as НЦ-31 frames. `None` when any
-/// item cannot be expressed; the diagnostics say why.
+/// Writes `program` (read from `src`) as НЦ-31 frames. `None` when any item cannot be
+/// expressed; the diagnostics say why.
 pub fn emit(
     program: &Program,
     src: &SourceFile,
-    from: Dialect,
     profile: &Profile,
-    options: Options,
+    options: &WriteOptions,
 ) -> (Option<String>, Vec<Diagnostic>) {
+    // An nc31 program's own groups and `(` comment lines are kept as they were.
+    let own = program.dialect == super::ID;
     let mut e = Emitter {
         src,
-        from,
         profile: &profile.nc31,
-        options,
-        comments: options.comments || from == Dialect::Nc31,
+        options: *options,
+        comments: options.comments || own,
         out: String::new(),
         next_frame: 0,
         diags: Vec::new(),
@@ -77,7 +69,7 @@ pub fn emit(
     let mut i = 0;
     while i < program.items.len() {
         let mut j = i + 1;
-        if from == Dialect::Nc31 {
+        if own {
             while j < program.items.len() && program.items[j].span == program.items[i].span {
                 j += 1;
             }
@@ -398,8 +390,8 @@ impl Emitter<'_> {
                     );
                 }
             }
-            ItemKind::GearRange(m) => {
-                if self.from == Dialect::Nc31 && self.profile.gear_range_mcodes.contains(m) {
+            ItemKind::GearRange { code: m, machine } => {
+                if *machine == super::ID && self.profile.gear_range_mcodes.contains(m) {
                     group.push(format!("M{m}"));
                 } else {
                     self.not_written(
@@ -425,7 +417,7 @@ impl Emitter<'_> {
                 group,
             ),
             ItemKind::Opaque {
-                dialect: Dialect::Nc31,
+                dialect: super::ID,
                 text,
                 ..
             } => {
@@ -654,22 +646,27 @@ mod tests {
     use crate::ir::{Chamfer, Schedule};
 
     /// nc31 → nc31 with `profile`.
-    fn again(text: &str, profile: &Profile, options: Options) -> (Option<String>, Vec<Diagnostic>) {
+    fn again(
+        text: &str,
+        profile: &Profile,
+        options: WriteOptions,
+    ) -> (Option<String>, Vec<Diagnostic>) {
         let src = SourceFile::new("t.nc", text);
-        let (program, diags) = crate::dialect::nc31::parse(&src, profile, &Default::default());
+        let (program, diags) = super::super::front::parse(&src, profile, &Default::default());
         assert!(!crate::diag::has_errors(&diags), "{diags:?}");
-        emit(&program, &src, Dialect::Nc31, profile, options)
+        emit(&program, &src, profile, &options)
     }
 
-    fn write(items: Vec<ItemKind>, options: Options) -> (Option<String>, Vec<Diagnostic>) {
+    fn write(items: Vec<ItemKind>, options: WriteOptions) -> (Option<String>, Vec<Diagnostic>) {
         let src = SourceFile::new("t", "");
         let program = Program {
             items: items
                 .into_iter()
                 .map(|k| Item::new(k, Span::default()))
                 .collect(),
+            dialect: crate::dialect::iso::ID,
         };
-        emit(&program, &src, Dialect::Iso, &Profile::default(), options)
+        emit(&program, &src, &Profile::default(), &options)
     }
 
     fn codes_of(diags: &[Diagnostic]) -> Vec<&'static str> {
@@ -709,7 +706,7 @@ mod tests {
 
     #[test]
     fn a_cycle_of_this_machine_stays_one_g31_group() {
-        let (out, diags) = again(SEED_G31, &Profile::default(), Options::default());
+        let (out, diags) = again(SEED_G31, &Profile::default(), WriteOptions::default());
         assert!(diags.is_empty(), "{diags:?}");
         assert_eq!(
             out.unwrap(),
@@ -718,7 +715,7 @@ mod tests {
         // With parameter 7 in the profile the cycle is still the machine's G31.
         let mut p7 = Profile::default();
         p7.nc31.runout_p7 = 10;
-        let (out, _) = again(SEED_G31, &p7, Options::default());
+        let (out, _) = again(SEED_G31, &p7, WriteOptions::default());
         assert!(out.unwrap().contains("N4 G31 *"));
     }
 
@@ -726,7 +723,7 @@ mod tests {
     fn another_machines_cycle_becomes_g32_passes_that_cut_the_same() {
         let src = SourceFile::new("t.nc", SEED_G31);
         let profile = Profile::default();
-        let (program, _) = crate::dialect::nc31::parse(&src, &profile, &Default::default());
+        let (program, _) = super::super::front::parse(&src, &profile, &Default::default());
         // The same cycle with a schedule this machine's G31 does not use.
         let mut other = program.clone();
         for item in &mut other.items {
@@ -734,7 +731,7 @@ mod tests {
                 c.schedule = Schedule::ConstantDepth;
             }
         }
-        let (out, diags) = emit(&other, &src, Dialect::Nc31, &profile, Options::default());
+        let (out, diags) = emit(&other, &src, &profile, &WriteOptions::default());
         assert!(!crate::diag::has_errors(&diags), "{diags:?}");
         let out = out.unwrap();
         assert!(
@@ -742,7 +739,7 @@ mod tests {
             "{out}"
         );
         let back = SourceFile::new("back.nc", out);
-        let (read, diags) = crate::dialect::nc31::parse(&back, &profile, &Default::default());
+        let (read, diags) = super::super::front::parse(&back, &profile, &Default::default());
         assert!(!crate::diag::has_errors(&diags), "{diags:?}");
         let a = crate::sim::normalise(&crate::sim::simulate(&other).segments);
         let b = crate::sim::normalise(&crate::sim::simulate(&read).segments);
@@ -754,13 +751,12 @@ mod tests {
         let mut p7 = Profile::default();
         p7.nc31.runout_p7 = 10;
         let src = SourceFile::new("t.nc", SEED_G31);
-        let (program, _) = crate::dialect::nc31::parse(&src, &p7, &Default::default());
+        let (program, _) = super::super::front::parse(&src, &p7, &Default::default());
         let (out, diags) = emit(
             &program,
             &src,
-            Dialect::Nc31,
             &Profile::default(),
-            Options::default(),
+            &WriteOptions::default(),
         );
         assert!(out.is_none());
         let d = diags.iter().find(|d| d.code.id == "NCT003").unwrap();
@@ -811,7 +807,7 @@ mod tests {
         for (p, what) in cases {
             let (out, diags) = write(
                 vec![turning(), at(mm(20), mm(5)), ItemKind::ThreadPass(p)],
-                Options::default(),
+                WriteOptions::default(),
             );
             assert!(out.is_none(), "{what}");
             assert_eq!(codes_of(&diags), ["NCT003"]);
@@ -834,7 +830,7 @@ mod tests {
                     feed: Length(3_000),
                 },
             ],
-            Options::default(),
+            WriteOptions::default(),
         );
         assert!(diags.is_empty(), "{diags:?}");
         assert_eq!(
@@ -853,7 +849,7 @@ mod tests {
                 at(Length(264_180), mm(3)),
             ]
         };
-        let (out, diags) = write(items(), Options::default());
+        let (out, diags) = write(items(), WriteOptions::default());
         assert!(out.is_none());
         assert_eq!(codes_of(&diags), ["NCT001"]);
         assert!(
@@ -868,9 +864,9 @@ mod tests {
         );
         let (out, diags) = write(
             items(),
-            Options {
+            WriteOptions {
                 round: true,
-                ..Options::default()
+                ..WriteOptions::default()
             },
         );
         assert!(out.unwrap().contains("N2 X2662 ~ *"));
@@ -899,15 +895,15 @@ mod tests {
                 Item::new(k, Span::default())
             })
             .collect(),
+            dialect: crate::dialect::iso::ID,
         };
         let (out, diags) = emit(
             &program,
             &src,
-            Dialect::Iso,
             &profile,
-            Options {
+            &WriteOptions {
                 round: true,
-                ..Options::default()
+                ..WriteOptions::default()
             },
         );
         assert!(out.unwrap().contains("F1501"));
@@ -917,7 +913,7 @@ mod tests {
             "{}",
             diags[0].message
         );
-        let (out, diags) = emit(&program, &src, Dialect::Iso, &profile, Options::default());
+        let (out, diags) = emit(&program, &src, &profile, &WriteOptions::default());
         assert!(out.is_none());
         assert_eq!(codes_of(&diags), ["NCT001"]);
         assert!(
@@ -936,15 +932,15 @@ mod tests {
                 ItemKind::Comment("TWO".into()),
             ]
         };
-        let (out, diags) = write(items(), Options::default());
+        let (out, diags) = write(items(), WriteOptions::default());
         assert_eq!(out.unwrap(), "N0 X2000 ~ *\nN1 Z500 ~\n");
         assert_eq!(codes_of(&diags), ["NCT007"]);
         assert!(diags[0].message.starts_with("2 comment(s)"));
         let (out, diags) = write(
             items(),
-            Options {
+            WriteOptions {
                 comments: true,
-                ..Options::default()
+                ..WriteOptions::default()
             },
         );
         assert!(diags.is_empty());
@@ -962,7 +958,7 @@ mod tests {
         };
         let (out, _) = write(
             vec![turning(), at(mm(0), mm(5)), tap(None)],
-            Options::default(),
+            WriteOptions::default(),
         );
         assert!(
             out.unwrap()
@@ -970,7 +966,7 @@ mod tests {
         );
         let (out, _) = write(
             vec![turning(), at(mm(0), mm(5)), tap(Some(mm(20)))],
-            Options::default(),
+            WriteOptions::default(),
         );
         assert!(
             out.unwrap()
@@ -988,11 +984,17 @@ mod tests {
                     feed: mm(100),
                 },
             ],
-            Options::default(),
+            WriteOptions::default(),
         );
         assert_eq!(codes_of(&diags), ["NCT002"]);
         // Nothing left to write is refused, not an empty program with exit 0.
-        let (out, diags) = write(vec![ItemKind::GearRange(42)], Options::default());
+        let (out, diags) = write(
+            vec![ItemKind::GearRange {
+                code: 42,
+                machine: crate::dialect::iso::ID,
+            }],
+            WriteOptions::default(),
+        );
         assert_eq!(out, None);
         assert_eq!(codes_of(&diags), ["NCT004", "NCT008"]);
     }

@@ -8,7 +8,7 @@ use std::ops::Range;
 
 use super::syntax::{self, Frame, Line as SyntaxLine, Modifier, Word};
 use crate::diag::{Code, Diagnostic, codes};
-use crate::dialect::{Dialect, Unsupported};
+use crate::dialect::Unsupported;
 use crate::fixed::{Angle, Lead, Length};
 use crate::ir::{
     CycleChamfer, EndCode, Finish, Item, ItemKind, ModalContext, Pos, Program, Retract, Rise,
@@ -145,7 +145,13 @@ pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program
         let span = fe.word_span(last);
         fe.open_group_error(span, "the end of the program");
     }
-    (Program { items: fe.items }, fe.diags)
+    (
+        Program {
+            items: fe.items,
+            dialect: super::ID,
+        },
+        fe.diags,
+    )
 }
 
 /// What a thread group's words are, by letter.
@@ -335,7 +341,7 @@ impl<'a> FrontEnd<'a> {
             let span = self.group_span(frames);
             self.push(
                 ItemKind::Opaque {
-                    dialect: Dialect::Nc31,
+                    dialect: super::ID,
                     text,
                     block: Some(ModalContext {
                         inch: false,
@@ -579,7 +585,14 @@ impl<'a> FrontEnd<'a> {
             );
         }
         for g in gears {
-            self.push(ItemKind::GearRange(g), span, None);
+            self.push(
+                ItemKind::GearRange {
+                    code: g,
+                    machine: super::ID,
+                },
+                span,
+                None,
+            );
         }
         if speed.is_some() || direction.is_some() {
             self.push(
@@ -1080,7 +1093,10 @@ mod tests {
         assert_eq!(
             k,
             vec![
-                ItemKind::GearRange(40),
+                ItemKind::GearRange {
+                    code: 40,
+                    machine: super::super::ID,
+                },
                 ItemKind::Spindle {
                     speed: None,
                     direction: Some(SpindleDirection::Clockwise)
