@@ -3,7 +3,6 @@
 mod common;
 
 use common::{Case, close, convert_case, corpus_cases, rs274, run_rs274, sync_moves};
-use ncthread::DialectId;
 
 fn case(name: &str) -> Case {
     corpus_cases()
