@@ -7,7 +7,6 @@
 use std::path::Path;
 use std::time::Instant;
 
-use ncthread::DialectId;
 use ncthread::batch::{BatchOptions, run};
 use ncthread::{ConvertOptions, Unsupported};
 
