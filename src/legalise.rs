@@ -11,8 +11,9 @@
 //!   would change, so it is refused in every mode.
 
 use crate::diag::{Diagnostic, codes};
+use crate::dialect::capabilities::Construct;
 use crate::dialect::{self, DialectId};
-use crate::ir::{FeedMode, ItemKind, Program};
+use crate::ir::{FeedMode, ItemKind, Program, SyncStart};
 use crate::source::SourceFile;
 
 /// The diagnostics of the shared rules (errors). `to` is the target, when the program is to
@@ -108,6 +109,90 @@ pub fn check(program: &Program, src: &SourceFile, to: Option<DialectId>) -> Vec<
                 }
             }
             _ => {}
+        }
+    }
+    diags
+}
+
+/// A use of a construct in a program: what, where, and for a pass the start angle it waits
+/// for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Occurrence {
+    pub construct: Construct,
+    pub span: crate::source::Span,
+    pub angle: Option<crate::fixed::Angle>,
+}
+
+/// Every use of a construct that a capability table may refuse, in program order: taps,
+/// dwells, feeds per minute, synchronised moves along X, continued chains and passes that
+/// wait for the index pulse in the cut (a cycle's passes count as the cycle's).
+pub fn occurrences(program: &Program) -> Vec<Occurrence> {
+    let mut out = Vec::new();
+    let mut per_minute = false;
+    let mut pos = crate::ir::Pos::UNKNOWN;
+    let mut in_cut: Option<crate::ir::Pos> = None;
+    for item in &program.items {
+        let at = |construct, angle| Occurrence {
+            construct,
+            span: item.span,
+            angle,
+        };
+        match &item.kind {
+            ItemKind::TapCycle(_) => out.push(at(Construct::Tapping, None)),
+            ItemKind::Dwell { .. } => out.push(at(Construct::Dwell, None)),
+            ItemKind::FeedMode(mode) => per_minute = *mode == FeedMode::PerMin,
+            ItemKind::Feed { .. } if per_minute => out.push(at(Construct::PerMinuteFeed, None)),
+            ItemKind::ThreadCycle(c) if c.entry_infeed && c.entry.is_some() => {
+                out.push(at(Construct::SyncInfeed, None))
+            }
+            ItemKind::ThreadPass(pass) => {
+                if pass.infeed.is_some() {
+                    out.push(at(Construct::SyncInfeed, None));
+                }
+                match pass.start {
+                    SyncStart::Continue => out.push(at(Construct::ContinuedChain, None)),
+                    SyncStart::Index(angle) if in_cut.is_some() && in_cut == Some(pos) => {
+                        out.push(at(Construct::IndexWaitInCut, Some(angle)))
+                    }
+                    SyncStart::Index(_) => {}
+                }
+            }
+            _ => {}
+        }
+        let moved = item.kind.end_position(pos);
+        in_cut = match &item.kind {
+            ItemKind::ThreadPass(_) => Some(moved),
+            ItemKind::ThreadCycle(_)
+            | ItemKind::TapCycle(_)
+            | ItemKind::Opaque { block: Some(_), .. } => None,
+            _ if moved != pos => None,
+            _ => in_cut,
+        };
+        pos = moved;
+    }
+    out
+}
+
+/// The one legalisation of a program for a target: every construct that the target's table
+/// ([`crate::dialect::Dialect::capabilities`]) does not write is refused, in the target's
+/// words and with its code. (A target that refuses a construct while it writes it, as the
+/// НЦ-31 refuses what G32 cannot cut pass by pass, gives no words here.)
+pub fn for_target(
+    program: &Program,
+    src: &SourceFile,
+    target: &dyn crate::dialect::Dialect,
+    profile: &crate::profile::Profile,
+) -> Vec<Diagnostic> {
+    let caps = target.capabilities(profile);
+    let mut diags: Vec<Diagnostic> = Vec::new();
+    for o in occurrences(program) {
+        if caps.writes(o.construct) {
+            continue;
+        }
+        if let Some(d) = target.refusal(o, src)
+            && !diags.contains(&d)
+        {
+            diags.push(d);
         }
     }
     diags

@@ -66,12 +66,18 @@ pub fn emit(
     if diag::has_errors(&shared) {
         return (None, shared);
     }
+    let target = dialect::get(options.to);
+    // What the target's table refuses; the writer then spells what remains.
+    let mut diags = legalise::for_target(program, src, target, &options.profile);
     let write = dialect::WriteOptions {
         renumber: options.renumber,
         round: options.round,
         comments: options.nc31_comments,
     };
-    dialect::get(options.to).write(program, src, &options.profile, &write)
+    let (output, more) = target.write(program, src, &options.profile, &write);
+    diags.extend(more);
+    let output = output.filter(|_| !diag::has_errors(&diags));
+    (output, diags)
 }
 
 /// Parses and emits. Refuses (no output) when any error remains.

@@ -38,6 +38,13 @@ enum Command {
     Check(CheckArgs),
     /// Convert a whole tree of programs into a mirrored tree, in parallel.
     Batch(BatchArgs),
+    /// Print what each dialect reads and writes (the capability table, Markdown): what a
+    /// target refuses, and under which code.
+    Dialects {
+        /// A machine profile: a row may depend on the machine (czech constant 8).
+        #[arg(long)]
+        profile: Option<PathBuf>,
+    },
     /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
     Completions {
         #[arg(value_enum)]
@@ -360,6 +367,14 @@ fn main() -> ExitCode {
             clap_complete::generate(shell, &mut cmd, "ncthread", &mut out);
             write_output(&None, &out).map(|()| ExitCode::SUCCESS)
         }
+        Command::Dialects { profile } => load_profile(&profile, DiagnosticsFormat::Human)
+            .and_then(|profile| {
+                write_output(
+                    &None,
+                    ncthread::dialect::capability_table(&profile).as_bytes(),
+                )
+            })
+            .map(|()| ExitCode::SUCCESS),
         Command::Man => {
             let cmd = <Cli as clap::CommandFactory>::command();
             let mut out = Vec::new();

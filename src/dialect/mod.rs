@@ -2,6 +2,7 @@
 //! meets the others only in the IR. The rest of ncthread knows them only through the
 //! [`Dialect`] trait and the registry [`ALL`]: adding a dialect is a folder and a line there.
 
+pub mod capabilities;
 pub mod czech;
 pub mod detect;
 pub mod iso;
@@ -26,6 +27,15 @@ pub fn by_id(id: &str) -> Option<&'static dyn Dialect> {
 /// The dialect of an id that ncthread gave out.
 pub fn get(id: DialectId) -> &'static dyn Dialect {
     by_id(id.as_str()).unwrap_or(ALL[0])
+}
+
+/// The capability table of every dialect (`ncthread dialects`, README.md).
+pub fn capability_table(profile: &Profile) -> String {
+    let tables: Vec<(&str, capabilities::Capabilities)> = ALL
+        .iter()
+        .map(|d| (d.id().as_str(), d.capabilities(profile)))
+        .collect();
+    capabilities::table(&tables)
 }
 
 /// How a writer writes what the reader cannot decide for it.
@@ -123,6 +133,11 @@ pub trait Dialect: Sync {
         profile: &Profile,
         unsupported: Unsupported,
     ) -> (Program, Vec<Diagnostic>);
+    /// What it reads and writes, for the machine `profile` describes.
+    fn capabilities(&self, profile: &Profile) -> capabilities::Capabilities;
+    /// The diagnostic that refuses a use of a construct its table says it does not write: its
+    /// code, in its words. `None` when it refuses that construct itself while writing.
+    fn refusal(&self, at: crate::legalise::Occurrence, src: &SourceFile) -> Option<Diagnostic>;
     /// Writes `program` (read from `src`, whose lines the diagnostics point at). `None` when
     /// an item cannot be written; the diagnostics say why.
     fn write(

@@ -292,18 +292,8 @@ impl Emitter<'_> {
                 self.flush(block);
                 self.thread_cycle(item, cycle, reserved);
             }
-            ItemKind::TapCycle(_) => self.diag(
-                codes::CZT_NO_EQUIVALENT,
-                item,
-                "a rigid tapping cycle has no documented form on the czech control".into(),
-                "the czech manual's chapter documents thread cutting with G33 only (its G84 cycle is undocumented); tap this hole another way",
-            ),
-            ItemKind::Dwell { .. } => self.diag(
-                codes::CZT_NO_EQUIVALENT,
-                item,
-                "a dwell (G4) has no documented form on the czech control".into(),
-                "remove the dwell or add it by hand where the control documents one",
-            ),
+            // Refused by legalisation (the czech table has no tap and no dwell).
+            ItemKind::TapCycle(_) | ItemKind::Dwell { .. } => {}
             ItemKind::Spindle { speed, direction } => {
                 if let Some(s) = speed {
                     block.words.push(format!("S{s}"));
@@ -330,7 +320,11 @@ impl Emitter<'_> {
                 if *machine == super::ID && self.profile.czech.gear_range_mcodes.contains(m) {
                     block.words.push(format!("M{m}"));
                 } else {
-                    self.as_comment(item, block, &format!("M{m}: gear range of the source machine"));
+                    self.as_comment(
+                        item,
+                        block,
+                        &format!("M{m}: gear range of the source machine"),
+                    );
                 }
             }
             ItemKind::FeedMode(FeedMode::PerRev) => block.words.push("G95".into()),
@@ -553,13 +547,9 @@ impl Emitter<'_> {
     }
 
     fn thread_pass(&mut self, item: &Item, pass: &ThreadPass, block: &mut Block, reserved: &[u32]) {
+        // Refused by legalisation: no synchronised move along X on this control.
         if pass.infeed.is_some() {
-            return self.diag(
-                codes::CZT_NO_EQUIVALENT,
-                item,
-                "the pass starts with a synchronised move along X (LinuxCNC's G76 infeed before an entry taper, or a G33 along X), which the czech control has no documented form for".into(),
-                "the czech G33 synchronises the thread's own travel; cut this thread without the synchronised infeed (a G76 without L1/L3) or by hand",
-            );
+            return;
         }
         // The angle parameters go in blocks before the pass.
         let entry_param = self.profile.czech.constant8.map(|c| c.angle_source());
@@ -592,14 +582,8 @@ impl Emitter<'_> {
         }
         let mut start_angle = match pass.start {
             SyncStart::Index(angle) => angle,
-            SyncStart::Continue => {
-                return self.diag(
-                    codes::CZT_CONTINUE,
-                    item,
-                    "this thread move continues the one before it without waiting for the index pulse; every czech G33 block waits for the pulse, so the tool would stand in the cut".into(),
-                    "the czech control cuts one synchronised motion per block: a thread with its entry (E) and runout (J); write the source's thread that way, or retract between the moves",
-                );
-            }
+            // Refused by legalisation: every czech G33 block waits for the index pulse.
+            SyncStart::Continue => return,
         };
         // A start that needs a 4th decimal (--round) moves along the pass onto the 0.001 grid
         // (less than 0.001 mm, inside the tolerance), and the start angle changes by the turns

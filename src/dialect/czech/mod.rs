@@ -7,9 +7,11 @@ pub mod syntax;
 
 pub use front::Options;
 
+use super::capabilities::{Capabilities, Capability, Construct, Read, Write};
 use super::{Dialect, DialectId, LineClaim, LineMark, Unsupported, WriteOptions, detect};
-use crate::diag::Diagnostic;
+use crate::diag::{Diagnostic, codes};
 use crate::ir::Program;
+use crate::legalise::Occurrence;
 use crate::profile::Profile;
 use crate::source::SourceFile;
 use crate::text::TextEncoding;
@@ -77,6 +79,81 @@ impl Dialect for Czech {
         unsupported: Unsupported,
     ) -> (Program, Vec<Diagnostic>) {
         front::parse(src, profile, &Options { unsupported })
+    }
+
+    fn capabilities(&self, _profile: &Profile) -> Capabilities {
+        use Construct::*;
+        let row = |construct, read, write| Capability {
+            construct,
+            read,
+            write,
+        };
+        Capabilities {
+            rows: vec![
+                row(
+                    ThreadCycle,
+                    Read::No,
+                    Write::As("writes its passes, a comment block each"),
+                ),
+                row(StartAngle, Read::Yes("I"), Write::Yes("I")),
+                row(
+                    Entry,
+                    Read::Yes("E, its angle from machine constant 8"),
+                    Write::As(
+                        "writes E when the profile's constant 8 gives its angle (else CZT003)",
+                    ),
+                ),
+                row(
+                    Runout,
+                    Read::Yes("J, its angle from machine constant 8"),
+                    Write::As(
+                        "writes J when the profile's constant 8 gives its angle (else CZT003)",
+                    ),
+                ),
+                row(TaperPass, Read::Yes("G33 X Z"), Write::Yes("G33 X Z")),
+                row(ContinuedChain, Read::No, Write::No(codes::CZT_CONTINUE)),
+                row(
+                    IndexWaitInCut,
+                    Read::Yes("a G33 block right after another"),
+                    Write::Yes("G33 … I"),
+                ),
+                row(SyncInfeed, Read::No, Write::No(codes::CZT_NO_EQUIVALENT)),
+                row(Tapping, Read::No, Write::No(codes::CZT_NO_EQUIVALENT)),
+                row(Dwell, Read::No, Write::No(codes::CZT_NO_EQUIVALENT)),
+                row(PerMinuteFeed, Read::Yes("G94"), Write::Yes("G94")),
+                row(ToolOffset, Read::Yes("D"), Write::Yes("D")),
+                row(Parameters, Read::Yes("R<nn>="), Write::Yes("R<nn>=")),
+                row(Comments, Read::Yes("\""), Write::Yes("\"")),
+            ],
+            numbers: "lengths to 0.001 mm, leads to 0.0001 mm (over 99.99 through FRnn); `--round` rounds, reporting the largest deviation",
+        }
+    }
+
+    fn refusal(&self, at: Occurrence, src: &SourceFile) -> Option<Diagnostic> {
+        let (code, message, help) = match at.construct {
+            Construct::Tapping => (
+                codes::CZT_NO_EQUIVALENT,
+                "a rigid tapping cycle has no documented form on the czech control",
+                "the czech manual's chapter documents thread cutting with G33 only (its G84 cycle is undocumented); tap this hole another way",
+            ),
+            Construct::Dwell => (
+                codes::CZT_NO_EQUIVALENT,
+                "a dwell (G4) has no documented form on the czech control",
+                "remove the dwell or add it by hand where the control documents one",
+            ),
+            Construct::SyncInfeed => (
+                codes::CZT_NO_EQUIVALENT,
+                "the pass starts with a synchronised move along X (LinuxCNC's G76 infeed before an entry taper, or a G33 along X), which the czech control has no documented form for",
+                "the czech G33 synchronises the thread's own travel; cut this thread without the synchronised infeed (a G76 without L1/L3) or by hand",
+            ),
+            Construct::ContinuedChain => (
+                codes::CZT_CONTINUE,
+                "this thread move continues the one before it without waiting for the index pulse; every czech G33 block waits for the pulse, so the tool would stand in the cut",
+                "the czech control cuts one synchronised motion per block: a thread with its entry (E) and runout (J); write the source's thread that way, or retract between the moves",
+            ),
+            _ => return None,
+        };
+        Some(Diagnostic::new(code, message).at(src, at.span).help(help))
     }
 
     fn write(

@@ -30,8 +30,6 @@ struct Emitter<'a> {
     /// Where the last G33 ended, while the next line may continue it (LinuxCNC then does
     /// not wait for the index pulse).
     sync_end: Option<Pos>,
-    /// Where the last G33 ended, while no other move followed (the tool is in the cut).
-    in_cut: Option<Pos>,
     /// The last item was `T… M6`, which stopped the spindle: a stop right after it is that
     /// stop, not another.
     m6_stopped: bool,
@@ -55,7 +53,6 @@ pub fn emit(
         diags: Vec::new(),
         pos: Pos::UNKNOWN,
         sync_end: None,
-        in_cut: None,
         m6_stopped: false,
         speed: None,
         turning: None,
@@ -207,22 +204,12 @@ impl Emitter<'_> {
     fn item(&mut self, item: &Item, next: Option<&Item>) {
         let start = self.out.len();
         let m6_stopped = std::mem::take(&mut self.m6_stopped);
-        // Only a comment line keeps a G33 chain going; any other move leaves the cut.
+        // Only a comment line keeps a G33 chain going.
         if !matches!(
             item.kind,
             ItemKind::ThreadPass(_) | ItemKind::Comment(_) | ItemKind::Delimiter
         ) {
             self.sync_end = None;
-        }
-        let moves = item.kind.end_position(self.pos) != self.pos;
-        if matches!(
-            item.kind,
-            ItemKind::ThreadCycle(_)
-                | ItemKind::TapCycle(_)
-                | ItemKind::Opaque { block: Some(_), .. }
-        ) || (moves && matches!(item.kind, ItemKind::Rapid { .. } | ItemKind::Feed { .. }))
-        {
-            self.in_cut = None;
         }
         match &item.kind {
             ItemKind::Rapid { to } => {
@@ -434,10 +421,9 @@ impl Emitter<'_> {
             }
         };
         // LinuxCNC continues a G33 that starts where another ended without waiting for the
-        // index pulse (and after other lines between, whether it waits depends on its motion
-        // queue): a pass that must wait in the cut cannot be written.
+        // index pulse: a continuation is written right after the move it continues (a pass
+        // that must wait there is refused by legalisation).
         let in_chain = self.sync_end == Some(self.pos);
-        let in_cut = self.in_cut == Some(self.pos);
         match pass.start {
             SyncStart::Continue if !in_chain => {
                 self.diag(
@@ -449,18 +435,6 @@ impl Emitter<'_> {
                 return;
             }
             SyncStart::Continue => {}
-            SyncStart::Index(angle) if in_chain || in_cut => {
-                self.diag(
-                    codes::ISO_INDEX_WAIT,
-                    item,
-                    format!(
-                        "this pass waits for the index pulse{} where the thread move before it ended, with the tool in the cut; LinuxCNC continues consecutive G33 moves without waiting",
-                        if angle == Angle::ZERO { String::new() } else { format!(" and {angle}°") }
-                    ),
-                    "retract and return between the two moves in the source, or make the second continue the first (the same helix)",
-                );
-                return;
-            }
             SyncStart::Index(angle)
                 if angle != Angle::ZERO && segments.first().is_some_and(|s| s.is_radial()) =>
             {
@@ -495,7 +469,6 @@ impl Emitter<'_> {
             self.line(&format!("G33{} K{}", axes(seg.to), k_value(seg)));
         }
         self.sync_end = segments.last().map(|s| s.to);
-        self.in_cut = self.sync_end;
     }
 }
 

@@ -7,9 +7,11 @@ mod syntax;
 
 pub use front::Options;
 
+use super::capabilities::{Capabilities, Capability, Construct, Read, Write};
 use super::{Dialect, DialectId, LineClaim, LineMark, Unsupported, WriteOptions, detect};
-use crate::diag::Diagnostic;
+use crate::diag::{Diagnostic, codes};
 use crate::ir::Program;
+use crate::legalise::Occurrence;
 use crate::profile::Profile;
 use crate::source::SourceFile;
 use crate::text::TextEncoding;
@@ -91,6 +93,76 @@ impl Dialect for Iso {
         unsupported: Unsupported,
     ) -> (Program, Vec<Diagnostic>) {
         front::parse(src, &Options { unsupported })
+    }
+
+    fn capabilities(&self, _profile: &Profile) -> Capabilities {
+        use Construct::*;
+        let row = |construct, read, write| Capability {
+            construct,
+            read,
+            write,
+        };
+        Capabilities {
+            rows: vec![
+                row(
+                    ThreadCycle,
+                    Read::Yes("G76"),
+                    Write::As("writes its passes"),
+                ),
+                row(
+                    StartAngle,
+                    Read::No,
+                    Write::As("writes an earlier start on the same helix"),
+                ),
+                row(
+                    Entry,
+                    Read::Yes("G76 E L1, chained G33"),
+                    Write::As("writes a chained G33"),
+                ),
+                row(
+                    Runout,
+                    Read::Yes("G76 E L2, chained G33"),
+                    Write::As("writes a chained G33"),
+                ),
+                row(TaperPass, Read::Yes("G33 X Z K"), Write::Yes("G33 X Z K")),
+                row(
+                    ContinuedChain,
+                    Read::Yes("consecutive G33"),
+                    Write::Yes("consecutive G33"),
+                ),
+                row(IndexWaitInCut, Read::No, Write::No(codes::ISO_INDEX_WAIT)),
+                row(
+                    SyncInfeed,
+                    Read::Yes("G33 along X, G76 L1/L3"),
+                    Write::Yes("G33 along X"),
+                ),
+                row(Tapping, Read::Yes("G33.1"), Write::Yes("G33.1")),
+                row(Dwell, Read::Yes("G4"), Write::Yes("G4")),
+                row(PerMinuteFeed, Read::Yes("G94"), Write::Yes("G94")),
+                row(ToolOffset, Read::Yes("G43 H"), Write::Yes("G43 H")),
+                row(Parameters, Read::No, Write::As("writes them as comments")),
+                row(Comments, Read::Yes("`( )`, `;`"), Write::Yes("`( )`")),
+            ],
+            numbers: "lengths to 0.0001 mm, leads exact (a taper's K with the digits that read back to 10⁻¹² mm)",
+        }
+    }
+
+    fn refusal(&self, at: Occurrence, src: &SourceFile) -> Option<Diagnostic> {
+        if at.construct != Construct::IndexWaitInCut {
+            return None;
+        }
+        let angle = at
+            .angle
+            .filter(|a| *a != crate::fixed::Angle::ZERO)
+            .map_or(String::new(), |a| format!(" and {a}°"));
+        Some(
+            Diagnostic::new(
+                codes::ISO_INDEX_WAIT,
+                format!("this pass waits for the index pulse{angle} where the thread move before it ended, with the tool in the cut; LinuxCNC continues consecutive G33 moves without waiting"),
+            )
+            .at(src, at.span)
+            .help("retract and return between the two moves in the source, or make the second continue the first (the same helix)"),
+        )
     }
 
     fn write(

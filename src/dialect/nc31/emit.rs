@@ -278,10 +278,6 @@ impl Emitter<'_> {
         Some(n)
     }
 
-    fn no_equivalent(&mut self, span: Span, message: String, help: &str) {
-        self.diag(codes::NCT_NO_EQUIVALENT, span, message, help);
-    }
-
     /// Something the НЦ-31 has no word for, but that does not move the tool: a comment line
     /// when comments are written, and a warning either way.
     fn not_written(&mut self, item: &Item, text: &str, why: &str, group: &mut Vec<String>) {
@@ -330,13 +326,8 @@ impl Emitter<'_> {
                 group.extend(frames);
             }
             ItemKind::Feed { to, feed } => {
-                if self.per_minute {
-                    self.no_equivalent(
-                        item.span,
-                        "a feed in mm per minute; the НЦ-31 feeds in mm per revolution".into(),
-                        "program the feed per revolution (G95) in the source",
-                    );
-                } else if self.feed != Some(*feed) {
+                // A feed per minute is refused by legalisation (the НЦ-31 feeds per rev).
+                if !self.per_minute && self.feed != Some(*feed) {
                     // The feed goes in a frame of its own, as in the seed programs.
                     self.write(group);
                     let n = self.units(item.span, "feed F", *feed, self.profile.feed_unit);
@@ -359,11 +350,8 @@ impl Emitter<'_> {
                 self.write(group);
                 self.tap(item.span, tap);
             }
-            ItemKind::Dwell { .. } => self.no_equivalent(
-                item.span,
-                "a dwell (G4) has no documented form on the НЦ-31".into(),
-                "the guide documents G31, G32 and G33 only; remove the dwell or add it by hand",
-            ),
+            // Refused by legalisation (no dwell on the НЦ-31).
+            ItemKind::Dwell { .. } => {}
             ItemKind::Spindle { speed, direction } => {
                 if let Some(s) = speed {
                     group.push(format!("S{s}"));
@@ -666,7 +654,12 @@ mod tests {
                 .collect(),
             dialect: crate::dialect::iso::ID,
         };
-        emit(&program, &src, &Profile::default(), &options)
+        // As a conversion does: legalisation for the НЦ-31, then the writer.
+        let mut diags =
+            crate::legalise::for_target(&program, &src, &super::super::Nc31, &Profile::default());
+        let (out, more) = emit(&program, &src, &Profile::default(), &options);
+        diags.extend(more);
+        (out.filter(|_| !crate::diag::has_errors(&diags)), diags)
     }
 
     fn codes_of(diags: &[Diagnostic]) -> Vec<&'static str> {

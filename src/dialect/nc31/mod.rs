@@ -7,9 +7,11 @@ pub mod syntax;
 
 pub use front::Options;
 
+use super::capabilities::{Capabilities, Capability, Construct, Read, Write};
 use super::{Dialect, DialectId, LineClaim, LineMark, Unsupported, WriteOptions, detect};
-use crate::diag::Diagnostic;
+use crate::diag::{Diagnostic, codes};
 use crate::ir::Program;
+use crate::legalise::Occurrence;
 use crate::profile::Profile;
 use crate::source::SourceFile;
 use crate::text::TextEncoding;
@@ -97,6 +99,96 @@ impl Dialect for Nc31 {
         unsupported: Unsupported,
     ) -> (Program, Vec<Diagnostic>) {
         front::parse(src, profile, &Options { unsupported })
+    }
+
+    fn capabilities(&self, _profile: &Profile) -> Capabilities {
+        use Construct::*;
+        let row = |construct, read, write| Capability {
+            construct,
+            read,
+            write,
+        };
+        Capabilities {
+            rows: vec![
+                row(
+                    ThreadCycle,
+                    Read::Yes("G31"),
+                    Write::As(
+                        "writes G31 when the profile's parameters 6 and 7, retract and schedule reproduce it, else G32 passes",
+                    ),
+                ),
+                row(StartAngle, Read::No, Write::No(codes::NCT_PASS)),
+                row(Entry, Read::No, Write::No(codes::NCT_PASS)),
+                row(
+                    Runout,
+                    Read::Yes("in G31: parameter 7"),
+                    Write::As(
+                        "writes it only inside a G31 kept whole (parameter 7); refuses it on a pass (NCT003)",
+                    ),
+                ),
+                row(
+                    TaperPass,
+                    Read::Yes("in G31: the third P"),
+                    Write::As(
+                        "writes it only inside a G31 kept whole (the third P); refuses it on a pass (NCT003)",
+                    ),
+                ),
+                row(ContinuedChain, Read::No, Write::No(codes::NCT_PASS)),
+                row(
+                    IndexWaitInCut,
+                    Read::Yes("a G32 group right after another"),
+                    Write::Yes("G32"),
+                ),
+                row(SyncInfeed, Read::No, Write::No(codes::NCT_PASS)),
+                row(
+                    Tapping,
+                    Read::Yes("G33"),
+                    Write::Yes("G33, `G33 @` for point C"),
+                ),
+                row(Dwell, Read::No, Write::No(codes::NCT_NO_EQUIVALENT)),
+                row(PerMinuteFeed, Read::No, Write::No(codes::NCT_NO_EQUIVALENT)),
+                row(
+                    ToolOffset,
+                    Read::No,
+                    Write::As(
+                        "leaves it out with NCT004 (the T word's turret position carries it)",
+                    ),
+                ),
+                row(
+                    Parameters,
+                    Read::No,
+                    Write::As("leaves them out with NCT004 (their values are written where used)"),
+                ),
+                row(
+                    Comments,
+                    Read::Yes("`(` lines"),
+                    Write::As(
+                        "leaves them out with NCT007, or writes `(` lines with --nc31-comments",
+                    ),
+                ),
+            ],
+            numbers: "whole units of the profile (X, Z, P 0.01 mm; leads 0.0001 mm; feeds 0.01 mm/rev); `--round` rounds, reporting the largest deviation",
+        }
+    }
+
+    fn refusal(&self, at: Occurrence, src: &SourceFile) -> Option<Diagnostic> {
+        let (message, help) = match at.construct {
+            Construct::Dwell => (
+                "a dwell (G4) has no documented form on the НЦ-31",
+                "the guide documents G31, G32 and G33 only; remove the dwell or add it by hand",
+            ),
+            Construct::PerMinuteFeed => (
+                "a feed in mm per minute; the НЦ-31 feeds in mm per revolution",
+                "program the feed per revolution (G95) in the source",
+            ),
+            // What G32 cannot cut is refused pass by pass while writing (NCT003).
+            _ => return None,
+        };
+        Some(
+            Diagnostic::new(codes::NCT_NO_EQUIVALENT, message)
+                .at(src, at.span)
+                .help(help),
+        )
     }
 
     fn write(

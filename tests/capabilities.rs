@@ -1,0 +1,82 @@
+//! The capability table (`ncthread dialects`) says what each target refuses; real conversions
+//! must agree. For every cell that says a target refuses a construct, the corpus programs
+//! that hold the construct are converted to that target and refused with the cell's code, and
+//! at least one corpus program holds it. README.md prints the table as ncthread does.
+mod common;
+
+use ncthread::dialect::capabilities::{Construct, Write};
+use ncthread::source::SourceFile;
+
+#[test]
+fn every_refusal_in_the_table_is_a_refusal_in_practice() {
+    let mut programs = Vec::new();
+    for case in common::corpus_cases()
+        .into_iter()
+        .filter(|c| !c.path.starts_with("corpus/bad/"))
+    {
+        let bytes = std::fs::read(common::root().join(&case.path)).unwrap();
+        let (text, _) = ncthread::text::decode(&bytes, case.from);
+        let src = SourceFile::new(case.path.clone(), text);
+        let profile = case
+            .profile
+            .as_deref()
+            .map(common::load_profile)
+            .unwrap_or_default();
+        let (program, diags) =
+            ncthread::parse(&src, case.from, &profile, ncthread::Unsupported::Error);
+        if !ncthread::diag::has_errors(&diags) {
+            programs.push((case, program));
+        }
+    }
+    let mut cells = 0;
+    for target in ncthread::dialect::ALL {
+        let caps = target.capabilities(&Default::default());
+        for construct in Construct::ALL {
+            let Write::No(code) = caps.write(construct) else {
+                continue;
+            };
+            cells += 1;
+            let users: Vec<_> = programs
+                .iter()
+                .filter(|(_, p)| construct.appears_in(p))
+                .collect();
+            assert!(
+                !users.is_empty(),
+                "no corpus program holds `{}`, which {} refuses",
+                construct.name(),
+                target.id()
+            );
+            for (case, _) in users {
+                let conversion = common::convert_case(case, target.id());
+                assert!(
+                    conversion.output.is_none()
+                        && conversion
+                            .diagnostics
+                            .iter()
+                            .any(|d| d.is_error() && d.code == code),
+                    "{} holds `{}`: {} should refuse it with {}, and says {:?}",
+                    case.name,
+                    construct.name(),
+                    target.id(),
+                    code.id,
+                    conversion
+                        .diagnostics
+                        .iter()
+                        .map(|d| d.code.id)
+                        .collect::<Vec<_>>()
+                );
+            }
+        }
+    }
+    assert!(cells >= 10, "only {cells} refusing cells");
+}
+
+#[test]
+fn readme_prints_the_table_ncthread_prints() {
+    let readme = std::fs::read_to_string(common::root().join("README.md")).unwrap();
+    let table = ncthread::dialect::capability_table(&Default::default());
+    assert!(
+        readme.contains(&table),
+        "README.md lacks the table `ncthread dialects` prints:\n{table}"
+    );
+}
