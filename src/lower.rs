@@ -353,11 +353,33 @@ pub struct CyclePass {
     pub retract_x: Length,
 }
 
+/// A move of an expanded cycle: a rapid, or a pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Move {
+    Rapid(Pos),
+    Pass(ThreadPass),
+}
+
+impl Move {
+    /// The move as an IR item.
+    pub fn item_kind(&self) -> ItemKind {
+        match *self {
+            Move::Rapid(to) => ItemKind::Rapid { to },
+            Move::Pass(pass) => ItemKind::ThreadPass(pass),
+        }
+    }
+
+    /// Where the tool is after the move, starting from `current`.
+    pub fn end_position(&self, current: Pos) -> Pos {
+        self.item_kind().end_position(current)
+    }
+}
+
 /// One move of an expanded cycle, with the pass it belongs to (0: the final return).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct CycleMove {
     pub pass: usize,
-    pub kind: ItemKind,
+    pub kind: Move,
 }
 
 /// A cycle as passes and as the moves that cut them, in order.
@@ -415,7 +437,7 @@ pub fn expand(cycle: &ThreadCycle) -> Result<Expansion, ExpandError> {
     let mut passes = Vec::with_capacity(depths.len());
     let mut moves = Vec::with_capacity(4 * depths.len() + 1);
     let mut previous = Length::ZERO;
-    let rapid = |to: Pos| ItemKind::Rapid { to };
+    let rapid = Move::Rapid;
     for (i, &c) in depths.iter().enumerate() {
         let number = i + 1;
         let sink = out(-(c + c));
@@ -507,10 +529,7 @@ pub fn expand(cycle: &ThreadCycle) -> Result<Expansion, ExpandError> {
             retract_x,
         });
         previous = c;
-        let kinds = approach
-            .into_iter()
-            .chain([ItemKind::ThreadPass(pass)])
-            .chain(leave);
+        let kinds = approach.into_iter().chain([Move::Pass(pass)]).chain(leave);
         moves.extend(kinds.map(|kind| CycleMove { pass: number, kind }));
     }
     let last = moves
@@ -875,21 +894,17 @@ mod tests {
         assert_eq!(last.pass, 0);
         assert_eq!(
             last.kind,
-            ItemKind::Rapid {
-                to: Pos {
-                    x: Some(mm(36.0)),
-                    z: None
-                }
-            }
+            Move::Rapid(Pos {
+                x: Some(mm(36.0)),
+                z: None
+            })
         );
         assert_eq!(
             e.moves[3].kind,
-            ItemKind::Rapid {
-                to: Pos {
-                    x: None,
-                    z: Some(mm(4.5))
-                }
-            }
+            Move::Rapid(Pos {
+                x: None,
+                z: Some(mm(4.5))
+            })
         );
     }
 
@@ -911,12 +926,10 @@ mod tests {
         assert_eq!(e.passes[7].start.x, Some(mm(34.08)));
         assert_eq!(
             e.moves[3].kind,
-            ItemKind::Rapid {
-                to: Pos {
-                    x: None,
-                    z: Some(mm(4.5))
-                }
-            }
+            Move::Rapid(Pos {
+                x: None,
+                z: Some(mm(4.5))
+            })
         );
     }
 

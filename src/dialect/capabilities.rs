@@ -97,7 +97,7 @@ impl Construct {
                     if let Ok(e) = lower::expand(c) {
                         let mut p = pos;
                         for m in &e.moves {
-                            if let ItemKind::ThreadPass(pass) = m.kind {
+                            if let lower::Move::Pass(pass) = m.kind {
                                 passes.push((p, pass));
                             }
                             p = m.kind.end_position(p);

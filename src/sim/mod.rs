@@ -299,10 +299,8 @@ impl Machine {
                     for m in &expansion.moves {
                         let pass = (m.pass > 0).then_some(m.pass);
                         match &m.kind {
-                            ItemKind::ThreadPass(p) => self.thread_pass(p, span, pass),
-                            ItemKind::Rapid { to } => self.segment(Motion::Rapid, *to, span, pass),
-                            // `expand` yields only rapids and passes.
-                            _ => {}
+                            lower::Move::Pass(p) => self.thread_pass(p, span, pass),
+                            lower::Move::Rapid(to) => self.segment(Motion::Rapid, *to, span, pass),
                         }
                     }
                 }

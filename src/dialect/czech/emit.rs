@@ -744,7 +744,7 @@ impl Emitter<'_> {
                 });
             }
             let moved = Item {
-                kind: m.kind.clone(),
+                kind: m.kind.item_kind(),
                 comment: None,
                 block_number: None,
                 span: item.span,

@@ -366,13 +366,11 @@ impl Emitter<'_> {
                 self.line(&format!("({heading})"));
             }
             match &m.kind {
-                ItemKind::Rapid { to } => {
+                lower::Move::Rapid(to) => {
                     self.sync_end = None;
                     self.line(&format!("G0{}", axes(*to)))
                 }
-                ItemKind::ThreadPass(pass) => self.thread_pass(item, pass),
-                // `expand` yields only rapids and passes.
-                _ => {}
+                lower::Move::Pass(pass) => self.thread_pass(item, pass),
             }
             self.pos = m.kind.end_position(self.pos);
         }

@@ -1688,9 +1688,7 @@ mod tests {
         // K_taper = 1.5·√(2² + 0.9²)/2 = 1.644878 per rev, to X10.2 (Ø20.4).
         assert_eq!(
             e.moves[0].kind,
-            ItemKind::Rapid {
-                to: Pos::new(mm(21.4), mm(4.8868))
-            }
+            lower::Move::Rapid(Pos::new(mm(21.4), mm(4.8868)))
         );
         let infeed = p1.pass.infeed.unwrap();
         assert_eq!(infeed.x, mm(20.4));

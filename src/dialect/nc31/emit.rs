@@ -556,10 +556,10 @@ impl Emitter<'_> {
         let errors = self.errors();
         for m in &expansion.moves {
             match &m.kind {
-                ItemKind::ThreadPass(pass) => self.thread_pass(item.span, pass, Some(&why)),
-                kind => {
+                lower::Move::Pass(pass) => self.thread_pass(item.span, pass, Some(&why)),
+                rapid => {
                     let moved = Item {
-                        kind: kind.clone(),
+                        kind: rapid.item_kind(),
                         comment: None,
                         block_number: None,
                         span: item.span,
