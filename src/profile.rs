@@ -343,7 +343,7 @@ impl Profile {
                     profile.iso.mcodes.insert(code, word.to_ascii_uppercase());
                 }
                 _ => diags.push(
-                    Diagnostic::new(codes::ISO_BAD_MAPPING, format!("`{key} = \"{word}\"` is not an M code mapping"))
+                    Diagnostic::new(codes::ISOW_BAD_MAPPING, format!("`{key} = \"{word}\"` is not an M code mapping"))
                         .at(src, span)
                         .help("write the source M number as the key and one LinuxCNC M word as the value, e.g. `42 = \"M142\"`"),
                 ),
@@ -520,7 +520,7 @@ mod tests {
         assert_eq!(e[0].code, codes::PF_CONSTANT8);
         assert_eq!(e[0].location.as_ref().unwrap().line, 3);
         let e = load("[iso]\nmcodes = { 42 = \"G1\" }\n").unwrap_err();
-        assert_eq!(e[0].code, codes::ISO_BAD_MAPPING);
+        assert_eq!(e[0].code, codes::ISOW_BAD_MAPPING);
     }
 
     #[test]

@@ -90,8 +90,8 @@ fn batch_converts_a_tree_keeps_going_and_reports_every_file() {
         "{err}"
     );
     // Each failure is named with its line on stderr.
-    assert!(err.contains("bad/syntax.nc:2:14: error[CZ001]"), "{err}");
-    assert!(err.contains("bad/no-feed.nc:3:1: error[CZ020]"), "{err}");
+    assert!(err.contains("bad/syntax.nc:2:14: error[CZR001]"), "{err}");
+    assert!(err.contains("bad/no-feed.nc:3:1: error[CZR020]"), "{err}");
     // No progress bar on a pipe.
     assert!(!err.contains('█') && !err.contains("151/154"), "{err}");
 
@@ -304,7 +304,7 @@ fn check_lints_files_and_exits_1_on_errors() {
         .map(|l| serde_json::from_str(l).unwrap())
         .collect();
     assert_eq!(lines.len(), 2);
-    assert_eq!(lines[0]["code"], "NC002");
+    assert_eq!(lines[0]["code"], "NCR002");
     assert_eq!(lines[0]["file"], "corpus/bad/nc31/decimal-point.nc");
     assert_eq!(lines[0]["line"], 8);
     // An unreadable file is an I/O error (exit 2), and the others are still checked.
@@ -318,7 +318,7 @@ fn check_lints_files_and_exits_1_on_errors() {
     );
     assert_eq!(out.status.code(), Some(2));
     assert!(text(&out.stderr).contains("cannot read no/such/file.nc"));
-    assert!(text(&out.stdout).contains("error[NC002]"));
+    assert!(text(&out.stdout).contains("error[NCR002]"));
     // stdin, with the dialect given.
     let out = ncthread(
         &["check", "-", "--dialect", "czech"],

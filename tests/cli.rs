@@ -22,7 +22,7 @@ fn converts_a_file_to_stdout() {
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     assert!(text(&out.stdout).contains("G33 X246 Z-100 K1.507052888241"));
     // Warnings go to stderr and do not fail the conversion.
-    assert!(text(&out.stderr).contains("warning[ISO002]"));
+    assert!(text(&out.stderr).contains("warning[ISOW002]"));
 }
 
 #[test]
@@ -54,7 +54,7 @@ fn input_errors_exit_1_and_write_nothing() {
         "an output was written for a refused program"
     );
     let err = text(&out.stderr);
-    assert!(err.contains("error[CZ003]"), "{err}");
+    assert!(err.contains("error[CZR003]"), "{err}");
     assert!(
         err.contains("--> corpus/bad/czech/lead-over-99.99.nc:3:15"),
         "{err}"
@@ -99,7 +99,7 @@ fn json_diagnostics_are_one_object_per_line() {
         .map(|l| serde_json::from_str(l).expect("a JSON object"))
         .collect();
     assert_eq!(lines.len(), 2);
-    assert_eq!(lines[0]["code"], "CZ001");
+    assert_eq!(lines[0]["code"], "CZR001");
     assert_eq!(
         (lines[0]["line"].as_u64(), lines[0]["column"].as_u64()),
         (Some(2), Some(14))
@@ -144,7 +144,7 @@ fn unsupported_warn_keeps_a_block_only_where_it_means_the_same() {
     assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
     let err = text(&out.stderr);
     assert!(
-        err.contains("warning[CZ011]") && err.contains("error[LG003]"),
+        err.contains("warning[CZR011]") && err.contains("error[LG003]"),
         "{err}"
     );
     let czech = |program: &[u8]| {
@@ -217,7 +217,7 @@ fn reads_nc31_and_refuses_its_faults_with_line_and_column() {
     assert!(out.stdout.is_empty());
     let err = text(&out.stderr);
     assert!(
-        err.contains("error[NC002]") && err.contains("--> corpus/bad/nc31/decimal-point.nc:8:7"),
+        err.contains("error[NCR002]") && err.contains("--> corpus/bad/nc31/decimal-point.nc:8:7"),
         "{err}"
     );
 }
@@ -402,7 +402,7 @@ fn reads_iso_and_linuxcnc_g76() {
         None,
     );
     assert_eq!(out.status.code(), Some(1));
-    assert!(text(&out.stderr).contains("error[NGC002]"));
+    assert!(text(&out.stderr).contains("error[ISOR002]"));
 }
 
 #[test]
@@ -440,13 +440,13 @@ fn czech_to_czech_keeps_start_angles_parameters_opaque_words_and_comments() {
         Some(fine),
     );
     assert_eq!(out.status.code(), Some(1));
-    assert!(text(&out.stderr).contains("error[CZT001]"));
+    assert!(text(&out.stderr).contains("error[CZW001]"));
     let out = ncthread(
         &["convert", "-", "--from", "iso", "--to", "czech", "--round"],
         Some(fine),
     );
     assert_eq!(out.status.code(), Some(0));
-    assert!(text(&out.stderr).contains("warning[CZT005]"));
+    assert!(text(&out.stderr).contains("warning[CZW005]"));
     assert!(
         text(&out.stdout).contains("X26.619"),
         "{}",
@@ -472,7 +472,7 @@ fn writes_nc31_exactly_or_refuses_with_the_reason() {
     assert!(out.stdout.is_empty());
     let err = text(&out.stderr);
     assert!(
-        err.contains("error[NCT001]: X 26.618 mm is not a whole number")
+        err.contains("error[NCW001]: X 26.618 mm is not a whole number")
             && err.contains("--> corpus/czech/ex1-multipass.nc:2:1"),
         "{err}"
     );
@@ -486,7 +486,7 @@ fn writes_nc31_exactly_or_refuses_with_the_reason() {
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     let err = text(&out.stderr);
     assert!(
-        err.contains("warning[NCT005]: 3 value(s) rounded") && err.contains("0.003 mm"),
+        err.contains("warning[NCW005]: 3 value(s) rounded") && err.contains("0.003 mm"),
         "{err}"
     );
     let nc31 = text(&out.stdout);
@@ -505,7 +505,7 @@ fn writes_nc31_exactly_or_refuses_with_the_reason() {
     assert_eq!(out.status.code(), Some(1));
     let err = text(&out.stderr);
     assert!(
-        err.contains("error[NCT003]: the thread pass has a runout (12 mm), which G32 cannot cut"),
+        err.contains("error[NCW003]: the thread pass has a runout (12 mm), which G32 cannot cut"),
         "{err}"
     );
     // nc31 → nc31 keeps G31 as a cycle, and the `(` comments of a PC-side file.
@@ -522,7 +522,7 @@ fn writes_nc31_exactly_or_refuses_with_the_reason() {
     // Comments from another dialect: dropped with one warning, or kept on request.
     let out = to_nc31(&["corpus/czech/windows-1250.nc", "--from", "czech"]);
     assert_eq!(out.status.code(), Some(0));
-    assert!(text(&out.stderr).contains("warning[NCT007]: 3 comment(s) left out"));
+    assert!(text(&out.stderr).contains("warning[NCW007]: 3 comment(s) left out"));
     assert!(!text(&out.stdout).contains('('));
     let out = to_nc31(&[
         "corpus/czech/windows-1250.nc",
@@ -531,7 +531,7 @@ fn writes_nc31_exactly_or_refuses_with_the_reason() {
         "--nc31-comments",
     ]);
     assert_eq!(out.status.code(), Some(0));
-    assert!(!text(&out.stderr).contains("NCT007"));
+    assert!(!text(&out.stderr).contains("NCW007"));
     assert!(
         text(&out.stdout).contains("(ROZTOČENÍ"),
         "{}",

@@ -43,19 +43,19 @@ fn routes() -> Vec<Route> {
         // The Z lead of K1.5 along a taper is kept to 10⁻¹² mm: no drift, and a target
         // whose grid cannot hold it refuses (or --round reports the drift).
         route("taper-lead-quantised.ngc", Iso, Exact),
-        route("taper-lead-quantised.ngc", Czech, Refused("CZT001")),
-        route("taper-lead-quantised.ngc", Nc31, Refused("NCT003")),
+        route("taper-lead-quantised.ngc", Czech, Refused("CZW001")),
+        route("taper-lead-quantised.ngc", Nc31, Refused("NCW003")),
         route("lead-5-decimals.ngc", Iso, Exact),
-        route("lead-5-decimals.ngc", Czech, Refused("CZT001")),
-        route("lead-5-decimals.ngc", Nc31, Refused("NCT001")),
+        route("lead-5-decimals.ngc", Czech, Refused("CZW001")),
+        route("lead-5-decimals.ngc", Nc31, Refused("NCW001")),
         route("lead-rounds-to-zero.ngc", Iso, Exact),
-        route("lead-rounds-to-zero.ngc", Czech, Refused("CZT001")),
-        route("lead-rounds-to-zero.ngc", Nc31, Refused("NCT001")),
+        route("lead-rounds-to-zero.ngc", Czech, Refused("CZW001")),
+        route("lead-rounds-to-zero.ngc", Nc31, Refused("NCW001")),
         // The runout segment continues the chain (LinuxCNC does not wait for the index
         // pulse); a czech G33 block always waits, so it is refused.
         Route {
             round: true,
-            ..route("czech-round-runout-phase.ngc", Czech, Refused("CZT007"))
+            ..route("czech-round-runout-phase.ngc", Czech, Refused("CZW007"))
         },
         route("czech-round-runout-phase.ngc", Iso, Exact),
         // `%` ends a program that starts with one.
@@ -66,13 +66,17 @@ fn routes() -> Vec<Route> {
         route("g8-on-g76-line.ngc", Iso, Exact),
         // LinuxCNC's synchronised infeed along X before the entry taper.
         route("g76-L3-radial-sync-infeed.ngc", Iso, Exact),
-        route("g76-L3-radial-sync-infeed.ngc", Czech, Refused("CZT002")),
-        route("g76-L3-radial-sync-infeed.ngc", Nc31, Refused("NCT003")),
+        route("g76-L3-radial-sync-infeed.ngc", Czech, Refused("CZW002")),
+        route("g76-L3-radial-sync-infeed.ngc", Nc31, Refused("NCW003")),
         // I359.999 is a shift of 2.49999 mm at lead 2.5: no shift, not a whole lead.
         route("czech-start-angle-359.999.nc", Iso, Exact),
         route("czech-start-angle-359.999.nc", Czech, Exact),
         // A second G33 that waits for the index pulse in the cut: LinuxCNC would continue.
-        route("czech-two-g33-second-with-angle.nc", Iso, Refused("ISO006")),
+        route(
+            "czech-two-g33-second-with-angle.nc",
+            Iso,
+            Refused("ISOW006"),
+        ),
         route("czech-two-g33-second-with-angle.nc", Czech, Exact),
         // Kept blocks only where they mean the same.
         Route {
@@ -81,7 +85,7 @@ fn routes() -> Vec<Route> {
         },
         Route {
             warn: true,
-            ..route("iso-unsupported-warn-g91-arc.ngc", Iso, Refused("NGC002"))
+            ..route("iso-unsupported-warn-g91-arc.ngc", Iso, Refused("ISOR002"))
         },
         Route {
             warn: true,
@@ -108,11 +112,11 @@ fn routes() -> Vec<Route> {
             ..route(
                 "czech-unsupported-warn-g84-in-g91.nc",
                 Czech,
-                Refused("CZ011"),
+                Refused("CZR011"),
             )
         },
-        route("czech-feed-zero.nc", Iso, Refused("CZ020")),
-        route("czech-feed-zero.nc", Nc31, Refused("CZ020")),
+        route("czech-feed-zero.nc", Iso, Refused("CZR020")),
+        route("czech-feed-zero.nc", Nc31, Refused("CZR020")),
     ]
 }
 

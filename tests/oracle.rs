@@ -384,7 +384,7 @@ fn g76_through_czech_cuts_what_linuxcnc_cuts_for_the_g76() {
         refused
             .diagnostics
             .iter()
-            .any(|d| d.code.id == "CZT002" && d.message.contains("synchronised move along X")),
+            .any(|d| d.code.id == "CZW002" && d.message.contains("synchronised move along X")),
         "{:?}",
         refused.diagnostics
     );

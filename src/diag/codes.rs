@@ -28,102 +28,102 @@ const fn warning(id: &'static str, summary: &'static str) -> Code {
 }
 
 // czech front end
-pub const CZ_SYNTAX: Code = error("CZ001", "the block cannot be read");
-pub const CZ_ENTRY_WITHOUT_POINT: Code =
-    error("CZ002", "E (entry) written without a decimal point");
-pub const CZ_LEAD_TOO_LARGE: Code = error("CZ003", "lead over 99.99 written directly in F");
-pub const CZ_NO_CONSTANT8: Code = error(
-    "CZ004",
+pub const CZR_SYNTAX: Code = error("CZR001", "the block cannot be read");
+pub const CZR_ENTRY_WITHOUT_POINT: Code =
+    error("CZR002", "E (entry) written without a decimal point");
+pub const CZR_LEAD_TOO_LARGE: Code = error("CZR003", "lead over 99.99 written directly in F");
+pub const CZR_NO_CONSTANT8: Code = error(
+    "CZR004",
     "J/E used but the profile has no machine constant 8",
 );
-pub const CZ_ANGLE_PARAM_UNSET: Code = error(
-    "CZ005",
+pub const CZR_ANGLE_PARAM_UNSET: Code = error(
+    "CZR005",
     "the runout/entry angle parameter is not assigned before the block",
 );
-pub const CZ_ANGLE_TOO_LARGE: Code = error("CZ006", "runout/entry angle over 60°");
-pub const CZ_BAD_AXIS: Code = error("CZ007", "axis decade of a runout/entry angle is not 1–3");
-pub const CZ_FORBIDDEN_PARAM: Code = error("CZ008", "R00 or R80 used as an angle parameter");
-pub const CZ_BLOCK_AFTER_RUNOUT: Code =
-    error("CZ009", "the block after a J/E thread block is not empty");
-pub const CZ_AXES_AFTER_RUNOUT: Code = error(
-    "CZ010",
+pub const CZR_ANGLE_TOO_LARGE: Code = error("CZR006", "runout/entry angle over 60°");
+pub const CZR_BAD_AXIS: Code = error("CZR007", "axis decade of a runout/entry angle is not 1–3");
+pub const CZR_FORBIDDEN_PARAM: Code = error("CZR008", "R00 or R80 used as an angle parameter");
+pub const CZR_BLOCK_AFTER_RUNOUT: Code =
+    error("CZR009", "the block after a J/E thread block is not empty");
+pub const CZR_AXES_AFTER_RUNOUT: Code = error(
+    "CZR010",
     "the block after the empty block does not program every axis",
 );
-pub const CZ_UNSUPPORTED: Code = error(
-    "CZ011",
+pub const CZR_UNSUPPORTED: Code = error(
+    "CZR011",
     "construct not documented for this control (unsupported)",
 );
-pub const CZ_NO_LEAD: Code = error(
-    "CZ012",
+pub const CZR_NO_LEAD: Code = error(
+    "CZR012",
     "G33 block without a lead, or with an ambiguous one",
 );
-pub const CZ_START_ANGLE_RANGE: Code = error("CZ013", "start angle I outside 0 ≤ I < 360");
-pub const CZ_UNKNOWN_POSITION: Code =
-    error("CZ014", "the move needs a position that is not known yet");
-pub const CZ_NUMBER: Code = error(
-    "CZ015",
+pub const CZR_START_ANGLE_RANGE: Code = error("CZR013", "start angle I outside 0 ≤ I < 360");
+pub const CZR_UNKNOWN_POSITION: Code =
+    error("CZR014", "the move needs a position that is not known yet");
+pub const CZR_NUMBER: Code = error(
+    "CZR015",
     "number not representable (too many decimals, too large, or not whole)",
 );
-pub const CZ_RUNOUT_AXIS: Code = error("CZ016", "runout/entry on an axis other than X");
-pub const CZ_THREAD_GEOMETRY: Code = error(
-    "CZ017",
+pub const CZR_RUNOUT_AXIS: Code = error("CZR016", "runout/entry on an axis other than X");
+pub const CZR_THREAD_GEOMETRY: Code = error(
+    "CZR017",
     "thread travel cannot hold the runout/entry, or has no Z travel",
 );
-pub const CZ_PARAM_UNSET: Code = error("CZ018", "parameter used before it is assigned");
-pub const CZ_CONFLICT: Code = error("CZ019", "conflicting or repeated words in one block");
-pub const CZ_NO_FEED: Code = error(
-    "CZ020",
+pub const CZR_PARAM_UNSET: Code = error("CZR018", "parameter used before it is assigned");
+pub const CZR_CONFLICT: Code = error("CZR019", "conflicting or repeated words in one block");
+pub const CZR_NO_FEED: Code = error(
+    "CZR020",
     "feed move without a feed, or with an ambiguous one",
 );
-pub const CZ_NEGATIVE_LENGTH: Code = error("CZ021", "J/E length must be positive");
-pub const CZ_MISSING_BLOCK: Code = error(
-    "CZ022",
+pub const CZR_NEGATIVE_LENGTH: Code = error("CZR021", "J/E length must be positive");
+pub const CZR_MISSING_BLOCK: Code = error(
+    "CZR022",
     "the program ends before the blocks a J/E thread block requires",
 );
-pub const CZ_AFTER_END: Code = warning(
-    "CZ023",
+pub const CZR_AFTER_END: Code = warning(
+    "CZR023",
     "blocks after the program's end (M02/M30), which the control does not run",
 );
 
 // nc31 front end
-pub const NC_SYNTAX: Code = error("NC001", "the frame cannot be read");
-pub const NC_DECIMAL_POINT: Code = error(
-    "NC002",
+pub const NCR_SYNTAX: Code = error("NCR001", "the frame cannot be read");
+pub const NCR_DECIMAL_POINT: Code = error(
+    "NCR002",
     "a word with a decimal point (words are scaled whole numbers)",
 );
-pub const NC_TWO_WORDS: Code = error("NC003", "more than one word in a frame");
-pub const NC_MODIFIER: Code = error("NC004", "a modifier on a word it does not apply to");
-pub const NC_UNSUPPORTED: Code = error(
-    "NC005",
+pub const NCR_TWO_WORDS: Code = error("NCR003", "more than one word in a frame");
+pub const NCR_MODIFIER: Code = error("NCR004", "a modifier on a word it does not apply to");
+pub const NCR_UNSUPPORTED: Code = error(
+    "NCR005",
     "word not documented for this control (unsupported)",
 );
-pub const NC_NUMBER: Code = error("NC006", "number out of range for its word");
-pub const NC_UNKNOWN_POSITION: Code =
-    error("NC007", "the frame needs a position that is not known yet");
-pub const NC_NO_FEED: Code = error(
-    "NC008",
+pub const NCR_NUMBER: Code = error("NCR006", "number out of range for its word");
+pub const NCR_UNKNOWN_POSITION: Code =
+    error("NCR007", "the frame needs a position that is not known yet");
+pub const NCR_NO_FEED: Code = error(
+    "NCR008",
     "feed move while the feed is undefined (at the start, or after a thread group)",
 );
-pub const NC_OPEN_GROUP: Code = error(
-    "NC009",
+pub const NCR_OPEN_GROUP: Code = error(
+    "NCR009",
     "a group (`*`) that the program or a `%` line cuts short",
 );
-pub const NC_MISSING_WORD: Code = error("NC010", "a thread group lacks a word it needs");
-pub const NC_GROUP_WORD: Code = error(
-    "NC011",
+pub const NCR_MISSING_WORD: Code = error("NCR010", "a thread group lacks a word it needs");
+pub const NCR_GROUP_WORD: Code = error(
+    "NCR011",
     "a word that does not belong in this group, or is repeated",
 );
-pub const NC_DEPTHS: Code = error(
-    "NC012",
+pub const NCR_DEPTHS: Code = error(
+    "NCR012",
     "G31 depths give no valid pass schedule (P1 too small, P2 not positive, P3 negative)",
 );
-pub const NC_LEAD: Code = error("NC013", "the lead of a thread group is not positive");
-pub const NC_TRAVEL: Code = error(
-    "NC014",
+pub const NCR_LEAD: Code = error("NCR013", "the lead of a thread group is not positive");
+pub const NCR_TRAVEL: Code = error(
+    "NCR014",
     "a thread has no Z travel, or too little for its runout",
 );
-pub const NC_AFTER_END: Code = warning(
-    "NC015",
+pub const NCR_AFTER_END: Code = warning(
+    "NCR015",
     "frames after the program's end (M30), which the control does not run",
 );
 
@@ -136,117 +136,117 @@ pub const PF_CONSTANT8: Code = error("PF002", "machine constant 8 is malformed")
 pub const PF_VALUE: Code = error("PF003", "a profile value is out of range or malformed");
 
 // iso front end (RS274/NGC as LinuxCNC reads it)
-pub const NGC_SYNTAX: Code = error("NGC001", "the line cannot be read");
-pub const NGC_UNSUPPORTED: Code = error(
-    "NGC002",
+pub const ISOR_SYNTAX: Code = error("ISOR001", "the line cannot be read");
+pub const ISOR_UNSUPPORTED: Code = error(
+    "ISOR002",
     "construct ncthread does not read (arcs, offsets, parameters, other axes…)",
 );
-pub const NGC_CONFLICT: Code = error(
-    "NGC003",
+pub const ISOR_CONFLICT: Code = error(
+    "ISOR003",
     "a word is repeated, or two codes of one modal group share a line",
 );
-pub const NGC_WORD: Code = error(
-    "NGC004",
+pub const ISOR_WORD: Code = error(
+    "ISOR004",
     "a command lacks a word it needs, or a word is used by no command",
 );
-pub const NGC_NUMBER: Code = error("NGC005", "number out of range for its word");
-pub const NGC_UNKNOWN_POSITION: Code =
-    error("NGC006", "the move needs a position that is not known yet");
-pub const NGC_SPINDLE: Code = error(
-    "NGC007",
+pub const ISOR_NUMBER: Code = error("ISOR005", "number out of range for its word");
+pub const ISOR_UNKNOWN_POSITION: Code =
+    error("ISOR006", "the move needs a position that is not known yet");
+pub const ISOR_SPINDLE: Code = error(
+    "ISOR007",
     "G33, G33.1 or G76 while the spindle is not turning",
 );
-pub const NGC_THREAD_GEOMETRY: Code = error(
-    "NGC008",
+pub const ISOR_THREAD_GEOMETRY: Code = error(
+    "ISOR008",
     "a thread move that does not move, a tap that moves X, or a G33 in the cut after another line",
 );
-pub const NGC_G76: Code = error(
-    "NGC009",
+pub const ISOR_G76: Code = error(
+    "ISOR009",
     "G76 words that LinuxCNC refuses or that cannot be cut",
 );
-pub const NGC_ROUNDED: Code = warning(
-    "NGC010",
+pub const ISOR_ROUNDED: Code = warning(
+    "ISOR010",
     "a value is rounded onto the 0.0001 mm grid (inches, or more decimals)",
 );
-pub const NGC_RADIUS_MODE: Code = warning(
-    "NGC011",
+pub const ISOR_RADIUS_MODE: Code = warning(
+    "ISOR011",
     "X read as a radius because neither G7 nor G8 came first (LinuxCNC's default)",
 );
-pub const NGC_AFTER_END: Code = warning(
-    "NGC012",
+pub const ISOR_AFTER_END: Code = warning(
+    "ISOR012",
     "lines after the program's end (M2/M30 or the closing %), which LinuxCNC does not run",
 );
-pub const NGC_NO_END: Code = warning(
-    "NGC013",
+pub const ISOR_NO_END: Code = warning(
+    "ISOR013",
     "the program has no end (M2/M30, or the closing %), which LinuxCNC reports after running it",
 );
 
 // czech target
-pub const CZT_PRECISION: Code = error(
-    "CZT001",
+pub const CZW_PRECISION: Code = error(
+    "CZW001",
     "a value needs more decimals than the czech control takes (3 for lengths, 4 for leads)",
 );
-pub const CZT_NO_EQUIVALENT: Code = error(
-    "CZT002",
+pub const CZW_NO_EQUIVALENT: Code = error(
+    "CZW002",
     "an operation the czech control has no documented form for (tapping cycle, dwell…)",
 );
-pub const CZT_ANGLE: Code = error(
-    "CZT003",
+pub const CZW_ANGLE: Code = error(
+    "CZW003",
     "an entry or runout the czech control cannot give with machine constant 8",
 );
-pub const CZT_COMMENT: Code = warning(
-    "CZT004",
+pub const CZW_COMMENT: Code = warning(
+    "CZW004",
     "a source word with no czech equivalent is kept only as a comment",
 );
-pub const CZT_ROUNDED: Code = warning(
-    "CZT005",
+pub const CZW_ROUNDED: Code = warning(
+    "CZW005",
     "values rounded to 0.001 mm, leads to 0.0001 mm (--round)",
 );
-pub const CZT_CONTINUE: Code = error(
-    "CZT007",
+pub const CZW_CONTINUE: Code = error(
+    "CZW007",
     "a thread move that continues another without the index pulse (every czech G33 block waits for it)",
 );
 
 // iso target
-pub const ISO_OPAQUE: Code = warning("ISO001", "undocumented source word kept only as a comment");
-pub const ISO_MCODE: Code = warning(
-    "ISO002",
+pub const ISOW_OPAQUE: Code = warning("ISOW001", "undocumented source word kept only as a comment");
+pub const ISOW_MCODE: Code = warning(
+    "ISOW002",
     "M code LinuxCNC does not define, kept only as a comment",
 );
-pub const ISO_START_ANGLE: Code = error(
-    "ISO003",
+pub const ISOW_START_ANGLE: Code = error(
+    "ISOW003",
     "thread pass whose start angle, entry or runout needs an unknown start point",
 );
-pub const ISO_BAD_MAPPING: Code = error("ISO005", "profile M code mapping is not an M word");
-pub const ISO_INDEX_WAIT: Code = error(
-    "ISO006",
+pub const ISOW_BAD_MAPPING: Code = error("ISOW005", "profile M code mapping is not an M word");
+pub const ISOW_INDEX_WAIT: Code = error(
+    "ISOW006",
     "a pass that waits for the index pulse where another thread move ended (LinuxCNC would continue it)",
 );
 
 // nc31 target
-pub const NCT_PRECISION: Code = error(
-    "NCT001",
+pub const NCW_PRECISION: Code = error(
+    "NCW001",
     "a value is not a whole number of the НЦ-31's units (0.01 mm for X, Z and P)",
 );
-pub const NCT_NO_EQUIVALENT: Code = error(
-    "NCT002",
+pub const NCW_NO_EQUIVALENT: Code = error(
+    "NCW002",
     "an operation the НЦ-31 has no documented form for (dwell, feed per minute…)",
 );
-pub const NCT_PASS: Code = error(
-    "NCT003",
+pub const NCW_PASS: Code = error(
+    "NCW003",
     "a thread pass G32 cannot cut (start angle, entry, runout, taper)",
 );
-pub const NCT_DROPPED: Code = warning(
-    "NCT004",
+pub const NCW_DROPPED: Code = warning(
+    "NCW004",
     "a source word with no НЦ-31 equivalent is left out (or kept as a comment)",
 );
-pub const NCT_ROUNDED: Code = warning("NCT005", "values rounded to the НЦ-31's units (--round)");
-pub const NCT_COMMENTS: Code = warning(
-    "NCT007",
+pub const NCW_ROUNDED: Code = warning("NCW005", "values rounded to the НЦ-31's units (--round)");
+pub const NCW_COMMENTS: Code = warning(
+    "NCW007",
     "comments left out: the НЦ-31 has none (--nc31-comments keeps them)",
 );
-pub const NCT_NOTHING: Code = error(
-    "NCT008",
+pub const NCW_NOTHING: Code = error(
+    "NCW008",
     "nothing in the program can be written as НЦ-31 frames (the output would be empty)",
 );
 
@@ -283,78 +283,78 @@ pub const SIM_INDEX_WAIT: Code = warning(
 
 /// Every code, for documentation and uniqueness checks.
 pub const ALL: &[Code] = &[
-    CZ_SYNTAX,
-    CZ_ENTRY_WITHOUT_POINT,
-    CZ_LEAD_TOO_LARGE,
-    CZ_NO_CONSTANT8,
-    CZ_ANGLE_PARAM_UNSET,
-    CZ_ANGLE_TOO_LARGE,
-    CZ_BAD_AXIS,
-    CZ_FORBIDDEN_PARAM,
-    CZ_BLOCK_AFTER_RUNOUT,
-    CZ_AXES_AFTER_RUNOUT,
-    CZ_UNSUPPORTED,
-    CZ_NO_LEAD,
-    CZ_START_ANGLE_RANGE,
-    CZ_UNKNOWN_POSITION,
-    CZ_NUMBER,
-    CZ_RUNOUT_AXIS,
-    CZ_THREAD_GEOMETRY,
-    CZ_PARAM_UNSET,
-    CZ_CONFLICT,
-    CZ_NO_FEED,
-    CZ_NEGATIVE_LENGTH,
-    CZ_MISSING_BLOCK,
-    CZ_AFTER_END,
-    NC_SYNTAX,
-    NC_DECIMAL_POINT,
-    NC_TWO_WORDS,
-    NC_MODIFIER,
-    NC_UNSUPPORTED,
-    NC_NUMBER,
-    NC_UNKNOWN_POSITION,
-    NC_NO_FEED,
-    NC_OPEN_GROUP,
-    NC_MISSING_WORD,
-    NC_GROUP_WORD,
-    NC_DEPTHS,
-    NC_LEAD,
-    NC_TRAVEL,
-    NC_AFTER_END,
+    CZR_SYNTAX,
+    CZR_ENTRY_WITHOUT_POINT,
+    CZR_LEAD_TOO_LARGE,
+    CZR_NO_CONSTANT8,
+    CZR_ANGLE_PARAM_UNSET,
+    CZR_ANGLE_TOO_LARGE,
+    CZR_BAD_AXIS,
+    CZR_FORBIDDEN_PARAM,
+    CZR_BLOCK_AFTER_RUNOUT,
+    CZR_AXES_AFTER_RUNOUT,
+    CZR_UNSUPPORTED,
+    CZR_NO_LEAD,
+    CZR_START_ANGLE_RANGE,
+    CZR_UNKNOWN_POSITION,
+    CZR_NUMBER,
+    CZR_RUNOUT_AXIS,
+    CZR_THREAD_GEOMETRY,
+    CZR_PARAM_UNSET,
+    CZR_CONFLICT,
+    CZR_NO_FEED,
+    CZR_NEGATIVE_LENGTH,
+    CZR_MISSING_BLOCK,
+    CZR_AFTER_END,
+    NCR_SYNTAX,
+    NCR_DECIMAL_POINT,
+    NCR_TWO_WORDS,
+    NCR_MODIFIER,
+    NCR_UNSUPPORTED,
+    NCR_NUMBER,
+    NCR_UNKNOWN_POSITION,
+    NCR_NO_FEED,
+    NCR_OPEN_GROUP,
+    NCR_MISSING_WORD,
+    NCR_GROUP_WORD,
+    NCR_DEPTHS,
+    NCR_LEAD,
+    NCR_TRAVEL,
+    NCR_AFTER_END,
     PF_INVALID,
     PF_CONSTANT8,
     PF_VALUE,
-    NGC_SYNTAX,
-    NGC_UNSUPPORTED,
-    NGC_CONFLICT,
-    NGC_WORD,
-    NGC_NUMBER,
-    NGC_UNKNOWN_POSITION,
-    NGC_SPINDLE,
-    NGC_THREAD_GEOMETRY,
-    NGC_G76,
-    NGC_ROUNDED,
-    NGC_RADIUS_MODE,
-    NGC_AFTER_END,
-    NGC_NO_END,
-    CZT_PRECISION,
-    CZT_NO_EQUIVALENT,
-    CZT_ANGLE,
-    CZT_COMMENT,
-    CZT_ROUNDED,
-    CZT_CONTINUE,
-    ISO_OPAQUE,
-    ISO_MCODE,
-    ISO_START_ANGLE,
-    ISO_BAD_MAPPING,
-    ISO_INDEX_WAIT,
-    NCT_PRECISION,
-    NCT_NO_EQUIVALENT,
-    NCT_PASS,
-    NCT_DROPPED,
-    NCT_ROUNDED,
-    NCT_COMMENTS,
-    NCT_NOTHING,
+    ISOR_SYNTAX,
+    ISOR_UNSUPPORTED,
+    ISOR_CONFLICT,
+    ISOR_WORD,
+    ISOR_NUMBER,
+    ISOR_UNKNOWN_POSITION,
+    ISOR_SPINDLE,
+    ISOR_THREAD_GEOMETRY,
+    ISOR_G76,
+    ISOR_ROUNDED,
+    ISOR_RADIUS_MODE,
+    ISOR_AFTER_END,
+    ISOR_NO_END,
+    CZW_PRECISION,
+    CZW_NO_EQUIVALENT,
+    CZW_ANGLE,
+    CZW_COMMENT,
+    CZW_ROUNDED,
+    CZW_CONTINUE,
+    ISOW_OPAQUE,
+    ISOW_MCODE,
+    ISOW_START_ANGLE,
+    ISOW_BAD_MAPPING,
+    ISOW_INDEX_WAIT,
+    NCW_PRECISION,
+    NCW_NO_EQUIVALENT,
+    NCW_PASS,
+    NCW_DROPPED,
+    NCW_ROUNDED,
+    NCW_COMMENTS,
+    NCW_NOTHING,
     ENCODING,
     SPINDLE_OFF,
     FEED_SPINDLE_OFF,

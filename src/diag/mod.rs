@@ -1,5 +1,5 @@
 //! Diagnostics: a stable code, a severity, where (file, line, column, the source line) and a
-//! help text. Rendered like rustc's (`error[CZ003]: …`) or as one JSON object per line.
+//! help text. Rendered like rustc's (`error[CZR003]: …`) or as one JSON object per line.
 
 pub mod codes;
 
@@ -213,7 +213,7 @@ mod tests {
         let line = src.line(2);
         let span = src.span_in_line(line, 12..15);
         let d = Diagnostic::new(
-            codes::CZ_ENTRY_WITHOUT_POINT,
+            codes::CZR_ENTRY_WITHOUT_POINT,
             "entry length written without a decimal point",
         )
         .at(&src, span)
@@ -221,7 +221,7 @@ mod tests {
         .help("write `E12.`");
         let text = d.render(false);
         assert!(
-            text.starts_with("error[CZ002]: entry length written without a decimal point"),
+            text.starts_with("error[CZR002]: entry length written without a decimal point"),
             "{text}"
         );
         assert!(text.contains("--> ex6.nc:2:13"), "{text}");
@@ -234,9 +234,9 @@ mod tests {
     fn json_names_every_field() {
         let src = SourceFile::new("a.nc", "N10 F120.\n");
         let span = src.span_in_line(src.line(1), 4..9);
-        let d = Diagnostic::new(codes::CZ_LEAD_TOO_LARGE, "lead too large").at(&src, span);
+        let d = Diagnostic::new(codes::CZR_LEAD_TOO_LARGE, "lead too large").at(&src, span);
         let v: serde_json::Value = serde_json::from_str(&d.to_json()).unwrap();
-        assert_eq!(v["code"], "CZ003");
+        assert_eq!(v["code"], "CZR003");
         assert_eq!(v["severity"], "error");
         assert_eq!(v["line"], 1);
         assert_eq!(v["column"], 5);

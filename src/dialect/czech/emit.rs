@@ -121,13 +121,13 @@ pub fn emit(
         let (n, largest) = (e.inexact.count, e.inexact.largest.mm());
         let d = if e.round {
             Diagnostic::new(
-                codes::CZT_ROUNDED,
+                codes::CZW_ROUNDED,
                 format!("{n} value(s) rounded to the czech control's grid (0.001 mm, leads 0.0001 mm), the first {what}; the largest deviation is {largest} mm"),
             )
             .help("thread starts are rounded back along their pass, with the start angle I that keeps the helix")
         } else {
             Diagnostic::new(
-                codes::CZT_PRECISION,
+                codes::CZW_PRECISION,
                 format!("{what} is finer than the czech control's {grid} mm ({n} value(s) in this program are; lengths take 3 decimals, leads 4)"),
             )
             .help(format!("pass --round to round them (largest deviation {largest} mm, for a lead its drift at the thread's end; thread starts keep their helix through I)"))
@@ -381,7 +381,7 @@ impl Emitter<'_> {
             ..Block::default()
         });
         self.diag(
-            codes::CZT_COMMENT,
+            codes::CZW_COMMENT,
             item,
             format!("`{text}` has no czech equivalent; it is written as a comment"),
             "check the czech program by hand where this matters",
@@ -463,7 +463,7 @@ impl Emitter<'_> {
     fn chamfer_angle(&mut self, item: &Item, chamfer: &Chamfer, what: &str) -> bool {
         let Some(c8) = self.profile.czech.constant8 else {
             self.diag(
-                codes::CZT_ANGLE,
+                codes::CZW_ANGLE,
                 item,
                 format!("the pass has a {what}, and the czech control takes its angle from machine constant 8, which the profile does not give"),
                 "give the target machine's constant 8 in a profile: [czech] constant8 = \"04000000\"",
@@ -473,7 +473,7 @@ impl Emitter<'_> {
         let (angle, negative, deviation) = Self::angle_for(chamfer);
         if angle > MAX_ANGLE {
             self.diag(
-                codes::CZT_ANGLE,
+                codes::CZW_ANGLE,
                 item,
                 format!("the {what} angle {angle}° is over the czech control's 60°"),
                 "a steeper runout cannot be cut on this control",
@@ -482,7 +482,7 @@ impl Emitter<'_> {
         }
         if deviation > Length(1) {
             self.diag(
-                codes::CZT_ANGLE,
+                codes::CZW_ANGLE,
                 item,
                 format!(
                     "the {what} offset {} cannot be reached with an angle in 0.001° (off by {})",
@@ -498,7 +498,7 @@ impl Emitter<'_> {
             AngleSource::Direct { word: fixed } if fixed == word => true,
             AngleSource::Direct { word: fixed } => {
                 self.diag(
-                    codes::CZT_ANGLE,
+                    codes::CZW_ANGLE,
                     item,
                     format!("the {what} needs {}{angle}° but machine constant 8 ({c8}) fixes {}°", if negative { "−" } else { "" }, Angle(fixed.abs() % 100_000)),
                     "constant 8 is in direct mode: every runout and entry has its angle; use a machine in parameter mode or change the angle",
@@ -513,7 +513,7 @@ impl Emitter<'_> {
                 };
                 if param == 0 || param == 80 {
                     self.diag(
-                        codes::CZT_ANGLE,
+                        codes::CZW_ANGLE,
                         item,
                         format!("machine constant 8 ({c8}) names R{param:02} for the {what} angle, and R00 and R80 may not hold angles"),
                         "check the target machine's constant 8 (the manual recommends R04)",
@@ -564,7 +564,7 @@ impl Emitter<'_> {
             && Self::angle_for(&e).0 != Self::angle_for(&r).0
         {
             return self.diag(
-                codes::CZT_ANGLE,
+                codes::CZW_ANGLE,
                 item,
                 "entry and runout need different angles, and constant 8 gives both from one parameter".into(),
                 "use a machine whose constant 8 names an entry parameter (decades 6–5)",
@@ -651,7 +651,7 @@ impl Emitter<'_> {
         let lead = Lead::from_units(units, 4);
         if units <= 0 {
             return self.diag(
-                codes::CZT_PRECISION,
+                codes::CZW_PRECISION,
                 item,
                 format!(
                     "the lead {} mm rounds to 0 in the czech control's 0.0001 mm",
@@ -673,7 +673,7 @@ impl Emitter<'_> {
             if lead > Lead::from_length(MAX_DIRECT_LEAD) {
                 let Some((n, new)) = self.lead_param(lead, reserved) else {
                     return self.diag(
-                        codes::CZT_NO_EQUIVALENT,
+                        codes::CZW_NO_EQUIVALENT,
                         item,
                         format!(
                             "the lead {} is over 99.99 and no R parameter is free to hold it",

@@ -92,7 +92,7 @@ pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program
                     warned_after_end = true;
                     let span = src.line_span(line);
                     fe.diags.push(
-                        Diagnostic::new(codes::CZ_AFTER_END, "this block comes after the program's end (M02/M30); the control does not run it, and neither does ncthread")
+                        Diagnostic::new(codes::CZR_AFTER_END, "this block comes after the program's end (M02/M30); the control does not run it, and neither does ncthread")
                             .at(src, span)
                             .help("remove it, or move the program's end after it"),
                     );
@@ -107,9 +107,9 @@ pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program
             }
             Err(e) => {
                 let code = if e.number_too_large {
-                    codes::CZ_NUMBER
+                    codes::CZR_NUMBER
                 } else {
-                    codes::CZ_SYNTAX
+                    codes::CZR_SYNTAX
                 };
                 let span = src.char_span(line, e.offset);
                 fe.diags
@@ -119,7 +119,7 @@ pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program
     }
     if let AfterRunout::EmptyBlock { thread } | AfterRunout::AllAxes { thread } = fe.after_runout {
         fe.diags.push(
-            Diagnostic::new(codes::CZ_MISSING_BLOCK, "the program ends before the blocks this J/E thread block requires")
+            Diagnostic::new(codes::CZR_MISSING_BLOCK, "the program ends before the blocks this J/E thread block requires")
                 .at(src, thread)
                 .help("after a thread block with J or E write an empty block, then a block that programs X and Z"),
         );
@@ -223,7 +223,7 @@ impl<'a> FrontEnd<'a> {
                         .map(|w| w.range.clone())
                         .or_else(|| block.assignments.first().map(|a| a.range.clone()))
                         .unwrap_or(block.code_range.clone());
-                    self.report(self.error(codes::CZ_BLOCK_AFTER_RUNOUT, line, range, "the block after a thread block with J or E must be empty")
+                    self.report(self.error(codes::CZR_BLOCK_AFTER_RUNOUT, line, range, "the block after a thread block with J or E must be empty")
                         .label("expected an empty block")
                         .help(format!(
                             "insert an empty block (only a block number and/or a comment) after line {}",
@@ -241,7 +241,7 @@ impl<'a> FrontEnd<'a> {
                     .collect();
                 if !missing.is_empty() {
                     let d = Diagnostic::new(
-                        codes::CZ_AXES_AFTER_RUNOUT,
+                        codes::CZR_AXES_AFTER_RUNOUT,
                         format!("this block must program every axis after the J/E thread block on line {}", thread.line),
                     )
                     .at(self.src, code_span)
@@ -318,7 +318,7 @@ impl<'a> FrontEnd<'a> {
                         ok = false;
                         let range = word.range.clone();
                         let prev = &line.text[previous.range.clone()];
-                        self.report(self.error(codes::CZ_CONFLICT, line, range, format!("this G code conflicts with `{prev}` in the same block"))
+                        self.report(self.error(codes::CZR_CONFLICT, line, range, format!("this G code conflicts with `{prev}` in the same block"))
                             .label("same group as an earlier G code")
                             .help("write one G code of each group (motion, G90/G91, G94/G95) per block"));
                     }
@@ -360,7 +360,7 @@ impl<'a> FrontEnd<'a> {
                     {
                         ok = false;
                         let prev = &line.text[previous.range.clone()];
-                        self.report(self.error(codes::CZ_CONFLICT, line, word.range.clone(), format!("this M code conflicts with `{prev}` in the same block"))
+                        self.report(self.error(codes::CZR_CONFLICT, line, word.range.clone(), format!("this M code conflicts with `{prev}` in the same block"))
                             .help("write one spindle M code (M03, M04, M05) and one end code per block"));
                     }
                 }
@@ -372,7 +372,7 @@ impl<'a> FrontEnd<'a> {
                         let prev = &line.text[previous.range.clone()];
                         self.report(
                             self.error(
-                                codes::CZ_CONFLICT,
+                                codes::CZR_CONFLICT,
                                 line,
                                 word.range.clone(),
                                 format!("address {} is written twice in this block", word.letter),
@@ -395,7 +395,7 @@ impl<'a> FrontEnd<'a> {
                     ok = false;
                     self.report(
                         self.error(
-                            codes::CZ_CONFLICT,
+                            codes::CZR_CONFLICT,
                             line,
                             word.range.clone(),
                             "a block number must come first in the block",
@@ -419,7 +419,7 @@ impl<'a> FrontEnd<'a> {
             let more = conflicts - WORD_REPORTS;
             self.report(
                 self.error(
-                    codes::CZ_CONFLICT,
+                    codes::CZR_CONFLICT,
                     line,
                     block.code_range.clone(),
                     format!("{more} more repeated or conflicting words in this block"),
@@ -456,7 +456,7 @@ impl<'a> FrontEnd<'a> {
                 String::new()
             };
             let mut d = Diagnostic::new(
-                codes::CZ_UNSUPPORTED,
+                codes::CZR_UNSUPPORTED,
                 format!("`{text}`: {what} is not supported{and_more}"),
             )
             .at(self.src, self.span(line, word.range.clone()));
@@ -484,7 +484,7 @@ impl<'a> FrontEnd<'a> {
                 let text = &line.text[w.range.clone()];
                 self.report(
                     self.error(
-                        codes::CZ_UNSUPPORTED,
+                        codes::CZR_UNSUPPORTED,
                         line,
                         w.range.clone(),
                         format!("`{text}` in a block kept opaque: it changes state that the blocks after it depend on, which ncthread would not follow"),
@@ -546,7 +546,7 @@ impl<'a> FrontEnd<'a> {
             ),
         };
         self.report(
-            self.error(codes::CZ_NUMBER, line, range, message)
+            self.error(codes::CZR_NUMBER, line, range, message)
                 .help(help),
         );
     }
@@ -559,7 +559,7 @@ impl<'a> FrontEnd<'a> {
             let text = line.text[word.range.clone()].to_string();
             self.report(
                 self.error(
-                    codes::CZ_NUMBER,
+                    codes::CZR_NUMBER,
                     line,
                     word.range.clone(),
                     format!("`{text}` must not be negative"),
@@ -601,7 +601,7 @@ impl<'a> FrontEnd<'a> {
             None => {
                 self.report(
                     self.error(
-                        codes::CZ_UNKNOWN_POSITION,
+                        codes::CZR_UNKNOWN_POSITION,
                         line,
                         word.range.clone(),
                         "incremental move from an unknown position",
@@ -708,7 +708,7 @@ impl<'a> FrontEnd<'a> {
                 None => {
                     self.report(
                         self.error(
-                            codes::CZ_PARAM_UNSET,
+                            codes::CZR_PARAM_UNSET,
                             line,
                             word.range.clone(),
                             format!("R{p:02} is used before it is assigned"),
@@ -753,7 +753,7 @@ impl<'a> FrontEnd<'a> {
             if thread && has_thread_words {
                 self.report(
                     self.error(
-                        codes::CZ_THREAD_GEOMETRY,
+                        codes::CZR_THREAD_GEOMETRY,
                         line,
                         code_span_range(line, code_span),
                         "a G33 block with I, J or E but no end point",
@@ -780,7 +780,7 @@ impl<'a> FrontEnd<'a> {
                 }) if value <= Length::ZERO => {
                     self.report(
                         self.error(
-                            codes::CZ_NO_FEED,
+                            codes::CZR_NO_FEED,
                             line,
                             code_span_range(line, code_span),
                             format!("G01 move at feed F{}: the axis would not move", value.mm()),
@@ -801,7 +801,7 @@ impl<'a> FrontEnd<'a> {
                     };
                     self.report(
                         self.error(
-                            codes::CZ_NO_FEED,
+                            codes::CZR_NO_FEED,
                             line,
                             code_span_range(line, code_span),
                             message,
@@ -834,7 +834,7 @@ impl<'a> FrontEnd<'a> {
             (Some((lead, word)), _) => {
                 if matches!(word.value, Value::Number(_)) && lead > MAX_DIRECT_LEAD {
                     let text = line.text[word.range.clone()].to_string();
-                    self.report(self.error(codes::CZ_LEAD_TOO_LARGE, line, word.range.clone(), format!("lead `{text}` is over 99.99 mm, the most F can give directly"))
+                    self.report(self.error(codes::CZR_LEAD_TOO_LARGE, line, word.range.clone(), format!("lead `{text}` is over 99.99 mm, the most F can give directly"))
                         .label("over 99.99")
                         .help(format!("assign the lead to a parameter in an earlier block and use it: `R10={}` … `FR10`", lead.mm_with_point())));
                     return None;
@@ -842,7 +842,7 @@ impl<'a> FrontEnd<'a> {
                 if lead <= Length::ZERO {
                     self.report(
                         self.error(
-                            codes::CZ_NO_LEAD,
+                            codes::CZR_NO_LEAD,
                             line,
                             word.range.clone(),
                             "the lead must be positive",
@@ -867,7 +867,7 @@ impl<'a> FrontEnd<'a> {
                     "G33 block without a lead"
                 };
                 self.report(
-                    self.error(codes::CZ_NO_LEAD, line, block_range, message)
+                    self.error(codes::CZR_NO_LEAD, line, block_range, message)
                         .help("write the lead in the G33 block: F<mm per revolution> or FR<nn>"),
                 );
                 return None;
@@ -886,7 +886,7 @@ impl<'a> FrontEnd<'a> {
                     }
                 };
                 if !(Angle::ZERO..Angle::from_deg(360)).contains(&angle) {
-                    self.report(self.error(codes::CZ_START_ANGLE_RANGE, line, w.range.clone(), "the start angle must be at least 0° and less than 360°")
+                    self.report(self.error(codes::CZR_START_ANGLE_RANGE, line, w.range.clone(), "the start angle must be at least 0° and less than 360°")
                         .help("I is the spindle angle after the index pulse at which the thread starts"));
                     return None;
                 }
@@ -908,7 +908,7 @@ impl<'a> FrontEnd<'a> {
             };
             self.report(
                 self.error(
-                    codes::CZ_UNKNOWN_POSITION,
+                    codes::CZR_UNKNOWN_POSITION,
                     line,
                     block_range.clone(),
                     format!("{why} needs its start point, which is not known here"),
@@ -925,7 +925,7 @@ impl<'a> FrontEnd<'a> {
         if travel == Some(Length::ZERO) {
             self.report(
                 self.error(
-                    codes::CZ_THREAD_GEOMETRY,
+                    codes::CZR_THREAD_GEOMETRY,
                     line,
                     block_range,
                     "this G33 block has no Z travel",
@@ -941,7 +941,7 @@ impl<'a> FrontEnd<'a> {
                 && !d.has_point
             {
                 let text = line.text[w.range.clone()].to_string();
-                self.report(self.error(codes::CZ_ENTRY_WITHOUT_POINT, line, w.range.clone(), format!("entry length `{text}` is written without a decimal point"))
+                self.report(self.error(codes::CZR_ENTRY_WITHOUT_POINT, line, w.range.clone(), format!("entry length `{text}` is written without a decimal point"))
                     .label("E needs a decimal point")
                     .help(format!("write `{text}.`: the manual requires E with a decimal point (E10. or E10.0)")));
                 return None;
@@ -956,7 +956,7 @@ impl<'a> FrontEnd<'a> {
         if let Some(travel) = travel
             && used > travel
         {
-            self.report(self.error(codes::CZ_THREAD_GEOMETRY, line, block_range, format!("entry and runout ({} mm) are longer than the thread's Z travel ({} mm)", used, travel))
+            self.report(self.error(codes::CZR_THREAD_GEOMETRY, line, block_range, format!("entry and runout ({} mm) are longer than the thread's Z travel ({} mm)", used, travel))
                 .help("the programmed end point includes the runout: J and E must fit inside the travel"));
             return None;
         }
@@ -991,7 +991,7 @@ impl<'a> FrontEnd<'a> {
         let length = self.length(line, word, d)?;
         let letter = word.letter;
         if length <= Length::ZERO {
-            self.report(self.error(codes::CZ_NEGATIVE_LENGTH, line, word.range.clone(), format!("{letter} must be a positive length"))
+            self.report(self.error(codes::CZR_NEGATIVE_LENGTH, line, word.range.clone(), format!("{letter} must be a positive length"))
                 .help(format!("{letter} is a length along the thread axis, always positive whatever the direction of travel")));
             return None;
         }
@@ -1001,7 +1001,7 @@ impl<'a> FrontEnd<'a> {
             .clone()
             .unwrap_or_else(|| "the built-in profile".into());
         let Some(c8) = self.profile.czech.constant8 else {
-            self.report(self.error(codes::CZ_NO_CONSTANT8, line, word.range.clone(), format!("{} needs the {} angle from machine constant 8, which the profile does not give", letter, usage.name()))
+            self.report(self.error(codes::CZR_NO_CONSTANT8, line, word.range.clone(), format!("{} needs the {} angle from machine constant 8, which the profile does not give", letter, usage.name()))
                 .label("angle unknown")
                 .help("give the machine's TAB0.REK constant 8 in a profile (`--profile FILE`): [czech] constant8 = \"04000000\""));
             return None;
@@ -1016,12 +1016,12 @@ impl<'a> FrontEnd<'a> {
                     AngleUse::Entry => entry.unwrap_or(runout),
                 };
                 if param == 0 || param == 80 {
-                    self.report(self.error(codes::CZ_FORBIDDEN_PARAM, line, word.range.clone(), format!("machine constant 8 ({c8}, {profile_name}) names R{param:02} for the {} angle; R00 and R80 may not hold angles", usage.name()))
+                    self.report(self.error(codes::CZR_FORBIDDEN_PARAM, line, word.range.clone(), format!("machine constant 8 ({c8}, {profile_name}) names R{param:02} for the {} angle; R00 and R80 may not hold angles", usage.name()))
                         .help("choose another parameter in constant 8 (the manual recommends R04)"));
                     return None;
                 }
                 let Some(value) = self.params.get(&param).copied() else {
-                    self.report(self.error(codes::CZ_ANGLE_PARAM_UNSET, line, word.range.clone(), format!("the {} angle parameter R{param:02} is not assigned before this block", usage.name()))
+                    self.report(self.error(codes::CZR_ANGLE_PARAM_UNSET, line, word.range.clone(), format!("the {} angle parameter R{param:02} is not assigned before this block", usage.name()))
                         .label(format!("needs R{param:02}"))
                         .help(format!("assign it in an earlier block: `R{param:02}=120.0` is axis X, +20° (machine constant 8 = {c8})")));
                     return None;
@@ -1040,19 +1040,19 @@ impl<'a> FrontEnd<'a> {
         let axis = magnitude / 100_000;
         let angle = Angle(magnitude % 100_000);
         if !(1..=3).contains(&axis) {
-            self.report(self.error(codes::CZ_BAD_AXIS, line, word.range.clone(), format!("the {} angle in {source} names axis {axis}; the axis decade must be 1 (X), 2 (Y) or 3 (Z)", usage.name()))
+            self.report(self.error(codes::CZR_BAD_AXIS, line, word.range.clone(), format!("the {} angle in {source} names axis {axis}; the axis decade must be 1 (X), 2 (Y) or 3 (Z)", usage.name()))
                 .help("write the axis in the hundreds: `R04=120.0` is axis X, 20°"));
             return None;
         }
         if axis != 1 {
-            self.report(self.error(codes::CZ_RUNOUT_AXIS, line, word.range.clone(), format!("the {} angle in {source} moves axis {}; only X runout is supported on a ZX lathe", usage.name(), if axis == 2 { "Y" } else { "Z" }))
+            self.report(self.error(codes::CZR_RUNOUT_AXIS, line, word.range.clone(), format!("the {} angle in {source} moves axis {}; only X runout is supported on a ZX lathe", usage.name(), if axis == 2 { "Y" } else { "Z" }))
                 .help("use axis 1 (X): `R04=120.0`"));
             return None;
         }
         if angle > MAX_ANGLE {
             self.report(
                 self.error(
-                    codes::CZ_ANGLE_TOO_LARGE,
+                    codes::CZR_ANGLE_TOO_LARGE,
                     line,
                     word.range.clone(),
                     format!(
@@ -1140,79 +1140,79 @@ mod tests {
     fn every_rule_has_its_code_line_and_column() {
         type Case<'a> = (&'a str, Option<&'a str>, (&'a str, u32, u32));
         let cases: &[Case] = &[
-            ("N10 G00 X30. Z", None, ("CZ001", 1, 14)),
+            ("N10 G00 X30. Z", None, ("CZR001", 1, 14)),
             (
                 "N10 M03 S1\nN20 G00 X1. Z1.\nN30 G33 Z-5. F1. E2",
                 Some("+00120000"),
-                ("CZ002", 3, 18),
+                ("CZR002", 3, 18),
             ),
             (
                 "N10 M03 S1\nN20 G00 X1. Z1.\nN30 G33 Z-50. F120.",
                 None,
-                ("CZ003", 3, 15),
+                ("CZR003", 3, 15),
             ),
-            (RUNOUT, None, ("CZ004", 3, 20)),
-            (RUNOUT, Some("04000000"), ("CZ005", 3, 20)),
+            (RUNOUT, None, ("CZR004", 3, 20)),
+            (RUNOUT, Some("04000000"), ("CZR005", 3, 20)),
             (
                 &format!("N5 R04=161.0\n{RUNOUT}"),
                 Some("04000000"),
-                ("CZ006", 4, 20),
+                ("CZR006", 4, 20),
             ),
             (
                 &format!("N5 R04=20.0\n{RUNOUT}"),
                 Some("04000000"),
-                ("CZ007", 4, 20),
+                ("CZR007", 4, 20),
             ),
             (
                 &format!("N5 R04=420.0\n{RUNOUT}"),
                 Some("04000000"),
-                ("CZ007", 4, 20),
+                ("CZR007", 4, 20),
             ),
-            (RUNOUT, Some("80000000"), ("CZ008", 3, 20)),
+            (RUNOUT, Some("80000000"), ("CZR008", 3, 20)),
             (
                 "N10 M03 S50\nN20 G00 X64. Z5.\nN30 G33 Z-100. F6. J12\nN40 X70.\n",
                 Some("+00120000"),
-                ("CZ009", 4, 5),
+                ("CZR009", 4, 5),
             ),
             (
                 "N10 M03 S50\nN20 G00 X64. Z5.\nN30 G33 Z-100. F6. J12\nN40\nN50 Z-100.\n",
                 Some("+00120000"),
-                ("CZ010", 5, 1),
+                ("CZR010", 5, 1),
             ),
-            ("N10 G84 X1.", None, ("CZ011", 1, 5)),
-            ("N10 G02 X1. Z1.", None, ("CZ011", 1, 5)),
-            ("N10 G00 X1. P5", None, ("CZ011", 1, 13)),
-            ("N10 G00 X1. Z1.\nN20 G33 Z-5.", None, ("CZ012", 2, 1)),
+            ("N10 G84 X1.", None, ("CZR011", 1, 5)),
+            ("N10 G02 X1. Z1.", None, ("CZR011", 1, 5)),
+            ("N10 G00 X1. P5", None, ("CZR011", 1, 13)),
+            ("N10 G00 X1. Z1.\nN20 G33 Z-5.", None, ("CZR012", 2, 1)),
             (
                 "N10 G00 X1. Z1.\nN20 G33 Z-5. F1. I400",
                 None,
-                ("CZ013", 2, 18),
+                ("CZR013", 2, 18),
             ),
-            ("N10 G91 X1.", None, ("CZ014", 1, 9)),
-            ("N10 G33 X5. Z-5. F1.", None, ("CZ014", 1, 1)),
-            ("N10 X1.000001", None, ("CZ015", 1, 5)),
-            ("N10 S12.5", None, ("CZ015", 1, 5)),
-            (RUNOUT, Some("+00320000"), ("CZ016", 3, 20)),
+            ("N10 G91 X1.", None, ("CZR014", 1, 9)),
+            ("N10 G33 X5. Z-5. F1.", None, ("CZR014", 1, 1)),
+            ("N10 X1.000001", None, ("CZR015", 1, 5)),
+            ("N10 S12.5", None, ("CZR015", 1, 5)),
+            (RUNOUT, Some("+00320000"), ("CZR016", 3, 20)),
             (
                 "N10 G00 X1. Z1.\nN20 G33 Z-5. F1. J7",
                 Some("+00120000"),
-                ("CZ017", 2, 1),
+                ("CZR017", 2, 1),
             ),
-            ("N10 G00 X1. Z1.\nN20 G33 X9. F1.", None, ("CZ017", 2, 1)),
-            ("N10 G33 Z1. FR3", None, ("CZ018", 1, 13)),
-            ("N10 G00 G01 X1.", None, ("CZ019", 1, 9)),
-            ("N10 X1. N20", None, ("CZ019", 1, 9)),
-            ("N10 M03 M04", None, ("CZ019", 1, 9)),
-            ("N10 G00 X1. Z1.\nN20 G01 Z-5.", None, ("CZ020", 2, 1)),
+            ("N10 G00 X1. Z1.\nN20 G33 X9. F1.", None, ("CZR017", 2, 1)),
+            ("N10 G33 Z1. FR3", None, ("CZR018", 1, 13)),
+            ("N10 G00 G01 X1.", None, ("CZR019", 1, 9)),
+            ("N10 X1. N20", None, ("CZR019", 1, 9)),
+            ("N10 M03 M04", None, ("CZR019", 1, 9)),
+            ("N10 G00 X1. Z1.\nN20 G01 Z-5.", None, ("CZR020", 2, 1)),
             (
                 "N10 G00 X1. Z1.\nN20 G33 Z-5. F1. J0",
                 Some("+00120000"),
-                ("CZ021", 2, 18),
+                ("CZR021", 2, 18),
             ),
             (
                 "N10 G00 X1. Z1.\nN20 G33 Z-5. F1. J1",
                 Some("+00120000"),
-                ("CZ022", 2, 1),
+                ("CZR022", 2, 1),
             ),
         ];
         for (text, c8, expected) in cases {
@@ -1306,12 +1306,12 @@ mod tests {
             matches!(&program.items[1].kind, ItemKind::Opaque { block: Some(c), text, .. } if text == "G84 X2. Z-5." && !c.incremental)
         );
         // The incremental move after it has no known position to add to.
-        assert_eq!(diags[1].code, codes::CZ_UNKNOWN_POSITION);
+        assert_eq!(diags[1].code, codes::CZR_UNKNOWN_POSITION);
         // A kept block may not change what later blocks depend on (here the F register).
         let src = SourceFile::new("t.nc", "N10 G00 X1. Z1.\nN20 G84 X2. Z-5. F1.\n");
         let (_, diags) = parse(&src, &Profile::default(), &options);
         let e = diags.iter().find(|d| d.is_error()).unwrap();
-        assert_eq!(e.code, codes::CZ_UNSUPPORTED);
+        assert_eq!(e.code, codes::CZR_UNSUPPORTED);
         assert!(
             e.message.contains("`F1.` in a block kept opaque"),
             "{}",

@@ -100,26 +100,26 @@ impl Dialect for Czech {
                     Entry,
                     Read::Yes("E, its angle from machine constant 8"),
                     Write::As(
-                        "writes E when the profile's constant 8 gives its angle (else CZT003)",
+                        "writes E when the profile's constant 8 gives its angle (else CZW003)",
                     ),
                 ),
                 row(
                     Runout,
                     Read::Yes("J, its angle from machine constant 8"),
                     Write::As(
-                        "writes J when the profile's constant 8 gives its angle (else CZT003)",
+                        "writes J when the profile's constant 8 gives its angle (else CZW003)",
                     ),
                 ),
                 row(TaperPass, Read::Yes("G33 X Z"), Write::Yes("G33 X Z")),
-                row(ContinuedChain, Read::No, Write::No(codes::CZT_CONTINUE)),
+                row(ContinuedChain, Read::No, Write::No(codes::CZW_CONTINUE)),
                 row(
                     IndexWaitInCut,
                     Read::Yes("a G33 block right after another"),
                     Write::Yes("G33 … I"),
                 ),
-                row(SyncInfeed, Read::No, Write::No(codes::CZT_NO_EQUIVALENT)),
-                row(Tapping, Read::No, Write::No(codes::CZT_NO_EQUIVALENT)),
-                row(Dwell, Read::No, Write::No(codes::CZT_NO_EQUIVALENT)),
+                row(SyncInfeed, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
+                row(Tapping, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
+                row(Dwell, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
                 row(PerMinuteFeed, Read::Yes("G94"), Write::Yes("G94")),
                 row(ToolOffset, Read::Yes("D"), Write::Yes("D")),
                 row(Parameters, Read::Yes("R<nn>="), Write::Yes("R<nn>=")),
@@ -132,22 +132,22 @@ impl Dialect for Czech {
     fn refusal(&self, at: Occurrence, src: &SourceFile) -> Option<Diagnostic> {
         let (code, message, help) = match at.construct {
             Construct::Tapping => (
-                codes::CZT_NO_EQUIVALENT,
+                codes::CZW_NO_EQUIVALENT,
                 "a rigid tapping cycle has no documented form on the czech control",
                 "the czech manual's chapter documents thread cutting with G33 only (its G84 cycle is undocumented); tap this hole another way",
             ),
             Construct::Dwell => (
-                codes::CZT_NO_EQUIVALENT,
+                codes::CZW_NO_EQUIVALENT,
                 "a dwell (G4) has no documented form on the czech control",
                 "remove the dwell or add it by hand where the control documents one",
             ),
             Construct::SyncInfeed => (
-                codes::CZT_NO_EQUIVALENT,
+                codes::CZW_NO_EQUIVALENT,
                 "the pass starts with a synchronised move along X (LinuxCNC's G76 infeed before an entry taper, or a G33 along X), which the czech control has no documented form for",
                 "the czech G33 synchronises the thread's own travel; cut this thread without the synchronised infeed (a G76 without L1/L3) or by hand",
             ),
             Construct::ContinuedChain => (
-                codes::CZT_CONTINUE,
+                codes::CZW_CONTINUE,
                 "this thread move continues the one before it without waiting for the index pulse; every czech G33 block waits for the pulse, so the tool would stand in the cut",
                 "the czech control cuts one synchronised motion per block: a thread with its entry (E) and runout (J); write the source's thread that way, or retract between the moves",
             ),

@@ -271,7 +271,7 @@ impl Emitter<'_> {
                 None => {
                     self.line(&format!("(M{m}: gear range, not converted)"));
                     self.diag(
-                        codes::ISO_MCODE,
+                        codes::ISOW_MCODE,
                         item,
                         format!("M{m} selects a gear range; LinuxCNC has no such M code, so it is written as a comment"),
                         format!("map it in the profile if the machine needs it: [iso] mcodes = {{ {m} = \"M1{m:02}\" }}"),
@@ -311,7 +311,7 @@ impl Emitter<'_> {
                 self.line(&format!("({dialect}: {})", comment_text(text)));
                 let what = if block.is_some() { "block" } else { "word" };
                 self.diag(
-                    codes::ISO_OPAQUE,
+                    codes::ISOW_OPAQUE,
                     item,
                     format!("the {dialect} {what} `{text}` has no documented meaning; it is written as a comment"),
                     "check the ISO program by hand where this matters; only the same dialect can write it back",
@@ -381,7 +381,7 @@ impl Emitter<'_> {
     fn tap_cycle(&mut self, item: &Item, tap: &TapCycle) {
         if self.pos.z.is_none() {
             self.diag(
-                codes::ISO_START_ANGLE,
+                codes::ISOW_START_ANGLE,
                 item,
                 "the tapping cycle returns to its start Z, which is not known",
                 "move to the start of the hole with X and Z first",
@@ -410,7 +410,7 @@ impl Emitter<'_> {
             Ok(s) => s,
             Err(_) => {
                 self.diag(
-                    codes::ISO_START_ANGLE,
+                    codes::ISOW_START_ANGLE,
                     item,
                     "this thread pass needs its start point, which is not known",
                     "move to the start of the thread with X and Z first",
@@ -425,7 +425,7 @@ impl Emitter<'_> {
         match pass.start {
             SyncStart::Continue if !in_chain => {
                 self.diag(
-                    codes::ISO_INDEX_WAIT,
+                    codes::ISOW_INDEX_WAIT,
                     item,
                     "this thread move continues a synchronised move that does not end where it starts",
                     "this is a bug in the program's reader; report it with the program",
@@ -437,7 +437,7 @@ impl Emitter<'_> {
                 if angle != Angle::ZERO && segments.first().is_some_and(|s| s.is_radial()) =>
             {
                 self.diag(
-                    codes::ISO_START_ANGLE,
+                    codes::ISOW_START_ANGLE,
                     item,
                     format!("start angle {angle}° on a pass that starts with a synchronised move along X"),
                     "RS274/NGC G33 has no start angle, and a move along X cannot start earlier along Z",
@@ -454,7 +454,7 @@ impl Emitter<'_> {
                 Ok(None) => {}
                 Err(_) => {
                     self.diag(
-                        codes::ISO_START_ANGLE,
+                        codes::ISOW_START_ANGLE,
                         item,
                         format!("start angle {angle}° on a pass whose start point is not known"),
                         "RS274/NGC G33 has no start angle: ncthread starts the pass lead·angle/360 earlier, which needs the start point; move to it with X and Z first",

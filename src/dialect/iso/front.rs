@@ -118,7 +118,7 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
             } else if !code.starts_with('(') && !code.starts_with(';') && !warned_after_end {
                 warned_after_end = true;
                 fe.diag(
-                    codes::NGC_AFTER_END,
+                    codes::ISOR_AFTER_END,
                     line,
                     0..line.text.len(),
                     format!("this line comes after the program's end ({end}); LinuxCNC does not run it, and neither does ncthread"),
@@ -136,7 +136,7 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
                 ended = Some("the closing `%`");
             } else {
                 fe.diag(
-                    codes::NGC_SYNTAX,
+                    codes::ISOR_SYNTAX,
                     line,
                     0..line.text.len(),
                     "LinuxCNC refuses a `%` here (\"Bad character '%' used\"): `%` is read only as the program's first line and, then, as its end".into(),
@@ -156,7 +156,7 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         let last = src.lines().filter(|l| !l.text.trim().is_empty()).last();
         if let Some(line) = last {
             fe.diag(
-                codes::NGC_NO_END,
+                codes::ISOR_NO_END,
                 line,
                 0..line.text.len(),
                 if percent {
@@ -311,7 +311,7 @@ impl FrontEnd<'_> {
             let span = self.src.char_span(line, at);
             self.diags.push(
                 Diagnostic::new(
-                    codes::NGC_SYNTAX,
+                    codes::ISOR_SYNTAX,
                     "a NUL character: LinuxCNC reads the line only up to it",
                 )
                 .at(self.src, span)
@@ -324,7 +324,7 @@ impl FrontEnd<'_> {
             Err(e) => {
                 let span = self.src.char_span(line, e.offset);
                 self.diags.push(
-                    Diagnostic::new(codes::NGC_SYNTAX, e.message)
+                    Diagnostic::new(codes::ISOR_SYNTAX, e.message)
                         .at(self.src, span)
                         .help("a line is words (a letter and a number: `G33`, `X35.6`, `K1.5`), `( )` comments and a `;` comment to its end"),
                 );
@@ -406,7 +406,7 @@ impl FrontEnd<'_> {
         let warn = self.options.unsupported == Unsupported::Warn;
         for (range, message) in found {
             let span = self.src.span_in_line(line, range);
-            let d = Diagnostic::new(codes::NGC_UNSUPPORTED, message)
+            let d = Diagnostic::new(codes::ISOR_UNSUPPORTED, message)
                 .at(self.src, span)
                 .help(if warn {
                     "kept as an opaque block: only ISO output writes it back, and positions after it are unknown"
@@ -422,7 +422,7 @@ impl FrontEnd<'_> {
             if let Some(w) = block.words.iter().find(|w| changes_followed_state(w)) {
                 let text = &line.text[w.range.clone()];
                 self.diag(
-                    codes::NGC_UNSUPPORTED,
+                    codes::ISOR_UNSUPPORTED,
                     line,
                     w.range.clone(),
                     format!("`{text}` on a line kept opaque: it changes state that the lines after it depend on, which ncthread would not follow"),
@@ -478,7 +478,7 @@ impl FrontEnd<'_> {
                     } else if let Some(first) = words.other.get(&letter) {
                         let first = line.text[first.range.clone()].to_string();
                         self.diag(
-                            codes::NGC_CONFLICT,
+                            codes::ISOR_CONFLICT,
                             line,
                             w.range.clone(),
                             format!("a second {letter} word on the line (the first is `{first}`)"),
@@ -493,7 +493,7 @@ impl FrontEnd<'_> {
         }
         if repeats > WORD_REPORTS {
             self.diag(
-                codes::NGC_CONFLICT,
+                codes::ISOR_CONFLICT,
                 line,
                 0..line.text.len(),
                 format!("{} more repeated words on the line", repeats - WORD_REPORTS),
@@ -519,7 +519,7 @@ impl FrontEnd<'_> {
             if found.len() > 1 {
                 let (a, b) = (found[0].1, found[1].1);
                 self.diag(
-                    codes::NGC_CONFLICT,
+                    codes::ISOR_CONFLICT,
                     line,
                     b.range.clone(),
                     format!(
@@ -539,7 +539,7 @@ impl FrontEnd<'_> {
             .collect();
         if spindle.len() > 1 {
             self.diag(
-                codes::NGC_CONFLICT,
+                codes::ISOR_CONFLICT,
                 line,
                 spindle[1].1.range.clone(),
                 "two spindle codes on one line".into(),
@@ -569,7 +569,7 @@ impl FrontEnd<'_> {
             self.warned_rounding = true;
             let exact = num as f64 / den as f64 / 10_000.0;
             self.diag(
-                codes::NGC_ROUNDED,
+                codes::ISOR_ROUNDED,
                 line,
                 w.range.clone(),
                 format!(
@@ -602,7 +602,7 @@ impl FrontEnd<'_> {
             Some(v) if v.abs() <= Lead::MAX.0 as i128 => Some(Lead(v as i64)),
             _ => {
                 self.diag(
-                    codes::NGC_NUMBER,
+                    codes::ISOR_NUMBER,
                     line,
                     w.range.clone(),
                     format!("`{}` is too large for a lead", &line.text[w.range.clone()]),
@@ -615,7 +615,7 @@ impl FrontEnd<'_> {
 
     fn too_large(&mut self, line: Line<'_>, w: &Word) {
         self.diag(
-            codes::NGC_NUMBER,
+            codes::ISOR_NUMBER,
             line,
             w.range.clone(),
             format!("`{}` is too large", &line.text[w.range.clone()]),
@@ -624,7 +624,7 @@ impl FrontEnd<'_> {
     }
 
     fn number_error(&mut self, line: Line<'_>, w: &Word, message: String, help: &str) {
-        self.diag(codes::NGC_NUMBER, line, w.range.clone(), message, help);
+        self.diag(codes::ISOR_NUMBER, line, w.range.clone(), message, help);
     }
 
     fn whole(&mut self, line: Line<'_>, w: &Word, what: &str) -> Option<u32> {
@@ -646,7 +646,7 @@ impl FrontEnd<'_> {
     }
 
     fn missing(&mut self, line: Line<'_>, at: &Word, message: String, help: &str) {
-        self.diag(codes::NGC_WORD, line, at.range.clone(), message, help);
+        self.diag(codes::ISOR_WORD, line, at.range.clone(), message, help);
     }
 
     fn block(&mut self, line: Line<'_>, block: &Block) {
@@ -916,7 +916,7 @@ impl FrontEnd<'_> {
                     if !self.warned_radius {
                         self.warned_radius = true;
                         self.diag(
-                            codes::NGC_RADIUS_MODE,
+                            codes::ISOR_RADIUS_MODE,
                             line,
                             w.range.clone(),
                             "X is read as a radius: the program has not chosen G7 (diameter) or G8 (radius), and LinuxCNC starts in G8".into(),
@@ -952,7 +952,7 @@ impl FrontEnd<'_> {
 
     fn unknown(&mut self, line: Line<'_>, w: &Word) -> Option<Pos> {
         self.diag(
-            codes::NGC_UNKNOWN_POSITION,
+            codes::ISOR_UNKNOWN_POSITION,
             line,
             w.range.clone(),
             format!(
@@ -970,7 +970,7 @@ impl FrontEnd<'_> {
         }
         let range = w.map_or(0..line.text.len(), |w| w.range.clone());
         self.diag(
-            codes::NGC_SPINDLE,
+            codes::ISOR_SPINDLE,
             line,
             range,
             format!("{what} while the spindle is not turning"),
@@ -1082,7 +1082,7 @@ impl FrontEnd<'_> {
             SyncStart::Continue
         } else if self.in_cut.is_some() && self.in_cut == Some(from) {
             self.diag(
-                codes::NGC_THREAD_GEOMETRY,
+                codes::ISOR_THREAD_GEOMETRY,
                 line,
                 word.range.clone(),
                 "this G33 starts where a thread move ended, after a line that is not a G33: whether LinuxCNC waits for the index pulse here (with the tool in the cut) depends on its motion queue".into(),
@@ -1101,7 +1101,7 @@ impl FrontEnd<'_> {
             // A synchronised move along X only: K is the advance along X.
             if !moves_x {
                 self.diag(
-                    codes::NGC_THREAD_GEOMETRY,
+                    codes::ISOR_THREAD_GEOMETRY,
                     line,
                     word.range.clone(),
                     "G33 that does not move".into(),
@@ -1147,7 +1147,7 @@ impl FrontEnd<'_> {
                 Some(l) => l,
                 None => {
                     self.diag(
-                        codes::NGC_NUMBER,
+                        codes::ISOR_NUMBER,
                         line,
                         k.range.clone(),
                         format!(
@@ -1181,7 +1181,7 @@ impl FrontEnd<'_> {
 
     fn unknown_start(&mut self, line: Line<'_>, w: &Word) {
         self.diag(
-            codes::NGC_UNKNOWN_POSITION,
+            codes::ISOR_UNKNOWN_POSITION,
             line,
             w.range.clone(),
             "the move starts from a position that is not known yet".into(),
@@ -1211,7 +1211,7 @@ impl FrontEnd<'_> {
             && Some(x) != self.pos.x
         {
             self.diag(
-                codes::NGC_THREAD_GEOMETRY,
+                codes::ISOR_THREAD_GEOMETRY,
                 line,
                 w.range.clone(),
                 "G33.1 that also moves X".into(),
@@ -1240,7 +1240,7 @@ impl FrontEnd<'_> {
     }
 
     fn g76_error(&mut self, line: Line<'_>, w: &Word, message: String, help: &str) {
-        self.diag(codes::NGC_G76, line, w.range.clone(), message, help);
+        self.diag(codes::ISOR_G76, line, w.range.clone(), message, help);
     }
 
     /// LinuxCNC's G76 (`convert_threading_cycle`) as a thread cycle.
@@ -1435,13 +1435,13 @@ mod tests {
     use super::*;
     use crate::diag::Severity;
 
-    /// Reads a fragment: without its program end (NGC013, tested on its own).
+    /// Reads a fragment: without its program end (ISOR013, tested on its own).
     fn run(text: &str) -> (Program, Vec<Diagnostic>) {
         let (p, d) = parse(&SourceFile::new("t.ngc", text), &Options::default());
         (
             p,
             d.into_iter()
-                .filter(|d| d.code != codes::NGC_NO_END)
+                .filter(|d| d.code != codes::ISOR_NO_END)
                 .collect(),
         )
     }
@@ -1453,7 +1453,7 @@ mod tests {
             d.iter().map(|d| d.code.id).collect()
         };
         // No end: LinuxCNC runs it and then complains; a warning here.
-        assert_eq!(codes_of("G7 G0 X10 Z1\n"), ["NGC013"]);
+        assert_eq!(codes_of("G7 G0 X10 Z1\n"), ["ISOR013"]);
         assert!(codes_of("G7 G0 X10 Z1\nM2\n").is_empty());
         assert!(codes_of("%\nG7 G0 X10 Z1\n%\n").is_empty());
         // After the closing `%` or M2 nothing is read.
@@ -1461,14 +1461,14 @@ mod tests {
             &SourceFile::new("t.ngc", "%\nG7 G0 X10 Z1\n%\nG0 X5\n"),
             &Options::default(),
         );
-        assert_eq!(d[0].code, codes::NGC_AFTER_END);
+        assert_eq!(d[0].code, codes::ISOR_AFTER_END);
         assert_eq!(p.items.len(), 3);
         // A `%` elsewhere, a NUL, and motion codes without axes are refused as LinuxCNC does.
-        assert_eq!(codes_of("G7 G0 X10 Z1\n%\nM2\n"), ["NGC001"]);
-        assert_eq!(codes_of("G7 G0 X10 Z1 %\nM2\n"), ["NGC001"]);
-        assert_eq!(codes_of("(a\0b)\nM2\n"), ["NGC001"]);
-        assert_eq!(codes_of("G7 S100 M3\nG33 K1\nM2\n"), ["NGC004"]);
-        assert_eq!(codes_of("G7 G95 G1\nM2\n"), ["NGC004"]);
+        assert_eq!(codes_of("G7 G0 X10 Z1\n%\nM2\n"), ["ISOR001"]);
+        assert_eq!(codes_of("G7 G0 X10 Z1 %\nM2\n"), ["ISOR001"]);
+        assert_eq!(codes_of("(a\0b)\nM2\n"), ["ISOR001"]);
+        assert_eq!(codes_of("G7 S100 M3\nG33 K1\nM2\n"), ["ISOR004"]);
+        assert_eq!(codes_of("G7 G95 G1\nM2\n"), ["ISOR004"]);
     }
 
     fn kinds(p: &Program) -> Vec<ItemKind> {
@@ -1530,7 +1530,7 @@ mod tests {
         // No G7: X is a radius (with a warning); G20 converts; G91 adds.
         let (p, d) = run("G20 G0 X1 Z0.1\nG91 G0 Z-0.5\n");
         assert_eq!(d.len(), 1);
-        assert_eq!(d[0].code, codes::NGC_RADIUS_MODE);
+        assert_eq!(d[0].code, codes::ISOR_RADIUS_MODE);
         let k = kinds(&p);
         assert_eq!(
             k[0],
@@ -1549,7 +1549,10 @@ mod tests {
         );
         // 0.0001 inch is 0.00254 mm: rounded once, with one warning.
         let (_, d) = run("G7 G20 G0 X0.0001\nG0 X0.0003\n");
-        assert_eq!(d.iter().filter(|d| d.code == codes::NGC_ROUNDED).count(), 1);
+        assert_eq!(
+            d.iter().filter(|d| d.code == codes::ISOR_ROUNDED).count(),
+            1
+        );
     }
 
     #[test]
@@ -1588,43 +1591,43 @@ mod tests {
     #[test]
     fn refusals_name_the_word() {
         let cases: &[(&str, Code, &str)] = &[
-            ("G7 G0 X1\nG2 X2 Z0 R1\n", codes::NGC_UNSUPPORTED, "G2"),
-            ("G0 Y1\n", codes::NGC_UNSUPPORTED, "Y1"),
-            ("#1 = 2\n", codes::NGC_UNSUPPORTED, "#1 = 2"),
-            ("G0 X1 X2\n", codes::NGC_CONFLICT, "X2"),
-            ("G0 G1 X1\n", codes::NGC_CONFLICT, "G1"),
-            ("G7 G0 X1 Z1 K2\n", codes::NGC_WORD, "K2"),
-            ("G7 G0 X10 Z1\nG33 Z-10 K1\n", codes::NGC_SPINDLE, "G33"),
+            ("G7 G0 X1\nG2 X2 Z0 R1\n", codes::ISOR_UNSUPPORTED, "G2"),
+            ("G0 Y1\n", codes::ISOR_UNSUPPORTED, "Y1"),
+            ("#1 = 2\n", codes::ISOR_UNSUPPORTED, "#1 = 2"),
+            ("G0 X1 X2\n", codes::ISOR_CONFLICT, "X2"),
+            ("G0 G1 X1\n", codes::ISOR_CONFLICT, "G1"),
+            ("G7 G0 X1 Z1 K2\n", codes::ISOR_WORD, "K2"),
+            ("G7 G0 X10 Z1\nG33 Z-10 K1\n", codes::ISOR_SPINDLE, "G33"),
             (
                 "G7 S100 M3\nG0 X10 Z1\nG33 X10 K1\n",
-                codes::NGC_THREAD_GEOMETRY,
+                codes::ISOR_THREAD_GEOMETRY,
                 "X10",
             ),
-            ("G7 S100 M3\nG0 X10 Z1\nG33 Z-10\n", codes::NGC_WORD, "G33"),
-            ("G7 G1 X1 Z1\n", codes::NGC_WORD, "G1"),
-            ("G91 G7 G0 X1\n", codes::NGC_UNKNOWN_POSITION, "X1"),
-            ("X1\n", codes::NGC_WORD, "X1"),
+            ("G7 S100 M3\nG0 X10 Z1\nG33 Z-10\n", codes::ISOR_WORD, "G33"),
+            ("G7 G1 X1 Z1\n", codes::ISOR_WORD, "G1"),
+            ("G91 G7 G0 X1\n", codes::ISOR_UNKNOWN_POSITION, "X1"),
+            ("X1\n", codes::ISOR_WORD, "X1"),
             (
                 "G7 S100 M3\nG0 X10 Z1\nG33.1 X12 Z-5 K1\n",
-                codes::NGC_THREAD_GEOMETRY,
+                codes::ISOR_THREAD_GEOMETRY,
                 "X12",
             ),
             (
                 "G7 S100 M3\nG0 X10 Z1\nG76 P1 Z-10 I0 J0.1 K1\n",
-                codes::NGC_G76,
+                codes::ISOR_G76,
                 "I0",
             ),
             (
                 "G7 S100 M3\nG0 X10 Z1\nG76 P1 Z-10 I-1 J1 K1\n",
-                codes::NGC_G76,
+                codes::ISOR_G76,
                 "K1",
             ),
             (
                 "G7 S100 M3\nG0 X10 Z1\nG76 P1 Z-10 I-1 K1\n",
-                codes::NGC_WORD,
+                codes::ISOR_WORD,
                 "G76",
             ),
-            ("G0 X1 (open\n", codes::NGC_SYNTAX, "("),
+            ("G0 X1 (open\n", codes::ISOR_SYNTAX, "("),
         ];
         for (text, code, marked) in cases {
             let src = SourceFile::new("t.ngc", *text);
@@ -1650,7 +1653,7 @@ mod tests {
         );
         let d: Vec<_> = d
             .into_iter()
-            .filter(|d| d.code != codes::NGC_NO_END)
+            .filter(|d| d.code != codes::ISOR_NO_END)
             .collect();
         assert_eq!(d.len(), 1);
         assert_eq!(d[0].severity, Severity::Warning);

@@ -130,7 +130,7 @@ impl Dialect for Iso {
                     Read::Yes("consecutive G33"),
                     Write::Yes("consecutive G33"),
                 ),
-                row(IndexWaitInCut, Read::No, Write::No(codes::ISO_INDEX_WAIT)),
+                row(IndexWaitInCut, Read::No, Write::No(codes::ISOW_INDEX_WAIT)),
                 row(
                     SyncInfeed,
                     Read::Yes("G33 along X, G76 L1/L3"),
@@ -157,7 +157,7 @@ impl Dialect for Iso {
             .map_or(String::new(), |a| format!(" and {a}°"));
         Some(
             Diagnostic::new(
-                codes::ISO_INDEX_WAIT,
+                codes::ISOW_INDEX_WAIT,
                 format!("this pass waits for the index pulse{angle} where the thread move before it ended, with the tool in the cut; LinuxCNC continues consecutive G33 moves without waiting"),
             )
             .at(src, at.span)

@@ -84,7 +84,7 @@ pub fn emit(
     e.finish();
     if e.out.trim().is_empty() && !e.diags.iter().any(Diagnostic::is_error) {
         let mut d = Diagnostic::new(
-            codes::NCT_NOTHING,
+            codes::NCW_NOTHING,
             "nothing in this program is written as НЦ-31 frames: the output would be empty",
         )
         .help("the warnings above say what was left out; an empty program is not a conversion");
@@ -262,7 +262,7 @@ impl Emitter<'_> {
         let n = crate::fixed::div_round(lead.0 as i128, unit.0 as i128) as i64;
         if n <= 0 {
             self.diag(
-                codes::NCT_PRECISION,
+                codes::NCW_PRECISION,
                 span,
                 format!(
                     "the lead {lead} mm rounds to 0 in the НЦ-31's {} mm lead units",
@@ -288,7 +288,7 @@ impl Emitter<'_> {
                 .push_str(&format!("({} (not converted))\n", one_line(text)));
         }
         self.diag(
-            codes::NCT_DROPPED,
+            codes::NCW_DROPPED,
             item.span,
             format!(
                 "`{text}` has no НЦ-31 equivalent; it is {}",
@@ -371,7 +371,7 @@ impl Emitter<'_> {
                 }
                 if let Some(d) = offset {
                     self.diag(
-                        codes::NCT_DROPPED,
+                        codes::NCW_DROPPED,
                         item.span,
                         format!("tool offset {d} is left out: the НЦ-31's T word selects a turret position and its offset"),
                         "check that the turret position carries the offset this program needs",
@@ -486,7 +486,7 @@ impl Emitter<'_> {
                 None => String::new(),
             };
             return self.diag(
-                codes::NCT_PASS,
+                codes::NCW_PASS,
                 span,
                 format!(
                     "the thread pass has {}, which G32 cannot cut{context}",
@@ -601,7 +601,7 @@ impl Emitter<'_> {
         if let Some(span) = self.dropped.1 {
             let n = self.dropped.0;
             self.diag(
-                codes::NCT_COMMENTS,
+                codes::NCW_COMMENTS,
                 span,
                 format!("{n} comment(s) left out: the НЦ-31 has no comments"),
                 "pass --nc31-comments to write them as `(` lines for a PC-side archive",
@@ -611,13 +611,13 @@ impl Emitter<'_> {
             let (n, largest) = (self.inexact.count, self.inexact.largest.mm());
             let d = if self.options.round {
                 Diagnostic::new(
-                    codes::NCT_ROUNDED,
+                    codes::NCW_ROUNDED,
                     format!("{n} value(s) rounded to the НЦ-31's units, the first {what}; the largest deviation is {largest} mm"),
                 )
                 .help("the rounded program cuts within that deviation of the source")
             } else {
                 Diagnostic::new(
-                    codes::NCT_PRECISION,
+                    codes::NCW_PRECISION,
                     format!("{what} is not a whole number of the НЦ-31's {unit} mm units ({n} value(s) in this program are not)"),
                 )
                 .help(format!("pass --round to round them (largest deviation {largest} mm)"))
@@ -752,7 +752,7 @@ mod tests {
             &WriteOptions::default(),
         );
         assert!(out.is_none());
-        let d = diags.iter().find(|d| d.code.id == "NCT003").unwrap();
+        let d = diags.iter().find(|d| d.code.id == "NCW003").unwrap();
         assert!(d.message.contains("a runout (1.5 mm)"), "{}", d.message);
         assert!(
             d.message.contains("machine parameter 7's (none, P7 = 0)"),
@@ -803,7 +803,7 @@ mod tests {
                 WriteOptions::default(),
             );
             assert!(out.is_none(), "{what}");
-            assert_eq!(codes_of(&diags), ["NCT003"]);
+            assert_eq!(codes_of(&diags), ["NCW003"]);
             assert!(diags[0].message.contains(what), "{}", diags[0].message);
         }
         // A pass at the current diameter is a G32 group; the feed is programmed again after it.
@@ -844,7 +844,7 @@ mod tests {
         };
         let (out, diags) = write(items(), WriteOptions::default());
         assert!(out.is_none());
-        assert_eq!(codes_of(&diags), ["NCT001"]);
+        assert_eq!(codes_of(&diags), ["NCW001"]);
         assert!(
             diags[0].message.starts_with("X 26.618 mm"),
             "{}",
@@ -900,7 +900,7 @@ mod tests {
             },
         );
         assert!(out.unwrap().contains("F1501"));
-        assert_eq!(codes_of(&diags), ["NCT005"]);
+        assert_eq!(codes_of(&diags), ["NCW005"]);
         assert!(
             diags[0].message.contains("largest deviation is 0.0047 mm"),
             "{}",
@@ -908,7 +908,7 @@ mod tests {
         );
         let (out, diags) = emit(&program, &src, &profile, &WriteOptions::default());
         assert!(out.is_none());
-        assert_eq!(codes_of(&diags), ["NCT001"]);
+        assert_eq!(codes_of(&diags), ["NCW001"]);
         assert!(
             diags[0].message.contains("lead F 1.5005 mm"),
             "{}",
@@ -927,7 +927,7 @@ mod tests {
         };
         let (out, diags) = write(items(), WriteOptions::default());
         assert_eq!(out.unwrap(), "N0 X2000 ~ *\nN1 Z500 ~\n");
-        assert_eq!(codes_of(&diags), ["NCT007"]);
+        assert_eq!(codes_of(&diags), ["NCW007"]);
         assert!(diags[0].message.starts_with("2 comment(s)"));
         let (out, diags) = write(
             items(),
@@ -979,7 +979,7 @@ mod tests {
             ],
             WriteOptions::default(),
         );
-        assert_eq!(codes_of(&diags), ["NCT002"]);
+        assert_eq!(codes_of(&diags), ["NCW002"]);
         // Nothing left to write is refused, not an empty program with exit 0.
         let (out, diags) = write(
             vec![ItemKind::GearRange {
@@ -989,6 +989,6 @@ mod tests {
             WriteOptions::default(),
         );
         assert_eq!(out, None);
-        assert_eq!(codes_of(&diags), ["NCT004", "NCT008"]);
+        assert_eq!(codes_of(&diags), ["NCW004", "NCW008"]);
     }
 }

@@ -94,7 +94,7 @@ pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program
                     warned_after_end = true;
                     let span = src.line_span(line);
                     fe.diags.push(
-                        Diagnostic::new(codes::NC_AFTER_END, "this frame comes after the program's end (M30); the control does not run it, and neither does ncthread")
+                        Diagnostic::new(codes::NCR_AFTER_END, "this frame comes after the program's end (M30); the control does not run it, and neither does ncthread")
                             .at(src, span)
                             .help("remove it, or move M30 after it"),
                     );
@@ -203,7 +203,7 @@ impl<'a> FrontEnd<'a> {
 
     fn open_group_error(&mut self, span: Span, what: &str) {
         self.error(
-            codes::NC_OPEN_GROUP,
+            codes::NCR_OPEN_GROUP,
             span,
             format!("{what} cuts the group short: the frame before it ends with `*`"),
             "remove the `*` from the group's last frame, or add the frames the group is missing",
@@ -247,7 +247,7 @@ impl<'a> FrontEnd<'a> {
                     *g
                 };
                 self.word_error(
-                    codes::NC_GROUP_WORD,
+                    codes::NCR_GROUP_WORD,
                     g,
                     format!("`{}` inside a group", g.text(self.src)),
                     "a G word opens its own group (`G31 *`, then the cycle's words); end the previous group first",
@@ -299,7 +299,7 @@ impl<'a> FrontEnd<'a> {
         let warn = self.options.unsupported == Unsupported::Warn;
         for (f, reason) in &found {
             let mut d = Diagnostic::new(
-                codes::NC_UNSUPPORTED,
+                codes::NCR_UNSUPPORTED,
                 format!("`{}`: {reason}", f.text(self.src)),
             )
             .at(self.src, self.word_span(f));
@@ -323,7 +323,7 @@ impl<'a> FrontEnd<'a> {
                             || self.profile.gear_range_mcodes.contains(&(w.value as u32))))
             }) {
                 self.word_error(
-                    codes::NC_UNSUPPORTED,
+                    codes::NCR_UNSUPPORTED,
                     f,
                     format!(
                         "`{}` in a group kept opaque: it changes state that the groups after it depend on, which ncthread would not follow",
@@ -376,7 +376,7 @@ impl<'a> FrontEnd<'a> {
             if let Some(range) = f.frame.modifier_range(m).filter(|_| !allowed) {
                 let span = self.span(f, range);
                 self.error(
-                    codes::NC_MODIFIER,
+                    codes::NCR_MODIFIER,
                     span,
                     format!("`{}` on `{}`", m.ascii(), f.text(self.src)),
                     what,
@@ -392,7 +392,7 @@ impl<'a> FrontEnd<'a> {
         let value = f.word().value.checked_mul(unit.0).map(Length);
         if value.is_none() {
             self.word_error(
-                codes::NC_NUMBER,
+                codes::NCR_NUMBER,
                 f,
                 format!("`{}` is too large", f.text(self.src)),
                 "check the word's digits and the profile's units",
@@ -417,7 +417,7 @@ impl<'a> FrontEnd<'a> {
                 let span = self.span(f, range);
                 let axis = f.word().letter;
                 self.error(
-                    codes::NC_UNKNOWN_POSITION,
+                    codes::NCR_UNKNOWN_POSITION,
                     span,
                     format!(
                         "incremental `{}` but the {axis} position is not known yet",
@@ -435,7 +435,7 @@ impl<'a> FrontEnd<'a> {
     fn repeated(&mut self, f: &GroupFrame, first: &GroupFrame) {
         let line = first.line;
         self.word_error(
-            codes::NC_GROUP_WORD,
+            codes::NCR_GROUP_WORD,
             f,
             format!(
                 "`{}` repeats the {} word of this group (line {line})",
@@ -493,7 +493,7 @@ impl<'a> FrontEnd<'a> {
                 _ => {
                     // P outside G31.
                     self.word_error(
-                        codes::NC_GROUP_WORD,
+                        codes::NCR_GROUP_WORD,
                         fr,
                         format!("`{}` outside a G31 group", fr.text(self.src)),
                         "P words give the depths of a G31 cycle: `G31 *`, X, Z, F, then P (depth), P (first pass), optional P (taper)",
@@ -508,7 +508,7 @@ impl<'a> FrontEnd<'a> {
                 .find(|f| f.word().letter == 'M' && f.word().value == 5)
                 .expect("M5 is in the group");
             self.word_error(
-                codes::NC_GROUP_WORD,
+                codes::NCR_GROUP_WORD,
                 fr,
                 "M5 in the same group as a spindle start",
                 "start and stop the spindle in different groups",
@@ -520,7 +520,7 @@ impl<'a> FrontEnd<'a> {
                 Some(v) if v.0 > 0 => Some(v),
                 Some(_) => {
                     self.word_error(
-                        codes::NC_NUMBER,
+                        codes::NCR_NUMBER,
                         fr,
                         format!("feed `{}` is not positive", fr.text(self.src)),
                         "F outside a thread group is the feed in 0.01 mm/rev, e.g. F30 = 0.3 mm/rev",
@@ -564,7 +564,7 @@ impl<'a> FrontEnd<'a> {
                 _ => "no feed has been programmed yet".to_string(),
             };
             self.word_error(
-                codes::NC_NO_FEED,
+                codes::NCR_NO_FEED,
                 fr,
                 format!("feed move `{}` but {why}", fr.text(self.src)),
                 "program the feed in a frame of its own (e.g. `F60` = 0.6 mm/rev) before this move, or mark the move rapid with `~`",
@@ -629,7 +629,7 @@ impl<'a> FrontEnd<'a> {
         let v = u32::try_from(f.word().value).ok();
         if v.is_none() {
             self.word_error(
-                codes::NC_NUMBER,
+                codes::NCR_NUMBER,
                 f,
                 format!(
                     "`{}` is not a valid {} value",
@@ -666,7 +666,7 @@ impl<'a> FrontEnd<'a> {
                     format!("{about}; other words go in groups of their own")
                 };
                 self.word_error(
-                    codes::NC_GROUP_WORD,
+                    codes::NCR_GROUP_WORD,
                     fr,
                     format!(
                         "`{}` does not belong in a {} group",
@@ -685,7 +685,7 @@ impl<'a> FrontEnd<'a> {
                 _ => {
                     if words.p.len() == max_p {
                         self.word_error(
-                            codes::NC_GROUP_WORD,
+                            codes::NCR_GROUP_WORD,
                             fr,
                             format!("`{}` is a P word too many", fr.text(self.src)),
                             "G31 takes P (thread depth), P (first-pass depth) and an optional third P (taper)",
@@ -712,7 +712,7 @@ impl<'a> FrontEnd<'a> {
             return false;
         }
         self.word_error(
-            codes::NC_MISSING_WORD,
+            codes::NCR_MISSING_WORD,
             g,
             format!(
                 "the {} group has no {}",
@@ -728,7 +728,7 @@ impl<'a> FrontEnd<'a> {
         let lead = self.scaled(f, self.profile.lead_unit)?;
         if lead.0 <= 0 {
             self.word_error(
-                codes::NC_LEAD,
+                codes::NCR_LEAD,
                 f,
                 format!("lead `{}` is not positive", f.text(self.src)),
                 "F in a thread group is the lead in 0.0001 mm: F15000 = 1.5 mm",
@@ -738,7 +738,7 @@ impl<'a> FrontEnd<'a> {
         let lead = Lead::from_length(lead);
         if lead > Lead::MAX {
             self.word_error(
-                codes::NC_NUMBER,
+                codes::NCR_NUMBER,
                 f,
                 format!("`{}` is too large for a lead", f.text(self.src)),
                 "a lead is at most 1,000,000 mm",
@@ -750,7 +750,7 @@ impl<'a> FrontEnd<'a> {
 
     fn start_unknown(&mut self, g: &GroupFrame, what: &str) {
         self.word_error(
-            codes::NC_UNKNOWN_POSITION,
+            codes::NCR_UNKNOWN_POSITION,
             g,
             format!("{} starts from the tool position, and the {what} is not known", g.text(self.src)),
             "move to the start point with X and Z (e.g. `X3600 ~ *` then `Z450 ~`) before the cycle",
@@ -803,7 +803,7 @@ impl<'a> FrontEnd<'a> {
         };
         if crest.0 <= 0 {
             self.word_error(
-                codes::NC_NUMBER,
+                codes::NCR_NUMBER,
                 xf,
                 format!("thread diameter `{}` is not positive", xf.text(self.src)),
                 "X in G31 is the thread's crest diameter in 0.01 mm (X3600 = Ø36)",
@@ -812,7 +812,7 @@ impl<'a> FrontEnd<'a> {
         }
         if taper.0 < 0 {
             self.word_error(
-                codes::NC_DEPTHS,
+                codes::NCR_DEPTHS,
                 w.p[2],
                 format!("taper `{}` is negative", w.p[2].text(self.src)),
                 "the third P is the difference of the larger and the smaller diameter; X is the smaller one at the start",
@@ -846,19 +846,19 @@ impl<'a> FrontEnd<'a> {
         };
         if let Err(e) = lower::expand(&cycle) {
             let (code, frame, help) = match e {
-                ExpandError::Lead => (codes::NC_LEAD, ff, "the lead must be positive".to_string()),
+                ExpandError::Lead => (codes::NCR_LEAD, ff, "the lead must be positive".to_string()),
                 ExpandError::NoTravel => (
-                    codes::NC_TRAVEL,
+                    codes::NCR_TRAVEL,
                     zf,
                     "Z is where every pass ends; it must differ from the start Z".to_string(),
                 ),
                 ExpandError::FirstDepth | ExpandError::TooManyPasses => (
-                    codes::NC_DEPTHS,
+                    codes::NCR_DEPTHS,
                     w.p[1],
                     "the second P is the first pass's depth per side in 0.01 mm (P20 = 0.2 mm)".to_string(),
                 ),
                 ExpandError::DepthTooSmall { .. } => (
-                    codes::NC_DEPTHS,
+                    codes::NCR_DEPTHS,
                     w.p[0],
                     format!(
                         "with the {} schedule the thread depth (first P) must be at least the first-pass depth (second P){}",
@@ -871,7 +871,7 @@ impl<'a> FrontEnd<'a> {
                     ),
                 ),
                 ExpandError::ShortPass { .. } => (
-                    codes::NC_TRAVEL,
+                    codes::NCR_TRAVEL,
                     zf,
                     "the runout (machine parameter 7) and the infeed shift (parameter 6) must fit inside the pass; move the start point further out or shorten the runout".to_string(),
                 ),
@@ -912,7 +912,7 @@ impl<'a> FrontEnd<'a> {
         };
         if self.pos.z == Some(end_z) {
             self.word_error(
-                codes::NC_TRAVEL,
+                codes::NCR_TRAVEL,
                 zf,
                 format!("the pass ends at Z{} where it starts", end_z.mm()),
                 "Z is the end of the pass; it must differ from the current Z",
@@ -979,7 +979,7 @@ impl<'a> FrontEnd<'a> {
         };
         if end_z == start_z {
             self.word_error(
-                codes::NC_TRAVEL,
+                codes::NCR_TRAVEL,
                 zf,
                 format!("the tap ends at Z{} where it starts", end_z.mm()),
                 "Z is the bottom of the tapped hole; it must differ from the start Z",
@@ -994,7 +994,7 @@ impl<'a> FrontEnd<'a> {
                     .x
                     .map_or("not known".to_string(), |c| format!("Ø{}", c.mm()));
                 self.word_error(
-                    codes::NC_GROUP_WORD,
+                    codes::NCR_GROUP_WORD,
                     xf,
                     format!("`{}` in a G33 group without `@`, but the tool stands at {current}", xf.text(self.src)),
                     "without `@` on G33 the tap does not move in X; write `G33 @ *` to move to X (point C) after the cycle",
@@ -1216,7 +1216,7 @@ mod tests {
     #[test]
     fn feed_is_undefined_after_a_thread_group() {
         let text = format!("N3 F30\n{START}N9 G32 *\nN10 F15000 *\nN11 Z-4700\nN12 X4000\n");
-        assert_eq!(first_error(&text), ("NC008", 9, 5));
+        assert_eq!(first_error(&text), ("NCR008", 9, 5));
         let (_, diags) = run(&text);
         assert!(diags[0].message.contains("line 6"), "{}", diags[0].message);
         // F60 after the pass defines it again (the seed's program).
@@ -1230,67 +1230,67 @@ mod tests {
             format!("{START}G31 *\nX3600 *\nZ-4750 *\nF15000 *\n{p1} *\n{p2}\n")
         };
         let cases: Vec<(String, (&str, u32, u32))> = vec![
-            ("X36.00".into(), ("NC002", 1, 4)),
-            ("N4 X3600 Z450".into(), ("NC003", 1, 10)),
-            ("N4 F30 ~".into(), ("NC004", 1, 8)),
-            ("N4 S700 @".into(), ("NC004", 1, 9)),
-            ("N4 G1 *\nX100".into(), ("NC005", 1, 4)),
-            ("N4 M8".into(), ("NC005", 1, 4)),
-            ("N4 H5".into(), ("NC005", 1, 4)),
-            ("N4 F0".into(), ("NC006", 1, 4)),
-            ("N4 S-5".into(), ("NC006", 1, 4)),
-            ("N4 X100 @".into(), ("NC007", 1, 9)),
+            ("X36.00".into(), ("NCR002", 1, 4)),
+            ("N4 X3600 Z450".into(), ("NCR003", 1, 10)),
+            ("N4 F30 ~".into(), ("NCR004", 1, 8)),
+            ("N4 S700 @".into(), ("NCR004", 1, 9)),
+            ("N4 G1 *\nX100".into(), ("NCR005", 1, 4)),
+            ("N4 M8".into(), ("NCR005", 1, 4)),
+            ("N4 H5".into(), ("NCR005", 1, 4)),
+            ("N4 F0".into(), ("NCR006", 1, 4)),
+            ("N4 S-5".into(), ("NCR006", 1, 4)),
+            ("N4 X100 @".into(), ("NCR007", 1, 9)),
             (
                 "N4 G31 *\nX3600 *\nZ-4750 *\nF15000 *\nP96 *\nP20".into(),
-                ("NC007", 1, 4),
+                ("NCR007", 1, 4),
             ),
-            ("N4 X3600".into(), ("NC008", 1, 4)),
-            ("N4 X3600 ~ *".into(), ("NC009", 1, 4)),
-            ("N4 X3600 ~ *\n%".into(), ("NC009", 2, 1)),
+            ("N4 X3600".into(), ("NCR008", 1, 4)),
+            ("N4 X3600 ~ *".into(), ("NCR009", 1, 4)),
+            ("N4 X3600 ~ *\n%".into(), ("NCR009", 2, 1)),
             (
                 format!("{START}G31 *\nX3600 *\nZ-4750 *\nP96 *\nP20\n"),
-                ("NC010", 5, 1),
+                ("NCR010", 5, 1),
             ),
-            (format!("{START}G32 *\nF15000\n"), ("NC010", 5, 1)),
+            (format!("{START}G32 *\nF15000\n"), ("NCR010", 5, 1)),
             (
                 format!("{START}G33 @ *\nZ-100 *\nF15000\n"),
-                ("NC010", 5, 1),
+                ("NCR010", 5, 1),
             ),
             (
                 format!("{START}G32 *\nX3500 *\nF15000 *\nZ-4700\n"),
-                ("NC011", 6, 1),
+                ("NCR011", 6, 1),
             ),
             (
                 format!("{START}G31 *\nX3600 *\nZ-4750 *\nF15000 *\nS700 *\nP96 *\nP20\n"),
-                ("NC011", 9, 1),
+                ("NCR011", 9, 1),
             ),
             (
                 format!("{START}G31 *\nX3600 *\nX3600 *\nZ-4750 *\nF15000 *\nP96 *\nP20\n"),
-                ("NC011", 7, 1),
+                ("NCR011", 7, 1),
             ),
             (
                 format!("{START}X3600 *\nG32 *\nF15000 *\nZ-4700\n"),
-                ("NC011", 6, 1),
+                ("NCR011", 6, 1),
             ),
-            (format!("{START}P20\n"), ("NC011", 5, 1)),
+            (format!("{START}P20\n"), ("NCR011", 5, 1)),
             (
                 format!("{START}G33 *\nX2000 *\nZ-100 *\nF15000\n"),
-                ("NC011", 6, 1),
+                ("NCR011", 6, 1),
             ),
-            (g31("P30", "P20"), ("NC012", 9, 1)),
-            (g31("P96", "P0"), ("NC012", 10, 1)),
+            (g31("P30", "P20"), ("NCR012", 9, 1)),
+            (g31("P96", "P0"), ("NCR012", 10, 1)),
             (
                 format!("{START}G31 *\nX3600 *\nZ-4750 *\nF15000 *\nP96 *\nP20 *\nP-10\n"),
-                ("NC012", 11, 1),
+                ("NCR012", 11, 1),
             ),
-            (format!("{START}G32 *\nF0 *\nZ-4700\n"), ("NC013", 6, 1)),
+            (format!("{START}G32 *\nF0 *\nZ-4700\n"), ("NCR013", 6, 1)),
             (
                 format!("{START}G31 *\nX3600 *\nZ450 *\nF15000 *\nP96 *\nP20\n"),
-                ("NC014", 7, 1),
+                ("NCR014", 7, 1),
             ),
-            (format!("{START}G32 *\nF15000 *\nZ0 @\n"), ("NC014", 7, 1)),
-            ("N4 G31 ~ *\nX1".into(), ("NC004", 1, 8)),
-            ("N4 X100 (comment".into(), ("NC001", 1, 9)),
+            (format!("{START}G32 *\nF15000 *\nZ0 @\n"), ("NCR014", 7, 1)),
+            ("N4 G31 ~ *\nX1".into(), ("NCR004", 1, 8)),
+            ("N4 X100 (comment".into(), ("NCR001", 1, 9)),
         ];
         for (text, expected) in &cases {
             assert_eq!(first_error(text), *expected, "{text:?}");
@@ -1304,7 +1304,7 @@ mod tests {
         // 3.1 leads of 2 = 6.2 mm; the pass is 5 mm long.
         let text = "M3\nS100\nX3600 ~ *\nZ0 ~\nG31 *\nX3600 *\nZ-500 *\nF20000 *\nP96 *\nP20\n";
         let (_, diags) = run_with(text, &profile, Unsupported::Error);
-        assert_eq!(diags[0].code, codes::NC_TRAVEL);
+        assert_eq!(diags[0].code, codes::NCR_TRAVEL);
         assert_eq!(diags[0].location.as_ref().unwrap().line, 7);
     }
 
@@ -1312,7 +1312,7 @@ mod tests {
     fn a_bad_frame_inside_a_group_does_not_cascade() {
         let (_, diags) = run("X36.00 ~ *\nZ450 ~\nF30\n");
         assert_eq!(diags.len(), 1, "{diags:?}");
-        assert_eq!(diags[0].code, codes::NC_DECIMAL_POINT);
+        assert_eq!(diags[0].code, codes::NCR_DECIMAL_POINT);
     }
 
     #[test]
@@ -1327,7 +1327,7 @@ mod tests {
             matches!(&program.items[1].kind, ItemKind::Opaque { block: Some(_), text, .. } if text == "N5 G4 *\nP100")
         );
         assert_eq!(program.items[1].block_number, Some(5));
-        assert_eq!(diags[1].code, codes::NC_UNKNOWN_POSITION);
+        assert_eq!(diags[1].code, codes::NCR_UNKNOWN_POSITION);
     }
 
     #[test]

@@ -117,53 +117,53 @@ impl Dialect for Nc31 {
                         "writes G31 when the profile's parameters 6 and 7, retract and schedule reproduce it, else G32 passes",
                     ),
                 ),
-                row(StartAngle, Read::No, Write::No(codes::NCT_PASS)),
-                row(Entry, Read::No, Write::No(codes::NCT_PASS)),
+                row(StartAngle, Read::No, Write::No(codes::NCW_PASS)),
+                row(Entry, Read::No, Write::No(codes::NCW_PASS)),
                 row(
                     Runout,
                     Read::Yes("in G31: parameter 7"),
                     Write::As(
-                        "writes it only inside a G31 kept whole (parameter 7); refuses it on a pass (NCT003)",
+                        "writes it only inside a G31 kept whole (parameter 7); refuses it on a pass (NCW003)",
                     ),
                 ),
                 row(
                     TaperPass,
                     Read::Yes("in G31: the third P"),
                     Write::As(
-                        "writes it only inside a G31 kept whole (the third P); refuses it on a pass (NCT003)",
+                        "writes it only inside a G31 kept whole (the third P); refuses it on a pass (NCW003)",
                     ),
                 ),
-                row(ContinuedChain, Read::No, Write::No(codes::NCT_PASS)),
+                row(ContinuedChain, Read::No, Write::No(codes::NCW_PASS)),
                 row(
                     IndexWaitInCut,
                     Read::Yes("a G32 group right after another"),
                     Write::Yes("G32"),
                 ),
-                row(SyncInfeed, Read::No, Write::No(codes::NCT_PASS)),
+                row(SyncInfeed, Read::No, Write::No(codes::NCW_PASS)),
                 row(
                     Tapping,
                     Read::Yes("G33"),
                     Write::Yes("G33, `G33 @` for point C"),
                 ),
-                row(Dwell, Read::No, Write::No(codes::NCT_NO_EQUIVALENT)),
-                row(PerMinuteFeed, Read::No, Write::No(codes::NCT_NO_EQUIVALENT)),
+                row(Dwell, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
+                row(PerMinuteFeed, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
                 row(
                     ToolOffset,
                     Read::No,
                     Write::As(
-                        "leaves it out with NCT004 (the T word's turret position carries it)",
+                        "leaves it out with NCW004 (the T word's turret position carries it)",
                     ),
                 ),
                 row(
                     Parameters,
                     Read::No,
-                    Write::As("leaves them out with NCT004 (their values are written where used)"),
+                    Write::As("leaves them out with NCW004 (their values are written where used)"),
                 ),
                 row(
                     Comments,
                     Read::Yes("`(` lines"),
                     Write::As(
-                        "leaves them out with NCT007, or writes `(` lines with --nc31-comments",
+                        "leaves them out with NCW007, or writes `(` lines with --nc31-comments",
                     ),
                 ),
             ],
@@ -181,11 +181,11 @@ impl Dialect for Nc31 {
                 "a feed in mm per minute; the НЦ-31 feeds in mm per revolution",
                 "program the feed per revolution (G95) in the source",
             ),
-            // What G32 cannot cut is refused pass by pass while writing (NCT003).
+            // What G32 cannot cut is refused pass by pass while writing (NCW003).
             _ => return None,
         };
         Some(
-            Diagnostic::new(codes::NCT_NO_EQUIVALENT, message)
+            Diagnostic::new(codes::NCW_NO_EQUIVALENT, message)
                 .at(src, at.span)
                 .help(help),
         )

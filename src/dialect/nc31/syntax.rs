@@ -124,7 +124,7 @@ fn frame(line: &str, pair: pest::iterators::Pair<'_, Rule>) -> Result<Line, Synt
             Rule::frame_number => {
                 let digits = &span.as_str()[1..];
                 frame.number = Some(digits.parse().map_err(|_| SyntaxError {
-                    code: codes::NC_NUMBER,
+                    code: codes::NCR_NUMBER,
                     range: range.clone(),
                     message: format!("frame number `{}` is too large", span.as_str()),
                     help: "frame numbers are small whole numbers (N0, N1, …)".into(),
@@ -136,7 +136,7 @@ fn frame(line: &str, pair: pest::iterators::Pair<'_, Rule>) -> Result<Line, Synt
                 let number = &text[1..];
                 if let Some(previous) = &frame.word {
                     return Err(SyntaxError {
-                        code: codes::NC_TWO_WORDS,
+                        code: codes::NCR_TWO_WORDS,
                         range,
                         message: format!(
                             "a second word `{text}` in the frame of `{}`",
@@ -147,7 +147,7 @@ fn frame(line: &str, pair: pest::iterators::Pair<'_, Rule>) -> Result<Line, Synt
                 }
                 if !frame.modifiers.is_empty() {
                     return Err(SyntaxError {
-                        code: codes::NC_SYNTAX,
+                        code: codes::NCR_SYNTAX,
                         range: frame.modifiers[0].1.clone(),
                         message: "a modifier before the frame's word".into(),
                         help: FRAME_HELP.into(),
@@ -156,7 +156,7 @@ fn frame(line: &str, pair: pest::iterators::Pair<'_, Rule>) -> Result<Line, Synt
                 if let Some(dot) = number.find('.') {
                     let at = range.start + 1 + dot;
                     return Err(SyntaxError {
-                        code: codes::NC_DECIMAL_POINT,
+                        code: codes::NCR_DECIMAL_POINT,
                         range: at..at + 1,
                         message: format!("`{text}` has a decimal point"),
                         help: "НЦ-31 words are scaled whole numbers: X and Z in 0.01 mm (X3600 = Ø36), F in 0.0001 mm inside G31/G32/G33 (F15000 = lead 1.5) and 0.01 mm/rev elsewhere, P in 0.01 mm (the built-in units; the profile's [nc31] section can change them)".into(),
@@ -170,7 +170,7 @@ fn frame(line: &str, pair: pest::iterators::Pair<'_, Rule>) -> Result<Line, Synt
                 };
                 let Some(value) = value else {
                     return Err(SyntaxError {
-                        code: codes::NC_NUMBER,
+                        code: codes::NCR_NUMBER,
                         range,
                         message: format!("`{text}` has too many digits"),
                         help: format!("a word has at most {MAX_DIGITS} digits"),
@@ -190,7 +190,7 @@ fn frame(line: &str, pair: pest::iterators::Pair<'_, Rule>) -> Result<Line, Synt
                 };
                 if frame.has(m) {
                     return Err(SyntaxError {
-                        code: codes::NC_SYNTAX,
+                        code: codes::NCR_SYNTAX,
                         range,
                         message: format!("modifier `{}` written twice", m.ascii()),
                         help: "write each modifier once".into(),
@@ -205,7 +205,7 @@ fn frame(line: &str, pair: pest::iterators::Pair<'_, Rule>) -> Result<Line, Synt
         && let Some((_, range)) = frame.modifiers.first()
     {
         return Err(SyntaxError {
-            code: codes::NC_SYNTAX,
+            code: codes::NCR_SYNTAX,
             range: range.clone(),
             message: "a modifier without a word".into(),
             help: FRAME_HELP.into(),
@@ -250,7 +250,7 @@ fn syntax_error(line: &str, e: &pest::error::Error<Rule>) -> SyntaxError {
         Some(c) => (format!("unexpected character `{c}`"), FRAME_HELP.to_string()),
     };
     SyntaxError {
-        code: codes::NC_SYNTAX,
+        code: codes::NCR_SYNTAX,
         range: offset..end,
         message,
         help,
@@ -314,24 +314,24 @@ mod tests {
     #[test]
     fn explains_the_rules_it_refuses() {
         let e = parse_line("N10 X36.00 *").unwrap_err();
-        assert_eq!(e.code, codes::NC_DECIMAL_POINT);
+        assert_eq!(e.code, codes::NCR_DECIMAL_POINT);
         assert_eq!(e.range, 7..8);
         assert!(e.help.contains("0.01 mm"), "{}", e.help);
         let e = parse_line("N10 X3600 Z450").unwrap_err();
-        assert_eq!(e.code, codes::NC_TWO_WORDS);
+        assert_eq!(e.code, codes::NCR_TWO_WORDS);
         assert_eq!(e.range, 10..14);
         assert!(e.help.contains("`*`"), "{}", e.help);
         let e = parse_line("N10 X3600 ~ ~").unwrap_err();
-        assert_eq!(e.code, codes::NC_SYNTAX);
+        assert_eq!(e.code, codes::NCR_SYNTAX);
         let e = parse_line("N10 ~ X3600").unwrap_err();
-        assert_eq!((e.code, e.range), (codes::NC_SYNTAX, 4..5));
+        assert_eq!((e.code, e.range), (codes::NCR_SYNTAX, 4..5));
         let e = parse_line("N10 X3600 (diameter").unwrap_err();
         assert_eq!(e.range, 10..11);
         assert!(e.message.contains("comment"), "{}", e.message);
         let e = parse_line("N10 X").unwrap_err();
         assert_eq!(e.range, 4..5);
         let e = parse_line("N10 X1234567890123").unwrap_err();
-        assert_eq!(e.code, codes::NC_NUMBER);
+        assert_eq!(e.code, codes::NCR_NUMBER);
         let e = parse_line("N10 X100 ;").unwrap_err();
         assert!(e.message.contains("`;`"), "{}", e.message);
     }
