@@ -11,6 +11,7 @@ use std::ops::Range;
 
 use indexmap::IndexMap;
 
+use super::gcode::*;
 use super::syntax::{self, Block, Word};
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::{Unsupported, WORD_REPORTS, budget};
@@ -180,7 +181,7 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
 /// The words of one line, sorted by what reads them.
 struct Words<'b> {
     /// G codes ×10 (`G33.1` → 331) with their words.
-    g: Vec<(i64, &'b Word)>,
+    g: Vec<(GCode, &'b Word)>,
     /// M codes with their words.
     m: Vec<(i64, &'b Word)>,
     /// Every other word by letter (each letter once).
@@ -196,7 +197,7 @@ impl<'b> Words<'b> {
         Some(w)
     }
 
-    fn has_g(&self, code: i64) -> Option<&'b Word> {
+    fn has_g(&self, code: GCode) -> Option<&'b Word> {
         self.g.iter().find(|(c, _)| *c == code).map(|(_, w)| *w)
     }
 
@@ -204,6 +205,9 @@ impl<'b> Words<'b> {
         self.m.iter().find(|(c, _)| *c == code).map(|(_, w)| *w)
     }
 }
+
+/// The motion codes ncthread reads (LinuxCNC's modal group 1, less arcs and canned cycles).
+const MOTION: [GCode; 5] = [G0, G1, G33, G33_1, G76];
 
 /// What a G or M code is to ncthread.
 enum Meaning {
@@ -215,25 +219,24 @@ enum Meaning {
     Unsupported(&'static str),
 }
 
-fn g_meaning(code: i64) -> Meaning {
+fn g_meaning(code: GCode) -> Meaning {
     match code {
-        0 | 10 | 330 | 331 | 760 | 40 | 70 | 80 | 180 | 200 | 210 | 430 | 900 | 910 | 940 | 950 => {
-            Meaning::Known
-        }
+        G0 | G1 | G33 | G33_1 | G76 | G4 | G7 | G8 | G18 | G20 | G21 | G43 | G90 | G91 | G94
+        | G95 => Meaning::Known,
         // Cutter compensation off, tool length offset off, the default work offset, exact
         // path / blending, canned cycle off, arc distance modes, rpm mode.
-        400 | 490 | 540 | 610 | 611 | 640 | 800 | 901 | 911 | 970 => Meaning::Kept,
-        20 | 30 => Meaning::Unsupported("arcs (G2/G3)"),
-        170 | 190 | 171 | 181 | 191 => Meaning::Unsupported("planes other than ZX (G18)"),
-        410 | 420 | 411 | 421 => Meaning::Unsupported("cutter radius compensation"),
-        550..=593 | 100 | 920..=923 | 530 => {
+        G40 | G49 | G54 | G61 | G61_1 | G64 | G80 | G90_1 | G91_1 | G97 => Meaning::Kept,
+        G2 | G3 => Meaning::Unsupported("arcs (G2/G3)"),
+        G17 | G19 | G17_1 | G18_1 | G19_1 => Meaning::Unsupported("planes other than ZX (G18)"),
+        G41 | G42 | G41_1 | G42_1 => Meaning::Unsupported("cutter radius compensation"),
+        G55..=G59_3 | G10 | G92..=G92_3 | G53 => {
             Meaning::Unsupported("work offsets and coordinate changes")
         }
-        280 | 281 | 300 | 301 => Meaning::Unsupported("homing and reference points"),
-        930 => Meaning::Unsupported("inverse-time feed (G93)"),
-        960 => Meaning::Unsupported("constant surface speed (G96)"),
-        700 | 710 | 711 | 720 | 721 => Meaning::Unsupported("roughing and finishing cycles"),
-        810..=890 | 730 | 740 => Meaning::Unsupported("drilling and boring cycles"),
+        G28 | G28_1 | G30 | G30_1 => Meaning::Unsupported("homing and reference points"),
+        G93 => Meaning::Unsupported("inverse-time feed (G93)"),
+        G96 => Meaning::Unsupported("constant surface speed (G96)"),
+        G70 | G71 | G71_1 | G72 | G72_1 => Meaning::Unsupported("roughing and finishing cycles"),
+        G81..=G89 | G73 | G74 => Meaning::Unsupported("drilling and boring cycles"),
         _ => Meaning::Unsupported("this G code"),
     }
 }
@@ -247,7 +250,7 @@ fn changes_followed_state(w: &Word) -> bool {
         'G' => w.value.to_scaled(1).is_ok_and(|g| {
             matches!(
                 g,
-                70 | 80 | 200 | 210 | 900 | 910 | 930 | 940 | 950 | 960 | 970 | 430 | 490
+                G7 | G8 | G20 | G21 | G90 | G91 | G93 | G94 | G95 | G96 | G97 | G43 | G49
             )
         }),
         'M' => w
@@ -450,7 +453,7 @@ impl FrontEnd<'_> {
                 w.letter == 'G'
                     && w.value
                         .to_scaled(1)
-                        .is_ok_and(|g| matches!(g, 0 | 10 | 20 | 30 | 330 | 331 | 381..=385 | 730 | 740 | 760 | 800..=899))
+                        .is_ok_and(|g| matches!(g, G0 | G1 | G2 | G3 | G33 | G33_1 | G38_1..=G38_5 | G73 | G74 | G76 | G80..=G8X_LAST))
             }) {
                 self.motion = None;
             }
@@ -502,13 +505,13 @@ impl FrontEnd<'_> {
         }
         // One code per modal group.
         let groups: [(&str, &[i64]); 7] = [
-            ("motion", &[0, 10, 330, 331, 760]),
-            ("units", &[200, 210]),
-            ("distance", &[900, 910]),
-            ("feed mode", &[940, 950]),
-            ("diameter mode", &[70, 80]),
-            ("dwell", &[40]),
-            ("tool length", &[430, 490]),
+            ("motion", &MOTION),
+            ("units", &[G20, G21]),
+            ("distance", &[G90, G91]),
+            ("feed mode", &[G94, G95]),
+            ("diameter mode", &[G7, G8]),
+            ("dwell", &[G4]),
+            ("tool length", &[G43, G49]),
         ];
         for (name, members) in groups {
             let found: Vec<_> = words
@@ -661,21 +664,21 @@ impl FrontEnd<'_> {
 
         // LinuxCNC's order of execution within a line. A feed mode code also clears the
         // feed rate there (G1 needs a new F after it).
-        if words.has_g(940).is_some() {
+        if words.has_g(G94).is_some() {
             self.feed_mode = Some(FeedMode::PerMin);
             self.feed = None;
             self.push(ItemKind::FeedMode(FeedMode::PerMin), span);
         }
-        if words.has_g(950).is_some() {
+        if words.has_g(G95).is_some() {
             self.feed_mode = Some(FeedMode::PerRev);
             self.feed = None;
             self.push(ItemKind::FeedMode(FeedMode::PerRev), span);
         }
         // Units first: F, K and every length on the line are in the new units.
-        if words.has_g(200).is_some() {
+        if words.has_g(G20).is_some() {
             self.inch = true;
         }
-        if words.has_g(210).is_some() {
+        if words.has_g(G21).is_some() {
             self.inch = false;
         }
         if let Some(f) = words.take('F')
@@ -706,7 +709,7 @@ impl FrontEnd<'_> {
                 ),
             }
         }
-        let offset = match words.has_g(430) {
+        let offset = match words.has_g(G43) {
             Some(_) => match words.take('H') {
                 Some(h) => self.whole(line, h, "tool length offset"),
                 None => tool_changed.or(self.selected_tool),
@@ -752,7 +755,7 @@ impl FrontEnd<'_> {
                 self.kept(line, w, &[]);
             }
         }
-        if let Some(g4) = words.has_g(40) {
+        if let Some(g4) = words.has_g(G4) {
             match words.take('P') {
                 Some(p) if !p.value.is_negative() => {
                     self.push(ItemKind::Dwell { seconds: p.value }, span)
@@ -772,16 +775,16 @@ impl FrontEnd<'_> {
             }
         }
         self.diameter_before_line = self.diameter.unwrap_or(false);
-        if words.has_g(70).is_some() {
+        if words.has_g(G7).is_some() {
             self.diameter = Some(true);
         }
-        if words.has_g(80).is_some() {
+        if words.has_g(G8).is_some() {
             self.diameter = Some(false);
         }
         for (code, w) in words.g.clone() {
             if matches!(g_meaning(code), Meaning::Kept) {
                 // G64's tolerances belong to it.
-                let extra: Vec<&Word> = if code == 640 {
+                let extra: Vec<&Word> = if code == G64 {
                     ['P', 'Q'].iter().filter_map(|&l| words.take(l)).collect()
                 } else {
                     Vec::new()
@@ -789,18 +792,18 @@ impl FrontEnd<'_> {
                 self.kept(line, w, &extra);
             }
         }
-        if words.has_g(900).is_some() {
+        if words.has_g(G90).is_some() {
             self.incremental = false;
         }
-        if words.has_g(910).is_some() {
+        if words.has_g(G91).is_some() {
             self.incremental = true;
         }
         let motion_code = words.g.iter().find_map(|&(c, _)| match c {
-            0 => Some(Motion::Rapid),
-            10 => Some(Motion::Feed),
-            330 => Some(Motion::Thread),
-            331 => Some(Motion::Tap),
-            760 => Some(Motion::Cycle),
+            G0 => Some(Motion::Rapid),
+            G1 => Some(Motion::Feed),
+            G33 => Some(Motion::Thread),
+            G33_1 => Some(Motion::Tap),
+            G76 => Some(Motion::Cycle),
             _ => None,
         });
         if let Some(m) = motion_code {
@@ -827,7 +830,7 @@ impl FrontEnd<'_> {
         } else if let Some(code_word) = words
             .g
             .iter()
-            .find(|(c, _)| [10, 330].contains(c))
+            .find(|(c, _)| [G1, G33].contains(c))
             .map(|(_, w)| *w)
         {
             // A motion code without axes: LinuxCNC refuses G33 ("All axes missing with motion
@@ -983,7 +986,7 @@ impl FrontEnd<'_> {
         let code_word = words
             .g
             .iter()
-            .find(|(c, _)| [0, 10, 330, 331, 760].contains(c))
+            .find(|(c, _)| MOTION.contains(c))
             .map(|(_, w)| *w);
         match motion {
             Motion::Rapid => {

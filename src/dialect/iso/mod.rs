@@ -3,6 +3,7 @@
 
 mod emit;
 mod front;
+mod gcode;
 mod syntax;
 
 pub use front::Options;
