@@ -91,13 +91,41 @@ pub fn convert(src: &SourceFile, options: &ConvertOptions) -> Conversion {
             diagnostics,
         };
     }
-    let (output, more) = emit(&program, src, options);
+    let (mut output, more) = emit(&program, src, options);
     diagnostics.extend(more);
+    // Never write what the target's reader refuses: a last check, which finds what the
+    // writers' own checks miss (it names the output line).
+    if let Some(text) = &output
+        && !diag::has_errors(&diagnostics)
+        && let Some(refusal) = read_back(text, options)
+    {
+        diagnostics.push(refusal);
+        output = None;
+    }
     diag::sort(&mut diagnostics);
     Conversion {
         output,
         diagnostics,
     }
+}
+
+/// The first error of reading `output` back as the target dialect, as an LG004 that points
+/// into the output.
+fn read_back(output: &str, options: &ConvertOptions) -> Option<Diagnostic> {
+    let out = SourceFile::new(format!("({} output)", options.to), output);
+    let (_, diags) = parse(&out, options.to, &options.profile, options.unsupported);
+    let first = diags.into_iter().find(|d| d.is_error())?;
+    let mut refusal = Diagnostic::new(
+        diag::codes::OUTPUT_UNREADABLE,
+        format!(
+            "the {} output would not read back: {} ({})",
+            options.to, first.message, first.code.id
+        ),
+    )
+    .help("nothing is written; a value rounded with --round may leave a move the control cannot make. Otherwise this is a bug in ncthread: please report it with the program");
+    refusal.location = first.location;
+    refusal.label = first.label;
+    Some(refusal)
 }
 
 /// Every diagnostic of a program without writing it (`ncthread check`): the front end's,
@@ -297,5 +325,37 @@ pub fn verify(
         left,
         right,
         oracle,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn options(to: DialectId) -> ConvertOptions {
+        ConvertOptions {
+            from: dialect::iso::ID,
+            to,
+            profile: Profile::default(),
+            unsupported: Unsupported::Error,
+            renumber: Default::default(),
+            round: false,
+            nc31_comments: false,
+        }
+    }
+
+    #[test]
+    fn an_output_the_target_refuses_is_not_written() {
+        // A G33 block without Z travel, as a writer could have rounded it.
+        let refusal = read_back(
+            "N10 S500 M03\nN20 G00 X20. Z0.\nN30 G33 Z0. F1.\nN40 M02\n",
+            &options(dialect::czech::ID),
+        )
+        .expect("refused");
+        assert_eq!(refusal.code, diag::codes::OUTPUT_UNREADABLE);
+        assert!(refusal.message.contains("CZR017"), "{}", refusal.message);
+        let at = refusal.location.expect("located");
+        assert_eq!((at.file.as_str(), at.line), ("(czech output)", 3));
+        assert!(read_back("N10 S500 M03\nN20 M02\n", &options(dialect::czech::ID)).is_none());
     }
 }

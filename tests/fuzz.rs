@@ -720,6 +720,57 @@ fn findings_stay_fixed() {
     assert!(checked >= 14, "only {checked} findings");
 }
 
+/// Runs the harness's properties again on the inputs a long run kept (a folder of
+/// `DIALECT-HASH.EXT` files, `target/fuzz-findings` unless `NCTHREAD_FUZZ_REPLAY` names
+/// another), and lists those that still fail: `NCTHREAD_FUZZ_REPLAY=target/fuzz-findings
+/// cargo test --release --test fuzz replay -- --nocapture`.
+#[test]
+fn replay_kept_findings() {
+    let Some(dir) = std::env::var_os("NCTHREAD_FUZZ_REPLAY") else {
+        return;
+    };
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .expect("NCTHREAD_FUZZ_REPLAY names a folder")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .collect();
+    files.sort();
+    let mut failing = Vec::new();
+    for file in &files {
+        let name = file
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .into_owned();
+        let Some(dialect) = name
+            .split_once('-')
+            .and_then(|(d, _)| ncthread::dialect::by_id(d))
+        else {
+            continue;
+        };
+        let input = Input {
+            from: dialect.id(),
+            bytes: std::fs::read(file).unwrap(),
+            profile: None,
+        };
+        if let Err(why) = guarded(&input, interpreter()) {
+            let first: String = why
+                .lines()
+                .next()
+                .unwrap_or_default()
+                .chars()
+                .take(200)
+                .collect();
+            failing.push(format!("{name}: {first}"));
+        }
+    }
+    println!(
+        "replayed {} kept inputs, {} still failing",
+        files.len(),
+        failing.len()
+    );
+    assert!(failing.is_empty(), "still failing:\n{}", failing.join("\n"));
+}
+
 /// The binary too: mutated inputs through `check` and `convert` exit 0, 1 or 2 (never a
 /// panic's 101), on stdin and stdout.
 #[test]

@@ -266,6 +266,10 @@ pub const OPAQUE_MEANING: Code = error(
     "LG003",
     "a block kept as written whose meaning the output would change (another dialect, or other modes)",
 );
+pub const OUTPUT_UNREADABLE: Code = error(
+    "LG004",
+    "the output would be refused by ncthread's own reader of the target dialect",
+);
 pub const CYCLE_INVALID: Code = error(
     "LW001",
     "a thread cycle cannot be expanded into passes (depths, lead, travel)",
@@ -359,6 +363,7 @@ pub const ALL: &[Code] = &[
     SPINDLE_OFF,
     FEED_SPINDLE_OFF,
     OPAQUE_MEANING,
+    OUTPUT_UNREADABLE,
     CYCLE_INVALID,
     SIM_UNKNOWN,
     SIM_INDEX_WAIT,

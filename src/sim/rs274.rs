@@ -50,12 +50,14 @@ fn numbers(args: &str) -> Vec<f64> {
 
 /// One line of rs274's output (`   12 N.....  CALL(…)`), when it is a call that matters.
 pub fn parse_canon(line: &str) -> Option<Canon> {
+    // `   42 N30    NAME(…)`: the call counter, the block number in a six-wide column (a
+    // longer one runs into the name), the call.
     let (_, rest) = line.trim_start().split_once(' ')?;
-    let (n, call) = rest.trim_start().split_once(' ')?;
-    if !n.starts_with('N') {
-        return None;
-    }
-    let call = call.trim_start();
+    let call = rest
+        .trim_start()
+        .strip_prefix('N')?
+        .trim_start_matches(|c: char| c.is_ascii_digit() || c == '.')
+        .trim_start();
     let (name, rest) = call.split_once('(')?;
     let args = numbers(rest.trim_end_matches(')'));
     let arg = |i: usize| args.get(i).copied();
@@ -334,8 +336,13 @@ pub enum Judgement {
 /// what rs274's printing loses: four decimals of an inch (0.00254 mm on the diameter), and the
 /// digits that fix a synchronised chain's helix (a small K over a long path); beyond half a
 /// turn of that, it cannot judge.
+///
+/// rs274 starts at X0 Z0, and prints a G0 without axes as a traverse to where it is: at the
+/// start that reads like a rapid from an unknown place to X0 Z0. A first rapid to X0 Z0 is
+/// therefore left out on both sides: rs274's output cannot tell it from no move.
 pub fn judge(expected: &[Segment], canon: &[Canon]) -> Judgement {
-    let theirs = super::normalise(&segments(canon));
+    let theirs = without_rapid_to_rs274_start(super::normalise(&segments(canon)));
+    let expected = &without_rapid_to_rs274_start(expected.to_vec());
     let inch = canon.iter().any(|c| matches!(c, Canon::Inches(true)));
     let tolerance = if inch {
         super::TOLERANCE + Length(26)
@@ -358,6 +365,18 @@ pub fn judge(expected: &[Segment], canon: &[Canon]) -> Judgement {
     }
 }
 
+/// `segments` without a first rapid from an unknown place to X0 Z0 (see `judge`).
+fn without_rapid_to_rs274_start(mut segments: Vec<Segment>) -> Vec<Segment> {
+    if let Some(first) = segments.first()
+        && first.motion == Motion::Rapid
+        && first.from == Pos::UNKNOWN
+        && first.to == Pos::new(Length::ZERO, Length::ZERO)
+    {
+        segments.remove(0);
+    }
+    segments
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -375,6 +394,11 @@ mod tests {
             Some(Canon::SyncStart { k: 3.0 })
         );
         assert_eq!(parse_canon("   16 N..... COMMENT(\"x\")"), None);
+        // A block number longer than its column runs into the call's name.
+        assert_eq!(
+            parse_canon("   42 N19999999999999999999930START_SPEED_FEED_SYNC(1.250000,0)"),
+            Some(Canon::SyncStart { k: 1.25 })
+        );
         assert_eq!(parse_canon("   16 N..... STRAIGHT_FEED()"), None);
     }
 

@@ -631,6 +631,22 @@ impl Emitter<'_> {
                 _ => start_angle = Angle(angle_for(nearest).rem_euclid(360_000)),
             }
         }
+        // On the 0.001 grid (--round) a very short pass can lose its travel.
+        let on_grid = |z: Length| crate::fixed::div_round(z.0 as i128, 10);
+        if let (Some(from), Some(to)) = (self.pos.z, pass.to.z)
+            && from != to
+            && on_grid(from) == on_grid(to)
+        {
+            return self.diag(
+                codes::CZW_PRECISION,
+                item,
+                format!(
+                    "the thread pass's Z travel of {} mm rounds to nothing on the czech control's 0.001 mm grid",
+                    (to - from).abs().mm()
+                ),
+                "a G33 block needs Z travel the control can measure; lengthen the pass in the source",
+            );
+        }
         let end_x = pass
             .to
             .x

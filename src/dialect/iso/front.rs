@@ -114,9 +114,14 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         }
         let bare_percent = code == "%";
         if let Some(end) = ended {
+            // A line of comments only is kept: it says something, and runs nothing.
+            let only_comments = syntax::parse_line(line.text)
+                .is_ok_and(|b| b.is_empty() && b.number.is_none() && !b.comments.is_empty());
             if bare_percent && percent {
                 fe.push(ItemKind::Delimiter, src.line_span(line));
-            } else if !code.starts_with('(') && !code.starts_with(';') && !warned_after_end {
+            } else if only_comments && !line.text.contains('\0') {
+                fe.line(line);
+            } else if !warned_after_end {
                 warned_after_end = true;
                 fe.diag(
                     codes::ISOR_AFTER_END,
@@ -535,20 +540,42 @@ impl FrontEnd<'_> {
                 ok = false;
             }
         }
-        let spindle: Vec<_> = words
-            .m
-            .iter()
-            .filter(|(c, _)| [3, 4, 5].contains(c))
-            .collect();
-        if spindle.len() > 1 {
-            self.diag(
-                codes::ISOR_CONFLICT,
-                line,
-                spindle[1].1.range.clone(),
-                "two spindle codes on one line".into(),
-                "one of M3, M4, M5 per line",
-            );
-            ok = false;
+        // LinuxCNC's M groups (read_m): one code of each per line, even the same code twice.
+        let m_groups: [(&str, &[i64], &str); 4] = [
+            (
+                "stopping",
+                &[0, 1, 2, 30, 60],
+                "one of M0, M1, M2, M30, M60 per line",
+            ),
+            ("tool change", &[6, 61], "one of M6, M61 per line"),
+            ("spindle", &[3, 4, 5], "one of M3, M4, M5 per line"),
+            (
+                "coolant",
+                &[7, 8, 9],
+                "one of M7, M8, M9 per line (M7 and M8 on two lines)",
+            ),
+        ];
+        for (name, members, help) in m_groups {
+            let found: Vec<_> = words
+                .m
+                .iter()
+                .filter(|(c, _)| members.contains(c))
+                .collect();
+            if found.len() > 1 {
+                let (a, b) = (found[0].1, found[1].1);
+                self.diag(
+                    codes::ISOR_CONFLICT,
+                    line,
+                    b.range.clone(),
+                    format!(
+                        "`{}` and `{}` are both {name} codes",
+                        &line.text[a.range.clone()],
+                        &line.text[b.range.clone()]
+                    ),
+                    help,
+                );
+                ok = false;
+            }
         }
         ok.then_some(words)
     }
@@ -1050,14 +1077,18 @@ impl FrontEnd<'_> {
                 None
             }
             None => {
-                if let Some(at) = at.or(words.other.get(&'Z').copied()) {
-                    self.missing(
-                        line,
-                        at,
-                        format!("{what} without K (the lead)"),
-                        "write the advance per revolution: `K1.5`",
-                    );
-                }
+                // Point at the code, else an axis word (a modal G33 line may have only X).
+                let range = at
+                    .or(words.other.get(&'Z').copied())
+                    .or(words.other.get(&'X').copied())
+                    .map_or(0..line.text.len(), |w| w.range.clone());
+                self.diag(
+                    codes::ISOR_WORD,
+                    line,
+                    range,
+                    format!("{what} without K (the lead): LinuxCNC needs K on every {what} line"),
+                    "write the advance per revolution: `K1.5`",
+                );
                 None
             }
         }

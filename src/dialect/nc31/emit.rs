@@ -502,7 +502,24 @@ impl Emitter<'_> {
         let Some(lead) = self.lead(span, pass.lead, travel) else {
             return;
         };
-        let z = self.units(span, "Z", to_z, self.profile.linear_unit);
+        let unit = self.profile.linear_unit;
+        if let Some(from) = self.pos.z
+            && unit.0 > 0
+            && crate::fixed::div_round(from.0 as i128, unit.0 as i128)
+                == crate::fixed::div_round(to_z.0 as i128, unit.0 as i128)
+        {
+            return self.diag(
+                codes::NCW_PRECISION,
+                span,
+                format!(
+                    "the thread pass's Z travel of {} mm rounds to nothing in the НЦ-31's {} mm units",
+                    travel.mm(),
+                    unit.mm()
+                ),
+                "G32 needs a pass the control can measure; lengthen the pass in the source",
+            );
+        }
+        let z = self.units(span, "Z", to_z, unit);
         let mut group = vec!["G32".to_string(), format!("F{lead}"), format!("Z{z}")];
         self.write(&mut group);
         self.pos.z = Some(to_z);
