@@ -508,39 +508,17 @@ impl FrontEnd<'_> {
                 "LinuxCNC refuses a line with two words of one letter; split the line",
             );
         }
-        // One code per modal group.
-        let groups: [(&str, &[i64]); 7] = [
-            ("motion", &MOTION),
-            ("units", &[G20, G21]),
-            ("distance", &[G90, G91]),
-            ("feed mode", &[G94, G95]),
-            ("diameter mode", &[G7, G8]),
-            ("dwell", &[G4]),
-            ("tool length", &[G43, G49]),
+        // One code of each modal group per line (LinuxCNC's read_g and read_m), even the same
+        // code twice.
+        let g_groups: [(&str, &[GCode], &str); 7] = [
+            ("motion", &MOTION, "one motion code per line"),
+            ("units", &[G20, G21], "one of G20, G21 per line"),
+            ("distance", &[G90, G91], "one of G90, G91 per line"),
+            ("feed mode", &[G94, G95], "one of G94, G95 per line"),
+            ("diameter mode", &[G7, G8], "one of G7, G8 per line"),
+            ("dwell", &[G4], "one G4 per line"),
+            ("tool length", &[G43, G49], "one of G43, G49 per line"),
         ];
-        for (name, members) in groups {
-            let found: Vec<_> = words
-                .g
-                .iter()
-                .filter(|(c, _)| members.contains(c))
-                .collect();
-            if found.len() > 1 {
-                let (a, b) = (found[0].1, found[1].1);
-                self.diag(
-                    codes::ISOR_CONFLICT,
-                    line,
-                    b.range.clone(),
-                    format!(
-                        "`{}` and `{}` are both {name} codes",
-                        &line.text[a.range.clone()],
-                        &line.text[b.range.clone()]
-                    ),
-                    "one code of each modal group per line",
-                );
-                ok = false;
-            }
-        }
-        // LinuxCNC's M groups (read_m): one code of each per line, even the same code twice.
         let m_groups: [(&str, &[i64], &str); 4] = [
             (
                 "stopping",
@@ -555,26 +533,23 @@ impl FrontEnd<'_> {
                 "one of M7, M8, M9 per line (M7 and M8 on two lines)",
             ),
         ];
-        for (name, members, help) in m_groups {
-            let found: Vec<_> = words
-                .m
-                .iter()
-                .filter(|(c, _)| members.contains(c))
-                .collect();
-            if found.len() > 1 {
-                let (a, b) = (found[0].1, found[1].1);
-                self.diag(
-                    codes::ISOR_CONFLICT,
-                    line,
-                    b.range.clone(),
-                    format!(
-                        "`{}` and `{}` are both {name} codes",
-                        &line.text[a.range.clone()],
-                        &line.text[b.range.clone()]
-                    ),
-                    help,
-                );
-                ok = false;
+        for (codes_on_line, groups) in [(&words.g, &g_groups[..]), (&words.m, &m_groups[..])] {
+            for &(name, members, help) in groups {
+                let mut found = codes_on_line.iter().filter(|(c, _)| members.contains(c));
+                if let (Some((_, a)), Some((_, b))) = (found.next(), found.next()) {
+                    self.diag(
+                        codes::ISOR_CONFLICT,
+                        line,
+                        b.range.clone(),
+                        format!(
+                            "`{}` and `{}` are both {name} codes",
+                            &line.text[a.range.clone()],
+                            &line.text[b.range.clone()]
+                        ),
+                        help,
+                    );
+                    ok = false;
+                }
             }
         }
         ok.then_some(words)
