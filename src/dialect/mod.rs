@@ -221,6 +221,12 @@ impl Inexact {
     }
 }
 
+/// A comment as every reader keeps it: control characters as blanks, trimmed; an empty
+/// comment is none.
+pub(crate) fn comment_text(raw: &str) -> Option<String> {
+    Some(one_line(raw)).filter(|t| !t.is_empty())
+}
+
 /// A comment's text on one line: control characters (a stray CR, a tab) become spaces.
 pub(crate) fn one_line(text: &str) -> String {
     let line: String = text

@@ -204,7 +204,15 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
                 chain_turns = None;
             }
             Canon::Feed { x, z } => {
-                let (x, z) = (x * scale, z * scale);
+                let (x, mut z) = (x * scale, z * scale);
+                // In inches rs274 prints a Z it did not move to four decimals of an inch: a
+                // synchronised move along X alone can seem to move Z by up to 0.0001 inch.
+                if let (Some((_, z0)), Some(_)) = (exact, k)
+                    && scale != 1.0
+                    && (z - z0).abs() <= 1.0001e-4 * scale
+                {
+                    z = z0;
+                }
                 let to = Pos::new(mm(x), mm(z));
                 match k.map(|k| k * scale) {
                     Some(k) => {

@@ -153,7 +153,7 @@ pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
                 }
                 Rule::comment => {
                     let text = part.into_inner().next().map_or("", |t| t.as_str());
-                    block.comment = Some(text.trim().to_string());
+                    block.comment = crate::dialect::comment_text(text);
                 }
                 _ => {}
             }

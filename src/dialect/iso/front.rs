@@ -1352,7 +1352,15 @@ impl FrontEnd<'_> {
         };
         let flags = match l {
             Some(l) => match l.value.to_whole() {
-                Ok(v) => v.max(0),
+                Ok(v) if v >= 0 => v,
+                Ok(_) => {
+                    return self.number_error(
+                        line,
+                        l,
+                        "G76 L is negative (LinuxCNC: \"Negative l word used\")".into(),
+                        "L0 none, L1 entry taper, L2 exit taper, L3 both",
+                    );
+                }
                 Err(_) => {
                     return self.number_error(
                         line,

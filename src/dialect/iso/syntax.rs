@@ -114,7 +114,7 @@ pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
                 }
                 Rule::comment | Rule::semicolon_comment => {
                     let text = part.into_inner().next().map_or("", |t| t.as_str());
-                    block.comments.push(text.trim().to_string());
+                    block.comments.extend(crate::dialect::comment_text(text));
                 }
                 _ => {}
             }

@@ -105,7 +105,7 @@ pub fn parse_line(line: &str) -> Result<Line, SyntaxError> {
             let text = content.into_inner().next().map_or("", |t| t.as_str());
             let text = text.trim();
             let text = text.strip_suffix(')').unwrap_or(text).trim_end();
-            Ok(Line::Comment(text.to_string()))
+            Ok(crate::dialect::comment_text(text).map_or(Line::Empty, Line::Comment))
         }
         Rule::delimiter => Ok(Line::Delimiter),
         _ => frame(line, content),
