@@ -4,6 +4,7 @@
 mod emit;
 mod front;
 mod gcode;
+pub mod profile;
 mod syntax;
 
 pub use front::Options;

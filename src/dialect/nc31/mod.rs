@@ -3,6 +3,7 @@
 
 mod emit;
 mod front;
+pub mod profile;
 pub mod syntax;
 
 pub use front::Options;

@@ -1,0 +1,183 @@
+//! The czech control's section of the machine profile (`[czech]`).
+
+use serde::Deserialize;
+
+use crate::diag::{Diagnostic, codes};
+use crate::source::SourceFile;
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CzechProfile {
+    /// Machine constant No. 8 (runout/entry angle); `None` when the profile does not give it.
+    pub constant8: Option<Constant8>,
+    /// Motion mode at program start. **[decided]** G00.
+    pub initial_motion: InitialMotion,
+    /// M codes that select a gear range. **[decided]** M41–M44 (the seed shows M42).
+    pub gear_range_mcodes: Vec<u32>,
+}
+
+impl Default for CzechProfile {
+    fn default() -> Self {
+        CzechProfile {
+            constant8: None,
+            initial_motion: InitialMotion::Rapid,
+            gear_range_mcodes: vec![41, 42, 43, 44],
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+pub enum InitialMotion {
+    #[default]
+    #[serde(rename = "G00", alias = "G0")]
+    Rapid,
+    #[serde(rename = "G01", alias = "G1")]
+    Feed,
+}
+
+/// Machine constant No. 8 as written: a sign and 8 decades, decade 8 first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Constant8 {
+    pub negative: bool,
+    /// `decades[0]` is decade 8, `decades[7]` decade 1.
+    pub decades: [u8; 8],
+}
+
+/// What constant 8 says about the runout/entry angle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AngleSource {
+    /// Direct mode: the angle word `sign · (axis·100 + angle)` in 0.001° (decades 6…1).
+    Direct { word: i64 },
+    /// Parameter mode: R parameter numbers for the runout angle and the entry angle.
+    Parameters { runout: u32, entry: Option<u32> },
+}
+
+impl Constant8 {
+    /// Parses `[+|-]dddddddd`.
+    pub fn parse(text: &str) -> Option<Constant8> {
+        let (negative, digits) = crate::fixed::split_sign(text)?;
+        if digits.len() != 8 || !digits.bytes().all(|b| b.is_ascii_digit()) {
+            return None;
+        }
+        let mut decades = [0u8; 8];
+        for (d, b) in decades.iter_mut().zip(digits.bytes()) {
+            *d = b - b'0';
+        }
+        Some(Constant8 { negative, decades })
+    }
+
+    fn number(&self, from: usize, to: usize) -> u32 {
+        self.decades[from..to]
+            .iter()
+            .fold(0, |n, &d| n * 10 + d as u32)
+    }
+
+    /// Direct mode when decades 8 and 7 are 0, else parameter mode. **[seed]**
+    pub fn angle_source(&self) -> AngleSource {
+        let runout = self.number(0, 2);
+        if runout == 0 {
+            // decade 6 = axis, decades 5…1 = angle in 0.001°: together axis·100 000 + angle.
+            let magnitude = self.number(2, 8) as i64;
+            let word = if self.negative { -magnitude } else { magnitude };
+            AngleSource::Direct { word }
+        } else {
+            let entry = self.number(2, 4);
+            AngleSource::Parameters {
+                runout,
+                entry: (entry != 0).then_some(entry),
+            }
+        }
+    }
+}
+
+impl std::fmt::Display for Constant8 {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.negative {
+            f.write_str("-")?;
+        }
+        for d in self.decades {
+            write!(f, "{d}")?;
+        }
+        Ok(())
+    }
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct Raw {
+    constant8: Option<toml::Spanned<RawConstant>>,
+    initial_motion: Option<InitialMotion>,
+    gear_range_mcodes: Option<Vec<u32>>,
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum RawConstant {
+    Text(String),
+    Number(i64),
+}
+
+/// Reads the `[czech]` section into `p`, reporting each bad value with its line.
+pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut CzechProfile, diags: &mut Vec<Diagnostic>) {
+    if let Some(c8) = raw.constant8 {
+        let span = src.span_of(c8.span());
+        let text = match c8.get_ref() {
+            RawConstant::Text(t) => Some(t.clone()),
+            RawConstant::Number(n) if n.unsigned_abs() < 100_000_000 => Some(format!(
+                "{}{:08}",
+                if *n < 0 { "-" } else { "" },
+                n.unsigned_abs()
+            )),
+            RawConstant::Number(_) => None,
+        };
+        match text.as_deref().and_then(Constant8::parse) {
+            Some(c) => p.constant8 = Some(c),
+            None => diags.push(
+                Diagnostic::new(codes::PF_CONSTANT8, "machine constant 8 must be a sign and 8 decades")
+                    .at(src, span)
+                    .label("not 8 decimal digits")
+                    .help("write it as in TAB0.REK, e.g. \"+00112500\" (direct: axis X, 12.500°) or \"04000000\" (angle in R04)"),
+            ),
+        }
+    }
+    if let Some(m) = raw.initial_motion {
+        p.initial_motion = m;
+    }
+    if let Some(g) = raw.gear_range_mcodes {
+        p.gear_range_mcodes = g;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decodes_the_seed_constants() {
+        let direct = Constant8::parse("00112500").unwrap();
+        assert_eq!(direct.angle_source(), AngleSource::Direct { word: 112_500 });
+        let negative = Constant8::parse("-00120000").unwrap();
+        assert_eq!(
+            negative.angle_source(),
+            AngleSource::Direct { word: -120_000 }
+        );
+        let r04 = Constant8::parse("04000000").unwrap();
+        assert_eq!(
+            r04.angle_source(),
+            AngleSource::Parameters {
+                runout: 4,
+                entry: None
+            }
+        );
+        let two = Constant8::parse("15160000").unwrap();
+        assert_eq!(
+            two.angle_source(),
+            AngleSource::Parameters {
+                runout: 15,
+                entry: Some(16)
+            }
+        );
+        assert_eq!(two.to_string(), "15160000");
+        assert!(Constant8::parse("1516000").is_none());
+        assert!(Constant8::parse("1516000x").is_none());
+    }
+}

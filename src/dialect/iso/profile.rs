@@ -1,0 +1,55 @@
+//! The ISO (LinuxCNC) section of the machine profile (`[iso]`).
+
+use indexmap::IndexMap;
+use serde::Deserialize;
+
+use crate::diag::{Diagnostic, codes};
+use crate::source::SourceFile;
+
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct IsoProfile {
+    /// Source M code → the M word LinuxCNC should get instead (e.g. a user M code).
+    pub mcodes: IndexMap<u32, String>,
+    pub tool_change: ToolChange,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ToolChange {
+    /// `T9 M6` (LinuxCNC's tool change).
+    #[default]
+    M6,
+    /// `T9` alone (a lathe turret configured to index on T).
+    T,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct Raw {
+    mcodes: Option<IndexMap<String, toml::Spanned<String>>>,
+    tool_change: Option<ToolChange>,
+}
+
+/// Reads the `[iso]` section into `p`, reporting each bad value with its line.
+pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut IsoProfile, diags: &mut Vec<Diagnostic>) {
+    if let Some(t) = raw.tool_change {
+        p.tool_change = t;
+    }
+    for (key, value) in raw.mcodes.unwrap_or_default() {
+        let span = src.span_of(value.span());
+        let word = value.into_inner();
+        let valid_word = word
+            .strip_prefix(['M', 'm'])
+            .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()));
+        match key.trim_start_matches(['M', 'm']).parse::<u32>() {
+            Ok(code) if valid_word => {
+                p.mcodes.insert(code, word.to_ascii_uppercase());
+            }
+            _ => diags.push(
+                Diagnostic::new(codes::ISOW_BAD_MAPPING, format!("`{key} = \"{word}\"` is not an M code mapping"))
+                    .at(src, span)
+                    .help("write the source M number as the key and one LinuxCNC M word as the value, e.g. `42 = \"M142\"`"),
+            ),
+        }
+    }
+}

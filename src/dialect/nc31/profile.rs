@@ -1,0 +1,167 @@
+//! The НЦ-31's section of the machine profile (`[nc31]`).
+
+use serde::Deserialize;
+
+use crate::diag::Diagnostic;
+use crate::fixed::{Lead, Length};
+use crate::ir::{Schedule, Slope};
+use crate::profile::{RawNumber, bad_value};
+use crate::source::SourceFile;
+
+/// The НЦ-31's units and machine parameters. Defaults: the seed's units, radial infeed, no
+/// runout, 0.5 mm retract, halving schedule.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Nc31Profile {
+    /// One unit of X (diameter), Z and P words.
+    pub linear_unit: Length,
+    /// One unit of F inside a G31/G32/G33 group (lead).
+    pub lead_unit: Length,
+    /// One unit of F elsewhere (feed per revolution).
+    pub feed_unit: Length,
+    /// Machine parameter 6: 4096·tan(infeed angle); 0 is radial infeed.
+    pub infeed_p6: u32,
+    /// Machine parameter 7: runout length in units of 0.1·lead; 0 is none.
+    pub runout_p7: u32,
+    /// Radial clearance above the crest when a G31 pass returns. **[decided]** 0.5 mm.
+    pub retract: Length,
+    pub schedule: Schedule,
+    /// M codes that select a spindle speed range. **[seed]** M38…M41.
+    pub gear_range_mcodes: Vec<u32>,
+}
+
+impl Default for Nc31Profile {
+    fn default() -> Self {
+        Nc31Profile {
+            linear_unit: Length(100),
+            lead_unit: Length(1),
+            feed_unit: Length(100),
+            infeed_p6: 0,
+            runout_p7: 0,
+            retract: Length(5_000),
+            schedule: Schedule::Halving,
+            gear_range_mcodes: vec![38, 39, 40, 41],
+        }
+    }
+}
+
+impl Nc31Profile {
+    /// The denominator of parameter 6. **[seed]** P = 4096·tan α.
+    pub const P6_RUN: i64 = 4096;
+    /// The largest parameter 6 accepted: 45° (flank infeed is at most half a thread angle).
+    pub const P6_MAX: u32 = 4096;
+    /// The largest parameter 7: the seed gives runouts of 0.1…3.1 leads.
+    pub const P7_MAX: u32 = 31;
+
+    pub fn infeed(&self) -> Slope {
+        Slope {
+            rise: self.infeed_p6 as i64,
+            run: Self::P6_RUN,
+        }
+    }
+
+    /// The runout length along Z for `lead`: P7 · 0.1 · lead, rounded once onto the grid.
+    pub fn runout(&self, lead: Lead) -> Length {
+        lead.length_times(self.runout_p7 as i64, 10)
+    }
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct Raw {
+    linear_unit_mm: Option<toml::Spanned<RawNumber>>,
+    lead_unit_mm: Option<toml::Spanned<RawNumber>>,
+    feed_unit_mm: Option<toml::Spanned<RawNumber>>,
+    infeed_p6: Option<toml::Spanned<i64>>,
+    runout_p7: Option<toml::Spanned<i64>>,
+    retract_mm: Option<toml::Spanned<RawNumber>>,
+    schedule: Option<toml::Spanned<String>>,
+    gear_range_mcodes: Option<Vec<u32>>,
+}
+
+/// Reads the `[nc31]` section into `p`, reporting each bad value with its key.
+pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut Nc31Profile, diags: &mut Vec<Diagnostic>) {
+    let units = [
+        (
+            "nc31.linear_unit_mm",
+            raw.linear_unit_mm,
+            &mut p.linear_unit,
+        ),
+        ("nc31.lead_unit_mm", raw.lead_unit_mm, &mut p.lead_unit),
+        ("nc31.feed_unit_mm", raw.feed_unit_mm, &mut p.feed_unit),
+    ];
+    for (key, value, slot) in units {
+        let Some(value) = value else { continue };
+        let span = src.span_of(value.span());
+        match value.into_inner().length() {
+            Some(l) if l.0 > 0 => *slot = l,
+            _ => diags.push(bad_value(
+                src,
+                span,
+                key,
+                "a unit must be a positive multiple of 0.0001 mm".into(),
+                "e.g. 0.01 for words in hundredths of a millimetre, 0.0001 for leads",
+            )),
+        }
+    }
+    if let Some(value) = raw.retract_mm {
+        let span = src.span_of(value.span());
+        match value.into_inner().length() {
+            Some(l) if l.0 >= 0 => p.retract = l,
+            _ => diags.push(bad_value(
+                src,
+                span,
+                "nc31.retract_mm",
+                "the retract must be zero or positive, a multiple of 0.0001 mm".into(),
+                "the built-in value is 0.5",
+            )),
+        }
+    }
+    let parameters = [
+        (
+            "nc31.infeed_p6",
+            raw.infeed_p6,
+            Nc31Profile::P6_MAX,
+            &mut p.infeed_p6,
+            "parameter 6 is 4096·tan(infeed angle): 0 radial, 2365 for 30°, 1491 for 20°",
+        ),
+        (
+            "nc31.runout_p7",
+            raw.runout_p7,
+            Nc31Profile::P7_MAX,
+            &mut p.runout_p7,
+            "parameter 7 is the runout in tenths of the lead (1…31), 0 for none",
+        ),
+    ];
+    for (key, value, max, slot, help) in parameters {
+        let Some(value) = value else { continue };
+        let span = src.span_of(value.span());
+        match u32::try_from(*value.get_ref()) {
+            Ok(v) if v <= max => *slot = v,
+            _ => diags.push(bad_value(
+                src,
+                span,
+                key,
+                format!("{} is outside 0…{max}", value.get_ref()),
+                help,
+            )),
+        }
+    }
+    if let Some(value) = raw.schedule {
+        let span = src.span_of(value.span());
+        match value.get_ref().as_str() {
+            "halving" => p.schedule = Schedule::Halving,
+            "constant-depth" => p.schedule = Schedule::ConstantDepth,
+            "constant-area" => p.schedule = Schedule::ConstantArea,
+            other => diags.push(bad_value(
+                src,
+                span,
+                "nc31.schedule",
+                format!("unknown schedule \"{other}\""),
+                "one of \"halving\" (the control's G31), \"constant-depth\", \"constant-area\"",
+            )),
+        }
+    }
+    if let Some(g) = raw.gear_range_mcodes {
+        p.gear_range_mcodes = g;
+    }
+}
