@@ -330,14 +330,20 @@ impl Emitter<'_> {
             (_, c) => c.clone(),
         };
         if let Some(comment) = &comment {
-            let comment = format!("({})", comment_text(comment));
+            let text = comment_text(comment);
             // Inline on the item's first line, unless that line is a comment itself
-            // (LinuxCNC keeps only the last comment of a line): then on a line before it.
+            // (LinuxCNC keeps only the last comment of a line): then on a line before it. A
+            // line that ends in a comment of the writer's (a start angle's note) gets this
+            // one in the same parentheses, as the reader joins a line's comments: `(a; b)`.
             if self.out.len() == start || self.out[start..].starts_with('(') {
-                self.out.insert_str(start, &format!("{comment}\n"));
+                self.out.insert_str(start, &format!("({text})\n"));
             } else {
                 let eol = start + self.out[start..].find('\n').unwrap_or(0);
-                self.out.insert_str(eol, &format!(" {comment}"));
+                if self.out[start..eol].ends_with(')') {
+                    self.out.insert_str(eol - 1, &format!("; {text}"));
+                } else {
+                    self.out.insert_str(eol, &format!(" ({text})"));
+                }
             }
         }
     }
