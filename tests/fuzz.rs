@@ -735,6 +735,7 @@ fn replay_kept_findings() {
         .collect();
     files.sort();
     let mut failing = Vec::new();
+    let mut replayed = 0;
     for file in &files {
         let name = file
             .file_name()
@@ -744,14 +745,19 @@ fn replay_kept_findings() {
         let Some(dialect) = name
             .split_once('-')
             .and_then(|(d, _)| ncthread::dialect::by_id(d))
+            .filter(|d| {
+                file.extension()
+                    .is_some_and(|e| e == common::extension(d.id()))
+            })
         else {
             continue;
         };
         let input = Input {
             from: dialect.id(),
             bytes: std::fs::read(file).unwrap(),
-            profile: None,
+            profile: std::fs::read_to_string(file.with_extension("profile.toml")).ok(),
         };
+        replayed += 1;
         if let Err(why) = guarded(&input, interpreter()) {
             let first: String = why
                 .lines()
@@ -764,8 +770,7 @@ fn replay_kept_findings() {
         }
     }
     println!(
-        "replayed {} kept inputs, {} still failing",
-        files.len(),
+        "replayed {replayed} kept inputs, {} still failing",
         failing.len()
     );
     assert!(failing.is_empty(), "still failing:\n{}", failing.join("\n"));
