@@ -7,6 +7,10 @@ pub mod czech;
 pub mod detect;
 pub mod iso;
 pub mod nc31;
+pub(crate) mod read;
+
+pub use read::Unsupported;
+pub(crate) use read::{WORD_REPORTS, budget, comment_text, one_line, pest_error_offset};
 
 use crate::diag::Diagnostic;
 use crate::fixed::{Lead, Length};
@@ -149,45 +153,6 @@ pub trait Dialect: Sync {
     ) -> (Option<String>, Vec<Diagnostic>);
 }
 
-/// Where a pest parse of `line` failed, as a byte offset: at the letter when pest stopped
-/// after an address letter that has no number (shared by every dialect's syntax layer).
-pub(crate) fn pest_error_offset<R: pest::RuleType>(line: &str, e: &pest::error::Error<R>) -> usize {
-    let offset = match e.location {
-        pest::error::InputLocation::Pos(p) => p,
-        pest::error::InputLocation::Span((s, _)) => s,
-    };
-    let offset = offset.min(line.len());
-    if line[..offset]
-        .chars()
-        .next_back()
-        .is_some_and(|c| c.is_ascii_alphabetic())
-    {
-        offset - 1
-    } else {
-        offset
-    }
-}
-
-/// How many problems of one kind a reader reports for one line before it only counts them:
-/// a hostile line of 50,000 repeated words gets a few diagnostics and a count.
-pub(crate) const WORD_REPORTS: usize = 5;
-
-/// Counts one more problem on the line; true while it should still be reported.
-pub(crate) fn budget(count: &mut usize) -> bool {
-    *count += 1;
-    *count <= WORD_REPORTS
-}
-
-/// What a front end does with constructs its dialect's documentation does not define.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Unsupported {
-    /// Refuse the program (default).
-    #[default]
-    Error,
-    /// Warn and keep the block as an opaque item (only the same dialect writes it back).
-    Warn,
-}
-
 /// Values a target cannot hold on its grid, gathered for one diagnostic per program (an
 /// error, or with `--round` a warning): how many, the largest deviation, and the first.
 #[derive(Debug, Default)]
@@ -219,20 +184,4 @@ impl Inexact {
             self.first = Some((span, format!("{what} {} mm", lead.mm()), grid.mm()));
         }
     }
-}
-
-/// A comment as every reader keeps it: control characters as blanks, trimmed; an empty
-/// comment is none.
-pub(crate) fn comment_text(raw: &str) -> Option<String> {
-    Some(one_line(raw)).filter(|t| !t.is_empty())
-}
-
-/// A comment's text on one line: control characters (a stray CR, a tab) become spaces.
-pub(crate) fn one_line(text: &str) -> String {
-    let line: String = text
-        .chars()
-        .map(|c| if c.is_control() { ' ' } else { c })
-        .collect();
-    // Readers trim comments: so do the writers, so that an output reads back as it is.
-    line.trim().to_string()
 }

@@ -5,14 +5,26 @@ use std::ops::Range;
 
 use super::syntax::{self, Block, Value, Word};
 use crate::diag::{Code, Diagnostic, codes};
+use crate::dialect::read::{Reader, UnsupportedWording};
 use crate::dialect::{Unsupported, WORD_REPORTS, budget};
 use crate::fixed::{Angle, Decimal, Lead, Length, NumberError};
 use crate::ir::{
-    Chamfer, EndCode, FeedMode, Item, ItemKind, ModalContext, Pos, Program, SpindleDirection,
-    SyncStart, ThreadPass,
+    Chamfer, EndCode, FeedMode, ItemKind, ModalContext, Pos, Program, SpindleDirection, SyncStart,
+    ThreadPass,
 };
 use crate::profile::{AngleSource, InitialMotion, Profile};
 use crate::source::{Line, SourceFile, Span};
+
+/// How the czech reader words its unsupported policy.
+const UNSUPPORTED: UnsupportedWording = UnsupportedWording {
+    code: codes::CZR_UNSUPPORTED,
+    more: "unsupported words in this block",
+    in_one: "in a block",
+    many: "blocks",
+    own_block: "write this word in a block of its own",
+    refuse_help: "ncthread never guesses the meaning of undocumented constructs; `--unsupported warn` keeps the block as an opaque item",
+    keep_help: "the block is kept as written; only the czech emitter can write it back, and positions after it are unknown",
+};
 
 #[derive(Clone, Debug, Default)]
 pub struct Options {
@@ -47,14 +59,11 @@ enum AfterRunout {
 }
 
 struct FrontEnd<'a> {
-    src: &'a SourceFile,
+    r: Reader<'a>,
     profile: &'a Profile,
     options: &'a Options,
-    diags: Vec<Diagnostic>,
-    items: Vec<Item>,
     motion: Motion,
     incremental: bool,
-    pos: Pos,
     f: Option<FRegister>,
     params: HashMap<u32, Decimal>,
     after_runout: AfterRunout,
@@ -64,46 +73,35 @@ struct FrontEnd<'a> {
 /// usable only when no diagnostic is an error.
 pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program, Vec<Diagnostic>) {
     let mut fe = FrontEnd {
-        src,
+        r: Reader::new(src, super::ID),
         profile,
         options,
-        diags: Vec::new(),
-        items: Vec::new(),
         motion: match profile.czech.initial_motion {
             InitialMotion::Rapid => Motion::Rapid,
             InitialMotion::Feed => Motion::Feed,
         },
         incremental: false,
-        pos: Pos::UNKNOWN,
         f: None,
         params: HashMap::new(),
         after_runout: AfterRunout::Nothing,
     };
     // M02/M30 end the program: blocks after it never run. **[decided]** (as LinuxCNC)
     let mut ended = false;
-    let mut warned_after_end = false;
     for line in src.lines() {
         if line.text.trim().is_empty() {
             continue;
         }
         match syntax::parse_line(line.text) {
-            Ok(block) if ended && !block.is_empty() && !block.delimiter => {
-                if !warned_after_end {
-                    warned_after_end = true;
-                    let span = src.line_span(line);
-                    fe.diags.push(
-                        Diagnostic::new(codes::CZR_AFTER_END, "this block comes after the program's end (M02/M30); the control does not run it, and neither does ncthread")
-                            .at(src, span)
-                            .help("remove it, or move the program's end after it"),
-                    );
-                }
-            }
+            Ok(block) if ended && !block.is_empty() && !block.delimiter => fe.r.after_end(
+                codes::CZR_AFTER_END,
+                src.line_span(line),
+                "this block comes after the program's end (M02/M30); the control does not run it, and neither does ncthread",
+                "remove it, or move the program's end after it",
+            ),
             Ok(block) => {
-                let first = fe.items.len();
+                let first = fe.r.items.len();
                 fe.block(line, &block);
-                ended |= fe.items[first..]
-                    .iter()
-                    .any(|i| matches!(i.kind, ItemKind::ProgramEnd(_)));
+                ended |= fe.r.ends_program(first);
             }
             Err(e) => {
                 let code = if e.number_too_large {
@@ -111,26 +109,19 @@ pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program
                 } else {
                     codes::CZR_SYNTAX
                 };
-                let span = src.char_span(line, e.offset);
-                fe.diags
-                    .push(Diagnostic::new(code, e.message).at(src, span).help(e.help));
+                fe.r.syntax_error(code, line, e.offset, e.message, e.help);
             }
         }
     }
     if let AfterRunout::EmptyBlock { thread } | AfterRunout::AllAxes { thread } = fe.after_runout {
-        fe.diags.push(
-            Diagnostic::new(codes::CZR_MISSING_BLOCK, "the program ends before the blocks this J/E thread block requires")
-                .at(src, thread)
-                .help("after a thread block with J or E write an empty block, then a block that programs X and Z"),
+        fe.r.error(
+            codes::CZR_MISSING_BLOCK,
+            thread,
+            "the program ends before the blocks this J/E thread block requires",
+            "after a thread block with J or E write an empty block, then a block that programs X and Z",
         );
     }
-    (
-        Program {
-            items: fe.items,
-            dialect: super::ID,
-        },
-        fe.diags,
-    )
+    fe.r.finish()
 }
 
 /// The words of one block, sorted by meaning.
@@ -154,7 +145,7 @@ impl<'b> Words<'b> {
 
 impl<'a> FrontEnd<'a> {
     fn span(&self, line: Line<'_>, range: Range<usize>) -> Span {
-        self.src.span_in_line(line, range)
+        self.r.src.span_in_line(line, range)
     }
 
     fn error(
@@ -164,22 +155,19 @@ impl<'a> FrontEnd<'a> {
         range: Range<usize>,
         message: impl Into<String>,
     ) -> Diagnostic {
-        Diagnostic::new(code, message).at(self.src, self.span(line, range))
+        Diagnostic::new(code, message).at(self.r.src, self.span(line, range))
     }
 
     fn report(&mut self, d: Diagnostic) {
-        self.diags.push(d);
+        self.r.diags.push(d);
     }
 
     fn push(&mut self, kind: ItemKind, span: Span, number: Option<u32>) {
-        self.items.push(Item {
-            block_number: number,
-            ..Item::new(kind, span)
-        });
+        self.r.push(kind, span, number);
     }
 
     fn block(&mut self, line: Line<'_>, block: &Block) {
-        let first_item = self.items.len();
+        let first_item = self.r.items.len();
         let code_span = self.span(line, block.code_range.clone());
         self.check_after_runout(line, block, code_span);
         if block.delimiter {
@@ -196,7 +184,7 @@ impl<'a> FrontEnd<'a> {
             self.params.insert(a.param, a.value);
         }
         if let Some(comment) = &block.comment {
-            match self.items.get_mut(first_item) {
+            match self.r.items.get_mut(first_item) {
                 Some(item) => item.comment = Some(comment.clone()),
                 None => {
                     let span = self.span(line, 0..line.text.len());
@@ -204,7 +192,7 @@ impl<'a> FrontEnd<'a> {
                 }
             }
         }
-        for item in &mut self.items[first_item..] {
+        for item in &mut self.r.items[first_item..] {
             item.block_number = block.number;
         }
     }
@@ -244,10 +232,10 @@ impl<'a> FrontEnd<'a> {
                         codes::CZR_AXES_AFTER_RUNOUT,
                         format!("this block must program every axis after the J/E thread block on line {}", thread.line),
                     )
-                    .at(self.src, code_span)
+                    .at(self.r.src, code_span)
                     .label(format!("missing {}", missing.join(" and ")))
                     .help("write X and Z here; if the tool should not move, repeat the end position of the thread block");
-                    self.diags.push(d);
+                    self.r.diags.push(d);
                 }
                 self.after_runout = AfterRunout::Nothing;
             }
@@ -445,75 +433,56 @@ impl<'a> FrontEnd<'a> {
     }
 
     fn unsupported(&mut self, line: Line<'_>, block: &Block, words: &Words<'_>, code_span: Span) {
-        let warn = self.options.unsupported == Unsupported::Warn;
-        let shown = words.unsupported.len().min(WORD_REPORTS);
-        let more = words.unsupported.len() - shown;
-        for (i, (word, what)) in words.unsupported[..shown].iter().enumerate() {
-            let text = &line.text[word.range.clone()];
-            let and_more = if i + 1 == shown && more > 0 {
-                format!(" (and {more} more unsupported words in this block)")
-            } else {
-                String::new()
-            };
-            let mut d = Diagnostic::new(
-                codes::CZR_UNSUPPORTED,
-                format!("`{text}`: {what} is not supported{and_more}"),
-            )
-            .at(self.src, self.span(line, word.range.clone()));
-            d = if warn {
-                d.as_warning().help("the block is kept as written; only the czech emitter can write it back, and positions after it are unknown")
-            } else {
-                d.help("ncthread never guesses the meaning of undocumented constructs; `--unsupported warn` keeps the block as an opaque item")
-            };
-            self.diags.push(d);
+        let keep = self.options.unsupported == Unsupported::Warn;
+        let found = words
+            .unsupported
+            .iter()
+            .map(|(word, what)| {
+                let text = &line.text[word.range.clone()];
+                (
+                    self.span(line, word.range.clone()),
+                    format!("`{text}`: {what} is not supported"),
+                )
+            })
+            .collect();
+        self.r.unsupported(&UNSUPPORTED, found, keep);
+        if !keep {
+            return;
         }
-        if warn {
-            // A kept block must not change what ncthread follows: its motion, distance or
-            // feed mode, F, S, T, D or spindle words would take effect on the control and not
-            // here, and the blocks after it would be read wrongly.
-            let state = words
-                .motion
-                .map(|(_, w)| w)
-                .or(words.distance.map(|(_, w)| w))
-                .or(words.feed_mode.map(|(_, w)| w))
-                .or(words.spindle.map(|(_, w)| w))
-                .or(words.end.map(|(_, w)| w))
-                .or(words.gears.first().map(|(_, w)| *w))
-                .or(['F', 'S', 'T', 'D'].iter().find_map(|&c| words.get(c)));
-            if let Some(w) = state {
-                let text = &line.text[w.range.clone()];
-                self.report(
-                    self.error(
-                        codes::CZR_UNSUPPORTED,
-                        line,
-                        w.range.clone(),
-                        format!("`{text}` in a block kept opaque: it changes state that the blocks after it depend on, which ncthread would not follow"),
-                    )
-                    .help("write this word in a block of its own, so that ncthread reads it and keeps only the unsupported words"),
-                );
-                return;
-            }
-            // The block number is the writer's to give.
-            let code = line.text[block.code_range.clone()].trim_start();
-            let code = match code.strip_prefix(['N', 'n']) {
-                Some(rest) if block.number.is_some() => rest
-                    .trim_start_matches(|c: char| c.is_ascii_digit())
-                    .trim_start(),
-                _ => code,
-            };
-            let kind = ItemKind::Opaque {
-                dialect: super::ID,
-                text: code.to_string(),
-                block: Some(ModalContext {
-                    inch: false,
-                    diameter: true,
-                    incremental: self.incremental,
-                    per_minute: None,
-                }),
-            };
-            self.pos = kind.end_position(self.pos);
-            self.push(kind, code_span, None);
+        // A kept block must not change what ncthread follows: its motion, distance or
+        // feed mode, F, S, T, D or spindle words would take effect on the control and not
+        // here, and the blocks after it would be read wrongly.
+        let state = words
+            .motion
+            .map(|(_, w)| w)
+            .or(words.distance.map(|(_, w)| w))
+            .or(words.feed_mode.map(|(_, w)| w))
+            .or(words.spindle.map(|(_, w)| w))
+            .or(words.end.map(|(_, w)| w))
+            .or(words.gears.first().map(|(_, w)| *w))
+            .or(['F', 'S', 'T', 'D'].iter().find_map(|&c| words.get(c)));
+        if let Some(w) = state {
+            let span = self.span(line, w.range.clone());
+            self.r
+                .state_in_opaque(&UNSUPPORTED, span, &line.text[w.range.clone()]);
+            return;
         }
+        // The block number is the writer's to give.
+        let code = line.text[block.code_range.clone()].trim_start();
+        let code = match code.strip_prefix(['N', 'n']) {
+            Some(rest) if block.number.is_some() => rest
+                .trim_start_matches(|c: char| c.is_ascii_digit())
+                .trim_start(),
+            _ => code,
+        };
+        let context = ModalContext {
+            inch: false,
+            diameter: true,
+            incremental: self.incremental,
+            per_minute: None,
+        };
+        self.r
+            .keep_opaque(code.to_string(), code_span, None, context);
     }
 
     /// A number on the 0.0001 mm grid, or a diagnostic.
@@ -763,7 +732,7 @@ impl<'a> FrontEnd<'a> {
             }
             return;
         }
-        let start = self.pos;
+        let start = self.r.pos;
         let Some(x) = self.axis(line, x_word, start.x) else {
             return;
         };
@@ -816,7 +785,7 @@ impl<'a> FrontEnd<'a> {
                 None => return,
             },
         };
-        self.pos = kind.end_position(self.pos);
+        self.r.pos = kind.end_position(self.r.pos);
         self.push(kind, code_span, number);
     }
 

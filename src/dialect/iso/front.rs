@@ -14,15 +14,27 @@ use indexmap::IndexMap;
 use super::gcode::*;
 use super::syntax::{self, Block, Word};
 use crate::diag::{Code, Diagnostic, codes};
+use crate::dialect::read::{Reader, UnsupportedWording};
 use crate::dialect::{Unsupported, WORD_REPORTS, budget};
 use crate::fixed::{Angle, Decimal, Lead, Length, div_round};
 use crate::ir::{
-    CycleChamfer, Degression, EndCode, FeedMode, Finish, IjkScale, Item, ItemKind, ModalContext,
-    Pos, Program, Retract, Rise, Schedule, Slope, SpindleDirection, SyncInfeed, SyncStart,
-    TapCycle, ThreadCycle, ThreadPass,
+    CycleChamfer, Degression, EndCode, FeedMode, Finish, IjkScale, ItemKind, ModalContext, Pos,
+    Program, Retract, Rise, Schedule, Slope, SpindleDirection, SyncInfeed, SyncStart, TapCycle,
+    ThreadCycle, ThreadPass,
 };
 use crate::lower;
 use crate::source::{Line, SourceFile, Span};
+
+/// How the ISO reader words its unsupported policy.
+const UNSUPPORTED: UnsupportedWording = UnsupportedWording {
+    code: codes::ISOR_UNSUPPORTED,
+    more: "on this line",
+    in_one: "on a line",
+    many: "lines",
+    own_block: "put this word on a line of its own",
+    refuse_help: "ncthread reads lathe thread programs in X and Z; rewrite this line, or pass --unsupported warn to keep it opaque",
+    keep_help: "kept as an opaque block: only ISO output writes it back, and positions after it are unknown",
+};
 
 #[derive(Clone, Debug, Default)]
 pub struct Options {
@@ -43,11 +55,8 @@ enum Motion {
 const SLOPE_RUN: i64 = 1_000_000_000;
 
 struct FrontEnd<'a> {
-    src: &'a SourceFile,
+    r: Reader<'a>,
     options: &'a Options,
-    diags: Vec<Diagnostic>,
-    items: Vec<Item>,
-    pos: Pos,
     motion: Option<Motion>,
     /// G7 (true) or G8 (false); `None` until one is programmed (LinuxCNC then reads radii).
     diameter: Option<bool>,
@@ -75,11 +84,8 @@ struct FrontEnd<'a> {
 /// Reads an RS274/NGC program. The program is usable only when no diagnostic is an error.
 pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) {
     let mut fe = FrontEnd {
-        src,
+        r: Reader::new(src, super::ID),
         options,
-        diags: Vec::new(),
-        items: Vec::new(),
-        pos: Pos::UNKNOWN,
         motion: None,
         diameter: None,
         diameter_before_line: false,
@@ -102,7 +108,6 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
     let mut percent = false;
     let mut first = true;
     let mut ended: Option<&'static str> = None;
-    let mut warned_after_end = false;
     for line in src.lines() {
         let code: String = line
             .text
@@ -121,13 +126,12 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
                 fe.push(ItemKind::Delimiter, src.line_span(line));
             } else if only_comments && !line.text.contains('\0') {
                 fe.line(line);
-            } else if !warned_after_end {
-                warned_after_end = true;
-                fe.diag(
+            } else {
+                let span = fe.r.span(line, 0..line.text.len());
+                fe.r.after_end(
                     codes::ISOR_AFTER_END,
-                    line,
-                    0..line.text.len(),
-                    format!("this line comes after the program's end ({end}); LinuxCNC does not run it, and neither does ncthread"),
+                    span,
+                    &format!("this line comes after the program's end ({end}); LinuxCNC does not run it, and neither does ncthread"),
                     "remove it, or move the program's end after it",
                 );
             }
@@ -158,7 +162,7 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
             ended = Some("M2/M30");
         }
     }
-    if ended.is_none() && !fe.items.is_empty() {
+    if ended.is_none() && !fe.r.items.is_empty() {
         let last = src.lines().filter(|l| !l.text.trim().is_empty()).last();
         if let Some(line) = last {
             fe.diag(
@@ -174,13 +178,7 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
             );
         }
     }
-    (
-        Program {
-            items: fe.items,
-            dialect: super::ID,
-        },
-        fe.diags,
-    )
+    fe.r.finish()
 }
 
 /// The words of one line, sorted by what reads them.
@@ -284,9 +282,8 @@ impl FrontEnd<'_> {
         message: String,
         help: &str,
     ) {
-        let span = self.src.span_in_line(line, range);
-        self.diags
-            .push(Diagnostic::new(code, message).at(self.src, span).help(help));
+        let span = self.r.span(line, range);
+        self.r.error(code, span, message, help);
     }
 
     fn push(&mut self, kind: ItemKind, span: Span) {
@@ -296,7 +293,7 @@ impl FrontEnd<'_> {
             ItemKind::ThreadPass(_) | ItemKind::Comment(_) | ItemKind::Delimiter => {}
             // A move to where the tool already is leaves it in the cut.
             ItemKind::Rapid { .. } | ItemKind::Feed { .. }
-                if kind.end_position(self.pos) == self.pos =>
+                if kind.end_position(self.r.pos) == self.r.pos =>
             {
                 self.sync_end = None;
             }
@@ -310,37 +307,36 @@ impl FrontEnd<'_> {
             }
             _ => self.sync_end = None,
         }
-        self.items.push(Item::new(kind, span));
+        self.r.push(kind, span, None);
     }
 
     fn line(&mut self, line: Line<'_>) {
         // LinuxCNC reads a line as a C string: it ends at a NUL.
         if let Some(at) = line.text.find('\0') {
-            let span = self.src.char_span(line, at);
-            self.diags.push(
-                Diagnostic::new(
-                    codes::ISOR_SYNTAX,
-                    "a NUL character: LinuxCNC reads the line only up to it",
-                )
-                .at(self.src, span)
-                .help("remove the NUL byte (a damaged file?)"),
+            self.r.syntax_error(
+                codes::ISOR_SYNTAX,
+                line,
+                at,
+                "a NUL character: LinuxCNC reads the line only up to it",
+                "remove the NUL byte (a damaged file?)",
             );
             return;
         }
         let block = match syntax::parse_line(line.text) {
             Ok(b) => b,
             Err(e) => {
-                let span = self.src.char_span(line, e.offset);
-                self.diags.push(
-                    Diagnostic::new(codes::ISOR_SYNTAX, e.message)
-                        .at(self.src, span)
-                        .help("a line is words (a letter and a number: `G33`, `X35.6`, `K1.5`), `( )` comments and a `;` comment to its end"),
+                self.r.syntax_error(
+                    codes::ISOR_SYNTAX,
+                    line,
+                    e.offset,
+                    e.message,
+                    "a line is words (a letter and a number: `G33`, `X35.6`, `K1.5`), `( )` comments and a `;` comment to its end",
                 );
                 return;
             }
         };
-        let first = self.items.len();
-        let span = self.src.line_span(line);
+        let first = self.r.items.len();
+        let span = self.r.src.line_span(line);
         if block.delimiter {
             self.push(ItemKind::Delimiter, span);
         } else if block.is_empty() {
@@ -351,7 +347,7 @@ impl FrontEnd<'_> {
         } else {
             self.block(line, &block);
         }
-        if let Some(item) = self.items.get_mut(first) {
+        if let Some(item) = self.r.items.get_mut(first) {
             item.block_number = block.number;
             if !block.comments.is_empty() && !matches!(item.kind, ItemKind::Comment(_)) {
                 item.comment = Some(block.comments.join("; "));
@@ -359,7 +355,7 @@ impl FrontEnd<'_> {
         } else if !block.comments.is_empty() {
             // A line whose words made no item (G21, G90…): its comment stays.
             self.push(ItemKind::Comment(block.comments.join("; ")), span);
-            if let Some(item) = self.items.last_mut() {
+            if let Some(item) = self.r.items.last_mut() {
                 item.block_number = block.number;
             }
         }
@@ -404,38 +400,20 @@ impl FrontEnd<'_> {
         if found.is_empty() {
             return false;
         }
-        let more = found.len().saturating_sub(WORD_REPORTS);
-        found.truncate(WORD_REPORTS);
-        if more > 0
-            && let Some((_, message)) = found.last_mut()
-        {
-            message.push_str(&format!(" (and {more} more on this line)"));
-        }
-        let warn = self.options.unsupported == Unsupported::Warn;
-        for (range, message) in found {
-            let span = self.src.span_in_line(line, range);
-            let d = Diagnostic::new(codes::ISOR_UNSUPPORTED, message)
-                .at(self.src, span)
-                .help(if warn {
-                    "kept as an opaque block: only ISO output writes it back, and positions after it are unknown"
-                } else {
-                    "ncthread reads lathe thread programs in X and Z; rewrite this line, or pass --unsupported warn to keep it opaque"
-                });
-            self.diags.push(if warn { d.as_warning() } else { d });
-        }
-        if warn {
+        let keep = self.options.unsupported == Unsupported::Warn;
+        let found = found
+            .into_iter()
+            .map(|(range, message)| (self.r.span(line, range), message))
+            .collect();
+        self.r.unsupported(&UNSUPPORTED, found, keep);
+        if keep {
             // A kept line must not change what ncthread follows: its modes and F, S, T or
             // spindle words would take effect in LinuxCNC and not here, and the lines after
             // it would be read wrongly. (A motion code leaves the motion mode unknown.)
             if let Some(w) = block.words.iter().find(|w| changes_followed_state(w)) {
-                let text = &line.text[w.range.clone()];
-                self.diag(
-                    codes::ISOR_UNSUPPORTED,
-                    line,
-                    w.range.clone(),
-                    format!("`{text}` on a line kept opaque: it changes state that the lines after it depend on, which ncthread would not follow"),
-                    "put this word on a line of its own, so that ncthread reads it and keeps only the unsupported words",
-                );
+                let span = self.r.span(line, w.range.clone());
+                self.r
+                    .state_in_opaque(&UNSUPPORTED, span, &line.text[w.range.clone()]);
                 return true;
             }
             let context = ModalContext {
@@ -445,15 +423,8 @@ impl FrontEnd<'_> {
                 per_minute: Some(self.feed_mode != Some(FeedMode::PerRev)),
             };
             let text = line.text.trim().to_string();
-            self.push(
-                ItemKind::Opaque {
-                    dialect: super::ID,
-                    text,
-                    block: Some(context),
-                },
-                self.src.line_span(line),
-            );
-            self.pos = Pos::UNKNOWN;
+            self.r
+                .keep_opaque(text, self.r.src.line_span(line), None, context);
             if block.words.iter().any(|w| {
                 w.letter == 'G'
                     && w.value
@@ -661,8 +632,8 @@ impl FrontEnd<'_> {
         let Some(mut words) = self.sort_words(line, block) else {
             return;
         };
-        let span = self.src.line_span(line);
-        let errors = self.diags.iter().filter(|d| d.is_error()).count();
+        let span = self.r.src.line_span(line);
+        let errors = self.r.diags.iter().filter(|d| d.is_error()).count();
 
         // LinuxCNC's order of execution within a line. A feed mode code also clears the
         // feed rate there (G1 needs a new F after it).
@@ -874,7 +845,7 @@ impl FrontEnd<'_> {
         }
         // Words no command read (LinuxCNC refuses them too), unless an error on this line
         // already explains the line.
-        if self.diags.iter().filter(|d| d.is_error()).count() == errors {
+        if self.r.diags.iter().filter(|d| d.is_error()).count() == errors {
             let unused: Vec<&Word> = words
                 .other
                 .iter()
@@ -899,7 +870,7 @@ impl FrontEnd<'_> {
             text.push(' ');
             text.push_str(&line.text[e.range.clone()]);
         }
-        let span = self.src.span_in_line(line, w.range.clone());
+        let span = self.r.src.span_in_line(line, w.range.clone());
         self.push(
             ItemKind::Opaque {
                 dialect: super::ID,
@@ -933,7 +904,7 @@ impl FrontEnd<'_> {
             };
             let v = if diameter { v } else { v + v };
             to.x = Some(if self.incremental {
-                match self.pos.x {
+                match self.r.pos.x {
                     Some(x) => x + v,
                     None => return self.unknown(line, w),
                 }
@@ -944,7 +915,7 @@ impl FrontEnd<'_> {
         if let Some(w) = words.take('Z') {
             let v = self.length(line, w)?;
             to.z = Some(if self.incremental {
-                match self.pos.z {
+                match self.r.pos.z {
                     Some(z) => z + v,
                     None => return self.unknown(line, w),
                 }
@@ -994,7 +965,7 @@ impl FrontEnd<'_> {
             Motion::Rapid => {
                 if let Some(to) = self.target(line, words) {
                     self.push(ItemKind::Rapid { to }, span);
-                    self.pos = ItemKind::Rapid { to }.end_position(self.pos);
+                    self.r.pos = ItemKind::Rapid { to }.end_position(self.r.pos);
                 }
             }
             Motion::Feed => {
@@ -1024,7 +995,7 @@ impl FrontEnd<'_> {
                     self.push(ItemKind::FeedMode(FeedMode::PerMin), span);
                 }
                 self.push(ItemKind::Feed { to, feed }, span);
-                self.pos = ItemKind::Feed { to, feed }.end_position(self.pos);
+                self.r.pos = ItemKind::Feed { to, feed }.end_position(self.r.pos);
             }
             Motion::Thread => self.thread(line, words, code_word, span),
             Motion::Tap => self.tap(line, words, code_word, span),
@@ -1082,7 +1053,7 @@ impl FrontEnd<'_> {
         if !self.spindle_turning(line, at.or(z_word), "G33") {
             return;
         }
-        let from = self.pos;
+        let from = self.r.pos;
         let end = ItemKind::Rapid { to }.end_position(from);
         let word = z_word.or(x_word).or(at).expect("a G33 line has X or Z");
         // LinuxCNC continues a G33 that follows another without waiting for the index pulse;
@@ -1138,9 +1109,9 @@ impl FrontEnd<'_> {
                 exit: None,
             };
             self.push(ItemKind::ThreadPass(pass), span);
-            self.pos = Pos::new(x, z);
-            self.sync_end = Some(self.pos);
-            self.in_cut = Some(self.pos);
+            self.r.pos = Pos::new(x, z);
+            self.sync_end = Some(self.r.pos);
+            self.in_cut = Some(self.r.pos);
             return;
         }
         // K is along the path; the IR's lead is along Z.
@@ -1183,9 +1154,9 @@ impl FrontEnd<'_> {
             exit: None,
         };
         self.push(ItemKind::ThreadPass(pass), span);
-        self.pos = ItemKind::ThreadPass(pass).end_position(from);
-        self.sync_end = Some(self.pos);
-        self.in_cut = Some(self.pos);
+        self.r.pos = ItemKind::ThreadPass(pass).end_position(from);
+        self.sync_end = Some(self.r.pos);
+        self.in_cut = Some(self.r.pos);
     }
 
     fn unknown_start(&mut self, line: Line<'_>, w: &Word) {
@@ -1217,7 +1188,7 @@ impl FrontEnd<'_> {
             return;
         };
         if let (Some(x), Some(w)) = (to.x, x_word)
-            && Some(x) != self.pos.x
+            && Some(x) != self.r.pos.x
         {
             self.diag(
                 codes::ISOR_THREAD_GEOMETRY,
@@ -1231,7 +1202,7 @@ impl FrontEnd<'_> {
         if !self.spindle_turning(line, at, "G33.1") {
             return;
         }
-        if self.pos.z.is_none() {
+        if self.r.pos.z.is_none() {
             self.unknown_start(line, z_word);
             return;
         }
@@ -1319,7 +1290,7 @@ impl FrontEnd<'_> {
                 "P is the advance per spindle revolution",
             );
         }
-        let (Some(start_x), Some(start_z)) = (self.pos.x, self.pos.z) else {
+        let (Some(start_x), Some(start_z)) = (self.r.pos.x, self.r.pos.z) else {
             return self.unknown_start(line, at);
         };
         if !self.spindle_turning(line, Some(at), "G76") {
@@ -1442,7 +1413,7 @@ impl FrontEnd<'_> {
                 "correct the G76 words; ncthread cuts a cycle only when every pass is defined",
             );
         }
-        self.pos = Pos::new(to.x.unwrap_or(start_x), end_z);
+        self.r.pos = Pos::new(to.x.unwrap_or(start_x), end_z);
         self.push(ItemKind::ThreadCycle(Box::new(cycle)), span);
     }
 }

@@ -9,14 +9,26 @@ use std::ops::Range;
 use super::syntax::{self, Frame, Line as SyntaxLine, Modifier, Word};
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::Unsupported;
+use crate::dialect::read::{Reader, UnsupportedWording};
 use crate::fixed::{Angle, Lead, Length};
 use crate::ir::{
-    CycleChamfer, EndCode, Finish, Item, ItemKind, ModalContext, Pos, Program, Retract, Rise,
+    CycleChamfer, EndCode, Finish, ItemKind, ModalContext, Pos, Program, Retract, Rise,
     SpindleDirection, SyncStart, TapCycle, ThreadCycle, ThreadPass,
 };
 use crate::lower::{self, ExpandError};
 use crate::profile::{Nc31Profile, Profile};
 use crate::source::{SourceFile, Span};
+
+/// How the nc31 reader words its unsupported policy.
+const UNSUPPORTED: UnsupportedWording = UnsupportedWording {
+    code: codes::NCR_UNSUPPORTED,
+    more: "in this group",
+    in_one: "in a group",
+    many: "groups",
+    own_block: "put this word in a group of its own",
+    refuse_help: "ncthread converts only what the guide documents; `--unsupported warn` keeps such a group as an opaque item",
+    keep_help: "kept as an opaque group: only an nc31 target writes it back, and positions after it are unknown",
+};
 
 #[derive(Clone, Debug, Default)]
 pub struct Options {
@@ -54,12 +66,9 @@ impl GroupFrame {
 }
 
 struct FrontEnd<'a> {
-    src: &'a SourceFile,
+    r: Reader<'a>,
     profile: &'a Nc31Profile,
     options: &'a Options,
-    diags: Vec<Diagnostic>,
-    items: Vec<Item>,
-    pos: Pos,
     feed: Feed,
     /// The frames of the group being read.
     group: Vec<GroupFrame>,
@@ -70,36 +79,25 @@ struct FrontEnd<'a> {
 /// Reads an nc31 program. The program is usable only when no diagnostic is an error.
 pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program, Vec<Diagnostic>) {
     let mut fe = FrontEnd {
-        src,
+        r: Reader::new(src, super::ID),
         profile: &profile.nc31,
         options,
-        diags: Vec::new(),
-        items: Vec::new(),
-        pos: Pos::UNKNOWN,
         feed: Feed::Unset,
         group: Vec::new(),
         group_broken: false,
     };
     // M30 ends the program: frames after it never run. **[decided]** (as LinuxCNC)
-    let mut warned_after_end = false;
     let (mut ended, mut seen) = (false, 0);
     for line in src.lines() {
-        ended |= fe.items[seen..]
-            .iter()
-            .any(|i| matches!(i.kind, ItemKind::ProgramEnd(_)));
-        seen = fe.items.len();
+        ended |= fe.r.ends_program(seen);
+        seen = fe.r.items.len();
         match syntax::parse_line(line.text) {
-            Ok(SyntaxLine::Frame(_)) | Err(_) if ended => {
-                if !warned_after_end {
-                    warned_after_end = true;
-                    let span = src.line_span(line);
-                    fe.diags.push(
-                        Diagnostic::new(codes::NCR_AFTER_END, "this frame comes after the program's end (M30); the control does not run it, and neither does ncthread")
-                            .at(src, span)
-                            .help("remove it, or move M30 after it"),
-                    );
-                }
-            }
+            Ok(SyntaxLine::Frame(_)) | Err(_) if ended => fe.r.after_end(
+                codes::NCR_AFTER_END,
+                src.line_span(line),
+                "this frame comes after the program's end (M30); the control does not run it, and neither does ncthread",
+                "remove it, or move M30 after it",
+            ),
             Ok(SyntaxLine::Empty) => {}
             Ok(SyntaxLine::Comment(text)) => {
                 let span = src.line_span(line);
@@ -128,11 +126,7 @@ pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program
             }
             Err(e) => {
                 let span = src.span_in_line(line, e.range.clone());
-                fe.diags.push(
-                    Diagnostic::new(e.code, e.message)
-                        .at(src, span)
-                        .help(e.help),
-                );
+                fe.r.error(e.code, span, e.message, e.help);
                 // Whether the unreadable frame continued its group: its `*` tells.
                 fe.group_broken = true;
                 if !line.text.contains('*') {
@@ -145,13 +139,7 @@ pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program
         let span = fe.word_span(last);
         fe.open_group_error(span, "the end of the program");
     }
-    (
-        Program {
-            items: fe.items,
-            dialect: super::ID,
-        },
-        fe.diags,
-    )
+    fe.r.finish()
 }
 
 /// What a thread group's words are, by letter.
@@ -165,14 +153,11 @@ struct ThreadWords<'g> {
 
 impl<'a> FrontEnd<'a> {
     fn push(&mut self, kind: ItemKind, span: Span, number: Option<u32>) {
-        self.items.push(Item {
-            block_number: number,
-            ..Item::new(kind, span)
-        });
+        self.r.push(kind, span, number);
     }
 
     fn span(&self, f: &GroupFrame, range: Range<usize>) -> Span {
-        self.src.span_in_line(self.src.line(f.line), range)
+        self.r.src.span_in_line(self.r.src.line(f.line), range)
     }
 
     fn word_span(&self, f: &GroupFrame) -> Span {
@@ -186,8 +171,7 @@ impl<'a> FrontEnd<'a> {
         message: impl Into<String>,
         help: impl Into<String>,
     ) {
-        self.diags
-            .push(Diagnostic::new(code, message).at(self.src, span).help(help));
+        self.r.error(code, span, message, help);
     }
 
     fn word_error(
@@ -216,7 +200,7 @@ impl<'a> FrontEnd<'a> {
         let first = &frames[0];
         let mut span = self.span(first, first.frame.code_range.clone());
         if let Some(last) = frames.last() {
-            span.end = self.src.line(last.line).offset + last.frame.code_range.end;
+            span.end = self.r.src.line(last.line).offset + last.frame.code_range.end;
         }
         span
     }
@@ -231,7 +215,7 @@ impl<'a> FrontEnd<'a> {
         }
         let span = self.group_span(&frames);
         let number = frames[0].frame.number;
-        let first_item = self.items.len();
+        let first_item = self.r.items.len();
         let gs: Vec<&GroupFrame> = frames.iter().filter(|f| f.word().letter == 'G').collect();
         match gs.as_slice() {
             [] => self.plain_group(&frames, span),
@@ -249,12 +233,12 @@ impl<'a> FrontEnd<'a> {
                 self.word_error(
                     codes::NCR_GROUP_WORD,
                     g,
-                    format!("`{}` inside a group", g.text(self.src)),
+                    format!("`{}` inside a group", g.text(self.r.src)),
                     "a G word opens its own group (`G31 *`, then the cycle's words); end the previous group first",
                 );
             }
         }
-        for item in &mut self.items[first_item..] {
+        for item in &mut self.r.items[first_item..] {
             item.block_number = number;
         }
     }
@@ -296,65 +280,49 @@ impl<'a> FrontEnd<'a> {
         if found.is_empty() {
             return true;
         }
-        let warn = self.options.unsupported == Unsupported::Warn;
-        for (f, reason) in &found {
-            let mut d = Diagnostic::new(
-                codes::NCR_UNSUPPORTED,
-                format!("`{}`: {reason}", f.text(self.src)),
-            )
-            .at(self.src, self.word_span(f));
-            d = if warn {
-                d.help("kept as an opaque group: only an nc31 target writes it back, and positions after it are unknown")
-                    .as_warning()
-            } else {
-                d.help("ncthread converts only what the guide documents; `--unsupported warn` keeps such a group as an opaque item")
-            };
-            self.diags.push(d);
+        let keep = self.options.unsupported == Unsupported::Warn;
+        let found = found
+            .into_iter()
+            .map(|(f, reason)| {
+                (
+                    self.word_span(f),
+                    format!("`{}`: {reason}", f.text(self.r.src)),
+                )
+            })
+            .collect();
+        self.r.unsupported(&UNSUPPORTED, found, keep);
+        if !keep {
+            return false;
         }
-        if warn {
-            // A kept group must not change what ncthread follows (the feed, the spindle, a
-            // thread group's words), or the groups after it would be read wrongly.
-            if let Some(f) = frames.iter().find(|f| {
-                let w = f.word();
-                matches!(w.letter, 'F' | 'S' | 'T')
-                    || (w.letter == 'G' && matches!(w.value, 31..=33))
-                    || (w.letter == 'M'
-                        && (matches!(w.value, 3 | 4 | 5 | 30)
-                            || self.profile.gear_range_mcodes.contains(&(w.value as u32))))
-            }) {
-                self.word_error(
-                    codes::NCR_UNSUPPORTED,
-                    f,
-                    format!(
-                        "`{}` in a group kept opaque: it changes state that the groups after it depend on, which ncthread would not follow",
-                        f.text(self.src)
-                    ),
-                    "put this word in a group of its own, so that ncthread reads it and keeps only the unsupported words",
-                );
-                return false;
-            }
-            let text = frames
-                .iter()
-                .map(|f| &self.src.line(f.line).text[f.frame.code_range.clone()])
-                .collect::<Vec<_>>()
-                .join("\n");
-            let span = self.group_span(frames);
-            self.push(
-                ItemKind::Opaque {
-                    dialect: super::ID,
-                    text,
-                    block: Some(ModalContext {
-                        inch: false,
-                        diameter: true,
-                        incremental: false,
-                        per_minute: None,
-                    }),
-                },
-                span,
-                frames[0].frame.number,
-            );
-            self.pos = Pos::UNKNOWN;
+        // A kept group must not change what ncthread follows (the feed, the spindle, a
+        // thread group's words), or the groups after it would be read wrongly.
+        if let Some(f) = frames.iter().find(|f| {
+            let w = f.word();
+            matches!(w.letter, 'F' | 'S' | 'T')
+                || (w.letter == 'G' && matches!(w.value, 31..=33))
+                || (w.letter == 'M'
+                    && (matches!(w.value, 3 | 4 | 5 | 30)
+                        || self.profile.gear_range_mcodes.contains(&(w.value as u32))))
+        }) {
+            let span = self.word_span(f);
+            self.r
+                .state_in_opaque(&UNSUPPORTED, span, f.text(self.r.src));
+            return false;
         }
+        let text = frames
+            .iter()
+            .map(|f| &self.r.src.line(f.line).text[f.frame.code_range.clone()])
+            .collect::<Vec<_>>()
+            .join("\n");
+        let span = self.group_span(frames);
+        let context = ModalContext {
+            inch: false,
+            diameter: true,
+            incremental: false,
+            per_minute: None,
+        };
+        self.r
+            .keep_opaque(text, span, frames[0].frame.number, context);
         false
     }
 
@@ -378,7 +346,7 @@ impl<'a> FrontEnd<'a> {
                 self.error(
                     codes::NCR_MODIFIER,
                     span,
-                    format!("`{}` on `{}`", m.ascii(), f.text(self.src)),
+                    format!("`{}` on `{}`", m.ascii(), f.text(self.r.src)),
                     what,
                 );
                 ok = false;
@@ -394,7 +362,7 @@ impl<'a> FrontEnd<'a> {
             self.word_error(
                 codes::NCR_NUMBER,
                 f,
-                format!("`{}` is too large", f.text(self.src)),
+                format!("`{}` is too large", f.text(self.r.src)),
                 "check the word's digits and the profile's units",
             );
         }
@@ -421,7 +389,7 @@ impl<'a> FrontEnd<'a> {
                     span,
                     format!(
                         "incremental `{}` but the {axis} position is not known yet",
-                        f.text(self.src)
+                        f.text(self.r.src)
                     ),
                     format!(
                         "program an absolute {axis} (without `@`) before the first incremental move"
@@ -439,7 +407,7 @@ impl<'a> FrontEnd<'a> {
             f,
             format!(
                 "`{}` repeats the {} word of this group (line {line})",
-                f.text(self.src),
+                f.text(self.r.src),
                 f.word().letter
             ),
             "each address appears once per group",
@@ -495,7 +463,7 @@ impl<'a> FrontEnd<'a> {
                     self.word_error(
                         codes::NCR_GROUP_WORD,
                         fr,
-                        format!("`{}` outside a G31 group", fr.text(self.src)),
+                        format!("`{}` outside a G31 group", fr.text(self.r.src)),
                         "P words give the depths of a G31 cycle: `G31 *`, X, Z, F, then P (depth), P (first pass), optional P (taper)",
                     );
                     ok = false;
@@ -522,7 +490,7 @@ impl<'a> FrontEnd<'a> {
                     self.word_error(
                         codes::NCR_NUMBER,
                         fr,
-                        format!("feed `{}` is not positive", fr.text(self.src)),
+                        format!("feed `{}` is not positive", fr.text(self.r.src)),
                         "F outside a thread group is the feed in 0.01 mm/rev, e.g. F30 = 0.3 mm/rev",
                     );
                     None
@@ -538,8 +506,8 @@ impl<'a> FrontEnd<'a> {
         let tool = t.and_then(|fr| self.whole(fr));
         ok &= s.is_none() || speed.is_some();
         ok &= t.is_none() || tool.is_some();
-        let to_x = x.map(|fr| self.coordinate(fr, self.pos.x));
-        let to_z = z.map(|fr| self.coordinate(fr, self.pos.z));
+        let to_x = x.map(|fr| self.coordinate(fr, self.r.pos.x));
+        let to_z = z.map(|fr| self.coordinate(fr, self.r.pos.z));
         if matches!(to_x, Some(None)) || matches!(to_z, Some(None)) {
             ok = false;
         }
@@ -566,7 +534,7 @@ impl<'a> FrontEnd<'a> {
             self.word_error(
                 codes::NCR_NO_FEED,
                 fr,
-                format!("feed move `{}` but {why}", fr.text(self.src)),
+                format!("feed move `{}` but {why}", fr.text(self.r.src)),
                 "program the feed in a frame of its own (e.g. `F60` = 0.6 mm/rev) before this move, or mark the move rapid with `~`",
             );
             ok = false;
@@ -613,7 +581,7 @@ impl<'a> FrontEnd<'a> {
                 (false, Some(feed)) => ItemKind::Feed { to, feed },
                 _ => ItemKind::Rapid { to },
             };
-            self.pos = kind.end_position(self.pos);
+            self.r.pos = kind.end_position(self.r.pos);
             self.push(kind, span, None);
         }
         if stop {
@@ -633,7 +601,7 @@ impl<'a> FrontEnd<'a> {
                 f,
                 format!(
                     "`{}` is not a valid {} value",
-                    f.text(self.src),
+                    f.text(self.r.src),
                     f.word().letter
                 ),
                 "S is the speed in rpm and T the turret position: whole numbers from 0",
@@ -670,8 +638,8 @@ impl<'a> FrontEnd<'a> {
                     fr,
                     format!(
                         "`{}` does not belong in a {} group",
-                        fr.text(self.src),
-                        g.text(self.src)
+                        fr.text(self.r.src),
+                        g.text(self.r.src)
                     ),
                     help,
                 );
@@ -687,7 +655,7 @@ impl<'a> FrontEnd<'a> {
                         self.word_error(
                             codes::NCR_GROUP_WORD,
                             fr,
-                            format!("`{}` is a P word too many", fr.text(self.src)),
+                            format!("`{}` is a P word too many", fr.text(self.r.src)),
                             "G31 takes P (thread depth), P (first-pass depth) and an optional third P (taper)",
                         );
                         ok = false;
@@ -716,7 +684,7 @@ impl<'a> FrontEnd<'a> {
             g,
             format!(
                 "the {} group has no {}",
-                g.text(self.src),
+                g.text(self.r.src),
                 missing.join(", no ")
             ),
             about.to_string(),
@@ -730,7 +698,7 @@ impl<'a> FrontEnd<'a> {
             self.word_error(
                 codes::NCR_LEAD,
                 f,
-                format!("lead `{}` is not positive", f.text(self.src)),
+                format!("lead `{}` is not positive", f.text(self.r.src)),
                 "F in a thread group is the lead in 0.0001 mm: F15000 = 1.5 mm",
             );
             return None;
@@ -740,7 +708,7 @@ impl<'a> FrontEnd<'a> {
             self.word_error(
                 codes::NCR_NUMBER,
                 f,
-                format!("`{}` is too large for a lead", f.text(self.src)),
+                format!("`{}` is too large for a lead", f.text(self.r.src)),
                 "a lead is at most 1,000,000 mm",
             );
             return None;
@@ -752,7 +720,7 @@ impl<'a> FrontEnd<'a> {
         self.word_error(
             codes::NCR_UNKNOWN_POSITION,
             g,
-            format!("{} starts from the tool position, and the {what} is not known", g.text(self.src)),
+            format!("{} starts from the tool position, and the {what} is not known", g.text(self.r.src)),
             "move to the start point with X and Z (e.g. `X3600 ~ *` then `Z450 ~`) before the cycle",
         );
     }
@@ -782,7 +750,7 @@ impl<'a> FrontEnd<'a> {
         let (Some(xf), Some(zf), Some(ff)) = (w.x, w.z, w.f) else {
             return;
         };
-        let Some((ax, az)) = self.pos.known() else {
+        let Some((ax, az)) = self.r.pos.known() else {
             self.start_unknown(g, "start point");
             return;
         };
@@ -805,7 +773,7 @@ impl<'a> FrontEnd<'a> {
             self.word_error(
                 codes::NCR_NUMBER,
                 xf,
-                format!("thread diameter `{}` is not positive", xf.text(self.src)),
+                format!("thread diameter `{}` is not positive", xf.text(self.r.src)),
                 "X in G31 is the thread's crest diameter in 0.01 mm (X3600 = Ø36)",
             );
             return;
@@ -814,7 +782,7 @@ impl<'a> FrontEnd<'a> {
             self.word_error(
                 codes::NCR_DEPTHS,
                 w.p[2],
-                format!("taper `{}` is negative", w.p[2].text(self.src)),
+                format!("taper `{}` is negative", w.p[2].text(self.r.src)),
                 "the third P is the difference of the larger and the smaller diameter; X is the smaller one at the start",
             );
             return;
@@ -881,7 +849,7 @@ impl<'a> FrontEnd<'a> {
             return;
         }
         self.push(ItemKind::ThreadCycle(Box::new(cycle)), span, None);
-        self.pos = Pos::new(ax, az);
+        self.r.pos = Pos::new(ax, az);
         self.feed = Feed::AfterThread(g.line);
     }
 
@@ -906,11 +874,11 @@ impl<'a> FrontEnd<'a> {
             return;
         };
         let lead = self.lead(ff);
-        let end_z = self.coordinate(zf, self.pos.z);
+        let end_z = self.coordinate(zf, self.r.pos.z);
         let (Some(lead), Some(end_z)) = (lead, end_z) else {
             return;
         };
-        if self.pos.z == Some(end_z) {
+        if self.r.pos.z == Some(end_z) {
             self.word_error(
                 codes::NCR_TRAVEL,
                 zf,
@@ -921,7 +889,7 @@ impl<'a> FrontEnd<'a> {
         }
         let pass = ThreadPass {
             to: Pos {
-                x: self.pos.x,
+                x: self.r.pos.x,
                 z: Some(end_z),
             },
             lead,
@@ -932,7 +900,7 @@ impl<'a> FrontEnd<'a> {
             exit: None,
         };
         let kind = ItemKind::ThreadPass(pass);
-        self.pos = kind.end_position(self.pos);
+        self.r.pos = kind.end_position(self.r.pos);
         self.push(kind, span, None);
         self.feed = Feed::AfterThread(g.line);
     }
@@ -961,14 +929,14 @@ impl<'a> FrontEnd<'a> {
         let (Some(zf), Some(ff)) = (w.z, w.f) else {
             return;
         };
-        let Some(start_z) = self.pos.z else {
+        let Some(start_z) = self.r.pos.z else {
             self.start_unknown(g, "Z position");
             return;
         };
         let lead = self.lead(ff);
         let end_z = self.coordinate(zf, Some(start_z));
         let x = match w.x {
-            Some(xf) => match self.coordinate(xf, self.pos.x) {
+            Some(xf) => match self.coordinate(xf, self.r.pos.x) {
                 Some(x) => Some((x, xf)),
                 None => return,
             },
@@ -988,15 +956,16 @@ impl<'a> FrontEnd<'a> {
         }
         let then_x = match x {
             Some((x, _)) if offset => Some(x),
-            Some((x, xf)) if self.pos.x != Some(x) => {
+            Some((x, xf)) if self.r.pos.x != Some(x) => {
                 let current = self
+                    .r
                     .pos
                     .x
                     .map_or("not known".to_string(), |c| format!("Ø{}", c.mm()));
                 self.word_error(
                     codes::NCR_GROUP_WORD,
                     xf,
-                    format!("`{}` in a G33 group without `@`, but the tool stands at {current}", xf.text(self.src)),
+                    format!("`{}` in a G33 group without `@`, but the tool stands at {current}", xf.text(self.r.src)),
                     "without `@` on G33 the tap does not move in X; write `G33 @ *` to move to X (point C) after the cycle",
                 );
                 return;
@@ -1008,7 +977,7 @@ impl<'a> FrontEnd<'a> {
             lead,
             then_x,
         });
-        self.pos = kind.end_position(self.pos);
+        self.r.pos = kind.end_position(self.r.pos);
         self.push(kind, span, None);
         self.feed = Feed::AfterThread(g.line);
     }

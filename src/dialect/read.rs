@@ -1,0 +1,275 @@
+//! What every reader shares. A dialect's front end owns a [`Reader`] and adds only its own
+//! rules: the reader holds the items read so far, the diagnostics and the known position,
+//! stamps block numbers, reports what comes after the program's end once, and applies the
+//! unsupported policy (refuse, or keep the block as an opaque item) in one way for every
+//! dialect.
+
+use std::ops::Range;
+
+use crate::diag::{Code, Diagnostic};
+use crate::ir::{DialectId, Item, ItemKind, ModalContext, Pos, Program};
+use crate::source::{Line, SourceFile, Span};
+
+/// How many problems of one kind a reader reports for one line before it only counts them:
+/// a hostile line of 50,000 repeated words gets a few diagnostics and a count.
+pub(crate) const WORD_REPORTS: usize = 5;
+
+/// Counts one more problem on the line; true while it should still be reported.
+pub(crate) fn budget(count: &mut usize) -> bool {
+    *count += 1;
+    *count <= WORD_REPORTS
+}
+
+/// What a front end does with constructs its dialect's documentation does not define.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Unsupported {
+    /// Refuse the program (default).
+    #[default]
+    Error,
+    /// Warn and keep the block as an opaque item (only the same dialect writes it back).
+    Warn,
+}
+
+/// How a dialect words its unsupported policy: its code, what it calls a block, and the
+/// help texts of a refusal and of a block kept as written.
+pub(crate) struct UnsupportedWording {
+    pub code: Code,
+    /// Appended to the last reported word when more were left out: `on this line`.
+    pub more: &'static str,
+    /// `in a block`, `on a line`, `in a group`.
+    pub in_one: &'static str,
+    /// `blocks`, `lines`, `groups`.
+    pub many: &'static str,
+    /// How to split off a word that changes followed state.
+    pub own_block: &'static str,
+    /// The help of a refusal (`--unsupported error`).
+    pub refuse_help: &'static str,
+    /// The help of a block kept as written (`--unsupported warn`).
+    pub keep_help: &'static str,
+}
+
+/// A comment as every reader keeps it: control characters as blanks, trimmed; an empty
+/// comment is none.
+pub(crate) fn comment_text(raw: &str) -> Option<String> {
+    Some(one_line(raw)).filter(|t| !t.is_empty())
+}
+
+/// A comment's text on one line: control characters (a stray CR, a tab) become spaces.
+pub(crate) fn one_line(text: &str) -> String {
+    let line: String = text
+        .chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect();
+    // Readers trim comments: so do the writers, so that an output reads back as it is.
+    line.trim().to_string()
+}
+
+/// Where a pest parse of `line` failed, as a byte offset: at the letter when pest stopped
+/// after an address letter that has no number (shared by every dialect's syntax layer).
+pub(crate) fn pest_error_offset<R: pest::RuleType>(line: &str, e: &pest::error::Error<R>) -> usize {
+    let offset = match e.location {
+        pest::error::InputLocation::Pos(p) => p,
+        pest::error::InputLocation::Span((s, _)) => s,
+    };
+    let offset = offset.min(line.len());
+    if line[..offset]
+        .chars()
+        .next_back()
+        .is_some_and(|c| c.is_ascii_alphabetic())
+    {
+        offset - 1
+    } else {
+        offset
+    }
+}
+
+/// The state every reader keeps: the source, the items and diagnostics so far, and the
+/// tool's position as far as it is known.
+pub(crate) struct Reader<'a> {
+    pub src: &'a SourceFile,
+    pub items: Vec<Item>,
+    pub diags: Vec<Diagnostic>,
+    pub pos: Pos,
+    dialect: DialectId,
+    warned_after_end: bool,
+}
+
+impl<'a> Reader<'a> {
+    pub fn new(src: &'a SourceFile, dialect: DialectId) -> Self {
+        Reader {
+            src,
+            items: Vec::new(),
+            diags: Vec::new(),
+            pos: Pos::UNKNOWN,
+            dialect,
+            warned_after_end: false,
+        }
+    }
+
+    /// The program read, and every diagnostic.
+    pub fn finish(self) -> (Program, Vec<Diagnostic>) {
+        (
+            Program {
+                items: self.items,
+                dialect: self.dialect,
+            },
+            self.diags,
+        )
+    }
+
+    pub fn push(&mut self, kind: ItemKind, span: Span, number: Option<u32>) {
+        self.items.push(Item {
+            block_number: number,
+            ..Item::new(kind, span)
+        });
+    }
+
+    /// The span of `range` (bytes) of `line`.
+    pub fn span(&self, line: Line<'_>, range: Range<usize>) -> Span {
+        self.src.span_in_line(line, range)
+    }
+
+    /// An error at `span` with its help.
+    pub fn error(
+        &mut self,
+        code: Code,
+        span: Span,
+        message: impl Into<String>,
+        help: impl Into<String>,
+    ) {
+        self.diags
+            .push(Diagnostic::new(code, message).at(self.src, span).help(help));
+    }
+
+    /// A syntax error at the character that starts at byte `offset` of `line`.
+    pub fn syntax_error(
+        &mut self,
+        code: Code,
+        line: Line<'_>,
+        offset: usize,
+        message: impl Into<String>,
+        help: impl Into<String>,
+    ) {
+        let span = self.src.char_span(line, offset);
+        self.error(code, span, message, help);
+    }
+
+    /// Whether an item from `first` on ends the program.
+    pub fn ends_program(&self, first: usize) -> bool {
+        self.items.get(first..).is_some_and(|items| {
+            items
+                .iter()
+                .any(|i| matches!(i.kind, ItemKind::ProgramEnd(_)))
+        })
+    }
+
+    /// Reports the first block after the program's end (the others are not reported).
+    pub fn after_end(&mut self, code: Code, span: Span, message: &str, help: &str) {
+        if !std::mem::replace(&mut self.warned_after_end, true) {
+            self.error(code, span, message, help);
+        }
+    }
+
+    /// Reports the unsupported words `found` (span, message): at most [`WORD_REPORTS`],
+    /// the last saying how many more there are. Errors, or warnings when `keep`.
+    pub fn unsupported(
+        &mut self,
+        wording: &UnsupportedWording,
+        mut found: Vec<(Span, String)>,
+        keep: bool,
+    ) {
+        let more = found.len().saturating_sub(WORD_REPORTS);
+        found.truncate(WORD_REPORTS);
+        if more > 0
+            && let Some((_, message)) = found.last_mut()
+        {
+            message.push_str(&format!(" (and {more} more {})", wording.more));
+        }
+        for (span, message) in found {
+            let d = Diagnostic::new(wording.code, message).at(self.src, span);
+            self.diags.push(if keep {
+                d.help(wording.keep_help).as_warning()
+            } else {
+                d.help(wording.refuse_help)
+            });
+        }
+    }
+
+    /// Refuses to keep a block opaque because its word `text` at `span` changes state the
+    /// reader follows: the blocks after it would be read wrongly.
+    pub fn state_in_opaque(&mut self, wording: &UnsupportedWording, span: Span, text: &str) {
+        self.error(
+            wording.code,
+            span,
+            format!(
+                "`{text}` {} kept opaque: it changes state that the {} after it depend on, which ncthread would not follow",
+                wording.in_one, wording.many
+            ),
+            format!(
+                "{}, so that ncthread reads it and keeps only the unsupported words",
+                wording.own_block
+            ),
+        );
+    }
+
+    /// Keeps a block as written (`--unsupported warn`): an opaque item in this dialect,
+    /// after which the position is unknown.
+    pub fn keep_opaque(
+        &mut self,
+        text: String,
+        span: Span,
+        number: Option<u32>,
+        context: ModalContext,
+    ) {
+        let kind = ItemKind::Opaque {
+            dialect: self.dialect,
+            text,
+            block: Some(context),
+        };
+        self.pos = kind.end_position(self.pos);
+        self.push(kind, span, number);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diag::{Severity, codes};
+
+    const WORDING: UnsupportedWording = UnsupportedWording {
+        code: codes::ISOR_UNSUPPORTED,
+        more: "on this line",
+        in_one: "on a line",
+        many: "lines",
+        own_block: "put this word on a line of its own",
+        refuse_help: "refused",
+        keep_help: "kept",
+    };
+
+    #[test]
+    fn unsupported_words_are_counted_past_the_limit_and_warn_only_when_kept() {
+        let src = SourceFile::new("t", "A1 A2 A3 A4 A5 A6 A7\n");
+        let found: Vec<(Span, String)> = (1..=7)
+            .map(|i| (Span::default(), format!("`A{i}`")))
+            .collect();
+        let mut r = Reader::new(&src, crate::dialect::iso::ID);
+        r.unsupported(&WORDING, found.clone(), false);
+        assert_eq!(r.diags.len(), WORD_REPORTS);
+        assert_eq!(r.diags[4].message, "`A5` (and 2 more on this line)");
+        assert!(r.diags.iter().all(|d| d.severity == Severity::Error));
+        let mut r = Reader::new(&src, crate::dialect::iso::ID);
+        r.unsupported(&WORDING, found, true);
+        assert!(r.diags.iter().all(|d| d.severity == Severity::Warning));
+    }
+
+    #[test]
+    fn only_the_first_block_after_the_end_is_reported() {
+        let src = SourceFile::new("t", "M30\nX1\nX2\n");
+        let mut r = Reader::new(&src, crate::dialect::iso::ID);
+        r.push(ItemKind::ProgramEnd(crate::ir::EndCode::M30), Span::default(), None);
+        assert!(r.ends_program(0) && !r.ends_program(1));
+        r.after_end(codes::ISOR_AFTER_END, Span::default(), "after", "help");
+        r.after_end(codes::ISOR_AFTER_END, Span::default(), "after", "help");
+        assert_eq!(r.diags.len(), 1);
+    }
+}
