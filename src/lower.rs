@@ -552,7 +552,27 @@ pub fn expand(cycle: &ThreadCycle) -> Result<Expansion, ExpandError> {
     Ok(Expansion { passes, moves })
 }
 
+/// What a writer writes of an expansion, in order.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Step<'e> {
+    /// The comment that introduces a pass's moves ([`Expansion::heading`]).
+    Heading(String),
+    Move(&'e Move),
+}
+
 impl Expansion {
+    /// The moves, each pass's introduced by its heading.
+    pub fn steps(&self) -> impl Iterator<Item = Step<'_>> {
+        let mut current = 0;
+        self.moves.iter().flat_map(move |m| {
+            let heading = (m.pass != current).then(|| {
+                current = m.pass;
+                Step::Heading(self.heading(m.pass))
+            });
+            heading.into_iter().chain([Step::Move(&m.kind)])
+        })
+    }
+
     /// The comment that introduces the moves of pass `pass` (0: the final return), or `None`
     /// when `pass` has no moves of its own.
     pub fn heading(&self, pass: usize) -> String {

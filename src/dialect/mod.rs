@@ -8,16 +8,17 @@ pub mod detect;
 pub mod iso;
 pub mod nc31;
 pub(crate) mod read;
+pub(crate) mod write;
 
 pub use read::Unsupported;
 pub(crate) use read::{WORD_REPORTS, budget, comment_text, one_line, pest_error_offset};
+pub(crate) use write::Inexact;
 
 use crate::diag::Diagnostic;
-use crate::fixed::{Lead, Length};
 pub use crate::ir::DialectId;
 use crate::ir::Program;
 use crate::profile::Profile;
-use crate::source::{SourceFile, Span};
+use crate::source::SourceFile;
 use crate::text::TextEncoding;
 
 /// Every dialect, in the order ncthread lists them.
@@ -151,37 +152,4 @@ pub trait Dialect: Sync {
         profile: &Profile,
         options: &WriteOptions,
     ) -> (Option<String>, Vec<Diagnostic>);
-}
-
-/// Values a target cannot hold on its grid, gathered for one diagnostic per program (an
-/// error, or with `--round` a warning): how many, the largest deviation, and the first.
-#[derive(Debug, Default)]
-pub(crate) struct Inexact {
-    pub count: usize,
-    /// The largest deviation: of a length, its rounding; of a lead, the drift it causes at
-    /// the thread's end.
-    pub largest: Length,
-    /// Where the first is, what it is (`X 26.618 mm`) and the grid it misses (`0.001 mm`).
-    pub first: Option<(Span, String, String)>,
-}
-
-impl Inexact {
-    /// Notes that `what` = `value` at `span` is written as `rounded` on `grid`.
-    pub fn note(&mut self, span: Span, what: &str, value: Length, rounded: Length, grid: Length) {
-        self.count += 1;
-        self.largest = self.largest.max((rounded - value).abs());
-        if self.first.is_none() {
-            self.first = Some((span, format!("{what} {} mm", value.mm()), grid.mm()));
-        }
-    }
-
-    /// Notes that the lead `what` = `lead` at `span` is written rounded onto `grid`, so that
-    /// the thread drifts by `drift` at its end: that is its deviation.
-    pub fn note_lead(&mut self, span: Span, what: &str, lead: Lead, drift: Length, grid: Length) {
-        self.count += 1;
-        self.largest = self.largest.max(drift);
-        if self.first.is_none() {
-            self.first = Some((span, format!("{what} {} mm", lead.mm()), grid.mm()));
-        }
-    }
 }

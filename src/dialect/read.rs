@@ -266,7 +266,11 @@ mod tests {
     fn only_the_first_block_after_the_end_is_reported() {
         let src = SourceFile::new("t", "M30\nX1\nX2\n");
         let mut r = Reader::new(&src, crate::dialect::iso::ID);
-        r.push(ItemKind::ProgramEnd(crate::ir::EndCode::M30), Span::default(), None);
+        r.push(
+            ItemKind::ProgramEnd(crate::ir::EndCode::M30),
+            Span::default(),
+            None,
+        );
         assert!(r.ends_program(0) && !r.ends_program(1));
         r.after_end(codes::ISOR_AFTER_END, Span::default(), "after", "help");
         r.after_end(codes::ISOR_AFTER_END, Span::default(), "after", "help");

@@ -13,6 +13,7 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use crate::diag::{Code, Diagnostic, codes};
+use crate::dialect::write::{self, Writer};
 use crate::dialect::{Inexact, Renumber, one_line};
 use crate::fixed::{Angle, Decimal, Lead, Length};
 use crate::ir::{
@@ -36,15 +37,12 @@ struct Block {
 }
 
 struct Emitter<'a> {
-    src: &'a SourceFile,
+    w: Writer<'a>,
     profile: &'a Profile,
     /// Keep the source's block numbers (a czech source) or number from `renumber`.
     keep_numbers: bool,
     next_number: u32,
     step: u32,
-    out: String,
-    diags: Vec<Diagnostic>,
-    pos: Pos,
     motion: Option<&'static str>,
     /// The last F written: its value and whether it was a lead (in a G33 block).
     f: Option<(Lead, bool)>,
@@ -84,14 +82,11 @@ pub fn emit(
         }
     }
     let mut e = Emitter {
-        src,
+        w: Writer::new(src),
         profile,
         keep_numbers: program.dialect == super::ID,
         next_number: renumber.start,
         step: renumber.step.max(1),
-        out: String::new(),
-        diags: Vec::new(),
-        pos: Pos::UNKNOWN,
         motion: None,
         f: None,
         params: BTreeMap::new(),
@@ -104,38 +99,29 @@ pub fn emit(
     };
     let reserved: Vec<u32> = params.keys().copied().collect();
     // Items of one source block stay one block when the source is czech.
-    let mut i = 0;
-    while i < program.items.len() {
-        let mut j = i + 1;
-        if e.keep_numbers {
-            while j < program.items.len()
-                && program.items[j].span.line == program.items[i].span.line
-            {
-                j += 1;
-            }
-        }
-        e.group(&program.items[i..j], &reserved);
-        i = j;
+    for block in write::blocks(program, e.keep_numbers) {
+        e.group(block, &reserved);
     }
-    if let Some((span, what, grid)) = e.inexact.first.take() {
-        let (n, largest) = (e.inexact.count, e.inexact.largest.mm());
-        let d = if e.round {
+    let summary = e.inexact.diagnostic(
+        src,
+        e.round,
+        |s| {
             Diagnostic::new(
                 codes::CZW_ROUNDED,
-                format!("{n} value(s) rounded to the czech control's grid (0.001 mm, leads 0.0001 mm), the first {what}; the largest deviation is {largest} mm"),
+                format!("{} value(s) rounded to the czech control's grid (0.001 mm, leads 0.0001 mm), the first {}; the largest deviation is {} mm", s.count, s.what, s.largest),
             )
             .help("thread starts are rounded back along their pass, with the start angle I that keeps the helix")
-        } else {
+        },
+        |s| {
             Diagnostic::new(
                 codes::CZW_PRECISION,
-                format!("{what} is finer than the czech control's {grid} mm ({n} value(s) in this program are; lengths take 3 decimals, leads 4)"),
+                format!("{} is finer than the czech control's {} mm ({} value(s) in this program are; lengths take 3 decimals, leads 4)", s.what, s.grid, s.count),
             )
-            .help(format!("pass --round to round them (largest deviation {largest} mm, for a lead its drift at the thread's end; thread starts keep their helix through I)"))
-        };
-        e.diags.push(d.at(src, span));
-    }
-    let ok = !e.diags.iter().any(Diagnostic::is_error);
-    (ok.then_some(e.out), e.diags)
+            .help(format!("pass --round to round them (largest deviation {} mm, for a lead its drift at the thread's end; thread starts keep their helix through I)", s.largest))
+        },
+    );
+    e.w.diags.extend(summary);
+    e.w.finish()
 }
 
 /// `X26.618`-style text for a coordinate, or `None` when it needs a 4th decimal.
@@ -146,12 +132,7 @@ fn coordinate(v: Length) -> Option<String> {
 impl Emitter<'_> {
     /// Reports a problem once (a cycle's passes share the cycle's item).
     fn diag(&mut self, code: Code, item: &Item, message: String, help: &str) {
-        let d = Diagnostic::new(code, message)
-            .at(self.src, item.span)
-            .help(help);
-        if !self.diags.contains(&d) {
-            self.diags.push(d);
-        }
+        self.w.error(code, item.span, message, help);
     }
 
     fn write(&mut self, mut block: Block) {
@@ -190,8 +171,8 @@ impl Emitter<'_> {
             }
             let _ = write!(line, "\"{}", one_line(&c));
         }
-        self.out.push_str(&line);
-        self.out.push('\n');
+        self.w.out.push_str(&line);
+        self.w.out.push('\n');
     }
 
     /// `v` with a decimal point and at most 3 decimals. A value that needs a 4th is rounded
@@ -214,8 +195,8 @@ impl Emitter<'_> {
     fn axes(&mut self, item: &Item, to: Pos) -> Option<Vec<String>> {
         let mut words = Vec::new();
         let full = Pos {
-            x: to.x.or(if self.all_axes { self.pos.x } else { None }),
-            z: to.z.or(if self.all_axes { self.pos.z } else { None }),
+            x: to.x.or(if self.all_axes { self.w.pos.x } else { None }),
+            z: to.z.or(if self.all_axes { self.w.pos.z } else { None }),
         };
         if let Some(x) = full.x {
             words.push(self.coordinate_word(item, 'X', x)?);
@@ -359,16 +340,16 @@ impl Emitter<'_> {
             }
             ItemKind::Delimiter => {
                 self.flush(block);
-                self.out.push_str("%\n");
+                self.w.out.push_str("%\n");
             }
         }
         if !matches!(
             item.kind,
             ItemKind::ThreadCycle(_) | ItemKind::ThreadPass(_)
         ) {
-            let before = self.pos;
-            self.pos = item.kind.end_position(self.pos);
-            if self.pos != before {
+            let before = self.w.pos;
+            self.w.pos = item.kind.end_position(self.w.pos);
+            if self.w.pos != before {
                 self.in_cut = None;
             }
         }
@@ -394,7 +375,7 @@ impl Emitter<'_> {
         if !self.all_axes {
             return;
         }
-        let (Some(x), Some(z)) = (self.pos.x, self.pos.z) else {
+        let (Some(x), Some(z)) = (self.w.pos.x, self.w.pos.z) else {
             return;
         };
         if let (Some(x), Some(z)) = (
@@ -593,7 +574,7 @@ impl Emitter<'_> {
         // (right after another pass) the tool stays where the last block left it, and the
         // angle wraps.
         if self.round
-            && let (Some(z), Some(end_z)) = (self.pos.z, pass.to.z)
+            && let (Some(z), Some(end_z)) = (self.w.pos.z, pass.to.z)
             && z.0 % 10 != 0
         {
             let towards = (end_z - z).signum();
@@ -611,7 +592,7 @@ impl Emitter<'_> {
             } else {
                 nearest - Length(10)
             };
-            let in_cut = self.in_cut == Some(self.pos);
+            let in_cut = self.in_cut == Some(self.w.pos);
             match [nearest, other]
                 .into_iter()
                 .find(|&c| (0..360_000).contains(&angle_for(c)))
@@ -633,7 +614,7 @@ impl Emitter<'_> {
         }
         // On the 0.001 grid (--round) a very short pass can lose its travel.
         let on_grid = |z: Length| crate::fixed::div_round(z.0 as i128, 10);
-        if let (Some(from), Some(to)) = (self.pos.z, pass.to.z)
+        if let (Some(from), Some(to)) = (self.w.pos.z, pass.to.z)
             && from != to
             && on_grid(from) == on_grid(to)
         {
@@ -677,7 +658,7 @@ impl Emitter<'_> {
             );
         }
         if !exact {
-            let travel = match (self.pos.z, pass.to.z) {
+            let travel = match (self.w.pos.z, pass.to.z) {
                 (Some(a), Some(b)) => (b - a).abs(),
                 _ => Length::ZERO,
             };
@@ -724,8 +705,8 @@ impl Emitter<'_> {
             words.push(format!("E{t}"));
         }
         block.words.extend(words);
-        self.pos = ItemKind::ThreadPass(*pass).end_position(self.pos);
-        self.in_cut = Some(self.pos);
+        self.w.pos = ItemKind::ThreadPass(*pass).end_position(self.w.pos);
+        self.in_cut = Some(self.w.pos);
         if pass.entry.is_some() || pass.exit.is_some() {
             // The empty block, then a block that programs every axis. **[seed]**
             self.flush(block);
@@ -735,32 +716,26 @@ impl Emitter<'_> {
     }
 
     fn thread_cycle(&mut self, item: &Item, cycle: &ThreadCycle, reserved: &[u32]) {
-        let expansion = match lower::expand(cycle) {
-            Ok(e) => e,
-            Err(e) => {
-                return self.diag(
-                    codes::CYCLE_INVALID,
-                    item,
-                    e.message(cycle),
-                    "correct the cycle's words; ncthread cuts a cycle only when every pass is defined",
-                );
-            }
+        let Some(expansion) = self.w.expand(cycle, item.span) else {
+            return;
         };
         self.write(Block {
             comment: Some(expansion.summary(cycle, "D")),
             ..Block::default()
         });
-        let mut current = 0;
-        for m in &expansion.moves {
-            if m.pass != current {
-                current = m.pass;
-                self.write(Block {
-                    comment: Some(expansion.heading(m.pass)),
-                    ..Block::default()
-                });
-            }
+        for step in expansion.steps() {
+            let m = match step {
+                lower::Step::Heading(heading) => {
+                    self.write(Block {
+                        comment: Some(heading),
+                        ..Block::default()
+                    });
+                    continue;
+                }
+                lower::Step::Move(m) => m,
+            };
             let moved = Item {
-                kind: m.kind.item_kind(),
+                kind: m.item_kind(),
                 comment: None,
                 block_number: None,
                 span: item.span,
@@ -769,7 +744,7 @@ impl Emitter<'_> {
             self.item(&moved, &mut block, reserved);
             self.flush(&mut block);
         }
-        self.pos = item.kind.end_position(self.pos);
+        self.w.pos = item.kind.end_position(self.w.pos);
     }
 }
 

@@ -3,6 +3,7 @@
 use std::fmt::Write as _;
 
 use crate::diag::{Code, Diagnostic, codes};
+use crate::dialect::write::Writer;
 use crate::fixed::Angle;
 use crate::ir::{
     EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, SyncStart, TapCycle,
@@ -22,11 +23,8 @@ const HEADER_END: &str = ", converted by ncthread";
 const K_DECIMALS: usize = 8;
 
 struct Emitter<'a> {
-    src: &'a SourceFile,
+    w: Writer<'a>,
     profile: &'a Profile,
-    out: String,
-    diags: Vec<Diagnostic>,
-    pos: Pos,
     /// Where the last G33 ended, while the next line may continue it (LinuxCNC then does
     /// not wait for the index pulse).
     sync_end: Option<Pos>,
@@ -47,17 +45,14 @@ pub fn emit(
 ) -> (Option<String>, Vec<Diagnostic>) {
     let from = program.dialect;
     let mut e = Emitter {
-        src,
+        w: Writer::new(src),
         profile,
-        out: String::new(),
-        diags: Vec::new(),
-        pos: Pos::UNKNOWN,
         sync_end: None,
         m6_stopped: false,
         speed: None,
         turning: None,
     };
-    e.out.push_str("%\n");
+    e.w.out.push_str("%\n");
     // A program ncthread wrote keeps its header (where it came from), so that converting
     // the output again gives the same text.
     let mut items = program.items.as_slice();
@@ -70,19 +65,19 @@ pub fn emit(
         Some((first, rest)) if matches!(&first.kind, ItemKind::Comment(c) if c.ends_with(HEADER_END)) =>
         {
             if let ItemKind::Comment(c) = &first.kind {
-                let _ = writeln!(e.out, "({})", comment_text(c));
+                let _ = writeln!(e.w.out, "({})", comment_text(c));
             }
             items = rest;
         }
         _ => {
             let _ = writeln!(
-                e.out,
+                e.w.out,
                 "({}, dialect {from}{HEADER_END})",
                 comment_text(&src.name)
             );
         }
     }
-    e.out.push_str("G7 G18 G21 G90 G95\n");
+    e.w.out.push_str("G7 G18 G21 G90 G95\n");
     // The header's modes, as the ISO reader reads them back: they are not written again.
     let mut skip_header_modes = true;
     for (i, item) in items.iter().enumerate() {
@@ -90,7 +85,7 @@ pub fn emit(
             skip_header_modes = false;
             // Its comment stays, on a line of its own.
             if let Some(c) = &item.comment {
-                let _ = writeln!(e.out, "({})", comment_text(c));
+                let _ = writeln!(e.w.out, "({})", comment_text(c));
             }
             continue;
         }
@@ -99,9 +94,8 @@ pub fn emit(
         }
         e.item(item, items.get(i + 1));
     }
-    e.out.push_str("%\n");
-    let ok = !e.diags.iter().any(Diagnostic::is_error);
-    (ok.then_some(e.out), e.diags)
+    e.w.out.push_str("%\n");
+    e.w.finish()
 }
 
 /// Makes text safe inside `( )`: no nested parentheses, and no leading word that LinuxCNC
@@ -189,20 +183,16 @@ impl Emitter<'_> {
         message: impl Into<String>,
         help: impl Into<String>,
     ) {
-        self.diags.push(
-            Diagnostic::new(code, message)
-                .at(self.src, item.span)
-                .help(help),
-        );
+        self.w.error(code, item.span, message, help);
     }
 
     fn line(&mut self, text: &str) {
-        self.out.push_str(text.trim_start());
-        self.out.push('\n');
+        self.w.out.push_str(text.trim_start());
+        self.w.out.push('\n');
     }
 
     fn item(&mut self, item: &Item, next: Option<&Item>) {
-        let start = self.out.len();
+        let start = self.w.out.len();
         let m6_stopped = std::mem::take(&mut self.m6_stopped);
         // Only a comment line keeps a G33 chain going.
         if !matches!(
@@ -322,7 +312,7 @@ impl Emitter<'_> {
             }
             ItemKind::Delimiter => {}
         }
-        self.pos = item.kind.end_position(self.pos);
+        self.w.pos = item.kind.end_position(self.w.pos);
         let comment = match (&item.kind, &item.comment) {
             (ItemKind::TapCycle(_), Some(c)) if !c.contains(TAP_NOTE) => {
                 Some(format!("{TAP_NOTE}; {c}"))
@@ -335,14 +325,14 @@ impl Emitter<'_> {
             // (LinuxCNC keeps only the last comment of a line): then on a line before it. A
             // line that ends in a comment of the writer's (a start angle's note) gets this
             // one in the same parentheses, as the reader joins a line's comments: `(a; b)`.
-            if self.out.len() == start || self.out[start..].starts_with('(') {
-                self.out.insert_str(start, &format!("({text})\n"));
+            if self.w.out.len() == start || self.w.out[start..].starts_with('(') {
+                self.w.out.insert_str(start, &format!("({text})\n"));
             } else {
-                let eol = start + self.out[start..].find('\n').unwrap_or(0);
-                if self.out[start..eol].ends_with(')') {
-                    self.out.insert_str(eol - 1, &format!("; {text}"));
+                let eol = start + self.w.out[start..].find('\n').unwrap_or(0);
+                if self.w.out[start..eol].ends_with(')') {
+                    self.w.out.insert_str(eol - 1, &format!("; {text}"));
                 } else {
-                    self.out.insert_str(eol, &format!(" ({text})"));
+                    self.w.out.insert_str(eol, &format!(" ({text})"));
                 }
             }
         }
@@ -350,42 +340,34 @@ impl Emitter<'_> {
 
     /// A thread cycle as the passes [`lower::expand`] gives, each introduced by a comment.
     fn thread_cycle(&mut self, item: &Item, cycle: &ThreadCycle) {
-        let expansion = match lower::expand(cycle) {
-            Ok(e) => e,
-            Err(e) => {
-                self.diag(
-                    codes::CYCLE_INVALID,
-                    item,
-                    e.message(cycle),
-                    "correct the cycle's words; ncthread cuts a cycle only when every pass is defined",
-                );
-                return;
-            }
+        let Some(expansion) = self.w.expand(cycle, item.span) else {
+            return;
         };
         let summary = expansion.summary(cycle, "Ø");
         self.line(&format!("({summary})"));
-        let mut current = 0;
-        for m in &expansion.moves {
-            if m.pass != current {
-                current = m.pass;
-                let heading = expansion.heading(m.pass);
-                self.line(&format!("({heading})"));
-            }
-            match &m.kind {
+        for step in expansion.steps() {
+            let m = match step {
+                lower::Step::Heading(heading) => {
+                    self.line(&format!("({heading})"));
+                    continue;
+                }
+                lower::Step::Move(m) => m,
+            };
+            match m {
                 lower::Move::Rapid(to) => {
                     self.sync_end = None;
                     self.line(&format!("G0{}", axes(*to)))
                 }
                 lower::Move::Pass(pass) => self.thread_pass(item, pass),
             }
-            self.pos = m.kind.end_position(self.pos);
+            self.w.pos = m.end_position(self.w.pos);
         }
     }
 
     /// `G33.1 Z K` (LinuxCNC's rigid tap: in, spindle reversal, out, direction restored),
     /// then `G0 X` to point C.
     fn tap_cycle(&mut self, item: &Item, tap: &TapCycle) {
-        if self.pos.z.is_none() {
+        if self.w.pos.z.is_none() {
             self.diag(
                 codes::ISOW_START_ANGLE,
                 item,
@@ -412,7 +394,7 @@ impl Emitter<'_> {
     }
 
     fn thread_pass(&mut self, item: &Item, pass: &ThreadPass) {
-        let mut segments = match lower::pass_segments(self.pos, pass) {
+        let mut segments = match lower::pass_segments(self.w.pos, pass) {
             Ok(s) => s,
             Err(_) => {
                 self.diag(
@@ -427,7 +409,7 @@ impl Emitter<'_> {
         // LinuxCNC continues a G33 that starts where another ended without waiting for the
         // index pulse: a continuation is written right after the move it continues (a pass
         // that must wait there is refused by legalisation).
-        let in_chain = self.sync_end == Some(self.pos);
+        let in_chain = self.sync_end == Some(self.w.pos);
         match pass.start {
             SyncStart::Continue if !in_chain => {
                 self.diag(

@@ -11,6 +11,7 @@
 //! that already holds such lines).
 
 use crate::diag::{Code, Diagnostic, codes};
+use crate::dialect::write::{self, Writer};
 use crate::dialect::{Inexact, WriteOptions, one_line};
 use crate::fixed::{Angle, Lead, Length};
 use crate::ir::{
@@ -22,17 +23,14 @@ use crate::profile::{Nc31Profile, Profile};
 use crate::source::{SourceFile, Span};
 
 struct Emitter<'a> {
-    src: &'a SourceFile,
+    w: Writer<'a>,
     profile: &'a Nc31Profile,
     /// `round`: values off the unit grid are rounded (a warning) instead of refused;
     /// `comments`: comments are written as `(` lines (for PC-side archives).
     options: WriteOptions,
     /// Comments are written (asked for, or the source is an nc31 file with `(` lines).
     comments: bool,
-    out: String,
     next_frame: u64,
-    diags: Vec<Diagnostic>,
-    pos: Pos,
     /// The feed register: `None` at the start and after every thread group. **[decided]**
     feed: Option<Length>,
     per_minute: bool,
@@ -52,37 +50,26 @@ pub fn emit(
     // An nc31 program's own groups and `(` comment lines are kept as they were.
     let own = program.dialect == super::ID;
     let mut e = Emitter {
-        src,
+        w: Writer::new(src),
         profile: &profile.nc31,
         options: *options,
         comments: options.comments || own,
-        out: String::new(),
         next_frame: 0,
-        diags: Vec::new(),
-        pos: Pos::UNKNOWN,
         feed: None,
         per_minute: false,
         inexact: Inexact::default(),
         dropped: (0, None),
     };
     // The items of one nc31 group stay one group.
-    let mut i = 0;
-    while i < program.items.len() {
-        let mut j = i + 1;
-        if own {
-            while j < program.items.len() && program.items[j].span == program.items[i].span {
-                j += 1;
-            }
-        }
+    for block in write::blocks(program, own) {
         let mut group = Vec::new();
-        for item in &program.items[i..j] {
+        for item in block {
             e.item(item, &mut group);
         }
         e.write(&mut group);
-        i = j;
     }
     e.finish();
-    if e.out.trim().is_empty() && !e.diags.iter().any(Diagnostic::is_error) {
+    if e.w.out.trim().is_empty() && !e.w.diags.iter().any(Diagnostic::is_error) {
         let mut d = Diagnostic::new(
             codes::NCW_NOTHING,
             "nothing in this program is written as НЦ-31 frames: the output would be empty",
@@ -91,10 +78,9 @@ pub fn emit(
         if let Some(first) = program.items.first() {
             d = d.at(src, first.span);
         }
-        e.diags.push(d);
+        e.w.diags.push(d);
     }
-    let ok = !e.diags.iter().any(Diagnostic::is_error);
-    (ok.then_some(e.out), e.diags)
+    e.w.finish()
 }
 
 /// A frame's text without its number: one word and its modifiers.
@@ -207,14 +193,7 @@ fn g31_mismatch(cycle: &ThreadCycle, p: &Nc31Profile) -> Option<String> {
 
 impl Emitter<'_> {
     fn diag(&mut self, code: Code, span: Span, message: String, help: impl Into<String>) {
-        let d = Diagnostic::new(code, message).at(self.src, span).help(help);
-        if !self.diags.contains(&d) {
-            self.diags.push(d);
-        }
-    }
-
-    fn errors(&self) -> usize {
-        self.diags.iter().filter(|d| d.is_error()).count()
+        self.w.error(code, span, message, help);
     }
 
     /// Writes a group: numbered frames, `*` on all but the last.
@@ -222,7 +201,8 @@ impl Emitter<'_> {
         let n = group.len();
         for (i, f) in group.drain(..).enumerate() {
             let more = if i + 1 < n { " *" } else { "" };
-            self.out
+            self.w
+                .out
                 .push_str(&format!("N{} {f}{more}\n", self.next_frame));
             self.next_frame += 1;
         }
@@ -231,7 +211,7 @@ impl Emitter<'_> {
     fn comment(&mut self, span: Span, text: &str, group: &mut Vec<String>) {
         if self.comments {
             self.write(group);
-            self.out.push_str(&format!("({})\n", one_line(text)));
+            self.w.out.push_str(&format!("({})\n", one_line(text)));
         } else {
             self.dropped.0 += 1;
             self.dropped.1.get_or_insert(span);
@@ -284,7 +264,8 @@ impl Emitter<'_> {
         let kept = self.comments;
         if kept {
             self.write(group);
-            self.out
+            self.w
+                .out
                 .push_str(&format!("({} (not converted))\n", one_line(text)));
         }
         self.diag(
@@ -418,7 +399,7 @@ impl Emitter<'_> {
                         .map(|r| r.trim_start_matches(|c: char| c.is_ascii_digit()))
                         .unwrap_or(rest)
                         .trim();
-                    self.out.push_str(&format!("N{} {rest}\n", self.next_frame));
+                    self.w.out.push_str(&format!("N{} {rest}\n", self.next_frame));
                     self.next_frame += 1;
                 }
             }
@@ -430,14 +411,14 @@ impl Emitter<'_> {
             ),
             ItemKind::Delimiter => {
                 self.write(group);
-                self.out.push_str("%\n");
+                self.w.out.push_str("%\n");
             }
         }
         if !matches!(
             item.kind,
             ItemKind::ThreadCycle(_) | ItemKind::ThreadPass(_) | ItemKind::TapCycle(_)
         ) {
-            self.pos = item.kind.end_position(self.pos);
+            self.w.pos = item.kind.end_position(self.w.pos);
         }
     }
 
@@ -468,7 +449,7 @@ impl Emitter<'_> {
         let line_start = pass
             .infeed
             .map(|i| i.x)
-            .or(self.pos.x)
+            .or(self.w.pos.x)
             .map(|x| x - pass.entry.map_or(Length::ZERO, |e| e.offset));
         match (line_start, pass.to.x) {
             (_, None) => {}
@@ -498,12 +479,12 @@ impl Emitter<'_> {
         let Some(to_z) = pass.to.z else {
             return;
         };
-        let travel = self.pos.z.map_or(Length::ZERO, |z| (to_z - z).abs());
+        let travel = self.w.pos.z.map_or(Length::ZERO, |z| (to_z - z).abs());
         let Some(lead) = self.lead(span, pass.lead, travel) else {
             return;
         };
         let unit = self.profile.linear_unit;
-        if let Some(from) = self.pos.z
+        if let Some(from) = self.w.pos.z
             && unit.0 > 0
             && crate::fixed::div_round(from.0 as i128, unit.0 as i128)
                 == crate::fixed::div_round(to_z.0 as i128, unit.0 as i128)
@@ -522,25 +503,17 @@ impl Emitter<'_> {
         let z = self.units(span, "Z", to_z, unit);
         let mut group = vec!["G32".to_string(), format!("F{lead}"), format!("Z{z}")];
         self.write(&mut group);
-        self.pos.z = Some(to_z);
+        self.w.pos.z = Some(to_z);
         self.feed = None;
     }
 
     fn thread_cycle(&mut self, item: &Item, cycle: &ThreadCycle) {
-        let expansion = match lower::expand(cycle) {
-            Ok(e) => e,
-            Err(e) => {
-                return self.diag(
-                    codes::CYCLE_INVALID,
-                    item.span,
-                    e.message(cycle),
-                    "correct the cycle's words; ncthread cuts a cycle only when every pass is defined",
-                );
-            }
+        let Some(expansion) = self.w.expand(cycle, item.span) else {
+            return;
         };
         let start = Pos::new(cycle.start.0, cycle.start.1);
         let Some(why) = g31_mismatch(cycle, self.profile) else {
-            if self.pos != start {
+            if self.w.pos != start {
                 let mut group = self.coordinate_frames(item.span, start, true);
                 self.write(&mut group);
             }
@@ -561,16 +534,17 @@ impl Emitter<'_> {
                 group.push(format!("P{}", cycle.taper.0 / unit.0));
             }
             self.write(&mut group);
-            self.pos = start;
+            self.w.pos = start;
             self.feed = None;
             return;
         };
         // Not this machine's G31: its passes, each a G32 group.
         if self.comments {
-            self.out
+            self.w
+                .out
                 .push_str(&format!("({})\n", expansion.summary(cycle, "D")));
         }
-        let errors = self.errors();
+        let errors = self.w.errors();
         for m in &expansion.moves {
             match &m.kind {
                 lower::Move::Pass(pass) => self.thread_pass(item.span, pass, Some(&why)),
@@ -586,23 +560,23 @@ impl Emitter<'_> {
                     self.write(&mut group);
                 }
             }
-            if self.errors() > errors {
+            if self.w.errors() > errors {
                 return;
             }
         }
-        self.pos = item.kind.end_position(self.pos);
+        self.w.pos = item.kind.end_position(self.w.pos);
     }
 
     /// `G33 [@] *` X Z F.
     fn tap(&mut self, span: Span, tap: &TapCycle) {
-        let travel = self.pos.z.map_or(Length::ZERO, |z| (tap.end_z - z).abs());
+        let travel = self.w.pos.z.map_or(Length::ZERO, |z| (tap.end_z - z).abs());
         let Some(lead) = self.lead(span, tap.lead, travel) else {
             return;
         };
         let unit = self.profile.linear_unit;
         let mut group = vec![if tap.then_x.is_some() { "G33 @" } else { "G33" }.to_string()];
         // Without `@` the X word names the diameter the tool stands at (the seed writes it).
-        if let Some(x) = tap.then_x.or(self.pos.x) {
+        if let Some(x) = tap.then_x.or(self.w.pos.x) {
             let n = self.units(span, "X", x, unit);
             group.push(format!("X{n}"));
         }
@@ -610,7 +584,7 @@ impl Emitter<'_> {
         group.push(format!("Z{z}"));
         group.push(format!("F{lead}"));
         self.write(&mut group);
-        self.pos = ItemKind::TapCycle(*tap).end_position(self.pos);
+        self.w.pos = ItemKind::TapCycle(*tap).end_position(self.w.pos);
         self.feed = None;
     }
 
@@ -624,23 +598,25 @@ impl Emitter<'_> {
                 "pass --nc31-comments to write them as `(` lines for a PC-side archive",
             );
         }
-        if let Some((span, what, unit)) = self.inexact.first.take() {
-            let (n, largest) = (self.inexact.count, self.inexact.largest.mm());
-            let d = if self.options.round {
+        let summary = self.inexact.diagnostic(
+            self.w.src,
+            self.options.round,
+            |s| {
                 Diagnostic::new(
                     codes::NCW_ROUNDED,
-                    format!("{n} value(s) rounded to the НЦ-31's units, the first {what}; the largest deviation is {largest} mm"),
+                    format!("{} value(s) rounded to the НЦ-31's units, the first {}; the largest deviation is {} mm", s.count, s.what, s.largest),
                 )
                 .help("the rounded program cuts within that deviation of the source")
-            } else {
+            },
+            |s| {
                 Diagnostic::new(
                     codes::NCW_PRECISION,
-                    format!("{what} is not a whole number of the НЦ-31's {unit} mm units ({n} value(s) in this program are not)"),
+                    format!("{} is not a whole number of the НЦ-31's {} mm units ({} value(s) in this program are not)", s.what, s.grid, s.count),
                 )
-                .help(format!("pass --round to round them (largest deviation {largest} mm)"))
-            };
-            self.diags.push(d.at(self.src, span));
-        }
+                .help(format!("pass --round to round them (largest deviation {} mm)", s.largest))
+            },
+        );
+        self.w.diags.extend(summary);
     }
 }
 

@@ -1,0 +1,204 @@
+//! What every writer shares: the items of one source block, a cycle's expansion with its
+//! refusal, and the one summary of the values a target's grid cannot hold.
+
+use crate::diag::{Code, Diagnostic, codes};
+use crate::fixed::{Lead, Length};
+use crate::ir::{Item, Pos, Program, ThreadCycle};
+use crate::lower::{self, Expansion};
+use crate::source::{SourceFile, Span};
+
+/// The program's items a block at a time: the items read from one source line stay
+/// together when the writer keeps the source's blocks (`keep`: the program is in the
+/// writer's own dialect), else each item is a block of its own.
+pub(crate) fn blocks(program: &Program, keep: bool) -> impl Iterator<Item = &[Item]> {
+    let items = program.items.as_slice();
+    let mut i = 0;
+    std::iter::from_fn(move || {
+        let first = items.get(i)?;
+        let n = if keep {
+            items[i..]
+                .iter()
+                .take_while(|item| item.span.line == first.span.line)
+                .count()
+        } else {
+            1
+        };
+        i += n;
+        Some(&items[i - n..i])
+    })
+}
+
+/// Values a target cannot hold on its grid, gathered for one diagnostic per program (an
+/// error, or with `--round` a warning): how many, the largest deviation, and the first.
+#[derive(Debug, Default)]
+pub(crate) struct Inexact {
+    pub count: usize,
+    /// The largest deviation: of a length, its rounding; of a lead, the drift it causes at
+    /// the thread's end.
+    pub largest: Length,
+    /// Where the first is, what it is (`X 26.618 mm`) and the grid it misses (`0.001 mm`).
+    pub first: Option<(Span, String, String)>,
+}
+
+/// What [`Inexact`] gathered, for the target's one diagnostic.
+pub(crate) struct InexactSummary {
+    pub count: usize,
+    /// The first value (`X 26.618 mm`) and the grid it misses (`0.001`).
+    pub what: String,
+    pub grid: String,
+    /// The largest deviation, in mm.
+    pub largest: String,
+}
+
+impl Inexact {
+    /// The one diagnostic of a program's values off the grid (none when all are on it):
+    /// `rounded` words the warning of `--round`, `refused` the error without it.
+    pub fn diagnostic(
+        &mut self,
+        src: &SourceFile,
+        round: bool,
+        rounded: impl FnOnce(&InexactSummary) -> Diagnostic,
+        refused: impl FnOnce(&InexactSummary) -> Diagnostic,
+    ) -> Option<Diagnostic> {
+        let (span, what, grid) = self.first.take()?;
+        let summary = InexactSummary {
+            count: self.count,
+            what,
+            grid,
+            largest: self.largest.mm(),
+        };
+        let d = if round {
+            rounded(&summary)
+        } else {
+            refused(&summary)
+        };
+        Some(d.at(src, span))
+    }
+
+    /// Notes that `what` = `value` at `span` is written as `rounded` on `grid`.
+    pub fn note(&mut self, span: Span, what: &str, value: Length, rounded: Length, grid: Length) {
+        self.count += 1;
+        self.largest = self.largest.max((rounded - value).abs());
+        if self.first.is_none() {
+            self.first = Some((span, format!("{what} {} mm", value.mm()), grid.mm()));
+        }
+    }
+
+    /// Notes that the lead `what` = `lead` at `span` is written rounded onto `grid`, so that
+    /// the thread drifts by `drift` at its end: that is its deviation.
+    pub fn note_lead(&mut self, span: Span, what: &str, lead: Lead, drift: Length, grid: Length) {
+        self.count += 1;
+        self.largest = self.largest.max(drift);
+        if self.first.is_none() {
+            self.first = Some((span, format!("{what} {} mm", lead.mm()), grid.mm()));
+        }
+    }
+}
+
+/// The state every writer keeps: the source (for diagnostics), the text written so far,
+/// the diagnostics, and the tool's position as the output leaves it.
+pub(crate) struct Writer<'a> {
+    pub src: &'a SourceFile,
+    pub out: String,
+    pub diags: Vec<Diagnostic>,
+    pub pos: Pos,
+}
+
+impl<'a> Writer<'a> {
+    pub fn new(src: &'a SourceFile) -> Self {
+        Writer {
+            src,
+            out: String::new(),
+            diags: Vec::new(),
+            pos: Pos::UNKNOWN,
+        }
+    }
+
+    /// Reports a problem at `span` once (a cycle's passes share the cycle's span).
+    pub fn error(
+        &mut self,
+        code: Code,
+        span: Span,
+        message: impl Into<String>,
+        help: impl Into<String>,
+    ) {
+        self.report(Diagnostic::new(code, message).at(self.src, span).help(help));
+    }
+
+    /// A cycle's passes ([`lower::expand`]), or `None` after refusing a cycle that does not
+    /// define every pass (the same words for every target).
+    pub fn expand(&mut self, cycle: &ThreadCycle, span: Span) -> Option<Expansion> {
+        match lower::expand(cycle) {
+            Ok(e) => Some(e),
+            Err(e) => {
+                self.error(
+                    codes::CYCLE_INVALID,
+                    span,
+                    e.message(cycle),
+                    "correct the cycle's words; ncthread cuts a cycle only when every pass is defined",
+                );
+                None
+            }
+        }
+    }
+
+    /// Adds `d` unless the same diagnostic was reported already.
+    pub fn report(&mut self, d: Diagnostic) {
+        if !self.diags.contains(&d) {
+            self.diags.push(d);
+        }
+    }
+
+    /// How many errors so far.
+    pub fn errors(&self) -> usize {
+        self.diags.iter().filter(|d| d.is_error()).count()
+    }
+
+    /// The text, when no diagnostic is an error, and the diagnostics.
+    pub fn finish(self) -> (Option<String>, Vec<Diagnostic>) {
+        let ok = !self.diags.iter().any(Diagnostic::is_error);
+        (ok.then_some(self.out), self.diags)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ir::ItemKind;
+
+    #[test]
+    fn blocks_keep_the_items_of_one_source_line_together_only_when_asked() {
+        let on = |line| {
+            let mut item = Item::new(ItemKind::SpindleStop, Span::default());
+            item.span.line = line;
+            item
+        };
+        let program = Program {
+            dialect: crate::dialect::czech::ID,
+            items: vec![on(1), on(1), on(2), on(3), on(3)],
+        };
+        let sizes = |keep| {
+            blocks(&program, keep)
+                .map(<[Item]>::len)
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(sizes(true), [2, 1, 2]);
+        assert_eq!(sizes(false), [1; 5]);
+    }
+
+    #[test]
+    fn an_expansion_introduces_each_pass_once() {
+        let cycle = lower::seed_m36_cycle(crate::ir::Schedule::Halving);
+        let e = lower::expand(&cycle).expect("the seed cycle expands");
+        let headings: Vec<String> = e
+            .steps()
+            .filter_map(|s| match s {
+                lower::Step::Heading(h) => Some(h),
+                lower::Step::Move(_) => None,
+            })
+            .collect();
+        let passes = e.passes.len() + usize::from(e.moves.iter().any(|m| m.pass == 0));
+        assert_eq!(headings.len(), passes);
+        assert_eq!(e.steps().count(), e.moves.len() + headings.len());
+    }
+}
