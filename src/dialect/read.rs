@@ -154,6 +154,36 @@ impl<'a> Reader<'a> {
         self.error(code, span, message, help);
     }
 
+    /// Stamps the items read from one source block (those from `first` on): the block's
+    /// number goes to its first item (to each of them when `every`), its comment to its
+    /// first item that is not a comment. A block that made no item but has a comment
+    /// becomes a comment item at `span`.
+    pub fn stamp_block(
+        &mut self,
+        first: usize,
+        number: Option<u32>,
+        comment: Option<String>,
+        span: Span,
+        every: bool,
+    ) {
+        if first >= self.items.len() {
+            if let Some(comment) = comment {
+                self.push(ItemKind::Comment(comment), span, number);
+            }
+            return;
+        }
+        let items = &mut self.items[first..];
+        if let Some(comment) = comment
+            && !matches!(items[0].kind, ItemKind::Comment(_))
+        {
+            items[0].comment = Some(comment);
+        }
+        let stamped = if every { items.len() } else { 1 };
+        for item in &mut items[..stamped] {
+            item.block_number = number;
+        }
+    }
+
     /// Whether an item from `first` on ends the program.
     pub fn ends_program(&self, first: usize) -> bool {
         self.items.get(first..).is_some_and(|items| {
@@ -260,6 +290,29 @@ mod tests {
         let mut r = Reader::new(&src, crate::dialect::iso::ID);
         r.unsupported(&WORDING, found, true);
         assert!(r.diags.iter().all(|d| d.severity == Severity::Warning));
+    }
+
+    #[test]
+    fn a_block_stamps_its_number_and_comment_on_its_items() {
+        let src = SourceFile::new("t", "N10 M5 (stop)\n");
+        let mut r = Reader::new(&src, crate::dialect::iso::ID);
+        r.stamp_block(0, Some(5), Some("alone".into()), Span::default(), false);
+        assert_eq!(r.items[0].kind, ItemKind::Comment("alone".into()));
+        assert_eq!(r.items[0].block_number, Some(5));
+        r.push(ItemKind::SpindleStop, Span::default(), None);
+        r.push(ItemKind::SpindleStop, Span::default(), None);
+        r.stamp_block(1, Some(10), Some("stop".into()), Span::default(), false);
+        assert_eq!(r.items[1].comment.as_deref(), Some("stop"));
+        assert_eq!(
+            (r.items[1].block_number, r.items[2].block_number),
+            (Some(10), None)
+        );
+        r.stamp_block(1, Some(20), None, Span::default(), true);
+        assert_eq!(
+            (r.items[1].block_number, r.items[2].block_number),
+            (Some(20), Some(20))
+        );
+        assert_eq!(r.items.len(), 3);
     }
 
     #[test]

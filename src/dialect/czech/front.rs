@@ -183,18 +183,9 @@ impl<'a> FrontEnd<'a> {
         for a in &block.assignments {
             self.params.insert(a.param, a.value);
         }
-        if let Some(comment) = &block.comment {
-            match self.r.items.get_mut(first_item) {
-                Some(item) => item.comment = Some(comment.clone()),
-                None => {
-                    let span = self.span(line, 0..line.text.len());
-                    self.push(ItemKind::Comment(comment.clone()), span, block.number);
-                }
-            }
-        }
-        for item in &mut self.r.items[first_item..] {
-            item.block_number = block.number;
-        }
+        let span = self.r.src.line_span(line);
+        self.r
+            .stamp_block(first_item, block.number, block.comment.clone(), span, true);
     }
 
     /// The empty block and the all-axes block that must follow a J/E thread block.

@@ -347,18 +347,10 @@ impl FrontEnd<'_> {
         } else {
             self.block(line, &block);
         }
-        if let Some(item) = self.r.items.get_mut(first) {
-            item.block_number = block.number;
-            if !block.comments.is_empty() && !matches!(item.kind, ItemKind::Comment(_)) {
-                item.comment = Some(block.comments.join("; "));
-            }
-        } else if !block.comments.is_empty() {
-            // A line whose words made no item (G21, G90…): its comment stays.
-            self.push(ItemKind::Comment(block.comments.join("; ")), span);
-            if let Some(item) = self.r.items.last_mut() {
-                item.block_number = block.number;
-            }
-        }
+        // A line whose words made no item (G21, G90…) keeps its comment as an item.
+        let comment = (!block.comments.is_empty()).then(|| block.comments.join("; "));
+        self.r
+            .stamp_block(first, block.number, comment, span, false);
     }
 
     /// Reports what the line holds that ncthread does not read; true when the line must

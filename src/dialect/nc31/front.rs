@@ -238,9 +238,7 @@ impl<'a> FrontEnd<'a> {
                 );
             }
         }
-        for item in &mut self.r.items[first_item..] {
-            item.block_number = number;
-        }
+        self.r.stamp_block(first_item, number, None, span, true);
     }
 
     /// Reports words the guide does not document; with `--unsupported warn` the group is kept
