@@ -54,6 +54,12 @@ impl Length {
     pub fn mm_with_point(self) -> String {
         format_scaled(self.0, Self::DECIMALS, Trailing::Point)
     }
+
+    /// Half of this length in mm, exactly (a diameter's radius: a fifth decimal when it
+    /// falls between two grid steps): `Length(3)` → `0.00015`.
+    pub fn half_mm(self) -> String {
+        format_scaled(self.0 * 5, Self::DECIMALS + 1, Trailing::None)
+    }
 }
 
 impl std::ops::Add for Length {

@@ -55,7 +55,7 @@ pub fn check(program: &Program, src: &SourceFile, to: Option<DialectId>) -> Vec<
                     .help("start the spindle (M3/M4 with S) before the thread; a synchronised move follows the turning spindle"),
                 );
             }
-            ItemKind::Feed { .. }
+            ItemKind::Feed { .. } | ItemKind::Arc { .. }
                 if feed_mode != Some(FeedMode::PerMin) && (!turning || speed.unwrap_or(0) == 0) =>
             {
                 let why = if !turning {
@@ -123,8 +123,8 @@ pub struct Occurrence {
     pub angle: Option<crate::fixed::Angle>,
 }
 
-/// Every use of a construct that a capability table may refuse, in program order: taps,
-/// dwells, feeds per minute, synchronised moves along X, continued chains and passes that
+/// Every use of a construct that a capability table may refuse, in program order: arcs,
+/// taps, dwells, feeds per minute, synchronised moves along X, continued chains and passes that
 /// wait for the index pulse in the cut (a cycle's passes count as the cycle's).
 pub fn occurrences(program: &Program) -> Vec<Occurrence> {
     let mut out = Vec::new();
@@ -139,6 +139,7 @@ pub fn occurrences(program: &Program) -> Vec<Occurrence> {
         };
         match &item.kind {
             ItemKind::TapCycle(_) => out.push(at(Construct::Tapping, None)),
+            ItemKind::Arc { .. } => out.push(at(Construct::Arc, None)),
             ItemKind::Dwell { .. } => out.push(at(Construct::Dwell, None)),
             ItemKind::FeedMode(mode) => per_minute = *mode == FeedMode::PerMin,
             ItemKind::Feed { .. } if per_minute => out.push(at(Construct::PerMinuteFeed, None)),

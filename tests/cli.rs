@@ -390,10 +390,40 @@ fn reads_iso_and_linuxcnc_g76() {
     );
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     assert!(text(&out.stdout).contains("line 7 pass 45  thread"));
+    // Arcs are read and written back; a target without arcs refuses them by name.
     let out = ncthread(
         &[
             "convert",
-            "corpus/bad/iso/arc-g02.ngc",
+            "corpus/iso/part-shaft-m20.ngc",
+            "--from",
+            "iso",
+            "--to",
+            "iso",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(text(&out.stdout).contains("G2 X38 Z-48 I4.47215 K-4 F0.1"));
+    let out = ncthread(
+        &[
+            "convert",
+            "corpus/iso/part-shaft-m20.ngc",
+            "--from",
+            "iso",
+            "--to",
+            "czech",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr)
+            .contains("error[CZW002]: an arc (G2/G3) has no documented form on the czech control")
+    );
+    let out = ncthread(
+        &[
+            "convert",
+            "corpus/bad/iso/arc-without-feed.ngc",
             "--from",
             "iso",
             "--to",
@@ -402,7 +432,7 @@ fn reads_iso_and_linuxcnc_g76() {
         None,
     );
     assert_eq!(out.status.code(), Some(1));
-    assert!(text(&out.stderr).contains("error[ISOR002]"));
+    assert!(text(&out.stderr).contains("error[ISOR004]: G2 with no feed rate (F) set, or F0"));
 }
 
 #[test]

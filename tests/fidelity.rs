@@ -83,10 +83,14 @@ fn routes() -> Vec<Route> {
             warn: true,
             ..route("iso-unsupported-warn-g10-inch.ngc", Iso, Refused("LG003"))
         },
+        // Arcs are read since issue 14: the G91 arc is an arc, written exactly, and refused
+        // by the targets that have no arcs.
         Route {
             warn: true,
-            ..route("iso-unsupported-warn-g91-arc.ngc", Iso, Refused("ISOR002"))
+            ..route("iso-unsupported-warn-g91-arc.ngc", Iso, Exact)
         },
+        route("iso-unsupported-warn-g91-arc.ngc", Czech, Refused("CZW002")),
+        route("iso-unsupported-warn-g91-arc.ngc", Nc31, Refused("NCW002")),
         Route {
             warn: true,
             ..route("iso-unsupported-warn-g28-cross-dialect.ngc", Iso, Exact)

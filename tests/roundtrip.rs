@@ -28,6 +28,9 @@ enum Step {
     Rapid(Length, Length),
     Feed(Length, Length, Length),
     Pass(Option<Length>, Length, Length, Angle),
+    /// An arc from the current position around the centre at this offset (X as a radius,
+    /// Z), to the point of its circle at this angle (0.001°), G2 when true.
+    Arc(Length, Length, i64, bool, Length),
     /// A G31-style cycle from the current position: crest, end Z, lead, depth, first depth,
     /// runout (in tenths of the lead).
     Cycle(Length, Length, Length, Length, Length, i64),
@@ -64,7 +67,7 @@ fn nc31_step() -> impl Strategy<Value = Step> {
     ]
 }
 
-fn step(with_angles: bool) -> impl Strategy<Value = Step> {
+fn step(with_angles: bool) -> BoxedStrategy<Step> {
     let x = on_grid(1_000..200_000);
     let z = on_grid(-300_000..50_000);
     let angle = if with_angles {
@@ -72,12 +75,23 @@ fn step(with_angles: bool) -> impl Strategy<Value = Step> {
     } else {
         Just(0i64).boxed()
     };
-    prop_oneof![
-        (x.clone(), z.clone()).prop_map(|(x, z)| Step::Rapid(x, z)),
-        (x.clone(), z.clone(), on_grid(1..2_000)).prop_map(|(x, z, f)| Step::Feed(x, z, f)),
-        (proptest::option::of(x), z, (1i64..2_000_000), angle)
-            .prop_map(|(x, z, lead, a)| Step::Pass(x, z, Length(lead), Angle(a))),
-    ]
+    let rapid = (x.clone(), z.clone()).prop_map(|(x, z)| Step::Rapid(x, z));
+    let feed = (x.clone(), z.clone(), on_grid(1..2_000)).prop_map(|(x, z, f)| Step::Feed(x, z, f));
+    let pass = (proptest::option::of(x), z, (1i64..2_000_000), angle)
+        .prop_map(|(x, z, lead, a)| Step::Pass(x, z, Length(lead), Angle(a)));
+    if with_angles {
+        // The czech control: no arcs.
+        return prop_oneof![rapid, feed, pass].boxed();
+    }
+    let arc = (
+        -300_000i64..300_000,
+        -300_000i64..300_000,
+        0i64..360_000,
+        any::<bool>(),
+        on_grid(1..2_000),
+    )
+        .prop_map(|(di, dk, a, cw, f)| Step::Arc(Length(di), Length(dk), a, cw, f));
+    prop_oneof![rapid, feed, pass, arc].boxed()
 }
 
 /// A program from the steps; a pass that would not move along Z is left out. A pass right
@@ -161,6 +175,25 @@ fn program(steps: &[Step], chains: bool) -> Program {
                 z_now = z;
             }
             Step::Pass(..) => {}
+            Step::Arc(di, dk, angle, clockwise, feed) => {
+                // The centre on the diameter grid; the end on the circle, rounded onto it.
+                let (cx, cz) = (x_now + di + di, z_now + dk);
+                let radius = (di.to_mm_f64()).hypot(dk.to_mm_f64());
+                let a = (angle as f64 / 1000.0).to_radians();
+                let (ex, ez) = (
+                    Length::from_mm_f64(cx.to_mm_f64() + 2.0 * radius * a.sin()),
+                    Length::from_mm_f64(cz.to_mm_f64() + radius * a.cos()),
+                );
+                if radius >= 0.01 {
+                    items.push(item(ItemKind::Arc {
+                        to: Pos::new(ex, ez),
+                        centre: Pos::new(cx, cz),
+                        clockwise,
+                        feed,
+                    }));
+                    (x_now, z_now) = (ex, ez);
+                }
+            }
         }
     }
     Program {
@@ -191,6 +224,7 @@ fn motion(p: &Program) -> Vec<ItemKind> {
                 ItemKind::ThreadPass(ThreadPass { to: end, ..*pass })
             }
             ItemKind::ThreadCycle(_)
+            | ItemKind::Arc { .. }
             | ItemKind::Spindle {
                 direction: Some(_), ..
             }

@@ -139,7 +139,7 @@ pub const PF_VALUE: Code = error("PF003", "a profile value is out of range or ma
 pub const ISOR_SYNTAX: Code = error("ISOR001", "the line cannot be read");
 pub const ISOR_UNSUPPORTED: Code = error(
     "ISOR002",
-    "construct ncthread does not read (arcs, offsets, parameters, other axes…)",
+    "construct ncthread does not read (offsets, parameters, other axes…)",
 );
 pub const ISOR_CONFLICT: Code = error(
     "ISOR003",
@@ -180,6 +180,10 @@ pub const ISOR_NO_END: Code = warning(
     "ISOR013",
     "the program has no end (M2/M30, or the closing %), which LinuxCNC reports after running it",
 );
+pub const ISOR_ARC: Code = error(
+    "ISOR014",
+    "an arc LinuxCNC refuses: no radius or centre, a radius too small for its chord, a zero radius, or an end off its circle",
+);
 
 // czech target
 pub const CZW_PRECISION: Code = error(
@@ -213,9 +217,9 @@ pub const ISOW_MCODE: Code = warning(
     "ISOW002",
     "M code LinuxCNC does not define, kept only as a comment",
 );
-pub const ISOW_START_ANGLE: Code = error(
+pub const ISOW_UNKNOWN_START: Code = error(
     "ISOW003",
-    "thread pass whose start angle, entry or runout needs an unknown start point",
+    "a move that needs an unknown start point (a thread pass's start angle, entry or runout; an arc's centre)",
 );
 pub const ISOW_BAD_MAPPING: Code = error("ISOW005", "profile M code mapping is not an M word");
 pub const ISOW_INDEX_WAIT: Code = error(
@@ -341,6 +345,7 @@ pub const ALL: &[Code] = &[
     ISOR_RADIUS_MODE,
     ISOR_AFTER_END,
     ISOR_NO_END,
+    ISOR_ARC,
     CZW_PRECISION,
     CZW_NO_EQUIVALENT,
     CZW_ANGLE,
@@ -349,7 +354,7 @@ pub const ALL: &[Code] = &[
     CZW_CONTINUE,
     ISOW_OPAQUE,
     ISOW_MCODE,
-    ISOW_START_ANGLE,
+    ISOW_UNKNOWN_START,
     ISOW_BAD_MAPPING,
     ISOW_INDEX_WAIT,
     NCW_PRECISION,

@@ -28,6 +28,8 @@ pub enum Construct {
     IndexWaitInCut,
     /// A synchronised move along X (LinuxCNC's G76 infeed, a G33 along X).
     SyncInfeed,
+    /// A circular feed move (G2/G3).
+    Arc,
     /// A rigid tapping cycle.
     Tapping,
     /// A dwell.
@@ -43,7 +45,7 @@ pub enum Construct {
 }
 
 impl Construct {
-    pub const ALL: [Construct; 14] = [
+    pub const ALL: [Construct; 15] = [
         Construct::ThreadCycle,
         Construct::StartAngle,
         Construct::Entry,
@@ -52,6 +54,7 @@ impl Construct {
         Construct::ContinuedChain,
         Construct::IndexWaitInCut,
         Construct::SyncInfeed,
+        Construct::Arc,
         Construct::Tapping,
         Construct::Dwell,
         Construct::PerMinuteFeed,
@@ -71,6 +74,7 @@ impl Construct {
             Construct::ContinuedChain => "continued G33 chain",
             Construct::IndexWaitInCut => "index wait in the cut",
             Construct::SyncInfeed => "synchronised move along X",
+            Construct::Arc => "arc (G2/G3)",
             Construct::Tapping => "rigid tapping",
             Construct::Dwell => "dwell",
             Construct::PerMinuteFeed => "feed per minute",
@@ -110,6 +114,7 @@ impl Construct {
                     false
                 }
                 ItemKind::TapCycle(_) => self == Construct::Tapping,
+                ItemKind::Arc { .. } => self == Construct::Arc,
                 ItemKind::Dwell { .. } => self == Construct::Dwell,
                 ItemKind::FeedMode(mode) => {
                     per_minute = *mode == FeedMode::PerMin;

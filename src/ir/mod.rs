@@ -423,6 +423,16 @@ pub enum ItemKind {
         to: Pos,
         feed: Length,
     },
+    /// A circular feed move in the ZX plane from the current position to `to` (both axes
+    /// known) around `centre` (X as a diameter, like every X in the IR), at `feed`.
+    /// `clockwise` is LinuxCNC's G2 in G18: clockwise seen from +Y, the side from which a
+    /// lathe with the tool in front of the spindle axis shows Z to the right and X down.
+    Arc {
+        to: Pos,
+        centre: Pos,
+        clockwise: bool,
+        feed: Length,
+    },
     ThreadPass(ThreadPass),
     ThreadCycle(Box<ThreadCycle>),
     TapCycle(TapCycle),
@@ -474,7 +484,7 @@ impl ItemKind {
     /// Where the tool is after this item, starting from `current`.
     pub fn end_position(&self, current: Pos) -> Pos {
         match self {
-            ItemKind::Rapid { to } | ItemKind::Feed { to, .. } => Pos {
+            ItemKind::Rapid { to } | ItemKind::Feed { to, .. } | ItemKind::Arc { to, .. } => Pos {
                 x: to.x.or(current.x),
                 z: to.z.or(current.z),
             },

@@ -87,7 +87,7 @@ pub fn normalise(segments: &[Segment]) -> Vec<Segment> {
         if let Some(last) = out.last_mut() {
             let rapids = matches!((last.motion, s.motion), (Motion::Rapid, Motion::Rapid));
             let merge = rapids
-                || (!matches!(s.motion, Motion::Tap { .. })
+                || (!matches!(s.motion, Motion::Tap { .. } | Motion::Arc { .. })
                     && last.motion == s.motion
                     && last.to == s.from
                     && collinear(last.from, last.to, s.to));
@@ -126,6 +126,9 @@ fn describe(m: &Motion) -> String {
         Motion::Tap { lead, .. } => format!("a tap with lead {}", lead.mm()),
         Motion::SyncRadial { advance, .. } => {
             format!("a synchronised infeed at {} per rev", advance.mm())
+        }
+        Motion::Arc { clockwise, .. } => {
+            format!("an arc ({})", if *clockwise { "G2" } else { "G3" })
         }
         Motion::IndexWait => "a wait in the cut for the index pulse".into(),
     }
@@ -170,6 +173,9 @@ pub fn largest_deviation(left: &[Segment], right: &[Segment]) -> Length {
         match (a.motion, b.motion) {
             (Motion::Feed { .. }, Motion::Feed { .. }) => {
                 largest = largest.max(gap(a.from, b.from))
+            }
+            (Motion::Arc { centre: c, .. }, Motion::Arc { centre: d, .. }) => {
+                largest = largest.max(gap(a.from, b.from)).max(gap(c, d))
             }
             (Motion::Sync { lead: l, .. }, Motion::Sync { lead: m, .. }) => {
                 if close_pos(a.from, b.from, TOLERANCE) {
@@ -449,6 +455,48 @@ pub fn compare_within(
                         "the synchronised infeed starts differently (at the index pulse or continuing)"
                             .into(),
                     );
+                }
+            }
+            (
+                Motion::Arc {
+                    centre: c,
+                    clockwise: cw,
+                    feed: f,
+                    per_minute: p,
+                },
+                Motion::Arc {
+                    centre: d,
+                    clockwise: dw,
+                    feed: g,
+                    per_minute: q,
+                },
+            ) => {
+                if cw != dw {
+                    return differ(format!("{} ≠ {}", describe(&a.motion), describe(&b.motion)));
+                }
+                if f != g || p != q {
+                    let unit = |m: bool| if m { "mm/min" } else { "mm/rev" };
+                    return differ(format!(
+                        "arc feed {} {} ≠ {} {}",
+                        f.mm(),
+                        unit(p),
+                        g.mm(),
+                        unit(q)
+                    ));
+                }
+                if !close_pos(a.from, b.from, tol)
+                    || !close_pos(a.to, b.to, tol)
+                    || !close_pos(c, d, tol)
+                {
+                    return differ(format!(
+                        "arc {} → {} around {} ≠ {} → {} around {}",
+                        show(a.from),
+                        show(a.to),
+                        show(c),
+                        show(b.from),
+                        show(b.to),
+                        show(d)
+                    ));
                 }
             }
             (Motion::IndexWait, Motion::IndexWait) => {}

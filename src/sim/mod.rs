@@ -51,13 +51,21 @@ pub enum Motion {
         direction: Option<SpindleDirection>,
         start_angle: Option<Angle>,
     },
+    /// A circular feed around `centre` (X a diameter): G2 (`clockwise`) or G3 in the ZX
+    /// plane, at `feed` as for [`Motion::Feed`]. `from` = `to` is a full circle.
+    Arc {
+        centre: Pos,
+        clockwise: bool,
+        feed: Length,
+        per_minute: bool,
+    },
     /// The tool stands where a synchronised move ended, in the cut, while the spindle turns
     /// until the index pulse (and the start angle after it): a pass that waits for the
     /// index right where another ended (`from` = `to`).
     IndexWait,
 }
 
-/// One straight move.
+/// One move: straight, or an arc (its centre in the motion).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Segment {
     pub motion: Motion,
@@ -145,7 +153,7 @@ impl Machine {
             x: to.x.or(self.pos.x),
             z: to.z.or(self.pos.z),
         };
-        if to == self.pos && !matches!(motion, Motion::Tap { .. }) {
+        if to == self.pos && !matches!(motion, Motion::Tap { .. } | Motion::Arc { .. }) {
             return;
         }
         let from = self.pos;
@@ -293,6 +301,20 @@ impl Machine {
                     None,
                 )
             }
+            ItemKind::Arc {
+                to,
+                centre,
+                clockwise,
+                feed,
+            } => {
+                let motion = Motion::Arc {
+                    centre: *centre,
+                    clockwise: *clockwise,
+                    feed: *feed,
+                    per_minute: self.per_minute,
+                };
+                self.segment(motion, *to, span, None)
+            }
             ItemKind::ThreadPass(pass) => self.thread_pass(pass, span, None),
             ItemKind::ThreadCycle(cycle) => match lower::expand(cycle) {
                 Ok(expansion) => {
@@ -428,6 +450,20 @@ impl Segment {
                     start_angle.map_or(String::new(), |a| format!(" from the index pulse + {a}°"))
                 ),
             ),
+            Motion::Arc {
+                centre,
+                clockwise,
+                feed,
+                per_minute,
+            } => (
+                if clockwise { "arc G2" } else { "arc G3" },
+                format!(
+                    "  centre {}  feed {} {}",
+                    pos(centre),
+                    feed.mm(),
+                    if per_minute { "mm/min" } else { "mm/rev" }
+                ),
+            ),
             Motion::IndexWait => ("wait", "  in the cut for the index pulse".to_string()),
         };
         let pass = self.pass.map_or(String::new(), |p| format!(" pass {p}"));
@@ -486,6 +522,17 @@ impl Segment {
                 "advance": advance.to_mm_f64(),
                 "spindle": dir(direction),
                 "start_angle": start_angle.map(|a| a.to_deg_f64()),
+            }),
+            Motion::Arc {
+                centre,
+                clockwise,
+                feed,
+                per_minute,
+            } => serde_json::json!({
+                "motion": if clockwise { "arc-cw" } else { "arc-ccw" },
+                "centre": pos(centre),
+                "feed": num(feed),
+                "feed_unit": if per_minute { "mm/min" } else { "mm/rev" },
             }),
             Motion::IndexWait => serde_json::json!({ "motion": "index-wait" }),
         };

@@ -22,6 +22,15 @@ pub enum Canon {
         x: f64,
         z: f64,
     },
+    /// ARC_FEED in the XZ plane: the end, the centre, and the rotation (negative: G2;
+    /// its size the turns).
+    Arc {
+        x: f64,
+        z: f64,
+        cx: f64,
+        cz: f64,
+        rotation: i32,
+    },
     /// START_SPEED_FEED_SYNC: K, the advance per revolution along the path.
     SyncStart {
         k: f64,
@@ -69,6 +78,15 @@ pub fn parse_canon(line: &str) -> Option<Canon> {
         "STRAIGHT_FEED" => Canon::Feed {
             x: 2.0 * arg(0)?,
             z: arg(2)?,
+        },
+        // ARC_FEED(first_end, second_end, first_axis, second_axis, rotation, …): in the XZ
+        // plane Z first, X second (a radius).
+        "ARC_FEED" => Canon::Arc {
+            z: arg(0)?,
+            x: 2.0 * arg(1)?,
+            cz: arg(2)?,
+            cx: 2.0 * arg(3)?,
+            rotation: arg(4)? as i32,
         },
         "RIGID_TAP" => Canon::RigidTap {
             x: 2.0 * arg(0)?,
@@ -184,7 +202,7 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
     let mut out = Vec::new();
     let mut scale = 1.0;
     let push = |out: &mut Vec<Segment>, motion, from: Pos, to: Pos| {
-        if from != to || matches!(motion, Motion::Tap { .. }) {
+        if from != to || matches!(motion, Motion::Tap { .. } | Motion::Arc { .. }) {
             out.push(Segment {
                 motion,
                 from,
@@ -269,6 +287,25 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
                 pos = to;
                 exact = Some((x, z));
             }
+            Canon::Arc {
+                x,
+                z,
+                cx,
+                cz,
+                rotation,
+            } => {
+                let to = Pos::new(mm(x * scale), mm(z * scale));
+                let motion = Motion::Arc {
+                    centre: Pos::new(mm(cx * scale), mm(cz * scale)),
+                    clockwise: rotation < 0,
+                    feed: mm(feed * scale),
+                    per_minute: !per_rev,
+                };
+                push(&mut out, motion, pos, to);
+                pos = to;
+                exact = Some((x * scale, z * scale));
+                chain_turns = None;
+            }
             Canon::RigidTap { z, .. } => {
                 let to = Pos {
                     x: pos.x,
@@ -317,6 +354,10 @@ pub fn phase_uncertainty(canon: &[Canon]) -> f64 {
                     chain = 0.0;
                 }
                 prev = Some((x, z));
+            }
+            Canon::Arc { x, z, .. } => {
+                prev = Some((x, z));
+                chain = 0.0;
             }
             Canon::RigidTap { .. } => chain = 0.0,
             Canon::SyncStart { k: new } => k = Some(new),

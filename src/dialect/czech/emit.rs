@@ -273,8 +273,8 @@ impl Emitter<'_> {
                 self.flush(block);
                 self.thread_cycle(item, cycle, reserved);
             }
-            // Refused by legalisation (the czech table has no tap and no dwell).
-            ItemKind::TapCycle(_) | ItemKind::Dwell { .. } => {}
+            // Refused by legalisation (the czech table has no tap, dwell or arc).
+            ItemKind::TapCycle(_) | ItemKind::Dwell { .. } | ItemKind::Arc { .. } => {}
             ItemKind::Spindle { speed, direction } => {
                 if let Some(s) = speed {
                     block.words.push(format!("S{s}"));

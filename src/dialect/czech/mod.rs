@@ -119,6 +119,7 @@ impl Dialect for Czech {
                     Write::Yes("G33 … I"),
                 ),
                 row(SyncInfeed, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
+                row(Arc, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
                 row(Tapping, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
                 row(Dwell, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
                 row(PerMinuteFeed, Read::Yes("G94"), Write::Yes("G94")),
@@ -132,6 +133,11 @@ impl Dialect for Czech {
 
     fn refusal(&self, at: Occurrence, src: &SourceFile) -> Option<Diagnostic> {
         let (code, message, help) = match at.construct {
+            Construct::Arc => (
+                codes::CZW_NO_EQUIVALENT,
+                "an arc (G2/G3) has no documented form on the czech control",
+                "the czech manual's chapter documents thread cutting only, and arc forms differ between controls of that era; ncthread does not yet take one from the machine profile, so write the contour by hand for this machine",
+            ),
             Construct::Tapping => (
                 codes::CZW_NO_EQUIVALENT,
                 "a rigid tapping cycle has no documented form on the czech control",

@@ -4,7 +4,7 @@ use std::fmt::Write as _;
 
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::write::Writer;
-use crate::fixed::Angle;
+use crate::fixed::{Angle, Length};
 use crate::ir::{
     EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, SyncStart, TapCycle,
     ThreadCycle, ThreadPass,
@@ -77,7 +77,13 @@ pub fn emit(
             );
         }
     }
-    e.w.out.push_str("G7 G18 G21 G90 G95\n");
+    // Arcs are written with I and K from their start (G91.1, LinuxCNC's start-up mode,
+    // said where a machine's start-up codes might differ).
+    if items.iter().any(|i| matches!(i.kind, ItemKind::Arc { .. })) {
+        e.w.out.push_str("G7 G18 G21 G90 G91.1 G95\n");
+    } else {
+        e.w.out.push_str("G7 G18 G21 G90 G95\n");
+    }
     // The header's modes, as the ISO reader reads them back: they are not written again.
     let mut skip_header_modes = true;
     for (i, item) in items.iter().enumerate() {
@@ -208,6 +214,12 @@ impl Emitter<'_> {
             ItemKind::Feed { to, feed } => {
                 self.line(&format!("G1{} F{}", axes(*to), feed.mm()));
             }
+            ItemKind::Arc {
+                to,
+                centre,
+                clockwise,
+                feed,
+            } => self.arc(item, *to, *centre, *clockwise, *feed),
             ItemKind::ThreadPass(pass) => self.thread_pass(item, pass),
             ItemKind::ThreadCycle(cycle) => self.thread_cycle(item, cycle),
             ItemKind::TapCycle(tap) => self.tap_cycle(item, tap),
@@ -338,6 +350,28 @@ impl Emitter<'_> {
         }
     }
 
+    /// `G2`/`G3 X Z I K F`: I and K the centre's offset from the start (G91.1), I in radius
+    /// (LinuxCNC halves X in G7, not I), exact to the grid's half step.
+    fn arc(&mut self, item: &Item, to: Pos, centre: Pos, clockwise: bool, feed: Length) {
+        let (Some((sx, sz)), Some((cx, cz))) = (self.w.pos.known(), centre.known()) else {
+            self.diag(
+                codes::ISOW_UNKNOWN_START,
+                item,
+                "an arc from a position that is not known: its centre cannot be written as an offset from its start",
+                "move to an absolute X and Z before the arc",
+            );
+            return;
+        };
+        let g = if clockwise { "G2" } else { "G3" };
+        self.line(&format!(
+            "{g}{} I{} K{} F{}",
+            axes(to),
+            (cx - sx).half_mm(),
+            (cz - sz).mm(),
+            feed.mm()
+        ));
+    }
+
     /// A thread cycle as the passes [`lower::expand`] gives, each introduced by a comment.
     fn thread_cycle(&mut self, item: &Item, cycle: &ThreadCycle) {
         let Some(expansion) = self.w.expand(cycle, item.span) else {
@@ -369,7 +403,7 @@ impl Emitter<'_> {
     fn tap_cycle(&mut self, item: &Item, tap: &TapCycle) {
         if self.w.pos.z.is_none() {
             self.diag(
-                codes::ISOW_START_ANGLE,
+                codes::ISOW_UNKNOWN_START,
                 item,
                 "the tapping cycle returns to its start Z, which is not known",
                 "move to the start of the hole with X and Z first",
@@ -398,7 +432,7 @@ impl Emitter<'_> {
             Ok(s) => s,
             Err(_) => {
                 self.diag(
-                    codes::ISOW_START_ANGLE,
+                    codes::ISOW_UNKNOWN_START,
                     item,
                     "this thread pass needs its start point, which is not known",
                     "move to the start of the thread with X and Z first",
@@ -425,7 +459,7 @@ impl Emitter<'_> {
                 if angle != Angle::ZERO && segments.first().is_some_and(|s| s.is_radial()) =>
             {
                 self.diag(
-                    codes::ISOW_START_ANGLE,
+                    codes::ISOW_UNKNOWN_START,
                     item,
                     format!("start angle {angle}° on a pass that starts with a synchronised move along X"),
                     "RS274/NGC G33 has no start angle, and a move along X cannot start earlier along Z",
@@ -442,7 +476,7 @@ impl Emitter<'_> {
                 Ok(None) => {}
                 Err(_) => {
                     self.diag(
-                        codes::ISOW_START_ANGLE,
+                        codes::ISOW_UNKNOWN_START,
                         item,
                         format!("start angle {angle}° on a pass whose start point is not known"),
                         "RS274/NGC G33 has no start angle: ncthread starts the pass lead·angle/360 earlier, which needs the start point; move to it with X and Z first",

@@ -46,6 +46,10 @@ pub struct Options {
 enum Motion {
     Rapid,
     Feed,
+    /// G2 (clockwise) or G3.
+    Arc {
+        clockwise: bool,
+    },
     Thread,
     Tap,
     Cycle,
@@ -64,6 +68,9 @@ struct FrontEnd<'a> {
     diameter_before_line: bool,
     inch: bool,
     incremental: bool,
+    /// G90.1: I and K give the arc centre itself; G91.1 (LinuxCNC's start-up mode): its
+    /// offset from the arc's start.
+    absolute_centres: bool,
     feed: Option<Length>,
     /// `None` until the program sets one: LinuxCNC then feeds per minute (G94).
     feed_mode: Option<FeedMode>,
@@ -91,6 +98,7 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         diameter_before_line: false,
         inch: false,
         incremental: false,
+        absolute_centres: false,
         feed: None,
         feed_mode: None,
         speed: None,
@@ -209,8 +217,8 @@ impl<'b> Words<'b> {
     }
 }
 
-/// The motion codes ncthread reads (LinuxCNC's modal group 1, less arcs and canned cycles).
-const MOTION: [GCode; 5] = [G0, G1, G33, G33_1, G76];
+/// The motion codes ncthread reads (LinuxCNC's modal group 1, less the canned cycles).
+const MOTION: [GCode; 7] = [G0, G1, G2, G3, G33, G33_1, G76];
 
 /// What a G or M code is to ncthread.
 enum Meaning {
@@ -224,12 +232,11 @@ enum Meaning {
 
 fn g_meaning(code: GCode) -> Meaning {
     match code {
-        G0 | G1 | G33 | G33_1 | G76 | G4 | G7 | G8 | G18 | G20 | G21 | G43 | G90 | G91 | G94
-        | G95 => Meaning::Known,
+        G0 | G1 | G2 | G3 | G33 | G33_1 | G76 | G4 | G7 | G8 | G18 | G20 | G21 | G43 | G90
+        | G91 | G90_1 | G91_1 | G94 | G95 => Meaning::Known,
         // Cutter compensation off, tool length offset off, the default work offset, exact
-        // path / blending, canned cycle off, arc distance modes, rpm mode.
-        G40 | G49 | G54 | G61 | G61_1 | G64 | G80 | G90_1 | G91_1 | G97 => Meaning::Kept,
-        G2 | G3 => Meaning::Unsupported("arcs (G2/G3)"),
+        // path / blending, canned cycle off, rpm mode.
+        G40 | G49 | G54 | G61 | G61_1 | G64 | G80 | G97 => Meaning::Kept,
         G17 | G19 | G17_1 | G18_1 | G19_1 => Meaning::Unsupported("planes other than ZX (G18)"),
         G41 | G42 | G41_1 | G42_1 => Meaning::Unsupported("cutter radius compensation"),
         G55..=G59_3 | G10 | G92..=G92_3 | G53 => {
@@ -253,7 +260,20 @@ fn changes_followed_state(w: &Word) -> bool {
         'G' => w.value.to_scaled(1).is_ok_and(|g| {
             matches!(
                 g,
-                G7 | G8 | G20 | G21 | G90 | G91 | G93 | G94 | G95 | G96 | G97 | G43 | G49
+                G7 | G8
+                    | G20
+                    | G21
+                    | G90
+                    | G91
+                    | G90_1
+                    | G91_1
+                    | G93
+                    | G94
+                    | G95
+                    | G96
+                    | G97
+                    | G43
+                    | G49
             )
         }),
         'M' => w
@@ -299,6 +319,7 @@ impl FrontEnd<'_> {
             }
             ItemKind::Rapid { .. }
             | ItemKind::Feed { .. }
+            | ItemKind::Arc { .. }
             | ItemKind::ThreadCycle(_)
             | ItemKind::TapCycle(_)
             | ItemKind::Opaque { block: Some(_), .. } => {
@@ -520,8 +541,13 @@ impl FrontEnd<'_> {
 
     /// A length word in program units → mm on the grid; warns once when it rounds.
     fn length(&mut self, line: Line<'_>, w: &Word) -> Option<Length> {
+        self.length_times(line, w, 1)
+    }
+
+    /// `times` the word's length, rounded once (an arc's I, a radius, as a diameter).
+    fn length_times(&mut self, line: Line<'_>, w: &Word, times: i128) -> Option<Length> {
         let d = w.value;
-        let factor: i128 = if self.inch { 254_000 } else { 10_000 };
+        let factor: i128 = if self.inch { 254_000 } else { 10_000 } * times;
         let den = 10i128.checked_pow(d.scale);
         let num = d.mantissa.checked_mul(factor);
         let (Some(num), Some(den)) = (num, den) else {
@@ -541,8 +567,9 @@ impl FrontEnd<'_> {
                 line,
                 w.range.clone(),
                 format!(
-                    "`{}` is {exact} mm, rounded to {} mm (ncthread computes on a 0.0001 mm grid; later values that round are not reported again)",
+                    "`{}` is {exact} mm{}, rounded to {} mm (ncthread computes on a 0.0001 mm grid; later values that round are not reported again)",
                     &line.text[w.range.clone()],
+                    if times == 2 { " as a diameter" } else { "" },
                     Length(v as i64).mm()
                 ),
                 "the rounding is at most 0.00005 mm, far inside the 0.001 mm that `verify` allows",
@@ -763,9 +790,17 @@ impl FrontEnd<'_> {
         if words.has_g(G91).is_some() {
             self.incremental = true;
         }
+        if words.has_g(G90_1).is_some() {
+            self.absolute_centres = true;
+        }
+        if words.has_g(G91_1).is_some() {
+            self.absolute_centres = false;
+        }
         let motion_code = words.g.iter().find_map(|&(c, _)| match c {
             G0 => Some(Motion::Rapid),
             G1 => Some(Motion::Feed),
+            G2 => Some(Motion::Arc { clockwise: true }),
+            G3 => Some(Motion::Arc { clockwise: false }),
             G33 => Some(Motion::Thread),
             G33_1 => Some(Motion::Tap),
             G76 => Some(Motion::Cycle),
@@ -775,7 +810,13 @@ impl FrontEnd<'_> {
             self.motion = Some(m);
         }
         let axes = words.other.contains_key(&'X') || words.other.contains_key(&'Z');
-        if axes || matches!(motion_code, Some(Motion::Tap | Motion::Cycle)) {
+        // A G2/G3 on the line moves even without axes (a full circle from I and K).
+        if axes
+            || matches!(
+                motion_code,
+                Some(Motion::Tap | Motion::Cycle | Motion::Arc { .. })
+            )
+        {
             match self.motion {
                 Some(m) => self.motion(line, &mut words, m, span),
                 None => {
@@ -961,38 +1002,270 @@ impl FrontEnd<'_> {
                 }
             }
             Motion::Feed => {
+                let axis = words.other.get(&'X').or(words.other.get(&'Z')).copied();
                 let Some(to) = self.target(line, words) else {
                     return;
                 };
-                let feed = match self.feed {
-                    Some(f) if f.0 > 0 => f,
-                    _ => {
-                        let at = code_word
-                            .or(words.other.get(&'X').copied())
-                            .or(words.other.get(&'Z').copied());
-                        if let Some(at) = at {
-                            self.missing(
-                                line,
-                                at,
-                                "G1 with no feed rate (F) set, or F0".into(),
-                                "set the feed with F before or on this line",
-                            );
-                        }
-                        return;
-                    }
+                let Some(feed) = self.feed_rate(line, code_word.or(axis), "G1", span) else {
+                    return;
                 };
-                if self.feed_mode.is_none() {
-                    // LinuxCNC's start-up feed mode, written out for targets that differ.
-                    self.feed_mode = Some(FeedMode::PerMin);
-                    self.push(ItemKind::FeedMode(FeedMode::PerMin), span);
-                }
                 self.push(ItemKind::Feed { to, feed }, span);
                 self.r.pos = ItemKind::Feed { to, feed }.end_position(self.r.pos);
             }
+            Motion::Arc { clockwise } => self.arc(line, words, code_word, span, clockwise),
             Motion::Thread => self.thread(line, words, code_word, span),
             Motion::Tap => self.tap(line, words, code_word, span),
             Motion::Cycle => self.cycle(line, words, code_word, span),
         }
+    }
+
+    /// The feed rate a feed move (`code`: G1, G2, G3) uses, or `None` after reporting at `at`
+    /// that none is set. The first feed move of a program that never chose a feed mode
+    /// writes out LinuxCNC's start-up mode (G94) for targets that differ.
+    fn feed_rate(
+        &mut self,
+        line: Line<'_>,
+        at: Option<&Word>,
+        code: &str,
+        span: Span,
+    ) -> Option<Length> {
+        let feed = match self.feed {
+            Some(f) if f.0 > 0 => f,
+            _ => {
+                if let Some(at) = at {
+                    self.missing(
+                        line,
+                        at,
+                        format!("{code} with no feed rate (F) set, or F0"),
+                        "set the feed with F before or on this line",
+                    );
+                }
+                return None;
+            }
+        };
+        if self.feed_mode.is_none() {
+            self.feed_mode = Some(FeedMode::PerMin);
+            self.push(ItemKind::FeedMode(FeedMode::PerMin), span);
+        }
+        Some(feed)
+    }
+
+    fn arc_error(&mut self, line: Line<'_>, at: Option<&Word>, message: String, help: &str) {
+        let range = at.map_or(0..line.text.len(), |w| w.range.clone());
+        self.diag(codes::ISOR_ARC, line, range, message, help);
+    }
+
+    /// G2/G3 in the ZX plane, as LinuxCNC reads it: the end (an axis not given stays), the
+    /// centre from I and K (an offset from the start under G91.1, the centre itself under
+    /// G90.1; in radius units whatever G7/G8 says, as LinuxCNC halves only X) or from R,
+    /// and LinuxCNC's checks of both. The centre is rounded once onto the grid.
+    /// **[evidence]** LinuxCNC `convert_arc`, `arc_data_ijk`, `arc_data_r` (interp_arc.cc).
+    fn arc(
+        &mut self,
+        line: Line<'_>,
+        words: &mut Words<'_>,
+        code_word: Option<&Word>,
+        span: Span,
+        clockwise: bool,
+    ) {
+        let g = if clockwise { "G2" } else { "G3" };
+        let axis = words.other.get(&'X').or(words.other.get(&'Z')).copied();
+        let (i, k, r, p) = (
+            words.take('I'),
+            words.take('K'),
+            words.take('R'),
+            words.take('P'),
+        );
+        let at = code_word.or(axis).or(i).or(k).or(r);
+        let Some(target) = self.target(line, words) else {
+            return;
+        };
+        let Some(feed) = self.feed_rate(line, at, g, span) else {
+            return;
+        };
+        let Some((sx, sz)) = self.r.pos.known() else {
+            let w = at;
+            let range = w.map_or(0..line.text.len(), |w| w.range.clone());
+            self.diag(
+                codes::ISOR_UNKNOWN_POSITION,
+                line,
+                range,
+                format!("{g} from a position that is not known yet: the arc's centre and path cannot be placed"),
+                "move to an absolute X and Z (G0 X… Z…) before the arc",
+            );
+            return;
+        };
+        if let Some(p) = p {
+            match p.value.to_whole() {
+                Ok(1) => {}
+                Ok(n) if n > 1 => {
+                    let text = &line.text[p.range.clone()];
+                    self.diag(
+                        codes::ISOR_UNSUPPORTED,
+                        line,
+                        p.range.clone(),
+                        format!("`{text}`: an arc of more than one turn is not read by ncthread"),
+                        "write the turns as separate arcs, or pass --unsupported warn to keep the line opaque",
+                    );
+                    return;
+                }
+                _ => {
+                    return self.arc_error(
+                        line,
+                        Some(p),
+                        format!("{g} P must be a whole number of turns, 1 or more (LinuxCNC: \"P value should be 1 or greater with G2 or G3\")"),
+                        "leave P out for an arc of less than one turn",
+                    );
+                }
+            }
+        }
+        let end = Pos::new(target.x.unwrap_or(sx), target.z.unwrap_or(sz));
+        let (ex, ez) = (end.x.unwrap_or(sx), end.z.unwrap_or(sz));
+        // Lengths in mm, X as a radius (LinuxCNC's plane: Z first, X second).
+        let f = |v: Length| v.to_mm_f64();
+        let (start_r, end_r) = ((f(sz), f(sx) / 2.0), (f(ez), f(ex) / 2.0));
+        // RADIUS_TOLERANCE (0.00005 in, 0.00127 mm) and CENTER_ARC_RADIUS_TOLERANCE
+        // (2·0.001·√2 in, 2·0.01·√2 mm); relative 0.001.
+        let radius_tolerance = 0.00127;
+        let spiral_tolerance = if self.inch {
+            2.0 * 0.001 * std::f64::consts::SQRT_2 * 25.4
+        } else {
+            2.0 * 0.01 * std::f64::consts::SQRT_2
+        };
+        let centre = match (r, i.is_some() || k.is_some()) {
+            (Some(_), true) => {
+                return self.arc_error(
+                    line,
+                    r,
+                    format!(
+                        "{g} with both R and I/K (LinuxCNC: \"Mixed radius ijk format for arc\")"
+                    ),
+                    "give the arc either its radius R or its centre I K",
+                );
+            }
+            (None, false) => {
+                return self.arc_error(
+                    line,
+                    at,
+                    format!(
+                        "{g} without R, I or K (LinuxCNC: \"R i j k words all missing for arc\")"
+                    ),
+                    "give the arc its radius (R) or its centre (I for X, K for Z)",
+                );
+            }
+            (Some(r), false) => {
+                if target.x.is_none() && target.z.is_none() {
+                    return self.arc_error(
+                        line,
+                        Some(r),
+                        format!("{g} R without X or Z (LinuxCNC: \"X and z words missing for arc in xz plane\")"),
+                        "an R arc cannot be a full circle: give its end point",
+                    );
+                }
+                if (sx, sz) == (ex, ez) {
+                    return self.arc_error(
+                        line,
+                        Some(r),
+                        format!("{g} R ends where it starts (LinuxCNC: \"Current point same as end point of arc\")"),
+                        "an R arc cannot be a full circle: write it with I and K",
+                    );
+                }
+                let radius = r.value.to_f64() * if self.inch { 25.4 } else { 1.0 };
+                let abs_radius = radius.abs();
+                let mid = ((start_r.0 + end_r.0) / 2.0, (start_r.1 + end_r.1) / 2.0);
+                let mut half = (mid.0 - end_r.0).hypot(mid.1 - end_r.1);
+                if half - abs_radius > radius_tolerance {
+                    let text = &line.text[r.range.clone()];
+                    return self.arc_error(
+                        line,
+                        Some(r),
+                        format!("`{text}` is too small for the arc: its end is {} mm from its start (LinuxCNC: \"Arc radius too small to reach end point\")", 2.0 * half),
+                        "the radius must be at least half the distance from the start to the end",
+                    );
+                }
+                if abs_radius == 0.0 || half / abs_radius > 1.0 - 1e-12 {
+                    half = abs_radius;
+                }
+                let right = clockwise == (radius > 0.0);
+                let chord = (end_r.1 - start_r.1).atan2(end_r.0 - start_r.0);
+                let theta = if right {
+                    chord - std::f64::consts::FRAC_PI_2
+                } else {
+                    chord + std::f64::consts::FRAC_PI_2
+                };
+                let offset = abs_radius * (half / abs_radius).asin().cos();
+                let offset = if offset.is_finite() { offset } else { 0.0 };
+                let (cz, cx) = (mid.0 + offset * theta.cos(), mid.1 + offset * theta.sin());
+                Pos::new(Length::from_mm_f64(2.0 * cx), Length::from_mm_f64(cz))
+            }
+            (None, true) => {
+                if self.absolute_centres {
+                    for (word, letter) in [(i, 'I'), (k, 'K')] {
+                        if word.is_none() {
+                            return self.arc_error(
+                                line,
+                                at,
+                                format!("{g} without {letter} under G90.1 (LinuxCNC: \"{letter} word missing in absolute center arc\")"),
+                                "under G90.1, I and K give the arc's centre: write both",
+                            );
+                        }
+                    }
+                }
+                // I is a radius: doubled before it is rounded, so that the centre's
+                // diameter is exact to the grid.
+                let mut value = |w: Option<&Word>, times| match w {
+                    Some(w) => self.length_times(line, w, times).map(Some),
+                    None => Some(None),
+                };
+                let (Some(i2), Some(kv)) = (value(i, 2), value(k, 1)) else {
+                    return;
+                };
+                let (i2, kv) = (i2.unwrap_or(Length::ZERO), kv.unwrap_or(Length::ZERO));
+                let centre = if self.absolute_centres {
+                    Pos::new(i2, kv)
+                } else {
+                    Pos::new(sx + i2, sz + kv)
+                };
+                let (Some(cx), Some(cz)) = (centre.x, centre.z) else {
+                    return;
+                };
+                let c = (f(cz), f(cx) / 2.0);
+                let r1 = (start_r.0 - c.0).hypot(start_r.1 - c.1);
+                let r2 = (end_r.0 - c.0).hypot(end_r.1 - c.1);
+                if r1 < radius_tolerance || r2 < radius_tolerance {
+                    return self.arc_error(
+                        line,
+                        at,
+                        format!("{g} with a zero radius: its centre is on its start or its end (LinuxCNC: \"Zero-radius arc\")"),
+                        "check I and K: under G91.1 they are the centre's offset from the start, I in radius",
+                    );
+                }
+                let abs_err = (r1 - r2).abs();
+                if abs_err > spiral_tolerance * 100.0
+                    || (abs_err / r1.max(r2) > 0.001 && abs_err > spiral_tolerance)
+                {
+                    return self.arc_error(
+                        line,
+                        at,
+                        format!(
+                            "{g}'s end is not on its circle: the radius is {} mm at the start and {} mm at the end (LinuxCNC: \"Radius to end of arc differs from radius to start\")",
+                            Length::from_mm_f64(r1).mm(),
+                            Length::from_mm_f64(r2).mm()
+                        ),
+                        "check I and K: under G91.1 they are the centre's offset from the start, I in radius (not halved by G7)",
+                    );
+                }
+                centre
+            }
+        };
+        let kind = ItemKind::Arc {
+            to: end,
+            centre,
+            clockwise,
+            feed,
+        };
+        self.push(kind.clone(), span);
+        self.r.pos = kind.end_position(self.r.pos);
     }
 
     /// The K word of G33/G33.1 (advance per revolution along the path), positive.
@@ -1553,6 +1826,71 @@ mod tests {
         );
     }
 
+    /// Arc centres as LinuxCNC places them (the R centres checked against rs274's ARC_FEED
+    /// for the same lines: `tests/oracle.rs` runs the corpus part programs).
+    #[test]
+    fn arcs_take_their_centres_as_linuxcnc_does() {
+        let arc = |text: &str| {
+            let (p, d) = run(text);
+            assert!(!crate::diag::has_errors(&d), "{text:?}: {d:?}");
+            match kinds(&p)
+                .into_iter()
+                .rev()
+                .find(|k| matches!(k, ItemKind::Arc { .. }))
+            {
+                Some(ItemKind::Arc {
+                    to,
+                    centre,
+                    clockwise,
+                    ..
+                }) => (to, centre, clockwise),
+                other => panic!("{text:?}: {other:?}"),
+            }
+        };
+        // G91.1 (the start-up mode): I and K from the start, I in radius even under G7.
+        let (to, centre, cw) = arc("G7 G0 X20 Z0\nG3 X30 Z-5 I0 K-5 F1\n");
+        assert_eq!(
+            (to, centre, cw),
+            (
+                Pos::new(mm(30.0), mm(-5.0)),
+                Pos::new(mm(20.0), mm(-5.0)),
+                false
+            )
+        );
+        let (_, centre, cw) = arc("G7 G0 X24 Z-20\nG3 X30 Z-23 K-3 F1\n");
+        assert_eq!((centre, cw), (Pos::new(mm(24.0), mm(-23.0)), false));
+        // G90.1: I and K are the centre (I a radius).
+        let (_, centre, _) = arc("G7 G0 X30 Z-30\nG90.1 G2 X36 Z-33 I18 K-30 F1\n");
+        assert_eq!(centre, Pos::new(mm(36.0), mm(-30.0)));
+        // G8: X words are radii, I too.
+        let (to, centre, _) = arc("G8 G0 X15 Z-30\nG2 X18 Z-33 I3 K0 F1\n");
+        assert_eq!(
+            (to, centre),
+            (Pos::new(mm(36.0), mm(-33.0)), Pos::new(mm(36.0), mm(-30.0)))
+        );
+        // R: G2 with R > 0 turns right of its chord (the short arc), R < 0 the long one;
+        // the helper's reading of `arc_data_r`: from r10 Z0 to r15 Z-5 with R5, G2's
+        // centre is r15 Z0 and G3's r10 Z-5.
+        let (_, centre, cw) = arc("G7 G0 X20 Z0\nG2 X30 Z-5 R5 F1\n");
+        assert_eq!((centre, cw), (Pos::new(mm(30.0), mm(0.0)), true));
+        let (_, centre, _) = arc("G7 G0 X20 Z0\nG2 X30 Z-5 R-5 F1\n");
+        assert_eq!(centre, Pos::new(mm(20.0), mm(-5.0)));
+        let (_, centre, _) = arc("G7 G0 X20 Z0\nG3 X30 Z-5 R5 F1\n");
+        assert_eq!(centre, Pos::new(mm(20.0), mm(-5.0)));
+        // A semicircle whose R is short by less than 0.00127 mm is one.
+        let (_, centre, _) = arc("G7 G0 X0 Z0\nG2 Z-10 R4.9995 F1\n");
+        assert_eq!(centre, Pos::new(mm(0.0), mm(-5.0)));
+        // Inches: the centre in mm.
+        let (_, centre, _) = arc("G20 G7 G0 X1 Z0\nG3 X1 Z-1 K-0.5 F1\n");
+        assert_eq!(centre, Pos::new(mm(25.4), mm(-12.7)));
+        // A full circle with I/K.
+        let (to, centre, _) = arc("G7 G0 X20 Z0\nG2 I-5 F1\n");
+        assert_eq!(
+            (to, centre),
+            (Pos::new(mm(20.0), mm(0.0)), Pos::new(mm(10.0), mm(0.0)))
+        );
+    }
+
     #[test]
     fn tool_change_stops_the_spindle_like_linuxcnc() {
         let (p, d) = run(&format!("{HEAD}T5 M6 G43\n"));
@@ -1571,7 +1909,36 @@ mod tests {
     #[test]
     fn refusals_name_the_word() {
         let cases: &[(&str, Code, &str)] = &[
-            ("G7 G0 X1\nG2 X2 Z0 R1\n", codes::ISOR_UNSUPPORTED, "G2"),
+            (
+                "G7 G0 X1\nG41 G1 X2 Z0 F1\n",
+                codes::ISOR_UNSUPPORTED,
+                "G41",
+            ),
+            ("G7 G0 X1 Z0\nG2 X2 Z-1 R1\n", codes::ISOR_WORD, "G2"),
+            ("G7 G0 X1 Z0\nG2 X2 Z-1 R1 I1 F1\n", codes::ISOR_ARC, "R1"),
+            ("G7 G0 X1 Z0\nG2 X2 Z-1 F1\n", codes::ISOR_ARC, "G2"),
+            ("G7 G0 X0 Z0\nG2 X0 Z-10 R4 F1\n", codes::ISOR_ARC, "R4"),
+            (
+                "G7 G0 X0 Z0\nG2 Z-10 R4.998 F1\n",
+                codes::ISOR_ARC,
+                "R4.998",
+            ),
+            ("G7 G0 X0 Z0\nG3 X0 Z0 R5 F1\n", codes::ISOR_ARC, "R5"),
+            ("G7 G0 X0 Z0\nG3 R5 F1\n", codes::ISOR_ARC, "R5"),
+            ("G7 G0 X0 Z0\nG2 X0 Z-10 K-5.1 F1\n", codes::ISOR_ARC, "G2"),
+            ("G7 G0 X0 Z0\nG2 X0 Z-10 I0 F1\n", codes::ISOR_ARC, "G2"),
+            (
+                "G7 G0 X0 Z0\nG90.1 G2 X0 Z-10 K-5 F1\n",
+                codes::ISOR_ARC,
+                "G2",
+            ),
+            (
+                "G7 G0 X0 Z0\nG2 X0 Z-10 K-5 P2 F1\n",
+                codes::ISOR_UNSUPPORTED,
+                "P2",
+            ),
+            ("G7 G0 X0 Z0\nG2 X0 Z-10 K-5 P0 F1\n", codes::ISOR_ARC, "P0"),
+            ("G2 X0 Z-10 K-5 F1\n", codes::ISOR_UNKNOWN_POSITION, "G2"),
             ("G0 Y1\n", codes::ISOR_UNSUPPORTED, "Y1"),
             ("#1 = 2\n", codes::ISOR_UNSUPPORTED, "#1 = 2"),
             ("G0 X1 X2\n", codes::ISOR_CONFLICT, "X2"),

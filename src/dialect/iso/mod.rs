@@ -140,6 +140,11 @@ impl Dialect for Iso {
                 ),
                 row(Tapping, Read::Yes("G33.1"), Write::Yes("G33.1")),
                 row(Dwell, Read::Yes("G4"), Write::Yes("G4")),
+                row(
+                    Arc,
+                    Read::Yes("G2/G3 with I K or R"),
+                    Write::Yes("G2/G3 X Z I K"),
+                ),
                 row(PerMinuteFeed, Read::Yes("G94"), Write::Yes("G94")),
                 row(ToolOffset, Read::Yes("G43 H"), Write::Yes("G43 H")),
                 row(Parameters, Read::No, Write::As("writes them as comments")),

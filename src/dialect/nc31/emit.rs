@@ -331,8 +331,8 @@ impl Emitter<'_> {
                 self.write(group);
                 self.tap(item.span, tap);
             }
-            // Refused by legalisation (no dwell on the НЦ-31).
-            ItemKind::Dwell { .. } => {}
+            // Refused by legalisation (no dwell or arc on the НЦ-31).
+            ItemKind::Dwell { .. } | ItemKind::Arc { .. } => {}
             ItemKind::Spindle { speed, direction } => {
                 if let Some(s) = speed {
                     group.push(format!("S{s}"));

@@ -147,6 +147,7 @@ impl Dialect for Nc31 {
                     Write::Yes("G33, `G33 @` for point C"),
                 ),
                 row(Dwell, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
+                row(Arc, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
                 row(PerMinuteFeed, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
                 row(
                     ToolOffset,
@@ -174,6 +175,10 @@ impl Dialect for Nc31 {
 
     fn refusal(&self, at: Occurrence, src: &SourceFile) -> Option<Diagnostic> {
         let (message, help) = match at.construct {
+            Construct::Arc => (
+                "an arc (G2/G3) has no documented form on the НЦ-31",
+                "the guide documents G31, G32 and G33 only, and ncthread does not yet take an arc form from the machine profile; write the contour by hand for this machine",
+            ),
             Construct::Dwell => (
                 "a dwell (G4) has no documented form on the НЦ-31",
                 "the guide documents G31, G32 and G33 only; remove the dwell or add it by hand",
