@@ -124,7 +124,7 @@ pub struct Occurrence {
 }
 
 /// Every use of a construct that a capability table may refuse, in program order: arcs,
-/// taps, dwells, feeds per minute, synchronised moves along X, continued chains and passes that
+/// coolant, stops, taps, dwells, feeds per minute, synchronised moves along X, continued chains and passes that
 /// wait for the index pulse in the cut (a cycle's passes count as the cycle's).
 pub fn occurrences(program: &Program) -> Vec<Occurrence> {
     let mut out = Vec::new();
@@ -140,6 +140,8 @@ pub fn occurrences(program: &Program) -> Vec<Occurrence> {
         match &item.kind {
             ItemKind::TapCycle(_) => out.push(at(Construct::Tapping, None)),
             ItemKind::Arc { .. } => out.push(at(Construct::Arc, None)),
+            ItemKind::Coolant(c) => out.push(at(Construct::of_coolant(*c), None)),
+            ItemKind::Stop { .. } => out.push(at(Construct::Stop, None)),
             ItemKind::Dwell { .. } => out.push(at(Construct::Dwell, None)),
             ItemKind::FeedMode(mode) => per_minute = *mode == FeedMode::PerMin,
             ItemKind::Feed { .. } if per_minute => out.push(at(Construct::PerMinuteFeed, None)),

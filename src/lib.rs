@@ -276,7 +276,9 @@ pub fn verify(
     // its run cannot judge ncthread's simulation.
     let unknown = |s: &sim::Simulation| {
         s.problems.iter().any(|p| !p.index_wait)
-            || s.segments.iter().any(|g| g.to.known().is_none())
+            || s.segments
+                .iter()
+                .any(|g| g.motion.moves() && g.to.known().is_none())
     };
     let (left_unknown, right_unknown) = (unknown(&left), unknown(&right));
     diagnostics.extend(left.problems.iter().map(|p| p.diagnostic(src)));

@@ -300,7 +300,12 @@ fn rs274_motion_equals_the_iso_front_end_simulation() {
         // rs274 starts at X0 Z0; a program that moves before it states a position leaves
         // ncthread's reading unknown there (SIM001): tell it where rs274 starts.
         let sim = common::simulate_iso(name, text);
-        if !sim.problems.is_empty() || sim.segments.iter().any(|s| s.to.known().is_none()) {
+        if !sim.problems.is_empty()
+            || sim
+                .segments
+                .iter()
+                .any(|s| s.motion.moves() && s.to.known().is_none())
+        {
             let body = text.strip_prefix("%\n").unwrap_or(text);
             *text = format!("%\nG0 X0 Z0 (rs274 starts here)\n{body}");
         }

@@ -30,6 +30,12 @@ pub enum Construct {
     SyncInfeed,
     /// A circular feed move (G2/G3).
     Arc,
+    /// Flood coolant on and coolant off (M8, M9).
+    Coolant,
+    /// Mist coolant on (M7).
+    MistCoolant,
+    /// A programmed or optional stop (M0, M1).
+    Stop,
     /// A rigid tapping cycle.
     Tapping,
     /// A dwell.
@@ -45,7 +51,7 @@ pub enum Construct {
 }
 
 impl Construct {
-    pub const ALL: [Construct; 15] = [
+    pub const ALL: [Construct; 18] = [
         Construct::ThreadCycle,
         Construct::StartAngle,
         Construct::Entry,
@@ -55,6 +61,9 @@ impl Construct {
         Construct::IndexWaitInCut,
         Construct::SyncInfeed,
         Construct::Arc,
+        Construct::Coolant,
+        Construct::MistCoolant,
+        Construct::Stop,
         Construct::Tapping,
         Construct::Dwell,
         Construct::PerMinuteFeed,
@@ -75,12 +84,23 @@ impl Construct {
             Construct::IndexWaitInCut => "index wait in the cut",
             Construct::SyncInfeed => "synchronised move along X",
             Construct::Arc => "arc (G2/G3)",
+            Construct::Coolant => "flood coolant, coolant off",
+            Construct::MistCoolant => "mist coolant",
+            Construct::Stop => "program stop, optional stop",
             Construct::Tapping => "rigid tapping",
             Construct::Dwell => "dwell",
             Construct::PerMinuteFeed => "feed per minute",
             Construct::ToolOffset => "tool offset",
             Construct::Parameters => "parameters",
             Construct::Comments => "comments",
+        }
+    }
+
+    /// The construct a coolant command is.
+    pub fn of_coolant(c: crate::ir::Coolant) -> Construct {
+        match c {
+            crate::ir::Coolant::Mist => Construct::MistCoolant,
+            _ => Construct::Coolant,
         }
     }
 
@@ -115,6 +135,8 @@ impl Construct {
                 }
                 ItemKind::TapCycle(_) => self == Construct::Tapping,
                 ItemKind::Arc { .. } => self == Construct::Arc,
+                ItemKind::Coolant(c) => self == Construct::of_coolant(*c),
+                ItemKind::Stop { .. } => self == Construct::Stop,
                 ItemKind::Dwell { .. } => self == Construct::Dwell,
                 ItemKind::FeedMode(mode) => {
                     per_minute = *mode == FeedMode::PerMin;

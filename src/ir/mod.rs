@@ -116,6 +116,18 @@ impl Pos {
     }
 }
 
+/// A coolant command. Mist and flood are separate circuits: M7 and M8 each turn one on,
+/// M9 turns both off. **[evidence]** LinuxCNC `convert_m`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Coolant {
+    /// M7
+    Mist,
+    /// M8
+    Flood,
+    /// M9
+    Off,
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum SpindleDirection {
     /// M03
@@ -474,6 +486,12 @@ pub enum ItemKind {
     },
     /// A `%` program delimiter line.
     Delimiter,
+    /// Coolant on or off (M7, M8, M9).
+    Coolant(Coolant),
+    /// A programmed stop (M0), or an optional stop (M1) that the operator may skip.
+    Stop {
+        optional: bool,
+    },
     /// A pause with no motion (G4).
     Dwell {
         seconds: Decimal,

@@ -83,7 +83,26 @@ fn collinear(a: Pos, b: Pos, c: Pos) -> bool {
 /// their final point (and take the line and pass of the rapid that ends there).
 pub fn normalise(segments: &[Segment]) -> Vec<Segment> {
     let mut out: Vec<Segment> = Vec::with_capacity(segments.len());
+    // The coolant state after what is out so far, and before the run of coolant commands
+    // being read.
+    let (mut effective, mut before_run, mut in_run) = ((false, false), (false, false), false);
     for s in segments {
+        if let Motion::Coolant { mist, flood } = s.motion {
+            // A run of coolant commands with nothing between them is the state after it
+            // (LinuxCNC's M9 is MIST_OFF then FLOOD_OFF); a run that changes nothing is
+            // nothing.
+            if !in_run {
+                (before_run, in_run) = (effective, true);
+            } else if matches!(out.last().map(|l| l.motion), Some(Motion::Coolant { .. })) {
+                out.pop();
+            }
+            effective = (mist, flood);
+            if effective != before_run {
+                out.push(*s);
+            }
+            continue;
+        }
+        in_run = false;
         if let Some(last) = out.last_mut() {
             let rapids = matches!((last.motion, s.motion), (Motion::Rapid, Motion::Rapid));
             let merge = rapids
@@ -131,6 +150,14 @@ fn describe(m: &Motion) -> String {
             format!("an arc ({})", if *clockwise { "G2" } else { "G3" })
         }
         Motion::IndexWait => "a wait in the cut for the index pulse".into(),
+        Motion::Coolant { mist, flood } => format!(
+            "coolant (mist {}, flood {})",
+            if *mist { "on" } else { "off" },
+            if *flood { "on" } else { "off" }
+        ),
+        Motion::Stop { optional: true } => "an optional stop (M1)".into(),
+        Motion::Stop { optional: false } => "a program stop (M0)".into(),
+        Motion::Dwell { time } => format!("a dwell of {} s", Length(*time).mm()),
     }
 }
 
@@ -500,6 +527,13 @@ pub fn compare_within(
                 }
             }
             (Motion::IndexWait, Motion::IndexWait) => {}
+            (Motion::Coolant { .. }, Motion::Coolant { .. })
+            | (Motion::Stop { .. }, Motion::Stop { .. })
+            | (Motion::Dwell { .. }, Motion::Dwell { .. }) => {
+                if a.motion != b.motion {
+                    return differ(format!("{} ≠ {}", describe(&a.motion), describe(&b.motion)));
+                }
+            }
             _ => {
                 return differ(format!("{} ≠ {}", describe(&a.motion), describe(&b.motion)));
             }
@@ -572,6 +606,49 @@ mod tests {
             seg(sync(3.0, 180), (30.0, 4.0), (30.0, -30.0), 3),
         ];
         assert!(compare(&a, &d).unwrap().what.contains("starts"));
+    }
+
+    #[test]
+    fn coolant_is_compared_as_the_state_after_each_run_of_commands() {
+        let at = |motion| seg(motion, (10.0, 0.0), (10.0, 0.0), 1);
+        let cool = |mist, flood| at(Motion::Coolant { mist, flood });
+        let feed = seg(
+            Motion::Feed {
+                feed: mm(0.1),
+                per_minute: false,
+            },
+            (10.0, 0.0),
+            (10.0, -5.0),
+            2,
+        );
+        // ncthread's M9 against rs274's MIST_OFF, FLOOD_OFF; an M9 with nothing on is nothing.
+        let ours = [
+            cool(false, true),
+            feed,
+            cool(false, false),
+            cool(false, false),
+        ];
+        let theirs = [
+            cool(false, true),
+            feed,
+            cool(false, false),
+            cool(false, false),
+            cool(false, false),
+        ];
+        assert_eq!(normalise(&ours).len(), 3);
+        assert_eq!(compare(&normalise(&ours), &normalise(&theirs)), None);
+        assert_eq!(normalise(&[cool(false, false), feed]).len(), 1);
+        // A dropped coolant command, a stop or a dwell is a difference.
+        let dropped = [feed, cool(false, false)];
+        assert!(compare(&normalise(&ours), &normalise(&dropped)).is_some());
+        let stop = at(Motion::Stop { optional: false });
+        let optional = at(Motion::Stop { optional: true });
+        let d = compare(&[stop, feed], &[optional, feed]).expect("differs");
+        assert_eq!(d.what, "a program stop (M0) ≠ an optional stop (M1)");
+        let dwell = |t| at(Motion::Dwell { time: t });
+        assert!(compare(&[dwell(2_500)], &[dwell(2_500)]).is_none());
+        assert!(compare(&[dwell(2_500)], &[dwell(5_000)]).is_some());
+        assert!(compare(&[dwell(2_500), feed], &[feed]).is_some());
     }
 
     #[test]

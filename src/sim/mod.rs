@@ -59,10 +59,35 @@ pub enum Motion {
         feed: Length,
         per_minute: bool,
     },
+    /// The coolant circuits switched (M7, M8, M9; a program end turns them off): the state
+    /// after the command. `from` = `to`, where the tool stands.
+    Coolant {
+        mist: bool,
+        flood: bool,
+    },
+    /// A programmed stop (M0) or an optional stop (M1).
+    Stop {
+        optional: bool,
+    },
+    /// A dwell, in 0.0001 s.
+    Dwell {
+        time: i64,
+    },
     /// The tool stands where a synchronised move ended, in the cut, while the spindle turns
     /// until the index pulse (and the start angle after it): a pass that waits for the
     /// index right where another ended (`from` = `to`).
     IndexWait,
+}
+
+impl Motion {
+    /// Whether the tool moves (a coolant command, a stop or a dwell happens where it
+    /// stands, wherever that is).
+    pub fn moves(&self) -> bool {
+        !matches!(
+            self,
+            Motion::Coolant { .. } | Motion::Stop { .. } | Motion::Dwell { .. }
+        )
+    }
 }
 
 /// One move: straight, or an arc (its centre in the motion).
@@ -116,6 +141,8 @@ struct Machine {
     /// Where the last synchronised segment ended and the spindle angle there, while the
     /// next one may continue it without waiting for the index pulse.
     sync_end: Option<(Pos, Angle)>,
+    /// Mist and flood coolant.
+    coolant: (bool, bool),
     out: Simulation,
 }
 
@@ -140,6 +167,17 @@ pub(crate) fn angle_at(z: Length, phase: Angle, lead: Lead, towards: i64) -> Ang
 }
 
 impl Machine {
+    /// Something the machine does where the tool stands.
+    fn event(&mut self, motion: Motion, span: Span) {
+        self.out.segments.push(Segment {
+            motion,
+            from: self.pos,
+            to: self.pos,
+            line: span.line,
+            pass: None,
+        });
+    }
+
     fn problem(&mut self, span: Span, message: impl Into<String>) {
         self.out.problems.push(Problem {
             span,
@@ -366,7 +404,40 @@ impl Machine {
             ItemKind::Spindle {
                 direction: Some(d), ..
             } => self.direction = Some(*d),
-            ItemKind::SpindleStop | ItemKind::ProgramEnd(_) => self.direction = None,
+            ItemKind::SpindleStop => self.direction = None,
+            ItemKind::ProgramEnd(_) => {
+                self.direction = None;
+                // LinuxCNC's program end turns the coolant off; so does every control here.
+                if self.coolant != (false, false) {
+                    self.coolant = (false, false);
+                    self.event(
+                        Motion::Coolant {
+                            mist: false,
+                            flood: false,
+                        },
+                        span,
+                    );
+                }
+            }
+            ItemKind::Coolant(c) => {
+                self.coolant = match c {
+                    crate::ir::Coolant::Mist => (true, self.coolant.1),
+                    crate::ir::Coolant::Flood => (self.coolant.0, true),
+                    crate::ir::Coolant::Off => (false, false),
+                };
+                let (mist, flood) = self.coolant;
+                self.event(Motion::Coolant { mist, flood }, span);
+            }
+            ItemKind::Stop { optional } => self.event(
+                Motion::Stop {
+                    optional: *optional,
+                },
+                span,
+            ),
+            ItemKind::Dwell { seconds } => {
+                let time = (seconds.to_f64() * 10_000.0).round() as i64;
+                self.event(Motion::Dwell { time }, span);
+            }
             ItemKind::FeedMode(mode) => self.per_minute = *mode == crate::ir::FeedMode::PerMin,
             ItemKind::Opaque { block: Some(_), .. } => {
                 self.pos = Pos::UNKNOWN;
@@ -465,6 +536,19 @@ impl Segment {
                 ),
             ),
             Motion::IndexWait => ("wait", "  in the cut for the index pulse".to_string()),
+            Motion::Coolant { mist, flood } => (
+                "coolant",
+                format!(
+                    "  mist {}, flood {}",
+                    if mist { "on" } else { "off" },
+                    if flood { "on" } else { "off" }
+                ),
+            ),
+            Motion::Stop { optional } => (
+                if optional { "optional stop" } else { "stop" },
+                String::new(),
+            ),
+            Motion::Dwell { time } => ("dwell", format!("  {} s", Length(time).mm())),
         };
         let pass = self.pass.map_or(String::new(), |p| format!(" pass {p}"));
         format!(
@@ -535,6 +619,18 @@ impl Segment {
                 "feed_unit": if per_minute { "mm/min" } else { "mm/rev" },
             }),
             Motion::IndexWait => serde_json::json!({ "motion": "index-wait" }),
+            Motion::Coolant { mist, flood } => serde_json::json!({
+                "motion": "coolant",
+                "mist": mist,
+                "flood": flood,
+            }),
+            Motion::Stop { optional } => serde_json::json!({
+                "motion": if optional { "optional-stop" } else { "stop" },
+            }),
+            Motion::Dwell { time } => serde_json::json!({
+                "motion": "dwell",
+                "seconds": time as f64 / 10_000.0,
+            }),
         };
         if let (Some(v), serde_json::Value::Object(extra)) = (v.as_object_mut(), extra) {
             v.extend(extra);
@@ -550,6 +646,7 @@ pub fn simulate(program: &Program) -> Simulation {
         per_minute: false,
         direction: None,
         sync_end: None,
+        coolant: (false, false),
         out: Simulation::default(),
     };
     for item in &program.items {

@@ -49,6 +49,14 @@ pub enum Canon {
     FeedPerRev(bool),
     /// USE_LENGTH_UNITS: inches when true (the calls' lengths are then in inches).
     Inches(bool),
+    /// MIST_ON / MIST_OFF
+    Mist(bool),
+    /// FLOOD_ON / FLOOD_OFF
+    Flood(bool),
+    /// PROGRAM_STOP, or OPTIONAL_PROGRAM_STOP when true.
+    Stop(bool),
+    /// DWELL: seconds.
+    Dwell(f64),
 }
 
 fn numbers(args: &str) -> Vec<f64> {
@@ -100,6 +108,13 @@ pub fn parse_canon(line: &str) -> Option<Canon> {
         "SET_FEED_RATE" => Canon::FeedRate(arg(0)?),
         "SET_FEED_MODE" => Canon::FeedPerRev(arg(1).is_some_and(|m| m == 1.0)),
         "USE_LENGTH_UNITS" => Canon::Inches(rest.contains("INCHES")),
+        "MIST_ON" => Canon::Mist(true),
+        "MIST_OFF" => Canon::Mist(false),
+        "FLOOD_ON" => Canon::Flood(true),
+        "FLOOD_OFF" => Canon::Flood(false),
+        "PROGRAM_STOP" => Canon::Stop(false),
+        "OPTIONAL_PROGRAM_STOP" => Canon::Stop(true),
+        "DWELL" => Canon::Dwell(arg(0)?),
         _ => return None,
     })
 }
@@ -201,6 +216,14 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
     let (mut feed, mut per_rev) = (0.0, false);
     let mut out = Vec::new();
     let mut scale = 1.0;
+    let mut coolant = (false, false);
+    let event = |motion, at: Pos| Segment {
+        motion,
+        from: at,
+        to: at,
+        line: 0,
+        pass: None,
+    };
     let push = |out: &mut Vec<Segment>, motion, from: Pos, to: Pos| {
         if from != to || matches!(motion, Motion::Tap { .. } | Motion::Arc { .. }) {
             out.push(Segment {
@@ -323,6 +346,21 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
             Canon::FeedRate(f) => feed = f,
             Canon::FeedPerRev(p) => per_rev = p,
             Canon::Inches(inch) => scale = if inch { 25.4 } else { 1.0 },
+            Canon::Mist(on) => {
+                coolant.0 = on;
+                let (mist, flood) = coolant;
+                out.push(event(Motion::Coolant { mist, flood }, pos));
+            }
+            Canon::Flood(on) => {
+                coolant.1 = on;
+                let (mist, flood) = coolant;
+                out.push(event(Motion::Coolant { mist, flood }, pos));
+            }
+            Canon::Stop(optional) => out.push(event(Motion::Stop { optional }, pos)),
+            Canon::Dwell(seconds) => {
+                let time = (seconds * 10_000.0).round() as i64;
+                out.push(event(Motion::Dwell { time }, pos));
+            }
         }
     }
     out

@@ -17,7 +17,7 @@ use crate::dialect::write::{self, Writer};
 use crate::dialect::{Inexact, Renumber, one_line};
 use crate::fixed::{Angle, Decimal, Lead, Length};
 use crate::ir::{
-    Chamfer, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, SyncStart,
+    Chamfer, Coolant, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, SyncStart,
     ThreadCycle, ThreadPass,
 };
 use crate::lower;
@@ -273,8 +273,20 @@ impl Emitter<'_> {
                 self.flush(block);
                 self.thread_cycle(item, cycle, reserved);
             }
-            // Refused by legalisation (the czech table has no tap, dwell or arc).
-            ItemKind::TapCycle(_) | ItemKind::Dwell { .. } | ItemKind::Arc { .. } => {}
+            // Refused by legalisation (the czech table has no tap, dwell, arc or stop).
+            ItemKind::TapCycle(_)
+            | ItemKind::Dwell { .. }
+            | ItemKind::Arc { .. }
+            | ItemKind::Stop { .. } => {}
+            // Written where the profile declares the codes; legalisation refuses the rest.
+            ItemKind::Coolant(c) => block.words.push(
+                match c {
+                    Coolant::Mist => "M07",
+                    Coolant::Flood => "M08",
+                    Coolant::Off => "M09",
+                }
+                .to_string(),
+            ),
             ItemKind::Spindle { speed, direction } => {
                 if let Some(s) = speed {
                     block.words.push(format!("S{s}"));

@@ -9,8 +9,8 @@ use crate::dialect::read::{Reader, UnsupportedWording};
 use crate::dialect::{Unsupported, WORD_REPORTS, budget};
 use crate::fixed::{Angle, Decimal, Lead, Length, NumberError};
 use crate::ir::{
-    Chamfer, EndCode, FeedMode, ItemKind, ModalContext, Pos, Program, SpindleDirection, SyncStart,
-    ThreadPass,
+    Chamfer, Coolant, EndCode, FeedMode, ItemKind, ModalContext, Pos, Program, SpindleDirection,
+    SyncStart, ThreadPass,
 };
 use crate::profile::{AngleSource, InitialMotion, Profile};
 use crate::source::{Line, SourceFile, Span};
@@ -133,6 +133,7 @@ struct Words<'b> {
     spindle: Option<(Option<SpindleDirection>, &'b Word)>,
     end: Option<(EndCode, &'b Word)>,
     gears: Vec<(u32, &'b Word)>,
+    coolant: Vec<(Coolant, &'b Word)>,
     by_letter: HashMap<char, &'b Word>,
     unsupported: Vec<(&'b Word, String)>,
 }
@@ -325,6 +326,27 @@ impl<'a> FrontEnd<'a> {
                             .end
                             .replace((EndCode::M30, word))
                             .map(|(_, w)| (None, w)),
+                        8 | 9 if self.profile.czech.coolant => {
+                            let c = if m == 8 { Coolant::Flood } else { Coolant::Off };
+                            words.coolant.push((c, word));
+                            None
+                        }
+                        7 if self.profile.czech.mist => {
+                            words.coolant.push((Coolant::Mist, word));
+                            None
+                        }
+                        7..=9 => {
+                            let key = if m == 7 {
+                                "mist = \"m07\""
+                            } else {
+                                "coolant = \"m08-m09\""
+                            };
+                            words.unsupported.push((
+                                word,
+                                format!("M{m:02} (coolant, whose form the czech seed does not document: if the machine's manual gives it, set `{key}` in the profile's [czech] section)"),
+                            ));
+                            None
+                        }
                         _ if self.profile.czech.gear_range_mcodes.contains(&(m as u32)) => {
                             words.gears.push((m as u32, word));
                             None
@@ -451,6 +473,7 @@ impl<'a> FrontEnd<'a> {
             .or(words.spindle.map(|(_, w)| w))
             .or(words.end.map(|(_, w)| w))
             .or(words.gears.first().map(|(_, w)| *w))
+            .or(words.coolant.first().map(|(_, w)| *w))
             .or(['F', 'S', 'T', 'D'].iter().find_map(|&c| words.get(c)));
         if let Some(w) = state {
             let span = self.span(line, w.range.clone());
@@ -648,7 +671,16 @@ impl<'a> FrontEnd<'a> {
             let span = word_span(self, w);
             self.push(ItemKind::Spindle { speed, direction }, span, number);
         }
+        // Coolant on before the block's motion, off after it, as the spindle. **[decided]**
+        for &(c, w) in words.coolant.iter().filter(|(c, _)| *c != Coolant::Off) {
+            let span = word_span(self, w);
+            self.push(ItemKind::Coolant(c), span, number);
+        }
         self.motion_item(line, words, code_span, number);
+        for &(c, w) in words.coolant.iter().filter(|(c, _)| *c == Coolant::Off) {
+            let span = word_span(self, w);
+            self.push(ItemKind::Coolant(c), span, number);
+        }
         if let Some((None, w)) = words.spindle {
             let span = word_span(self, w);
             self.push(ItemKind::SpindleStop, span, number);

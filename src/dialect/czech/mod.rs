@@ -82,7 +82,7 @@ impl Dialect for Czech {
         front::parse(src, profile, &Options { unsupported })
     }
 
-    fn capabilities(&self, _profile: &Profile) -> Capabilities {
+    fn capabilities(&self, profile: &Profile) -> Capabilities {
         use Construct::*;
         let row = |construct, read, write| Capability {
             construct,
@@ -120,6 +120,17 @@ impl Dialect for Czech {
                 ),
                 row(SyncInfeed, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
                 row(Arc, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
+                if profile.czech.coolant {
+                    row(Coolant, Read::Yes("M08/M09"), Write::Yes("M08/M09"))
+                } else {
+                    row(Coolant, Read::No, Write::No(codes::CZW_NO_EQUIVALENT))
+                },
+                if profile.czech.mist {
+                    row(MistCoolant, Read::Yes("M07"), Write::Yes("M07"))
+                } else {
+                    row(MistCoolant, Read::No, Write::No(codes::CZW_NO_EQUIVALENT))
+                },
+                row(Stop, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
                 row(Tapping, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
                 row(Dwell, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
                 row(PerMinuteFeed, Read::Yes("G94"), Write::Yes("G94")),
@@ -137,6 +148,21 @@ impl Dialect for Czech {
                 codes::CZW_NO_EQUIVALENT,
                 "an arc (G2/G3) has no documented form on the czech control",
                 "the czech manual's chapter documents thread cutting only, and arc forms differ between controls of that era; ncthread does not yet take one from the machine profile, so write the contour by hand for this machine",
+            ),
+            Construct::Coolant => (
+                codes::CZW_NO_EQUIVALENT,
+                "coolant (M8/M9) has no form that the czech seed documents",
+                "if the machine's manual gives M08/M09, set `coolant = \"m08-m09\"` in the profile's [czech] section",
+            ),
+            Construct::MistCoolant => (
+                codes::CZW_NO_EQUIVALENT,
+                "mist coolant (M7) has no form that the czech seed documents",
+                "if the machine's manual gives M07, set `mist = \"m07\"` (with `coolant = \"m08-m09\"`) in the profile's [czech] section",
+            ),
+            Construct::Stop => (
+                codes::CZW_NO_EQUIVALENT,
+                "a program stop (M0/M1) has no form that the czech seed documents",
+                "the czech manual's chapter documents thread cutting only; add the stop by hand in this machine's form",
             ),
             Construct::Tapping => (
                 codes::CZW_NO_EQUIVALENT,

@@ -3,6 +3,7 @@
 use serde::Deserialize;
 
 use crate::diag::{Diagnostic, codes};
+use crate::profile::bad_value;
 use crate::source::SourceFile;
 
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -13,6 +14,11 @@ pub struct CzechProfile {
     pub initial_motion: InitialMotion,
     /// M codes that select a gear range. **[decided]** M41–M44 (the seed shows M42).
     pub gear_range_mcodes: Vec<u32>,
+    /// The machine switches flood coolant with M08/M09 (key `coolant = "m08-m09"`). The
+    /// seed does not document coolant: off until the shop's manual says. **[decided]**
+    pub coolant: bool,
+    /// Mist coolant is M07 (key `mist = "m07"`, with `coolant`).
+    pub mist: bool,
 }
 
 impl Default for CzechProfile {
@@ -21,6 +27,8 @@ impl Default for CzechProfile {
             constant8: None,
             initial_motion: InitialMotion::Rapid,
             gear_range_mcodes: vec![41, 42, 43, 44],
+            coolant: false,
+            mist: false,
         }
     }
 }
@@ -107,6 +115,8 @@ pub(crate) struct Raw {
     constant8: Option<toml::Spanned<RawConstant>>,
     initial_motion: Option<InitialMotion>,
     gear_range_mcodes: Option<Vec<u32>>,
+    coolant: Option<toml::Spanned<String>>,
+    mist: Option<toml::Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -144,6 +154,38 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut CzechProfile, diags: &mut
     }
     if let Some(g) = raw.gear_range_mcodes {
         p.gear_range_mcodes = g;
+    }
+    let mist_span = raw.mist.as_ref().map(|m| src.span_of(m.span()));
+    let choices = [
+        ("czech.coolant", raw.coolant, "m08-m09", &mut p.coolant),
+        ("czech.mist", raw.mist, "m07", &mut p.mist),
+    ];
+    for (key, value, on, slot) in choices {
+        let Some(value) = value else { continue };
+        match value.get_ref().as_str() {
+            "none" => *slot = false,
+            v if v == on => *slot = true,
+            other => diags.push(bad_value(
+                src,
+                src.span_of(value.span()),
+                key,
+                format!("unknown value \"{other}\""),
+                &format!("\"none\" (the default), or \"{on}\" when the machine's manual says so"),
+            )),
+        }
+    }
+    if let Some(span) = mist_span
+        && p.mist
+        && !p.coolant
+    {
+        p.mist = false;
+        diags.push(bad_value(
+            src,
+            span,
+            "czech.mist",
+            "`mist` is set but `coolant` is not".into(),
+            "set `coolant = \"m08-m09\"` too: M09 turns mist off as well",
+        ));
     }
 }
 

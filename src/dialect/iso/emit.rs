@@ -6,8 +6,8 @@ use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::write::Writer;
 use crate::fixed::{Angle, Length};
 use crate::ir::{
-    EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, SyncStart, TapCycle,
-    ThreadCycle, ThreadPass,
+    Coolant, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, SyncStart,
+    TapCycle, ThreadCycle, ThreadPass,
 };
 use crate::lower::{self, SyncSegment};
 use crate::profile::{Profile, ToolChange};
@@ -322,6 +322,12 @@ impl Emitter<'_> {
             ItemKind::Dwell { seconds } => {
                 self.line(&format!("G4 P{seconds}"));
             }
+            ItemKind::Coolant(c) => self.line(match c {
+                Coolant::Mist => "M7",
+                Coolant::Flood => "M8",
+                Coolant::Off => "M9",
+            }),
+            ItemKind::Stop { optional } => self.line(if *optional { "M1" } else { "M0" }),
             ItemKind::Delimiter => {}
         }
         self.w.pos = item.kind.end_position(self.w.pos);

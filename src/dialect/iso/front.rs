@@ -18,9 +18,9 @@ use crate::dialect::read::{Reader, UnsupportedWording};
 use crate::dialect::{Unsupported, WORD_REPORTS, budget};
 use crate::fixed::{Angle, Decimal, Lead, Length, div_round};
 use crate::ir::{
-    CycleChamfer, Degression, EndCode, FeedMode, Finish, IjkScale, ItemKind, ModalContext, Pos,
-    Program, Retract, Rise, Schedule, Slope, SpindleDirection, SyncInfeed, SyncStart, TapCycle,
-    ThreadCycle, ThreadPass,
+    Coolant, CycleChamfer, Degression, EndCode, FeedMode, Finish, IjkScale, ItemKind, ModalContext,
+    Pos, Program, Retract, Rise, Schedule, Slope, SpindleDirection, SyncInfeed, SyncStart,
+    TapCycle, ThreadCycle, ThreadPass,
 };
 use crate::lower;
 use crate::source::{Line, SourceFile, Span};
@@ -252,7 +252,7 @@ fn g_meaning(code: GCode) -> Meaning {
 }
 
 /// Whether a word changes modal state that ncthread follows (units, distance, diameter and
-/// feed modes, feed, speed, tool, spindle, program end): such a word cannot sit on a line
+/// feed modes, feed, speed, tool, spindle, coolant, stops, program end): such a word cannot sit on a line
 /// kept opaque.
 fn changes_followed_state(w: &Word) -> bool {
     match w.letter {
@@ -279,16 +279,15 @@ fn changes_followed_state(w: &Word) -> bool {
         'M' => w
             .value
             .to_whole()
-            .is_ok_and(|m| matches!(m, 2 | 3 | 4 | 5 | 6 | 30 | 60)),
+            .is_ok_and(|m| matches!(m, 0..=9 | 30 | 60)),
         _ => false,
     }
 }
 
 fn m_meaning(code: i64) -> Meaning {
     match code {
-        2 | 3 | 4 | 5 | 6 | 30 => Meaning::Known,
-        // Program stop, optional stop, coolant.
-        0 | 1 | 7 | 8 | 9 => Meaning::Kept,
+        // Stops, program end, spindle, tool change, coolant.
+        0..=9 | 30 => Meaning::Known,
         _ => Meaning::Unsupported("this M code"),
     }
 }
@@ -743,9 +742,14 @@ impl FrontEnd<'_> {
             self.push(ItemKind::SpindleStop, span);
         }
         for (code, w) in words.m.clone() {
-            if [7, 8, 9].contains(&code) {
-                self.kept(line, w, &[]);
-            }
+            let coolant = match code {
+                7 => Coolant::Mist,
+                8 => Coolant::Flood,
+                9 => Coolant::Off,
+                _ => continue,
+            };
+            let at = self.r.span(line, w.range.clone());
+            self.push(ItemKind::Coolant(coolant), at);
         }
         if let Some(g4) = words.has_g(G4) {
             match words.take('P') {
@@ -861,7 +865,15 @@ impl FrontEnd<'_> {
         }
         for (code, w) in words.m.clone() {
             match code {
-                0 | 1 => self.kept(line, w, &[]),
+                0 | 1 => {
+                    let at = self.r.span(line, w.range.clone());
+                    self.push(
+                        ItemKind::Stop {
+                            optional: code == 1,
+                        },
+                        at,
+                    );
+                }
                 2 => {
                     self.push(ItemKind::ProgramEnd(EndCode::M2), span);
                     self.ended = true;

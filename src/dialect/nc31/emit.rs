@@ -15,7 +15,7 @@ use crate::dialect::write::{self, Writer};
 use crate::dialect::{Inexact, WriteOptions, one_line};
 use crate::fixed::{Angle, Lead, Length};
 use crate::ir::{
-    CycleChamfer, EndCode, FeedMode, Finish, Item, ItemKind, Pos, Program, Retract, Rise,
+    Coolant, CycleChamfer, EndCode, FeedMode, Finish, Item, ItemKind, Pos, Program, Retract, Rise,
     SpindleDirection, SyncStart, TapCycle, ThreadCycle, ThreadPass,
 };
 use crate::lower;
@@ -331,8 +331,15 @@ impl Emitter<'_> {
                 self.write(group);
                 self.tap(item.span, tap);
             }
-            // Refused by legalisation (no dwell or arc on the НЦ-31).
-            ItemKind::Dwell { .. } | ItemKind::Arc { .. } => {}
+            // Refused by legalisation (no dwell, arc, stop or mist on the НЦ-31).
+            ItemKind::Dwell { .. }
+            | ItemKind::Arc { .. }
+            | ItemKind::Stop { .. }
+            | ItemKind::Coolant(Coolant::Mist) => {}
+            // M8/M9 where the profile declares them; legalisation refuses them otherwise.
+            ItemKind::Coolant(c) => group.push(
+                if *c == Coolant::Flood { "M8" } else { "M9" }.to_string(),
+            ),
             ItemKind::Spindle { speed, direction } => {
                 if let Some(s) = speed {
                     group.push(format!("S{s}"));

@@ -12,7 +12,7 @@ use crate::dialect::Unsupported;
 use crate::dialect::read::{Reader, UnsupportedWording};
 use crate::fixed::{Angle, Lead, Length};
 use crate::ir::{
-    CycleChamfer, EndCode, Finish, ItemKind, ModalContext, Pos, Program, Retract, Rise,
+    Coolant, CycleChamfer, EndCode, Finish, ItemKind, ModalContext, Pos, Program, Retract, Rise,
     SpindleDirection, SyncStart, TapCycle, ThreadCycle, ThreadPass,
 };
 use crate::lower::{self, ExpandError};
@@ -255,10 +255,15 @@ impl<'a> FrontEnd<'a> {
                     w.value
                 )),
                 'M' if matches!(w.value, 3 | 4 | 5 | 30)
+                    || (self.profile.coolant && matches!(w.value, 8 | 9))
                     || self.profile.gear_range_mcodes.contains(&(w.value as u32)) =>
                 {
                     None
                 }
+                'M' if matches!(w.value, 8 | 9) => Some(format!(
+                    "M{} (coolant) is not in the guide: if the machine takes M8/M9, set `coolant = \"m8-m9\"` in the profile's [nc31] section",
+                    w.value
+                )),
                 'M' => Some(format!(
                     "M{} is not among the documented M words (M3, M4, M5, M30, speed ranges {})",
                     w.value,
@@ -300,6 +305,7 @@ impl<'a> FrontEnd<'a> {
                 || (w.letter == 'G' && matches!(w.value, 31..=33))
                 || (w.letter == 'M'
                     && (matches!(w.value, 3 | 4 | 5 | 30)
+                        || (self.profile.coolant && matches!(w.value, 8 | 9))
                         || self.profile.gear_range_mcodes.contains(&(w.value as u32))))
         }) {
             let span = self.word_span(f);
@@ -419,6 +425,7 @@ impl<'a> FrontEnd<'a> {
         let mut direction: Option<(SpindleDirection, &GroupFrame)> = None;
         let (mut stop, mut end) = (false, false);
         let mut gears = Vec::new();
+        let mut coolant = Vec::new();
         for fr in frames {
             let w = fr.word();
             let axis = matches!(w.letter, 'X' | 'Z');
@@ -455,6 +462,8 @@ impl<'a> FrontEnd<'a> {
                 }
                 ('M', 5) => stop = true,
                 ('M', 30) => end = true,
+                ('M', 8) => coolant.push(Coolant::Flood),
+                ('M', 9) => coolant.push(Coolant::Off),
                 ('M', m) => gears.push(m as u32),
                 _ => {
                     // P outside G31.
@@ -570,6 +579,10 @@ impl<'a> FrontEnd<'a> {
                 None,
             );
         }
+        // Coolant on before the group's motion, off after it, as the spindle. **[decided]**
+        for &c in coolant.iter().filter(|c| **c != Coolant::Off) {
+            self.push(ItemKind::Coolant(c), span, None);
+        }
         if moves {
             let to = Pos {
                 x: to_x.flatten(),
@@ -581,6 +594,9 @@ impl<'a> FrontEnd<'a> {
             };
             self.r.pos = kind.end_position(self.r.pos);
             self.push(kind, span, None);
+        }
+        for &c in coolant.iter().filter(|c| **c == Coolant::Off) {
+            self.push(ItemKind::Coolant(c), span, None);
         }
         if stop {
             self.push(ItemKind::SpindleStop, span, None);

@@ -102,7 +102,7 @@ impl Dialect for Nc31 {
         front::parse(src, profile, &Options { unsupported })
     }
 
-    fn capabilities(&self, _profile: &Profile) -> Capabilities {
+    fn capabilities(&self, profile: &Profile) -> Capabilities {
         use Construct::*;
         let row = |construct, read, write| Capability {
             construct,
@@ -148,6 +148,13 @@ impl Dialect for Nc31 {
                 ),
                 row(Dwell, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
                 row(Arc, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
+                if profile.nc31.coolant {
+                    row(Coolant, Read::Yes("M8/M9"), Write::Yes("M8/M9"))
+                } else {
+                    row(Coolant, Read::No, Write::No(codes::NCW_NO_EQUIVALENT))
+                },
+                row(MistCoolant, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
+                row(Stop, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
                 row(PerMinuteFeed, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
                 row(
                     ToolOffset,
@@ -175,6 +182,18 @@ impl Dialect for Nc31 {
 
     fn refusal(&self, at: Occurrence, src: &SourceFile) -> Option<Diagnostic> {
         let (message, help) = match at.construct {
+            Construct::Coolant => (
+                "coolant (M8/M9) has no form that the НЦ-31 guide documents",
+                "if the machine takes M8/M9 (one shop's programs use them), set `coolant = \"m8-m9\"` in the profile's [nc31] section",
+            ),
+            Construct::MistCoolant => (
+                "mist coolant (M7) has no documented form on the НЦ-31",
+                "the НЦ-31 switches one coolant circuit (M8/M9 where the profile enables it); program flood coolant in the source",
+            ),
+            Construct::Stop => (
+                "a program stop (M0/M1) has no documented form on the НЦ-31",
+                "the guide documents G31, G32 and G33 only; add the stop by hand where the control takes one",
+            ),
             Construct::Arc => (
                 "an arc (G2/G3) has no documented form on the НЦ-31",
                 "the guide documents G31, G32 and G33 only, and ncthread does not yet take an arc form from the machine profile; write the contour by hand for this machine",

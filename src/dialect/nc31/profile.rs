@@ -27,6 +27,9 @@ pub struct Nc31Profile {
     pub schedule: Schedule,
     /// M codes that select a spindle speed range. **[seed]** M38…M41.
     pub gear_range_mcodes: Vec<u32>,
+    /// The machine switches coolant with M8/M9 (key `coolant = "m8-m9"`). **[evidence]**
+    /// one shop's program checker only, so off unless the profile says. **[decided]**
+    pub coolant: bool,
 }
 
 impl Default for Nc31Profile {
@@ -40,6 +43,7 @@ impl Default for Nc31Profile {
             retract: Length(5_000),
             schedule: Schedule::Halving,
             gear_range_mcodes: vec![38, 39, 40, 41],
+            coolant: false,
         }
     }
 }
@@ -76,6 +80,7 @@ pub(crate) struct Raw {
     retract_mm: Option<toml::Spanned<RawNumber>>,
     schedule: Option<toml::Spanned<String>>,
     gear_range_mcodes: Option<Vec<u32>>,
+    coolant: Option<toml::Spanned<String>>,
 }
 
 /// Reads the `[nc31]` section into `p`, reporting each bad value with its key.
@@ -163,5 +168,18 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut Nc31Profile, diags: &mut 
     }
     if let Some(g) = raw.gear_range_mcodes {
         p.gear_range_mcodes = g;
+    }
+    if let Some(value) = raw.coolant {
+        match value.get_ref().as_str() {
+            "none" => p.coolant = false,
+            "m8-m9" => p.coolant = true,
+            other => diags.push(bad_value(
+                src,
+                src.span_of(value.span()),
+                "nc31.coolant",
+                format!("unknown value \"{other}\""),
+                "\"none\" (the default), or \"m8-m9\" when the machine takes M8/M9",
+            )),
+        }
     }
 }
