@@ -1025,3 +1025,80 @@ mod tests {
         assert_eq!(e.moves.last().unwrap().pass, 0);
     }
 }
+
+/// An arc's geometry in the plane of a lathe, as LinuxCNC's `arc_data_r` and `arc_data_ijk`
+/// compute it: lengths in mm, X as a radius (Z first, X second, as LinuxCNC's ZX plane).
+/// The one implementation every reader and writer of arcs uses.
+pub mod arc {
+    use crate::fixed::Length;
+    use crate::ir::Pos;
+
+    /// (Z, X radius) in mm.
+    fn plane(p: (Length, Length)) -> (f64, f64) {
+        (p.1.to_mm_f64(), p.0.to_mm_f64() / 2.0)
+    }
+
+    /// The centre of the arc of signed `radius` (mm; negative: more than half a turn) from
+    /// `start` to `end` ((X diameter, Z)), turning clockwise (G2) or not, rounded once onto
+    /// the grid. A radius short of half the chord by at most `tolerance` makes a
+    /// semicircle. `Err(chord)` when the radius is shorter still.
+    pub fn centre_from_radius(
+        start: (Length, Length),
+        end: (Length, Length),
+        radius: f64,
+        clockwise: bool,
+        tolerance: f64,
+    ) -> Result<Pos, f64> {
+        let (s, e) = (plane(start), plane(end));
+        let abs_radius = radius.abs();
+        let mid = ((s.0 + e.0) / 2.0, (s.1 + e.1) / 2.0);
+        let mut half = (mid.0 - e.0).hypot(mid.1 - e.1);
+        if half - abs_radius > tolerance {
+            return Err(2.0 * half);
+        }
+        if abs_radius == 0.0 || half / abs_radius > 1.0 - 1e-12 {
+            half = abs_radius;
+        }
+        let right = clockwise == (radius > 0.0);
+        let chord = (e.1 - s.1).atan2(e.0 - s.0);
+        let theta = if right {
+            chord - std::f64::consts::FRAC_PI_2
+        } else {
+            chord + std::f64::consts::FRAC_PI_2
+        };
+        let offset = abs_radius * (half / abs_radius).asin().cos();
+        let offset = if offset.is_finite() { offset } else { 0.0 };
+        let (cz, cx) = (mid.0 + offset * theta.cos(), mid.1 + offset * theta.sin());
+        Ok(Pos::new(
+            Length::from_mm_f64(2.0 * cx),
+            Length::from_mm_f64(cz),
+        ))
+    }
+
+    /// The radius at the start and at the end (mm) of the arc around `centre`.
+    pub fn radii(
+        start: (Length, Length),
+        end: (Length, Length),
+        centre: (Length, Length),
+    ) -> (f64, f64) {
+        let (s, e, c) = (plane(start), plane(end), plane(centre));
+        ((s.0 - c.0).hypot(s.1 - c.1), (e.0 - c.0).hypot(e.1 - c.1))
+    }
+
+    /// Whether the arc turns through more than half a turn.
+    pub fn over_half_turn(
+        start: (Length, Length),
+        end: (Length, Length),
+        centre: (Length, Length),
+        clockwise: bool,
+    ) -> bool {
+        let (s, e, c) = (plane(start), plane(end), plane(centre));
+        // The cross product of centre→start and centre→end: positive when the end lies
+        // counter-clockwise of the start (less than half a turn for G3).
+        let cross = (s.0 - c.0) * (e.1 - c.1) - (s.1 - c.1) * (e.0 - c.0);
+        if start == end {
+            return true;
+        }
+        if clockwise { cross > 0.0 } else { cross < 0.0 }
+    }
+}

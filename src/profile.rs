@@ -30,7 +30,9 @@ use crate::dialect::{czech, iso, nc31};
 use crate::fixed::Length;
 use crate::source::{SourceFile, Span};
 
-pub use crate::dialect::czech::profile::{AngleSource, Constant8, CzechProfile, InitialMotion};
+pub use crate::dialect::czech::profile::{
+    AngleSource, Constant8, CzechArcs, CzechProfile, InitialMotion,
+};
 pub use crate::dialect::iso::profile::{IsoProfile, ToolChange};
 pub use crate::dialect::nc31::profile::Nc31Profile;
 

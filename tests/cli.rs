@@ -418,7 +418,7 @@ fn reads_iso_and_linuxcnc_g76() {
     assert_eq!(out.status.code(), Some(1));
     assert!(
         text(&out.stderr)
-            .contains("error[CZW002]: an arc (G2/G3) has no documented form on the czech control")
+            .contains("error[CZW002]: an arc (G2/G3) has no form that the czech seed documents")
     );
     let out = ncthread(
         &[

@@ -84,6 +84,10 @@ pub const CZR_AFTER_END: Code = warning(
     "CZR023",
     "blocks after the program's end (M02/M30), which the control does not run",
 );
+pub const CZR_ARC: Code = error(
+    "CZR024",
+    "an arc that cannot be cut: no centre or radius, an unknown start, a zero radius, a radius too small for its chord, or an end off its circle",
+);
 
 // nc31 front end
 pub const NCR_SYNTAX: Code = error("NCR001", "the frame cannot be read");
@@ -314,6 +318,7 @@ pub const ALL: &[Code] = &[
     CZR_NEGATIVE_LENGTH,
     CZR_MISSING_BLOCK,
     CZR_AFTER_END,
+    CZR_ARC,
     NCR_SYNTAX,
     NCR_DECIMAL_POINT,
     NCR_TWO_WORDS,

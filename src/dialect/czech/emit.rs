@@ -21,7 +21,7 @@ use crate::ir::{
     ThreadCycle, ThreadPass,
 };
 use crate::lower;
-use crate::profile::{AngleSource, Profile};
+use crate::profile::{AngleSource, CzechArcs, Profile};
 use crate::source::SourceFile;
 
 /// The largest lead the czech control takes directly in F. **[seed]**
@@ -207,6 +207,115 @@ impl Emitter<'_> {
         Some(words)
     }
 
+    /// `G02`/`G03 X Z` with the centre in the profile's form: I and K from the start (I a
+    /// radius or a diameter value), or R (negative beyond half a turn). Values off the
+    /// 0.001 mm grid are refused (or rounded with `--round`) as every value is; an R is
+    /// rounded onto the grid only where the centre it gives stays within 0.0005 mm.
+    fn arc(
+        &mut self,
+        item: &Item,
+        to: Pos,
+        centre: Pos,
+        clockwise: bool,
+        feed: Length,
+        block: &mut Block,
+    ) {
+        let (Some((sx, sz)), Some((cx, cz)), Some((ex, ez))) =
+            (self.w.pos.known(), centre.known(), to.known())
+        else {
+            self.diag(
+                codes::CZW_NO_EQUIVALENT,
+                item,
+                "an arc from a position that is not known: its centre cannot be written".into(),
+                "move to an absolute X and Z before the arc",
+            );
+            return;
+        };
+        let Some(mut words) = self.axes(item, Pos::new(ex, ez)) else {
+            return;
+        };
+        let g02 = clockwise != self.profile.czech.arcs_mirrored;
+        self.motion_word(if g02 { "G02" } else { "G03" }, &mut words);
+        match self.profile.czech.arcs {
+            CzechArcs::Radius => {
+                if (sx, sz) == (ex, ez) {
+                    self.diag(
+                        codes::CZW_NO_EQUIVALENT,
+                        item,
+                        "a full circle has no R form on this machine".into(),
+                        "write the circle as two arcs in the source, or declare `arcs = \"ik-radius\"` (or \"ik-diameter\") if the machine takes I and K",
+                    );
+                    return;
+                }
+                let (r1, _) = lower::arc::radii((sx, sz), (ex, ez), (cx, cz));
+                let long = lower::arc::over_half_turn((sx, sz), (ex, ez), (cx, cz), clockwise);
+                let r = Length::from_mm_f64(if long { -r1 } else { r1 });
+                let text = self.three_decimals(item, "R", r);
+                // The centre the control finds from the written R.
+                let written = Decimal::parse(&text).map(|d| d.to_f64()).unwrap_or(0.0);
+                let again =
+                    lower::arc::centre_from_radius((sx, sz), (ex, ez), written, clockwise, 0.001);
+                let off = again
+                    .ok()
+                    .and_then(|c| c.known())
+                    .map_or(f64::INFINITY, |(x, z)| {
+                        ((x - cx).to_mm_f64() / 2.0).hypot((z - cz).to_mm_f64())
+                    });
+                if off > 0.0005 {
+                    if !self.round {
+                        self.diag(
+                            codes::CZW_PRECISION,
+                            item,
+                            format!("the arc's radius {r1:.4} mm written as R{text} moves its centre by {off:.4} mm"),
+                            "pass --round to accept it, or write the arc with I and K where the machine takes them",
+                        );
+                        return;
+                    }
+                    let moved = Length::from_mm_f64(off);
+                    self.inexact.note(
+                        item.span,
+                        "arc centre (from R)",
+                        Length::ZERO,
+                        moved,
+                        Length(10),
+                    );
+                }
+                words.push(format!("R{text}"));
+            }
+            _ => {
+                let dx = cx - sx;
+                let i = if self.profile.czech.arcs == CzechArcs::IkRadius {
+                    if dx.0 % 20 == 0 {
+                        Length(dx.0 / 2).mm_with_point()
+                    } else {
+                        // A radius between two 0.001 mm steps: noted as its diameter.
+                        let rounded = Length(crate::fixed::div_round(dx.0 as i128, 20) as i64 * 10);
+                        self.inexact.note(
+                            item.span,
+                            "I (as a diameter)",
+                            dx,
+                            rounded + rounded,
+                            Length(20),
+                        );
+                        rounded.mm_with_point()
+                    }
+                } else {
+                    self.three_decimals(item, "I", dx)
+                };
+                let k = self.three_decimals(item, "K", cz - sz);
+                words.push(format!("I{i}"));
+                words.push(format!("K{k}"));
+            }
+        }
+        if self.f != Some((Lead::from_length(feed), false)) {
+            let f = self.three_decimals(item, "feed F", feed);
+            words.push(format!("F{f}"));
+            self.f = Some((Lead::from_length(feed), false));
+        }
+        block.words.extend(words);
+        self.all_axes = false;
+    }
+
     fn motion_word(&mut self, g: &'static str, words: &mut Vec<String>) {
         if self.motion != Some(g) {
             words.insert(0, g.to_string());
@@ -273,7 +382,16 @@ impl Emitter<'_> {
                 self.flush(block);
                 self.thread_cycle(item, cycle, reserved);
             }
-            // Refused by legalisation (the czech table has no tap, dwell, arc or stop).
+            ItemKind::Arc {
+                to,
+                centre,
+                clockwise,
+                feed,
+            } if self.profile.czech.arcs != CzechArcs::None => {
+                self.arc(item, *to, *centre, *clockwise, *feed, block)
+            }
+            // Refused by legalisation (the czech table has no tap, dwell or stop, and no arc
+            // unless the profile declares its form).
             ItemKind::TapCycle(_)
             | ItemKind::Dwell { .. }
             | ItemKind::Arc { .. }

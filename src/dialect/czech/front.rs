@@ -12,7 +12,8 @@ use crate::ir::{
     Chamfer, Coolant, EndCode, FeedMode, ItemKind, ModalContext, Pos, Program, SpindleDirection,
     SyncStart, ThreadPass,
 };
-use crate::profile::{AngleSource, InitialMotion, Profile};
+use crate::lower;
+use crate::profile::{AngleSource, CzechArcs, InitialMotion, Profile};
 use crate::source::{Line, SourceFile, Span};
 
 /// How the czech reader words its unsupported policy.
@@ -41,6 +42,8 @@ enum Motion {
     Rapid,
     Feed,
     Thread,
+    /// G02 (true) or G03, as written: the profile says which way G02 turns.
+    Arc(bool),
 }
 
 /// The F register: its value and whether it was last written as a lead (in a G33 block).
@@ -280,10 +283,14 @@ impl<'a> FrontEnd<'a> {
                             ));
                             None
                         }
+                        2 | 3 if self.profile.czech.arcs != CzechArcs::None => words
+                            .motion
+                            .replace((Motion::Arc(g == 2), word))
+                            .map(|(_, w)| w),
                         2 | 3 => {
                             words.unsupported.push((
                                 word,
-                                format!("G0{g} arcs (their syntax is not in the manual)"),
+                                format!("G0{g} arcs (their form is not in the seed: if the machine's manual gives it, set `arcs` in the profile's [czech] section)"),
                             ));
                             None
                         }
@@ -365,7 +372,11 @@ impl<'a> FrontEnd<'a> {
                             .help("write one spindle M code (M03, M04, M05) and one end code per block"));
                     }
                 }
-                'X' | 'Z' | 'F' | 'S' | 'T' | 'D' | 'I' | 'J' | 'E' => {
+                // K and R are arc words where the profile declares arcs.
+                'X' | 'Z' | 'F' | 'S' | 'T' | 'D' | 'I' | 'J' | 'E' | 'K' | 'R'
+                    if !matches!(word.letter, 'K' | 'R')
+                        || self.profile.czech.arcs != CzechArcs::None =>
+                {
                     if let Some(previous) = words.by_letter.insert(word.letter, word)
                         && budget(&mut conflicts)
                     {
@@ -428,18 +439,38 @@ impl<'a> FrontEnd<'a> {
                 .help("write each address once per block, and one G code of each group"),
             );
         }
-        // I, J and E mean something only in a G33 block.
-        let thread = words.motion.map_or(self.motion, |(m, _)| m) == Motion::Thread;
-        if !thread {
-            for letter in ['I', 'J', 'E'] {
-                if let Some(w) = words.get(letter) {
-                    words.unsupported.push((
-                        w,
-                        format!(
-                            "{letter} outside a G33 block (arc and cycle words are not documented)"
-                        ),
-                    ));
-                }
+        // I, J and E mean something only in a G33 block; I, K and R in an arc block as the
+        // profile's arc form says.
+        let motion = words.motion.map_or(self.motion, |(m, _)| m);
+        let arc_words: &[char] = match (motion, self.profile.czech.arcs) {
+            (Motion::Arc(_), CzechArcs::IkRadius | CzechArcs::IkDiameter) => &['I', 'K'],
+            (Motion::Arc(_), CzechArcs::Radius) => &['R'],
+            _ => &[],
+        };
+        for letter in ['I', 'J', 'E', 'K', 'R'] {
+            if (motion == Motion::Thread && matches!(letter, 'I' | 'J' | 'E'))
+                || arc_words.contains(&letter)
+            {
+                continue;
+            }
+            if let Some(w) = words.get(letter) {
+                let what = match letter {
+                    'K' | 'R' if matches!(motion, Motion::Arc(_)) => format!(
+                        "{letter} in an arc block of a machine whose arcs take {}",
+                        if arc_words == ['R'] { "R" } else { "I and K" }
+                    ),
+                    'K' => "address K".to_string(),
+                    'R' => "an R word without `=` (R-parameter arithmetic is not documented)"
+                        .to_string(),
+                    _ if matches!(motion, Motion::Arc(_)) => format!(
+                        "{letter} in an arc block of a machine whose arcs take {}",
+                        if arc_words == ['R'] { "R" } else { "I and K" }
+                    ),
+                    _ => format!(
+                        "{letter} outside a G33 block (arc and cycle words are not documented)"
+                    ),
+                };
+                words.unsupported.push((w, what));
             }
         }
         ok.then_some(words)
@@ -742,6 +773,16 @@ impl<'a> FrontEnd<'a> {
         let (x_word, z_word) = (words.get('X'), words.get('Z'));
         let has_thread_words = ['I', 'J', 'E'].iter().any(|&c| words.get(c).is_some());
         if x_word.is_none() && z_word.is_none() {
+            let arc_words = ['I', 'K', 'R'].iter().any(|&c| words.get(c).is_some());
+            if let (Motion::Arc(g02), true) = (self.motion, arc_words) {
+                let code = if g02 { "G02" } else { "G03" };
+                self.arc_error(
+                    line,
+                    code_span_range(line, code_span),
+                    format!("a {code} block with a centre or radius but no end point"),
+                    "program the arc's end with X and Z (a full circle is two arcs)",
+                );
+            }
             if thread && has_thread_words {
                 self.report(
                     self.error(
@@ -765,44 +806,25 @@ impl<'a> FrontEnd<'a> {
         let to = Pos { x, z };
         let kind = match self.motion {
             Motion::Rapid => ItemKind::Rapid { to },
-            Motion::Feed => match self.f {
-                Some(FRegister {
-                    value,
-                    is_lead: false,
-                }) if value <= Length::ZERO => {
-                    self.report(
-                        self.error(
-                            codes::CZR_NO_FEED,
-                            line,
-                            code_span_range(line, code_span),
-                            format!("G01 move at feed F{}: the axis would not move", value.mm()),
-                        )
-                        .help("program a feed greater than 0 with F"),
-                    );
-                    return;
-                }
-                Some(FRegister {
-                    value,
-                    is_lead: false,
-                }) => ItemKind::Feed { to, feed: value },
-                other => {
-                    let message = if other.is_some() {
-                        "G01 move whose F was last programmed as a thread lead"
-                    } else {
-                        "G01 move without a feed"
-                    };
-                    self.report(
-                        self.error(
-                            codes::CZR_NO_FEED,
-                            line,
-                            code_span_range(line, code_span),
-                            message,
-                        )
-                        .help("program the feed with F in this block or an earlier G01 block"),
-                    );
-                    return;
-                }
+            Motion::Feed => match self.feed_rate(line, code_span, "G01") {
+                Some(feed) => ItemKind::Feed { to, feed },
+                None => return,
             },
+            Motion::Arc(g02) => {
+                let code = if g02 { "G02" } else { "G03" };
+                let Some(feed) = self.feed_rate(line, code_span, code) else {
+                    return;
+                };
+                match self.arc(line, words, start, to, g02, code_span) {
+                    Some((to, centre, clockwise)) => ItemKind::Arc {
+                        to,
+                        centre,
+                        clockwise,
+                        feed,
+                    },
+                    None => return,
+                }
+            }
             Motion::Thread => match self.thread_pass(line, words, f, start, to, code_span) {
                 Some(pass) => ItemKind::ThreadPass(pass),
                 None => return,
@@ -810,6 +832,168 @@ impl<'a> FrontEnd<'a> {
         };
         self.r.pos = kind.end_position(self.r.pos);
         self.push(kind, code_span, number);
+    }
+
+    /// The feed a feed move (`code`: G01, G02, G03) uses, or `None` after reporting why
+    /// there is none.
+    fn feed_rate(&mut self, line: Line<'_>, code_span: Span, code: &str) -> Option<Length> {
+        match self.f {
+            Some(FRegister {
+                value,
+                is_lead: false,
+            }) if value <= Length::ZERO => {
+                self.report(
+                    self.error(
+                        codes::CZR_NO_FEED,
+                        line,
+                        code_span_range(line, code_span),
+                        format!(
+                            "{code} move at feed F{}: the axis would not move",
+                            value.mm()
+                        ),
+                    )
+                    .help("program a feed greater than 0 with F"),
+                );
+                None
+            }
+            Some(FRegister {
+                value,
+                is_lead: false,
+            }) => Some(value),
+            other => {
+                let message = if other.is_some() {
+                    format!("{code} move whose F was last programmed as a thread lead")
+                } else {
+                    format!("{code} move without a feed")
+                };
+                self.report(
+                    self.error(
+                        codes::CZR_NO_FEED,
+                        line,
+                        code_span_range(line, code_span),
+                        message,
+                    )
+                    .help("program the feed with F in this block or an earlier G01 block"),
+                );
+                None
+            }
+        }
+    }
+
+    fn arc_error(&mut self, line: Line<'_>, range: Range<usize>, message: String, help: &str) {
+        self.report(self.error(codes::CZR_ARC, line, range, message).help(help));
+    }
+
+    /// An arc block in the profile's form: its end (both axes), its centre and whether it
+    /// turns clockwise as LinuxCNC's G2 does (G02, or G03 on a mirrored machine). The
+    /// geometry is `lower::arc`'s, as for ISO; the end must lie on the circle within
+    /// 0.002 mm, two steps of the control's 0.001 mm. **[decided]**
+    fn arc(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        start: Pos,
+        to: Pos,
+        g02: bool,
+        code_span: Span,
+    ) -> Option<(Pos, Pos, bool)> {
+        let code = if g02 { "G02" } else { "G03" };
+        let whole = code_span_range(line, code_span);
+        let Some((sx, sz)) = start.known() else {
+            self.report(
+                self.error(
+                    codes::CZR_UNKNOWN_POSITION,
+                    line,
+                    whole,
+                    format!("{code} from a position that is not known yet: the arc's centre cannot be placed"),
+                )
+                .help("move to an absolute X and Z before the arc"),
+            );
+            return None;
+        };
+        let (ex, ez) = (to.x.unwrap_or(sx), to.z.unwrap_or(sz));
+        let clockwise = g02 != self.profile.czech.arcs_mirrored;
+        let value = |fe: &mut Self, w: Option<&Word>| match w.map(|w| (w, w.value)) {
+            Some((w, Value::Number(d))) => fe.length(line, w, d).map(Some),
+            Some(_) => None,
+            None => Some(None),
+        };
+        let centre = if self.profile.czech.arcs == CzechArcs::Radius {
+            let Some(r) = words.get('R') else {
+                self.arc_error(
+                    line,
+                    whole,
+                    format!("{code} without R (this machine's arcs take their radius in R)"),
+                    "write the radius: `G02 X… Z… R5.`; a negative R turns more than half a circle",
+                );
+                return None;
+            };
+            let Value::Number(radius) = r.value else {
+                return None;
+            };
+            if (sx, sz) == (ex, ez) {
+                self.arc_error(
+                    line,
+                    r.range.clone(),
+                    format!("{code} R ends where it starts: a full circle has no R form"),
+                    "write the circle as two arcs",
+                );
+                return None;
+            }
+            match lower::arc::centre_from_radius(
+                (sx, sz),
+                (ex, ez),
+                radius.to_f64(),
+                clockwise,
+                0.001,
+            ) {
+                Ok(c) => c,
+                Err(chord) => {
+                    let text = &line.text[r.range.clone()];
+                    self.arc_error(line, r.range.clone(), format!("`{text}` is too small for the arc: its end is {chord} mm from its start"), "the radius must be at least half the distance from the start to the end");
+                    return None;
+                }
+            }
+        } else {
+            let (i, k) = (words.get('I'), words.get('K'));
+            if i.is_none() && k.is_none() {
+                self.arc_error(line, whole, format!("{code} without I or K (this machine's arcs take their centre's offset from the start in I and K)"), "write the centre: I for X, K for Z, from the arc's start");
+                return None;
+            }
+            let iv = value(self, i)?.unwrap_or(Length::ZERO);
+            let kv = value(self, k)?.unwrap_or(Length::ZERO);
+            let dx = if self.profile.czech.arcs == CzechArcs::IkRadius {
+                iv + iv
+            } else {
+                iv
+            };
+            Pos::new(sx + dx, sz + kv)
+        };
+        let (cx, cz) = centre.known()?;
+        let (r1, r2) = lower::arc::radii((sx, sz), (ex, ez), (cx, cz));
+        if r1 < 0.001 || r2 < 0.001 {
+            self.arc_error(
+                line,
+                whole,
+                format!("{code} with a zero radius: its centre is on its start or its end"),
+                "check I and K: the centre's offset from the arc's start",
+            );
+            return None;
+        }
+        if (r1 - r2).abs() > 0.002 {
+            self.arc_error(
+                line,
+                whole,
+                format!(
+                    "{code}'s end is not on its circle: the radius is {} mm at the start and {} mm at the end",
+                    Length::from_mm_f64(r1).mm(),
+                    Length::from_mm_f64(r2).mm()
+                ),
+                "check I and K (and whether the profile's `arcs` reads I as a radius or a diameter)",
+            );
+            return None;
+        }
+        Some((Pos::new(ex, ez), centre, clockwise))
     }
 
     fn thread_pass(
@@ -1097,6 +1281,82 @@ mod tests {
             &profile,
             &Options::default(),
         )
+    }
+
+    /// Arcs as the profile declares them: the centre, the direction, and the refusals.
+    #[test]
+    fn arcs_follow_the_profile_form() {
+        let arc = |form: CzechArcs, mirrored: bool, text: &str| {
+            let mut profile = Profile::default();
+            profile.czech.arcs = form;
+            profile.czech.arcs_mirrored = mirrored;
+            let head = "N10 M03 S500 G95\nN20 G00 X20. Z0.\nN30 G01 F0.1\nN40 ";
+            let src = SourceFile::new("t.nc", format!("{head}{text}\n"));
+            let (p, d) = parse(&src, &profile, &Options::default());
+            let arc = p.items.iter().find_map(|i| match i.kind {
+                ItemKind::Arc {
+                    to,
+                    centre,
+                    clockwise,
+                    ..
+                } => Some((to, centre, clockwise)),
+                _ => None,
+            });
+            let first = d.iter().find(|d| d.is_error()).map(|d| d.code.id);
+            (arc, first)
+        };
+        let mm = |v: i64| Length::from_mm(v);
+        let end = Pos::new(mm(30), mm(-5));
+        // I a radius; the same arc with I a diameter value; with R.
+        assert_eq!(
+            arc(CzechArcs::IkRadius, false, "G03 X30. Z-5. I0. K-5."),
+            (Some((end, Pos::new(mm(20), mm(-5)), false)), None)
+        );
+        assert_eq!(
+            arc(CzechArcs::IkDiameter, false, "G02 X30. Z-5. I10. K0."),
+            (Some((end, Pos::new(mm(30), mm(0)), true)), None)
+        );
+        assert_eq!(
+            arc(CzechArcs::Radius, false, "G02 X30. Z-5. R5."),
+            (Some((end, Pos::new(mm(30), mm(0)), true)), None)
+        );
+        // A mirrored machine's G02 is LinuxCNC's G3 for the same path.
+        assert_eq!(
+            arc(CzechArcs::IkRadius, true, "G02 X30. Z-5. I0. K-5."),
+            (Some((end, Pos::new(mm(20), mm(-5)), false)), None)
+        );
+        // Refusals: no centre, an end off the circle, a radius too small, words of the
+        // other form, no arcs declared.
+        let refused = |form, text| arc(form, false, text).1;
+        assert_eq!(
+            refused(CzechArcs::IkRadius, "G02 X30. Z-5."),
+            Some("CZR024")
+        );
+        assert_eq!(
+            refused(CzechArcs::IkRadius, "G02 X30. Z-5. I5. K1."),
+            Some("CZR024")
+        );
+        assert_eq!(
+            refused(CzechArcs::Radius, "G02 X30. Z-10. R2."),
+            Some("CZR024")
+        );
+        assert_eq!(
+            refused(CzechArcs::Radius, "G02 X20. Z0. R2."),
+            Some("CZR024")
+        );
+        assert_eq!(
+            refused(CzechArcs::Radius, "G02 X30. Z-5. I5. K0."),
+            Some("CZR011")
+        );
+        assert_eq!(
+            refused(CzechArcs::IkRadius, "G02 X30. Z-5. R5."),
+            Some("CZR011")
+        );
+        assert_eq!(
+            refused(CzechArcs::None, "G02 X30. Z-5. I5. K0."),
+            Some("CZR011")
+        );
+        assert_eq!(refused(CzechArcs::IkRadius, "G02 I5. K0."), Some("CZR024"));
     }
 
     /// The first error's code, line and column.

@@ -13,7 +13,7 @@ use super::{Dialect, DialectId, LineClaim, LineMark, Unsupported, WriteOptions, 
 use crate::diag::{Diagnostic, codes};
 use crate::ir::Program;
 use crate::legalise::Occurrence;
-use crate::profile::Profile;
+use crate::profile::{CzechArcs, Profile};
 use crate::source::SourceFile;
 use crate::text::TextEncoding;
 
@@ -119,7 +119,24 @@ impl Dialect for Czech {
                     Write::Yes("G33 … I"),
                 ),
                 row(SyncInfeed, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
-                row(Arc, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
+                match profile.czech.arcs {
+                    CzechArcs::None => row(Arc, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
+                    CzechArcs::IkRadius => row(
+                        Arc,
+                        Read::Yes("G02/G03 X Z I K, I a radius"),
+                        Write::Yes("G02/G03 X Z I K, I a radius"),
+                    ),
+                    CzechArcs::IkDiameter => row(
+                        Arc,
+                        Read::Yes("G02/G03 X Z I K, I a diameter"),
+                        Write::Yes("G02/G03 X Z I K, I a diameter"),
+                    ),
+                    CzechArcs::Radius => row(
+                        Arc,
+                        Read::Yes("G02/G03 X Z R"),
+                        Write::As("G02/G03 X Z R (not a full circle)"),
+                    ),
+                },
                 if profile.czech.coolant {
                     row(Coolant, Read::Yes("M08/M09"), Write::Yes("M08/M09"))
                 } else {
@@ -146,8 +163,8 @@ impl Dialect for Czech {
         let (code, message, help) = match at.construct {
             Construct::Arc => (
                 codes::CZW_NO_EQUIVALENT,
-                "an arc (G2/G3) has no documented form on the czech control",
-                "the czech manual's chapter documents thread cutting only, and arc forms differ between controls of that era; ncthread does not yet take one from the machine profile, so write the contour by hand for this machine",
+                "an arc (G2/G3) has no form that the czech seed documents",
+                "arc forms differ between controls of that era: if the machine's manual gives one, set `arcs` (\"ik-radius\", \"ik-diameter\" or \"r\") in the profile's [czech] section",
             ),
             Construct::Coolant => (
                 codes::CZW_NO_EQUIVALENT,

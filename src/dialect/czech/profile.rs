@@ -19,6 +19,26 @@ pub struct CzechProfile {
     pub coolant: bool,
     /// Mist coolant is M07 (key `mist = "m07"`, with `coolant`).
     pub mist: bool,
+    /// How the machine writes arcs (key `arcs`): none until the shop's manual says.
+    pub arcs: CzechArcs,
+    /// G02 is clockwise seen as on a front-tool lathe (key `arc_direction = "mirrored"`),
+    /// the opposite letter of LinuxCNC's G2 for the same path. **[decided]** default "iso".
+    pub arcs_mirrored: bool,
+}
+
+/// The arc forms the czech profile can declare. **[decided]** (czech.md, "Forms the machine
+/// profile declares")
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CzechArcs {
+    /// Arcs are refused.
+    #[default]
+    None,
+    /// `G02`/`G03 X Z I K`: I and K the centre's offset from the start, I a radius.
+    IkRadius,
+    /// The same, I a diameter value.
+    IkDiameter,
+    /// `G02`/`G03 X Z R`: R the radius, negative for more than half a turn.
+    Radius,
 }
 
 impl Default for CzechProfile {
@@ -29,6 +49,8 @@ impl Default for CzechProfile {
             gear_range_mcodes: vec![41, 42, 43, 44],
             coolant: false,
             mist: false,
+            arcs: CzechArcs::None,
+            arcs_mirrored: false,
         }
     }
 }
@@ -117,6 +139,8 @@ pub(crate) struct Raw {
     gear_range_mcodes: Option<Vec<u32>>,
     coolant: Option<toml::Spanned<String>>,
     mist: Option<toml::Spanned<String>>,
+    arcs: Option<toml::Spanned<String>>,
+    arc_direction: Option<toml::Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -154,6 +178,37 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut CzechProfile, diags: &mut
     }
     if let Some(g) = raw.gear_range_mcodes {
         p.gear_range_mcodes = g;
+    }
+    if let Some(value) = raw.arcs {
+        p.arcs = match value.get_ref().as_str() {
+            "none" => CzechArcs::None,
+            "ik-radius" => CzechArcs::IkRadius,
+            "ik-diameter" => CzechArcs::IkDiameter,
+            "r" => CzechArcs::Radius,
+            other => {
+                diags.push(bad_value(
+                    src,
+                    src.span_of(value.span()),
+                    "czech.arcs",
+                    format!("unknown value \"{other}\""),
+                    "\"none\" (the default), \"ik-radius\" or \"ik-diameter\" (G02/G03 X Z I K, I a radius or a diameter value), \"r\" (G02/G03 X Z R), as the machine's manual gives it",
+                ));
+                p.arcs
+            }
+        };
+    }
+    if let Some(value) = raw.arc_direction {
+        match value.get_ref().as_str() {
+            "iso" => p.arcs_mirrored = false,
+            "mirrored" => p.arcs_mirrored = true,
+            other => diags.push(bad_value(
+                src,
+                src.span_of(value.span()),
+                "czech.arc_direction",
+                format!("unknown value \"{other}\""),
+                "\"iso\" (the default: G02 as LinuxCNC's G2 for the same path) or \"mirrored\" (a front-tool machine whose manual says G02 turns the other way)",
+            )),
+        }
     }
     let mist_span = raw.mist.as_ref().map(|m| src.span_of(m.span()));
     let choices = [

@@ -1133,9 +1133,6 @@ impl FrontEnd<'_> {
         }
         let end = Pos::new(target.x.unwrap_or(sx), target.z.unwrap_or(sz));
         let (ex, ez) = (end.x.unwrap_or(sx), end.z.unwrap_or(sz));
-        // Lengths in mm, X as a radius (LinuxCNC's plane: Z first, X second).
-        let f = |v: Length| v.to_mm_f64();
-        let (start_r, end_r) = ((f(sz), f(sx) / 2.0), (f(ez), f(ex) / 2.0));
         // RADIUS_TOLERANCE (0.00005 in, 0.00127 mm) and CENTER_ARC_RADIUS_TOLERANCE
         // (2·0.001·√2 in, 2·0.01·√2 mm); relative 0.001.
         let radius_tolerance = 0.00127;
@@ -1183,32 +1180,24 @@ impl FrontEnd<'_> {
                     );
                 }
                 let radius = r.value.to_f64() * if self.inch { 25.4 } else { 1.0 };
-                let abs_radius = radius.abs();
-                let mid = ((start_r.0 + end_r.0) / 2.0, (start_r.1 + end_r.1) / 2.0);
-                let mut half = (mid.0 - end_r.0).hypot(mid.1 - end_r.1);
-                if half - abs_radius > radius_tolerance {
-                    let text = &line.text[r.range.clone()];
-                    return self.arc_error(
-                        line,
-                        Some(r),
-                        format!("`{text}` is too small for the arc: its end is {} mm from its start (LinuxCNC: \"Arc radius too small to reach end point\")", 2.0 * half),
-                        "the radius must be at least half the distance from the start to the end",
-                    );
+                match lower::arc::centre_from_radius(
+                    (sx, sz),
+                    (ex, ez),
+                    radius,
+                    clockwise,
+                    radius_tolerance,
+                ) {
+                    Ok(centre) => centre,
+                    Err(chord) => {
+                        let text = &line.text[r.range.clone()];
+                        return self.arc_error(
+                            line,
+                            Some(r),
+                            format!("`{text}` is too small for the arc: its end is {chord} mm from its start (LinuxCNC: \"Arc radius too small to reach end point\")"),
+                            "the radius must be at least half the distance from the start to the end",
+                        );
+                    }
                 }
-                if abs_radius == 0.0 || half / abs_radius > 1.0 - 1e-12 {
-                    half = abs_radius;
-                }
-                let right = clockwise == (radius > 0.0);
-                let chord = (end_r.1 - start_r.1).atan2(end_r.0 - start_r.0);
-                let theta = if right {
-                    chord - std::f64::consts::FRAC_PI_2
-                } else {
-                    chord + std::f64::consts::FRAC_PI_2
-                };
-                let offset = abs_radius * (half / abs_radius).asin().cos();
-                let offset = if offset.is_finite() { offset } else { 0.0 };
-                let (cz, cx) = (mid.0 + offset * theta.cos(), mid.1 + offset * theta.sin());
-                Pos::new(Length::from_mm_f64(2.0 * cx), Length::from_mm_f64(cz))
             }
             (None, true) => {
                 if self.absolute_centres {
@@ -1241,9 +1230,7 @@ impl FrontEnd<'_> {
                 let (Some(cx), Some(cz)) = (centre.x, centre.z) else {
                     return;
                 };
-                let c = (f(cz), f(cx) / 2.0);
-                let r1 = (start_r.0 - c.0).hypot(start_r.1 - c.1);
-                let r2 = (end_r.0 - c.0).hypot(end_r.1 - c.1);
+                let (r1, r2) = lower::arc::radii((sx, sz), (ex, ez), (cx, cz));
                 if r1 < radius_tolerance || r2 < radius_tolerance {
                     return self.arc_error(
                         line,
