@@ -1085,6 +1085,50 @@ pub mod arc {
         ((s.0 - c.0).hypot(s.1 - c.1), (e.0 - c.0).hypot(e.1 - c.1))
     }
 
+    /// Whether the arc from `start` to `end` around `centre` turns the given way within one
+    /// quadrant of its circle (at most a quarter turn, not across the axes through the
+    /// centre; ends on the axes allowed).
+    pub fn within_quadrant(
+        start: (Length, Length),
+        end: (Length, Length),
+        centre: (Length, Length),
+        clockwise: bool,
+    ) -> bool {
+        if start == end {
+            return false;
+        }
+        let side = |v: Length, c: Length| (v - c).0.signum();
+        let (sz, sx) = (side(start.1, centre.1), side(start.0, centre.0));
+        let (ez, ex) = (side(end.1, centre.1), side(end.0, centre.0));
+        // The same quadrant: no axis coordinate changes sign.
+        if sz * ez < 0 || sx * ex < 0 {
+            return false;
+        }
+        let (s, e, c) = (plane(start), plane(end), plane(centre));
+        let cross = (s.0 - c.0) * (e.1 - c.1) - (s.1 - c.1) * (e.0 - c.0);
+        if clockwise { cross < 0.0 } else { cross > 0.0 }
+    }
+
+    /// The angle the arc turns through, in radians (a full turn when it ends where it
+    /// starts).
+    pub fn sweep(
+        start: (Length, Length),
+        end: (Length, Length),
+        centre: (Length, Length),
+        clockwise: bool,
+    ) -> f64 {
+        let (s, e, c) = (plane(start), plane(end), plane(centre));
+        let a0 = (s.1 - c.1).atan2(s.0 - c.0);
+        let a1 = (e.1 - c.1).atan2(e.0 - c.0);
+        let turn = std::f64::consts::TAU;
+        let sweep = if clockwise { a0 - a1 } else { a1 - a0 }.rem_euclid(turn);
+        if start == end || sweep == 0.0 {
+            turn
+        } else {
+            sweep
+        }
+    }
+
     /// Whether the arc turns through more than half a turn.
     pub fn over_half_turn(
         start: (Length, Length),

@@ -34,7 +34,7 @@ pub use crate::dialect::czech::profile::{
     AngleSource, Constant8, CzechArcs, CzechProfile, InitialMotion,
 };
 pub use crate::dialect::iso::profile::{IsoProfile, ToolChange};
-pub use crate::dialect::nc31::profile::Nc31Profile;
+pub use crate::dialect::nc31::profile::{Nc31ArcDirection, Nc31Profile};
 
 /// Machine constants. `Profile::default()` holds the seeds' values.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]

@@ -130,6 +130,10 @@ pub const NCR_AFTER_END: Code = warning(
     "NCR015",
     "frames after the program's end (M30), which the control does not run",
 );
+pub const NCR_ARC: Code = error(
+    "NCR016",
+    "an arc group that cannot be cut: no direction in the profile, no centre on its circle, a centre that is not one, or more than a quadrant",
+);
 
 // machine profile
 pub const PF_INVALID: Code = error(
@@ -334,6 +338,7 @@ pub const ALL: &[Code] = &[
     NCR_LEAD,
     NCR_TRAVEL,
     NCR_AFTER_END,
+    NCR_ARC,
     PF_INVALID,
     PF_CONSTANT8,
     PF_VALUE,

@@ -103,6 +103,12 @@ pub fn normalise(segments: &[Segment]) -> Vec<Segment> {
             continue;
         }
         in_run = false;
+        if let Some(last) = out.last_mut()
+            && arcs_continue(last, s)
+        {
+            last.to = s.to;
+            continue;
+        }
         if let Some(last) = out.last_mut() {
             let rapids = matches!((last.motion, s.motion), (Motion::Rapid, Motion::Rapid));
             let merge = rapids
@@ -123,6 +129,40 @@ pub fn normalise(segments: &[Segment]) -> Vec<Segment> {
         out.push(*s);
     }
     out
+}
+
+/// Whether the arc `s` continues the arc `last` on the same circle, the same way, at the
+/// same feed, together turning at most once around (a target that writes an arc a
+/// quadrant at a time cuts the same arc).
+fn arcs_continue(last: &Segment, s: &Segment) -> bool {
+    let (
+        Motion::Arc {
+            centre: c,
+            clockwise: cw,
+            feed: f,
+            per_minute: p,
+        },
+        Motion::Arc {
+            centre: d,
+            clockwise: dw,
+            feed: g,
+            per_minute: q,
+        },
+    ) = (last.motion, s.motion)
+    else {
+        return false;
+    };
+    let (Some(a), Some(b), Some(e), Some(centre)) =
+        (last.from.known(), last.to.known(), s.to.known(), c.known())
+    else {
+        return false;
+    };
+    if (c, cw, f, p) != (d, dw, g, q) || last.to != s.from {
+        return false;
+    }
+    let turned =
+        crate::lower::arc::sweep(a, b, centre, cw) + crate::lower::arc::sweep(b, e, centre, cw);
+    turned <= std::f64::consts::TAU + 1e-9
 }
 
 fn close(a: Option<Length>, b: Option<Length>, tol: Length) -> bool {

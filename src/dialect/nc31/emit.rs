@@ -19,7 +19,7 @@ use crate::ir::{
     SpindleDirection, SyncStart, TapCycle, ThreadCycle, ThreadPass,
 };
 use crate::lower;
-use crate::profile::{Nc31Profile, Profile};
+use crate::profile::{Nc31ArcDirection, Nc31Profile, Profile};
 use crate::source::{SourceFile, Span};
 
 struct Emitter<'a> {
@@ -331,6 +331,23 @@ impl Emitter<'_> {
                 self.write(group);
                 self.tap(item.span, tap);
             }
+            ItemKind::Arc {
+                to,
+                centre,
+                clockwise,
+                feed,
+            } if self.profile.arcs => {
+                if let Some(direction) = self.profile.arc_direction {
+                    self.write(group);
+                    if self.feed != Some(*feed) {
+                        let n = self.units(item.span, "feed F", *feed, self.profile.feed_unit);
+                        group.push(format!("F{n}"));
+                        self.write(group);
+                        self.feed = Some(*feed);
+                    }
+                    self.arc(item.span, *to, *centre, *clockwise, direction);
+                }
+            }
             // Refused by legalisation (no dwell, arc, stop or mist on the НЦ-31).
             ItemKind::Dwell { .. }
             | ItemKind::Arc { .. }
@@ -572,6 +589,115 @@ impl Emitter<'_> {
             }
         }
         self.w.pos = item.kind.end_position(self.w.pos);
+    }
+
+    /// A radius from a difference of diameters, in linear units (noted when off the grid).
+    fn radius_units(&mut self, span: Span, what: &str, diameter: Length) -> i64 {
+        let unit = self.profile.linear_unit;
+        let d = diameter.0.abs();
+        if d % (2 * unit.0) == 0 {
+            return d / (2 * unit.0);
+        }
+        let n = crate::fixed::div_round(d as i128, 2 * unit.0 as i128) as i64;
+        self.inexact.note(
+            span,
+            what,
+            Length(d),
+            Length(2 * n * unit.0),
+            Length(2 * unit.0),
+        );
+        n
+    }
+
+    /// An arc as `G2`/`G3` groups of at most a quadrant each: X, Z and the centre's
+    /// unsigned offsets from each group's start (radial in radius units, then axial). An
+    /// arc over the axes through its centre is split where it crosses them; those points
+    /// are on the grid only when its radius is (else rounded with `--round`, or refused).
+    fn arc(
+        &mut self,
+        span: Span,
+        to: Pos,
+        centre: Pos,
+        clockwise: bool,
+        direction: Nc31ArcDirection,
+    ) {
+        let (Some((sx, sz)), Some((cx, cz)), Some((ex, ez))) =
+            (self.w.pos.known(), centre.known(), to.known())
+        else {
+            self.diag(
+                codes::NCW_NO_EQUIVALENT,
+                span,
+                "an arc from a position that is not known: its centre offsets cannot be written"
+                    .into(),
+                "move to an absolute X and Z before the arc",
+            );
+            return;
+        };
+        let (r, _) = lower::arc::radii((sx, sz), (ex, ez), (cx, cz));
+        let radius = Length::from_mm_f64(r);
+        // The angles (Z first, X as a radius), and the axis crossings between them.
+        let angle = |x: Length, z: Length| ((x - cx).to_mm_f64() / 2.0).atan2((z - cz).to_mm_f64());
+        let quarter = std::f64::consts::FRAC_PI_2;
+        let (a0, a1) = (angle(sx, sz), angle(ex, ez));
+        let turn = std::f64::consts::TAU;
+        let mut sweep = if clockwise { a0 - a1 } else { a1 - a0 }.rem_euclid(turn);
+        if (sx, sz) == (ex, ez) || sweep < 1e-12 {
+            sweep = turn;
+        }
+        let mut points = Vec::new();
+        let step = if clockwise { -1.0 } else { 1.0 };
+        let mut k = if clockwise {
+            (a0 / quarter - 1e-9).floor()
+        } else {
+            (a0 / quarter + 1e-9).ceil()
+        };
+        loop {
+            let crossing = k * quarter;
+            let travelled = (crossing - a0) * step;
+            if travelled >= sweep - 1e-9 {
+                break;
+            }
+            if travelled > 1e-9 {
+                let (x, z) = match (k as i64).rem_euclid(4) {
+                    0 => (cx, cz + radius),
+                    1 => (cx + radius + radius, cz),
+                    2 => (cx, cz - radius),
+                    _ => (cx - radius - radius, cz),
+                };
+                points.push(Pos::new(x, z));
+            }
+            k += step;
+        }
+        if !points.is_empty() && (r - radius.to_mm_f64()).abs() > 1e-7 {
+            self.inexact.note(
+                span,
+                "arc radius (where it crosses a quadrant)",
+                Length::ZERO,
+                Length::from_mm_f64((r - radius.to_mm_f64()).abs()).max(Length(1)),
+                self.profile.linear_unit,
+            );
+        }
+        points.push(Pos::new(ex, ez));
+        let g2 = clockwise != (direction == Nc31ArcDirection::FrontTool);
+        let unit = self.profile.linear_unit;
+        let mut from = (sx, sz);
+        for p in points {
+            let Some((px, pz)) = p.known() else { continue };
+            let x = self.units(span, "X", px, unit);
+            let z = self.units(span, "Z", pz, unit);
+            let a = self.radius_units(span, "P (radial offset)", cx - from.0);
+            let b = self.units(span, "P (axial offset)", (cz - from.1).abs(), unit);
+            let mut group = vec![
+                if g2 { "G2" } else { "G3" }.to_string(),
+                format!("X{x}"),
+                format!("Z{z}"),
+                format!("P{a}"),
+                format!("P{b}"),
+            ];
+            self.write(&mut group);
+            from = (px, pz);
+        }
+        self.w.pos = to;
     }
 
     /// `G33 [@] *` X Z F.

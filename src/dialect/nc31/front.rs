@@ -16,7 +16,7 @@ use crate::ir::{
     SpindleDirection, SyncStart, TapCycle, ThreadCycle, ThreadPass,
 };
 use crate::lower::{self, ExpandError};
-use crate::profile::{Nc31Profile, Profile};
+use crate::profile::{Nc31ArcDirection, Nc31Profile, Profile};
 use crate::source::{SourceFile, Span};
 
 /// How the nc31 reader words its unsupported policy.
@@ -222,6 +222,7 @@ impl<'a> FrontEnd<'a> {
             [g] if std::ptr::eq(*g, &frames[0]) => match g.word().value {
                 31 => self.g31(&frames, span),
                 32 => self.g32(&frames, span),
+                2 | 3 | 12 | 13 => self.arc(&frames, span),
                 _ => self.g33(&frames, span),
             },
             [g, ..] => {
@@ -250,6 +251,11 @@ impl<'a> FrontEnd<'a> {
             let reason = match w.letter {
                 'X' | 'Z' | 'F' | 'P' | 'S' | 'T' => None,
                 'G' if matches!(w.value, 31..=33) => None,
+                'G' if matches!(w.value, 2 | 3 | 12 | 13) && self.profile.arcs => None,
+                'G' if matches!(w.value, 2 | 3 | 12 | 13) => Some(format!(
+                    "G{} (an arc) is not in the guide: if the machine takes G2/G3 groups with P offsets, set `arcs = \"g2-g3-p\"` and `arc_direction` in the profile's [nc31] section",
+                    w.value
+                )),
                 'G' => Some(format!(
                     "G{} is not among the documented G words (G31, G32, G33)",
                     w.value
@@ -302,7 +308,7 @@ impl<'a> FrontEnd<'a> {
         if let Some(f) = frames.iter().find(|f| {
             let w = f.word();
             matches!(w.letter, 'F' | 'S' | 'T')
-                || (w.letter == 'G' && matches!(w.value, 31..=33))
+                || (w.letter == 'G' && matches!(w.value, 2 | 3 | 12 | 13 | 31..=33))
                 || (w.letter == 'M'
                     && (matches!(w.value, 3 | 4 | 5 | 30)
                         || (self.profile.coolant && matches!(w.value, 8 | 9))
@@ -919,6 +925,163 @@ impl<'a> FrontEnd<'a> {
         self.feed = Feed::AfterThread(g.line);
     }
 
+    /// An arc group: `G2 *`/`G3 *` X, Z, P (the centre's radial offset from the start,
+    /// unsigned, in radius units), P (its axial offset), within one quadrant; or `G12 *`/
+    /// `G13 *` X, Z, a quarter circle. **[evidence]** one shop's generator (nc31.md,
+    /// "General motion"). The signs of the offsets come from the quadrant: of the centres
+    /// they allow, the one on whose circle the end lies (within one linear unit) and around
+    /// which the arc turns the profile's way within one quadrant. **[decided]**
+    fn arc(&mut self, frames: &[GroupFrame], span: Span) {
+        let g = &frames[0];
+        let code = g.word().value;
+        let quarter = code >= 12;
+        let about = if quarter {
+            "G12/G13 take X and Z (the end of a quarter circle)"
+        } else {
+            "G2/G3 take X, Z and two P (the centre's unsigned offsets from the start: radial, then axial)"
+        };
+        let (allowed, max_p): (&[char], usize) = if quarter {
+            (&['X', 'Z'], 0)
+        } else {
+            (&['X', 'Z', 'P'], 2)
+        };
+        let Some(w) = self.thread_words(frames, allowed, max_p, about) else {
+            return;
+        };
+        let arc_error = |fe: &mut Self, at: &GroupFrame, message: String, help: &str| {
+            fe.word_error(codes::NCR_ARC, at, message, help.to_string());
+        };
+        let Some(direction) = self.profile.arc_direction else {
+            return arc_error(
+                self,
+                g,
+                format!("G{code}: the profile enables arcs but does not say which way G2 turns"),
+                "set `arc_direction = \"front-tool\"` or `\"iso\"` in the profile's [nc31] section, as the machine's documentation says",
+            );
+        };
+        if !quarter && w.p.len() < 2 {
+            return arc_error(
+                self,
+                g,
+                format!("G{code} without its two P words (the centre's offsets)"),
+                about,
+            );
+        }
+        if w.x.is_none() && w.z.is_none() {
+            return arc_error(self, g, format!("G{code} without X or Z"), about);
+        }
+        let Feed::Set(feed) = self.feed else {
+            let why = match self.feed {
+                Feed::AfterThread(line) => {
+                    format!("the feed is undefined after the thread group on line {line}")
+                }
+                _ => "no feed has been programmed yet".to_string(),
+            };
+            self.word_error(
+                codes::NCR_NO_FEED,
+                g,
+                format!("arc `G{code}` but {why}"),
+                "program the feed in a frame of its own (e.g. `F20` = 0.2 mm/rev) before the arc",
+            );
+            return;
+        };
+        let Some((sx, sz)) = self.r.pos.known() else {
+            self.word_error(
+                codes::NCR_UNKNOWN_POSITION,
+                g,
+                format!("arc `G{code}` from a position that is not known yet"),
+                "move to an absolute X and Z before the arc",
+            );
+            return;
+        };
+        let ex = match w.x {
+            Some(fr) => self.coordinate(fr, Some(sx)),
+            None => Some(sx),
+        };
+        let ez = match w.z {
+            Some(fr) => self.coordinate(fr, Some(sz)),
+            None => Some(sz),
+        };
+        let (Some(ex), Some(ez)) = (ex, ez) else {
+            return;
+        };
+        let g2_type = matches!(code, 2 | 12);
+        let clockwise = g2_type != (direction == Nc31ArcDirection::FrontTool);
+        let candidates: Vec<Pos> = if quarter {
+            vec![Pos::new(ex, sz), Pos::new(sx, ez)]
+        } else {
+            let unit = self.profile.linear_unit;
+            let (Some(a), Some(b)) = (self.scaled(w.p[0], unit), self.scaled(w.p[1], unit)) else {
+                return;
+            };
+            if a.0 < 0 || b.0 < 0 {
+                return arc_error(
+                    self,
+                    if a.0 < 0 { w.p[0] } else { w.p[1] },
+                    "a negative P in an arc group: its offsets are unsigned".into(),
+                    "the signs come from the quadrant the arc turns in; write the offsets without a sign",
+                );
+            }
+            let mut out = Vec::new();
+            for (dx, dz) in [(a, b), (-a, b), (a, -b), (-a, -b)] {
+                let c = Pos::new(sx + dx + dx, sz + dz);
+                if !out.contains(&c) {
+                    out.push(c);
+                }
+            }
+            out
+        };
+        let tolerance = self.profile.linear_unit.to_mm_f64();
+        let fits: Vec<Pos> = candidates
+            .into_iter()
+            .filter(|c| {
+                let Some((cx, cz)) = c.known() else {
+                    return false;
+                };
+                let (r1, r2) = lower::arc::radii((sx, sz), (ex, ez), (cx, cz));
+                r1 > 0.0
+                    && (r1 - r2).abs() <= tolerance
+                    && lower::arc::within_quadrant((sx, sz), (ex, ez), (cx, cz), clockwise)
+            })
+            .collect();
+        let centre = match fits.as_slice() {
+            [c] => *c,
+            [] => {
+                return arc_error(
+                    self,
+                    g,
+                    format!(
+                        "G{code} to X{} Z{}: no centre its offsets allow has the end on its circle with the arc turning {} within one quadrant",
+                        ex.mm(),
+                        ez.mm(),
+                        if clockwise {
+                            "clockwise (G2 seen as LinuxCNC sees it)"
+                        } else {
+                            "counter-clockwise (G3 seen as LinuxCNC sees it)"
+                        }
+                    ),
+                    "check the P offsets (radial first, in radius units) and the profile's arc_direction; an arc over a quadrant boundary is written as two groups",
+                );
+            }
+            _ => {
+                return arc_error(
+                    self,
+                    g,
+                    format!("G{code}: more than one centre fits its offsets"),
+                    "a zero offset leaves the side open; write the arc so that its centre is one",
+                );
+            }
+        };
+        let kind = ItemKind::Arc {
+            to: Pos::new(ex, ez),
+            centre,
+            clockwise,
+            feed,
+        };
+        self.r.pos = kind.end_position(self.r.pos);
+        self.push(kind, span, None);
+    }
+
     /// `G33 [@] *` X Z F: tapping; with `@` the tool then moves to X (point C).
     fn g33(&mut self, frames: &[GroupFrame], span: Span) {
         const ABOUT: &str = "G33 takes X (point C, with `@` on G33), Z (end) and F (lead)";
@@ -1157,6 +1320,74 @@ mod tests {
         assert!(diags.is_empty(), "{diags:?}");
         assert!(
             matches!(&program.items.last().unwrap().kind, ItemKind::ThreadCycle(c) if c.internal)
+        );
+    }
+
+    /// Arc groups where the profile declares them: the centre from unsigned offsets and
+    /// the quadrant, quarter arcs, and the refusals.
+    #[test]
+    fn arc_groups_take_their_centre_from_the_quadrant() {
+        let profile = |direction| {
+            let mut p = Profile::default();
+            p.nc31.arcs = true;
+            p.nc31.arc_direction = direction;
+            p
+        };
+        let arc = |direction, text: &str| {
+            let head = "M3\nS500\nX2000 ~ *\nZ0 ~\nF10\n";
+            let (p, d) = run_with(
+                &format!("{head}{text}"),
+                &profile(direction),
+                Unsupported::Error,
+            );
+            let arc = p.items.iter().find_map(|i| match i.kind {
+                ItemKind::Arc {
+                    centre, clockwise, ..
+                } => Some((centre, clockwise)),
+                _ => None,
+            });
+            (arc, d.iter().find(|d| d.is_error()).map(|d| d.code.id))
+        };
+        let iso = Some(Nc31ArcDirection::Iso);
+        let front = Some(Nc31ArcDirection::FrontTool);
+        // From Ø20 Z0 to Ø30 Z-5 around r10 Z-5 (ISO G3) or r15 Z0 (ISO G2).
+        let g = |code: &str| format!("{code} *\nX3000 *\nZ-500 *\nP0 *\nP500\n");
+        assert_eq!(
+            arc(iso, &g("G3")),
+            (Some((Pos::new(mm(20.0), mm(-5.0)), false)), None)
+        );
+        assert_eq!(
+            arc(front, &g("G2")),
+            (Some((Pos::new(mm(20.0), mm(-5.0)), false)), None)
+        );
+        let g = |code: &str| format!("{code} *\nX3000 *\nZ-500 *\nP500 *\nP0\n");
+        assert_eq!(
+            arc(iso, &g("G2")),
+            (Some((Pos::new(mm(30.0), mm(0.0)), true)), None)
+        );
+        // Quarter arcs.
+        let q = |code: &str| format!("{code} *\nX3000 *\nZ-500\n");
+        assert_eq!(
+            arc(iso, &q("G13")),
+            (Some((Pos::new(mm(20.0), mm(-5.0)), false)), None)
+        );
+        assert_eq!(
+            arc(iso, &q("G12")),
+            (Some((Pos::new(mm(30.0), mm(0.0)), true)), None)
+        );
+        // Refused: no direction declared, offsets that fit no centre, a quarter that is
+        // not one, a missing P, arcs not declared at all.
+        assert_eq!(arc(None, &q("G13")).1, Some("NCR016"));
+        assert_eq!(
+            arc(iso, "G3 *\nX3000 *\nZ-500 *\nP100 *\nP500\n").1,
+            Some("NCR016")
+        );
+        assert_eq!(arc(iso, "G13 *\nX3000 *\nZ-700\n").1, Some("NCR016"));
+        assert_eq!(arc(iso, "G3 *\nX3000 *\nZ-500 *\nP0\n").1, Some("NCR016"));
+        let (_, d) = run("M3\nS500\nX2000 ~ *\nZ0 ~\nF10\nG13 *\nX3000 *\nZ-500\n");
+        assert_eq!(
+            d.iter().find(|d| d.is_error()).map(|d| d.code.id),
+            Some("NCR005")
         );
     }
 

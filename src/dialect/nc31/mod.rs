@@ -147,7 +147,15 @@ impl Dialect for Nc31 {
                     Write::Yes("G33, `G33 @` for point C"),
                 ),
                 row(Dwell, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
-                row(Arc, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
+                if profile.nc31.arcs && profile.nc31.arc_direction.is_some() {
+                    row(
+                        Arc,
+                        Read::Yes("G2/G3 X Z P P, G12/G13 X Z"),
+                        Write::As("G2/G3 X Z P P, a group per quadrant"),
+                    )
+                } else {
+                    row(Arc, Read::No, Write::No(codes::NCW_NO_EQUIVALENT))
+                },
                 if profile.nc31.coolant {
                     row(Coolant, Read::Yes("M8/M9"), Write::Yes("M8/M9"))
                 } else {
@@ -195,8 +203,8 @@ impl Dialect for Nc31 {
                 "the guide documents G31, G32 and G33 only; add the stop by hand where the control takes one",
             ),
             Construct::Arc => (
-                "an arc (G2/G3) has no documented form on the НЦ-31",
-                "the guide documents G31, G32 and G33 only, and ncthread does not yet take an arc form from the machine profile; write the contour by hand for this machine",
+                "an arc (G2/G3) has no form that the НЦ-31 guide documents",
+                "if the machine takes G2/G3 groups with two P offsets (one shop's programs do), set `arcs = \"g2-g3-p\"` and `arc_direction` (\"front-tool\" or \"iso\") in the profile's [nc31] section",
             ),
             Construct::Dwell => (
                 "a dwell (G4) has no documented form on the НЦ-31",

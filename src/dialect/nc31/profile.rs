@@ -30,6 +30,22 @@ pub struct Nc31Profile {
     /// The machine switches coolant with M8/M9 (key `coolant = "m8-m9"`). **[evidence]**
     /// one shop's program checker only, so off unless the profile says. **[decided]**
     pub coolant: bool,
+    /// Arcs as `G2`/`G3` groups with two unsigned P offsets, and `G12`/`G13` quarter arcs
+    /// (key `arcs = "g2-g3-p"`). **[evidence]** one shop's generator; off by default.
+    pub arcs: bool,
+    /// Which way G2 turns (key `arc_direction`); no default: a profile that enables arcs
+    /// must say, and arcs are refused until it does. **[decided]**
+    pub arc_direction: Option<Nc31ArcDirection>,
+}
+
+/// Which way the НЦ-31's G2 turns.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Nc31ArcDirection {
+    /// G2 is clockwise with Z to the right and X pointing down (a front-tool-post lathe
+    /// seen from above): LinuxCNC's G3 for the same path.
+    FrontTool,
+    /// G2 is LinuxCNC's G2.
+    Iso,
 }
 
 impl Default for Nc31Profile {
@@ -44,6 +60,8 @@ impl Default for Nc31Profile {
             schedule: Schedule::Halving,
             gear_range_mcodes: vec![38, 39, 40, 41],
             coolant: false,
+            arcs: false,
+            arc_direction: None,
         }
     }
 }
@@ -81,6 +99,8 @@ pub(crate) struct Raw {
     schedule: Option<toml::Spanned<String>>,
     gear_range_mcodes: Option<Vec<u32>>,
     coolant: Option<toml::Spanned<String>>,
+    arcs: Option<toml::Spanned<String>>,
+    arc_direction: Option<toml::Spanned<String>>,
 }
 
 /// Reads the `[nc31]` section into `p`, reporting each bad value with its key.
@@ -168,6 +188,32 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut Nc31Profile, diags: &mut 
     }
     if let Some(g) = raw.gear_range_mcodes {
         p.gear_range_mcodes = g;
+    }
+    if let Some(value) = raw.arcs {
+        match value.get_ref().as_str() {
+            "none" => p.arcs = false,
+            "g2-g3-p" => p.arcs = true,
+            other => diags.push(bad_value(
+                src,
+                src.span_of(value.span()),
+                "nc31.arcs",
+                format!("unknown value \"{other}\""),
+                "\"none\" (the default), or \"g2-g3-p\" (G2/G3 groups with X, Z and two unsigned P offsets of the centre; G12/G13 quarter arcs)",
+            )),
+        }
+    }
+    if let Some(value) = raw.arc_direction {
+        match value.get_ref().as_str() {
+            "front-tool" => p.arc_direction = Some(Nc31ArcDirection::FrontTool),
+            "iso" => p.arc_direction = Some(Nc31ArcDirection::Iso),
+            other => diags.push(bad_value(
+                src,
+                src.span_of(value.span()),
+                "nc31.arc_direction",
+                format!("unknown value \"{other}\""),
+                "\"front-tool\" (G2 clockwise seen with X pointing down, as the one public НЦ-31 source writes it) or \"iso\" (G2 as LinuxCNC's), as the machine's documentation says",
+            )),
+        }
     }
     if let Some(value) = raw.coolant {
         match value.get_ref().as_str() {
