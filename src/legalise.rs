@@ -142,6 +142,9 @@ pub fn occurrences(program: &Program) -> Vec<Occurrence> {
             ItemKind::Arc { .. } => out.push(at(Construct::Arc, None)),
             ItemKind::Coolant(c) => out.push(at(Construct::of_coolant(*c), None)),
             ItemKind::Stop { .. } => out.push(at(Construct::Stop, None)),
+            ItemKind::SpindleMode(crate::ir::SpindleMode::SurfaceSpeed { .. }) => {
+                out.push(at(Construct::SurfaceSpeed, None))
+            }
             ItemKind::Dwell { .. } => out.push(at(Construct::Dwell, None)),
             ItemKind::FeedMode(mode) => per_minute = *mode == FeedMode::PerMin,
             ItemKind::Feed { .. } if per_minute => out.push(at(Construct::PerMinuteFeed, None)),

@@ -292,8 +292,14 @@ fn simulate_prints_the_motion_as_text_or_json() {
         None,
     );
     assert_eq!(out.status.code(), Some(0));
-    let first: serde_json::Value =
-        serde_json::from_str(text(&out.stdout).lines().next().unwrap()).unwrap();
+    let lines: Vec<serde_json::Value> = text(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    // The spindle start is a change of the machine state, then the thread.
+    assert_eq!(lines[0]["motion"], "state");
+    assert_eq!(lines[0]["spindle"], "M3");
+    let first = &lines[1];
     assert_eq!(first["motion"], "thread");
     assert_eq!(first["lead"], 250.0);
     // The pass starts from an unknown position: a warning says so.

@@ -36,6 +36,8 @@ pub enum Construct {
     MistCoolant,
     /// A programmed or optional stop (M0, M1).
     Stop,
+    /// Constant surface speed (G96).
+    SurfaceSpeed,
     /// A rigid tapping cycle.
     Tapping,
     /// A dwell.
@@ -51,7 +53,7 @@ pub enum Construct {
 }
 
 impl Construct {
-    pub const ALL: [Construct; 18] = [
+    pub const ALL: [Construct; 19] = [
         Construct::ThreadCycle,
         Construct::StartAngle,
         Construct::Entry,
@@ -64,6 +66,7 @@ impl Construct {
         Construct::Coolant,
         Construct::MistCoolant,
         Construct::Stop,
+        Construct::SurfaceSpeed,
         Construct::Tapping,
         Construct::Dwell,
         Construct::PerMinuteFeed,
@@ -87,6 +90,7 @@ impl Construct {
             Construct::Coolant => "flood coolant, coolant off",
             Construct::MistCoolant => "mist coolant",
             Construct::Stop => "program stop, optional stop",
+            Construct::SurfaceSpeed => "constant surface speed (G96)",
             Construct::Tapping => "rigid tapping",
             Construct::Dwell => "dwell",
             Construct::PerMinuteFeed => "feed per minute",
@@ -137,6 +141,9 @@ impl Construct {
                 ItemKind::Arc { .. } => self == Construct::Arc,
                 ItemKind::Coolant(c) => self == Construct::of_coolant(*c),
                 ItemKind::Stop { .. } => self == Construct::Stop,
+                ItemKind::SpindleMode(crate::ir::SpindleMode::SurfaceSpeed { .. }) => {
+                    self == Construct::SurfaceSpeed
+                }
                 ItemKind::Dwell { .. } => self == Construct::Dwell,
                 ItemKind::FeedMode(mode) => {
                     per_minute = *mode == FeedMode::PerMin;

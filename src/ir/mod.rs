@@ -116,6 +116,15 @@ impl Pos {
     }
 }
 
+/// Spindle speed mode.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SpindleMode {
+    /// G97: S is in rpm.
+    Rpm,
+    /// G96: S is a surface speed in m/min; `limit` the highest rpm (G96's D), if any.
+    SurfaceSpeed { limit: Option<Decimal> },
+}
+
 /// A coolant command. Mist and flood are separate circuits: M7 and M8 each turn one on,
 /// M9 turns both off. **[evidence]** LinuxCNC `convert_m`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -488,6 +497,10 @@ pub enum ItemKind {
     Delimiter,
     /// Coolant on or off (M7, M8, M9).
     Coolant(Coolant),
+    /// What the spindle speed (S, in [`ItemKind::Spindle`]) means from here on: rpm (G97),
+    /// or a surface speed in m/min that the control holds by turning faster as the tool
+    /// moves in, up to a limit in rpm (G96 … D).
+    SpindleMode(SpindleMode),
     /// A programmed stop (M0), or an optional stop (M1) that the operator may skip.
     Stop {
         optional: bool,

@@ -83,20 +83,21 @@ fn collinear(a: Pos, b: Pos, c: Pos) -> bool {
 /// their final point (and take the line and pass of the rapid that ends there).
 pub fn normalise(segments: &[Segment]) -> Vec<Segment> {
     let mut out: Vec<Segment> = Vec::with_capacity(segments.len());
-    // The coolant state after what is out so far, and before the run of coolant commands
+    // The machine state after what is out so far, and before the run of state changes
     // being read.
-    let (mut effective, mut before_run, mut in_run) = ((false, false), (false, false), false);
+    let mut effective = super::MachineState::default();
+    let (mut before_run, mut in_run) = (effective, false);
     for s in segments {
-        if let Motion::Coolant { mist, flood } = s.motion {
-            // A run of coolant commands with nothing between them is the state after it
-            // (LinuxCNC's M9 is MIST_OFF then FLOOD_OFF); a run that changes nothing is
-            // nothing.
+        if let Motion::State(state) = s.motion {
+            // A run of state changes with nothing between them is the state after it (one
+            // line's `S800 M3 M8` is three calls in LinuxCNC's order and one or two items
+            // in ncthread's); a run that changes nothing is nothing.
             if !in_run {
                 (before_run, in_run) = (effective, true);
-            } else if matches!(out.last().map(|l| l.motion), Some(Motion::Coolant { .. })) {
+            } else if matches!(out.last().map(|l| l.motion), Some(Motion::State(_))) {
                 out.pop();
             }
-            effective = (mist, flood);
+            effective = state;
             if effective != before_run {
                 out.push(*s);
             }
@@ -190,11 +191,7 @@ fn describe(m: &Motion) -> String {
             format!("an arc ({})", if *clockwise { "G2" } else { "G3" })
         }
         Motion::IndexWait => "a wait in the cut for the index pulse".into(),
-        Motion::Coolant { mist, flood } => format!(
-            "coolant (mist {}, flood {})",
-            if *mist { "on" } else { "off" },
-            if *flood { "on" } else { "off" }
-        ),
+        Motion::State(state) => state.describe(),
         Motion::Stop { optional: true } => "an optional stop (M1)".into(),
         Motion::Stop { optional: false } => "a program stop (M0)".into(),
         Motion::Dwell { time } => format!("a dwell of {} s", Length(*time).mm()),
@@ -567,7 +564,7 @@ pub fn compare_within(
                 }
             }
             (Motion::IndexWait, Motion::IndexWait) => {}
-            (Motion::Coolant { .. }, Motion::Coolant { .. })
+            (Motion::State(_), Motion::State(_))
             | (Motion::Stop { .. }, Motion::Stop { .. })
             | (Motion::Dwell { .. }, Motion::Dwell { .. }) => {
                 if a.motion != b.motion {
@@ -649,9 +646,15 @@ mod tests {
     }
 
     #[test]
-    fn coolant_is_compared_as_the_state_after_each_run_of_commands() {
+    fn machine_state_is_compared_as_the_state_after_each_run_of_commands() {
         let at = |motion| seg(motion, (10.0, 0.0), (10.0, 0.0), 1);
-        let cool = |mist, flood| at(Motion::Coolant { mist, flood });
+        let cool = |mist, flood| {
+            at(Motion::State(crate::sim::MachineState {
+                mist,
+                flood,
+                ..Default::default()
+            }))
+        };
         let feed = seg(
             Motion::Feed {
                 feed: mm(0.1),
@@ -685,6 +688,18 @@ mod tests {
         let optional = at(Motion::Stop { optional: true });
         let d = compare(&[stop, feed], &[optional, feed]).expect("differs");
         assert_eq!(d.what, "a program stop (M0) ≠ an optional stop (M1)");
+        // A surface speed turned into rpm is a difference.
+        let spindle = |surface_speed| {
+            at(Motion::State(crate::sim::MachineState {
+                direction: Some(crate::ir::SpindleDirection::Clockwise),
+                speed: Some(200),
+                surface_speed,
+                ..Default::default()
+            }))
+        };
+        let d = compare(&[spindle(Some(Some(2_500_000))), feed], &[spindle(None), feed])
+            .expect("differs");
+        assert!(d.what.contains("surface speed"), "{}", d.what);
         let dwell = |t| at(Motion::Dwell { time: t });
         assert!(compare(&[dwell(2_500)], &[dwell(2_500)]).is_none());
         assert!(compare(&[dwell(2_500)], &[dwell(5_000)]).is_some());

@@ -59,12 +59,9 @@ pub enum Motion {
         feed: Length,
         per_minute: bool,
     },
-    /// The coolant circuits switched (M7, M8, M9; a program end turns them off): the state
-    /// after the command. `from` = `to`, where the tool stands.
-    Coolant {
-        mist: bool,
-        flood: bool,
-    },
+    /// The machine state changed where the tool stands (`from` = `to`): coolant, spindle
+    /// direction, speed and speed mode, after the command.
+    State(MachineState),
     /// A programmed stop (M0) or an optional stop (M1).
     Stop {
         optional: bool,
@@ -79,13 +76,53 @@ pub enum Motion {
     IndexWait,
 }
 
+/// What the machine is doing besides moving: compared, in order with the motion, so that a
+/// conversion that drops coolant or turns a surface speed into rpm is not equivalent.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MachineState {
+    pub mist: bool,
+    pub flood: bool,
+    pub direction: Option<SpindleDirection>,
+    /// The last S: rpm, or under a surface speed m/min.
+    pub speed: Option<u32>,
+    /// A surface speed (G96) is in force, with its rpm limit in 0.001 rpm (`None`: none).
+    pub surface_speed: Option<Option<i64>>,
+}
+
+impl MachineState {
+    /// `coolant off, spindle M3 at S800 rpm`.
+    pub fn describe(&self) -> String {
+        let coolant = match (self.mist, self.flood) {
+            (false, false) => "coolant off",
+            (true, false) => "mist on",
+            (false, true) => "flood on",
+            (true, true) => "mist and flood on",
+        };
+        let spindle = match self.direction {
+            Some(SpindleDirection::Clockwise) => "spindle M3",
+            Some(SpindleDirection::CounterClockwise) => "spindle M4",
+            None => "spindle stopped",
+        };
+        let speed = match (self.speed, self.surface_speed) {
+            (None, None) => String::new(),
+            (Some(s), None) => format!(" at S{s} rpm"),
+            (s, Some(limit)) => format!(
+                " at a surface speed of {} m/min{}",
+                s.map_or("?".into(), |s| s.to_string()),
+                limit.map_or(String::new(), |l| format!(" up to {} rpm", Length(l * 10).mm()))
+            ),
+        };
+        format!("{coolant}, {spindle}{speed}")
+    }
+}
+
 impl Motion {
     /// Whether the tool moves (a coolant command, a stop or a dwell happens where it
     /// stands, wherever that is).
     pub fn moves(&self) -> bool {
         !matches!(
             self,
-            Motion::Coolant { .. } | Motion::Stop { .. } | Motion::Dwell { .. }
+            Motion::State(_) | Motion::Stop { .. } | Motion::Dwell { .. }
         )
     }
 }
@@ -141,8 +178,8 @@ struct Machine {
     /// Where the last synchronised segment ended and the spindle angle there, while the
     /// next one may continue it without waiting for the index pulse.
     sync_end: Option<(Pos, Angle)>,
-    /// Mist and flood coolant.
-    coolant: (bool, bool),
+    /// Coolant and spindle.
+    state: MachineState,
     out: Simulation,
 }
 
@@ -167,6 +204,15 @@ pub(crate) fn angle_at(z: Length, phase: Angle, lead: Lead, towards: i64) -> Ang
 }
 
 impl Machine {
+    /// A change of the machine state, as an event where the tool stands (none when nothing
+    /// changes).
+    fn change(&mut self, state: MachineState, span: Span) {
+        if state != self.state {
+            self.state = state;
+            self.event(Motion::State(state), span);
+        }
+    }
+
     /// Something the machine does where the tool stands.
     fn event(&mut self, motion: Motion, span: Span) {
         self.out.segments.push(Segment {
@@ -401,32 +447,59 @@ impl Machine {
                     );
                 }
             }
-            ItemKind::Spindle {
-                direction: Some(d), ..
-            } => self.direction = Some(*d),
-            ItemKind::SpindleStop => self.direction = None,
+            ItemKind::Spindle { speed, direction } => {
+                if direction.is_some() {
+                    self.direction = *direction;
+                }
+                let mut state = self.state;
+                state.direction = self.direction;
+                if speed.is_some() {
+                    state.speed = *speed;
+                }
+                self.change(state, span);
+            }
+            ItemKind::SpindleStop => {
+                self.direction = None;
+                let state = MachineState {
+                    direction: None,
+                    ..self.state
+                };
+                self.change(state, span);
+            }
+            // LinuxCNC's program end stops the spindle, turns the coolant off and goes back
+            // to rpm; so does every control here.
             ItemKind::ProgramEnd(_) => {
                 self.direction = None;
-                // LinuxCNC's program end turns the coolant off; so does every control here.
-                if self.coolant != (false, false) {
-                    self.coolant = (false, false);
-                    self.event(
-                        Motion::Coolant {
-                            mist: false,
-                            flood: false,
-                        },
-                        span,
-                    );
-                }
+                let state = MachineState {
+                    mist: false,
+                    flood: false,
+                    direction: None,
+                    surface_speed: None,
+                    ..self.state
+                };
+                self.change(state, span);
             }
             ItemKind::Coolant(c) => {
-                self.coolant = match c {
-                    crate::ir::Coolant::Mist => (true, self.coolant.1),
-                    crate::ir::Coolant::Flood => (self.coolant.0, true),
-                    crate::ir::Coolant::Off => (false, false),
+                let mut state = self.state;
+                match c {
+                    crate::ir::Coolant::Mist => state.mist = true,
+                    crate::ir::Coolant::Flood => state.flood = true,
+                    crate::ir::Coolant::Off => (state.mist, state.flood) = (false, false),
+                }
+                self.change(state, span);
+            }
+            ItemKind::SpindleMode(mode) => {
+                let surface_speed = match mode {
+                    crate::ir::SpindleMode::Rpm => None,
+                    crate::ir::SpindleMode::SurfaceSpeed { limit } => {
+                        Some(limit.map(|d| (d.to_f64() * 1000.0).round() as i64))
+                    }
                 };
-                let (mist, flood) = self.coolant;
-                self.event(Motion::Coolant { mist, flood }, span);
+                let state = MachineState {
+                    surface_speed,
+                    ..self.state
+                };
+                self.change(state, span);
             }
             ItemKind::Stop { optional } => self.event(
                 Motion::Stop {
@@ -536,14 +609,7 @@ impl Segment {
                 ),
             ),
             Motion::IndexWait => ("wait", "  in the cut for the index pulse".to_string()),
-            Motion::Coolant { mist, flood } => (
-                "coolant",
-                format!(
-                    "  mist {}, flood {}",
-                    if mist { "on" } else { "off" },
-                    if flood { "on" } else { "off" }
-                ),
-            ),
+            Motion::State(state) => ("state", format!("  {}", state.describe())),
             Motion::Stop { optional } => (
                 if optional { "optional stop" } else { "stop" },
                 String::new(),
@@ -619,10 +685,14 @@ impl Segment {
                 "feed_unit": if per_minute { "mm/min" } else { "mm/rev" },
             }),
             Motion::IndexWait => serde_json::json!({ "motion": "index-wait" }),
-            Motion::Coolant { mist, flood } => serde_json::json!({
-                "motion": "coolant",
-                "mist": mist,
-                "flood": flood,
+            Motion::State(state) => serde_json::json!({
+                "motion": "state",
+                "mist": state.mist,
+                "flood": state.flood,
+                "spindle": dir(state.direction),
+                "speed": state.speed,
+                "surface_speed": state.surface_speed.is_some(),
+                "rpm_limit": state.surface_speed.flatten().map(|l| l as f64 / 1000.0),
             }),
             Motion::Stop { optional } => serde_json::json!({
                 "motion": if optional { "optional-stop" } else { "stop" },
@@ -646,7 +716,7 @@ pub fn simulate(program: &Program) -> Simulation {
         per_minute: false,
         direction: None,
         sync_end: None,
-        coolant: (false, false),
+        state: MachineState::default(),
         out: Simulation::default(),
     };
     for item in &program.items {

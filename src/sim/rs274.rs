@@ -49,6 +49,10 @@ pub enum Canon {
     FeedPerRev(bool),
     /// USE_LENGTH_UNITS: inches when true (the calls' lengths are then in inches).
     Inches(bool),
+    /// SET_SPINDLE_SPEED: rpm, or m/min under a surface speed.
+    SpindleSpeed(f64),
+    /// SET_SPINDLE_MODE: 0 for rpm, else a surface speed with this rpm limit (1e30: none).
+    SpindleMode(f64),
     /// MIST_ON / MIST_OFF
     Mist(bool),
     /// FLOOD_ON / FLOOD_OFF
@@ -108,6 +112,9 @@ pub fn parse_canon(line: &str) -> Option<Canon> {
         "SET_FEED_RATE" => Canon::FeedRate(arg(0)?),
         "SET_FEED_MODE" => Canon::FeedPerRev(arg(1).is_some_and(|m| m == 1.0)),
         "USE_LENGTH_UNITS" => Canon::Inches(rest.contains("INCHES")),
+        "SET_SPINDLE_SPEED" => Canon::SpindleSpeed(arg(1)?),
+        // `SET_SPINDLE_MODE(0 2500.0000)`: the spindle, then the mode (no comma).
+        "SET_SPINDLE_MODE" => Canon::SpindleMode(arg(1)?),
         "MIST_ON" => Canon::Mist(true),
         "MIST_OFF" => Canon::Mist(false),
         "FLOOD_ON" => Canon::Flood(true),
@@ -216,7 +223,7 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
     let (mut feed, mut per_rev) = (0.0, false);
     let mut out = Vec::new();
     let mut scale = 1.0;
-    let mut coolant = (false, false);
+    let mut state = super::MachineState::default();
     let event = |motion, at: Pos| Segment {
         motion,
         from: at,
@@ -340,22 +347,40 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
             }
             Canon::SyncStart { k: new } => k = Some(new),
             Canon::SyncStop => k = None,
-            Canon::SpindleClockwise => direction = Some(SpindleDirection::Clockwise),
-            Canon::SpindleCounterClockwise => direction = Some(SpindleDirection::CounterClockwise),
-            Canon::SpindleStop => direction = None,
+            Canon::SpindleClockwise
+            | Canon::SpindleCounterClockwise
+            | Canon::SpindleStop
+            | Canon::SpindleSpeed(_)
+            | Canon::SpindleMode(_)
+            | Canon::Mist(_)
+            | Canon::Flood(_) => {
+                let mut next = state;
+                match *c {
+                    Canon::SpindleClockwise => {
+                        direction = Some(SpindleDirection::Clockwise);
+                    }
+                    Canon::SpindleCounterClockwise => {
+                        direction = Some(SpindleDirection::CounterClockwise);
+                    }
+                    Canon::SpindleStop => direction = None,
+                    Canon::SpindleSpeed(v) => next.speed = Some(v.round() as u32),
+                    Canon::SpindleMode(v) => {
+                        next.surface_speed = (v != 0.0)
+                            .then(|| (v < 1e29).then(|| (v * 1000.0).round() as i64));
+                    }
+                    Canon::Mist(on) => next.mist = on,
+                    Canon::Flood(on) => next.flood = on,
+                    _ => {}
+                }
+                next.direction = direction;
+                if next != state {
+                    state = next;
+                    out.push(event(Motion::State(state), pos));
+                }
+            }
             Canon::FeedRate(f) => feed = f,
             Canon::FeedPerRev(p) => per_rev = p,
             Canon::Inches(inch) => scale = if inch { 25.4 } else { 1.0 },
-            Canon::Mist(on) => {
-                coolant.0 = on;
-                let (mist, flood) = coolant;
-                out.push(event(Motion::Coolant { mist, flood }, pos));
-            }
-            Canon::Flood(on) => {
-                coolant.1 = on;
-                let (mist, flood) = coolant;
-                out.push(event(Motion::Coolant { mist, flood }, pos));
-            }
             Canon::Stop(optional) => out.push(event(Motion::Stop { optional }, pos)),
             Canon::Dwell(seconds) => {
                 let time = (seconds * 10_000.0).round() as i64;
@@ -506,7 +531,10 @@ mod tests {
             },
             Canon::SyncStop,
         ];
-        let s = segments(&canon);
+        let s: Vec<Segment> = segments(&canon)
+            .into_iter()
+            .filter(|s| s.motion.moves())
+            .collect();
         assert!(matches!(
             s[1].motion,
             Motion::SyncRadial {

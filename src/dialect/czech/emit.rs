@@ -396,6 +396,9 @@ impl Emitter<'_> {
             | ItemKind::Dwell { .. }
             | ItemKind::Arc { .. }
             | ItemKind::Stop { .. } => {}
+            // Speeds in rpm are this control's only mode; a surface speed is refused by
+            // legalisation.
+            ItemKind::SpindleMode(_) => {}
             // Written where the profile declares the codes; legalisation refuses the rest.
             ItemKind::Coolant(c) => block.words.push(
                 match c {

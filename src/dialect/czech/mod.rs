@@ -148,6 +148,7 @@ impl Dialect for Czech {
                     row(MistCoolant, Read::No, Write::No(codes::CZW_NO_EQUIVALENT))
                 },
                 row(Stop, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
+                row(SurfaceSpeed, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
                 row(Tapping, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
                 row(Dwell, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
                 row(PerMinuteFeed, Read::Yes("G94"), Write::Yes("G94")),
@@ -175,6 +176,11 @@ impl Dialect for Czech {
                 codes::CZW_NO_EQUIVALENT,
                 "mist coolant (M7) has no form that the czech seed documents",
                 "if the machine's manual gives M07, set `mist = \"m07\"` (with `coolant = \"m08-m09\"`) in the profile's [czech] section",
+            ),
+            Construct::SurfaceSpeed => (
+                codes::CZW_NO_EQUIVALENT,
+                "a constant surface speed (G96) has no form that the czech seed documents",
+                "ncthread does not yet take a surface speed form from the machine profile; program the speed in rpm (G97 S…) in the source",
             ),
             Construct::Stop => (
                 codes::CZW_NO_EQUIVALENT,

@@ -6,7 +6,7 @@ use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::write::Writer;
 use crate::fixed::{Angle, Length};
 use crate::ir::{
-    Coolant, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, SyncStart,
+    Coolant, SpindleMode, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, SyncStart,
     TapCycle, ThreadCycle, ThreadPass,
 };
 use crate::lower::{self, SyncSegment};
@@ -34,6 +34,8 @@ struct Emitter<'a> {
     /// The last speed and the direction while the spindle turns.
     speed: Option<u32>,
     turning: Option<SpindleDirection>,
+    /// The spindle item after a G96 went on the G96 line.
+    spindle_on_g96: bool,
 }
 
 /// Writes `program` (read from `src`) as ISO G-code. `None` when any
@@ -51,6 +53,7 @@ pub fn emit(
         m6_stopped: false,
         speed: None,
         turning: None,
+        spindle_on_g96: false,
     };
     e.w.out.push_str("%\n");
     // A program ncthread wrote keeps its header (where it came from), so that converting
@@ -223,6 +226,8 @@ impl Emitter<'_> {
             ItemKind::ThreadPass(pass) => self.thread_pass(item, pass),
             ItemKind::ThreadCycle(cycle) => self.thread_cycle(item, cycle),
             ItemKind::TapCycle(tap) => self.tap_cycle(item, tap),
+            // Written on the G96 line before it.
+            ItemKind::Spindle { .. } if std::mem::take(&mut self.spindle_on_g96) => {}
             ItemKind::Spindle { speed, direction } => {
                 if speed.is_some() {
                     self.speed = *speed;
@@ -231,6 +236,42 @@ impl Emitter<'_> {
                     self.turning = *direction;
                 }
                 self.line(&spindle_words(*speed, *direction));
+            }
+            ItemKind::SpindleMode(SpindleMode::Rpm) => self.line("G97"),
+            // LinuxCNC wants S on the G96 line: the speed item that follows goes there.
+            ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit }) => {
+                let mut text = "G96".to_string();
+                if let Some(d) = limit {
+                    let _ = write!(text, " D{d}");
+                }
+                match next.map(|n| &n.kind) {
+                    Some(ItemKind::Spindle {
+                        speed: Some(s),
+                        direction,
+                    }) => {
+                        self.speed = Some(*s);
+                        if direction.is_some() {
+                            self.turning = *direction;
+                        }
+                        let _ = write!(text, " {}", spindle_words(Some(*s), *direction));
+                        self.spindle_on_g96 = true;
+                    }
+                    _ => match self.speed {
+                        Some(s) => {
+                            let _ = write!(text, " S{s}");
+                        }
+                        None => {
+                            self.diag(
+                                codes::ISOW_UNKNOWN_START,
+                                item,
+                                "G96 with no surface speed to write (LinuxCNC needs S on the G96 line)",
+                                "give the surface speed with S on the line that sets the mode",
+                            );
+                            return;
+                        }
+                    },
+                }
+                self.line(&text);
             }
             // LinuxCNC's M6 has just stopped the spindle (the iso reader notes that stop).
             ItemKind::SpindleStop if m6_stopped => {}

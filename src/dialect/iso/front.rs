@@ -18,7 +18,7 @@ use crate::dialect::read::{Reader, UnsupportedWording};
 use crate::dialect::{Unsupported, WORD_REPORTS, budget};
 use crate::fixed::{Angle, Decimal, Lead, Length, div_round};
 use crate::ir::{
-    Coolant, CycleChamfer, Degression, EndCode, FeedMode, Finish, IjkScale, ItemKind, ModalContext,
+    Coolant, CycleChamfer, Degression, SpindleMode, EndCode, FeedMode, Finish, IjkScale, ItemKind, ModalContext,
     Pos, Program, Retract, Rise, Schedule, Slope, SpindleDirection, SyncInfeed, SyncStart,
     TapCycle, ThreadCycle, ThreadPass,
 };
@@ -68,6 +68,8 @@ struct FrontEnd<'a> {
     diameter_before_line: bool,
     inch: bool,
     incremental: bool,
+    /// G96 in force (S is a surface speed).
+    surface_speed: bool,
     /// G90.1: I and K give the arc centre itself; G91.1 (LinuxCNC's start-up mode): its
     /// offset from the arc's start.
     absolute_centres: bool,
@@ -98,6 +100,7 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         diameter_before_line: false,
         inch: false,
         incremental: false,
+        surface_speed: false,
         absolute_centres: false,
         feed: None,
         feed_mode: None,
@@ -233,10 +236,10 @@ enum Meaning {
 fn g_meaning(code: GCode) -> Meaning {
     match code {
         G0 | G1 | G2 | G3 | G33 | G33_1 | G76 | G4 | G7 | G8 | G18 | G20 | G21 | G43 | G90
-        | G91 | G90_1 | G91_1 | G94 | G95 => Meaning::Known,
+        | G91 | G90_1 | G91_1 | G94 | G95 | G96 | G97 => Meaning::Known,
         // Cutter compensation off, tool length offset off, the default work offset, exact
         // path / blending, canned cycle off, rpm mode.
-        G40 | G49 | G54 | G61 | G61_1 | G64 | G80 | G97 => Meaning::Kept,
+        G40 | G49 | G54 | G61 | G61_1 | G64 | G80 => Meaning::Kept,
         G17 | G19 | G17_1 | G18_1 | G19_1 => Meaning::Unsupported("planes other than ZX (G18)"),
         G41 | G42 | G41_1 | G42_1 => Meaning::Unsupported("cutter radius compensation"),
         G55..=G59_3 | G10 | G92..=G92_3 | G53 => {
@@ -244,7 +247,6 @@ fn g_meaning(code: GCode) -> Meaning {
         }
         G28 | G28_1 | G30 | G30_1 => Meaning::Unsupported("homing and reference points"),
         G93 => Meaning::Unsupported("inverse-time feed (G93)"),
-        G96 => Meaning::Unsupported("constant surface speed (G96)"),
         G70 | G71 | G71_1 | G72 | G72_1 => Meaning::Unsupported("roughing and finishing cycles"),
         G81..=G89 | G73 | G74 => Meaning::Unsupported("drilling and boring cycles"),
         _ => Meaning::Unsupported("this G code"),
@@ -680,6 +682,50 @@ impl FrontEnd<'_> {
             } else {
                 self.feed = Some(feed);
             }
+        }
+        // The spindle mode comes before S in LinuxCNC's order; G96 needs S on its line and
+        // is read in millimetres only (its S is ft/min under G20).
+        if let Some(g96) = words.has_g(G96) {
+            if !words.other.contains_key(&'S') {
+                self.missing(
+                    line,
+                    g96,
+                    "G96 without S (LinuxCNC: \"S word missing with G96\")".into(),
+                    "give the surface speed on the G96 line: `G96 D2500 S200` (m/min, D the rpm limit)",
+                );
+                return;
+            }
+            if self.inch {
+                let text = &line.text[g96.range.clone()];
+                self.diag(
+                    codes::ISOR_UNSUPPORTED,
+                    line,
+                    g96.range.clone(),
+                    format!("`{text}` under G20: a surface speed in feet per minute is not read by ncthread"),
+                    "program the part in millimetres (G21), or pass --unsupported warn to keep the line opaque",
+                );
+                return;
+            }
+            let limit = words.take('D').map(|d| d.value);
+            if let Some(d) = limit.filter(|d| d.is_negative()) {
+                let _ = d;
+                self.missing(
+                    line,
+                    g96,
+                    "G96 with a negative D (the rpm limit)".into(),
+                    "D is the highest spindle speed in rpm",
+                );
+                return;
+            }
+            self.surface_speed = true;
+            self.push(
+                ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit }),
+                span,
+            );
+        }
+        if words.has_g(G97).is_some() {
+            self.surface_speed = false;
+            self.push(ItemKind::SpindleMode(SpindleMode::Rpm), span);
         }
         let speed = match words.take('S') {
             Some(s) => self.whole(line, s, "spindle speed"),

@@ -148,6 +148,11 @@ impl Dialect for Iso {
                 row(Coolant, Read::Yes("M8/M9"), Write::Yes("M8/M9")),
                 row(MistCoolant, Read::Yes("M7"), Write::Yes("M7")),
                 row(Stop, Read::Yes("M0/M1"), Write::Yes("M0/M1")),
+                row(
+                    SurfaceSpeed,
+                    Read::Yes("G96 D S, G97"),
+                    Write::Yes("G96 D S, G97"),
+                ),
                 row(PerMinuteFeed, Read::Yes("G94"), Write::Yes("G94")),
                 row(ToolOffset, Read::Yes("G43 H"), Write::Yes("G43 H")),
                 row(Parameters, Read::No, Write::As("writes them as comments")),

@@ -353,6 +353,9 @@ impl Emitter<'_> {
             | ItemKind::Arc { .. }
             | ItemKind::Stop { .. }
             | ItemKind::Coolant(Coolant::Mist) => {}
+            // Speeds in rpm are this control's only mode; a surface speed is refused by
+            // legalisation.
+            ItemKind::SpindleMode(_) => {}
             // M8/M9 where the profile declares them; legalisation refuses them otherwise.
             ItemKind::Coolant(c) => group.push(
                 if *c == Coolant::Flood { "M8" } else { "M9" }.to_string(),

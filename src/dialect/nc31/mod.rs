@@ -163,6 +163,7 @@ impl Dialect for Nc31 {
                 },
                 row(MistCoolant, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
                 row(Stop, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
+                row(SurfaceSpeed, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
                 row(PerMinuteFeed, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
                 row(
                     ToolOffset,
@@ -197,6 +198,10 @@ impl Dialect for Nc31 {
             Construct::MistCoolant => (
                 "mist coolant (M7) has no documented form on the НЦ-31",
                 "the НЦ-31 switches one coolant circuit (M8/M9 where the profile enables it); program flood coolant in the source",
+            ),
+            Construct::SurfaceSpeed => (
+                "a constant surface speed (G96) has no documented form on the НЦ-31",
+                "the НЦ-31 turns at S rpm in a speed range; program the speed in rpm (G97 S…) in the source",
             ),
             Construct::Stop => (
                 "a program stop (M0/M1) has no documented form on the НЦ-31",
