@@ -58,7 +58,8 @@ impl Length {
     /// Half of this length in mm, exactly (a diameter's radius: a fifth decimal when it
     /// falls between two grid steps): `Length(3)` → `0.00015`.
     pub fn half_mm(self) -> String {
-        format_scaled(self.0 * 5, Self::DECIMALS + 1, Trailing::None)
+        // Lengths are at most about 10^11 mm (10^15 units): five times that fits.
+        format_scaled(self.0.saturating_mul(5), Self::DECIMALS + 1, Trailing::None)
     }
 }
 

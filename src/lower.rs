@@ -1049,7 +1049,20 @@ pub mod arc {
         clockwise: bool,
         tolerance: f64,
     ) -> Result<Pos, f64> {
-        let (s, e) = (plane(start), plane(end));
+        let mm = |p: (Length, Length)| (p.0.to_mm_f64(), p.1.to_mm_f64());
+        centre_from_radius_mm(mm(start), mm(end), radius, clockwise, tolerance)
+            .map(|(x, z)| Pos::new(Length::from_mm_f64(x), Length::from_mm_f64(z)))
+    }
+
+    /// [`centre_from_radius`] on exact values in mm ((X diameter, Z)), not rounded.
+    pub fn centre_from_radius_mm(
+        start: (f64, f64),
+        end: (f64, f64),
+        radius: f64,
+        clockwise: bool,
+        tolerance: f64,
+    ) -> Result<(f64, f64), f64> {
+        let (s, e) = ((start.1, start.0 / 2.0), (end.1, end.0 / 2.0));
         let abs_radius = radius.abs();
         let mid = ((s.0 + e.0) / 2.0, (s.1 + e.1) / 2.0);
         let mut half = (mid.0 - e.0).hypot(mid.1 - e.1);
@@ -1069,10 +1082,7 @@ pub mod arc {
         let offset = abs_radius * (half / abs_radius).asin().cos();
         let offset = if offset.is_finite() { offset } else { 0.0 };
         let (cz, cx) = (mid.0 + offset * theta.cos(), mid.1 + offset * theta.sin());
-        Ok(Pos::new(
-            Length::from_mm_f64(2.0 * cx),
-            Length::from_mm_f64(cz),
-        ))
+        Ok((2.0 * cx, cz))
     }
 
     /// The radius at the start and at the end (mm) of the arc around `centre`.
@@ -1081,8 +1091,14 @@ pub mod arc {
         end: (Length, Length),
         centre: (Length, Length),
     ) -> (f64, f64) {
-        let (s, e, c) = (plane(start), plane(end), plane(centre));
-        ((s.0 - c.0).hypot(s.1 - c.1), (e.0 - c.0).hypot(e.1 - c.1))
+        let mm = |p: (Length, Length)| (p.0.to_mm_f64(), p.1.to_mm_f64());
+        radii_mm(mm(start), mm(end), mm(centre))
+    }
+
+    /// [`radii`] on exact values in mm ((X diameter, Z)).
+    pub fn radii_mm(start: (f64, f64), end: (f64, f64), centre: (f64, f64)) -> (f64, f64) {
+        let r = |p: (f64, f64)| ((p.0 - centre.0) / 2.0).hypot(p.1 - centre.1);
+        (r(start), r(end))
     }
 
     /// Whether the arc from `start` to `end` around `centre` turns the given way within one

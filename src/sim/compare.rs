@@ -697,8 +697,11 @@ mod tests {
                 ..Default::default()
             }))
         };
-        let d = compare(&[spindle(Some(Some(2_500_000))), feed], &[spindle(None), feed])
-            .expect("differs");
+        let d = compare(
+            &[spindle(Some(Some(2_500_000))), feed],
+            &[spindle(None), feed],
+        )
+        .expect("differs");
         assert!(d.what.contains("surface speed"), "{}", d.what);
         let dwell = |t| at(Motion::Dwell { time: t });
         assert!(compare(&[dwell(2_500)], &[dwell(2_500)]).is_none());

@@ -109,7 +109,10 @@ impl MachineState {
             (s, Some(limit)) => format!(
                 " at a surface speed of {} m/min{}",
                 s.map_or("?".into(), |s| s.to_string()),
-                limit.map_or(String::new(), |l| format!(" up to {} rpm", Length(l * 10).mm()))
+                limit.map_or(String::new(), |l| format!(
+                    " up to {} rpm",
+                    Length(l * 10).mm()
+                ))
             ),
         };
         format!("{coolant}, {spindle}{speed}")

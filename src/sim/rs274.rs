@@ -365,8 +365,8 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
                     Canon::SpindleStop => direction = None,
                     Canon::SpindleSpeed(v) => next.speed = Some(v.round() as u32),
                     Canon::SpindleMode(v) => {
-                        next.surface_speed = (v != 0.0)
-                            .then(|| (v < 1e29).then(|| (v * 1000.0).round() as i64));
+                        next.surface_speed =
+                            (v != 0.0).then(|| (v < 1e29).then(|| (v * 1000.0).round() as i64));
                     }
                     Canon::Mist(on) => next.mist = on,
                     Canon::Flood(on) => next.flood = on,

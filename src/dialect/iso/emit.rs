@@ -6,8 +6,8 @@ use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::write::Writer;
 use crate::fixed::{Angle, Length};
 use crate::ir::{
-    Coolant, SpindleMode, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, SyncStart,
-    TapCycle, ThreadCycle, ThreadPass,
+    Coolant, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, SpindleMode,
+    SyncStart, TapCycle, ThreadCycle, ThreadPass,
 };
 use crate::lower::{self, SyncSegment};
 use crate::profile::{Profile, ToolChange};

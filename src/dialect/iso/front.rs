@@ -18,9 +18,9 @@ use crate::dialect::read::{Reader, UnsupportedWording};
 use crate::dialect::{Unsupported, WORD_REPORTS, budget};
 use crate::fixed::{Angle, Decimal, Lead, Length, div_round};
 use crate::ir::{
-    Coolant, CycleChamfer, Degression, SpindleMode, EndCode, FeedMode, Finish, IjkScale, ItemKind, ModalContext,
-    Pos, Program, Retract, Rise, Schedule, Slope, SpindleDirection, SyncInfeed, SyncStart,
-    TapCycle, ThreadCycle, ThreadPass,
+    Coolant, CycleChamfer, Degression, EndCode, FeedMode, Finish, IjkScale, ItemKind, ModalContext,
+    Pos, Program, Retract, Rise, Schedule, Slope, SpindleDirection, SpindleMode, SyncInfeed,
+    SyncStart, TapCycle, ThreadCycle, ThreadPass,
 };
 use crate::lower;
 use crate::source::{Line, SourceFile, Span};
@@ -70,6 +70,13 @@ struct FrontEnd<'a> {
     incremental: bool,
     /// G96 in force (S is a surface speed).
     surface_speed: bool,
+    /// The position as written (mm, X a diameter), before it was rounded onto the grid:
+    /// incremental moves add to it and arcs are computed from it, so that a value is rounded
+    /// once, as LinuxCNC computes in doubles. An axis that does not round to the known
+    /// position is stale (a move that did not set it) and not used.
+    exact: (Option<f64>, Option<f64>),
+    /// The exact target of the line's X and Z words, as `target` read them.
+    exact_target: (Option<f64>, Option<f64>),
     /// G90.1: I and K give the arc centre itself; G91.1 (LinuxCNC's start-up mode): its
     /// offset from the arc's start.
     absolute_centres: bool,
@@ -101,6 +108,8 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         inch: false,
         incremental: false,
         surface_speed: false,
+        exact: (None, None),
+        exact_target: (None, None),
         absolute_centres: false,
         feed: None,
         feed_mode: None,
@@ -495,10 +504,16 @@ impl FrontEnd<'_> {
         }
         // One code of each modal group per line (LinuxCNC's read_g and read_m), even the same
         // code twice.
-        let g_groups: [(&str, &[GCode], &str); 7] = [
+        let g_groups: [(&str, &[GCode], &str); 9] = [
             ("motion", &MOTION, "one motion code per line"),
             ("units", &[G20, G21], "one of G20, G21 per line"),
             ("distance", &[G90, G91], "one of G90, G91 per line"),
+            (
+                "arc distance",
+                &[G90_1, G91_1],
+                "one of G90.1, G91.1 per line",
+            ),
+            ("spindle mode", &[G96, G97], "one of G96, G97 per line"),
             ("feed mode", &[G94, G95], "one of G94, G95 per line"),
             ("diameter mode", &[G7, G8], "one of G7, G8 per line"),
             ("dwell", &[G4], "one G4 per line"),
@@ -973,8 +988,32 @@ impl FrontEnd<'_> {
     }
 
     /// X and Z of the line as an absolute target (diameter), or `None` after an error.
+    /// The exact start of a move: [`FrontEnd::exact`] where it agrees with the known
+    /// position, else the known position.
+    fn exact_start(&self) -> (Option<f64>, Option<f64>) {
+        let pick = |exact: Option<f64>, known: Option<Length>| match (exact, known) {
+            (Some(e), Some(k)) if (Length::from_mm_f64(e) - k).abs() <= Length(1) => Some(e),
+            (_, k) => k.map(Length::to_mm_f64),
+        };
+        (
+            pick(self.exact.0, self.r.pos.x),
+            pick(self.exact.1, self.r.pos.z),
+        )
+    }
+
+    /// Where a move leaves the exact position: its target's axes, the others as they were.
+    fn exact_after_move(&mut self, start: (Option<f64>, Option<f64>)) {
+        self.exact = (
+            self.exact_target.0.or(start.0),
+            self.exact_target.1.or(start.1),
+        );
+    }
+
     fn target(&mut self, line: Line<'_>, words: &mut Words<'_>) -> Option<Pos> {
         let mut to = Pos::UNKNOWN;
+        let start = self.exact_start();
+        let unit = if self.inch { 25.4 } else { 1.0 };
+        self.exact_target = (None, None);
         if let Some(w) = words.take('X') {
             let v = self.length(line, w)?;
             let diameter = match self.diameter {
@@ -994,25 +1033,32 @@ impl FrontEnd<'_> {
                 }
             };
             let v = if diameter { v } else { v + v };
-            to.x = Some(if self.incremental {
-                match self.r.pos.x {
-                    Some(x) => x + v,
+            let exact = w.value.to_f64() * unit * if diameter { 1.0 } else { 2.0 };
+            // An increment is added to the exact position, then rounded: once.
+            let (x, exact) = if self.incremental {
+                match start.0 {
+                    Some(s) => (Length::from_mm_f64(s + exact), s + exact),
                     None => return self.unknown(line, w),
                 }
             } else {
-                v
-            });
+                (v, exact)
+            };
+            to.x = Some(x);
+            self.exact_target.0 = Some(exact);
         }
         if let Some(w) = words.take('Z') {
             let v = self.length(line, w)?;
-            to.z = Some(if self.incremental {
-                match self.r.pos.z {
-                    Some(z) => z + v,
+            let exact = w.value.to_f64() * unit;
+            let (z, exact) = if self.incremental {
+                match start.1 {
+                    Some(s) => (Length::from_mm_f64(s + exact), s + exact),
                     None => return self.unknown(line, w),
                 }
             } else {
-                v
-            });
+                (v, exact)
+            };
+            to.z = Some(z);
+            self.exact_target.1 = Some(exact);
         }
         Some(to)
     }
@@ -1054,12 +1100,15 @@ impl FrontEnd<'_> {
             .map(|(_, w)| *w);
         match motion {
             Motion::Rapid => {
+                let start = self.exact_start();
                 if let Some(to) = self.target(line, words) {
                     self.push(ItemKind::Rapid { to }, span);
                     self.r.pos = ItemKind::Rapid { to }.end_position(self.r.pos);
+                    self.exact_after_move(start);
                 }
             }
             Motion::Feed => {
+                let start = self.exact_start();
                 let axis = words.other.get(&'X').or(words.other.get(&'Z')).copied();
                 let Some(to) = self.target(line, words) else {
                     return;
@@ -1069,6 +1118,7 @@ impl FrontEnd<'_> {
                 };
                 self.push(ItemKind::Feed { to, feed }, span);
                 self.r.pos = ItemKind::Feed { to, feed }.end_position(self.r.pos);
+                self.exact_after_move(start);
             }
             Motion::Arc { clockwise } => self.arc(line, words, code_word, span, clockwise),
             Motion::Thread => self.thread(line, words, code_word, span),
@@ -1135,15 +1185,23 @@ impl FrontEnd<'_> {
             words.take('P'),
         );
         let at = code_word.or(axis).or(i).or(k).or(r);
+        if let Some(g4) = words.has_g(G4) {
+            return self.arc_error(
+                line,
+                Some(g4),
+                format!("G4 on the line of a {g} (LinuxCNC: \"G4 not allowed with G2 or G3 because they both use P\")"),
+                "put the dwell on a line of its own",
+            );
+        }
+        let start_exact = self.exact_start();
         let Some(target) = self.target(line, words) else {
             return;
         };
         let Some(feed) = self.feed_rate(line, at, g, span) else {
             return;
         };
-        let Some((sx, sz)) = self.r.pos.known() else {
-            let w = at;
-            let range = w.map_or(0..line.text.len(), |w| w.range.clone());
+        let (Some((sx, sz)), (Some(sx_e), Some(sz_e))) = (self.r.pos.known(), start_exact) else {
+            let range = at.map_or(0..line.text.len(), |w| w.range.clone());
             self.diag(
                 codes::ISOR_UNKNOWN_POSITION,
                 line,
@@ -1154,40 +1212,48 @@ impl FrontEnd<'_> {
             return;
         };
         if let Some(p) = p {
-            match p.value.to_whole() {
-                Ok(1) => {}
-                Ok(n) if n > 1 => {
-                    let text = &line.text[p.range.clone()];
-                    self.diag(
-                        codes::ISOR_UNSUPPORTED,
-                        line,
-                        p.range.clone(),
-                        format!("`{text}`: an arc of more than one turn is not read by ncthread"),
-                        "write the turns as separate arcs, or pass --unsupported warn to keep the line opaque",
-                    );
-                    return;
-                }
-                _ => {
-                    return self.arc_error(
-                        line,
-                        Some(p),
-                        format!("{g} P must be a whole number of turns, 1 or more (LinuxCNC: \"P value should be 1 or greater with G2 or G3\")"),
-                        "leave P out for an arc of less than one turn",
-                    );
-                }
+            // LinuxCNC takes P within 0.001 of a whole number as that number.
+            let turns = p.value.to_f64();
+            let whole = turns.round();
+            if (turns - whole).abs() > 0.001 || whole < 1.0 {
+                return self.arc_error(
+                    line,
+                    Some(p),
+                    format!("{g} P must be a whole number of turns, 1 or more (LinuxCNC: \"P value not an integer with M19 G2 or G3\" or \"P value should be 1 or greater with G2 or G3\")"),
+                    "leave P out for an arc of less than one turn",
+                );
+            }
+            if whole > 1.0 {
+                let text = &line.text[p.range.clone()];
+                self.diag(
+                    codes::ISOR_UNSUPPORTED,
+                    line,
+                    p.range.clone(),
+                    format!("`{text}`: an arc of more than one turn is not read by ncthread"),
+                    "write the turns as separate arcs, or pass --unsupported warn to keep the line opaque",
+                );
+                return;
             }
         }
         let end = Pos::new(target.x.unwrap_or(sx), target.z.unwrap_or(sz));
         let (ex, ez) = (end.x.unwrap_or(sx), end.z.unwrap_or(sz));
+        // The exact values (mm, X a diameter) that LinuxCNC computes with.
+        let (s_e, e_e) = (
+            (sx_e, sz_e),
+            (
+                self.exact_target.0.unwrap_or(sx_e),
+                self.exact_target.1.unwrap_or(sz_e),
+            ),
+        );
         // RADIUS_TOLERANCE (0.00005 in, 0.00127 mm) and CENTER_ARC_RADIUS_TOLERANCE
-        // (2·0.001·√2 in, 2·0.01·√2 mm); relative 0.001.
+        // (2·0.001·√2 in, 2·0.01·√2 mm); relative 0.001. ncthread's output is in mm: an
+        // arc that only the inch tolerance lets through cannot be written, so the mm one
+        // applies too.
         let radius_tolerance = 0.00127;
-        let spiral_tolerance = if self.inch {
-            2.0 * 0.001 * std::f64::consts::SQRT_2 * 25.4
-        } else {
-            2.0 * 0.01 * std::f64::consts::SQRT_2
-        };
-        let centre = match (r, i.is_some() || k.is_some()) {
+        let spiral_tolerance = 2.0 * 0.01 * std::f64::consts::SQRT_2;
+        let spiral_tolerance_in = 2.0 * 0.001 * std::f64::consts::SQRT_2 * 25.4;
+        let unit = if self.inch { 25.4 } else { 1.0 };
+        let centre_exact = match (r, i.is_some() || k.is_some()) {
             (Some(_), true) => {
                 return self.arc_error(
                     line,
@@ -1217,7 +1283,7 @@ impl FrontEnd<'_> {
                         "an R arc cannot be a full circle: give its end point",
                     );
                 }
-                if (sx, sz) == (ex, ez) {
+                if s_e == e_e {
                     return self.arc_error(
                         line,
                         Some(r),
@@ -1225,21 +1291,49 @@ impl FrontEnd<'_> {
                         "an R arc cannot be a full circle: write it with I and K",
                     );
                 }
-                let radius = r.value.to_f64() * if self.inch { 25.4 } else { 1.0 };
-                match lower::arc::centre_from_radius(
-                    (sx, sz),
-                    (ex, ez),
+                if (sx, sz) == (ex, ez) {
+                    return self.arc_error(
+                        line,
+                        Some(r),
+                        format!("{g} R ends within 0.0001 mm of its start: on ncthread's grid that is a full circle, which an R arc cannot be"),
+                        "write the arc with I and K, or end it on the grid",
+                    );
+                }
+                let radius = r.value.to_f64() * unit;
+                if radius.abs() < radius_tolerance {
+                    let text = &line.text[r.range.clone()];
+                    return self.arc_error(
+                        line,
+                        Some(r),
+                        format!("`{text}`: a radius under 0.00127 mm, which ncthread would write as a centre arc that LinuxCNC refuses as zero-radius"),
+                        "leave the arc out, or give it a real radius",
+                    );
+                }
+                if !radius.is_finite() || radius.abs() > 1e6 {
+                    return self.number_error(
+                        line,
+                        r,
+                        format!(
+                            "`{}` is too large for an arc radius",
+                            &line.text[r.range.clone()]
+                        ),
+                        "an arc radius is at most 1,000,000 mm",
+                    );
+                }
+                match lower::arc::centre_from_radius_mm(
+                    s_e,
+                    e_e,
                     radius,
                     clockwise,
                     radius_tolerance,
                 ) {
-                    Ok(centre) => centre,
+                    Ok(c) => c,
                     Err(chord) => {
                         let text = &line.text[r.range.clone()];
                         return self.arc_error(
                             line,
                             Some(r),
-                            format!("`{text}` is too small for the arc: its end is {chord} mm from its start (LinuxCNC: \"Arc radius too small to reach end point\")"),
+                            format!("`{text}` is too small for the arc: its end is {chord:.5} mm from its start (LinuxCNC: \"Arc radius too small to reach end point\")"),
                             "the radius must be at least half the distance from the start to the end",
                         );
                     }
@@ -1258,51 +1352,101 @@ impl FrontEnd<'_> {
                         }
                     }
                 }
-                // I is a radius: doubled before it is rounded, so that the centre's
-                // diameter is exact to the grid.
-                let mut value = |w: Option<&Word>, times| match w {
-                    Some(w) => self.length_times(line, w, times).map(Some),
-                    None => Some(None),
-                };
-                let (Some(i2), Some(kv)) = (value(i, 2), value(k, 1)) else {
-                    return;
-                };
-                let (i2, kv) = (i2.unwrap_or(Length::ZERO), kv.unwrap_or(Length::ZERO));
-                let centre = if self.absolute_centres {
-                    Pos::new(i2, kv)
+                // Range checks (and the rounding warning) as for every length word.
+                for w in [i, k].into_iter().flatten() {
+                    if self.length_times(line, w, 2).is_none() {
+                        return;
+                    }
+                }
+                // I is a radius: the centre's diameter is twice it.
+                let value = |w: Option<&Word>| w.map_or(0.0, |w| w.value.to_f64() * unit);
+                let (i_e, k_e) = (2.0 * value(i), value(k));
+                if self.absolute_centres {
+                    (i_e, k_e)
                 } else {
-                    Pos::new(sx + i2, sz + kv)
-                };
-                let (Some(cx), Some(cz)) = (centre.x, centre.z) else {
-                    return;
-                };
-                let (r1, r2) = lower::arc::radii((sx, sz), (ex, ez), (cx, cz));
-                if r1 < radius_tolerance || r2 < radius_tolerance {
-                    return self.arc_error(
-                        line,
-                        at,
-                        format!("{g} with a zero radius: its centre is on its start or its end (LinuxCNC: \"Zero-radius arc\")"),
-                        "check I and K: under G91.1 they are the centre's offset from the start, I in radius",
-                    );
+                    (sx_e + i_e, sz_e + k_e)
                 }
-                let abs_err = (r1 - r2).abs();
-                if abs_err > spiral_tolerance * 100.0
-                    || (abs_err / r1.max(r2) > 0.001 && abs_err > spiral_tolerance)
-                {
-                    return self.arc_error(
-                        line,
-                        at,
-                        format!(
-                            "{g}'s end is not on its circle: the radius is {} mm at the start and {} mm at the end (LinuxCNC: \"Radius to end of arc differs from radius to start\")",
-                            Length::from_mm_f64(r1).mm(),
-                            Length::from_mm_f64(r2).mm()
-                        ),
-                        "check I and K: under G91.1 they are the centre's offset from the start, I in radius (not halved by G7)",
-                    );
-                }
-                centre
             }
         };
+        let (r1, r2) = lower::arc::radii_mm(s_e, e_e, centre_exact);
+        let which = if self.absolute_centres {
+            "G90.1"
+        } else {
+            "G91.1"
+        };
+        if r1 < radius_tolerance || r2 < radius_tolerance {
+            return self.arc_error(
+                line,
+                at,
+                format!("{g} with a zero radius: its centre is on its start or its end (LinuxCNC: \"Zero-radius arc\")"),
+                &format!("check I and K: under {which} they are {}, I in radius", if self.absolute_centres { "the centre itself" } else { "the centre's offset from the start" }),
+            );
+        }
+        let abs_err = (r1 - r2).abs();
+        let rel_err = abs_err / r1.max(r2);
+        let off_circle = |tolerance: f64| {
+            abs_err > tolerance * 100.0 || (rel_err > 0.001 && abs_err > tolerance)
+        };
+        if off_circle(if self.inch {
+            spiral_tolerance_in
+        } else {
+            spiral_tolerance
+        }) {
+            return self.arc_error(
+                line,
+                at,
+                format!(
+                    "{g}'s end is not on its circle: the radius is {r1:.5} mm at the start and {r2:.5} mm at the end (LinuxCNC: \"Radius to end of arc differs from radius to start\")"
+                ),
+                &format!("check I and K: under {which} I is a radius (not halved by G7)"),
+            );
+        }
+        if off_circle(spiral_tolerance) {
+            return self.arc_error(
+                line,
+                at,
+                format!(
+                    "{g}'s end is {abs_err:.4} mm off its circle: LinuxCNC lets that through in inches, not in millimetres, and ncthread writes millimetres"
+                ),
+                "put the end on the circle within 0.028 mm",
+            );
+        }
+        if !(centre_exact.0.is_finite() && centre_exact.1.is_finite())
+            || centre_exact.0.abs() > 1e9
+            || centre_exact.1.abs() > 1e9
+        {
+            return self.arc_error(
+                line,
+                at,
+                format!("{g}'s centre is more than 1,000 km away"),
+                "check I, K or R",
+            );
+        }
+        // The centre, computed from the values as written, rounded once onto the grid.
+        let centre = Pos::new(
+            Length::from_mm_f64(centre_exact.0),
+            Length::from_mm_f64(centre_exact.1),
+        );
+        // What ncthread writes is the rounded arc: it must pass LinuxCNC's checks too (a
+        // value with more than four decimals can sit right at a limit).
+        let (q1, q2) = lower::arc::radii(
+            (sx, sz),
+            (ex, ez),
+            (centre.x.unwrap_or(sx), centre.z.unwrap_or(sz)),
+        );
+        let q_err = (q1 - q2).abs();
+        if q1 < radius_tolerance
+            || q2 < radius_tolerance
+            || q_err > spiral_tolerance * 100.0
+            || (q_err / q1.max(q2) > 0.001 && q_err > spiral_tolerance)
+        {
+            return self.arc_error(
+                line,
+                at,
+                format!("{g} is right at one of LinuxCNC's arc limits: rounded onto ncthread's 0.0001 mm grid (radius {q1:.5} mm at the start, {q2:.5} mm at the end) LinuxCNC would refuse it"),
+                "write the arc's values with at most four decimals in mm, away from the limits (a radius of 0.00127 mm; an end 0.028 mm off the circle)",
+            );
+        }
         let kind = ItemKind::Arc {
             to: end,
             centre,
@@ -1311,6 +1455,7 @@ impl FrontEnd<'_> {
         };
         self.push(kind.clone(), span);
         self.r.pos = kind.end_position(self.r.pos);
+        self.exact_after_move(start_exact);
     }
 
     /// The K word of G33/G33.1 (advance per revolution along the path), positive.
@@ -1928,12 +2073,32 @@ mod tests {
         // Inches: the centre in mm.
         let (_, centre, _) = arc("G20 G7 G0 X1 Z0\nG3 X1 Z-1 K-0.5 F1\n");
         assert_eq!(centre, Pos::new(mm(25.4), mm(-12.7)));
+        // P within 0.001 of 1 is one turn, as in LinuxCNC.
+        let (_, centre, _) = arc("G7 G0 X20 Z0\nG3 X30 Z-5 I0 K-5 P1.0005 F1\n");
+        assert_eq!(centre, Pos::new(mm(20.0), mm(-5.0)));
+        // The R centre is computed from the end as written, not from its rounding: near a
+        // semicircle 0.00004 mm of X moves LinuxCNC's centre 0.007 mm along Z.
+        let (_, centre, _) = arc("G8 G0 X10 Z0\nG2 X20.00004 Z0 R5.00003 F1\n");
+        assert_eq!(centre, Pos::new(mm(30.0), mm(0.01)));
         // A full circle with I/K.
         let (to, centre, _) = arc("G7 G0 X20 Z0\nG2 I-5 F1\n");
         assert_eq!(
             (to, centre),
             (Pos::new(mm(20.0), mm(0.0)), Pos::new(mm(10.0), mm(0.0)))
         );
+    }
+
+    /// Increments add to the position as written and are rounded once: 50 increments of
+    /// 1.00004 mm end at 50.002 mm, not 50 mm.
+    #[test]
+    fn increments_do_not_accumulate_rounding() {
+        let text = format!("G7 G0 X10 Z0\nG91\n{}", "G1 Z-1.00004 F1\n".repeat(50));
+        let (p, _) = run(&text);
+        let end = p
+            .items
+            .iter()
+            .fold(Pos::UNKNOWN, |pos, i| i.kind.end_position(pos));
+        assert_eq!(end.z, Some(mm(-50.002)));
     }
 
     #[test]
@@ -1984,6 +2149,42 @@ mod tests {
             ),
             ("G7 G0 X0 Z0\nG2 X0 Z-10 K-5 P0 F1\n", codes::ISOR_ARC, "P0"),
             ("G2 X0 Z-10 K-5 F1\n", codes::ISOR_UNKNOWN_POSITION, "G2"),
+            // Findings of the differential arc campaign against rs274.
+            (
+                "G7 G0 X20 Z0\nG2 X30 Z-5 R1000000000000000 F1\n",
+                codes::ISOR_NUMBER,
+                "R1000000000000000",
+            ),
+            (
+                "G8 G0 X10 Z0\nG2 X10 Z-0.002 R0.001 F1\n",
+                codes::ISOR_ARC,
+                "R0.001",
+            ),
+            (
+                "G7 G0 X20 Z0\nG2 G4 X30 Z-5 R5 P1 F1\n",
+                codes::ISOR_ARC,
+                "G4",
+            ),
+            (
+                "G7 G0 X20 Z0\nG90.1 G91.1 G2 X30 Z-5 I0 K-5 F1\n",
+                codes::ISOR_CONFLICT,
+                "G91.1",
+            ),
+            (
+                "G7 G0 X20 Z0\nG2 X30 Z-5 I0 K-5 P1.4 F1\n",
+                codes::ISOR_ARC,
+                "P1.4",
+            ),
+            (
+                "G20 G8 G0 X1 Z0\nG2 X1 Z-0.202 I0 K-0.1 F1\n",
+                codes::ISOR_ARC,
+                "G2",
+            ),
+            (
+                "G8 G0 X10 Z0\nG2 X17.09106 Z-17.09106 I0 K-10 F1\n",
+                codes::ISOR_ARC,
+                "G2",
+            ),
             ("G0 Y1\n", codes::ISOR_UNSUPPORTED, "Y1"),
             ("#1 = 2\n", codes::ISOR_UNSUPPORTED, "#1 = 2"),
             ("G0 X1 X2\n", codes::ISOR_CONFLICT, "X2"),
