@@ -145,6 +145,11 @@ pub fn occurrences(program: &Program) -> Vec<Occurrence> {
             ItemKind::SpindleMode(crate::ir::SpindleMode::SurfaceSpeed { .. }) => {
                 out.push(at(Construct::SurfaceSpeed, None))
             }
+            ItemKind::Compensation(c) if *c != crate::ir::Compensation::Off => {
+                out.push(at(Construct::CutterCompensation, None))
+            }
+            ItemKind::WorkOffset(n) if *n != 1 => out.push(at(Construct::WorkOffset, None)),
+            ItemKind::MachineMove(_) => out.push(at(Construct::MachineCoordinates, None)),
             ItemKind::Dwell { .. } => out.push(at(Construct::Dwell, None)),
             ItemKind::FeedMode(mode) => per_minute = *mode == FeedMode::PerMin,
             ItemKind::Feed { .. } if per_minute => out.push(at(Construct::PerMinuteFeed, None)),

@@ -184,9 +184,11 @@ pub struct OracleCheck {
 
 #[derive(Clone, Debug)]
 pub enum OracleOutcome {
+    /// `partial`: compared only up to where ncthread stops knowing the position.
     Equivalent {
         segments: usize,
         deviation: fixed::Length,
+        partial: bool,
     },
     Different(Box<sim::Difference>),
     /// rs274 refused the program or could not be run.
@@ -209,9 +211,11 @@ fn oracle_check(
             sim::rs274::Judgement::Agrees {
                 segments,
                 deviation,
+                partial,
             } => OracleOutcome::Equivalent {
                 segments,
                 deviation,
+                partial,
             },
             sim::rs274::Judgement::Differs(d) => OracleOutcome::Different(d),
             sim::rs274::Judgement::CannotJudge(why) => OracleOutcome::CannotJudge(why),
@@ -274,11 +278,11 @@ pub fn verify(
     let right = sim::simulate(&other_program);
     // Where ncthread does not know a position, LinuxCNC does (it starts at X0 Z0): there
     // its run cannot judge ncthread's simulation.
+    // The judge compares up to the first position ncthread does not know; a program it
+    // knows no position of cannot be judged.
     let unknown = |s: &sim::Simulation| {
-        s.problems.iter().any(|p| !p.index_wait)
-            || s.segments
-                .iter()
-                .any(|g| g.motion.moves() && g.to.known().is_none())
+        let segments = sim::normalise(&s.segments);
+        sim::rs274::known_prefix(&segments) == 0 && !segments.is_empty()
     };
     let (left_unknown, right_unknown) = (unknown(&left), unknown(&right));
     diagnostics.extend(left.problems.iter().map(|p| p.diagnostic(src)));

@@ -612,9 +612,15 @@ fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
             ncthread::OracleOutcome::Equivalent {
                 segments,
                 deviation,
+                partial,
             } => text.push_str(&format!(
-                "rs274 agrees: {} ({segments} segments; largest deviation {} mm)\n",
+                "rs274 agrees: {} ({segments} segments{}; largest deviation {} mm)\n",
                 check.what,
+                if *partial {
+                    ", up to the first position ncthread does not know"
+                } else {
+                    ""
+                },
                 deviation.mm()
             )),
             ncthread::OracleOutcome::Different(d) => {

@@ -95,12 +95,14 @@ fn routes() -> Vec<Route> {
             warn: true,
             ..route("iso-unsupported-warn-g28-cross-dialect.ngc", Iso, Exact)
         },
+        // G28 is read since issue 14: a move to the reference point, which czech and nc31
+        // refuse by name.
         Route {
             warn: true,
             ..route(
                 "iso-unsupported-warn-g28-cross-dialect.ngc",
                 Czech,
-                Refused("LG003"),
+                Refused("CZW002"),
             )
         },
         Route {
@@ -108,7 +110,7 @@ fn routes() -> Vec<Route> {
             ..route(
                 "iso-unsupported-warn-g28-cross-dialect.ngc",
                 Nc31,
-                Refused("LG003"),
+                Refused("NCW002"),
             )
         },
         Route {

@@ -38,6 +38,12 @@ pub enum Construct {
     Stop,
     /// Constant surface speed (G96).
     SurfaceSpeed,
+    /// Cutter radius (tool nose) compensation on (G41, G42).
+    CutterCompensation,
+    /// A work offset other than the default (G55 … G59.3).
+    WorkOffset,
+    /// Moves and settings in machine coordinates (G53, G28, G30).
+    MachineCoordinates,
     /// A rigid tapping cycle.
     Tapping,
     /// A dwell.
@@ -53,7 +59,7 @@ pub enum Construct {
 }
 
 impl Construct {
-    pub const ALL: [Construct; 19] = [
+    pub const ALL: [Construct; 22] = [
         Construct::ThreadCycle,
         Construct::StartAngle,
         Construct::Entry,
@@ -67,6 +73,9 @@ impl Construct {
         Construct::MistCoolant,
         Construct::Stop,
         Construct::SurfaceSpeed,
+        Construct::CutterCompensation,
+        Construct::WorkOffset,
+        Construct::MachineCoordinates,
         Construct::Tapping,
         Construct::Dwell,
         Construct::PerMinuteFeed,
@@ -91,6 +100,9 @@ impl Construct {
             Construct::MistCoolant => "mist coolant",
             Construct::Stop => "program stop, optional stop",
             Construct::SurfaceSpeed => "constant surface speed (G96)",
+            Construct::CutterCompensation => "cutter radius compensation (G41/G42)",
+            Construct::WorkOffset => "work offsets other than the default (G55 … G59.3)",
+            Construct::MachineCoordinates => "machine coordinates and homing (G53, G28, G30)",
             Construct::Tapping => "rigid tapping",
             Construct::Dwell => "dwell",
             Construct::PerMinuteFeed => "feed per minute",
@@ -144,6 +156,11 @@ impl Construct {
                 ItemKind::SpindleMode(crate::ir::SpindleMode::SurfaceSpeed { .. }) => {
                     self == Construct::SurfaceSpeed
                 }
+                ItemKind::Compensation(c) => {
+                    self == Construct::CutterCompensation && *c != crate::ir::Compensation::Off
+                }
+                ItemKind::WorkOffset(n) => self == Construct::WorkOffset && *n != 1,
+                ItemKind::MachineMove(_) => self == Construct::MachineCoordinates,
                 ItemKind::Dwell { .. } => self == Construct::Dwell,
                 ItemKind::FeedMode(mode) => {
                     per_minute = *mode == FeedMode::PerMin;

@@ -116,6 +116,33 @@ impl Pos {
     }
 }
 
+/// Cutter radius compensation. **[evidence]** LinuxCNC's G40–G42.1.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Compensation {
+    /// G40
+    Off,
+    /// G41 / G42 (`right`), with the tool table's entry `D` (default: the tool in use).
+    FromTool { right: bool, tool: Option<u32> },
+    /// G41.1 / G42.1 (`right`): diameter `D` and lathe orientation `L`, as written.
+    Dynamic {
+        right: bool,
+        diameter: Decimal,
+        orientation: Option<u32>,
+    },
+}
+
+/// A move or a setting in machine coordinates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum MachineMove {
+    /// G53 with G0 (`feed` None) or G1: to `to` in machine coordinates (X a diameter).
+    Machine { to: Pos, feed: Option<Length> },
+    /// G28 (or G30 when `second`): a rapid to `via` (the program's coordinates), then to
+    /// the stored position, of the axes `via` names (all when it names none).
+    Home { second: bool, via: Pos },
+    /// G28.1 (or G30.1): store the current position.
+    StoreHome { second: bool },
+}
+
 /// Spindle speed mode.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum SpindleMode {
@@ -501,6 +528,14 @@ pub enum ItemKind {
     /// or a surface speed in m/min that the control holds by turning faster as the tool
     /// moves in, up to a limit in rpm (G96 … D).
     SpindleMode(SpindleMode),
+    /// Cutter radius (tool nose) compensation from here on (G40, G41, G42, G41.1, G42.1).
+    Compensation(Compensation),
+    /// The work offset in force from here on: 1 is G54 (the default), 2 G55 … 6 G59, 7–9
+    /// G59.1–G59.3. Its values are the machine's.
+    WorkOffset(u8),
+    /// A move or a setting in machine coordinates (G53, G28, G30, G28.1, G30.1): where it
+    /// leaves the tool in the program's coordinates is the machine's.
+    MachineMove(MachineMove),
     /// A programmed stop (M0), or an optional stop (M1) that the operator may skip.
     Stop {
         optional: bool,
@@ -538,6 +573,21 @@ impl ItemKind {
                 z: current.z,
             },
             ItemKind::Opaque { block: Some(_), .. } => Pos::UNKNOWN,
+            // What the machine's coordinates are in the program's is the machine's.
+            ItemKind::MachineMove(MachineMove::Machine { to, .. }) => Pos {
+                x: if to.x.is_some() { None } else { current.x },
+                z: if to.z.is_some() { None } else { current.z },
+            },
+            ItemKind::MachineMove(MachineMove::Home { via, .. }) => {
+                if via == &Pos::UNKNOWN {
+                    Pos::UNKNOWN
+                } else {
+                    Pos {
+                        x: if via.x.is_some() { None } else { current.x },
+                        z: if via.z.is_some() { None } else { current.z },
+                    }
+                }
+            }
             _ => current,
         }
     }

@@ -87,6 +87,8 @@ pub struct MachineState {
     pub speed: Option<u32>,
     /// A surface speed (G96) is in force, with its rpm limit in 0.001 rpm (`None`: none).
     pub surface_speed: Option<Option<i64>>,
+    /// The work offset in force: 0 for the default (G54), 1 … 8 for G55 … G59.3.
+    pub work_offset: u8,
 }
 
 impl MachineState {
@@ -115,7 +117,12 @@ impl MachineState {
                 ))
             ),
         };
-        format!("{coolant}, {spindle}{speed}")
+        let offset = match self.work_offset {
+            0 => String::new(),
+            n @ 1..=5 => format!(", work offset G{}", 54 + n),
+            n => format!(", work offset G59.{}", n - 5),
+        };
+        format!("{coolant}, {spindle}{speed}{offset}")
     }
 }
 
@@ -478,6 +485,7 @@ impl Machine {
                     flood: false,
                     direction: None,
                     surface_speed: None,
+                    work_offset: 0,
                     ..self.state
                 };
                 self.change(state, span);
@@ -490,6 +498,32 @@ impl Machine {
                     crate::ir::Coolant::Off => (state.mist, state.flood) = (false, false),
                 }
                 self.change(state, span);
+            }
+            ItemKind::WorkOffset(n) => {
+                let state = MachineState {
+                    work_offset: n.saturating_sub(1),
+                    ..self.state
+                };
+                self.change(state, span);
+            }
+            ItemKind::MachineMove(crate::ir::MachineMove::StoreHome { .. }) => {}
+            ItemKind::MachineMove(m) => {
+                if let crate::ir::MachineMove::Home { via, .. } = m
+                    && *via != Pos::UNKNOWN
+                {
+                    self.segment(Motion::Rapid, *via, span, None);
+                }
+                // The rapid to where the machine's coordinates put the tool: unknown here.
+                let to = kind.end_position(self.pos);
+                self.out.segments.push(Segment {
+                    motion: Motion::Rapid,
+                    from: self.pos,
+                    to,
+                    line: span.line,
+                    pass: None,
+                });
+                self.pos = to;
+                self.sync_end = None;
             }
             ItemKind::SpindleMode(mode) => {
                 let surface_speed = match mode {
@@ -696,6 +730,7 @@ impl Segment {
                 "speed": state.speed,
                 "surface_speed": state.surface_speed.is_some(),
                 "rpm_limit": state.surface_speed.flatten().map(|l| l as f64 / 1000.0),
+                "work_offset": state.work_offset + 1,
             }),
             Motion::Stop { optional } => serde_json::json!({
                 "motion": if optional { "optional-stop" } else { "stop" },

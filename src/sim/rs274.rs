@@ -53,6 +53,8 @@ pub enum Canon {
     SpindleSpeed(f64),
     /// SET_SPINDLE_MODE: 0 for rpm, else a surface speed with this rpm limit (1e30: none).
     SpindleMode(f64),
+    /// SET_G5X_OFFSET: the work offset's index (1: G54).
+    WorkOffset(u8),
     /// MIST_ON / MIST_OFF
     Mist(bool),
     /// FLOOD_ON / FLOOD_OFF
@@ -115,6 +117,7 @@ pub fn parse_canon(line: &str) -> Option<Canon> {
         "SET_SPINDLE_SPEED" => Canon::SpindleSpeed(arg(1)?),
         // `SET_SPINDLE_MODE(0 2500.0000)`: the spindle, then the mode (no comma).
         "SET_SPINDLE_MODE" => Canon::SpindleMode(arg(1)?),
+        "SET_G5X_OFFSET" => Canon::WorkOffset(arg(0)? as u8),
         "MIST_ON" => Canon::Mist(true),
         "MIST_OFF" => Canon::Mist(false),
         "FLOOD_ON" => Canon::Flood(true),
@@ -352,6 +355,7 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
             | Canon::SpindleStop
             | Canon::SpindleSpeed(_)
             | Canon::SpindleMode(_)
+            | Canon::WorkOffset(_)
             | Canon::Mist(_)
             | Canon::Flood(_) => {
                 let mut next = state;
@@ -368,6 +372,7 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
                         next.surface_speed =
                             (v != 0.0).then(|| (v < 1e29).then(|| (v * 1000.0).round() as i64));
                     }
+                    Canon::WorkOffset(n) => next.work_offset = n.saturating_sub(1),
                     Canon::Mist(on) => next.mist = on,
                     Canon::Flood(on) => next.flood = on,
                     _ => {}
@@ -434,10 +439,12 @@ pub fn phase_uncertainty(canon: &[Canon]) -> f64 {
 /// What LinuxCNC's run says of a simulation.
 #[derive(Clone, Debug)]
 pub enum Judgement {
-    /// The motions agree; `segments` were compared, within `deviation`.
+    /// The motions agree; `segments` were compared, within `deviation`; `partial`: only up
+    /// to where ncthread stops knowing the position (a move in machine coordinates).
     Agrees {
         segments: usize,
         deviation: Length,
+        partial: bool,
     },
     Differs(Box<super::Difference>),
     /// rs274's printed digits cannot decide (why).
@@ -453,8 +460,22 @@ pub enum Judgement {
 /// start that reads like a rapid from an unknown place to X0 Z0. A first rapid to X0 Z0 is
 /// therefore left out on both sides: rs274's output cannot tell it from no move.
 pub fn judge(expected: &[Segment], canon: &[Canon]) -> Judgement {
-    let theirs = without_rapid_to_rs274_start(super::normalise(&segments(canon)));
+    let mut theirs = without_rapid_to_rs274_start(super::normalise(&segments(canon)));
     let expected = &without_rapid_to_rs274_start(expected.to_vec());
+    // Where ncthread stops knowing the position (a move in machine coordinates, to the
+    // reference point), LinuxCNC's run is judged up to there.
+    let known = known_prefix(expected);
+    if known == 0 && !expected.is_empty() {
+        return Judgement::CannotJudge(
+            "ncthread's simulation has positions it does not know (SIM001), which LinuxCNC's has"
+                .into(),
+        );
+    }
+    let partial = known < expected.len();
+    if partial {
+        theirs.truncate(known);
+    }
+    let expected = &expected[..known];
     let inch = canon.iter().any(|c| matches!(c, Canon::Inches(true)));
     let tolerance = if inch {
         super::TOLERANCE + Length(26)
@@ -470,11 +491,25 @@ pub fn judge(expected: &[Segment], canon: &[Canon]) -> Judgement {
     let slack = Angle((slack * 1000.0).ceil() as i64);
     match super::compare_within(expected, &theirs, tolerance, slack) {
         None => Judgement::Agrees {
+            partial,
             segments: theirs.len(),
             deviation: super::largest_deviation(expected, &theirs),
         },
         Some(d) => Judgement::Differs(Box::new(d)),
     }
+}
+
+/// How many leading segments ncthread knows the positions of: up to the first move that
+/// starts or ends where ncthread does not know (after a move in machine coordinates).
+pub fn known_prefix(segments: &[Segment]) -> usize {
+    segments
+        .iter()
+        .position(|s| {
+            s.motion.moves()
+                && (s.to.known().is_none()
+                    || (s.from.known().is_none() && s.motion != Motion::Rapid))
+        })
+        .unwrap_or(segments.len())
 }
 
 /// `segments` without a first rapid from an unknown place to X0 Z0 (see `judge`).

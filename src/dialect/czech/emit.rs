@@ -399,6 +399,9 @@ impl Emitter<'_> {
             // Speeds in rpm are this control's only mode; a surface speed is refused by
             // legalisation.
             ItemKind::SpindleMode(_) => {}
+            // No compensation and the default work offset are this control's only state;
+            // the others, and machine coordinates, are refused by legalisation.
+            ItemKind::Compensation(_) | ItemKind::WorkOffset(_) | ItemKind::MachineMove(_) => {}
             // Written where the profile declares the codes; legalisation refuses the rest.
             ItemKind::Coolant(c) => block.words.push(
                 match c {

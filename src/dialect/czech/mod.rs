@@ -149,6 +149,9 @@ impl Dialect for Czech {
                 },
                 row(Stop, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
                 row(SurfaceSpeed, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
+                row(CutterCompensation, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
+                row(WorkOffset, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
+                row(MachineCoordinates, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
                 row(Tapping, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
                 row(Dwell, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
                 row(PerMinuteFeed, Read::Yes("G94"), Write::Yes("G94")),
@@ -176,6 +179,21 @@ impl Dialect for Czech {
                 codes::CZW_NO_EQUIVALENT,
                 "mist coolant (M7) has no form that the czech seed documents",
                 "if the machine's manual gives M07, set `mist = \"m07\"` (with `coolant = \"m08-m09\"`) in the profile's [czech] section",
+            ),
+            Construct::CutterCompensation => (
+                codes::CZW_NO_EQUIVALENT,
+                "cutter radius compensation (G41/G42) has no form that the czech seed documents",
+                "program the tool nose's path in the source (compensated by the CAM system), or add the compensation by hand in this machine's form",
+            ),
+            Construct::WorkOffset => (
+                codes::CZW_NO_EQUIVALENT,
+                "a work offset other than the default (G55 … G59.3) has no form that the czech seed documents",
+                "program the part in the default coordinate system (G54), or add the offset by hand in this machine's form",
+            ),
+            Construct::MachineCoordinates => (
+                codes::CZW_NO_EQUIVALENT,
+                "a move in machine coordinates or to a reference point (G53, G28, G30) has no form that the czech seed documents",
+                "program the tool change position in the part's coordinates, or add the reference move by hand in this machine's form",
             ),
             Construct::SurfaceSpeed => (
                 codes::CZW_NO_EQUIVALENT,

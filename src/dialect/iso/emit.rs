@@ -6,7 +6,7 @@ use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::write::Writer;
 use crate::fixed::{Angle, Length};
 use crate::ir::{
-    Coolant, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, SpindleMode,
+    Compensation, Coolant, EndCode, MachineMove, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, SpindleMode,
     SyncStart, TapCycle, ThreadCycle, ThreadPass,
 };
 use crate::lower::{self, SyncSegment};
@@ -238,6 +238,52 @@ impl Emitter<'_> {
                 self.line(&spindle_words(*speed, *direction));
             }
             ItemKind::SpindleMode(SpindleMode::Rpm) => self.line("G97"),
+            ItemKind::Compensation(c) => {
+                let text = match c {
+                    Compensation::Off => "G40".to_string(),
+                    Compensation::FromTool { right, tool } => {
+                        let g = if *right { "G42" } else { "G41" };
+                        tool.map_or(g.to_string(), |t| format!("{g} D{t}"))
+                    }
+                    Compensation::Dynamic {
+                        right,
+                        diameter,
+                        orientation,
+                    } => {
+                        let g = if *right { "G42.1" } else { "G41.1" };
+                        let l = orientation.map_or(String::new(), |l| format!(" L{l}"));
+                        format!("{g} D{diameter}{l}")
+                    }
+                };
+                self.line(&text);
+            }
+            ItemKind::WorkOffset(n) => self.line(match n {
+                1 => "G54",
+                2 => "G55",
+                3 => "G56",
+                4 => "G57",
+                5 => "G58",
+                6 => "G59",
+                7 => "G59.1",
+                8 => "G59.2",
+                _ => "G59.3",
+            }),
+            ItemKind::MachineMove(m) => {
+                let text = match m {
+                    MachineMove::Machine { to, feed: None } => format!("G53 G0{}", axes(*to)),
+                    MachineMove::Machine { to, feed: Some(f) } => {
+                        format!("G53 G1{} F{}", axes(*to), f.mm())
+                    }
+                    MachineMove::Home { second, via } => {
+                        format!("{}{}", if *second { "G30" } else { "G28" }, axes(*via))
+                    }
+                    MachineMove::StoreHome { second } => {
+                        (if *second { "G30.1" } else { "G28.1" }).to_string()
+                    }
+                };
+                self.line(&text);
+                // The motion mode after G53 is the line's G0/G1, as in the source.
+            }
             // LinuxCNC wants S on the G96 line: the speed item that follows goes there.
             ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit }) => {
                 let mut text = "G96".to_string();

@@ -18,7 +18,7 @@ use crate::dialect::read::{Reader, UnsupportedWording};
 use crate::dialect::{Unsupported, WORD_REPORTS, budget};
 use crate::fixed::{Angle, Decimal, Lead, Length, div_round};
 use crate::ir::{
-    Coolant, CycleChamfer, Degression, EndCode, FeedMode, Finish, IjkScale, ItemKind, ModalContext,
+    Compensation, Coolant, CycleChamfer, Degression, EndCode, MachineMove, FeedMode, Finish, IjkScale, ItemKind, ModalContext,
     Pos, Program, Retract, Rise, Schedule, Slope, SpindleDirection, SpindleMode, SyncInfeed,
     SyncStart, TapCycle, ThreadCycle, ThreadPass,
 };
@@ -245,16 +245,15 @@ enum Meaning {
 fn g_meaning(code: GCode) -> Meaning {
     match code {
         G0 | G1 | G2 | G3 | G33 | G33_1 | G76 | G4 | G7 | G8 | G18 | G20 | G21 | G43 | G90
-        | G91 | G90_1 | G91_1 | G94 | G95 | G96 | G97 => Meaning::Known,
-        // Cutter compensation off, tool length offset off, the default work offset, exact
-        // path / blending, canned cycle off, rpm mode.
-        G40 | G49 | G54 | G61 | G61_1 | G64 | G80 => Meaning::Kept,
-        G17 | G19 | G17_1 | G18_1 | G19_1 => Meaning::Unsupported("planes other than ZX (G18)"),
-        G41 | G42 | G41_1 | G42_1 => Meaning::Unsupported("cutter radius compensation"),
-        G55..=G59_3 | G10 | G92..=G92_3 | G53 => {
-            Meaning::Unsupported("work offsets and coordinate changes")
+        | G91 | G90_1 | G91_1 | G94 | G95 | G96 | G97 | G40 | G41 | G42 | G41_1 | G42_1
+        | G54 | G55 | G56 | G57 | G58 | G59 | G59_1 | G59_2 | G59_3 | G28 | G28_1 | G30
+        | G30_1 | G53 => Meaning::Known,
+        // Tool length offset off, exact path / blending, canned cycle off.
+        G49 | G61 | G61_1 | G64 | G80 => Meaning::Kept,
+        G17 | G19 | G17_1 | G18_1 | G19_1 => {
+            Meaning::Unsupported("another plane than ZX (G18): not a lathe program")
         }
-        G28 | G28_1 | G30 | G30_1 => Meaning::Unsupported("homing and reference points"),
+        G10 | G92..=G92_3 => Meaning::Unsupported("changes of the coordinate systems (G10, G92)"),
         G93 => Meaning::Unsupported("inverse-time feed (G93)"),
         G70 | G71 | G71_1 | G72 | G72_1 => Meaning::Unsupported("roughing and finishing cycles"),
         G81..=G89 | G73 | G74 => Meaning::Unsupported("drilling and boring cycles"),
@@ -285,6 +284,10 @@ fn changes_followed_state(w: &Word) -> bool {
                     | G97
                     | G43
                     | G49
+                    | G40..=G42_1
+                    | G54..=G59_3
+                    | G28..=G30_1
+                    | G53
             )
         }),
         'M' => w
@@ -410,7 +413,9 @@ impl FrontEnd<'_> {
                     Err(_) => Some("this M code"),
                     _ => None,
                 },
-                'Y' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W' => Some("axes other than X and Z"),
+                'Y' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W' => {
+                    Some("an axis other than X and Z: not a lathe program")
+                }
                 _ => None,
             };
             if let Some(why) = why {
@@ -504,7 +509,7 @@ impl FrontEnd<'_> {
         }
         // One code of each modal group per line (LinuxCNC's read_g and read_m), even the same
         // code twice.
-        let g_groups: [(&str, &[GCode], &str); 9] = [
+        let g_groups: [(&str, &[GCode], &str); 12] = [
             ("motion", &MOTION, "one motion code per line"),
             ("units", &[G20, G21], "one of G20, G21 per line"),
             ("distance", &[G90, G91], "one of G90, G91 per line"),
@@ -514,6 +519,21 @@ impl FrontEnd<'_> {
                 "one of G90.1, G91.1 per line",
             ),
             ("spindle mode", &[G96, G97], "one of G96, G97 per line"),
+            (
+                "cutter compensation",
+                &[G40, G41, G42, G41_1, G42_1],
+                "one of G40, G41, G42, G41.1, G42.1 per line",
+            ),
+            (
+                "work offset",
+                &[G54, G55, G56, G57, G58, G59, G59_1, G59_2, G59_3],
+                "one work offset (G54 … G59.3) per line",
+            ),
+            (
+                "machine coordinate",
+                &[G28, G28_1, G30, G30_1, G53],
+                "one of G28, G28.1, G30, G30.1, G53 per line",
+            ),
             ("feed mode", &[G94, G95], "one of G94, G95 per line"),
             ("diameter mode", &[G7, G8], "one of G7, G8 per line"),
             ("dwell", &[G4], "one G4 per line"),
@@ -849,6 +869,65 @@ impl FrontEnd<'_> {
                 self.kept(line, w, &extra);
             }
         }
+        // Cutter compensation, then the work offset (LinuxCNC's order).
+        if let Some(&(code, w)) = words
+            .g
+            .iter()
+            .find(|(c, _)| matches!(*c, G40 | G41 | G42 | G41_1 | G42_1))
+        {
+            let right = matches!(code, G42 | G42_1);
+            let comp = match code {
+                G40 => Some(Compensation::Off),
+                G41 | G42 => match words.take('D') {
+                    Some(d) => self
+                        .whole(line, d, "tool number (D)")
+                        .map(|t| Compensation::FromTool {
+                            right,
+                            tool: Some(t),
+                        }),
+                    None => Some(Compensation::FromTool { right, tool: None }),
+                },
+                _ => match words.take('D') {
+                    Some(d) if !d.value.is_negative() => {
+                        let orientation = match words.take('L') {
+                            Some(l) => self.whole(line, l, "tool orientation (L)"),
+                            None => None,
+                        };
+                        Some(Compensation::Dynamic {
+                            right,
+                            diameter: d.value,
+                            orientation,
+                        })
+                    }
+                    _ => {
+                        self.missing(
+                            line,
+                            w,
+                            format!("{} without a diameter D of 0 or more", &line.text[w.range.clone()]),
+                            "G41.1/G42.1 take the tool's diameter in D (and its lathe orientation in L)",
+                        );
+                        None
+                    }
+                },
+            };
+            if let Some(comp) = comp {
+                self.push(ItemKind::Compensation(comp), span);
+            }
+        }
+        if let Some(index) = words.g.iter().find_map(|(c, _)| match *c {
+            G54 => Some(1),
+            G55 => Some(2),
+            G56 => Some(3),
+            G57 => Some(4),
+            G58 => Some(5),
+            G59 => Some(6),
+            G59_1 => Some(7),
+            G59_2 => Some(8),
+            G59_3 => Some(9),
+            _ => None,
+        }) {
+            self.push(ItemKind::WorkOffset(index), span);
+        }
         if words.has_g(G90).is_some() {
             self.incremental = false;
         }
@@ -874,7 +953,66 @@ impl FrontEnd<'_> {
         if let Some(m) = motion_code {
             self.motion = Some(m);
         }
-        let axes = words.other.contains_key(&'X') || words.other.contains_key(&'Z');
+        // G28/G30 (via the line's axes to the stored position), G28.1/G30.1, and G53 with
+        // G0 or G1: the line's axes are theirs, and nothing else moves.
+        if let Some(&(code, w)) = words
+            .g
+            .iter()
+            .find(|(c, _)| matches!(*c, G28 | G28_1 | G30 | G30_1 | G53))
+        {
+            let second = matches!(code, G30 | G30_1);
+            let kind = match code {
+                G28_1 | G30_1 => Some(MachineMove::StoreHome { second }),
+                G28 | G30 => self
+                    .target(line, &mut words)
+                    .map(|via| MachineMove::Home { second, via }),
+                _ => match self.motion {
+                    Some(m @ (Motion::Rapid | Motion::Feed)) => {
+                        let to = self.target(line, &mut words);
+                        let feed = if m == Motion::Feed {
+                            self.feed_rate(line, Some(w), "G53 G1", span).map(Some)
+                        } else {
+                            Some(None)
+                        };
+                        match (to, feed) {
+                            (Some(to), Some(feed)) if to != Pos::UNKNOWN => {
+                                Some(MachineMove::Machine { to, feed })
+                            }
+                            (Some(_), Some(_)) => {
+                                self.missing(
+                                    line,
+                                    w,
+                                    "G53 without X or Z".into(),
+                                    "G53 moves the axes it names to machine coordinates: `G53 G0 X200 Z100`",
+                                );
+                                None
+                            }
+                            _ => None,
+                        }
+                    }
+                    _ => {
+                        self.missing(
+                            line,
+                            w,
+                            "G53 without G0 or G1 in force (LinuxCNC: \"Must use G0 or G1 with G53\")".into(),
+                            "write `G53 G0 X… Z…`",
+                        );
+                        None
+                    }
+                },
+            };
+            if let Some(kind) = kind {
+                let kind = ItemKind::MachineMove(kind);
+                self.r.pos = kind.end_position(self.r.pos);
+                self.push(kind, span);
+            }
+            self.exact = (None, None);
+            words.take('X');
+            words.take('Z');
+        }
+        let axes = ['X', 'Z']
+            .iter()
+            .any(|l| words.other.contains_key(l) && !words.used.contains(l));
         // A G2/G3 on the line moves even without axes (a full circle from I and K).
         if axes
             || matches!(
@@ -2120,9 +2258,9 @@ mod tests {
     fn refusals_name_the_word() {
         let cases: &[(&str, Code, &str)] = &[
             (
-                "G7 G0 X1\nG41 G1 X2 Z0 F1\n",
+                "G7 G0 X1\nG17 G1 X2 Z0 F1\n",
                 codes::ISOR_UNSUPPORTED,
-                "G41",
+                "G17",
             ),
             ("G7 G0 X1 Z0\nG2 X2 Z-1 R1\n", codes::ISOR_WORD, "G2"),
             ("G7 G0 X1 Z0\nG2 X2 Z-1 R1 I1 F1\n", codes::ISOR_ARC, "R1"),
@@ -2237,7 +2375,7 @@ mod tests {
 
     #[test]
     fn unsupported_warn_keeps_the_line_and_forgets_the_position() {
-        let src = SourceFile::new("t.ngc", "G7 G0 X10 Z1\nG28\nG0 X5\n");
+        let src = SourceFile::new("t.ngc", "G7 G0 X10 Z1\nG10 L2 P1 X0\nG0 X5\n");
         let (p, d) = parse(
             &src,
             &Options {
@@ -2251,7 +2389,7 @@ mod tests {
         assert_eq!(d.len(), 1);
         assert_eq!(d[0].severity, Severity::Warning);
         assert!(
-            matches!(&p.items[1].kind, ItemKind::Opaque { block: Some(_), text, .. } if text == "G28")
+            matches!(&p.items[1].kind, ItemKind::Opaque { block: Some(_), text, .. } if text == "G10 L2 P1 X0")
         );
         assert!(matches!(p.items[2].kind, ItemKind::Rapid { to } if to.z.is_none()));
     }

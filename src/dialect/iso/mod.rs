@@ -153,6 +153,17 @@ impl Dialect for Iso {
                     Read::Yes("G96 D S, G97"),
                     Write::Yes("G96 D S, G97"),
                 ),
+                row(
+                    CutterCompensation,
+                    Read::Yes("G40, G41/G42 D, G41.1/G42.1 D L"),
+                    Write::Yes("G40, G41/G42 D, G41.1/G42.1 D L"),
+                ),
+                row(WorkOffset, Read::Yes("G54 … G59.3"), Write::Yes("G54 … G59.3")),
+                row(
+                    MachineCoordinates,
+                    Read::Yes("G53 G0/G1, G28/G30 (.1)"),
+                    Write::Yes("G53 G0/G1, G28/G30 (.1)"),
+                ),
                 row(PerMinuteFeed, Read::Yes("G94"), Write::Yes("G94")),
                 row(ToolOffset, Read::Yes("G43 H"), Write::Yes("G43 H")),
                 row(Parameters, Read::No, Write::As("writes them as comments")),

@@ -356,6 +356,9 @@ impl Emitter<'_> {
             // Speeds in rpm are this control's only mode; a surface speed is refused by
             // legalisation.
             ItemKind::SpindleMode(_) => {}
+            // No compensation and the default work offset are this control's only state;
+            // the others, and machine coordinates, are refused by legalisation.
+            ItemKind::Compensation(_) | ItemKind::WorkOffset(_) | ItemKind::MachineMove(_) => {}
             // M8/M9 where the profile declares them; legalisation refuses them otherwise.
             ItemKind::Coolant(c) => group.push(
                 if *c == Coolant::Flood { "M8" } else { "M9" }.to_string(),

@@ -164,6 +164,9 @@ impl Dialect for Nc31 {
                 row(MistCoolant, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
                 row(Stop, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
                 row(SurfaceSpeed, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
+                row(CutterCompensation, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
+                row(WorkOffset, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
+                row(MachineCoordinates, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
                 row(PerMinuteFeed, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
                 row(
                     ToolOffset,
@@ -198,6 +201,18 @@ impl Dialect for Nc31 {
             Construct::MistCoolant => (
                 "mist coolant (M7) has no documented form on the НЦ-31",
                 "the НЦ-31 switches one coolant circuit (M8/M9 where the profile enables it); program flood coolant in the source",
+            ),
+            Construct::CutterCompensation => (
+                "cutter radius compensation (G41/G42) has no documented form on the НЦ-31",
+                "program the tool nose's path in the source (compensated by the CAM system)",
+            ),
+            Construct::WorkOffset => (
+                "a work offset other than the default (G55 … G59.3) has no documented form on the НЦ-31",
+                "program the part in the default coordinate system (G54)",
+            ),
+            Construct::MachineCoordinates => (
+                "a move in machine coordinates or to a reference point (G53, G28, G30) has no documented form on the НЦ-31",
+                "program the tool change position in the part's coordinates",
             ),
             Construct::SurfaceSpeed => (
                 "a constant surface speed (G96) has no documented form on the НЦ-31",
