@@ -75,6 +75,10 @@ pub struct ModalContext {
     pub incremental: bool,
     /// Feed per minute (G94), per revolution (G95), or not known.
     pub per_minute: Option<bool>,
+    /// The block may move the machine (it has axis words, or a code that moves or whose
+    /// meaning is not known): positions after it are unknown. A block that cannot move
+    /// (`/G64 P0.01`) leaves the position known.
+    pub moves: bool,
 }
 
 impl ModalContext {
@@ -572,7 +576,7 @@ impl ItemKind {
                 x: tap.then_x.or(current.x),
                 z: current.z,
             },
-            ItemKind::Opaque { block: Some(_), .. } => Pos::UNKNOWN,
+            ItemKind::Opaque { block: Some(c), .. } if c.moves => Pos::UNKNOWN,
             // What the machine's coordinates are in the program's is the machine's.
             ItemKind::MachineMove(MachineMove::Machine { to, .. }) => Pos {
                 x: if to.x.is_some() { None } else { current.x },

@@ -549,8 +549,10 @@ impl Machine {
                 self.event(Motion::Dwell { time }, span);
             }
             ItemKind::FeedMode(mode) => self.per_minute = *mode == crate::ir::FeedMode::PerMin,
-            ItemKind::Opaque { block: Some(_), .. } => {
-                self.pos = Pos::UNKNOWN;
+            ItemKind::Opaque { block: Some(c), .. } => {
+                if c.moves {
+                    self.pos = Pos::UNKNOWN;
+                }
                 self.sync_end = None;
             }
             _ => {}

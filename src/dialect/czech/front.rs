@@ -525,6 +525,8 @@ impl<'a> FrontEnd<'a> {
             diameter: true,
             incremental: self.incremental,
             per_minute: None,
+            // The reader cannot tell: positions after the block are unknown.
+            moves: true,
         };
         self.r
             .keep_opaque(code.to_string(), code_span, None, context);

@@ -6,8 +6,8 @@ use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::write::Writer;
 use crate::fixed::{Angle, Length};
 use crate::ir::{
-    Compensation, Coolant, EndCode, MachineMove, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, SpindleMode,
-    SyncStart, TapCycle, ThreadCycle, ThreadPass,
+    Compensation, Coolant, EndCode, FeedMode, Item, ItemKind, MachineMove, Pos, Program,
+    SpindleDirection, SpindleMode, SyncStart, TapCycle, ThreadCycle, ThreadPass,
 };
 use crate::lower::{self, SyncSegment};
 use crate::profile::{Profile, ToolChange};

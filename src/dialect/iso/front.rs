@@ -18,9 +18,9 @@ use crate::dialect::read::{Reader, UnsupportedWording};
 use crate::dialect::{Unsupported, WORD_REPORTS, budget};
 use crate::fixed::{Angle, Decimal, Lead, Length, div_round};
 use crate::ir::{
-    Compensation, Coolant, CycleChamfer, Degression, EndCode, MachineMove, FeedMode, Finish, IjkScale, ItemKind, ModalContext,
-    Pos, Program, Retract, Rise, Schedule, Slope, SpindleDirection, SpindleMode, SyncInfeed,
-    SyncStart, TapCycle, ThreadCycle, ThreadPass,
+    Compensation, Coolant, CycleChamfer, Degression, EndCode, FeedMode, Finish, IjkScale, ItemKind,
+    MachineMove, ModalContext, Pos, Program, Retract, Rise, Schedule, Slope, SpindleDirection,
+    SpindleMode, SyncInfeed, SyncStart, TapCycle, ThreadCycle, ThreadPass,
 };
 use crate::lower;
 use crate::source::{Line, SourceFile, Span};
@@ -245,9 +245,10 @@ enum Meaning {
 fn g_meaning(code: GCode) -> Meaning {
     match code {
         G0 | G1 | G2 | G3 | G33 | G33_1 | G76 | G4 | G7 | G8 | G18 | G20 | G21 | G43 | G90
-        | G91 | G90_1 | G91_1 | G94 | G95 | G96 | G97 | G40 | G41 | G42 | G41_1 | G42_1
-        | G54 | G55 | G56 | G57 | G58 | G59 | G59_1 | G59_2 | G59_3 | G28 | G28_1 | G30
-        | G30_1 | G53 => Meaning::Known,
+        | G91 | G90_1 | G91_1 | G94 | G95 | G96 | G97 | G40 | G41 | G42 | G41_1 | G42_1 | G54
+        | G55 | G56 | G57 | G58 | G59 | G59_1 | G59_2 | G59_3 | G28 | G28_1 | G30 | G30_1 | G53 => {
+            Meaning::Known
+        }
         // Tool length offset off, exact path / blending, canned cycle off.
         G49 | G61 | G61_1 | G64 | G80 => Meaning::Kept,
         G17 | G19 | G17_1 | G18_1 | G19_1 => {
@@ -296,6 +297,59 @@ fn changes_followed_state(w: &Word) -> bool {
             .is_ok_and(|m| matches!(m, 0..=9 | 30 | 60)),
         _ => false,
     }
+}
+
+/// Whether a line kept opaque may move the machine: an axis word (or an expression for
+/// one), a code that moves or changes the coordinates, a G or M code ncthread does not know,
+/// or an O-word. A line of modes and path settings (`/G64 P0.01`) cannot.
+fn may_move(line: Line<'_>, block: &Block) -> bool {
+    let axis = |c: char| "XYZABCUVW".contains(c.to_ascii_uppercase());
+    block.unread.iter().any(|u| match u.what {
+        "block delete `/`" | "parameter assignment" => false,
+        "parameter or expression as a value" => {
+            line.text[u.range.clone()].chars().next().is_none_or(axis)
+        }
+        _ => true,
+    }) || block.words.iter().any(|w| match w.letter {
+        c if axis(c) => true,
+        'G' => w.value.to_scaled(1).map_or(true, |g| {
+            !matches!(
+                g,
+                G4 | G7
+                    | G8
+                    | G17
+                    | G18
+                    | G19
+                    | G17_1
+                    | G18_1
+                    | G19_1
+                    | G20
+                    | G21
+                    | G40..=G42_1
+                    | G43
+                    | G49
+                    | G54..=G59_3
+                    | G61
+                    | G61_1
+                    | G64
+                    | G80
+                    | G90
+                    | G91
+                    | G90_1
+                    | G91_1
+                    | G93
+                    | G94
+                    | G95
+                    | G96
+                    | G97
+            )
+        }),
+        'M' => w
+            .value
+            .to_whole()
+            .map_or(true, |m| !matches!(m, 0..=5 | 7..=9)),
+        _ => false,
+    })
 }
 
 fn m_meaning(code: i64) -> Meaning {
@@ -449,6 +503,7 @@ impl FrontEnd<'_> {
                 diameter: self.diameter.unwrap_or(false),
                 incremental: self.incremental,
                 per_minute: Some(self.feed_mode != Some(FeedMode::PerRev)),
+                moves: may_move(line, block),
             };
             let text = line.text.trim().to_string();
             self.r
@@ -879,12 +934,13 @@ impl FrontEnd<'_> {
             let comp = match code {
                 G40 => Some(Compensation::Off),
                 G41 | G42 => match words.take('D') {
-                    Some(d) => self
-                        .whole(line, d, "tool number (D)")
-                        .map(|t| Compensation::FromTool {
-                            right,
-                            tool: Some(t),
-                        }),
+                    Some(d) => {
+                        self.whole(line, d, "tool number (D)")
+                            .map(|t| Compensation::FromTool {
+                                right,
+                                tool: Some(t),
+                            })
+                    }
                     None => Some(Compensation::FromTool { right, tool: None }),
                 },
                 _ => match words.take('D') {
@@ -2392,6 +2448,50 @@ mod tests {
             matches!(&p.items[1].kind, ItemKind::Opaque { block: Some(_), text, .. } if text == "G10 L2 P1 X0")
         );
         assert!(matches!(p.items[2].kind, ItemKind::Rapid { to } if to.z.is_none()));
+    }
+
+    /// A kept line that cannot move (a block-deleted path setting) leaves the position
+    /// known: the thread after it is read (issue 14, found on LinuxCNC's own g33_blend).
+    #[test]
+    fn a_kept_line_that_cannot_move_keeps_the_position() {
+        let src = SourceFile::new(
+            "t.ngc",
+            "G7 G95 S300 M3\nG0 X10 Z1\n/G64 P0.002 Q0.001\nG33 Z-10 K1.5\nM30\n",
+        );
+        let (p, d) = parse(
+            &src,
+            &Options {
+                unsupported: Unsupported::Warn,
+            },
+        );
+        assert!(!crate::diag::has_errors(&d), "{d:?}");
+        let kept = p
+            .items
+            .iter()
+            .find_map(|i| match &i.kind {
+                ItemKind::Opaque { block: Some(c), .. } => Some(c.moves),
+                _ => None,
+            })
+            .expect("the line is kept");
+        assert!(!kept);
+        assert!(
+            p.items
+                .iter()
+                .any(|i| matches!(i.kind, ItemKind::ThreadPass(_)))
+        );
+        // With an axis word it may move: the position after it is unknown.
+        let src = SourceFile::new("t.ngc", "G7 G0 X10 Z1\n/G0 X20\nG0 X5\nM30\n");
+        let (p, _) = parse(
+            &src,
+            &Options {
+                unsupported: Unsupported::Warn,
+            },
+        );
+        let end = p
+            .items
+            .iter()
+            .fold(Pos::UNKNOWN, |pos, i| i.kind.end_position(pos));
+        assert_eq!(end.z, None);
     }
 
     #[test]

@@ -158,7 +158,11 @@ impl Dialect for Iso {
                     Read::Yes("G40, G41/G42 D, G41.1/G42.1 D L"),
                     Write::Yes("G40, G41/G42 D, G41.1/G42.1 D L"),
                 ),
-                row(WorkOffset, Read::Yes("G54 … G59.3"), Write::Yes("G54 … G59.3")),
+                row(
+                    WorkOffset,
+                    Read::Yes("G54 … G59.3"),
+                    Write::Yes("G54 … G59.3"),
+                ),
                 row(
                     MachineCoordinates,
                     Read::Yes("G53 G0/G1, G28/G30 (.1)"),

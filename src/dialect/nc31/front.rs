@@ -330,6 +330,8 @@ impl<'a> FrontEnd<'a> {
             diameter: true,
             incremental: false,
             per_minute: None,
+            // The reader cannot tell: positions after the block are unknown.
+            moves: true,
         };
         self.r
             .keep_opaque(text, span, frames[0].frame.number, context);

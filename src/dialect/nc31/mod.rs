@@ -164,9 +164,17 @@ impl Dialect for Nc31 {
                 row(MistCoolant, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
                 row(Stop, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
                 row(SurfaceSpeed, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
-                row(CutterCompensation, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
+                row(
+                    CutterCompensation,
+                    Read::No,
+                    Write::No(codes::NCW_NO_EQUIVALENT),
+                ),
                 row(WorkOffset, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
-                row(MachineCoordinates, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
+                row(
+                    MachineCoordinates,
+                    Read::No,
+                    Write::No(codes::NCW_NO_EQUIVALENT),
+                ),
                 row(PerMinuteFeed, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
                 row(
                     ToolOffset,
