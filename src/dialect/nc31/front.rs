@@ -540,12 +540,7 @@ impl<'a> FrontEnd<'a> {
         };
         if moves && !rapid && feed_now.is_none() {
             let fr = x.or(z).expect("the group moves");
-            let why = match self.feed {
-                Feed::AfterThread(line) => {
-                    format!("the feed is undefined after the thread group on line {line}")
-                }
-                _ => "no feed has been programmed yet".to_string(),
-            };
+            let why = self.why_no_feed();
             self.word_error(
                 codes::NCR_NO_FEED,
                 fr,
@@ -611,6 +606,16 @@ impl<'a> FrontEnd<'a> {
         }
         if end {
             self.push(ItemKind::ProgramEnd(EndCode::M30), span, None);
+        }
+    }
+
+    /// Why no feed is set: never programmed, or undefined after a thread group.
+    fn why_no_feed(&self) -> String {
+        match self.feed {
+            Feed::AfterThread(line) => {
+                format!("the feed is undefined after the thread group on line {line}")
+            }
+            _ => "no feed has been programmed yet".to_string(),
         }
     }
 
@@ -973,12 +978,7 @@ impl<'a> FrontEnd<'a> {
             return arc_error(self, g, format!("G{code} without X or Z"), about);
         }
         let Feed::Set(feed) = self.feed else {
-            let why = match self.feed {
-                Feed::AfterThread(line) => {
-                    format!("the feed is undefined after the thread group on line {line}")
-                }
-                _ => "no feed has been programmed yet".to_string(),
-            };
+            let why = self.why_no_feed();
             self.word_error(
                 codes::NCR_NO_FEED,
                 g,
