@@ -152,7 +152,9 @@ pub fn occurrences(program: &Program) -> Vec<Occurrence> {
             ItemKind::MachineMove(_) => out.push(at(Construct::MachineCoordinates, None)),
             ItemKind::Dwell { .. } => out.push(at(Construct::Dwell, None)),
             ItemKind::FeedMode(mode) => per_minute = *mode == FeedMode::PerMin,
-            ItemKind::Feed { .. } if per_minute => out.push(at(Construct::PerMinuteFeed, None)),
+            ItemKind::Feed { .. } | ItemKind::FeedRate(_) if per_minute => {
+                out.push(at(Construct::PerMinuteFeed, None))
+            }
             ItemKind::ThreadCycle(c) if c.entry_infeed && c.entry.is_some() => {
                 out.push(at(Construct::SyncInfeed, None))
             }

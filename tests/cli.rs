@@ -551,7 +551,7 @@ fn writes_nc31_exactly_or_refuses_with_the_reason() {
     assert!(text(&out.stdout).ends_with("M30\r\n%\r\n"));
     let nc31 = text(&out.stdout).replace("\r\n", "\n");
     assert!(
-        nc31.contains("G31 *\nN9 X3600 *\nN10 Z-4750 *\nN11 F15000 *\nN12 P96 *\nN13 P20\n"),
+        nc31.contains("N9 G31 *\nN10 X3600 *\nN11 Z-4750 *\nN12 F15000 *\nN13 P96 *\nN14 P20\n"),
         "{nc31}"
     );
     assert!(nc31.contains("(ПОДВОД В НАЧАЛЬНУЮ ТОЧКУ ЦИКЛА)"), "{nc31}");

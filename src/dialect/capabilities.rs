@@ -166,7 +166,9 @@ impl Construct {
                     per_minute = *mode == FeedMode::PerMin;
                     false
                 }
-                ItemKind::Feed { .. } => self == Construct::PerMinuteFeed && per_minute,
+                ItemKind::Feed { .. } | ItemKind::FeedRate(_) => {
+                    self == Construct::PerMinuteFeed && per_minute
+                }
                 ItemKind::Tool {
                     offset: Some(_), ..
                 } => self == Construct::ToolOffset,

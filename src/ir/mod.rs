@@ -526,6 +526,9 @@ pub enum ItemKind {
     },
     /// A `%` program delimiter line.
     Delimiter,
+    /// A feed rate that no move of its block uses (an `F` frame of its own): the moves
+    /// carry their feeds, this keeps the frame where a program writes it.
+    FeedRate(Length),
     /// Coolant on or off (M7, M8, M9).
     Coolant(Coolant),
     /// What the spindle speed (S, in [`ItemKind::Spindle`]) means from here on: rpm (G97),

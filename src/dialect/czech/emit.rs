@@ -396,6 +396,18 @@ impl Emitter<'_> {
             | ItemKind::Dwell { .. }
             | ItemKind::Arc { .. }
             | ItemKind::Stop { .. } => {}
+            // A feed of its own: in a G01 block when the last motion was a thread (there F
+            // would be a lead).
+            ItemKind::FeedRate(feed) => {
+                if self.f != Some((Lead::from_length(*feed), false)) {
+                    if self.motion == Some("G33") {
+                        self.motion_word("G01", &mut block.words);
+                    }
+                    let f = self.three_decimals(item, "feed F", *feed);
+                    block.words.push(format!("F{f}"));
+                    self.f = Some((Lead::from_length(*feed), false));
+                }
+            }
             // Speeds in rpm are this control's only mode; a surface speed is refused by
             // legalisation.
             ItemKind::SpindleMode(_) => {}

@@ -774,6 +774,18 @@ impl<'a> FrontEnd<'a> {
         }
         let (x_word, z_word) = (words.get('X'), words.get('Z'));
         let has_thread_words = ['I', 'J', 'E'].iter().any(|&c| words.get(c).is_some());
+        // A feed that no move of the block uses stays where it is written.
+        let unused_feed = match f {
+            Some((value, w)) if !thread => {
+                let moves = x_word.is_some() || z_word.is_some();
+                (!moves || self.motion == Motion::Rapid)
+                    .then(|| (value, self.span(line, w.range.clone())))
+            }
+            _ => None,
+        };
+        if let Some((value, span)) = unused_feed {
+            self.push(ItemKind::FeedRate(value), span, number);
+        }
         if x_word.is_none() && z_word.is_none() {
             let arc_words = ['I', 'K', 'R'].iter().any(|&c| words.get(c).is_some());
             if let (Motion::Arc(g02), true) = (self.motion, arc_words) {

@@ -237,6 +237,7 @@ impl Emitter<'_> {
                 }
                 self.line(&spindle_words(*speed, *direction));
             }
+            ItemKind::FeedRate(f) => self.line(&format!("F{}", f.mm())),
             ItemKind::SpindleMode(SpindleMode::Rpm) => self.line("G97"),
             ItemKind::Compensation(c) => {
                 let text = match c {

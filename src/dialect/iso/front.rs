@@ -764,6 +764,8 @@ impl FrontEnd<'_> {
         if words.has_g(G21).is_some() {
             self.inch = false;
         }
+        let first_item = self.r.items.len();
+        let mut f_word = None;
         if let Some(f) = words.take('F')
             && let Some(feed) = self.length(line, f)
         {
@@ -771,6 +773,7 @@ impl FrontEnd<'_> {
                 self.number_error(line, f, "the feed is negative".into(), "F is 0 or more");
             } else {
                 self.feed = Some(feed);
+                f_word = Some(feed);
             }
         }
         // The spindle mode comes before S in LinuxCNC's order; G96 needs S on its line and
@@ -1117,6 +1120,19 @@ impl FrontEnd<'_> {
                     "set the feed with F before or on this line",
                 );
             }
+        }
+        // An F that no move of the line used stays where it is written.
+        if let Some(feed) = f_word
+            && !self.r.items[first_item..].iter().any(|i| {
+                matches!(
+                    i.kind,
+                    ItemKind::Feed { .. }
+                        | ItemKind::Arc { .. }
+                        | ItemKind::MachineMove(MachineMove::Machine { feed: Some(_), .. })
+                )
+            })
+        {
+            self.push(ItemKind::FeedRate(feed), span);
         }
         for (code, w) in words.m.clone() {
             match code {

@@ -353,6 +353,16 @@ impl Emitter<'_> {
             | ItemKind::Arc { .. }
             | ItemKind::Stop { .. }
             | ItemKind::Coolant(Coolant::Mist) => {}
+            // A feed frame of its own (a feed per minute is refused by legalisation).
+            ItemKind::FeedRate(feed) => {
+                if !self.per_minute && self.feed != Some(*feed) {
+                    self.write(group);
+                    let n = self.units(item.span, "feed F", *feed, self.profile.feed_unit);
+                    group.push(format!("F{n}"));
+                    self.write(group);
+                    self.feed = Some(*feed);
+                }
+            }
             // Speeds in rpm are this control's only mode; a surface speed is refused by
             // legalisation.
             ItemKind::SpindleMode(_) => {}

@@ -601,6 +601,12 @@ impl<'a> FrontEnd<'a> {
         for &c in coolant.iter().filter(|c| **c == Coolant::Off) {
             self.push(ItemKind::Coolant(c), span, None);
         }
+        // A feed that no move of the group uses stays where it is written.
+        if let Some(feed) = feed
+            && (!moves || rapid)
+        {
+            self.push(ItemKind::FeedRate(feed), span, None);
+        }
         if stop {
             self.push(ItemKind::SpindleStop, span, None);
         }
@@ -1214,6 +1220,8 @@ mod tests {
         assert_eq!(
             k,
             vec![
+                // The F frame of its own stays (no move of its group uses it).
+                ItemKind::FeedRate(mm(0.3)),
                 ItemKind::Rapid {
                     to: Pos::new(mm(100.0), mm(50.0))
                 },
@@ -1567,8 +1575,9 @@ mod tests {
         profile.nc31.feed_unit = Length(10);
         let (program, diags) = run_with("F300\nX36000 *\nZ4500\n", &profile, Unsupported::Error);
         assert!(diags.is_empty());
+        assert_eq!(program.items[0].kind, ItemKind::FeedRate(mm(0.3)));
         assert_eq!(
-            program.items[0].kind,
+            program.items[1].kind,
             ItemKind::Feed {
                 to: Pos::new(mm(36.0), mm(4.5)),
                 feed: mm(0.3)
