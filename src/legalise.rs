@@ -139,7 +139,12 @@ pub fn occurrences(program: &Program) -> Vec<Occurrence> {
         };
         match &item.kind {
             ItemKind::TapCycle(_) => out.push(at(Construct::Tapping, None)),
-            ItemKind::Arc { .. } => out.push(at(Construct::Arc, None)),
+            ItemKind::Arc { .. } => {
+                out.push(at(Construct::Arc, None));
+                if per_minute {
+                    out.push(at(Construct::PerMinuteFeed, None));
+                }
+            }
             ItemKind::Coolant(c) => out.push(at(Construct::of_coolant(*c), None)),
             ItemKind::Stop { .. } => out.push(at(Construct::Stop, None)),
             ItemKind::SpindleMode(crate::ir::SpindleMode::SurfaceSpeed { .. }) => {

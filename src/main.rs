@@ -617,7 +617,7 @@ fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
                 "rs274 agrees: {} ({segments} segments{}; largest deviation {} mm)\n",
                 check.what,
                 if *partial {
-                    ", up to the first position ncthread does not know"
+                    ", up to where ncthread stops knowing the tool's path"
                 } else {
                     ""
                 },

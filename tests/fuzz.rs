@@ -246,29 +246,82 @@ fn iso_line() -> impl Strategy<Value = Vec<String>> {
         1 => (100u32..2000, any::<bool>()).prop_map(|(s, ccw)| vec![format!("S{s} {}", if ccw { "M4" } else { "M3" })]),
         1 => prop::sample::select(vec!["G94", "G95", "G90", "G91", "G20", "G21", "G7", "G8", "M8", "M9", "G4 P0.5", "T2 M6"]).prop_map(|w| vec![w.to_string()]),
         1 => comment_text().prop_map(|c| vec![format!("({c})")]),
+        // Whole-part words (issue 14): arcs, coolant, stops, surface speed, compensation,
+        // work offsets, machine coordinates, a feed of its own.
+        3 => arc_line(),
+        2 => prop::sample::select(vec![
+            "M7", "M8", "M9", "M0", "M1", "G96 D2500 S200", "G97 S800", "G40", "G41", "G42",
+            "G54", "G55", "G28", "G53 G0 X100 Z50", "F0.2", "G90.1", "G91.1", "G42.1 D0.8 L3",
+        ])
+        .prop_map(|w| vec![w.to_string()]),
     ]
 }
 
+/// An arc from wherever the tool is, written incrementally: I/K with the end on the circle
+/// (to the printed digits), or R with a radius at least half the chord.
+fn arc_line() -> impl Strategy<Value = Vec<String>> {
+    (
+        any::<bool>(),
+        -20_000i64..20_000,
+        -20_000i64..20_000,
+        0u32..360_000,
+        any::<bool>(),
+        100i64..300,
+    )
+        .prop_map(|(cw, i, k, angle, r_form, factor)| {
+            let g = if cw { "G2" } else { "G3" };
+            let (i, k) = (i as f64 / 1000.0, k as f64 / 1000.0);
+            let r = i.hypot(k);
+            let a = (angle as f64 / 1000.0).to_radians();
+            // The end relative to the start (X as a diameter increment).
+            let (dz, dxr) = (k + r * a.cos(), i + r * a.sin());
+            let line = if r_form {
+                let half = dz.hypot(dxr) / 2.0;
+                let radius = half * factor as f64 / 100.0 * if angle % 2 == 0 { 1.0 } else { -1.0 };
+                format!("G91 {g} X{:.4} Z{:.4} R{radius:.4} F0.1", 2.0 * dxr, dz)
+            } else {
+                format!("G91 {g} X{:.4} Z{:.4} I{i:.4} K{k:.4} F0.1", 2.0 * dxr, dz)
+            };
+            vec![line, "G90".to_string()]
+        })
+}
+
+/// Machine profiles under which czech and nc31 can say arcs and coolant (or not).
+fn whole_part_profile() -> impl Strategy<Value = Option<String>> {
+    prop::sample::select(vec![
+        None,
+        Some("[czech]\narcs = \"ik-radius\"\ncoolant = \"m08-m09\"\nmist = \"m07\"\n[nc31]\narcs = \"g2-g3-p\"\narc_direction = \"iso\"\ncoolant = \"m8-m9\"\n"),
+        Some("[czech]\narcs = \"r\"\narc_direction = \"mirrored\"\n[nc31]\narcs = \"g2-g3-p\"\narc_direction = \"front-tool\"\nlinear_unit_mm = 0.001\n"),
+        Some("[czech]\narcs = \"ik-diameter\"\n"),
+    ])
+    .prop_map(|p| p.map(str::to_string))
+}
+
 fn iso_program() -> impl Strategy<Value = Input> {
-    (prop::collection::vec(iso_line(), 1..10), any::<bool>()).prop_map(|(lines, percent)| {
-        let mut all = vec![
-            "G7 G18 G21 G90 G95".to_string(),
-            "S500 M3".into(),
-            "G0 X60 Z20".into(),
-        ];
-        all.extend(lines.into_iter().flatten());
-        all.push("M5".into());
-        all.push("M2".into());
-        let mut text: String = all.iter().map(|l| format!("{l}\n")).collect();
-        if percent {
-            text = format!("%\n{text}%\n");
-        }
-        Input {
-            from: ncthread::dialect::iso::ID,
-            bytes: text.into_bytes(),
-            profile: None,
-        }
-    })
+    (
+        prop::collection::vec(iso_line(), 1..10),
+        any::<bool>(),
+        whole_part_profile(),
+    )
+        .prop_map(|(lines, percent, profile)| {
+            let mut all = vec![
+                "G7 G18 G21 G90 G95".to_string(),
+                "S500 M3".into(),
+                "G0 X60 Z20".into(),
+            ];
+            all.extend(lines.into_iter().flatten());
+            all.push("M5".into());
+            all.push("M2".into());
+            let mut text: String = all.iter().map(|l| format!("{l}\n")).collect();
+            if percent {
+                text = format!("%\n{text}%\n");
+            }
+            Input {
+                from: ncthread::dialect::iso::ID,
+                bytes: text.into_bytes(),
+                profile,
+            }
+        })
 }
 
 // ---------------------------------------------------------------------------------------

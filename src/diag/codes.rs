@@ -188,6 +188,10 @@ pub const ISOR_NO_END: Code = warning(
     "ISOR013",
     "the program has no end (M2/M30, or the closing %), which LinuxCNC reports after running it",
 );
+pub const ISOR_COMPENSATION: Code = error(
+    "ISOR015",
+    "a command LinuxCNC refuses while cutter radius compensation is on (a second G41/G42, a tool change, G28/G30, G76)",
+);
 pub const ISOR_ARC: Code = error(
     "ISOR014",
     "an arc LinuxCNC refuses: no radius or centre, a radius too small for its chord, a zero radius, or an end off its circle",
@@ -356,6 +360,7 @@ pub const ALL: &[Code] = &[
     ISOR_AFTER_END,
     ISOR_NO_END,
     ISOR_ARC,
+    ISOR_COMPENSATION,
     CZW_PRECISION,
     CZW_NO_EQUIVALENT,
     CZW_ANGLE,

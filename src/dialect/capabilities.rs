@@ -150,7 +150,9 @@ impl Construct {
                     false
                 }
                 ItemKind::TapCycle(_) => self == Construct::Tapping,
-                ItemKind::Arc { .. } => self == Construct::Arc,
+                ItemKind::Arc { .. } => {
+                    self == Construct::Arc || (self == Construct::PerMinuteFeed && per_minute)
+                }
                 ItemKind::Coolant(c) => self == Construct::of_coolant(*c),
                 ItemKind::Stop { .. } => self == Construct::Stop,
                 ItemKind::SpindleMode(crate::ir::SpindleMode::SurfaceSpeed { .. }) => {

@@ -538,6 +538,16 @@ pub fn compare_within(
                 if cw != dw {
                     return differ(format!("{} ≠ {}", describe(&a.motion), describe(&b.motion)));
                 }
+                if (a.from == a.to) != (b.from == b.to) {
+                    let turn = |s: &Segment| {
+                        if s.from == s.to {
+                            "a full circle"
+                        } else {
+                            "an arc"
+                        }
+                    };
+                    return differ(format!("{} ≠ {}", turn(a), turn(b)));
+                }
                 if f != g || p != q {
                     let unit = |m: bool| if m { "mm/min" } else { "mm/rev" };
                     return differ(format!(

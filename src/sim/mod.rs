@@ -89,6 +89,9 @@ pub struct MachineState {
     pub surface_speed: Option<Option<i64>>,
     /// The work offset in force: 0 for the default (G54), 1 … 8 for G55 … G59.3.
     pub work_offset: u8,
+    /// Cutter radius compensation in force. The path compared stays the programmed one
+    /// (the tool's radius is the machine's), so both sides must compensate alike.
+    pub compensation: Option<crate::ir::Compensation>,
 }
 
 impl MachineState {
@@ -122,7 +125,13 @@ impl MachineState {
             n @ 1..=5 => format!(", work offset G{}", 54 + n),
             n => format!(", work offset G59.{}", n - 5),
         };
-        format!("{coolant}, {spindle}{speed}{offset}")
+        let compensation = match self.compensation {
+            None => "",
+            Some(crate::ir::Compensation::FromTool { right: false, .. })
+            | Some(crate::ir::Compensation::Dynamic { right: false, .. }) => ", compensation left",
+            Some(_) => ", compensation right",
+        };
+        format!("{coolant}, {spindle}{speed}{offset}{compensation}")
     }
 }
 
@@ -486,6 +495,7 @@ impl Machine {
                     direction: None,
                     surface_speed: None,
                     work_offset: 0,
+                    compensation: None,
                     ..self.state
                 };
                 self.change(state, span);
@@ -497,6 +507,13 @@ impl Machine {
                     crate::ir::Coolant::Flood => state.flood = true,
                     crate::ir::Coolant::Off => (state.mist, state.flood) = (false, false),
                 }
+                self.change(state, span);
+            }
+            ItemKind::Compensation(c) => {
+                let state = MachineState {
+                    compensation: (*c != crate::ir::Compensation::Off).then_some(*c),
+                    ..self.state
+                };
                 self.change(state, span);
             }
             ItemKind::WorkOffset(n) => {

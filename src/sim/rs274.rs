@@ -461,17 +461,54 @@ pub enum Judgement {
 /// therefore left out on both sides: rs274's output cannot tell it from no move.
 pub fn judge(expected: &[Segment], canon: &[Canon]) -> Judgement {
     let mut theirs = without_rapid_to_rs274_start(super::normalise(&segments(canon)));
-    let expected = &without_rapid_to_rs274_start(expected.to_vec());
+    // rs274 prints nothing for cutter compensation: ncthread's record of it is compared
+    // between conversions, not here. With a tool radius the judge's tool table does not
+    // have (G41.1/G42.1 D), LinuxCNC cuts the compensated path, which ncthread does not
+    // compute: the judgement stops there.
+    let compensated = expected.iter().position(|s| {
+        matches!(
+            s.motion,
+            Motion::State(super::MachineState {
+                compensation: Some(crate::ir::Compensation::Dynamic { diameter, .. }),
+                ..
+            }) if diameter.mantissa != 0
+        )
+    });
+    let stripped: Vec<Segment> = expected[..compensated.unwrap_or(expected.len())]
+        .iter()
+        .map(|s| match s.motion {
+            Motion::State(state) => Segment {
+                motion: Motion::State(super::MachineState {
+                    compensation: None,
+                    ..state
+                }),
+                ..*s
+            },
+            _ => *s,
+        })
+        .collect();
+    let cut = compensated.is_some();
+    let expected = &without_rapid_to_rs274_start(super::normalise(&stripped));
     // Where ncthread stops knowing the position (a move in machine coordinates, to the
     // reference point), LinuxCNC's run is judged up to there.
-    let known = known_prefix(expected);
+    let mut known = known_prefix(expected);
+    // Where the judgement is cut, rs274's last move may run on into what follows (rapids
+    // merge; nothing of the compensation is printed): the last move is left out too.
+    if cut {
+        known = known.saturating_sub(1);
+        if known == 0 {
+            return Judgement::CannotJudge(
+                "LinuxCNC cuts a compensated path from the start (G41.1/G42.1 with a diameter), which ncthread does not compute".into(),
+            );
+        }
+    }
     if known == 0 && !expected.is_empty() {
         return Judgement::CannotJudge(
             "ncthread's simulation has positions it does not know (SIM001), which LinuxCNC's has"
                 .into(),
         );
     }
-    let partial = known < expected.len();
+    let partial = known < expected.len() || cut;
     if partial {
         theirs.truncate(known);
     }

@@ -70,6 +70,8 @@ struct FrontEnd<'a> {
     incremental: bool,
     /// G96 in force (S is a surface speed).
     surface_speed: bool,
+    /// Cutter radius compensation is on (G41/G42 and their `.1`, until G40).
+    compensation: bool,
     /// The position as written (mm, X a diameter), before it was rounded onto the grid:
     /// incremental moves add to it and arcs are computed from it, so that a value is rounded
     /// once, as LinuxCNC computes in doubles. An axis that does not round to the known
@@ -108,6 +110,7 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         inch: false,
         incremental: false,
         surface_speed: false,
+        compensation: false,
         exact: (None, None),
         exact_target: (None, None),
         absolute_centres: false,
@@ -800,13 +803,12 @@ impl FrontEnd<'_> {
                 return;
             }
             let limit = words.take('D').map(|d| d.value);
-            if let Some(d) = limit.filter(|d| d.is_negative()) {
-                let _ = d;
+            if limit.is_some_and(|d| d.is_negative() || d.mantissa == 0) {
                 self.missing(
                     line,
                     g96,
-                    "G96 with a negative D (the rpm limit)".into(),
-                    "D is the highest spindle speed in rpm",
+                    "G96 with a D (the rpm limit) of 0 or less: LinuxCNC then turns at S rpm, not at a surface speed".into(),
+                    "write G97 for a speed in rpm, or a positive D",
                 );
                 return;
             }
@@ -829,6 +831,13 @@ impl FrontEnd<'_> {
         }
         let mut tool_changed = None;
         if let Some(m6) = words.has_m(6) {
+            if self.compensation {
+                self.comp_refusal(
+                    line,
+                    m6,
+                    "Cannot change tools with cutter radius compensation on",
+                );
+            }
             match self.selected_tool {
                 Some(t) => tool_changed = Some(t),
                 None => self.missing(
@@ -970,6 +979,11 @@ impl FrontEnd<'_> {
                 },
             };
             if let Some(comp) = comp {
+                let on = comp != Compensation::Off;
+                if on && self.compensation {
+                    self.comp_refusal(line, w, "Cannot turn cutter radius comp on when on");
+                }
+                self.compensation = on;
                 self.push(ItemKind::Compensation(comp), span);
             }
         }
@@ -985,6 +999,15 @@ impl FrontEnd<'_> {
             G59_3 => Some(9),
             _ => None,
         }) {
+            if self.compensation
+                && let Some(&(_, w)) = words.g.iter().find(|(c, _)| (G54..=G59_3).contains(c))
+            {
+                self.comp_refusal(
+                    line,
+                    w,
+                    "Cannot change coordinate systems with cutter radius compensation on",
+                );
+            }
             self.push(ItemKind::WorkOffset(index), span);
         }
         if words.has_g(G90).is_some() {
@@ -1022,6 +1045,10 @@ impl FrontEnd<'_> {
             let second = matches!(code, G30 | G30_1);
             let kind = match code {
                 G28_1 | G30_1 => Some(MachineMove::StoreHome { second }),
+                G28 | G30 if self.compensation => {
+                    self.comp_refusal(line, w, "Cannot use g28 or g30 with cutter radius comp");
+                    None
+                }
                 G28 | G30 => self
                     .target(line, &mut words)
                     .map(|via| MachineMove::Home { second, via }),
@@ -1148,10 +1175,12 @@ impl FrontEnd<'_> {
                 2 => {
                     self.push(ItemKind::ProgramEnd(EndCode::M2), span);
                     self.ended = true;
+                    self.compensation = false;
                 }
                 30 => {
                     self.push(ItemKind::ProgramEnd(EndCode::M30), span);
                     self.ended = true;
+                    self.compensation = false;
                 }
                 _ => {}
             }
@@ -1309,6 +1338,16 @@ impl FrontEnd<'_> {
             .find(|(c, _)| MOTION.contains(c))
             .map(|(_, w)| *w);
         match motion {
+            Motion::Thread | Motion::Tap if self.compensation => {
+                let at = code_word.or(words.other.get(&'Z').copied());
+                if let Some(at) = at {
+                    self.comp_refusal(
+                        line,
+                        at,
+                        "Bug code not g0 or g1 (a synchronised move with compensation on)",
+                    );
+                }
+            }
             Motion::Rapid => {
                 let start = self.exact_start();
                 if let Some(to) = self.target(line, words) {
@@ -1333,6 +1372,16 @@ impl FrontEnd<'_> {
             Motion::Arc { clockwise } => self.arc(line, words, code_word, span, clockwise),
             Motion::Thread => self.thread(line, words, code_word, span),
             Motion::Tap => self.tap(line, words, code_word, span),
+            Motion::Cycle if self.compensation => {
+                let at = code_word.or(words.other.get(&'Z').copied());
+                if let Some(at) = at {
+                    self.comp_refusal(
+                        line,
+                        at,
+                        "Cannot use G76 threading cycle with cutter radius compensation on",
+                    );
+                }
+            }
             Motion::Cycle => self.cycle(line, words, code_word, span),
         }
     }
@@ -1366,6 +1415,18 @@ impl FrontEnd<'_> {
             self.push(ItemKind::FeedMode(FeedMode::PerMin), span);
         }
         Some(feed)
+    }
+
+    /// A command LinuxCNC refuses while cutter radius compensation is on.
+    fn comp_refusal(&mut self, line: Line<'_>, at: &Word, linuxcnc: &str) {
+        let text = &line.text[at.range.clone()];
+        self.diag(
+            codes::ISOR_COMPENSATION,
+            line,
+            at.range.clone(),
+            format!("`{text}` while cutter radius compensation is on (LinuxCNC: \"{linuxcnc}\")"),
+            "turn the compensation off with G40 first",
+        );
     }
 
     fn arc_error(&mut self, line: Line<'_>, at: Option<&Word>, message: String, help: &str) {
@@ -1578,6 +1639,14 @@ impl FrontEnd<'_> {
                 }
             }
         };
+        if (sx, sz) == (ex, ez) && s_e != e_e {
+            return self.arc_error(
+                line,
+                at,
+                format!("{g} ends within 0.0001 mm of its start without ending there: on ncthread's grid that is a full circle"),
+                "end the arc on the grid, or write the full circle with the end at the start",
+            );
+        }
         let (r1, r2) = lower::arc::radii_mm(s_e, e_e, centre_exact);
         let which = if self.absolute_centres {
             "G90.1"

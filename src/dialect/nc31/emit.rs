@@ -336,7 +336,7 @@ impl Emitter<'_> {
                 centre,
                 clockwise,
                 feed,
-            } if self.profile.arcs => {
+            } if self.profile.arcs && !self.per_minute => {
                 if let Some(direction) = self.profile.arc_direction {
                     self.write(group);
                     if self.feed != Some(*feed) {
