@@ -239,6 +239,15 @@ pub struct Capability {
     pub write: Write,
 }
 
+/// A row of a table: how a dialect reads and writes `construct`.
+pub const fn row(construct: Construct, read: Read, write: Write) -> Capability {
+    Capability {
+        construct,
+        read,
+        write,
+    }
+}
+
 /// A dialect's table: a row per construct, and how its numbers are written.
 #[derive(Clone, Debug)]
 pub struct Capabilities {

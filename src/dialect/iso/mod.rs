@@ -9,7 +9,7 @@ mod syntax;
 
 pub use front::Options;
 
-use super::capabilities::{Capabilities, Capability, Construct, Read, Write};
+use super::capabilities::{Capabilities, Construct, Read, Write, row};
 use super::{Dialect, DialectId, LineClaim, LineMark, Unsupported, WriteOptions, detect};
 use crate::diag::{Diagnostic, codes};
 use crate::ir::Program;
@@ -99,11 +99,6 @@ impl Dialect for Iso {
 
     fn capabilities(&self, _profile: &Profile) -> Capabilities {
         use Construct::*;
-        let row = |construct, read, write| Capability {
-            construct,
-            read,
-            write,
-        };
         Capabilities {
             rows: vec![
                 row(

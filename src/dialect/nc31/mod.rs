@@ -8,7 +8,7 @@ pub mod syntax;
 
 pub use front::Options;
 
-use super::capabilities::{Capabilities, Capability, Construct, Read, Write};
+use super::capabilities::{Capabilities, Construct, Read, Write, row};
 use super::{Dialect, DialectId, LineClaim, LineMark, Unsupported, WriteOptions, detect};
 use crate::diag::{Diagnostic, codes};
 use crate::ir::Program;
@@ -104,11 +104,6 @@ impl Dialect for Nc31 {
 
     fn capabilities(&self, profile: &Profile) -> Capabilities {
         use Construct::*;
-        let row = |construct, read, write| Capability {
-            construct,
-            read,
-            write,
-        };
         Capabilities {
             rows: vec![
                 row(
