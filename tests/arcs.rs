@@ -103,3 +103,26 @@ fn every_arc_form_converts_exactly_or_is_refused_by_name() {
         }
     }
 }
+
+/// An arc at a feed per minute: the НЦ-31 feeds per revolution, so it is refused by name
+/// (it was once written as mm/rev), while ISO keeps it.
+#[test]
+fn a_per_minute_arc_is_refused_for_the_nc31() {
+    let text = "G7 G18 G21 G90 G94\nS800 M3\nG0 X20 Z0\nG2 X30 Z-5 I5 K0 F100\nG0 X40\nM5\nM30\n";
+    let src = SourceFile::new("per-minute.ngc", text);
+    let nc31 = profile("[nc31]\narcs = \"g2-g3-p\"\narc_direction = \"iso\"\n");
+    let conversion = ncthread::convert(&src, &options(ncthread::dialect::nc31::ID, nc31));
+    assert!(conversion.output.is_none());
+    assert!(
+        conversion.diagnostics.iter().any(|d| d.is_error()
+            && d.code.id == "NCW002"
+            && d.location.as_ref().is_some_and(|l| l.line == 4)),
+        "{:?}",
+        conversion.diagnostics
+    );
+    let iso = ncthread::convert(
+        &src,
+        &options(ncthread::dialect::iso::ID, Profile::default()),
+    );
+    assert!(iso.output.is_some(), "{:?}", iso.diagnostics);
+}

@@ -719,6 +719,27 @@ mod tests {
         assert!(compare(&[dwell(2_500), feed], &[feed]).is_some());
     }
 
+    /// A full circle and an arc with the same ends (within the tolerance) differ.
+    #[test]
+    fn a_full_circle_is_not_a_tiny_arc() {
+        let arc = |to: (f64, f64)| {
+            seg(
+                Motion::Arc {
+                    centre: Pos::new(mm(30.0), mm(0.0)),
+                    clockwise: true,
+                    feed: mm(0.1),
+                    per_minute: false,
+                },
+                (20.0, 0.0),
+                to,
+                1,
+            )
+        };
+        let d = compare(&[arc((20.0, 0.0))], &[arc((20.0, -0.0004))]).expect("differs");
+        assert_eq!(d.what, "a full circle ≠ an arc");
+        assert!(compare(&[arc((20.0, 0.0))], &[arc((20.0, 0.0))]).is_none());
+    }
+
     #[test]
     fn mutations_are_found_and_named() {
         let a = [seg(sync(1.5, 0), (35.6, 4.5), (35.6, -47.5), 9)];

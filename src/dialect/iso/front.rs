@@ -2464,6 +2464,32 @@ mod tests {
                 codes::ISOR_ARC,
                 "G2",
             ),
+            // An I/K arc whose end rounds onto its start would become a full circle.
+            (
+                "G7 G0 X20 Z0\nG2 X20 Z-0.00001 I5 K0 F1\n",
+                codes::ISOR_ARC,
+                "G2",
+            ),
+            // Whole-part codes LinuxCNC refuses.
+            ("G7 S100 M3\nG96 D2500\n", codes::ISOR_WORD, "G96"),
+            ("G7 S100 M3\nG96 D0 S200\n", codes::ISOR_WORD, "G96"),
+            ("G7\nG53 X10\n", codes::ISOR_WORD, "G53"),
+            ("G7 G0 X1 Z0\nG41.1 L3\n", codes::ISOR_WORD, "G41.1"),
+            ("G7 G0 X1 Z0\nG41\nG42\n", codes::ISOR_COMPENSATION, "G42"),
+            ("G7 G0 X1 Z0\nG41\nT2 M6\n", codes::ISOR_COMPENSATION, "M6"),
+            ("G7 G0 X1 Z0\nG41\nG28\n", codes::ISOR_COMPENSATION, "G28"),
+            ("G7 G0 X1 Z0\nG41\nG55\n", codes::ISOR_COMPENSATION, "G55"),
+            (
+                "G7 S100 M3\nG0 X10 Z1\nG41\nG33 Z-10 K1\n",
+                codes::ISOR_COMPENSATION,
+                "G33",
+            ),
+            (
+                "G7 S100 M3\nG0 X10 Z1\nG41\nG76 P1 Z-10 I-1 J0.1 K1\n",
+                codes::ISOR_COMPENSATION,
+                "G76",
+            ),
+            ("G7 G0 X1 Z0\nG17\n", codes::ISOR_UNSUPPORTED, "G17"),
             ("G0 Y1\n", codes::ISOR_UNSUPPORTED, "Y1"),
             ("#1 = 2\n", codes::ISOR_UNSUPPORTED, "#1 = 2"),
             ("G0 X1 X2\n", codes::ISOR_CONFLICT, "X2"),
