@@ -31,7 +31,7 @@ use crate::fixed::Length;
 use crate::source::{SourceFile, Span};
 
 pub use crate::dialect::czech::profile::{
-    AngleSource, Constant8, CzechArcs, CzechProfile, InitialMotion,
+    AngleSource, Constant8, CzechArcs, CzechDwell, CzechProfile, InitialMotion,
 };
 pub use crate::dialect::iso::profile::{IsoProfile, ToolChange};
 pub use crate::dialect::nc31::profile::{Nc31ArcDirection, Nc31Profile};

@@ -89,6 +89,11 @@ pub const CZR_ARC: Code = error(
     "an arc that cannot be cut: no centre or radius, an unknown start, a zero radius, a radius too small for its chord, or an end off its circle",
 );
 
+pub const CZR_DWELL: Code = error(
+    "CZR025",
+    "a dwell (G04) without its time, with a time that is not 0 or more, or with motion in its block",
+);
+
 // nc31 front end
 pub const NCR_SYNTAX: Code = error("NCR001", "the frame cannot be read");
 pub const NCR_DECIMAL_POINT: Code = error(
@@ -327,6 +332,7 @@ pub const ALL: &[Code] = &[
     CZR_MISSING_BLOCK,
     CZR_AFTER_END,
     CZR_ARC,
+    CZR_DWELL,
     NCR_SYNTAX,
     NCR_DECIMAL_POINT,
     NCR_TWO_WORDS,

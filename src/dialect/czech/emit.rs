@@ -17,11 +17,11 @@ use crate::dialect::write::{self, Writer};
 use crate::dialect::{Inexact, Renumber, one_line};
 use crate::fixed::{Angle, Decimal, Lead, Length};
 use crate::ir::{
-    Chamfer, Coolant, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection, SyncStart,
-    ThreadCycle, ThreadPass,
+    Chamfer, Coolant, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection,
+    SpindleMode, SyncStart, ThreadCycle, ThreadPass,
 };
 use crate::lower;
-use crate::profile::{AngleSource, CzechArcs, Profile};
+use crate::profile::{AngleSource, CzechArcs, CzechDwell, Profile};
 use crate::source::SourceFile;
 
 /// The largest lead the czech control takes directly in F. **[seed]**
@@ -184,6 +184,36 @@ impl Emitter<'_> {
         let rounded = Length(crate::fixed::div_round(v.0 as i128, 10) as i64 * 10);
         self.inexact.note(item.span, what, v, rounded, Length(10));
         rounded.mm_with_point()
+    }
+
+    /// `G04` with the time in the profile's form, in a block of no motion (the time word may
+    /// be X): seconds to 0.001 s (`X0.5`), or whole milliseconds (`P500`). A time off
+    /// that grid is refused, not rounded: `--round` reports lengths.
+    fn dwell(&mut self, item: &Item, seconds: Decimal, block: &mut Block) {
+        let ms = seconds.to_scaled(3).ok().filter(|ms| *ms >= 0);
+        let Some(ms) = ms else {
+            self.diag(
+                codes::CZW_PRECISION,
+                item,
+                format!("the dwell of {seconds} s needs more than the 0.001 s this machine's dwell takes"),
+                "write the dwell in the source in whole milliseconds",
+            );
+            return;
+        };
+        let word = match self.profile.czech.dwell {
+            CzechDwell::PMilliseconds => format!("P{ms}"),
+            form => {
+                let letter = if form == CzechDwell::FSeconds {
+                    'F'
+                } else {
+                    'X'
+                };
+                format!("{letter}{}", Length(ms * 10).mm_with_point())
+            }
+        };
+        block.words.push("G04".into());
+        block.words.push(word);
+        self.flush(block);
     }
 
     fn coordinate_word(&mut self, item: &Item, letter: char, v: Length) -> Option<String> {
@@ -392,6 +422,12 @@ impl Emitter<'_> {
             }
             // Refused by legalisation (the czech table has no tap, dwell or stop, and no arc
             // unless the profile declares its form).
+            ItemKind::Dwell { seconds } if self.profile.czech.dwell != CzechDwell::None => {
+                if !block.words.is_empty() {
+                    self.flush(block);
+                }
+                self.dwell(item, *seconds, block);
+            }
             ItemKind::TapCycle(_)
             | ItemKind::Dwell { .. }
             | ItemKind::Arc { .. }
@@ -408,8 +444,26 @@ impl Emitter<'_> {
                     self.f = Some((Lead::from_length(*feed), false));
                 }
             }
-            // Speeds in rpm are this control's only mode; a surface speed is refused by
-            // legalisation.
+            // G96/G97 where the profile declares them (legalisation refuses them elsewhere;
+            // without the key, rpm is this control's only mode). The machine's speed limit
+            // is its own setting: a limit in the source has no word here.
+            ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit })
+                if self.profile.czech.surface_speed =>
+            {
+                if let Some(d) = limit {
+                    self.diag(
+                        codes::CZW_NO_EQUIVALENT,
+                        item,
+                        format!("the surface speed's limit of {d} rpm has no word on this machine (its limit is a machine setting)"),
+                        "set the machine's speed limit by hand to the source's, and remove the limit (G96's D) from the source",
+                    );
+                    return;
+                }
+                block.words.push("G96".into());
+            }
+            ItemKind::SpindleMode(SpindleMode::Rpm) if self.profile.czech.surface_speed => {
+                block.words.push("G97".into());
+            }
             ItemKind::SpindleMode(_) => {}
             // No compensation and the default work offset are this control's only state;
             // the others, and machine coordinates, are refused by legalisation.

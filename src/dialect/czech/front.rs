@@ -10,10 +10,10 @@ use crate::dialect::{Unsupported, WORD_REPORTS, budget};
 use crate::fixed::{Angle, Decimal, Lead, Length, NumberError};
 use crate::ir::{
     Chamfer, Coolant, EndCode, FeedMode, ItemKind, ModalContext, Pos, Program, SpindleDirection,
-    SyncStart, ThreadPass,
+    SpindleMode, SyncStart, ThreadPass,
 };
 use crate::lower;
-use crate::profile::{AngleSource, CzechArcs, InitialMotion, Profile};
+use crate::profile::{AngleSource, CzechArcs, CzechDwell, InitialMotion, Profile};
 use crate::source::{Line, SourceFile, Span};
 
 /// How the czech reader words its unsupported policy.
@@ -137,6 +137,10 @@ struct Words<'b> {
     end: Option<(EndCode, &'b Word)>,
     gears: Vec<(u32, &'b Word)>,
     coolant: Vec<(Coolant, &'b Word)>,
+    /// G04 and the word that gives its time (the profile's `dwell` form).
+    dwell: Option<(&'b Word, Option<&'b Word>)>,
+    /// G96 (true) or G97 (the profile's `surface_speed`).
+    speed_mode: Option<(bool, &'b Word)>,
     by_letter: HashMap<char, &'b Word>,
     unsupported: Vec<(&'b Word, String)>,
 }
@@ -275,6 +279,26 @@ impl<'a> FrontEnd<'a> {
                             };
                             words.feed_mode.replace((mode, word)).map(|(_, w)| w)
                         }
+                        4 if self.profile.czech.dwell != CzechDwell::None => {
+                            words.dwell.replace((word, None)).map(|(w, _)| w)
+                        }
+                        4 => {
+                            words.unsupported.push((
+                                word,
+                                "G04 (a dwell, whose form the czech seed does not document: if the machine's manual gives it, set `dwell` in the profile's [czech] section)".into(),
+                            ));
+                            None
+                        }
+                        96 | 97 if self.profile.czech.surface_speed => {
+                            words.speed_mode.replace((g == 96, word)).map(|(_, w)| w)
+                        }
+                        96 | 97 => {
+                            words.unsupported.push((
+                                word,
+                                format!("G{g} (surface speed, whose form the czech seed does not document: if the machine's manual gives G96/G97, set `surface_speed = \"g96-g97\"` in the profile's [czech] section)"),
+                            ));
+                            None
+                        }
                         84 => {
                             words.unsupported.push((
                                 word,
@@ -307,7 +331,7 @@ impl<'a> FrontEnd<'a> {
                         let prev = &line.text[previous.range.clone()];
                         self.report(self.error(codes::CZR_CONFLICT, line, range, format!("this G code conflicts with `{prev}` in the same block"))
                             .label("same group as an earlier G code")
-                            .help("write one G code of each group (motion, G90/G91, G94/G95) per block"));
+                            .help("write one G code of each group (motion, G90/G91, G94/G95, G96/G97, G04) per block"));
                     }
                 }
                 'M' => {
@@ -373,9 +397,12 @@ impl<'a> FrontEnd<'a> {
                     }
                 }
                 // K and R are arc words where the profile declares arcs.
-                'X' | 'Z' | 'F' | 'S' | 'T' | 'D' | 'I' | 'J' | 'E' | 'K' | 'R'
-                    if !matches!(word.letter, 'K' | 'R')
-                        || self.profile.czech.arcs != CzechArcs::None =>
+                'X' | 'Z' | 'F' | 'S' | 'T' | 'D' | 'I' | 'J' | 'E' | 'K' | 'R' | 'P'
+                    if match word.letter {
+                        'K' | 'R' => self.profile.czech.arcs != CzechArcs::None,
+                        'P' => self.profile.czech.dwell == CzechDwell::PMilliseconds,
+                        _ => true,
+                    } =>
                 {
                     if let Some(previous) = words.by_letter.insert(word.letter, word)
                         && budget(&mut conflicts)
@@ -438,6 +465,33 @@ impl<'a> FrontEnd<'a> {
                 )
                 .help("write each address once per block, and one G code of each group"),
             );
+        }
+        // In a G04 block the profile's time word is the dwell's time, not an axis or a feed;
+        // the block moves nothing. P means something only there.
+        if let Some((g04, _)) = words.dwell {
+            let letter = self.profile.czech.dwell.letter().unwrap_or('P');
+            let time = words.by_letter.remove(&letter);
+            words.dwell = Some((g04, time));
+            for w in [words.motion.map(|(_, w)| w), words.get('X'), words.get('Z')]
+                .into_iter()
+                .flatten()
+            {
+                ok = false;
+                let g = &line.text[g04.range.clone()];
+                self.report(
+                    self.error(
+                        codes::CZR_DWELL,
+                        line,
+                        w.range.clone(),
+                        format!("`{g}` dwells: a block with a dwell moves nothing"),
+                    )
+                    .help("write the dwell in a block of its own, before or after the move"),
+                );
+            }
+        } else if let Some(p) = words.by_letter.remove(&'P') {
+            words
+                .unsupported
+                .push((p, "P outside a G04 block".to_string()));
         }
         // I, J and E mean something only in a G33 block; I, K and R in an arc block as the
         // profile's arc form says.
@@ -694,6 +748,16 @@ impl<'a> FrontEnd<'a> {
                 number,
             );
         }
+        // The speed mode first: the block's S is then in its unit.
+        if let Some((g96, w)) = words.speed_mode {
+            let span = word_span(self, w);
+            let mode = if g96 {
+                SpindleMode::SurfaceSpeed { limit: None }
+            } else {
+                SpindleMode::Rpm
+            };
+            self.push(ItemKind::SpindleMode(mode), span, number);
+        }
         let speed = words.get('S').and_then(|w| self.whole(line, w));
         let direction = words.spindle.and_then(|(d, _)| d);
         if speed.is_some() || direction.is_some() {
@@ -709,7 +773,10 @@ impl<'a> FrontEnd<'a> {
             let span = word_span(self, w);
             self.push(ItemKind::Coolant(c), span, number);
         }
-        self.motion_item(line, words, code_span, number);
+        match words.dwell {
+            Some((g04, time)) => self.dwell(line, g04, time, number),
+            None => self.motion_item(line, words, code_span, number),
+        }
         for &(c, w) in words.coolant.iter().filter(|(c, _)| *c == Coolant::Off) {
             let span = word_span(self, w);
             self.push(ItemKind::Coolant(c), span, number);
@@ -722,6 +789,60 @@ impl<'a> FrontEnd<'a> {
             let span = word_span(self, w);
             self.push(ItemKind::ProgramEnd(end), span, number);
         }
+    }
+
+    /// A G04 block: its time in the profile's form.
+    fn dwell(&mut self, line: Line<'_>, g04: &Word, time: Option<&Word>, number: Option<u32>) {
+        let form = self.profile.czech.dwell;
+        let letter = form.letter().unwrap_or('P');
+        let Some(time) = time else {
+            let g = &line.text[g04.range.clone()];
+            self.report(
+                self.error(
+                    codes::CZR_DWELL,
+                    line,
+                    g04.range.clone(),
+                    format!("`{g}` without its time ({letter})"),
+                )
+                .help(match form {
+                    CzechDwell::PMilliseconds => "write the time in milliseconds: `G04 P500`",
+                    CzechDwell::FSeconds => "write the time in seconds: `G04 F0.5`",
+                    _ => "write the time in seconds: `G04 X0.5`",
+                }),
+            );
+            return;
+        };
+        let seconds = match (time.value, form) {
+            (Value::Number(d), CzechDwell::PMilliseconds) => match d.to_whole() {
+                Ok(ms) if ms >= 0 => Some(Decimal {
+                    mantissa: ms as i128,
+                    scale: 3,
+                    has_point: true,
+                }),
+                _ => None,
+            },
+            (Value::Number(d), _) if !d.is_negative() && d.scale <= 4 => Some(d),
+            _ => None,
+        };
+        let Some(seconds) = seconds else {
+            self.report(
+                self.error(
+                    codes::CZR_DWELL,
+                    line,
+                    time.range.clone(),
+                    "the dwell time must be a number of 0 or more",
+                )
+                .label(if form == CzechDwell::PMilliseconds {
+                    "whole milliseconds"
+                } else {
+                    "seconds, to 0.0001 s"
+                })
+                .help("write the time as a plain number, e.g. `G04 P500` (ms) or `G04 X0.5` (s), as the profile's form says"),
+            );
+            return;
+        };
+        let span = self.span(line, g04.range.start..time.range.end.max(g04.range.end));
+        self.push(ItemKind::Dwell { seconds }, span, number);
     }
 
     /// The F word's value: a number, or the value of the parameter in `FRnn`.
@@ -1295,6 +1416,98 @@ mod tests {
             &profile,
             &Options::default(),
         )
+    }
+
+    /// Dwells and surface speed as the profile declares them, and their refusals.
+    #[test]
+    fn dwell_and_surface_speed_follow_the_profile_form() {
+        let read = |dwell: CzechDwell, css: bool, text: &str| {
+            let mut profile = Profile::default();
+            profile.czech.dwell = dwell;
+            profile.czech.surface_speed = css;
+            let head = "N10 M03 S500 G95\nN20 G00 X20. Z0.\nN30 ";
+            let src = SourceFile::new("t.nc", format!("{head}{text}\nN40 Z-5.\n"));
+            let (p, d) = parse(&src, &profile, &Options::default());
+            let kinds: Vec<ItemKind> = p.items[3..].iter().map(|i| i.kind.clone()).collect();
+            let first = d
+                .iter()
+                .find(|d| d.is_error())
+                .map(|d| (d.code.id, d.location.as_ref().map(|l| l.column)));
+            (kinds, first)
+        };
+        let secs = |text: &str| ItemKind::Dwell {
+            seconds: Decimal::parse(text).unwrap(),
+        };
+        let z5 = ItemKind::Rapid {
+            to: Pos {
+                x: None,
+                z: Some(Length::from_mm(-5)),
+            },
+        };
+        // Each form: the time word is the time (X is no axis in a G04 block).
+        assert_eq!(
+            read(CzechDwell::XSeconds, false, "G04 X0.5"),
+            (vec![secs("0.5"), z5.clone()], None)
+        );
+        assert_eq!(
+            read(CzechDwell::FSeconds, false, "G04 F2."),
+            (vec![secs("2."), z5.clone()], None)
+        );
+        assert_eq!(
+            read(CzechDwell::PMilliseconds, false, "G04 P500"),
+            (vec![secs("0.500"), z5.clone()], None)
+        );
+        // G04 is not modal: the next block moves again.
+        // Refusals: no time, a negative time, motion in the block, P outside G04, no form.
+        let refused = |dwell, text| read(dwell, false, text).1;
+        assert_eq!(
+            refused(CzechDwell::PMilliseconds, "G04"),
+            Some(("CZR025", Some(5)))
+        );
+        assert_eq!(
+            refused(CzechDwell::PMilliseconds, "G04 P-5"),
+            Some(("CZR025", Some(9)))
+        );
+        assert_eq!(
+            refused(CzechDwell::PMilliseconds, "G04 P1.5"),
+            Some(("CZR025", Some(9)))
+        );
+        assert_eq!(
+            refused(CzechDwell::FSeconds, "G04 F1. X30."),
+            Some(("CZR025", Some(13)))
+        );
+        assert_eq!(
+            refused(CzechDwell::PMilliseconds, "G01 Z-3. P5 F0.1"),
+            Some(("CZR011", Some(14)))
+        );
+        assert_eq!(
+            refused(CzechDwell::None, "G04 X1."),
+            Some(("CZR011", Some(5)))
+        );
+        // G96 S is a surface speed; G97 S rpm; refused without the key.
+        let surface = |limit| ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit });
+        assert_eq!(
+            read(CzechDwell::None, true, "G96 S180").0[..2],
+            [
+                surface(None),
+                ItemKind::Spindle {
+                    speed: Some(180),
+                    direction: None
+                }
+            ]
+        );
+        assert_eq!(
+            read(CzechDwell::None, true, "G97 S600").0[0],
+            ItemKind::SpindleMode(SpindleMode::Rpm)
+        );
+        assert_eq!(
+            read(CzechDwell::None, true, "G96 G97 S600").1,
+            Some(("CZR019", Some(9)))
+        );
+        assert_eq!(
+            read(CzechDwell::None, false, "G96 S180").1,
+            Some(("CZR011", Some(5)))
+        );
     }
 
     /// Arcs as the profile declares them: the centre, the direction, and the refusals.

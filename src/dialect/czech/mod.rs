@@ -13,7 +13,7 @@ use super::{Dialect, DialectId, LineClaim, LineMark, Unsupported, WriteOptions, 
 use crate::diag::{Diagnostic, codes};
 use crate::ir::Program;
 use crate::legalise::Occurrence;
-use crate::profile::{CzechArcs, Profile};
+use crate::profile::{CzechArcs, CzechDwell, Profile};
 use crate::source::SourceFile;
 use crate::text::TextEncoding;
 
@@ -143,7 +143,17 @@ impl Dialect for Czech {
                     row(MistCoolant, Read::No, Write::No(codes::CZW_NO_EQUIVALENT))
                 },
                 row(Stop, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
-                row(SurfaceSpeed, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
+                if profile.czech.surface_speed {
+                    row(
+                        SurfaceSpeed,
+                        Read::Yes("G96 S (m/min), G97 S"),
+                        Write::As(
+                            "G96 S (m/min), G97 S; no speed limit word (a G96 with one: CZW002)",
+                        ),
+                    )
+                } else {
+                    row(SurfaceSpeed, Read::No, Write::No(codes::CZW_NO_EQUIVALENT))
+                },
                 row(
                     CutterCompensation,
                     Read::No,
@@ -156,7 +166,20 @@ impl Dialect for Czech {
                     Write::No(codes::CZW_NO_EQUIVALENT),
                 ),
                 row(Tapping, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
-                row(Dwell, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
+                match profile.czech.dwell {
+                    CzechDwell::None => row(Dwell, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
+                    CzechDwell::XSeconds => {
+                        row(Dwell, Read::Yes("G04 X (s)"), Write::Yes("G04 X (s)"))
+                    }
+                    CzechDwell::FSeconds => {
+                        row(Dwell, Read::Yes("G04 F (s)"), Write::Yes("G04 F (s)"))
+                    }
+                    CzechDwell::PMilliseconds => row(
+                        Dwell,
+                        Read::Yes("G04 P (ms)"),
+                        Write::As("G04 P (ms; a time off the millisecond: CZW001)"),
+                    ),
+                },
                 row(PerMinuteFeed, Read::Yes("G94"), Write::Yes("G94")),
                 row(ToolOffset, Read::Yes("D"), Write::Yes("D")),
                 row(Parameters, Read::Yes("R<nn>="), Write::Yes("R<nn>=")),
@@ -201,7 +224,7 @@ impl Dialect for Czech {
             Construct::SurfaceSpeed => (
                 codes::CZW_NO_EQUIVALENT,
                 "a constant surface speed (G96) has no form that the czech seed documents",
-                "ncthread does not yet take a surface speed form from the machine profile; program the speed in rpm (G97 S…) in the source",
+                "if the machine's manual gives G96/G97, set `surface_speed = \"g96-g97\"` in the profile's [czech] section (else program the speed in rpm, G97 S…, in the source)",
             ),
             Construct::Stop => (
                 codes::CZW_NO_EQUIVALENT,
@@ -215,8 +238,8 @@ impl Dialect for Czech {
             ),
             Construct::Dwell => (
                 codes::CZW_NO_EQUIVALENT,
-                "a dwell (G4) has no documented form on the czech control",
-                "remove the dwell or add it by hand where the control documents one",
+                "a dwell (G4) has no form that the czech seed documents",
+                "if the machine's manual gives one, set `dwell` (\"g04-x-seconds\", \"g04-f-seconds\" or \"g04-p-milliseconds\") in the profile's [czech] section",
             ),
             Construct::SyncInfeed => (
                 codes::CZW_NO_EQUIVALENT,

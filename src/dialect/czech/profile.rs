@@ -24,6 +24,39 @@ pub struct CzechProfile {
     /// G02 is clockwise seen as on a front-tool lathe (key `arc_direction = "mirrored"`),
     /// the opposite letter of LinuxCNC's G2 for the same path. **[decided]** default "iso".
     pub arcs_mirrored: bool,
+    /// How the machine writes a dwell (key `dwell`): none until the shop's manual says.
+    pub dwell: CzechDwell,
+    /// The machine holds a constant surface speed with `G96 S…` (m/min) and returns to rpm
+    /// with `G97 S…` (key `surface_speed = "g96-g97"`); its speed limit is the machine's
+    /// setting, not a word of the program. **[decided]**
+    pub surface_speed: bool,
+}
+
+/// The dwell forms the czech profile can declare. **[decided]** (czech.md, "Forms the machine
+/// profile declares")
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CzechDwell {
+    /// Dwells are refused.
+    #[default]
+    None,
+    /// `G04 X<seconds>` (X is then the time, not an axis).
+    XSeconds,
+    /// `G04 F<seconds>`.
+    FSeconds,
+    /// `G04 P<milliseconds>`, a whole number.
+    PMilliseconds,
+}
+
+impl CzechDwell {
+    /// The address that carries the time.
+    pub fn letter(self) -> Option<char> {
+        match self {
+            CzechDwell::None => None,
+            CzechDwell::XSeconds => Some('X'),
+            CzechDwell::FSeconds => Some('F'),
+            CzechDwell::PMilliseconds => Some('P'),
+        }
+    }
 }
 
 /// The arc forms the czech profile can declare. **[decided]** (czech.md, "Forms the machine
@@ -51,6 +84,8 @@ impl Default for CzechProfile {
             mist: false,
             arcs: CzechArcs::None,
             arcs_mirrored: false,
+            dwell: CzechDwell::None,
+            surface_speed: false,
         }
     }
 }
@@ -141,6 +176,8 @@ pub(crate) struct Raw {
     mist: Option<toml::Spanned<String>>,
     arcs: Option<toml::Spanned<String>>,
     arc_direction: Option<toml::Spanned<String>>,
+    dwell: Option<toml::Spanned<String>>,
+    surface_speed: Option<toml::Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -207,6 +244,37 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut CzechProfile, diags: &mut
                 "czech.arc_direction",
                 format!("unknown value \"{other}\""),
                 "\"iso\" (the default: G02 as LinuxCNC's G2 for the same path) or \"mirrored\" (a front-tool machine whose manual says G02 turns the other way)",
+            )),
+        }
+    }
+    if let Some(value) = raw.dwell {
+        p.dwell = match value.get_ref().as_str() {
+            "none" => CzechDwell::None,
+            "g04-x-seconds" => CzechDwell::XSeconds,
+            "g04-f-seconds" => CzechDwell::FSeconds,
+            "g04-p-milliseconds" => CzechDwell::PMilliseconds,
+            other => {
+                diags.push(bad_value(
+                    src,
+                    src.span_of(value.span()),
+                    "czech.dwell",
+                    format!("unknown value \"{other}\""),
+                    "\"none\" (the default), \"g04-x-seconds\", \"g04-f-seconds\" or \"g04-p-milliseconds\", as the machine's manual gives it",
+                ));
+                p.dwell
+            }
+        };
+    }
+    if let Some(value) = raw.surface_speed {
+        match value.get_ref().as_str() {
+            "none" => p.surface_speed = false,
+            "g96-g97" => p.surface_speed = true,
+            other => diags.push(bad_value(
+                src,
+                src.span_of(value.span()),
+                "czech.surface_speed",
+                format!("unknown value \"{other}\""),
+                "\"none\" (the default), or \"g96-g97\" (G96 S in m/min, G97 S in rpm) when the machine's manual says so",
             )),
         }
     }
