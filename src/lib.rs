@@ -203,9 +203,10 @@ fn oracle_check(
     interpreter: &sim::rs274::Interpreter,
     what: String,
     program: &str,
+    block_delete: bool,
     expected: &[sim::Segment],
 ) -> OracleCheck {
-    let outcome = match interpreter.run(program) {
+    let outcome = match interpreter.run_with(program, block_delete) {
         Err(e) => OracleOutcome::Failed(e),
         Ok(canon) => match sim::rs274::judge(expected, &canon) {
             sim::rs274::Judgement::Agrees {
@@ -299,6 +300,8 @@ pub fn verify(
     };
     let mut oracle = Vec::new();
     if let Some(interpreter) = rs274 {
+        // The block delete switch is the machine's: both runs use it.
+        let block_delete = options.profile.iso.block_delete == Some(profile::BlockDelete::On);
         let mut judge = |program: &SourceFile,
                          model: &SourceFile,
                          segments: &[sim::Segment],
@@ -315,7 +318,7 @@ pub fn verify(
                         ),
                     }
                 } else {
-                    oracle_check(interpreter, what, &program.text, segments)
+                    oracle_check(interpreter, what, &program.text, block_delete, segments)
                 });
         };
         if dialect::get(options.to).linuxcnc_reads() {

@@ -9,7 +9,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 
 use clap::builder::TypedValueParser as _;
 use ncthread::diag::{self, Format};
-use ncthread::profile::Profile;
+use ncthread::profile::{BlockDelete, Profile};
 use ncthread::source::SourceFile;
 use ncthread::text::{Eol, OutputOptions, TextEncoding};
 use ncthread::{ConvertOptions, DialectId, Unsupported};
@@ -208,6 +208,17 @@ struct CommonArgs {
     /// bytes are valid UTF-8, else the dialect's legacy one (czech windows-1250, nc31 IBM866).
     #[arg(long, value_parser = parse_encoding)]
     encoding: Option<TextEncoding>,
+    /// ISO input: the block delete switch the program runs with. Lines that start with `/`
+    /// run when it is off and are skipped when it is on; without it (or the profile's
+    /// `[iso] block_delete`) such a line is refused.
+    #[arg(long, value_enum)]
+    block_delete: Option<BlockDeleteArg>,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum BlockDeleteArg {
+    Off,
+    On,
 }
 
 /// Options of the subcommands that write a program.
@@ -229,7 +240,14 @@ struct TargetArgs {
 impl CommonArgs {
     /// The profile, loaded (before the input is read, so a bad profile stops early).
     fn profile(&self) -> Result<Profile, Fatal> {
-        load_profile(&self.profile, self.diagnostics)
+        let mut profile = load_profile(&self.profile, self.diagnostics)?;
+        if let Some(b) = self.block_delete {
+            profile.iso.block_delete = Some(match b {
+                BlockDeleteArg::Off => BlockDelete::Off,
+                BlockDeleteArg::On => BlockDelete::On,
+            });
+        }
+        Ok(profile)
     }
 
     /// The options of a conversion from `from` to `to`.

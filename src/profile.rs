@@ -33,7 +33,7 @@ use crate::source::{SourceFile, Span};
 pub use crate::dialect::czech::profile::{
     AngleSource, Constant8, CzechArcs, CzechDwell, CzechProfile, InitialMotion,
 };
-pub use crate::dialect::iso::profile::{IsoProfile, ToolChange};
+pub use crate::dialect::iso::profile::{BlockDelete, IsoProfile, ToolChange};
 pub use crate::dialect::nc31::profile::{Nc31ArcDirection, Nc31Profile};
 
 /// Machine constants. `Profile::default()` holds the seeds' values.

@@ -127,3 +127,49 @@ fn czech_dwell_and_surface_speed_convert_exactly_or_are_refused_by_name() {
         "CZW001"
     ));
 }
+
+/// Block delete: with the switch on, the `/` lines are skipped, off they run; each reading
+/// converts exactly and LinuxCNC (run with `-b` when on) agrees with it.
+#[test]
+fn block_delete_is_read_as_the_switch_says_and_rs274_agrees() {
+    let rs274 = common::rs274().map(|p| ncthread::sim::rs274::Interpreter::Wrapper(p.into()));
+    let path = "corpus/iso/block-delete.ngc";
+    let text = std::fs::read_to_string(common::root().join(path)).unwrap();
+    let src = SourceFile::new(path, text);
+    let iso = ncthread::dialect::iso::ID;
+    let mut segments = Vec::new();
+    for switch in ["on", "off"] {
+        for to in [iso, ncthread::dialect::czech::ID] {
+            let toml = format!("[iso]\nblock_delete = \"{switch}\"\n");
+            let v = ncthread::verify(
+                &src,
+                &options(iso, to, profile(&toml)),
+                None,
+                rs274.as_ref(),
+            );
+            // With the switch off the `/M1` stop runs too, which czech has no form for.
+            if switch == "off" && to != iso {
+                assert!(matches!(v.outcome, Outcome::Refused));
+                assert!(v.diagnostics.iter().any(|d| d.code.id == "CZW002"));
+                continue;
+            }
+            let Outcome::Equivalent { segments: n, .. } = v.outcome else {
+                panic!("block delete {switch} → {to}: {:?}", v.outcome);
+            };
+            segments.push(n);
+            if rs274.is_some() {
+                assert!(!v.oracle.is_empty());
+            }
+            for check in &v.oracle {
+                assert!(
+                    matches!(check.outcome, ncthread::OracleOutcome::Equivalent { .. }),
+                    "block delete {switch} → {to}: {}: {:?}",
+                    check.what,
+                    check.outcome
+                );
+            }
+        }
+    }
+    // The skim cut (three moves) and the stop run only with the switch off.
+    assert_eq!(segments, [11, 11, 15]);
+}

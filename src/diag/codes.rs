@@ -201,6 +201,10 @@ pub const ISOR_ARC: Code = error(
     "ISOR014",
     "an arc LinuxCNC refuses: no radius or centre, a radius too small for its chord, a zero radius, or an end off its circle",
 );
+pub const ISOR_BLOCK_DELETE: Code = warning(
+    "ISOR016",
+    "lines that start with `/` are skipped: the block delete switch is on",
+);
 
 // czech target
 pub const CZW_PRECISION: Code = error(
@@ -367,6 +371,7 @@ pub const ALL: &[Code] = &[
     ISOR_NO_END,
     ISOR_ARC,
     ISOR_COMPENSATION,
+    ISOR_BLOCK_DELETE,
     CZW_PRECISION,
     CZW_NO_EQUIVALENT,
     CZW_ANGLE,

@@ -156,13 +156,20 @@ impl Interpreter {
     /// Runs the interpreter on `program`: its canonical calls, or its complaint when it
     /// refuses the program (or cannot be run).
     pub fn run(&self, program: &str) -> Result<Vec<Canon>, String> {
+        self.run_with(program, false)
+    }
+
+    /// [`Interpreter::run`] with LinuxCNC's block delete switch on (`rs274 -b`) when
+    /// `block_delete`: lines that start with `/` are skipped.
+    pub fn run_with(&self, program: &str, block_delete: bool) -> Result<Vec<Canon>, String> {
+        let switch: &[&str] = if block_delete { &["-b"] } else { &[] };
         let dir =
             tempfile::tempdir().map_err(|e| format!("cannot make a temporary folder: {e}"))?;
         let file = dir.path().join("program.ngc");
         std::fs::write(&file, program)
             .map_err(|e| format!("cannot write {}: {e}", file.display()))?;
         let output = match self {
-            Interpreter::Wrapper(cmd) => Command::new(cmd).arg(&file).output(),
+            Interpreter::Wrapper(cmd) => Command::new(cmd).args(switch).arg(&file).output(),
             Interpreter::Binary(bin) => {
                 let tools = dir.path().join("tools.tbl");
                 let table: String = (1..=999)
@@ -174,6 +181,7 @@ impl Interpreter {
                     .arg("-t")
                     .arg(&tools)
                     .arg("-g")
+                    .args(switch)
                     .arg(&file)
                     .output()
             }

@@ -12,7 +12,7 @@ use std::ops::Range;
 use indexmap::IndexMap;
 
 use super::gcode::*;
-use super::syntax::{self, Block, Word};
+use super::syntax::{self, BLOCK_DELETE, Block, Word};
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::read::{Reader, UnsupportedWording};
 use crate::dialect::{Unsupported, WORD_REPORTS, budget};
@@ -23,6 +23,7 @@ use crate::ir::{
     SpindleMode, SyncInfeed, SyncStart, TapCycle, ThreadCycle, ThreadPass,
 };
 use crate::lower;
+use crate::profile::BlockDelete;
 use crate::source::{Line, SourceFile, Span};
 
 /// How the ISO reader words its unsupported policy.
@@ -39,6 +40,8 @@ const UNSUPPORTED: UnsupportedWording = UnsupportedWording {
 #[derive(Clone, Debug, Default)]
 pub struct Options {
     pub unsupported: Unsupported,
+    /// The block delete switch (profile `[iso] block_delete`, `--block-delete`).
+    pub block_delete: Option<BlockDelete>,
 }
 
 /// The modal motion (LinuxCNC's group 1).
@@ -97,6 +100,8 @@ struct FrontEnd<'a> {
     warned_radius: bool,
     /// M2 or M30 has ended the program.
     ended: bool,
+    /// Lines skipped because they start with `/` and the block delete switch is on.
+    skipped_lines: usize,
 }
 
 /// Reads an RS274/NGC program. The program is usable only when no diagnostic is an error.
@@ -124,6 +129,7 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         warned_rounding: false,
         warned_radius: false,
         ended: false,
+        skipped_lines: 0,
     };
     // LinuxCNC: a program whose first non-blank line is a bare `%` ends at the next bare `%`;
     // a `%` anywhere else is refused; M2/M30 end the program. Nothing after the end runs.
@@ -308,7 +314,7 @@ fn changes_followed_state(w: &Word) -> bool {
 fn may_move(line: Line<'_>, block: &Block) -> bool {
     let axis = |c: char| "XYZABCUVW".contains(c.to_ascii_uppercase());
     block.unread.iter().any(|u| match u.what {
-        "block delete `/`" | "parameter assignment" => false,
+        BLOCK_DELETE | "parameter assignment" => false,
         "parameter or expression as a value" => {
             line.text[u.range.clone()].chars().next().is_none_or(axis)
         }
@@ -426,6 +432,32 @@ impl FrontEnd<'_> {
                 return;
             }
         };
+        let mut block = block;
+        if let Some(at) = block.unread.iter().position(|u| u.what == BLOCK_DELETE) {
+            match self.options.block_delete {
+                // The switch is on: LinuxCNC skips the line.
+                Some(BlockDelete::On) => {
+                    self.skipped_lines += 1;
+                    if self.skipped_lines == 1 {
+                        let span = self.r.span(line, block.unread[at].range.clone());
+                        self.r.diags.push(
+                            Diagnostic::new(
+                                codes::ISOR_BLOCK_DELETE,
+                                "a line that starts with `/` is skipped: the block delete switch is on",
+                            )
+                            .at(self.r.src, span)
+                            .label("skipped, with every line like it")
+                            .help("ncthread reads the program as the machine runs it with block delete on; give --block-delete off for the other run"),
+                        );
+                    }
+                    return;
+                }
+                Some(BlockDelete::Off) => {
+                    block.unread.remove(at);
+                }
+                None => {}
+            }
+        }
         let first = self.r.items.len();
         let span = self.r.src.line_span(line);
         if block.delimiter {
@@ -453,7 +485,11 @@ impl FrontEnd<'_> {
             .map(|u| {
                 (
                     u.range.clone(),
-                    format!("{} is not read by ncthread", u.what),
+                    if u.what == BLOCK_DELETE {
+                        "block delete `/`: whether this line runs is the operator's switch; say which with --block-delete off (it runs) or on (it is skipped), or `block_delete` in the profile's [iso] section".to_string()
+                    } else {
+                        format!("{} is not read by ncthread", u.what)
+                    },
                 )
             })
             .collect();
@@ -2547,6 +2583,7 @@ mod tests {
             &src,
             &Options {
                 unsupported: Unsupported::Warn,
+                block_delete: None,
             },
         );
         let d: Vec<_> = d
@@ -2573,6 +2610,7 @@ mod tests {
             &src,
             &Options {
                 unsupported: Unsupported::Warn,
+                block_delete: None,
             },
         );
         assert!(!crate::diag::has_errors(&d), "{d:?}");
@@ -2596,6 +2634,7 @@ mod tests {
             &src,
             &Options {
                 unsupported: Unsupported::Warn,
+                block_delete: None,
             },
         );
         let end = p
@@ -2603,6 +2642,51 @@ mod tests {
             .iter()
             .fold(Pos::UNKNOWN, |pos, i| i.kind.end_position(pos));
         assert_eq!(end.z, None);
+    }
+
+    #[test]
+    fn block_delete_follows_the_switch_or_is_refused() {
+        let src = SourceFile::new(
+            "t.ngc",
+            "G7 G18 G21 G95\nS500 M3\nG0 X20 Z2\n/G1 Z-10 F0.1\n/ G0 X30\nG0 X40\nM30\n",
+        );
+        let read = |block_delete| {
+            parse(
+                &src,
+                &Options {
+                    unsupported: Unsupported::Error,
+                    block_delete,
+                },
+            )
+        };
+        let moves = |p: &Program| {
+            p.items
+                .iter()
+                .filter(|i| matches!(i.kind, ItemKind::Rapid { .. } | ItemKind::Feed { .. }))
+                .count()
+        };
+        // Off: the lines run (LinuxCNC's default).
+        let (p, d) = read(Some(BlockDelete::Off));
+        assert!(d.is_empty(), "{d:?}");
+        assert_eq!(moves(&p), 4);
+        // On: they are skipped, with one warning at the first.
+        let (p, d) = read(Some(BlockDelete::On));
+        assert_eq!(moves(&p), 2);
+        assert_eq!(d.len(), 1, "{d:?}");
+        assert_eq!(d[0].code, codes::ISOR_BLOCK_DELETE);
+        assert_eq!(
+            d[0].location.as_ref().map(|l| (l.line, l.column)),
+            Some((4, 1))
+        );
+        // Not said: refused at the `/`.
+        let (_, d) = read(None);
+        let errors: Vec<_> = d.iter().filter(|d| d.is_error()).collect();
+        assert_eq!(errors.len(), 2, "{d:?}");
+        assert_eq!(errors[0].code, codes::ISOR_UNSUPPORTED);
+        assert_eq!(
+            errors[0].location.as_ref().map(|l| (l.line, l.column)),
+            Some((4, 1))
+        );
     }
 
     #[test]

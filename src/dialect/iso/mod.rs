@@ -91,10 +91,16 @@ impl Dialect for Iso {
     fn read(
         &self,
         src: &SourceFile,
-        _profile: &Profile,
+        profile: &Profile,
         unsupported: Unsupported,
     ) -> (Program, Vec<Diagnostic>) {
-        front::parse(src, &Options { unsupported })
+        front::parse(
+            src,
+            &Options {
+                unsupported,
+                block_delete: profile.iso.block_delete,
+            },
+        )
     }
 
     fn capabilities(&self, _profile: &Profile) -> Capabilities {

@@ -11,6 +11,20 @@ pub struct IsoProfile {
     /// Source M code → the M word LinuxCNC should get instead (e.g. a user M code).
     pub mcodes: IndexMap<u32, String>,
     pub tool_change: ToolChange,
+    /// The block delete switch the program runs with: lines that start with `/` are
+    /// skipped when it is on and run when it is off. `None`: not said, so such a line is
+    /// refused (whether it runs is the operator's choice). **[decided]**
+    pub block_delete: Option<BlockDelete>,
+}
+
+/// LinuxCNC's block delete switch.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BlockDelete {
+    /// Lines that start with `/` run (LinuxCNC's default).
+    Off,
+    /// Lines that start with `/` are skipped.
+    On,
 }
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
@@ -28,12 +42,16 @@ pub enum ToolChange {
 pub(crate) struct Raw {
     mcodes: Option<IndexMap<String, toml::Spanned<String>>>,
     tool_change: Option<ToolChange>,
+    block_delete: Option<BlockDelete>,
 }
 
 /// Reads the `[iso]` section into `p`, reporting each bad value with its line.
 pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut IsoProfile, diags: &mut Vec<Diagnostic>) {
     if let Some(t) = raw.tool_change {
         p.tool_change = t;
+    }
+    if let Some(b) = raw.block_delete {
+        p.block_delete = Some(b);
     }
     for (key, value) in raw.mcodes.unwrap_or_default() {
         let span = src.span_of(value.span());

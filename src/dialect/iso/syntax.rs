@@ -19,6 +19,9 @@ pub struct Word {
     pub range: Range<usize>,
 }
 
+/// What [`Unread`] says of a line's leading `/`.
+pub const BLOCK_DELETE: &str = "block delete `/`";
+
 /// Something the line holds that ncthread does not read (a parameter, an expression, an
 /// O-word, block delete), with its range.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -75,7 +78,7 @@ pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
                     block.number = digits.as_str().parse().ok();
                 }
                 Rule::block_delete => block.unread.push(Unread {
-                    what: "block delete `/`",
+                    what: BLOCK_DELETE,
                     range,
                 }),
                 Rule::parameter => block.unread.push(Unread {
