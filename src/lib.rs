@@ -204,11 +204,23 @@ fn oracle_check(
     what: String,
     program: &str,
     block_delete: bool,
+    turret: bool,
     expected: &[sim::Segment],
 ) -> OracleCheck {
     let outcome = match interpreter.run_with(program, block_delete) {
         Err(e) => OracleOutcome::Failed(e),
-        Ok(canon) => match sim::rs274::judge(expected, &canon) {
+        Ok(mut canon) => match sim::rs274::judge(expected, {
+            // A turret that indexes on T (`[iso] tool_change = "t"`) changes the tool where
+            // LinuxCNC only selects it.
+            if turret {
+                for c in &mut canon {
+                    if let sim::rs274::Canon::SelectTool(t) = *c {
+                        *c = sim::rs274::Canon::ChangeTool(t);
+                    }
+                }
+            }
+            &canon
+        }) {
             sim::rs274::Judgement::Agrees {
                 segments,
                 deviation,
@@ -302,6 +314,7 @@ pub fn verify(
     if let Some(interpreter) = rs274 {
         // The block delete switch is the machine's: both runs use it.
         let block_delete = options.profile.iso.block_delete == Some(profile::BlockDelete::On);
+        let turret = options.profile.iso.tool_change == profile::ToolChange::T;
         let mut judge = |program: &SourceFile,
                          model: &SourceFile,
                          segments: &[sim::Segment],
@@ -318,7 +331,7 @@ pub fn verify(
                         ),
                     }
                 } else {
-                    oracle_check(interpreter, what, &program.text, block_delete, segments)
+                    oracle_check(interpreter, what, &program.text, block_delete, turret, segments)
                 });
         };
         if dialect::get(options.to).linuxcnc_reads() {

@@ -350,7 +350,7 @@ fn verify_proves_a_conversion_and_checks_a_hand_conversion() {
     assert_eq!(out.status.code(), Some(1), "{}", text(&out.stdout));
     let report = text(&out.stdout);
     assert!(report.starts_with("DIFFERENT:"), "{report}");
-    assert!(report.contains("line 10 (pass 5) vs line 30"), "{report}");
+    assert!(report.contains("line 10 (pass 5) vs line 31"), "{report}");
     assert!(
         report.contains("X34.255") && report.contains("X34.275"),
         "{report}"

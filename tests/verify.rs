@@ -121,6 +121,22 @@ fn a_missing_pass_is_caught() {
 }
 
 #[test]
+fn another_tool_or_a_tool_change_elsewhere_is_caught() {
+    // Tool 6 instead of the seed's turret position 5.
+    let d = difference(mutant(|t| t.replace("T5 M6", "T6 M6")));
+    assert!(d.contains("tool T6") && d.contains("tool T5"), "{d}");
+    // The change before the rapid to the change position instead of after it.
+    let d = difference(mutant(|t| {
+        let t = t.replace(
+            "T5 M6 (threading tool, at the change position as the NC-31 indexes it)\n",
+            "",
+        );
+        t.replace("S700 M3\nG0 X100 Z50\n", "T5 M6\nS700 M3\nG0 X100 Z50\n")
+    }));
+    assert!(d.contains("tool T5"), "{d}");
+}
+
+#[test]
 fn a_missing_spring_pass_is_caught() {
     // The G76 with H2 against its own expansion without the last (spring) pass.
     let src = read("corpus/iso/g76-external.ngc");

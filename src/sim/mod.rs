@@ -92,6 +92,9 @@ pub struct MachineState {
     /// Cutter radius compensation in force. The path compared stays the programmed one
     /// (the tool's radius is the machine's), so both sides must compensate alike.
     pub compensation: Option<crate::ir::Compensation>,
+    /// The tool the last tool change put in the spindle or turret (`None`: none yet). Its
+    /// offsets are the machine's.
+    pub tool: Option<u32>,
 }
 
 impl MachineState {
@@ -131,7 +134,8 @@ impl MachineState {
             | Some(crate::ir::Compensation::Dynamic { right: false, .. }) => ", compensation left",
             Some(_) => ", compensation right",
         };
-        format!("{coolant}, {spindle}{speed}{offset}{compensation}")
+        let tool = self.tool.map_or(String::new(), |t| format!(", tool T{t}"));
+        format!("{coolant}, {spindle}{speed}{offset}{compensation}{tool}")
     }
 }
 
@@ -507,6 +511,15 @@ impl Machine {
                     crate::ir::Coolant::Flood => state.flood = true,
                     crate::ir::Coolant::Off => (state.mist, state.flood) = (false, false),
                 }
+                self.change(state, span);
+            }
+            ItemKind::Tool {
+                number: Some(n), ..
+            } => {
+                let state = MachineState {
+                    tool: Some(*n),
+                    ..self.state
+                };
                 self.change(state, span);
             }
             ItemKind::Compensation(c) => {

@@ -63,6 +63,10 @@ pub enum Canon {
     Stop(bool),
     /// DWELL: seconds.
     Dwell(f64),
+    /// CHANGE_TOOL: the tool now in the spindle.
+    ChangeTool(u32),
+    /// SELECT_TOOL: the tool the next change takes (a turret that indexes on T changes to it).
+    SelectTool(u32),
 }
 
 fn numbers(args: &str) -> Vec<f64> {
@@ -125,6 +129,8 @@ pub fn parse_canon(line: &str) -> Option<Canon> {
         "PROGRAM_STOP" => Canon::Stop(false),
         "OPTIONAL_PROGRAM_STOP" => Canon::Stop(true),
         "DWELL" => Canon::Dwell(arg(0)?),
+        "CHANGE_TOOL" => Canon::ChangeTool(arg(0)? as u32),
+        "SELECT_TOOL" => Canon::SelectTool(arg(0)? as u32),
         _ => return None,
     })
 }
@@ -365,7 +371,8 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
             | Canon::SpindleMode(_)
             | Canon::WorkOffset(_)
             | Canon::Mist(_)
-            | Canon::Flood(_) => {
+            | Canon::Flood(_)
+            | Canon::ChangeTool(_) => {
                 let mut next = state;
                 match *c {
                     Canon::SpindleClockwise => {
@@ -383,6 +390,7 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
                     Canon::WorkOffset(n) => next.work_offset = n.saturating_sub(1),
                     Canon::Mist(on) => next.mist = on,
                     Canon::Flood(on) => next.flood = on,
+                    Canon::ChangeTool(t) => next.tool = Some(t),
                     _ => {}
                 }
                 next.direction = direction;
@@ -391,6 +399,8 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
                     out.push(event(Motion::State(state), pos));
                 }
             }
+            // Only a change puts the tool in the spindle.
+            Canon::SelectTool(_) => {}
             Canon::FeedRate(f) => feed = f,
             Canon::FeedPerRev(p) => per_rev = p,
             Canon::Inches(inch) => scale = if inch { 25.4 } else { 1.0 },
