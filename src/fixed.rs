@@ -256,7 +256,7 @@ pub fn split_sign(text: &str) -> Option<(bool, &str)> {
 }
 
 /// A number exactly as written in a program: `-00120.000`, `26.618`, `12`, `.5`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Decimal {
     /// All digits as one integer, sign included (`-00120.000` → -120000).
     pub mantissa: i128,

@@ -213,6 +213,10 @@ struct CommonArgs {
     /// `[iso] block_delete`) such a line is refused.
     #[arg(long, value_enum)]
     block_delete: Option<BlockDeleteArg>,
+    /// ISO input: a folder that holds subroutine files (`o<name> call` reads `name.ngc`
+    /// from the first folder that has it), as LinuxCNC's SUBROUTINE_PATH; repeatable.
+    #[arg(long, value_name = "DIR")]
+    subroutine_path: Vec<PathBuf>,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -247,6 +251,10 @@ impl CommonArgs {
                 BlockDeleteArg::On => BlockDelete::On,
             });
         }
+        profile
+            .iso
+            .subroutine_path
+            .extend(self.subroutine_path.iter().cloned());
         Ok(profile)
     }
 

@@ -205,6 +205,14 @@ pub const ISOR_BLOCK_DELETE: Code = warning(
     "ISOR016",
     "lines that start with `/` are skipped: the block delete switch is on",
 );
+pub const ISOR_CONTROL: Code = error(
+    "ISOR017",
+    "O-word blocks that do not match, an unknown subroutine, calls nested too deep, or a loop that does not end",
+);
+pub const ISOR_EVAL: Code = error(
+    "ISOR018",
+    "an expression LinuxCNC refuses (division by zero, an undefined parameter, an argument out of range) or a parameter ncthread cannot know",
+);
 
 // czech target
 pub const CZW_PRECISION: Code = error(
@@ -372,6 +380,8 @@ pub const ALL: &[Code] = &[
     ISOR_ARC,
     ISOR_COMPENSATION,
     ISOR_BLOCK_DELETE,
+    ISOR_CONTROL,
+    ISOR_EVAL,
     CZW_PRECISION,
     CZW_NO_EQUIVALENT,
     CZW_ANGLE,

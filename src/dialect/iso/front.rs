@@ -11,6 +11,7 @@ use std::ops::Range;
 
 use indexmap::IndexMap;
 
+use super::control;
 use super::gcode::*;
 use super::syntax::{self, BLOCK_DELETE, Block, Word};
 use crate::diag::{Code, Diagnostic, codes};
@@ -40,6 +41,9 @@ const UNSUPPORTED: UnsupportedWording = UnsupportedWording {
 #[derive(Clone, Debug, Default)]
 pub struct Options {
     pub unsupported: Unsupported,
+    /// Folders that hold subroutine files (`o<name> call` → `name.ngc`), LinuxCNC's
+    /// `SUBROUTINE_PATH`.
+    pub subroutine_path: Vec<std::path::PathBuf>,
     /// The block delete switch (profile `[iso] block_delete`, `--block-delete`).
     pub block_delete: Option<BlockDelete>,
 }
@@ -102,7 +106,13 @@ struct FrontEnd<'a> {
     ended: bool,
     /// Lines skipped because they start with `/` and the block delete switch is on.
     skipped_lines: usize,
+    /// An error that ends the run (LinuxCNC stops there): nothing after it is read.
+    stopped: bool,
 }
+
+mod macros;
+
+use macros::{Jump, LOOP_LIMIT};
 
 /// Reads an RS274/NGC program. The program is usable only when no diagnostic is an error.
 pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) {
@@ -130,14 +140,59 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         warned_radius: false,
         ended: false,
         skipped_lines: 0,
+        stopped: false,
     };
     // LinuxCNC: a program whose first non-blank line is a bare `%` ends at the next bare `%`;
     // a `%` anywhere else is refused; M2/M30 end the program. Nothing after the end runs.
     // **[evidence]** `Interp::open`, `Interp::read_text`, `convert_stop`.
+    // Subroutines in files of their own (`o<name> call` → name.ngc on the subroutine path),
+    // read before the run so that every file outlives the reader.
+    let (externals, load_errors) = control::load_externals(src, &options.subroutine_path);
+    let mut runs: Vec<control::FileRun<'_>> = Vec::with_capacity(1 + externals.len());
+    runs.push(control::FileRun::new(src));
+    runs.extend(externals.iter().map(control::FileRun::new));
+    for (span, message) in load_errors {
+        fe.r.diags.push(
+            Diagnostic::new(codes::ISOR_CONTROL, message)
+                .at(src, span)
+                .help("check the file's permissions, or give another folder with --subroutine-path DIR"),
+        );
+    }
+    for run in &runs {
+        fe.r.src = run.src;
+        for e in &run.structure.errors {
+            fe.diag(
+                codes::ISOR_CONTROL,
+                run.lines[e.line],
+                e.range.clone(),
+                e.message.clone(),
+                e.help,
+            );
+        }
+    }
+    fe.r.src = src;
+    let broken = runs.iter().any(|r| !r.structure.errors.is_empty());
+    let mut reported: Vec<Vec<bool>> = runs.iter().map(|r| vec![false; r.lines.len()]).collect();
+    let mut params = control::Params::default();
     let mut percent = false;
     let mut first = true;
     let mut ended: Option<&'static str> = None;
-    for line in src.lines() {
+    // The file running (0: the program) and its next line.
+    let mut f = 0;
+    let mut pc = 0;
+    let mut iterations: u64 = 0;
+    loop {
+        let run = &runs[f];
+        if pc >= run.lines.len() {
+            if f == 0 {
+                break;
+            }
+            // An external file ends without its `endsub`: the structure check said so.
+            break;
+        }
+        let line = run.lines[pc];
+        let here = pc;
+        pc += 1;
         let code: String = line
             .text
             .chars()
@@ -149,12 +204,11 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         let bare_percent = code == "%";
         if let Some(end) = ended {
             // A line of comments only is kept: it says something, and runs nothing.
-            let only_comments = syntax::parse_line(line.text)
-                .is_ok_and(|b| b.is_empty() && b.number.is_none() && !b.comments.is_empty());
+            let only_comments = matches!(&run.blocks[here], Some(Ok(b)) if b.is_empty() && b.number.is_none() && !b.comments.is_empty());
             if bare_percent && percent {
                 fe.push(ItemKind::Delimiter, src.line_span(line));
-            } else if only_comments && !line.text.contains('\0') {
-                fe.line(line);
+            } else if only_comments {
+                fe.line(line, &run.blocks[here], &mut params);
             } else {
                 let span = fe.r.span(line, 0..line.text.len());
                 fe.r.after_end(
@@ -166,7 +220,7 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
             }
             continue;
         }
-        if bare_percent {
+        if bare_percent && f == 0 {
             if first {
                 percent = true;
                 fe.push(ItemKind::Delimiter, src.line_span(line));
@@ -186,11 +240,82 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
             continue;
         }
         first = false;
-        fe.line(line);
+        let diags_before = fe.r.diags.len();
+        let items_before = fe.r.items.len();
+        let oword = match &run.blocks[here] {
+            Some(Ok(b)) => b.oword.as_ref(),
+            _ => None,
+        };
+        if let Some(o) = oword {
+            if broken {
+                // A program whose blocks do not match runs nowhere.
+                break;
+            }
+            let jump = fe.oword(here, f, o, &runs, &mut params);
+            fe.name_call_chain(diags_before, &params, &runs);
+            match jump {
+                Ok(Jump::Next) => {}
+                Ok(Jump::Here(target)) => pc = target,
+                Ok(Jump::To(file, target)) => (f, pc) = (file, target),
+                Ok(Jump::Loop(target)) => {
+                    pc = target;
+                    iterations += 1;
+                    if iterations > LOOP_LIMIT {
+                        fe.diag(
+                            codes::ISOR_CONTROL,
+                            line,
+                            o.range.clone(),
+                            format!("the program's loops have run {LOOP_LIMIT} times, the most ncthread follows: this loop does not end"),
+                            "check the loop's condition; a program that needs more iterations must be unrolled by hand",
+                        );
+                        fe.name_call_chain(diags_before, &params, &runs);
+                        break;
+                    }
+                }
+                Err(e) => {
+                    fe.diag(
+                        codes::ISOR_CONTROL,
+                        run.lines[e.line],
+                        e.range,
+                        e.message,
+                        e.help,
+                    );
+                    fe.name_call_chain(diags_before, &params, &runs);
+                    break;
+                }
+            }
+            fe.r.src = runs[f].src;
+            continue;
+        }
+        if !reported[f][here] {
+            fe.report_unreadable(line, &run.blocks[here]);
+        }
+        reported[f][here] = true;
+        fe.line(line, &run.blocks[here], &mut params);
+        fe.name_call_chain(diags_before, &params, &runs);
+        if f != 0 {
+            // The items of a subroutine in another file stand at the call in the program.
+            let call = params
+                .program_call_line()
+                .map(|l| src.line_span(runs[0].lines[l]));
+            if let Some(span) = call {
+                for item in &mut fe.r.items[items_before..] {
+                    item.span = span;
+                }
+            }
+        }
         if fe.ended {
+            if !params.frames.is_empty() {
+                // M2/M30 inside a subroutine ends the whole program.
+                break;
+            }
             ended = Some("M2/M30");
         }
+        if fe.stopped {
+            break;
+        }
     }
+    fe.r.src = src;
     if ended.is_none() && !fe.r.items.is_empty() {
         let last = src.lines().filter(|l| !l.text.trim().is_empty()).last();
         if let Some(line) = last {
@@ -407,32 +532,48 @@ impl FrontEnd<'_> {
         self.r.push(kind, span, None);
     }
 
-    fn line(&mut self, line: Line<'_>) {
-        // LinuxCNC reads a line as a C string: it ends at a NUL.
-        if let Some(at) = line.text.find('\0') {
-            self.r.syntax_error(
-                codes::ISOR_SYNTAX,
-                line,
-                at,
-                "a NUL character: LinuxCNC reads the line only up to it",
-                "remove the NUL byte (a damaged file?)",
-            );
-            return;
-        }
-        let block = match syntax::parse_line(line.text) {
-            Ok(b) => b,
-            Err(e) => {
+    /// Reports why a line cannot be read (a NUL, a syntax error).
+    fn report_unreadable(
+        &mut self,
+        line: Line<'_>,
+        parsed: &Option<Result<Block, syntax::SyntaxError>>,
+    ) {
+        match parsed {
+            None => {
+                let at = line.text.find('\0').unwrap_or(0);
+                self.r.syntax_error(
+                    codes::ISOR_SYNTAX,
+                    line,
+                    at,
+                    "a NUL character: LinuxCNC reads the line only up to it",
+                    "remove the NUL byte (a damaged file?)",
+                );
+            }
+            Some(Err(e)) => {
                 self.r.syntax_error(
                     codes::ISOR_SYNTAX,
                     line,
                     e.offset,
-                    e.message,
+                    e.message.clone(),
                     "a line is words (a letter and a number: `G33`, `X35.6`, `K1.5`), `( )` comments and a `;` comment to its end",
                 );
-                return;
             }
+            Some(Ok(_)) => {}
+        }
+    }
+
+    /// Runs one line that is not an O-word: its values evaluated, its parameter settings
+    /// made, then its words.
+    fn line(
+        &mut self,
+        line: Line<'_>,
+        parsed: &Option<Result<Block, syntax::SyntaxError>>,
+        params: &mut control::Params,
+    ) {
+        let Some(Ok(block)) = parsed else {
+            return;
         };
-        let mut block = block;
+        let mut block = block.clone();
         if let Some(at) = block.unread.iter().position(|u| u.what == BLOCK_DELETE) {
             match self.options.block_delete {
                 // The switch is on: LinuxCNC skips the line.
@@ -457,6 +598,13 @@ impl FrontEnd<'_> {
                 }
                 None => {}
             }
+        }
+        if (!block.exprs.is_empty() || !block.settings.is_empty())
+            && let Err(e) = self.evaluate(&mut block, params)
+        {
+            self.diag(codes::ISOR_EVAL, line, e.range, e.message, e.help);
+            self.stopped = true;
+            return;
         }
         let first = self.r.items.len();
         let span = self.r.src.line_span(line);
@@ -2527,7 +2675,18 @@ mod tests {
             ),
             ("G7 G0 X1 Z0\nG17\n", codes::ISOR_UNSUPPORTED, "G17"),
             ("G0 Y1\n", codes::ISOR_UNSUPPORTED, "Y1"),
-            ("#1 = 2\n", codes::ISOR_UNSUPPORTED, "#1 = 2"),
+            ("G0 X[1/0]\n", codes::ISOR_EVAL, "1/0"),
+            ("G0 X#<nope>\n", codes::ISOR_EVAL, "#<nope>"),
+            ("#1 = SQRT[-1]\n", codes::ISOR_EVAL, "SQRT[-1]"),
+            ("#5221 = 1\n", codes::ISOR_EVAL, "#5221 = 1"),
+            ("#<_x> = 1\n", codes::ISOR_EVAL, "#<_x> = 1"),
+            ("o<nope> call\n", codes::ISOR_CONTROL, "o<nope> call"),
+            ("o1 while [1]\nG0 X1\n", codes::ISOR_CONTROL, "o1 while [1]"),
+            (
+                "o1 while [1]\no2 endwhile\n",
+                codes::ISOR_CONTROL,
+                "o1 while [1]",
+            ),
             ("G0 X1 X2\n", codes::ISOR_CONFLICT, "X2"),
             ("G0 G1 X1\n", codes::ISOR_CONFLICT, "G1"),
             ("G7 G0 X1 Z1 K2\n", codes::ISOR_WORD, "K2"),
@@ -2584,6 +2743,7 @@ mod tests {
             &Options {
                 unsupported: Unsupported::Warn,
                 block_delete: None,
+                subroutine_path: Vec::new(),
             },
         );
         let d: Vec<_> = d
@@ -2611,6 +2771,7 @@ mod tests {
             &Options {
                 unsupported: Unsupported::Warn,
                 block_delete: None,
+                subroutine_path: Vec::new(),
             },
         );
         assert!(!crate::diag::has_errors(&d), "{d:?}");
@@ -2635,6 +2796,7 @@ mod tests {
             &Options {
                 unsupported: Unsupported::Warn,
                 block_delete: None,
+                subroutine_path: Vec::new(),
             },
         );
         let end = p
@@ -2656,6 +2818,7 @@ mod tests {
                 &Options {
                     unsupported: Unsupported::Error,
                     block_delete,
+                    subroutine_path: Vec::new(),
                 },
             )
         };

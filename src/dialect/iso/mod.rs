@@ -1,7 +1,9 @@
 //! Dialect `iso`: RS274/NGC as LinuxCNC reads it. A target checked against LinuxCNC's
 //! `rs274`, and a source (hand conversions to check, CAM programs to move to old machines).
 
+mod control;
 mod emit;
+mod expr;
 mod front;
 mod gcode;
 pub mod profile;
@@ -99,6 +101,7 @@ impl Dialect for Iso {
             &Options {
                 unsupported,
                 block_delete: profile.iso.block_delete,
+                subroutine_path: profile.iso.subroutine_path.clone(),
             },
         )
     }

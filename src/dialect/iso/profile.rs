@@ -15,6 +15,10 @@ pub struct IsoProfile {
     /// skipped when it is on and run when it is off. `None`: not said, so such a line is
     /// refused (whether it runs is the operator's choice). **[decided]**
     pub block_delete: Option<BlockDelete>,
+    /// Folders that hold subroutine files (`o<name> call` reads `name.ngc` from the first
+    /// that has it), LinuxCNC's `SUBROUTINE_PATH`. Relative folders are taken from the
+    /// current directory.
+    pub subroutine_path: Vec<std::path::PathBuf>,
 }
 
 /// LinuxCNC's block delete switch.
@@ -43,6 +47,7 @@ pub(crate) struct Raw {
     mcodes: Option<IndexMap<String, toml::Spanned<String>>>,
     tool_change: Option<ToolChange>,
     block_delete: Option<BlockDelete>,
+    subroutine_path: Option<Vec<std::path::PathBuf>>,
 }
 
 /// Reads the `[iso]` section into `p`, reporting each bad value with its line.
@@ -52,6 +57,9 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut IsoProfile, diags: &mut V
     }
     if let Some(b) = raw.block_delete {
         p.block_delete = Some(b);
+    }
+    if let Some(dirs) = raw.subroutine_path {
+        p.subroutine_path = dirs;
     }
     for (key, value) in raw.mcodes.unwrap_or_default() {
         let span = src.span_of(value.span());

@@ -5,6 +5,7 @@ use std::ops::Range;
 use pest::Parser;
 use pest_derive::Parser;
 
+use super::expr::{Expr, ExprKind, Func, Op, Param};
 use crate::fixed::Decimal;
 
 #[derive(Parser)]
@@ -12,29 +13,133 @@ use crate::fixed::Decimal;
 struct IsoParser;
 
 /// `X26.618`: the address letter (upper case), the value, and the byte range in the line.
+/// A value computed from parameters or an expression (`X#1`, `Z[#2 - 1]`) names its
+/// expression in [`Block::exprs`]; its `value` is set when the front end evaluates it.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Word {
     pub letter: char,
     pub value: Decimal,
     pub range: Range<usize>,
+    pub expr: Option<usize>,
 }
 
 /// What [`Unread`] says of a line's leading `/`.
 pub const BLOCK_DELETE: &str = "block delete `/`";
 
-/// Something the line holds that ncthread does not read (a parameter, an expression, an
-/// O-word, block delete), with its range.
+/// Something the line holds that ncthread does not read (block delete), with its range.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Unread {
     pub what: &'static str,
     pub range: Range<usize>,
 }
 
+/// `#1 = 5`, `#<depth> = [#1 * 2]`
+#[derive(Clone, Debug, PartialEq)]
+pub struct Setting {
+    pub param: Param,
+    pub value: Expr,
+    pub range: Range<usize>,
+}
+
+/// An O-word's label: `o100` (a number, without leading zeros) or `o<name>` (lower case,
+/// blanks removed).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Label {
+    Number(String),
+    Name(String),
+}
+
+impl std::fmt::Display for Label {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Label::Number(n) => write!(f, "o{n}"),
+            Label::Name(n) => write!(f, "o<{n}>"),
+        }
+    }
+}
+
+/// The keyword of an O-word line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Keyword {
+    Sub,
+    EndSub,
+    Call,
+    Return,
+    If,
+    ElseIf,
+    Else,
+    EndIf,
+    While,
+    EndWhile,
+    Do,
+    Repeat,
+    EndRepeat,
+    Break,
+    Continue,
+}
+
+impl Keyword {
+    fn parse(text: &str) -> Option<Keyword> {
+        Some(match text.to_ascii_lowercase().as_str() {
+            "sub" => Keyword::Sub,
+            "endsub" => Keyword::EndSub,
+            "call" => Keyword::Call,
+            "return" => Keyword::Return,
+            "if" => Keyword::If,
+            "elseif" => Keyword::ElseIf,
+            "else" => Keyword::Else,
+            "endif" => Keyword::EndIf,
+            "while" => Keyword::While,
+            "endwhile" => Keyword::EndWhile,
+            "do" => Keyword::Do,
+            "repeat" => Keyword::Repeat,
+            "endrepeat" => Keyword::EndRepeat,
+            "break" => Keyword::Break,
+            "continue" => Keyword::Continue,
+            _ => return None,
+        })
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Keyword::Sub => "sub",
+            Keyword::EndSub => "endsub",
+            Keyword::Call => "call",
+            Keyword::Return => "return",
+            Keyword::If => "if",
+            Keyword::ElseIf => "elseif",
+            Keyword::Else => "else",
+            Keyword::EndIf => "endif",
+            Keyword::While => "while",
+            Keyword::EndWhile => "endwhile",
+            Keyword::Do => "do",
+            Keyword::Repeat => "repeat",
+            Keyword::EndRepeat => "endrepeat",
+            Keyword::Break => "break",
+            Keyword::Continue => "continue",
+        }
+    }
+}
+
+/// `o<name> call [1] [2]`: the label, the keyword, its bracketed arguments.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OWord {
+    pub label: Label,
+    pub keyword: Keyword,
+    pub args: Vec<Expr>,
+    pub range: Range<usize>,
+}
+
 /// Everything a line holds, in the order written.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Block {
     pub number: Option<u32>,
     pub words: Vec<Word>,
+    /// The expressions of computed word values ([`Word::expr`]).
+    pub exprs: Vec<Expr>,
+    /// Parameter settings: they take effect after the line is read.
+    pub settings: Vec<Setting>,
+    pub oword: Option<OWord>,
     /// Every `( )` and `;` comment, trimmed.
     pub comments: Vec<String>,
     pub unread: Vec<Unread>,
@@ -45,7 +150,11 @@ pub struct Block {
 impl Block {
     /// Only a block number and/or comments.
     pub fn is_empty(&self) -> bool {
-        self.words.is_empty() && self.unread.is_empty() && !self.delimiter
+        self.words.is_empty()
+            && self.unread.is_empty()
+            && !self.delimiter
+            && self.settings.is_empty()
+            && self.oword.is_none()
     }
 }
 
@@ -58,6 +167,7 @@ pub struct SyntaxError {
 
 /// Parses one line (without its line ending).
 pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
+    check_expression_size(line)?;
     let mut pairs = IsoParser::parse(Rule::line, line).map_err(|e| syntax_error(line, &e))?;
     let line_pair = pairs
         .next()
@@ -81,23 +191,55 @@ pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
                     what: BLOCK_DELETE,
                     range,
                 }),
-                Rule::parameter => block.unread.push(Unread {
-                    what: "parameter assignment",
-                    range,
-                }),
-                Rule::oword => block.unread.push(Unread {
-                    what: "O-word (subroutine or control flow)",
-                    range,
-                }),
+                Rule::parameter_setting => {
+                    let mut inner = part.into_inner();
+                    let target = inner.next().expect("a setting names a parameter");
+                    let value = inner.next().expect("a setting has a value");
+                    block.settings.push(Setting {
+                        param: param_of(target, range.start..range.start + 1)?,
+                        value: real_value(value)?,
+                        range,
+                    });
+                }
+                Rule::oword => {
+                    let mut inner = part.into_inner();
+                    let label = inner.next().expect("an O-word has a label");
+                    let label = match label.as_rule() {
+                        Rule::name => Label::Name(name_of(label)),
+                        _ => Label::Number(label.as_str().trim_start_matches('0').to_string()),
+                    };
+                    let keyword = inner.next().expect("an O-word has a keyword");
+                    let keyword = Keyword::parse(keyword.as_str()).expect("the grammar's keywords");
+                    let mut args = Vec::new();
+                    for arg in inner {
+                        match arg.as_rule() {
+                            Rule::bracket => args.push(bracket(arg)?),
+                            Rule::comment | Rule::semicolon_comment => {
+                                let text = arg.into_inner().next().map_or("", |t| t.as_str());
+                                block.comments.extend(crate::dialect::comment_text(text));
+                            }
+                            _ => {}
+                        }
+                    }
+                    block.oword = Some(OWord {
+                        label,
+                        keyword,
+                        args,
+                        range,
+                    });
+                }
                 Rule::word => {
                     let mut inner = part.into_inner();
                     let letter = inner.next().expect("word has an address").as_str();
                     let letter = letter.chars().next().unwrap_or('?').to_ascii_uppercase();
                     let value = inner.next().expect("word has a value");
-                    if value.as_rule() == Rule::expression {
-                        block.unread.push(Unread {
-                            what: "parameter or expression as a value",
+                    if value.as_rule() == Rule::real_value {
+                        block.exprs.push(real_value(value)?);
+                        block.words.push(Word {
+                            letter,
+                            value: Decimal::default(),
                             range,
+                            expr: Some(block.exprs.len() - 1),
                         });
                         continue;
                     }
@@ -106,6 +248,7 @@ pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
                             letter,
                             value,
                             range,
+                            expr: None,
                         }),
                         None => {
                             return Err(SyntaxError {
@@ -124,6 +267,170 @@ pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
         }
     }
     Ok(block)
+}
+
+/// The deepest nesting of brackets and parameters (`[[…]]`, `##1`) a line may hold, and
+/// the most of them: LinuxCNC reads lines of at most 256 characters, so no program it runs
+/// comes near; a hostile line must not exhaust the stack of the recursive reader.
+const MAX_NESTING: usize = 64;
+const MAX_EXPRESSION_PARTS: usize = 1024;
+
+fn check_expression_size(line: &str) -> Result<(), SyntaxError> {
+    let (mut depth, mut hashes, mut parts) = (0usize, 0usize, 0usize);
+    let mut in_comment = false;
+    for (i, c) in line.char_indices() {
+        match c {
+            '(' => in_comment = true,
+            ')' => in_comment = false,
+            ';' if !in_comment => break,
+            _ if in_comment => {}
+            '[' => {
+                depth += 1;
+                parts += 1;
+            }
+            ']' => depth = depth.saturating_sub(1),
+            '#' => {
+                hashes += 1;
+                parts += 1;
+            }
+            ' ' | '\t' => {}
+            _ => {
+                hashes = 0;
+                if depth > 0 {
+                    parts += 1;
+                }
+            }
+        }
+        if depth + hashes > MAX_NESTING || parts > MAX_EXPRESSION_PARTS {
+            return Err(SyntaxError {
+                offset: i,
+                message: format!(
+                    "an expression nested deeper than {MAX_NESTING} levels or longer than {MAX_EXPRESSION_PARTS} characters: ncthread does not read it (LinuxCNC reads lines of at most 256 characters)"
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+type Pair<'i> = pest::iterators::Pair<'i, Rule>;
+
+fn range_of(pair: &Pair<'_>) -> Range<usize> {
+    pair.as_span().start()..pair.as_span().end()
+}
+
+/// `<My Name>` → `myname`: LinuxCNC removes blanks and lowers the case.
+fn name_of(pair: Pair<'_>) -> String {
+    pair.as_str()
+        .trim_start_matches('<')
+        .trim_end_matches('>')
+        .chars()
+        .filter(|c| !c.is_whitespace())
+        .flat_map(char::to_lowercase)
+        .collect()
+}
+
+fn number_of(pair: &Pair<'_>) -> Result<f64, SyntaxError> {
+    pair.as_str().parse().map_err(|_| SyntaxError {
+        offset: pair.as_span().start(),
+        message: format!("`{}` is not a number", pair.as_str()),
+    })
+}
+
+/// The parameter after `#`: a name, a number, a bracket or another parameter.
+fn param_of(pair: Pair<'_>, hash: Range<usize>) -> Result<Param, SyntaxError> {
+    let range = hash.start..pair.as_span().end();
+    Ok(match pair.as_rule() {
+        Rule::name => Param::Named(name_of(pair)),
+        Rule::unsigned => Param::Numbered(Box::new(Expr {
+            kind: ExprKind::Number(number_of(&pair)?),
+            range,
+        })),
+        Rule::bracket => Param::Numbered(Box::new(bracket(pair)?)),
+        _ => Param::Numbered(Box::new(parameter(pair)?)),
+    })
+}
+
+/// `#…`
+fn parameter(pair: Pair<'_>) -> Result<Expr, SyntaxError> {
+    let range = range_of(&pair);
+    let inner = pair.into_inner().next().expect("# names a parameter");
+    Ok(Expr {
+        kind: ExprKind::Param(param_of(inner, range.start..range.start + 1)?),
+        range,
+    })
+}
+
+/// `[…]`
+fn bracket(pair: Pair<'_>) -> Result<Expr, SyntaxError> {
+    let expression = pair
+        .into_inner()
+        .next()
+        .expect("a bracket holds an expression");
+    let mut operands = Vec::new();
+    let mut ops = Vec::new();
+    for part in expression.into_inner() {
+        match part.as_rule() {
+            Rule::operator => ops.push(Op::parse(part.as_str()).expect("the grammar's operators")),
+            _ => operands.push(real_value(part)?),
+        }
+    }
+    Ok(Expr::binary(operands, ops))
+}
+
+/// A value: an optional sign and a number, parameter, bracket or function.
+fn real_value(pair: Pair<'_>) -> Result<Expr, SyntaxError> {
+    let range = range_of(&pair);
+    let mut negative = false;
+    let mut value = None;
+    for part in pair.into_inner() {
+        match part.as_rule() {
+            Rule::sign => negative = part.as_str() == "-",
+            Rule::unsigned => {
+                value = Some(Expr {
+                    kind: ExprKind::Number(number_of(&part)?),
+                    range: range_of(&part),
+                })
+            }
+            Rule::bracket => value = Some(bracket(part)?),
+            Rule::parameter => value = Some(parameter(part)?),
+            Rule::function => value = Some(function(part)?),
+            _ => {}
+        }
+    }
+    let value = value.expect("a value has a body");
+    Ok(if negative {
+        Expr {
+            kind: ExprKind::Negate(Box::new(value)),
+            range,
+        }
+    } else {
+        value
+    })
+}
+
+fn function(pair: Pair<'_>) -> Result<Expr, SyntaxError> {
+    let range = range_of(&pair);
+    let mut inner = pair.into_inner();
+    let first = inner.next().expect("a function has a body");
+    let kind = match first.as_rule() {
+        Rule::atan => {
+            let mut args = first.into_inner();
+            let y = bracket(args.next().expect("ATAN's [y]"))?;
+            let x = bracket(args.next().expect("ATAN's [x]"))?;
+            ExprKind::Atan(Box::new(y), Box::new(x))
+        }
+        Rule::exists => {
+            let name = first.into_inner().next().expect("EXISTS names a parameter");
+            ExprKind::Exists(name_of(name))
+        }
+        _ => {
+            let f = Func::parse(first.as_str()).expect("the grammar's functions");
+            let arg = bracket(inner.next().expect("a function's argument"))?;
+            ExprKind::Unary(f, Box::new(arg))
+        }
+    };
+    Ok(Expr { kind, range })
 }
 
 fn syntax_error(line: &str, e: &pest::error::Error<Rule>) -> SyntaxError {
@@ -183,16 +490,41 @@ mod tests {
     }
 
     #[test]
-    fn names_what_it_does_not_read() {
-        let b = parse_line("#1 = 5").unwrap();
-        assert_eq!(b.unread[0].what, "parameter assignment");
-        let b = parse_line("G0 X#1 Z[2*3]").unwrap();
-        assert_eq!(b.unread.len(), 2);
-        assert_eq!(b.unread[1].range, 7..13);
-        let b = parse_line("o100 sub").unwrap();
-        assert!(b.unread[0].what.starts_with("O-word"));
+    fn reads_parameters_expressions_and_o_words() {
+        let b = parse_line("#1 = 5 #<My Depth> = [#1 * 2]").unwrap();
+        assert_eq!(b.settings.len(), 2);
+        assert_eq!(b.settings[1].param, Param::Named("mydepth".into()));
+        let b = parse_line("G0 X#1 Z[2*3] K-#<p>").unwrap();
+        assert_eq!(b.exprs.len(), 3);
+        assert_eq!(b.words[1].expr, Some(0));
+        assert_eq!(b.words[2].range, 7..13);
+        assert!(b.unread.is_empty());
+        let b = parse_line("o<Thread> call [1] [2 + #3] (comment)").unwrap();
+        let o = b.oword.unwrap();
+        assert_eq!(o.label, Label::Name("thread".into()));
+        assert_eq!(o.keyword, Keyword::Call);
+        assert_eq!(o.args.len(), 2);
+        assert_eq!(b.comments, ["comment"]);
+        let b = parse_line("O0100 while [#1 LT 3]").unwrap();
+        assert_eq!(b.oword.unwrap().label, Label::Number("100".into()));
+        let b = parse_line("G0 X[ATAN[1]/[1] + ABS[-2] ** 2 MOD 3]").unwrap();
+        assert_eq!(b.exprs.len(), 1);
         let b = parse_line("/G0 X1").unwrap();
         assert_eq!(b.unread[0].what, "block delete `/`");
+        // O-words take nothing but brackets and a comment.
+        assert!(parse_line("o100 call G0").is_err());
+        // A hostile nesting is refused, not a stack overflow.
+        let deep = format!("G0 X{}1{}", "[".repeat(100_000), "]".repeat(100_000));
+        assert!(
+            parse_line(&deep)
+                .unwrap_err()
+                .message
+                .contains("nested deeper")
+        );
+        let hashes = format!("G0 X{}1", "#".repeat(100_000));
+        assert!(parse_line(&hashes).is_err());
+        let long = format!("G0 X[{}1]", "1+".repeat(100_000));
+        assert!(parse_line(&long).is_err());
     }
 
     #[test]

@@ -1,0 +1,558 @@
+//! LinuxCNC's O-words (`interp_o_word.cc`): where each `sub`, `if`, `while`, `do`,
+//! `repeat`, `break`, `continue` and `return` sends control, found once per file, and the
+//! parameters a running program reads and sets (numbered, named local and global, the
+//! subroutine frames).
+
+use std::collections::HashMap;
+use std::ops::Range;
+
+use super::expr::{EvalError, MAX_PARAMETER};
+use super::syntax::{self, Block, Keyword, Label, SyntaxError};
+use crate::source::{Line, SourceFile, Span};
+
+/// Where an O-word line sends control.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Flow {
+    /// `sub`: a definition, skipped when reached in sequence (to after `end`).
+    Sub {
+        end: usize,
+    },
+    /// `endsub` of the definition that starts at `start`.
+    EndSub {
+        start: usize,
+    },
+    /// `return` inside the definition that starts at `start`.
+    Return {
+        start: usize,
+    },
+    Call,
+    /// `if`: its `elseif`/`else` lines in order, and its `endif`.
+    If {
+        branches: Vec<usize>,
+        end: usize,
+    },
+    /// `elseif`/`else`: tested when a failed test before it sends control here (the next
+    /// branch, if any, after it), else reached after a branch ran: on past the `endif`.
+    Branch {
+        next: Option<usize>,
+        end: usize,
+    },
+    EndIf,
+    While {
+        end: usize,
+    },
+    EndWhile {
+        start: usize,
+    },
+    /// `do`; its closing `while` is `close`.
+    Do {
+        close: usize,
+    },
+    /// The `while` that closes the `do` at `start`.
+    DoWhile {
+        start: usize,
+    },
+    Repeat {
+        end: usize,
+    },
+    EndRepeat {
+        start: usize,
+    },
+    /// `break`/`continue` of the loop that starts at `start` and ends at `end` (its
+    /// `endwhile`, closing `while` or `endrepeat`).
+    Break {
+        start: usize,
+        end: usize,
+    },
+    Continue {
+        start: usize,
+        end: usize,
+    },
+}
+
+/// A structure error: the line and what is wrong (LinuxCNC refuses such a program).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct StructureError {
+    pub line: usize,
+    pub range: Range<usize>,
+    pub message: String,
+    pub help: &'static str,
+}
+
+/// The control flow of one file's O-word lines.
+#[derive(Debug, Default)]
+pub struct Structure {
+    pub flow: HashMap<usize, Flow>,
+    /// `o<name> sub` / `o100 sub`: the definition's first line.
+    pub subs: HashMap<Label, usize>,
+    pub errors: Vec<StructureError>,
+}
+
+struct Open {
+    label: Label,
+    keyword: Keyword,
+    line: usize,
+    range: Range<usize>,
+    branches: Vec<usize>,
+    /// `break`/`continue` lines inside this loop, resolved at its end.
+    exits: Vec<(usize, bool)>,
+}
+
+impl Structure {
+    /// The structure of `blocks` (one per line; `None` for a line that is not read).
+    pub fn of(blocks: &[Option<&Block>]) -> Structure {
+        let mut s = Structure::default();
+        let mut stack: Vec<Open> = Vec::new();
+        for (i, block) in blocks.iter().enumerate() {
+            let Some(o) = block.and_then(|b| b.oword.as_ref()) else {
+                continue;
+            };
+            let label = o.label.clone();
+            let open = |keyword| Open {
+                label: label.clone(),
+                keyword,
+                line: i,
+                range: o.range.clone(),
+                branches: Vec::new(),
+                exits: Vec::new(),
+            };
+            let mut error = |message: String, help: &'static str| {
+                s.errors.push(StructureError {
+                    line: i,
+                    range: o.range.clone(),
+                    message,
+                    help,
+                })
+            };
+            let top_is = |stack: &[Open], k: Keyword| {
+                stack
+                    .last()
+                    .is_some_and(|t| t.keyword == k && t.label == label)
+            };
+            match o.keyword {
+                Keyword::Sub => {
+                    if stack.iter().any(|t| t.keyword == Keyword::Sub) {
+                        error(
+                            format!("{label} sub inside another subroutine's definition"),
+                            "define each subroutine on its own, outside every other",
+                        );
+                    }
+                    if s.subs.insert(label.clone(), i).is_some() {
+                        error(
+                            format!("{label} is defined twice"),
+                            "give each subroutine its own name",
+                        );
+                    }
+                    stack.push(open(Keyword::Sub));
+                }
+                Keyword::EndSub => {
+                    if top_is(&stack, Keyword::Sub) {
+                        let t = stack.pop().expect("top");
+                        s.flow.insert(t.line, Flow::Sub { end: i });
+                        s.flow.insert(i, Flow::EndSub { start: t.line });
+                    } else {
+                        error(
+                            format!("{label} endsub does not close a {label} sub"),
+                            "every `endsub` closes the `sub` of the same label, after every block inside it is closed",
+                        );
+                    }
+                }
+                Keyword::Return => match stack.iter().find(|t| t.keyword == Keyword::Sub) {
+                    Some(t) if t.label == label => {
+                        s.flow.insert(i, Flow::Return { start: t.line });
+                    }
+                    _ => error(
+                        format!("{label} return is not inside the {label} subroutine"),
+                        "`return` ends the subroutine of the same label, from inside it",
+                    ),
+                },
+                Keyword::Call => {
+                    s.flow.insert(i, Flow::Call);
+                }
+                Keyword::If | Keyword::Do | Keyword::Repeat => stack.push(open(o.keyword)),
+                Keyword::While if !top_is(&stack, Keyword::Do) => stack.push(open(o.keyword)),
+                Keyword::ElseIf | Keyword::Else => {
+                    if top_is(&stack, Keyword::If) {
+                        let t = stack.last_mut().expect("top");
+                        if t.branches.last().is_some_and(|&b| {
+                            blocks[b]
+                                .and_then(|b| b.oword.as_ref())
+                                .is_some_and(|o| o.keyword == Keyword::Else)
+                        }) {
+                            error(
+                                format!("{label} {} after {label} else", o.keyword.name()),
+                                "`else` is the last branch of an `if`",
+                            );
+                        }
+                        t.branches.push(i);
+                    } else {
+                        error(
+                            format!("{label} {} without an open {label} if", o.keyword.name()),
+                            "`elseif` and `else` belong to the `if` of the same label",
+                        );
+                    }
+                }
+                Keyword::EndIf => {
+                    if top_is(&stack, Keyword::If) {
+                        let t = stack.pop().expect("top");
+                        for (k, &b) in t.branches.iter().enumerate() {
+                            let next = t.branches.get(k + 1).copied();
+                            s.flow.insert(b, Flow::Branch { next, end: i });
+                        }
+                        s.flow.insert(
+                            t.line,
+                            Flow::If {
+                                branches: t.branches,
+                                end: i,
+                            },
+                        );
+                        s.flow.insert(i, Flow::EndIf);
+                    } else {
+                        error(
+                            format!("{label} endif without an open {label} if"),
+                            "every `endif` closes the `if` of the same label",
+                        );
+                    }
+                }
+                // The `while` that closes a `do` of the same label.
+                Keyword::While => {
+                    let t = stack.pop().expect("a do on top");
+                    s.flow.insert(t.line, Flow::Do { close: i });
+                    s.flow.insert(i, Flow::DoWhile { start: t.line });
+                    s.resolve_exits(&t, i);
+                }
+                Keyword::EndWhile | Keyword::EndRepeat => {
+                    let opener = if o.keyword == Keyword::EndWhile {
+                        Keyword::While
+                    } else {
+                        Keyword::Repeat
+                    };
+                    if top_is(&stack, opener) {
+                        let t = stack.pop().expect("top");
+                        if opener == Keyword::While {
+                            s.flow.insert(t.line, Flow::While { end: i });
+                            s.flow.insert(i, Flow::EndWhile { start: t.line });
+                        } else {
+                            s.flow.insert(t.line, Flow::Repeat { end: i });
+                            s.flow.insert(i, Flow::EndRepeat { start: t.line });
+                        }
+                        s.resolve_exits(&t, i);
+                    } else {
+                        error(
+                            format!(
+                                "{label} {} without an open {label} {}",
+                                o.keyword.name(),
+                                opener.name()
+                            ),
+                            "a loop's end closes the loop of the same label",
+                        );
+                    }
+                }
+                Keyword::Break | Keyword::Continue => {
+                    let is_loop = |k| matches!(k, Keyword::While | Keyword::Do | Keyword::Repeat);
+                    match stack
+                        .iter_mut()
+                        .rev()
+                        .find(|t| is_loop(t.keyword) && t.label == label)
+                    {
+                        Some(t) => t.exits.push((i, o.keyword == Keyword::Break)),
+                        None => error(
+                            format!("{label} {} is not inside a {label} loop", o.keyword.name()),
+                            "`break` and `continue` belong to the `while`, `do` or `repeat` of the same label",
+                        ),
+                    }
+                }
+            }
+        }
+        for t in stack {
+            s.errors.push(StructureError {
+                line: t.line,
+                range: t.range,
+                message: format!("{} {} is never closed", t.label, t.keyword.name()),
+                help: "close it with its end (`endsub`, `endif`, `endwhile`, `while`, `endrepeat`) of the same label",
+            });
+        }
+        s.errors.sort_by_key(|e| e.line);
+        s
+    }
+
+    fn resolve_exits(&mut self, t: &Open, end: usize) {
+        for &(line, brk) in &t.exits {
+            let (start, end) = (t.line, end);
+            self.flow.insert(
+                line,
+                if brk {
+                    Flow::Break { start, end }
+                } else {
+                    Flow::Continue { start, end }
+                },
+            );
+        }
+    }
+}
+
+/// A file the run reads: the program, or a subroutine's file. Each line is read once.
+pub struct FileRun<'s> {
+    pub src: &'s SourceFile,
+    pub lines: Vec<Line<'s>>,
+    /// `None`: the line holds a NUL.
+    pub blocks: Vec<Option<Result<Block, SyntaxError>>>,
+    pub structure: Structure,
+}
+
+impl<'s> FileRun<'s> {
+    pub fn new(src: &'s SourceFile) -> FileRun<'s> {
+        let lines: Vec<Line<'s>> = src.lines().collect();
+        let blocks: Vec<_> = lines
+            .iter()
+            .map(|l| (!l.text.contains('\0')).then(|| syntax::parse_line(l.text)))
+            .collect();
+        let refs: Vec<Option<&Block>> = blocks
+            .iter()
+            .map(|b| b.as_ref().and_then(|b| b.as_ref().ok()))
+            .collect();
+        let structure = Structure::of(&refs);
+        FileRun {
+            src,
+            lines,
+            blocks,
+            structure,
+        }
+    }
+}
+
+/// The subroutines `src` calls that it does not define, read from `name.ngc` in the first
+/// folder of `path` that has it (LinuxCNC's `SUBROUTINE_PATH`), and theirs in turn; and
+/// for each name found nowhere, the call and why. At most [`MAX_FILES`] files.
+pub fn load_externals(
+    src: &SourceFile,
+    path: &[std::path::PathBuf],
+) -> (Vec<SourceFile>, Vec<(Span, String)>) {
+    let mut files: Vec<SourceFile> = Vec::new();
+    let mut errors = Vec::new();
+    let mut known: std::collections::HashSet<String> = std::collections::HashSet::new();
+    // (file index: 0 the program, else files[i - 1]) to scan.
+    let mut queue = vec![0usize];
+    while let Some(k) = queue.pop() {
+        let file = if k == 0 { src } else { &files[k - 1] };
+        let mut defined = std::collections::HashSet::new();
+        let mut calls = Vec::new();
+        for line in file.lines() {
+            if line.text.contains('\0')
+                || !line.text.trim_start().to_ascii_lowercase().starts_with('o')
+            {
+                continue;
+            }
+            let Ok(b) = syntax::parse_line(line.text) else {
+                continue;
+            };
+            let Some(o) = b.oword else { continue };
+            let Label::Name(name) = &o.label else {
+                continue;
+            };
+            match o.keyword {
+                Keyword::Sub => {
+                    defined.insert(name.clone());
+                }
+                Keyword::Call => {
+                    calls.push((name.clone(), file.span_in_line(line, o.range.clone())))
+                }
+                _ => {}
+            }
+        }
+        let mut found = Vec::new();
+        for (name, span) in calls {
+            if defined.contains(&name) || !known.insert(name.clone()) {
+                continue;
+            }
+            if files.len() >= MAX_FILES {
+                break;
+            }
+            let candidate = path
+                .iter()
+                .map(|dir| dir.join(format!("{name}.ngc")))
+                .find(|p| p.is_file());
+            let Some(candidate) = candidate else {
+                // Not found: the call reports it when it runs, if it runs.
+                continue;
+            };
+            match std::fs::read(&candidate) {
+                Ok(bytes) => {
+                    let (text, _) = crate::text::decode(&bytes, super::ID);
+                    found.push(SourceFile::new(candidate.display().to_string(), text));
+                }
+                Err(e) if k == 0 => {
+                    errors.push((span, format!("cannot read {}: {e}", candidate.display())))
+                }
+                Err(_) => {}
+            }
+        }
+        for f in found {
+            files.push(f);
+            queue.push(files.len());
+        }
+    }
+    (files, errors)
+}
+
+/// The most subroutine files one program reads.
+pub const MAX_FILES: usize = 256;
+
+/// A subroutine call in progress.
+#[derive(Debug)]
+pub struct Frame {
+    pub name: Label,
+    /// The file and line of the `call` (control comes back after it).
+    pub file: usize,
+    pub call_line: usize,
+    /// The file the subroutine runs in.
+    pub sub_file: usize,
+    /// The caller's #1 … #30, restored at the return.
+    pub saved: [f64; 30],
+    /// Named local parameters.
+    pub locals: HashMap<String, f64>,
+    /// The count left of each `repeat` running in this frame, by its line.
+    pub repeats: HashMap<usize, i64>,
+}
+
+/// Every parameter a program has set.
+#[derive(Debug)]
+pub struct Params {
+    pub numbered: Vec<f64>,
+    /// Named parameters of the main program (locals there live as long as the program).
+    pub top: HashMap<String, f64>,
+    /// Global named parameters (`#<_name>`).
+    pub globals: HashMap<String, f64>,
+    pub frames: Vec<Frame>,
+    /// The count left of each `repeat` running at the top level.
+    pub repeats: HashMap<usize, i64>,
+    /// `#<_value>` and whether the last subroutine returned one.
+    pub value: f64,
+    pub value_returned: bool,
+    /// The `elseif`/`else` line a failed test sent control to: it tests (or runs).
+    pub testing: Option<usize>,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params {
+            numbered: vec![0.0; MAX_PARAMETER + 1],
+            top: HashMap::new(),
+            globals: HashMap::new(),
+            frames: Vec::new(),
+            repeats: HashMap::new(),
+            value: 0.0,
+            value_returned: false,
+            testing: None,
+        }
+    }
+}
+
+impl Params {
+    pub fn locals(&self) -> &HashMap<String, f64> {
+        self.frames.last().map_or(&self.top, |f| &f.locals)
+    }
+
+    pub fn locals_mut(&mut self) -> &mut HashMap<String, f64> {
+        match self.frames.last_mut() {
+            Some(f) => &mut f.locals,
+            None => &mut self.top,
+        }
+    }
+
+    pub fn repeats_mut(&mut self) -> &mut HashMap<usize, i64> {
+        match self.frames.last_mut() {
+            Some(f) => &mut f.repeats,
+            None => &mut self.repeats,
+        }
+    }
+
+    /// A named parameter the program set (global or local), if any.
+    pub fn named(&self, name: &str) -> Option<f64> {
+        if name.starts_with('_') {
+            self.globals.get(name).copied()
+        } else {
+            self.locals().get(name).copied()
+        }
+    }
+
+    /// The line of the program (file 0) whose call runs the code in another file now.
+    pub fn program_call_line(&self) -> Option<usize> {
+        self.frames
+            .iter()
+            .find(|f| f.sub_file != 0)
+            .filter(|f| f.file == 0)
+            .map(|f| f.call_line)
+    }
+
+    /// The call chain for a diagnostic: `in o<thread> (called from line 12)`, innermost
+    /// first.
+    pub fn chain(&self, line_of: impl Fn(usize, usize) -> String) -> Option<String> {
+        if self.frames.is_empty() {
+            return None;
+        }
+        let parts: Vec<String> = self
+            .frames
+            .iter()
+            .rev()
+            .map(|f| format!("in {} called from {}", f.name, line_of(f.file, f.call_line)))
+            .collect();
+        Some(parts.join(", "))
+    }
+}
+
+/// An error of evaluation, as a structure-like error on its line.
+pub fn eval_error(line: usize, e: EvalError) -> StructureError {
+    StructureError {
+        line,
+        range: e.range,
+        message: e.message,
+        help: e.help,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dialect::iso::syntax::parse_line;
+
+    fn structure(text: &str) -> Structure {
+        let blocks: Vec<Block> = text.lines().map(|l| parse_line(l).unwrap()).collect();
+        let refs: Vec<Option<&Block>> = blocks.iter().map(Some).collect();
+        Structure::of(&refs)
+    }
+
+    #[test]
+    fn matches_every_block_by_its_label() {
+        let s = structure(
+            "o<t> sub\no1 while [1]\no1 break\no1 endwhile\no<t> return\no<t> endsub\no2 do\no2 continue\no2 while [0]\no3 if [1]\no3 elseif [2]\no3 else\no3 endif\no4 repeat [2]\no4 endrepeat\n",
+        );
+        assert!(s.errors.is_empty(), "{:?}", s.errors);
+        assert_eq!(s.flow[&0], Flow::Sub { end: 5 });
+        assert_eq!(s.flow[&1], Flow::While { end: 3 });
+        assert_eq!(s.flow[&2], Flow::Break { start: 1, end: 3 });
+        assert_eq!(s.flow[&4], Flow::Return { start: 0 });
+        assert_eq!(s.flow[&6], Flow::Do { close: 8 });
+        assert_eq!(s.flow[&7], Flow::Continue { start: 6, end: 8 });
+        assert_eq!(
+            s.flow[&9],
+            Flow::If {
+                branches: vec![10, 11],
+                end: 12
+            }
+        );
+        assert_eq!(s.flow[&13], Flow::Repeat { end: 14 });
+        assert_eq!(s.subs[&Label::Name("t".into())], 0);
+    }
+
+    #[test]
+    fn names_what_does_not_match() {
+        let lines =
+            |text: &str| -> Vec<usize> { structure(text).errors.iter().map(|e| e.line).collect() };
+        assert_eq!(lines("o1 while [1]\no2 endwhile\n"), [0, 1]);
+        assert_eq!(lines("o1 if [1]\no1 else\no1 elseif [1]\no1 endif\n"), [2]);
+        assert_eq!(lines("o1 break\n"), [0]);
+        assert_eq!(lines("o<a> sub\no<b> sub\no<b> endsub\no<a> endsub\n"), [1]);
+        assert_eq!(lines("o<a> return\n"), [0]);
+    }
+}

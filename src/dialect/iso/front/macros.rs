@@ -1,0 +1,442 @@
+//! Running LinuxCNC's macro language inside the front end: a line's values evaluated from
+//! the parameters and the machine state the program has reached, its parameter settings,
+//! and the O-word lines that move control (`interp_o_word.cc`, `interp_read.cc`,
+//! `interp_namedparams.cc`).
+
+use std::ops::Range;
+
+use super::super::control::{self, FileRun, Flow, Frame, Params, StructureError};
+use super::super::expr::{self, Env, EvalError, Param};
+use super::super::syntax::{Block, Keyword, OWord};
+use super::{FrontEnd, Motion};
+use crate::diag::Diagnostic;
+use crate::ir::{FeedMode, SpindleDirection};
+
+/// The most loop iterations (back jumps of `endwhile`, `do … while`, `endrepeat` and
+/// `continue`) ncthread follows in one program: an endless loop ends with an error well
+/// within a second. **[decided]**
+pub(super) const LOOP_LIMIT: u64 = 200_000;
+
+/// LinuxCNC's deepest subroutine nesting below the main program (`INTERP_SUB_ROUTINE_LEVELS`
+/// is 10 and counts the main program).
+const MAX_CALL_DEPTH: usize = 9;
+
+/// Where control goes after an O-word line.
+pub(super) enum Jump {
+    Next,
+    /// To a line of this file.
+    Here(usize),
+    /// To a line of a file (a call, a return).
+    To(usize, usize),
+    /// Back to the start of a loop (counted against [`LOOP_LIMIT`]).
+    Loop(usize),
+}
+
+/// The machine state a line's expressions may read, as LinuxCNC's system parameters
+/// give it: lengths in the program's units, X a radius (LinuxCNC keeps radii inside).
+struct System {
+    x: Option<f64>,
+    z: Option<f64>,
+    inch: bool,
+    incremental: bool,
+    feed: Option<f64>,
+    rpm: Option<f64>,
+    tool: f64,
+    motion: Option<f64>,
+    spindle: Option<SpindleDirection>,
+    diameter: bool,
+    per_rev: bool,
+}
+
+struct Scope<'p> {
+    params: &'p Params,
+    system: System,
+}
+
+fn unknown(what: &str, range: &Range<usize>) -> EvalError {
+    EvalError {
+        message: format!("{what} is not known here"),
+        help: "LinuxCNC gives the machine's value, which ncthread cannot know: program an absolute position (or the value) before reading it",
+        range: range.clone(),
+    }
+}
+
+impl Scope<'_> {
+    fn system(&self, name: &str, range: &Range<usize>) -> Option<Result<f64, EvalError>> {
+        let s = &self.system;
+        let flag = |b: bool| Ok(f64::from(u8::from(b)));
+        Some(match name {
+            "_x" => s.x.ok_or_else(|| unknown("the X position", range)),
+            "_z" => s.z.ok_or_else(|| unknown("the Z position", range)),
+            "_y" | "_a" | "_b" | "_c" | "_u" | "_v" | "_w" => Ok(0.0),
+            "_metric" => flag(!s.inch),
+            "_imperial" => flag(s.inch),
+            "_absolute" => flag(!s.incremental),
+            "_incremental" => flag(s.incremental),
+            "_feed" => Ok(s.feed.unwrap_or(0.0)),
+            "_rpm" => Ok(s.rpm.unwrap_or(0.0)),
+            "_current_tool" | "_selected_tool" if name == "_current_tool" => Ok(s.tool),
+            "_motion_mode" => s.motion.ok_or_else(|| unknown("the motion mode", range)),
+            "_plane" => Ok(180.0),
+            "_lathe_diameter_mode" => flag(s.diameter),
+            "_lathe_radius_mode" => flag(!s.diameter),
+            "_spindle_on" => flag(s.spindle.is_some()),
+            "_spindle_cw" => flag(s.spindle == Some(SpindleDirection::Clockwise)),
+            "_units_per_rev" => flag(s.per_rev),
+            "_units_per_minute" => flag(!s.per_rev),
+            "_value" => Ok(self.params.value),
+            "_value_returned" => flag(self.params.value_returned),
+            _ => return None,
+        })
+    }
+}
+
+impl Env for Scope<'_> {
+    fn numbered(&self, n: usize, range: &Range<usize>) -> Result<f64, EvalError> {
+        let s = &self.system;
+        match n {
+            1..=5000 => Ok(self.params.numbered[n]),
+            5400 => Ok(s.tool),
+            5420 => s.x.ok_or_else(|| unknown("the X position (#5420)", range)),
+            5421 | 5423..=5428 => Ok(0.0),
+            5422 => s.z.ok_or_else(|| unknown("the Z position (#5422)", range)),
+            _ => Err(EvalError {
+                message: format!(
+                    "#{n} holds a value of the machine (an offset, a stored position, a tool table entry) that ncthread does not know"
+                ),
+                help: "compute the value in the program instead of reading it from the machine",
+                range: range.clone(),
+            }),
+        }
+    }
+
+    fn named(&self, name: &str, range: &Range<usize>) -> Result<f64, EvalError> {
+        if let Some(v) = self.params.named(name) {
+            return Ok(v);
+        }
+        if let Some(v) = self.system(name, range) {
+            return v;
+        }
+        Err(EvalError {
+            message: format!("Named parameter #<{name}> not defined"),
+            help: "set it before it is read (`#<name> = …`); a subroutine's named parameters are its own",
+            range: range.clone(),
+        })
+    }
+
+    fn exists(&self, name: &str) -> bool {
+        self.params.named(name).is_some() || self.system(name, &(0..0)).is_some()
+    }
+}
+
+impl FrontEnd<'_> {
+    fn scope<'p>(&self, params: &'p Params) -> Scope<'p> {
+        let unit = if self.inch { 25.4 } else { 1.0 };
+        let (x, z) = self.exact_start();
+        Scope {
+            params,
+            system: System {
+                x: x.map(|x| x / 2.0 / unit),
+                z: z.map(|z| z / unit),
+                inch: self.inch,
+                incremental: self.incremental,
+                feed: self.feed.map(|f| f.to_mm_f64() / unit),
+                rpm: self.speed.map(f64::from),
+                tool: self.selected_tool.map_or(0.0, f64::from),
+                motion: self.motion.map(|m| match m {
+                    Motion::Rapid => 0.0,
+                    Motion::Feed => 10.0,
+                    Motion::Arc { clockwise: true } => 20.0,
+                    Motion::Arc { clockwise: false } => 30.0,
+                    Motion::Thread => 330.0,
+                    Motion::Tap => 331.0,
+                    Motion::Cycle => 760.0,
+                }),
+                spindle: self.turning,
+                diameter: self.diameter == Some(true),
+                per_rev: self.feed_mode == Some(FeedMode::PerRev),
+            },
+        }
+    }
+
+    fn eval(&self, e: &expr::Expr, params: &Params) -> Result<f64, EvalError> {
+        e.eval(&self.scope(params))
+    }
+
+    /// Evaluates the line's computed values (into their words) and makes its parameter
+    /// settings: every value is read before any setting takes effect, as in LinuxCNC.
+    pub(super) fn evaluate(&self, block: &mut Block, params: &mut Params) -> Result<(), EvalError> {
+        let scope = self.scope(params);
+        let mut values = Vec::with_capacity(block.exprs.len());
+        for e in &block.exprs {
+            values.push(e.eval(&scope)?);
+        }
+        for w in &mut block.words {
+            if let Some(i) = w.expr {
+                let v = values[i];
+                w.value = expr::to_decimal(v).ok_or_else(|| EvalError {
+                    message: format!("the value {v} is too large for a word"),
+                    help: "check the expression",
+                    range: w.range.clone(),
+                })?;
+            }
+        }
+        let mut settings = Vec::with_capacity(block.settings.len());
+        for s in &block.settings {
+            let target = match &s.param {
+                Param::Numbered(e) => {
+                    let n = expr::parameter_number(e.eval(&scope)?, &s.range)?;
+                    if n > 5000 {
+                        return Err(EvalError {
+                            message: format!(
+                                "#{n} is a parameter of the machine, which ncthread does not follow"
+                            ),
+                            help: "the numbered parameters a program sets are #1 … #5000",
+                            range: s.range.clone(),
+                        });
+                    }
+                    Ok(n)
+                }
+                Param::Named(name) => {
+                    if scope.system(name, &s.range).is_some() && params.named(name).is_none() {
+                        return Err(EvalError {
+                            message: format!("Cannot assign to read-only parameter #<{name}>"),
+                            help: "LinuxCNC's system parameters are read only",
+                            range: s.range.clone(),
+                        });
+                    }
+                    Err(name.clone())
+                }
+            };
+            settings.push((target, s.value.eval(&scope)?));
+        }
+        for (target, v) in settings {
+            match target {
+                Ok(n) => params.numbered[n] = v,
+                Err(name) if name.starts_with('_') => {
+                    params.globals.insert(name, v);
+                }
+                Err(name) => {
+                    params.locals_mut().insert(name, v);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Runs an O-word line at `at`: where control goes next.
+    pub(super) fn oword(
+        &mut self,
+        at: usize,
+        file: usize,
+        o: &OWord,
+        runs: &[FileRun<'_>],
+        params: &mut Params,
+    ) -> Result<Jump, StructureError> {
+        let structure = &runs[file].structure;
+        let error = |range: Range<usize>, message: String, help: &'static str| StructureError {
+            line: at,
+            range,
+            message,
+            help,
+        };
+        let arg = |fe: &Self, params: &Params, i: usize| -> Result<Option<f64>, StructureError> {
+            match o.args.get(i) {
+                Some(e) => fe
+                    .eval(e, params)
+                    .map(Some)
+                    .map_err(|e| control::eval_error(at, e)),
+                None => Ok(None),
+            }
+        };
+        let condition = |fe: &Self, params: &Params| -> Result<bool, StructureError> {
+            match arg(fe, params, 0)? {
+                Some(v) => Ok(v != 0.0),
+                None => Err(error(
+                    o.range.clone(),
+                    format!("{} {} without its condition", o.label, o.keyword.name()),
+                    "write the condition in brackets: `o100 while [#1 LT 5]`",
+                )),
+            }
+        };
+        let flow = structure.flow.get(&at);
+        Ok(match (o.keyword, flow) {
+            (Keyword::Sub, Some(Flow::Sub { end })) => Jump::Here(end + 1),
+            (Keyword::EndSub | Keyword::Return, _) => {
+                let value = arg(self, params, 0)?;
+                let Some(frame) = params.frames.pop() else {
+                    return Err(error(
+                        o.range.clone(),
+                        format!("{} {} outside a call of it", o.label, o.keyword.name()),
+                        "a subroutine runs only when it is called",
+                    ));
+                };
+                params.numbered[1..=30].copy_from_slice(&frame.saved);
+                match value {
+                    Some(v) => {
+                        params.value = v;
+                        params.value_returned = true;
+                    }
+                    None => params.value_returned = false,
+                }
+                Jump::To(frame.file, frame.call_line + 1)
+            }
+            (Keyword::Call, _) => {
+                // This file's definition, else the program's, else a subroutine file's.
+                let found = std::iter::once(file)
+                    .chain(0..runs.len())
+                    .find_map(|k| runs[k].structure.subs.get(&o.label).map(|&l| (k, l)));
+                let Some((sub_file, start)) = found else {
+                    return Err(error(
+                        o.range.clone(),
+                        format!("Unable to open file or find subroutine {}", o.label),
+                        "define the subroutine in the program (`o<name> sub` … `o<name> endsub`), or give the folder of name.ngc with --subroutine-path",
+                    ));
+                };
+                if params.frames.len() >= MAX_CALL_DEPTH {
+                    return Err(error(
+                        o.range.clone(),
+                        format!(
+                            "Too many nested levels of subroutines: {} would be call {} deep, LinuxCNC's limit is {MAX_CALL_DEPTH}",
+                            o.label,
+                            params.frames.len() + 1
+                        ),
+                        "a subroutine that calls itself needs a condition that ends the recursion",
+                    ));
+                }
+                let mut args = [0.0; 30];
+                for (i, slot) in args.iter_mut().enumerate() {
+                    if let Some(v) = arg(self, params, i)? {
+                        *slot = v;
+                    }
+                }
+                if o.args.len() > 30 {
+                    return Err(error(
+                        o.args[30].range.clone(),
+                        format!("{} call with more than 30 arguments", o.label),
+                        "a subroutine takes at most 30 arguments (#1 … #30)",
+                    ));
+                }
+                let mut saved = [0.0; 30];
+                saved.copy_from_slice(&params.numbered[1..=30]);
+                params.numbered[1..=30].copy_from_slice(&args);
+                params.frames.push(Frame {
+                    name: o.label.clone(),
+                    file,
+                    call_line: at,
+                    sub_file,
+                    saved,
+                    locals: Default::default(),
+                    repeats: Default::default(),
+                });
+                Jump::To(sub_file, start + 1)
+            }
+            (Keyword::If, Some(Flow::If { branches, end })) => {
+                if condition(self, params)? {
+                    Jump::Next
+                } else if let Some(&b) = branches.first() {
+                    params.testing = Some(b);
+                    Jump::Here(b)
+                } else {
+                    Jump::Here(end + 1)
+                }
+            }
+            // Reached from a failed test: an `elseif` tests, an `else` runs; reached after
+            // a branch ran: past the `endif`.
+            (Keyword::ElseIf | Keyword::Else, Some(Flow::Branch { next, end })) => {
+                if params.testing == Some(at) {
+                    params.testing = None;
+                    if o.keyword == Keyword::Else || condition(self, params)? {
+                        Jump::Next
+                    } else if let Some(b) = *next {
+                        params.testing = Some(b);
+                        Jump::Here(b)
+                    } else {
+                        Jump::Here(end + 1)
+                    }
+                } else {
+                    Jump::Here(end + 1)
+                }
+            }
+            (Keyword::EndIf, _) => Jump::Next,
+            (Keyword::While, Some(Flow::While { end })) => {
+                if condition(self, params)? {
+                    Jump::Next
+                } else {
+                    Jump::Here(end + 1)
+                }
+            }
+            (Keyword::EndWhile, Some(Flow::EndWhile { start })) => Jump::Loop(*start),
+            (Keyword::Do, _) => Jump::Next,
+            (Keyword::While, Some(Flow::DoWhile { start })) => {
+                if condition(self, params)? {
+                    Jump::Loop(start + 1)
+                } else {
+                    Jump::Next
+                }
+            }
+            (Keyword::Repeat, Some(Flow::Repeat { end })) => {
+                let count = arg(self, params, 0)?.ok_or_else(|| {
+                    error(
+                        o.range.clone(),
+                        format!("{} repeat without its count", o.label),
+                        "write the count in brackets: `o100 repeat [3]`",
+                    )
+                })?;
+                let count = count.round() as i64;
+                if count <= 0 {
+                    Jump::Here(end + 1)
+                } else {
+                    params.repeats_mut().insert(at, count);
+                    Jump::Next
+                }
+            }
+            (Keyword::EndRepeat, Some(Flow::EndRepeat { start })) => {
+                let left = params.repeats_mut().get(start).copied().unwrap_or(1) - 1;
+                if left > 0 {
+                    params.repeats_mut().insert(*start, left);
+                    Jump::Loop(start + 1)
+                } else {
+                    params.repeats_mut().remove(start);
+                    Jump::Next
+                }
+            }
+            (Keyword::Break, Some(Flow::Break { start, end })) => {
+                params.repeats_mut().remove(start);
+                Jump::Here(end + 1)
+            }
+            // On to the loop's end, which tests or counts.
+            (Keyword::Continue, Some(Flow::Continue { end, .. })) => Jump::Here(*end),
+            _ => {
+                return Err(error(
+                    o.range.clone(),
+                    format!("{} {} out of place", o.label, o.keyword.name()),
+                    "check the program's O-word blocks",
+                ));
+            }
+        })
+    }
+
+    /// Names the call chain in the diagnostics made since `from` while a subroutine runs.
+    pub(super) fn name_call_chain(&mut self, from: usize, params: &Params, runs: &[FileRun<'_>]) {
+        let Some(chain) = params.chain(|file, line| {
+            let number = runs[file].lines[line].number;
+            if file == 0 {
+                format!("line {number}")
+            } else {
+                format!("{} line {number}", runs[file].src.name)
+            }
+        }) else {
+            return;
+        };
+        for d in &mut self.r.diags[from..] {
+            if !d.message.contains(" called from line ") {
+                let message = format!("{} ({chain})", d.message);
+                *d = Diagnostic {
+                    message,
+                    ..d.clone()
+                };
+            }
+        }
+    }
+}
