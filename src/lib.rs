@@ -203,11 +203,11 @@ fn oracle_check(
     interpreter: &sim::rs274::Interpreter,
     what: String,
     program: &str,
-    block_delete: bool,
+    settings: &sim::rs274::Settings,
     turret: bool,
     expected: &[sim::Segment],
 ) -> OracleCheck {
-    let outcome = match interpreter.run_with(program, block_delete) {
+    let outcome = match interpreter.run_with(program, settings) {
         Err(e) => OracleOutcome::Failed(e),
         Ok(mut canon) => match sim::rs274::judge(expected, {
             // A turret that indexes on T (`[iso] tool_change = "t"`) changes the tool where
@@ -313,7 +313,10 @@ pub fn verify(
     let mut oracle = Vec::new();
     if let Some(interpreter) = rs274 {
         // The block delete switch is the machine's: both runs use it.
-        let block_delete = options.profile.iso.block_delete == Some(profile::BlockDelete::On);
+        let settings = sim::rs274::Settings {
+            block_delete: options.profile.iso.block_delete == Some(profile::BlockDelete::On),
+            subroutine_path: options.profile.iso.subroutine_path.clone(),
+        };
         let turret = options.profile.iso.tool_change == profile::ToolChange::T;
         let mut judge = |program: &SourceFile,
                          model: &SourceFile,
@@ -331,7 +334,7 @@ pub fn verify(
                         ),
                     }
                 } else {
-                    oracle_check(interpreter, what, &program.text, block_delete, turret, segments)
+                    oracle_check(interpreter, what, &program.text, &settings, turret, segments)
                 });
         };
         if dialect::get(options.to).linuxcnc_reads() {

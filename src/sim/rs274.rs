@@ -135,6 +135,15 @@ pub fn parse_canon(line: &str) -> Option<Canon> {
     })
 }
 
+/// The machine's settings a run of LinuxCNC's interpreter follows.
+#[derive(Clone, Debug, Default)]
+pub struct Settings {
+    /// The block delete switch is on: lines that start with `/` are skipped.
+    pub block_delete: bool,
+    /// Folders that hold subroutine files.
+    pub subroutine_path: Vec<std::path::PathBuf>,
+}
+
 /// How to run LinuxCNC's interpreter.
 #[derive(Clone, Debug)]
 pub enum Interpreter {
@@ -162,20 +171,43 @@ impl Interpreter {
     /// Runs the interpreter on `program`: its canonical calls, or its complaint when it
     /// refuses the program (or cannot be run).
     pub fn run(&self, program: &str) -> Result<Vec<Canon>, String> {
-        self.run_with(program, false)
+        self.run_with(program, &Settings::default())
     }
 
-    /// [`Interpreter::run`] with LinuxCNC's block delete switch on (`rs274 -b`) when
-    /// `block_delete`: lines that start with `/` are skipped.
-    pub fn run_with(&self, program: &str, block_delete: bool) -> Result<Vec<Canon>, String> {
-        let switch: &[&str] = if block_delete { &["-b"] } else { &[] };
+    /// [`Interpreter::run`] with the machine's settings: the block delete switch (`rs274
+    /// -b`) and the folders of subroutine files (an INI file's `SUBROUTINE_PATH`).
+    pub fn run_with(&self, program: &str, settings: &Settings) -> Result<Vec<Canon>, String> {
         let dir =
             tempfile::tempdir().map_err(|e| format!("cannot make a temporary folder: {e}"))?;
+        let mut switch: Vec<std::ffi::OsString> = Vec::new();
+        if settings.block_delete {
+            switch.push("-b".into());
+        }
+        if !settings.subroutine_path.is_empty() {
+            let folders: Vec<String> = settings
+                .subroutine_path
+                .iter()
+                .map(|p| {
+                    std::path::absolute(p)
+                        .unwrap_or_else(|_| p.clone())
+                        .display()
+                        .to_string()
+                })
+                .collect();
+            let ini = dir.path().join("ncthread.ini");
+            std::fs::write(
+                &ini,
+                format!("[RS274NGC]\nSUBROUTINE_PATH = {}\n", folders.join(":")),
+            )
+            .map_err(|e| format!("cannot write {}: {e}", ini.display()))?;
+            switch.push("-i".into());
+            switch.push(ini.into_os_string());
+        }
         let file = dir.path().join("program.ngc");
         std::fs::write(&file, program)
             .map_err(|e| format!("cannot write {}: {e}", file.display()))?;
         let output = match self {
-            Interpreter::Wrapper(cmd) => Command::new(cmd).args(switch).arg(&file).output(),
+            Interpreter::Wrapper(cmd) => Command::new(cmd).args(&switch).arg(&file).output(),
             Interpreter::Binary(bin) => {
                 let tools = dir.path().join("tools.tbl");
                 let table: String = (1..=999)
@@ -187,7 +219,7 @@ impl Interpreter {
                     .arg("-t")
                     .arg(&tools)
                     .arg("-g")
-                    .args(switch)
+                    .args(&switch)
                     .arg(&file)
                     .output()
             }
