@@ -490,6 +490,9 @@ fn m_meaning(code: i64) -> Meaning {
     match code {
         // Stops, program end, spindle, tool change, coolant.
         0..=9 | 30 => Meaning::Known,
+        70..=73 => Meaning::Unsupported(
+            "saving and restoring the modal state (M70–M73), which ncthread does not follow",
+        ),
         _ => Meaning::Unsupported("this M code"),
     }
 }
@@ -597,6 +600,12 @@ impl FrontEnd<'_> {
                     block.unread.remove(at);
                 }
                 None => {}
+            }
+        }
+        // Messages read the parameters as the line finds them.
+        for c in &mut block.comments {
+            if let Some(text) = self.message(c, params) {
+                *c = text;
             }
         }
         if (!block.exprs.is_empty() || !block.settings.is_empty())

@@ -59,7 +59,14 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut IsoProfile, diags: &mut V
         p.block_delete = Some(b);
     }
     if let Some(dirs) = raw.subroutine_path {
-        p.subroutine_path = dirs;
+        let base = std::path::Path::new(&src.name).parent();
+        p.subroutine_path = dirs
+            .into_iter()
+            .map(|d| match base {
+                Some(base) if d.is_relative() => base.join(d),
+                _ => d,
+            })
+            .collect();
     }
     for (key, value) in raw.mcodes.unwrap_or_default() {
         let span = src.span_of(value.span());

@@ -224,6 +224,56 @@ impl FrontEnd<'_> {
         Ok(())
     }
 
+    /// A `(debug,…)` or `(print,…)` comment with its parameters' values put in, as
+    /// LinuxCNC prints it (`%lf`; `######` for a parameter that has none), so that the
+    /// unrolled program says what the macro said. Other comments as they are.
+    pub(super) fn message(&self, text: &str, params: &Params) -> Option<String> {
+        let lower = text.to_ascii_lowercase();
+        if !(lower.starts_with("debug,") || lower.starts_with("print,")) || !text.contains('#') {
+            return None;
+        }
+        let scope = self.scope(params);
+        let mut out = String::with_capacity(text.len());
+        let mut rest = text;
+        while let Some(at) = rest.find('#') {
+            out.push_str(&rest[..at]);
+            let after = &rest[at + 1..];
+            let (value, used) = if let Some(name) = after.strip_prefix('<') {
+                match name.find('>') {
+                    Some(end) => {
+                        let key: String = name[..end]
+                            .chars()
+                            .filter(|c| !c.is_whitespace())
+                            .flat_map(char::to_lowercase)
+                            .collect();
+                        (scope.named(&key, &(0..0)).ok(), end + 2)
+                    }
+                    None => (None, 0),
+                }
+            } else {
+                let digits = after.bytes().take_while(u8::is_ascii_digit).count();
+                let n = after[..digits].parse::<usize>().ok();
+                (
+                    n.and_then(|n| expr::parameter_number(n as f64, &(0..0)).ok())
+                        .and_then(|n| scope.numbered(n, &(0..0)).ok()),
+                    digits,
+                )
+            };
+            if used == 0 {
+                out.push('#');
+                rest = after;
+                continue;
+            }
+            match value {
+                Some(v) => out.push_str(&format!("{v:.6}")),
+                None => out.push_str("######"),
+            }
+            rest = &after[used..];
+        }
+        out.push_str(rest);
+        Some(out)
+    }
+
     /// Runs an O-word line at `at`: where control goes next.
     pub(super) fn oword(
         &mut self,
