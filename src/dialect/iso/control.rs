@@ -157,13 +157,15 @@ impl Structure {
                         );
                     }
                 }
+                // LinuxCNC returns from the subroutine running, whatever the label (real
+                // programs write the label of the `if` around it).
                 Keyword::Return => match stack.iter().find(|t| t.keyword == Keyword::Sub) {
-                    Some(t) if t.label == label => {
+                    Some(t) => {
                         s.flow.insert(i, Flow::Return { start: t.line });
                     }
-                    _ => error(
-                        format!("{label} return is not inside the {label} subroutine"),
-                        "`return` ends the subroutine of the same label, from inside it",
+                    None => error(
+                        format!("{label} return is not inside a subroutine"),
+                        "`return` ends the subroutine it stands in",
                     ),
                 },
                 Keyword::Call => {
@@ -431,6 +433,8 @@ pub struct Params {
     pub value_returned: bool,
     /// The `elseif`/`else` line a failed test sent control to: it tests (or runs).
     pub testing: Option<usize>,
+    /// Subroutine definitions (file, line) passed in sequence or called.
+    pub passed: std::collections::HashSet<(usize, usize)>,
 }
 
 impl Default for Params {
@@ -444,6 +448,7 @@ impl Default for Params {
             value: 0.0,
             value_returned: false,
             testing: None,
+            passed: Default::default(),
         }
     }
 }

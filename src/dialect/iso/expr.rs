@@ -145,8 +145,8 @@ pub trait Env {
 /// The highest parameter number LinuxCNC has (`RS274NGC_MAX_PARAMETERS` − 1).
 pub const MAX_PARAMETER: usize = 5601;
 
-/// LinuxCNC's tolerance for EQ and NE (`TOLERANCE_EQUAL`).
-const TOLERANCE_EQUAL: f64 = 0.0001;
+/// LinuxCNC's tolerance for EQ, NE, LE and GE (`TOLERANCE_EQUAL`); LT and GT are exact.
+const TOLERANCE_EQUAL: f64 = 1e-6;
 
 /// The parameter number a value names: whole within 0.0001 (LinuxCNC rounds), 1 … 5601.
 pub fn parameter_number(value: f64, range: &Range<usize>) -> Result<usize, EvalError> {
@@ -195,7 +195,10 @@ impl Expr {
                     Func::Acos | Func::Asin if !(-1.0..=1.0).contains(&v) => {
                         let name = if *f == Func::Acos { "ACOS" } else { "ASIN" };
                         return Err(fail(
-                            format!("Argument to {name} out of range ({v})"),
+                            format!(
+                                "Argument to {} out of range ({v})",
+                                name.to_ascii_lowercase()
+                            ),
                             "the argument of ACOS and ASIN is −1 … 1",
                         ));
                     }
@@ -209,16 +212,23 @@ impl Expr {
                     Func::Fup => v.ceil(),
                     Func::Ln if v <= 0.0 => {
                         return Err(fail(
-                            format!("Zero or negative argument to LN ({v})"),
+                            format!("Zero or negative argument to ln ({v})"),
                             "LN takes a positive number",
                         ));
                     }
                     Func::Ln => v.ln(),
-                    // Half away from zero, as LinuxCNC's `(int)(v ± 0.5)`.
-                    Func::Round => v.round(),
+                    // `(double)(int)(v ± 0.5)`: half away from zero, the sum rounded first.
+                    Func::Round => {
+                        let t = if v < 0.0 { v - 0.5 } else { v + 0.5 };
+                        if t.abs() >= 2_147_483_648.0 {
+                            -2_147_483_648.0
+                        } else {
+                            t.trunc()
+                        }
+                    }
                     Func::Sqrt if v < 0.0 => {
                         return Err(fail(
-                            format!("Negative argument to SQRT ({v})"),
+                            format!("Negative argument to sqrt ({v})"),
                             "SQRT takes 0 or more",
                         ));
                     }
@@ -230,10 +240,10 @@ impl Expr {
                 let truth = |t: bool| f64::from(u8::from(t));
                 match op {
                     Op::Power => {
-                        if a < 0.0 && b.fract() != 0.0 {
+                        if a < 0.0 && b.floor() != b {
                             return Err(fail(
                                 format!(
-                                    "Attempt to raise negative to non-integer power ({a} ** {b})"
+                                    "Attempt to raise negative to non integer power ({a} ** {b})"
                                 ),
                                 "a negative base takes only a whole exponent",
                             ));
@@ -241,7 +251,13 @@ impl Expr {
                         a.powf(b)
                     }
                     Op::Times => a * b,
-                    Op::Divide | Op::Modulo if b == 0.0 => {
+                    Op::Modulo if b == 0.0 => {
+                        return Err(fail(
+                            "Calculation resulted in 'not a number' (MOD 0)".into(),
+                            "check the divisor's parameters: it is 0 here",
+                        ));
+                    }
+                    Op::Divide if b == 0.0 => {
                         return Err(fail(
                             "Attempt to divide by zero".into(),
                             "check the divisor's parameters: it is 0 here",
@@ -258,9 +274,9 @@ impl Expr {
                     Op::Eq => truth((a - b).abs() < TOLERANCE_EQUAL),
                     Op::Ne => truth((a - b).abs() >= TOLERANCE_EQUAL),
                     Op::Gt => truth(a > b),
-                    Op::Ge => truth(a >= b),
+                    Op::Ge => truth((a - b).abs() < TOLERANCE_EQUAL || a >= b),
                     Op::Lt => truth(a < b),
-                    Op::Le => truth(a <= b),
+                    Op::Le => truth((a - b).abs() < TOLERANCE_EQUAL || a <= b),
                     Op::And => truth(a != 0.0 && b != 0.0),
                     Op::Or => truth(a != 0.0 || b != 0.0),
                     Op::Xor => truth((a != 0.0) != (b != 0.0)),
@@ -371,7 +387,11 @@ mod tests {
         assert_eq!(e(&[1.0, 2.0, 3.0], &[Op::Plus, Op::Eq]), 1.0);
         assert_eq!(e(&[-7.0, 3.0], &[Op::Modulo]), 2.0);
         assert_eq!(e(&[1.0, 0.0], &[Op::Xor]), 1.0);
-        assert_eq!(e(&[1.00001, 1.0], &[Op::Eq]), 1.0);
+        assert_eq!(e(&[1.0000001, 1.0], &[Op::Eq]), 1.0);
+        assert_eq!(e(&[1.00001, 1.0], &[Op::Eq]), 0.0);
+        assert_eq!(e(&[1.0, 1.0000001], &[Op::Lt]), 1.0);
+        assert_eq!(e(&[1.0000001, 1.0], &[Op::Le]), 1.0);
+        assert_eq!(e(&[1.0, 1.0, 0.0], &[Op::Or, Op::And]), 0.0);
     }
 
     #[test]

@@ -602,18 +602,18 @@ impl FrontEnd<'_> {
                 None => {}
             }
         }
-        // Messages read the parameters as the line finds them.
-        for c in &mut block.comments {
-            if let Some(text) = self.message(c, params) {
-                *c = text;
-            }
-        }
         if (!block.exprs.is_empty() || !block.settings.is_empty())
             && let Err(e) = self.evaluate(&mut block, params)
         {
             self.diag(codes::ISOR_EVAL, line, e.range, e.message, e.help);
             self.stopped = true;
             return;
+        }
+        // Messages read the parameters as the line's settings leave them.
+        for c in &mut block.comments {
+            if let Some(text) = self.message(c, params) {
+                *c = text;
+            }
         }
         let first = self.r.items.len();
         let span = self.r.src.line_span(line);

@@ -209,7 +209,20 @@ pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
                         _ => Label::Number(label.as_str().trim_start_matches('0').to_string()),
                     };
                     let keyword = inner.next().expect("an O-word has a keyword");
-                    let keyword = Keyword::parse(keyword.as_str()).expect("the grammar's keywords");
+                    let text: String = keyword
+                        .as_str()
+                        .chars()
+                        .filter(|c| !c.is_whitespace())
+                        .collect();
+                    let Some(keyword) = Keyword::parse(&text) else {
+                        return Err(SyntaxError {
+                            offset: keyword.as_span().start(),
+                            message: format!(
+                                "`{}` is not an O-word keyword (sub, endsub, call, return, if, elseif, else, endif, while, endwhile, do, repeat, endrepeat, break, continue)",
+                                keyword.as_str()
+                            ),
+                        });
+                    };
                     let mut args = Vec::new();
                     for arg in inner {
                         match arg.as_rule() {
@@ -505,6 +518,14 @@ mod tests {
         assert_eq!(o.keyword, Keyword::Call);
         assert_eq!(o.args.len(), 2);
         assert_eq!(b.comments, ["comment"]);
+        let b = parse_line("o100 end sub").unwrap();
+        assert_eq!(b.oword.as_ref().unwrap().keyword, Keyword::EndSub);
+        assert!(
+            parse_line("o100 endsubb")
+                .unwrap_err()
+                .message
+                .contains("not an O-word keyword")
+        );
         let b = parse_line("O0100 while [#1 LT 3]").unwrap();
         assert_eq!(b.oword.unwrap().label, Label::Number("100".into()));
         let b = parse_line("G0 X[ATAN[1]/[1] + ABS[-2] ** 2 MOD 3]").unwrap();

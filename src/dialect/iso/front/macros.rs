@@ -21,6 +21,17 @@ pub(super) const LOOP_LIMIT: u64 = 200_000;
 /// is 10 and counts the main program).
 const MAX_CALL_DEPTH: usize = 9;
 
+/// A computed value as a word's decimal: G codes within 0.0001 of a tenth and M, T, H, L
+/// within 0.0001 of a whole number are that number, as LinuxCNC reads them.
+fn word_value(letter: char, v: f64) -> Option<crate::fixed::Decimal> {
+    let snapped = match letter {
+        'G' if ((v * 10.0).round() - v * 10.0).abs() < 0.001 => (v * 10.0).round() / 10.0,
+        'M' | 'T' | 'H' | 'L' if (v.round() - v).abs() < 0.0001 => v.round(),
+        _ => v,
+    };
+    expr::to_decimal(snapped)
+}
+
 /// Where control goes after an O-word line.
 pub(super) enum Jump {
     Next,
@@ -51,6 +62,9 @@ struct System {
 struct Scope<'p> {
     params: &'p Params,
     system: System,
+    /// Named parameters a setting earlier on the line creates: they exist (as 0) for the
+    /// rest of the line, as LinuxCNC creates them when it reads the setting's left side.
+    created: std::cell::RefCell<Vec<String>>,
 }
 
 fn unknown(what: &str, range: &Range<usize>) -> EvalError {
@@ -114,6 +128,9 @@ impl Env for Scope<'_> {
         if let Some(v) = self.params.named(name) {
             return Ok(v);
         }
+        if self.created.borrow().iter().any(|c| c == name) {
+            return Ok(0.0);
+        }
         if let Some(v) = self.system(name, range) {
             return v;
         }
@@ -125,7 +142,9 @@ impl Env for Scope<'_> {
     }
 
     fn exists(&self, name: &str) -> bool {
-        self.params.named(name).is_some() || self.system(name, &(0..0)).is_some()
+        self.params.named(name).is_some()
+            || self.created.borrow().iter().any(|c| c == name)
+            || self.system(name, &(0..0)).is_some()
     }
 }
 
@@ -156,6 +175,7 @@ impl FrontEnd<'_> {
                 diameter: self.diameter == Some(true),
                 per_rev: self.feed_mode == Some(FeedMode::PerRev),
             },
+            created: Default::default(),
         }
     }
 
@@ -167,49 +187,79 @@ impl FrontEnd<'_> {
     /// settings: every value is read before any setting takes effect, as in LinuxCNC.
     pub(super) fn evaluate(&self, block: &mut Block, params: &mut Params) -> Result<(), EvalError> {
         let scope = self.scope(params);
-        let mut values = Vec::with_capacity(block.exprs.len());
-        for e in &block.exprs {
-            values.push(e.eval(&scope)?);
+        // Left to right, as LinuxCNC reads the line: words' values and settings.
+        enum Part {
+            Word(usize),
+            Setting(usize),
         }
-        for w in &mut block.words {
-            if let Some(i) = w.expr {
-                let v = values[i];
-                w.value = expr::to_decimal(v).ok_or_else(|| EvalError {
-                    message: format!("the value {v} is too large for a word"),
-                    help: "check the expression",
-                    range: w.range.clone(),
-                })?;
+        let mut parts: Vec<(usize, Part)> = block
+            .words
+            .iter()
+            .enumerate()
+            .filter(|(_, w)| w.expr.is_some())
+            .map(|(i, w)| (w.range.start, Part::Word(i)))
+            .chain(
+                block
+                    .settings
+                    .iter()
+                    .enumerate()
+                    .map(|(i, s)| (s.range.start, Part::Setting(i))),
+            )
+            .collect();
+        parts.sort_by_key(|(at, _)| *at);
+        let mut settings = Vec::with_capacity(block.settings.len());
+        for (_, part) in parts {
+            match part {
+                Part::Word(i) => {
+                    let w = &block.words[i];
+                    let e = &block.exprs[w.expr.expect("a computed word")];
+                    let v = e.eval(&scope)?;
+                    let value = word_value(w.letter, v).ok_or_else(|| EvalError {
+                        message: format!("the value {v} is too large for a word"),
+                        help: "check the expression",
+                        range: w.range.clone(),
+                    })?;
+                    block.words[i].value = value;
+                }
+                Part::Setting(i) => {
+                    let s = &block.settings[i];
+                    let target = match &s.param {
+                        Param::Numbered(e) => {
+                            let n = expr::parameter_number(e.eval(&scope)?, &s.range)?;
+                            if n > 5000 {
+                                return Err(EvalError {
+                                    message: format!(
+                                        "#{n} is a parameter of the machine, which ncthread does not follow"
+                                    ),
+                                    help: "the numbered parameters a program sets are #1 … #5000",
+                                    range: s.range.clone(),
+                                });
+                            }
+                            Ok(n)
+                        }
+                        Param::Named(name) => {
+                            if scope.system(name, &s.range).is_some()
+                                && params.named(name).is_none()
+                            {
+                                return Err(EvalError {
+                                    message: format!(
+                                        "Cannot assign to read-only parameter #<{name}>"
+                                    ),
+                                    help: "LinuxCNC's system parameters are read only",
+                                    range: s.range.clone(),
+                                });
+                            }
+                            if params.named(name).is_none() {
+                                scope.created.borrow_mut().push(name.clone());
+                            }
+                            Err(name.clone())
+                        }
+                    };
+                    settings.push((target, s.value.eval(&scope)?));
+                }
             }
         }
-        let mut settings = Vec::with_capacity(block.settings.len());
-        for s in &block.settings {
-            let target = match &s.param {
-                Param::Numbered(e) => {
-                    let n = expr::parameter_number(e.eval(&scope)?, &s.range)?;
-                    if n > 5000 {
-                        return Err(EvalError {
-                            message: format!(
-                                "#{n} is a parameter of the machine, which ncthread does not follow"
-                            ),
-                            help: "the numbered parameters a program sets are #1 … #5000",
-                            range: s.range.clone(),
-                        });
-                    }
-                    Ok(n)
-                }
-                Param::Named(name) => {
-                    if scope.system(name, &s.range).is_some() && params.named(name).is_none() {
-                        return Err(EvalError {
-                            message: format!("Cannot assign to read-only parameter #<{name}>"),
-                            help: "LinuxCNC's system parameters are read only",
-                            range: s.range.clone(),
-                        });
-                    }
-                    Err(name.clone())
-                }
-            };
-            settings.push((target, s.value.eval(&scope)?));
-        }
+        drop(scope);
         for (target, v) in settings {
             match target {
                 Ok(n) => params.numbered[n] = v,
@@ -311,7 +361,21 @@ impl FrontEnd<'_> {
         };
         let flow = structure.flow.get(&at);
         Ok(match (o.keyword, flow) {
-            (Keyword::Sub, Some(Flow::Sub { end })) => Jump::Here(end + 1),
+            // A definition is passed once; reaching it again (a loop, or after a call
+            // that found it further down) is LinuxCNC's "found in illegal location".
+            (Keyword::Sub, Some(Flow::Sub { end })) => {
+                if !params.passed.insert((file, at)) {
+                    return Err(error(
+                        o.range.clone(),
+                        format!(
+                            "sub: {} found in illegal location (a definition reached again, or after it was called)",
+                            o.label
+                        ),
+                        "define subroutines before the program calls them, outside loops",
+                    ));
+                }
+                Jump::Here(end + 1)
+            }
             (Keyword::EndSub | Keyword::Return, _) => {
                 let value = arg(self, params, 0)?;
                 let Some(frame) = params.frames.pop() else {
@@ -370,6 +434,7 @@ impl FrontEnd<'_> {
                 let mut saved = [0.0; 30];
                 saved.copy_from_slice(&params.numbered[1..=30]);
                 params.numbered[1..=30].copy_from_slice(&args);
+                params.passed.insert((sub_file, start));
                 params.frames.push(Frame {
                     name: o.label.clone(),
                     file,
@@ -405,6 +470,11 @@ impl FrontEnd<'_> {
                         Jump::Here(end + 1)
                     }
                 } else {
+                    // After a branch ran, LinuxCNC still reads an `elseif`'s condition (its
+                    // errors stand), then goes past the `endif`.
+                    if o.keyword == Keyword::ElseIf {
+                        condition(self, params)?;
+                    }
                     Jump::Here(end + 1)
                 }
             }
