@@ -303,6 +303,24 @@ impl<'a> FrontEnd<'a> {
     /// Reports words the guide does not document; with `--unsupported warn` the group is kept
     /// as one opaque item. Returns whether the group can be read.
     fn check_supported(&mut self, frames: &[GroupFrame]) -> bool {
+        // G25 without the profile's key: never kept as written, since it repeats frames by
+        // their numbers and an output numbers its frames anew.
+        if !self.profile.repeat_g25
+            && let Some(f) = frames
+                .iter()
+                .find(|f| f.word().letter == 'G' && f.word().value == 25)
+        {
+            self.word_error(
+                codes::NCR_UNSUPPORTED,
+                f,
+                format!(
+                    "`{}`: G25 (a repeat of frames) is not in the guide",
+                    f.text(self.r.src)
+                ),
+                "if the machine repeats frames with `G25 *`, `P<from><to> *`, `P<count>`, set `repeat_g25 = true` in the profile's [nc31] section (ncthread then writes the repeated frames out); `--unsupported warn` cannot keep it as written, since the output numbers its frames anew",
+            );
+            return false;
+        }
         let mut found = Vec::new();
         for f in frames {
             let w = f.word();
@@ -311,9 +329,8 @@ impl<'a> FrontEnd<'a> {
                 'G' if matches!(w.value, 31..=33) => None,
                 'G' if matches!(w.value, 2 | 3 | 12 | 13) && self.profile.arcs => None,
                 'G' if w.value == 25 && self.profile.repeat_g25 => None,
-                'G' if w.value == 25 => Some(
-                    "G25 (a repeat of frames) is not in the guide: if the machine repeats frames with `G25 *`, `P<from><to> *`, `P<count>`, set `repeat_g25 = true` in the profile's [nc31] section".to_string(),
-                ),
+                // Refused below, also under `--unsupported warn`.
+                'G' if w.value == 25 => None,
                 'G' if matches!(w.value, 2 | 3 | 12 | 13) => Some(format!(
                     "G{} (an arc) is not in the guide: if the machine takes G2/G3 groups with P offsets, set `arcs = \"g2-g3-p\"` and `arc_direction` in the profile's [nc31] section",
                     w.value
@@ -363,20 +380,6 @@ impl<'a> FrontEnd<'a> {
             .collect();
         self.r.unsupported(&UNSUPPORTED, found, keep);
         if !keep {
-            return false;
-        }
-        // A G25 kept as written would repeat other frames: the output numbers its frames
-        // anew.
-        if let Some(f) = frames
-            .iter()
-            .find(|f| f.word().letter == 'G' && f.word().value == 25)
-        {
-            self.word_error(
-                codes::NCR_UNSUPPORTED,
-                f,
-                "`G25` cannot be kept as written: it repeats frames by their numbers, and the output numbers its frames anew",
-                "if the machine takes G25, set `repeat_g25 = true` in the profile's [nc31] section: ncthread then writes the repeated frames out",
-            );
             return false;
         }
         // A kept group must not change what ncthread follows (the feed, the spindle, a
@@ -1261,14 +1264,19 @@ impl<'a> FrontEnd<'a> {
         let Some(af) = axis.filter(|_| ok) else {
             return;
         };
+        // `X3000+45`
+        let shown = format!(
+            "{}{}",
+            af.text(self.r.src),
+            af.frame
+                .chamfer()
+                .map_or("", |(up, _)| Modifier::Chamfer { up }.ascii())
+        );
         let Some(ff) = feed else {
             return self.word_error(
                 codes::NCR_CHAMFER,
                 af,
-                format!(
-                    "the chamfer `{}` is not closed by an F frame",
-                    af.text(self.r.src)
-                ),
+                format!("the chamfer `{shown}` is not closed by an F frame"),
                 ABOUT,
             );
         };
@@ -1291,8 +1299,7 @@ impl<'a> FrontEnd<'a> {
                 codes::NCR_UNKNOWN_POSITION,
                 af,
                 format!(
-                    "the chamfer `{}` starts where the tool stands, and that is not known yet",
-                    af.text(self.r.src)
+                    "the chamfer `{shown}` starts where the tool stands, and that is not known yet"
                 ),
                 "move to an absolute X and Z before the chamfer",
             );
@@ -1309,8 +1316,7 @@ impl<'a> FrontEnd<'a> {
                     codes::NCR_CHAMFER,
                     af,
                     format!(
-                        "the chamfer `{}` changes the diameter by {} mm: half of it, the Z travel, is off the 0.0001 mm grid",
-                        af.text(self.r.src),
+                        "the chamfer `{shown}` changes the diameter by {} mm: half of it, the Z travel, is off the 0.0001 mm grid",
                         (ex - sx).mm()
                     ),
                     "a 45° chamfer moves Z by half the diameter change; with the profile's linear unit this X cannot be reached at 45°",
@@ -1334,10 +1340,7 @@ impl<'a> FrontEnd<'a> {
             return self.word_error(
                 codes::NCR_NUMBER,
                 af,
-                format!(
-                    "the chamfer `{}` moves the tool too far",
-                    af.text(self.r.src)
-                ),
+                format!("the chamfer `{shown}` moves the tool too far"),
                 "check the word's digits and the profile's units",
             );
         };
@@ -1346,8 +1349,7 @@ impl<'a> FrontEnd<'a> {
                 codes::NCR_CHAMFER,
                 af,
                 format!(
-                    "the chamfer `{}` does not move: the tool already stands at its {}",
-                    af.text(self.r.src),
+                    "the chamfer `{shown}` does not move: the tool already stands at its {}",
                     af.word().letter
                 ),
                 ABOUT,
@@ -2178,18 +2180,23 @@ mod tests {
         assert_eq!(moves, expected);
         // The repeated items keep their frames' numbers.
         assert_eq!(program.items[7].block_number, Some(5));
-        // Without the profile's key G25 is refused by name, also when kept as written.
-        let (_, diags) = run(GROOVES);
-        assert_eq!(diags[0].code, codes::NCR_UNSUPPORTED);
-        assert!(
-            diags[0].message.contains("repeat_g25"),
-            "{}",
-            diags[0].message
-        );
-        let (_, diags) = run_with(GROOVES, &Profile::default(), Unsupported::Warn);
-        let error = diags.iter().find(|d| d.is_error()).unwrap();
-        assert_eq!(error.code, codes::NCR_UNSUPPORTED);
-        assert!(error.message.contains("renumbers") || error.message.contains("anew"));
+        // Without the profile's key G25 is refused by name (the help names the key), also
+        // when kept as written: one error, at the G25.
+        for unsupported in [Unsupported::Error, Unsupported::Warn] {
+            let (_, diags) = run_with(GROOVES, &Profile::default(), unsupported);
+            assert_eq!(diags.len(), 1, "{diags:?}");
+            let d = &diags[0];
+            assert_eq!(
+                (
+                    d.code,
+                    d.severity,
+                    d.location.as_ref().map(|l| (l.line, l.column))
+                ),
+                (codes::NCR_UNSUPPORTED, Severity::Error, Some((9, 4)))
+            );
+            let help = d.help.as_deref().unwrap_or_default();
+            assert!(help.contains("repeat_g25 = true"), "{help}");
+        }
     }
 
     #[test]
