@@ -55,6 +55,14 @@ pub const REPEAT_LIMIT: usize = 10_000;
 /// column, message.
 type Reported = (&'static str, Option<(u32, u32)>, String);
 
+fn reported(d: &Diagnostic) -> Reported {
+    (
+        d.code.id,
+        d.location.as_ref().map(|l| (l.line, l.column)),
+        d.message.clone(),
+    )
+}
+
 /// A frame of a group with the line it stands on.
 #[derive(Clone)]
 struct GroupFrame {
@@ -96,6 +104,9 @@ struct FrontEnd<'a> {
     repeats: Vec<usize>,
     /// Frames the G25 repeats have unrolled so far (at most [`REPEAT_LIMIT`]).
     unrolled: usize,
+    /// The diagnostics a repeat does not report again, gathered up to the given count of
+    /// the reader's diagnostics (only once a repeat has something to say).
+    reported: (HashSet<Reported>, usize),
 }
 
 /// Reads an nc31 program. The program is usable only when no diagnostic is an error.
@@ -112,6 +123,7 @@ pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program
         numbers: HashMap::new(),
         repeats: Vec::new(),
         unrolled: 0,
+        reported: (HashSet::new(), 0),
     };
     // M30 ends the program: frames after it never run. **[decided]** (as LinuxCNC)
     let (mut ended, mut seen) = (false, 0);
@@ -1518,14 +1530,6 @@ impl<'a> FrontEnd<'a> {
             .filter(|(_, readable)| *readable)
             .map(|(frames, _)| frames.clone())
             .collect();
-        let mut reported: Option<HashSet<Reported>> = None;
-        let key = |d: &Diagnostic| {
-            (
-                d.code.id,
-                d.location.as_ref().map(|l| (l.line, l.column)),
-                d.message.clone(),
-            )
-        };
         for _ in 0..times {
             let mark = self.r.diags.len();
             for frames in &replay {
@@ -1537,10 +1541,12 @@ impl<'a> FrontEnd<'a> {
             // What the frames already said when they were read is not said again; what is
             // new (a feed or a position that differs here) names the G25.
             let new: Vec<Diagnostic> = self.r.diags.drain(mark..).collect();
-            let seen = reported.get_or_insert_with(|| self.r.diags.iter().map(key).collect());
+            for d in &self.r.diags[self.reported.1.min(mark)..] {
+                self.reported.0.insert(reported(d));
+            }
             let mut failed = false;
             for mut d in new {
-                if !seen.insert(key(&d)) {
+                if !self.reported.0.insert(reported(&d)) {
                     continue;
                 }
                 d.message
@@ -1548,6 +1554,7 @@ impl<'a> FrontEnd<'a> {
                 failed |= d.is_error();
                 self.r.diags.push(d);
             }
+            self.reported.1 = self.r.diags.len();
             if failed {
                 break;
             }
@@ -2306,6 +2313,19 @@ mod tests {
         let (_, diags) = run_with(text, &repeating(), Unsupported::Error);
         assert_eq!(diags.len(), 1, "{diags:?}");
         assert!(!diags[0].message.contains("G25"), "{}", diags[0].message);
+        // Many repeats of frames that failed add nothing (and stay quick: the diagnostics
+        // reported are gathered once, not at every repeat), until the limit: 1666 repeats of
+        // 6 frames fit in 10,000, the 334 after them are refused at their count.
+        let mut text = String::from("N0 M3\nN1 S500\nN2 X2000 ~ *\nN3 Z0 ~\nN5 Z-100\n");
+        for n in 0..2000 {
+            text.push_str(&format!("N{} G25 *\nP5005 *\nP6\n", 6 + n));
+        }
+        let (_, diags) = run_with(&text, &repeating(), Unsupported::Error);
+        assert_eq!(diags.len(), 1 + 334);
+        assert_eq!(
+            (diags[1].code, diags[1].location.as_ref().map(|l| l.line)),
+            (codes::NCR_REPEAT, Some(8 + 3 * 1666))
+        );
     }
 
     #[test]
