@@ -17,6 +17,8 @@
 //! retract_mm = 0.5              # radial clearance above the crest between G31 passes
 //! schedule = "halving"          # G31 pass law: halving, constant-depth, constant-area
 //! gear_range_mcodes = [38, 39, 40, 41]
+//! chamfer45 = false             # write 45° feed moves as `X<end>±45 *` + `F<feed>`
+//! repeat_g25 = false            # read (unroll) `G25 *`, `P<from><to> *`, `P<count>`
 //!
 //! [iso]
 //! mcodes = { 42 = "M142" }      # legacy M codes → LinuxCNC M words
@@ -187,6 +189,13 @@ mod tests {
             Length(15_000)
         );
         assert_eq!(p.nc31.schedule, Schedule::ConstantArea);
+        // Chamfers and G25 repeats: off by default, booleans.
+        assert!(!Profile::default().nc31.chamfer45 && !Profile::default().nc31.repeat_g25);
+        let p = load("[nc31]\nchamfer45 = true\nrepeat_g25 = true\n").unwrap();
+        assert!(p.nc31.chamfer45 && p.nc31.repeat_g25);
+        let e = load("[nc31]\nrepeat_g25 = \"yes\"\n").unwrap_err();
+        assert_eq!(e[0].code, codes::PF_INVALID);
+        assert!(e[0].message.contains("repeat_g25"), "{}", e[0].message);
     }
 
     #[test]

@@ -174,6 +174,22 @@ fn nc31_group() -> impl Strategy<Value = Vec<String>> {
         1 => prop::sample::select(vec!["M3", "M4"]).prop_map(|m| vec![m.to_string()]),
         1 => (100i64..2000).prop_map(|s| vec![format!("S{s}")]),
         1 => comment_text().prop_map(|c| vec![format!("({c}")]),
+        // A 45° chamfer closed by its feed, absolute or incremental.
+        2 => (x.clone(), z.clone(), any::<bool>(), any::<bool>(), any::<bool>(), 5i64..60).prop_map(
+            |(x, z, on_x, up, incremental, f)| {
+                let mark = if up { "+45" } else { "-45" };
+                let word = match (on_x, incremental) {
+                    (true, false) => format!("X{x}{mark}"),
+                    (true, true) => format!("X{} @ {mark}", x / 10 - 600),
+                    (false, false) => format!("Z{z}{mark}"),
+                    (false, true) => format!("Z{} @ {mark}", z / 10),
+                };
+                vec![format!("{word} *"), format!("F{f}")]
+            },
+        ),
+        // A G25 repeat of earlier groups: `G25 <back> <len> <count>`, given its frame
+        // numbers by `nc31_program`.
+        1 => (1usize..4, 0usize..3, 0i64..4).prop_map(|(back, len, count)| vec![format!("G25 {back} {len} {count}")]),
     ]
 }
 
@@ -181,34 +197,63 @@ fn nc31_program() -> impl Strategy<Value = Input> {
     (
         prop::collection::vec(nc31_group(), 1..8),
         prop::option::of((0u32..12, 0u32..4000)),
+        (any::<bool>(), prop::bool::weighted(0.8)),
     )
-        .prop_map(|(groups, params)| {
-            let mut lines = vec![
-                "M3".to_string(),
-                "S500".into(),
-                "X12000 ~ *".into(),
-                "Z3000 ~".into(),
+        .prop_map(|(groups, params, (chamfer45, repeat))| {
+            let mut all = vec![
+                vec!["M3".to_string()],
+                vec!["S500".into()],
+                vec!["X12000 ~ *".into(), "Z3000 ~".into()],
             ];
-            lines.extend(groups.into_iter().flatten());
-            lines.push("M5".into());
-            lines.push("M30".into());
+            all.extend(groups);
+            all.push(vec!["M5".into()]);
+            all.push(vec!["M30".into()]);
+            // The first and last frame numbers of each group with frames.
+            let mut numbered: Vec<(usize, usize)> = Vec::new();
             let mut n = 0;
-            let text: String = lines
-                .iter()
-                .map(|l| {
-                    if l.starts_with('(') {
-                        format!("{l}\n")
-                    } else {
-                        n += 1;
-                        format!("N{} {l}\n", n - 1)
+            let mut text = String::new();
+            for group in all {
+                let group = match group[0].strip_prefix("G25 ") {
+                    Some(words) => {
+                        let v: Vec<usize> =
+                            words.split(' ').filter_map(|w| w.parse().ok()).collect();
+                        let [back, len, count] = v[..] else { continue };
+                        let Some(last) = numbered.len().checked_sub(back) else {
+                            continue;
+                        };
+                        let (from, to) = (numbered[last.saturating_sub(len)].0, numbered[last].1);
+                        vec![
+                            "G25 *".to_string(),
+                            format!("P{from}{to:03} *"),
+                            format!("P{count}"),
+                        ]
                     }
-                })
-                .collect();
+                    None => group,
+                };
+                if group[0].starts_with('(') {
+                    text.push_str(&format!("{}\n", group[0]));
+                    continue;
+                }
+                numbered.push((n, n + group.len() - 1));
+                for l in group {
+                    text.push_str(&format!("N{n} {l}\n"));
+                    n += 1;
+                }
+            }
+            let mut profile = String::new();
+            if let Some((p7, p6)) = params {
+                profile.push_str(&format!("runout_p7 = {p7}\ninfeed_p6 = {p6}\n"));
+            }
+            if chamfer45 {
+                profile.push_str("chamfer45 = true\n");
+            }
+            if repeat {
+                profile.push_str("repeat_g25 = true\n");
+            }
             Input {
                 from: ncthread::dialect::nc31::ID,
                 bytes: text.into_bytes(),
-                profile: params
-                    .map(|(p7, p6)| format!("[nc31]\nrunout_p7 = {p7}\ninfeed_p6 = {p6}\n")),
+                profile: (!profile.is_empty()).then(|| format!("[nc31]\n{profile}")),
             }
         })
 }

@@ -139,6 +139,14 @@ pub const NCR_ARC: Code = error(
     "NCR016",
     "an arc group that cannot be cut: no direction in the profile, no centre on its circle, a centre that is not one, or more than a quadrant",
 );
+pub const NCR_CHAMFER: Code = error(
+    "NCR017",
+    "a 45° chamfer group (`X…±45 *` + `F…`) that cannot be cut: not closed by its F frame, no travel, or half its X travel off the 0.0001 mm grid",
+);
+pub const NCR_REPEAT: Code = error(
+    "NCR018",
+    "a G25 repeat that cannot be unrolled: a P word missing or out of range, a range that is not whole groups before the G25, a repeat inside the range, a count under 1, or more than 10,000 repeated frames",
+);
 
 // machine profile
 pub const PF_INVALID: Code = error(
@@ -361,6 +369,8 @@ pub const ALL: &[Code] = &[
     NCR_TRAVEL,
     NCR_AFTER_END,
     NCR_ARC,
+    NCR_CHAMFER,
+    NCR_REPEAT,
     PF_INVALID,
     PF_CONSTANT8,
     PF_VALUE,

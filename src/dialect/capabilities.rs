@@ -30,6 +30,9 @@ pub enum Construct {
     SyncInfeed,
     /// A circular feed move (G2/G3).
     Arc,
+    /// A feed move at 45° in both axes (the НЦ-31's `X…±45 *` + `F…`): a linear feed move
+    /// in the IR, a chamfer only where a target has a form for it.
+    Chamfer45,
     /// Flood coolant on and coolant off (M8, M9).
     Coolant,
     /// Mist coolant on (M7).
@@ -54,12 +57,14 @@ pub enum Construct {
     ToolOffset,
     /// Parameter assignments.
     Parameters,
+    /// Frames run again (the НЦ-31's G25): read unrolled, so a program never holds one.
+    Repeat,
     /// Comments.
     Comments,
 }
 
 impl Construct {
-    pub const ALL: [Construct; 22] = [
+    pub const ALL: [Construct; 24] = [
         Construct::ThreadCycle,
         Construct::StartAngle,
         Construct::Entry,
@@ -69,6 +74,7 @@ impl Construct {
         Construct::IndexWaitInCut,
         Construct::SyncInfeed,
         Construct::Arc,
+        Construct::Chamfer45,
         Construct::Coolant,
         Construct::MistCoolant,
         Construct::Stop,
@@ -81,6 +87,7 @@ impl Construct {
         Construct::PerMinuteFeed,
         Construct::ToolOffset,
         Construct::Parameters,
+        Construct::Repeat,
         Construct::Comments,
     ];
 
@@ -96,6 +103,7 @@ impl Construct {
             Construct::IndexWaitInCut => "index wait in the cut",
             Construct::SyncInfeed => "synchronised move along X",
             Construct::Arc => "arc (G2/G3)",
+            Construct::Chamfer45 => "45° chamfer",
             Construct::Coolant => "flood coolant, coolant off",
             Construct::MistCoolant => "mist coolant",
             Construct::Stop => "program stop, optional stop",
@@ -108,6 +116,7 @@ impl Construct {
             Construct::PerMinuteFeed => "feed per minute",
             Construct::ToolOffset => "tool offset",
             Construct::Parameters => "parameters",
+            Construct::Repeat => "repeat of frames (G25)",
             Construct::Comments => "comments",
         }
     }
@@ -168,9 +177,11 @@ impl Construct {
                     per_minute = *mode == FeedMode::PerMin;
                     false
                 }
-                ItemKind::Feed { .. } | ItemKind::FeedRate(_) => {
-                    self == Construct::PerMinuteFeed && per_minute
+                ItemKind::Feed { to, .. } => {
+                    (self == Construct::PerMinuteFeed && per_minute)
+                        || (self == Construct::Chamfer45 && at_45_degrees(pos, *to))
                 }
+                ItemKind::FeedRate(_) => self == Construct::PerMinuteFeed && per_minute,
                 ItemKind::Tool {
                     offset: Some(_), ..
                 } => self == Construct::ToolOffset,
@@ -208,6 +219,17 @@ impl Construct {
         }
         false
     }
+}
+
+/// Whether a move from `from` to `to` changes the diameter by twice its Z travel, and moves.
+fn at_45_degrees(from: Pos, to: Pos) -> bool {
+    let (Some((sx, sz)), Some(ex), Some(ez)) = (from.known(), to.x, to.z) else {
+        return false;
+    };
+    let (dx, dz) = (ex.0.checked_sub(sx.0), ez.0.checked_sub(sz.0));
+    dz.is_some_and(|d| d != 0)
+        && dx.and_then(i64::checked_abs)
+            == dz.and_then(i64::checked_abs).and_then(|d| d.checked_mul(2))
 }
 
 /// How a dialect reads a construct.

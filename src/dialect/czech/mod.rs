@@ -132,6 +132,11 @@ impl Dialect for Czech {
                         Write::As("G02/G03 X Z R (not a full circle)"),
                     ),
                 },
+                row(
+                    Chamfer45,
+                    Read::No,
+                    Write::As("writes it as a feed move (G01 X Z)"),
+                ),
                 if profile.czech.coolant {
                     row(Coolant, Read::Yes("M08/M09"), Write::Yes("M08/M09"))
                 } else {
@@ -183,6 +188,7 @@ impl Dialect for Czech {
                 row(PerMinuteFeed, Read::Yes("G94"), Write::Yes("G94")),
                 row(ToolOffset, Read::Yes("D"), Write::Yes("D")),
                 row(Parameters, Read::Yes("R<nn>="), Write::Yes("R<nn>=")),
+                row(Repeat, Read::No, Write::As("writes the repeated moves out")),
                 row(Comments, Read::Yes("\""), Write::Yes("\"")),
             ],
             numbers: "lengths to 0.001 mm, leads to 0.0001 mm (over 99.99 through FRnn); `--round` rounds, reporting the largest deviation",

@@ -60,10 +60,22 @@ pub fn emit(
         inexact: Inexact::default(),
         dropped: (0, None),
     };
-    // The items of one nc31 group stay one group.
+    // The items of one nc31 group stay one group. A G25 reads a group again right after
+    // itself (its items then share the source line): where the items start over (the
+    // group's first item again, or a second move) a new group begins.
     for block in write::blocks(program, own) {
         let mut group = Vec::new();
-        for item in block {
+        let mut moved = false;
+        for (i, item) in block.iter().enumerate() {
+            let motion = matches!(
+                item.kind,
+                ItemKind::Rapid { .. } | ItemKind::Feed { .. } | ItemKind::Arc { .. }
+            );
+            if i > 0 && ((motion && moved) || item.kind == block[0].kind) {
+                e.write(&mut group);
+                moved = false;
+            }
+            moved |= motion;
             e.item(item, &mut group);
         }
         e.write(&mut group);
@@ -306,6 +318,10 @@ impl Emitter<'_> {
                 let frames = self.coordinate_frames(item.span, *to, true);
                 group.extend(frames);
             }
+            // A 45° chamfer where the profile has it.
+            ItemKind::Feed { to, feed } if self.chamfer_fits(*to, *feed) => {
+                self.chamfer(item.span, *to, *feed, group);
+            }
             ItemKind::Feed { to, feed } => {
                 // A feed per minute is refused by legalisation (the НЦ-31 feeds per rev).
                 if !self.per_minute && self.feed != Some(*feed) {
@@ -460,6 +476,40 @@ impl Emitter<'_> {
         ) {
             self.w.pos = item.kind.end_position(self.w.pos);
         }
+    }
+
+    /// Whether a feed move to `to` is written as a 45° chamfer: the profile says the
+    /// machine takes them (`chamfer45`), the move is at 45° (X, a diameter, changes by twice
+    /// the Z travel), and its start, end and feed are whole units (the control computes
+    /// the other axis from them: nothing may be rounded).
+    fn chamfer_fits(&self, to: Pos, feed: Length) -> bool {
+        let unit = self.profile.linear_unit;
+        let (Some((sx, sz)), Some((ex, ez))) = (self.w.pos.known(), to.known()) else {
+            return false;
+        };
+        let (dx, dz) = (ex.0.checked_sub(sx.0), ez.0.checked_sub(sz.0));
+        self.profile.chamfer45
+            && !self.per_minute
+            && [sx, sz, ex, ez].iter().all(|v| v.0 % unit.0 == 0)
+            && feed.0 % self.profile.feed_unit.0 == 0
+            && dz.is_some_and(|d| d != 0)
+            && dx.and_then(i64::checked_abs)
+                == dz.and_then(i64::checked_abs).and_then(|d| d.checked_mul(2))
+    }
+
+    /// `X<end>+45 *` (Z grows) or `X<end>-45 *` (Z falls), then `F<feed>`: a group of its
+    /// own, the F frame closing it.
+    fn chamfer(&mut self, span: Span, to: Pos, feed: Length, group: &mut Vec<String>) {
+        let (Some((_, sz)), Some((ex, ez))) = (self.w.pos.known(), to.known()) else {
+            return;
+        };
+        self.write(group);
+        let sign = if ez > sz { "+" } else { "-" };
+        let x = self.units(span, "X", ex, self.profile.linear_unit);
+        let f = self.units(span, "feed F", feed, self.profile.feed_unit);
+        let mut chamfer = vec![format!("X{x}{sign}45"), format!("F{f}")];
+        self.write(&mut chamfer);
+        self.feed = Some(feed);
     }
 
     /// `G32 *` F Z. `cycle`: why the cycle this pass belongs to is not a G31.
@@ -1106,6 +1156,107 @@ mod tests {
         assert!(
             out.unwrap()
                 .ends_with("N4 G33 @ *\nN5 X2000 *\nN6 Z-2500 *\nN7 F17500\n")
+        );
+    }
+
+    /// nc31 → nc31, read with `read` and written with `write`.
+    fn rewrite(text: &str, read: &Profile, write: &Profile) -> String {
+        let src = SourceFile::new("t.nc", text);
+        let (program, diags) = super::super::front::parse(&src, read, &Default::default());
+        assert!(!crate::diag::has_errors(&diags), "{diags:?}");
+        let (out, diags) = emit(&program, &src, write, &WriteOptions::default());
+        assert!(diags.is_empty(), "{diags:?}");
+        out.unwrap()
+    }
+
+    const CHAMFERS: &str = "N0 M3\nN1 S500\nN2 X2000 ~ *\nN3 Z0 ~\nN4 X3000+45 *\nN5 F20\nN6 Z-1000\nN7 Z-1500-45 *\nN8 F20\nN9 X3000 *\nN10 Z-2000\nN11 X3000 *\nN12 Z-2500\n";
+
+    /// With `chamfer45` a 45° feed move is an `X<end>±45 *` + `F` group, whatever form the
+    /// source gave it; without, its X and Z frames.
+    #[test]
+    fn a_45_degree_feed_move_is_a_chamfer_where_the_profile_says() {
+        let mut chamfers = Profile::default();
+        chamfers.nc31.chamfer45 = true;
+        assert_eq!(
+            rewrite(CHAMFERS, &Profile::default(), &chamfers),
+            "N0 M3\nN1 S500\nN2 X2000 ~ *\nN3 Z0 ~\nN4 X3000+45 *\nN5 F20\nN6 Z-1000\nN7 X2000-45 *\nN8 F20\nN9 X3000-45 *\nN10 F20\nN11 X3000 *\nN12 Z-2500\n"
+        );
+        assert_eq!(
+            rewrite(CHAMFERS, &Profile::default(), &Profile::default()),
+            "N0 M3\nN1 S500\nN2 X2000 ~ *\nN3 Z0 ~\nN4 F20\nN5 X3000 *\nN6 Z500\nN7 Z-1000\nN8 X2000 *\nN9 Z-1500\nN10 X3000 *\nN11 Z-2000\nN12 X3000 *\nN13 Z-2500\n"
+        );
+        // A 45° move whose start is off the unit grid is written as its frames (the control
+        // would compute Z from a rounded start), and so is one whose end is.
+        let (out, _) = write(
+            vec![
+                turning(),
+                at(Length(200_050), mm(0)),
+                ItemKind::Feed {
+                    to: Pos::new(Length(300_050), mm(5)),
+                    feed: Length(2_000),
+                },
+            ],
+            WriteOptions {
+                round: true,
+                ..WriteOptions::default()
+            },
+        );
+        assert!(!out.unwrap().contains("45"));
+        let src = SourceFile::new("t", "");
+        let program = Program {
+            items: [
+                turning(),
+                at(mm(20), mm(0)),
+                ItemKind::Feed {
+                    to: Pos::new(mm(30), mm(5)),
+                    feed: Length(2_000),
+                },
+                ItemKind::Feed {
+                    to: Pos::new(Length(300_100), Length(50_050)),
+                    feed: Length(2_000),
+                },
+            ]
+            .into_iter()
+            .map(|k| Item::new(k, Span::default()))
+            .collect(),
+            dialect: crate::dialect::iso::ID,
+        };
+        let (out, _) = emit(
+            &program,
+            &src,
+            &chamfers,
+            &WriteOptions {
+                round: true,
+                ..WriteOptions::default()
+            },
+        );
+        assert!(
+            out.as_deref()
+                .is_some_and(|o| o.ends_with("N4 X3000+45 *\nN5 F20\nN6 X3001 *\nN7 Z501\n")),
+            "{out:?}"
+        );
+    }
+
+    /// A G25 is written out: its frames again, each group as read, never `G25`.
+    #[test]
+    fn a_repeat_is_written_out_group_by_group() {
+        let mut repeat = Profile::default();
+        repeat.nc31.repeat_g25 = true;
+        let grooves = "N0 M3\nN1 S500\nN2 X2000 ~ *\nN3 Z0 ~\nN4 F10\nN5 Z-500 @ ~\nN6 X-400 @\nN7 X400 @ ~\nN8 G25 *\nN9 P5007 *\nN10 P2\nN11 X5000 ~\n";
+        assert_eq!(
+            rewrite(grooves, &repeat, &Profile::default()),
+            "N0 M3\nN1 S500\nN2 X2000 ~ *\nN3 Z0 ~\nN4 F10\nN5 Z-500 ~\nN6 X1600\nN7 X2000 ~\nN8 Z-1000 ~\nN9 X1600\nN10 X2000 ~\nN11 Z-1500 ~\nN12 X1600\nN13 X2000 ~\nN14 X5000 ~\n"
+        );
+        // One group repeated right after itself: its items start over, a group each time.
+        let one = "N0 M3\nN1 S500\nN2 X2000 ~ *\nN3 Z0 ~\nN4 F10\nN5 Z-100 @\nN6 G25 *\nN7 P5005 *\nN8 P2\n";
+        assert_eq!(
+            rewrite(one, &repeat, &Profile::default()),
+            "N0 M3\nN1 S500\nN2 X2000 ~ *\nN3 Z0 ~\nN4 F10\nN5 Z-100\nN6 Z-200\nN7 Z-300\n"
+        );
+        let two = "N0 M3\nN1 S500\nN2 X2000 ~ *\nN3 Z0 ~\nN4 F10\nN5 S600 *\nN6 Z-100 @\nN7 G25 *\nN8 P5006 *\nN9 P1\n";
+        assert_eq!(
+            rewrite(two, &repeat, &Profile::default()),
+            "N0 M3\nN1 S500\nN2 X2000 ~ *\nN3 Z0 ~\nN4 F10\nN5 S600 *\nN6 Z-100\nN7 S600 *\nN8 Z-200\n"
         );
     }
 

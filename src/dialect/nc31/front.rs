@@ -4,6 +4,7 @@
 //! G31, G32 or G33 is a thread group; any other group sets feed, spindle, tool, speed range
 //! and/or moves the tool (rapid when any coordinate has `~`).
 
+use std::collections::{HashMap, HashSet};
 use std::ops::Range;
 
 use super::syntax::{self, Frame, Line as SyntaxLine, Modifier, Word};
@@ -46,7 +47,24 @@ enum Feed {
     AfterThread(u32),
 }
 
+/// The most frames that the G25 repeats of one program may unroll, so that a hostile
+/// program cannot make the reader build millions of items. **[decided]**
+pub const REPEAT_LIMIT: usize = 10_000;
+
+/// A diagnostic as a repeat compares it with those reported before: code, line and
+/// column, message.
+type Reported = (&'static str, Option<(u32, u32)>, String);
+
+fn reported(d: &Diagnostic) -> Reported {
+    (
+        d.code.id,
+        d.location.as_ref().map(|l| (l.line, l.column)),
+        d.message.clone(),
+    )
+}
+
 /// A frame of a group with the line it stands on.
+#[derive(Clone)]
 struct GroupFrame {
     frame: Frame,
     line: u32,
@@ -74,6 +92,21 @@ struct FrontEnd<'a> {
     group: Vec<GroupFrame>,
     /// The open group contains a frame that could not be read: it is dropped when it ends.
     group_broken: bool,
+    /// The groups read so far, in order, and whether each could be read (a group with an
+    /// unreadable frame is not): what a G25 repeats.
+    groups: Vec<(Vec<GroupFrame>, bool)>,
+    /// How many frames the groups before each group hold (one more entry than `groups`).
+    frames_before: Vec<usize>,
+    /// Frame number → (group, frame within it) of its first use, and whether another frame
+    /// has the same number.
+    numbers: HashMap<u32, (usize, usize, bool)>,
+    /// The G25 groups among `groups`, in order.
+    repeats: Vec<usize>,
+    /// Frames the G25 repeats have unrolled so far (at most [`REPEAT_LIMIT`]).
+    unrolled: usize,
+    /// The diagnostics a repeat does not report again, gathered up to the given count of
+    /// the reader's diagnostics (only once a repeat has something to say).
+    reported: (HashSet<Reported>, usize),
 }
 
 /// Reads an nc31 program. The program is usable only when no diagnostic is an error.
@@ -85,6 +118,12 @@ pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program
         feed: Feed::Unset,
         group: Vec::new(),
         group_broken: false,
+        groups: Vec::new(),
+        frames_before: vec![0],
+        numbers: HashMap::new(),
+        repeats: Vec::new(),
+        unrolled: 0,
+        reported: (HashSet::new(), 0),
     };
     // M30 ends the program: frames after it never run. **[decided]** (as LinuxCNC)
     let (mut ended, mut seen) = (false, 0);
@@ -207,23 +246,54 @@ impl<'a> FrontEnd<'a> {
 
     fn end_group(&mut self) {
         let frames = std::mem::take(&mut self.group);
-        if std::mem::take(&mut self.group_broken) || frames.is_empty() {
+        let broken = std::mem::take(&mut self.group_broken);
+        if frames.is_empty() {
             return;
         }
-        if !self.check_supported(&frames) {
+        if !broken {
+            self.read_group(&frames);
+        }
+        self.record(frames, !broken);
+    }
+
+    /// Keeps a group read from the source for the G25 repeats after it.
+    fn record(&mut self, frames: Vec<GroupFrame>, readable: bool) {
+        let index = self.groups.len();
+        for (k, f) in frames.iter().enumerate() {
+            if let Some(n) = f.frame.number {
+                self.numbers
+                    .entry(n)
+                    .and_modify(|e| e.2 = true)
+                    .or_insert((index, k, false));
+            }
+        }
+        if frames[0].word().letter == 'G' && frames[0].word().value == 25 {
+            self.repeats.push(index);
+        }
+        let before = self.frames_before.last().copied().unwrap_or(0);
+        self.frames_before.push(before + frames.len());
+        self.groups.push((frames, readable));
+    }
+
+    /// Reads one group: from the source, or again for a G25.
+    fn read_group(&mut self, frames: &[GroupFrame]) {
+        if !self.check_supported(frames) {
             return;
         }
-        let span = self.group_span(&frames);
+        let span = self.group_span(frames);
         let number = frames[0].frame.number;
         let first_item = self.r.items.len();
         let gs: Vec<&GroupFrame> = frames.iter().filter(|f| f.word().letter == 'G').collect();
         match gs.as_slice() {
-            [] => self.plain_group(&frames, span),
+            [] if frames.iter().any(|f| f.frame.chamfer().is_some()) => self.chamfer(frames, span),
+            [] => self.plain_group(frames, span),
             [g] if std::ptr::eq(*g, &frames[0]) => match g.word().value {
-                31 => self.g31(&frames, span),
-                32 => self.g32(&frames, span),
-                2 | 3 | 12 | 13 => self.arc(&frames, span),
-                _ => self.g33(&frames, span),
+                31 => self.g31(frames, span),
+                32 => self.g32(frames, span),
+                2 | 3 | 12 | 13 => self.arc(frames, span),
+                // The repeated groups carry their own numbers.
+                25 => return self.g25(frames),
+                _ => self.g33(frames, span),
             },
             [g, ..] => {
                 let g = if std::ptr::eq(*g, &frames[0]) {
@@ -245,6 +315,24 @@ impl<'a> FrontEnd<'a> {
     /// Reports words the guide does not document; with `--unsupported warn` the group is kept
     /// as one opaque item. Returns whether the group can be read.
     fn check_supported(&mut self, frames: &[GroupFrame]) -> bool {
+        // G25 without the profile's key: never kept as written, since it repeats frames by
+        // their numbers and an output numbers its frames anew.
+        if !self.profile.repeat_g25
+            && let Some(f) = frames
+                .iter()
+                .find(|f| f.word().letter == 'G' && f.word().value == 25)
+        {
+            self.word_error(
+                codes::NCR_UNSUPPORTED,
+                f,
+                format!(
+                    "`{}`: G25 (a repeat of frames) is not in the guide",
+                    f.text(self.r.src)
+                ),
+                "if the machine repeats frames with `G25 *`, `P<from><to> *`, `P<count>`, set `repeat_g25 = true` in the profile's [nc31] section (ncthread then writes the repeated frames out); `--unsupported warn` cannot keep it as written, since the output numbers its frames anew",
+            );
+            return false;
+        }
         let mut found = Vec::new();
         for f in frames {
             let w = f.word();
@@ -252,6 +340,9 @@ impl<'a> FrontEnd<'a> {
                 'X' | 'Z' | 'F' | 'P' | 'S' | 'T' => None,
                 'G' if matches!(w.value, 31..=33) => None,
                 'G' if matches!(w.value, 2 | 3 | 12 | 13) && self.profile.arcs => None,
+                'G' if w.value == 25 && self.profile.repeat_g25 => None,
+                // Refused below, also under `--unsupported warn`.
+                'G' if w.value == 25 => None,
                 'G' if matches!(w.value, 2 | 3 | 12 | 13) => Some(format!(
                     "G{} (an arc) is not in the guide: if the machine takes G2/G3 groups with P offsets, set `arcs = \"g2-g3-p\"` and `arc_direction` in the profile's [nc31] section",
                     w.value
@@ -338,9 +429,16 @@ impl<'a> FrontEnd<'a> {
         false
     }
 
-    /// Reports `~` and `@` on a frame that does not take them.
-    fn check_modifiers(&mut self, f: &GroupFrame, rapid: bool, incremental: bool) -> bool {
+    /// Reports `~`, `@` and `±45` on a frame that does not take them.
+    fn check_modifiers(
+        &mut self,
+        f: &GroupFrame,
+        rapid: bool,
+        incremental: bool,
+        chamfer: bool,
+    ) -> bool {
         let mut ok = true;
+        let up = f.frame.chamfer().is_none_or(|(up, _)| up);
         for (m, allowed, what) in [
             (
                 Modifier::Rapid,
@@ -351,6 +449,11 @@ impl<'a> FrontEnd<'a> {
                 Modifier::Incremental,
                 incremental,
                 "`@` (incremental) applies to X and Z frames, and on G33 to its X offset",
+            ),
+            (
+                Modifier::Chamfer { up },
+                chamfer,
+                "`+45`/`-45` (a 45° chamfer) applies to the X or Z frame of a chamfer group (`X<end>+45 *` then `F<feed>`), outside thread and arc groups",
             ),
         ] {
             if let Some(range) = f.frame.modifier_range(m).filter(|_| !allowed) {
@@ -388,7 +491,18 @@ impl<'a> FrontEnd<'a> {
             return Some(value);
         }
         match base {
-            Some(b) => Some(b + value),
+            Some(b) => {
+                let sum = b.0.checked_add(value.0).map(Length);
+                if sum.is_none() {
+                    self.word_error(
+                        codes::NCR_NUMBER,
+                        f,
+                        format!("`{}` moves the tool too far", f.text(self.r.src)),
+                        "check the word's digits and the profile's units",
+                    );
+                }
+                sum
+            }
             None => {
                 let range = f
                     .frame
@@ -437,7 +551,7 @@ impl<'a> FrontEnd<'a> {
         for fr in frames {
             let w = fr.word();
             let axis = matches!(w.letter, 'X' | 'Z');
-            ok &= self.check_modifiers(fr, axis, axis);
+            ok &= self.check_modifiers(fr, axis, axis, false);
             let slot = match w.letter {
                 'X' => Some(&mut x),
                 'Z' => Some(&mut z),
@@ -498,22 +612,7 @@ impl<'a> FrontEnd<'a> {
             );
             ok = false;
         }
-        let feed = match f {
-            Some(fr) => match self.scaled(fr, self.profile.feed_unit) {
-                Some(v) if v.0 > 0 => Some(v),
-                Some(_) => {
-                    self.word_error(
-                        codes::NCR_NUMBER,
-                        fr,
-                        format!("feed `{}` is not positive", fr.text(self.r.src)),
-                        "F outside a thread group is the feed in 0.01 mm/rev, e.g. F30 = 0.3 mm/rev",
-                    );
-                    None
-                }
-                None => None,
-            },
-            None => None,
-        };
+        let feed = f.and_then(|fr| self.feed_rate(fr));
         if f.is_some() && feed.is_none() {
             ok = false;
         }
@@ -615,6 +714,23 @@ impl<'a> FrontEnd<'a> {
         }
     }
 
+    /// An F frame outside a thread group: the feed per revolution, positive.
+    fn feed_rate(&mut self, fr: &GroupFrame) -> Option<Length> {
+        match self.scaled(fr, self.profile.feed_unit) {
+            Some(v) if v.0 > 0 => Some(v),
+            Some(_) => {
+                self.word_error(
+                    codes::NCR_NUMBER,
+                    fr,
+                    format!("feed `{}` is not positive", fr.text(self.r.src)),
+                    "F outside a thread group is the feed in 0.01 mm/rev, e.g. F30 = 0.3 mm/rev",
+                );
+                None
+            }
+            None => None,
+        }
+    }
+
     /// Why no feed is set: never programmed, or undefined after a thread group.
     fn why_no_feed(&self) -> String {
         match self.feed {
@@ -655,11 +771,11 @@ impl<'a> FrontEnd<'a> {
         let mut ok = true;
         let g = &frames[0];
         let g33 = g.word().value == 33;
-        ok &= self.check_modifiers(g, false, g33);
+        ok &= self.check_modifiers(g, false, g33, false);
         for fr in &frames[1..] {
             let letter = fr.word().letter;
             let coordinate = matches!(letter, 'X' | 'Z');
-            ok &= self.check_modifiers(fr, false, coordinate);
+            ok &= self.check_modifiers(fr, false, coordinate, false);
             if !allowed.contains(&letter) {
                 let help = if g.word().value == 32 && letter == 'X' {
                     "G32 cuts along Z at the current diameter; move to the pass diameter in a group before `G32 *`".to_string()
@@ -1088,6 +1204,361 @@ impl<'a> FrontEnd<'a> {
         };
         self.r.pos = kind.end_position(self.r.pos);
         self.push(kind, span, None);
+    }
+
+    /// A chamfer group: `X<end>+45 *` or `X<end>-45 *` (likewise Z, `@` allowed) closed by
+    /// `F<feed>`. The named axis goes to its end; the other moves by the same radial amount
+    /// (X by twice it: X is a diameter), up for `+45` and down for `-45`: a 45° feed move.
+    /// The F frame sets the feed, as every F frame outside a thread group does.
+    /// **[evidence]** one shop's generator and checker (nc31.md, "General motion").
+    fn chamfer(&mut self, frames: &[GroupFrame], span: Span) {
+        const ABOUT: &str = "a chamfer group is `X<end>+45 *` or `X<end>-45 *` (likewise Z) closed by `F<feed>`: the other axis moves by the same radial amount, towards plus for `+45` and minus for `-45`";
+        let mut ok = true;
+        let (mut axis, mut feed): (Option<&GroupFrame>, Option<&GroupFrame>) = (None, None);
+        for fr in frames {
+            let w = fr.word();
+            let chamfered = fr.frame.chamfer().is_some();
+            match w.letter {
+                'X' | 'Z' if chamfered => {
+                    if let Some(first) = axis {
+                        let line = first.line;
+                        self.word_error(
+                            codes::NCR_GROUP_WORD,
+                            fr,
+                            format!(
+                                "a second chamfer `{}` in the group of `{}` (line {line})",
+                                fr.text(self.r.src),
+                                first.text(self.r.src)
+                            ),
+                            ABOUT,
+                        );
+                        ok = false;
+                    } else {
+                        axis = Some(fr);
+                    }
+                    if let Some(range) = fr.frame.modifier_range(Modifier::Rapid) {
+                        let span = self.span(fr, range);
+                        self.error(
+                            codes::NCR_MODIFIER,
+                            span,
+                            format!("`~` on the chamfer `{}`", fr.text(self.r.src)),
+                            "a chamfer is a feed move at the F that closes its group; a rapid is written without `+45`/`-45`",
+                        );
+                        ok = false;
+                    }
+                    ok &= self.check_modifiers(fr, true, true, true);
+                }
+                'F' => {
+                    if let Some(first) = feed {
+                        self.repeated(fr, first);
+                        ok = false;
+                    } else {
+                        feed = Some(fr);
+                    }
+                    ok &= self.check_modifiers(fr, false, false, false);
+                }
+                // The mark on a word that takes none.
+                _ if chamfered => ok &= self.check_modifiers(fr, false, false, false),
+                _ => {
+                    self.word_error(
+                        codes::NCR_GROUP_WORD,
+                        fr,
+                        format!(
+                            "`{}` does not belong in a chamfer group",
+                            fr.text(self.r.src)
+                        ),
+                        format!("{ABOUT}; other words go in groups of their own"),
+                    );
+                    ok = false;
+                }
+            }
+        }
+        let Some(af) = axis.filter(|_| ok) else {
+            return;
+        };
+        // `X3000+45`
+        let shown = format!(
+            "{}{}",
+            af.text(self.r.src),
+            af.frame
+                .chamfer()
+                .map_or("", |(up, _)| Modifier::Chamfer { up }.ascii())
+        );
+        let Some(ff) = feed else {
+            return self.word_error(
+                codes::NCR_CHAMFER,
+                af,
+                format!("the chamfer `{shown}` is not closed by an F frame"),
+                ABOUT,
+            );
+        };
+        if frames.last().is_some_and(|last| !std::ptr::eq(last, ff)) {
+            return self.word_error(
+                codes::NCR_CHAMFER,
+                ff,
+                format!(
+                    "`{}` does not close the chamfer group: its F frame comes last",
+                    ff.text(self.r.src)
+                ),
+                ABOUT,
+            );
+        }
+        let Some(rate) = self.feed_rate(ff) else {
+            return;
+        };
+        let Some((sx, sz)) = self.r.pos.known() else {
+            return self.word_error(
+                codes::NCR_UNKNOWN_POSITION,
+                af,
+                format!(
+                    "the chamfer `{shown}` starts where the tool stands, and that is not known yet"
+                ),
+                "move to an absolute X and Z before the chamfer",
+            );
+        };
+        let up = af.frame.chamfer().is_some_and(|(up, _)| up);
+        let sign = if up { 1 } else { -1 };
+        let end = if af.word().letter == 'X' {
+            let Some(ex) = self.coordinate(af, Some(sx)) else {
+                return;
+            };
+            let travel = ex.0.checked_sub(sx.0);
+            if travel.is_some_and(|d| d % 2 != 0) {
+                return self.word_error(
+                    codes::NCR_CHAMFER,
+                    af,
+                    format!(
+                        "the chamfer `{shown}` changes the diameter by {} mm: half of it, the Z travel, is off the 0.0001 mm grid",
+                        (ex - sx).mm()
+                    ),
+                    "a 45° chamfer moves Z by half the diameter change; with the profile's linear unit this X cannot be reached at 45°",
+                );
+            }
+            travel
+                .and_then(|d| (d / 2).checked_abs())
+                .and_then(|r| sz.0.checked_add(sign * r))
+                .map(|ez| (ex, Length(ez)))
+        } else {
+            let Some(ez) = self.coordinate(af, Some(sz)) else {
+                return;
+            };
+            ez.0.checked_sub(sz.0)
+                .and_then(i64::checked_abs)
+                .and_then(|r| r.checked_mul(2))
+                .and_then(|d| sx.0.checked_add(sign * d))
+                .map(|ex| (Length(ex), ez))
+        };
+        let Some((ex, ez)) = end else {
+            return self.word_error(
+                codes::NCR_NUMBER,
+                af,
+                format!("the chamfer `{shown}` moves the tool too far"),
+                "check the word's digits and the profile's units",
+            );
+        };
+        if (ex, ez) == (sx, sz) {
+            return self.word_error(
+                codes::NCR_CHAMFER,
+                af,
+                format!(
+                    "the chamfer `{shown}` does not move: the tool already stands at its {}",
+                    af.word().letter
+                ),
+                ABOUT,
+            );
+        }
+        self.feed = Feed::Set(rate);
+        let kind = ItemKind::Feed {
+            to: Pos::new(ex, ez),
+            feed: rate,
+        };
+        self.r.pos = kind.end_position(self.r.pos);
+        self.push(kind, span, None);
+    }
+
+    /// `G25 *`, `P<from><to> *`, `P<count>`: the groups from frame N<from> to frame N<to>
+    /// (the last three digits of the first P are <to>) are read again `count` times here,
+    /// from where the tool stands, as the control runs them (incremental frames cut further
+    /// each time; absolute ones go to the same place again). The range must be whole groups
+    /// before the G25 and hold no G25. **[evidence]** one shop's checker (nc31.md, "General
+    /// motion"); the count of repetitions after the frames' own run and the limits are
+    /// **[decided]**.
+    fn g25(&mut self, frames: &[GroupFrame]) {
+        const ABOUT: &str = "G25 takes P (the first frame's number followed by the last frame's number in three digits: P5009 repeats N5 to N9) and P (how many times)";
+        let g = &frames[0];
+        let Some(w) = self.thread_words(frames, &['P'], 2, ABOUT) else {
+            return;
+        };
+        let repeat_error = |fe: &mut Self, at: &GroupFrame, message: String, help: &str| {
+            fe.word_error(codes::NCR_REPEAT, at, message, help.to_string());
+        };
+        let [range, count] = w.p[..] else {
+            let missing = if w.p.is_empty() {
+                "no P (range), no P (count)"
+            } else {
+                "no P (count)"
+            };
+            return repeat_error(self, g, format!("the G25 group has {missing}"), ABOUT);
+        };
+        let value = range.word().value;
+        let (from, to) = (value / 1000, value % 1000);
+        let (Ok(from), Ok(to)) = (u32::try_from(from), u32::try_from(to)) else {
+            return repeat_error(
+                self,
+                range,
+                format!(
+                    "`{}` is not a pair of frame numbers",
+                    range.text(self.r.src)
+                ),
+                ABOUT,
+            );
+        };
+        if from > to {
+            return repeat_error(
+                self,
+                range,
+                format!(
+                    "`{}` repeats N{from} to N{to}: the range runs backwards",
+                    range.text(self.r.src)
+                ),
+                ABOUT,
+            );
+        }
+        let times = count.word().value;
+        if times < 1 {
+            return repeat_error(
+                self,
+                count,
+                format!("`{}`: a G25 repeats at least once", count.text(self.r.src)),
+                "the second P is how many times the frames run again (P1 once)",
+            );
+        }
+        let own = frames
+            .iter()
+            .filter_map(|f| f.frame.number)
+            .find(|n| (from..=to).contains(n));
+        if let Some(n) = own {
+            return repeat_error(
+                self,
+                range,
+                format!(
+                    "`{}` repeats N{from} to N{to}, which holds this G25's own frame N{n}",
+                    range.text(self.r.src)
+                ),
+                "a G25 repeats frames before it; end the range before the G25 group",
+            );
+        }
+        let mut ends =
+            [(from, "first"), (to, "last")].map(|(n, which)| match self.numbers.get(&n) {
+                None => Err(format!("there is no frame N{n} before this G25")),
+                Some((_, _, true)) => Err(format!(
+                    "more than one frame before this G25 is numbered N{n}"
+                )),
+                Some(&(group, frame, false)) => {
+                    let len = self.groups.get(group).map_or(0, |(f, _)| f.len());
+                    let whole = if which == "first" {
+                        frame == 0
+                    } else {
+                        frame + 1 == len
+                    };
+                    if whole {
+                        Ok(group)
+                    } else {
+                        Err(format!(
+                            "N{n} is not the {which} frame of its group: a repeat runs whole groups"
+                        ))
+                    }
+                }
+            });
+        let first = std::mem::replace(&mut ends[0], Ok(0));
+        let last = std::mem::replace(&mut ends[1], Ok(0));
+        let (first, last) = match (first, last) {
+            (Ok(a), Ok(b)) if a <= b => (a, b),
+            (Ok(_), Ok(_)) => {
+                return repeat_error(
+                    self,
+                    range,
+                    format!(
+                        "`{}`: frame N{from} comes after frame N{to} in the program",
+                        range.text(self.r.src)
+                    ),
+                    "the range runs from an earlier frame to a later one",
+                );
+            }
+            (Err(why), _) | (_, Err(why)) => {
+                return repeat_error(
+                    self,
+                    range,
+                    format!("`{}`: {why}", range.text(self.r.src)),
+                    "the first P names frames of this program before the G25: N<from> starts a group and N<to> ends one",
+                );
+            }
+        };
+        let nested = self.repeats.partition_point(|&i| i < first);
+        if let Some(&inner) = self.repeats.get(nested).filter(|&&i| i <= last) {
+            let line = self.groups[inner].0[0].line;
+            return repeat_error(
+                self,
+                range,
+                format!(
+                    "`{}` holds the G25 on line {line}: a repeat cannot repeat a repeat",
+                    range.text(self.r.src)
+                ),
+                "write the inner repeat's frames out, or repeat a range without a G25",
+            );
+        }
+        let per_run = self.frames_before[last + 1] - self.frames_before[first];
+        let total = usize::try_from(times)
+            .ok()
+            .and_then(|t| t.checked_mul(per_run))
+            .and_then(|n| n.checked_add(self.unrolled))
+            .filter(|&n| n <= REPEAT_LIMIT);
+        let Some(total) = total else {
+            return repeat_error(
+                self,
+                count,
+                format!(
+                    "`{}` repeats {per_run} frame(s) {times} times: this program's repeats would unroll more than {REPEAT_LIMIT} frames",
+                    count.text(self.r.src)
+                ),
+                "ncthread reads at most 10,000 repeated frames in a program; split the program",
+            );
+        };
+        self.unrolled = total;
+        let replay: Vec<Vec<GroupFrame>> = self.groups[first..=last]
+            .iter()
+            .filter(|(_, readable)| *readable)
+            .map(|(frames, _)| frames.clone())
+            .collect();
+        for _ in 0..times {
+            let mark = self.r.diags.len();
+            for frames in &replay {
+                self.read_group(frames);
+            }
+            if self.r.diags.len() == mark {
+                continue;
+            }
+            // What the frames already said when they were read is not said again; what is
+            // new (a feed or a position that differs here) names the G25.
+            let new: Vec<Diagnostic> = self.r.diags.drain(mark..).collect();
+            for d in &self.r.diags[self.reported.1.min(mark)..] {
+                self.reported.0.insert(reported(d));
+            }
+            let mut failed = false;
+            for mut d in new {
+                if !self.reported.0.insert(reported(&d)) {
+                    continue;
+                }
+                d.message
+                    .push_str(&format!(" (repeated by the G25 on line {})", g.line));
+                failed |= d.is_error();
+                self.r.diags.push(d);
+            }
+            self.reported.1 = self.r.diags.len();
+            if failed {
+                break;
+            }
+        }
     }
 
     /// `G33 [@] *` X Z F: tapping; with `@` the tool then moves to X (point C).
@@ -1565,6 +2036,295 @@ mod tests {
                 ItemKind::ProgramEnd(EndCode::M30),
                 ItemKind::Delimiter
             ]
+        );
+    }
+
+    /// The items a chamfer group `text` makes from Ø20 Z0 at F20 (0.2 mm/rev).
+    fn chamfer(text: &str) -> Vec<ItemKind> {
+        let k = kinds(&format!("M3\nS500\nX2000 ~ *\nZ0 ~\n{text}"));
+        k[3..].to_vec()
+    }
+
+    fn feed(x: f64, z: f64, f: f64) -> ItemKind {
+        ItemKind::Feed {
+            to: Pos::new(mm(x), mm(z)),
+            feed: mm(f),
+        }
+    }
+
+    /// `X<end>±45 *` + `F`: X to its end, Z by half the diameter change, the sign giving
+    /// Z's direction; `Z<end>±45 *` + `F`: Z to its end, the diameter by twice the Z travel.
+    /// Read whatever the profile says (nc31.md: "Read it").
+    #[test]
+    fn chamfers_move_the_other_axis_by_the_same_radial_amount() {
+        // X grows by 10 (radius 5): Z +5 or -5.
+        assert_eq!(chamfer("X3000+45 *\nF20\n"), [feed(30.0, 5.0, 0.2)]);
+        assert_eq!(chamfer("X3000-45 *\nF20\n"), [feed(30.0, -5.0, 0.2)]);
+        // X shrinks: the sign still gives Z's direction.
+        assert_eq!(chamfer("X1000+45 *\nF20\n"), [feed(10.0, 5.0, 0.2)]);
+        assert_eq!(chamfer("X1000-45 *\nF20\n"), [feed(10.0, -5.0, 0.2)]);
+        // Z travels 5: the diameter grows or shrinks by 10.
+        assert_eq!(chamfer("Z-500+45 *\nF20\n"), [feed(30.0, -5.0, 0.2)]);
+        assert_eq!(chamfer("Z-500-45 *\nF20\n"), [feed(10.0, -5.0, 0.2)]);
+        assert_eq!(chamfer("Z300+45 *\nF20\n"), [feed(26.0, 3.0, 0.2)]);
+        assert_eq!(chamfer("Z300-45 *\nF20\n"), [feed(14.0, 3.0, 0.2)]);
+        // Incremental, and the F frame sets the feed for the moves after it.
+        assert_eq!(
+            chamfer("X1000 @ +45 *\nF15\nZ-2000\n"),
+            [
+                feed(30.0, 5.0, 0.15),
+                ItemKind::Feed {
+                    to: Pos {
+                        x: None,
+                        z: Some(mm(-20.0))
+                    },
+                    feed: mm(0.15)
+                }
+            ]
+        );
+        assert_eq!(chamfer("Z-200@-45*\nF20\n"), [feed(16.0, -2.0, 0.2)]);
+        // With a unit of 0.0001 mm half a diameter change can be off the grid: refused.
+        let mut fine = Profile::default();
+        fine.nc31.linear_unit = Length(1);
+        let text = "M3\nS500\nX200000 ~ *\nZ0 ~\nN7 X200001+45 *\nF20\n";
+        let (_, diags) = run_with(text, &fine, Unsupported::Error);
+        assert_eq!(
+            diags.iter().map(|d| d.code.id).collect::<Vec<_>>(),
+            ["NCR017"]
+        );
+        let text = text.replace("X200001", "X200002");
+        let (program, diags) = run_with(&text, &fine, Unsupported::Error);
+        assert!(diags.is_empty(), "{diags:?}");
+        assert_eq!(
+            program.items.last().map(|i| &i.kind),
+            Some(&ItemKind::Feed {
+                to: Pos::new(Length(200_002), Length(1)),
+                feed: mm(0.2)
+            })
+        );
+    }
+
+    #[test]
+    fn chamfer_rules_have_their_code_and_place() {
+        let head = "M3\nS500\nX2000 ~ *\nZ0 ~\n";
+        let cases: Vec<(String, (&str, u32, u32))> = vec![
+            // Not closed by F, or F not last.
+            (format!("{head}X3000+45\n"), ("NCR017", 5, 1)),
+            (format!("{head}F20 *\nX3000+45\n"), ("NCR017", 5, 1)),
+            // No travel.
+            (format!("{head}X2000+45 *\nF20\n"), ("NCR017", 5, 1)),
+            (format!("{head}Z0-45 *\nF20\n"), ("NCR017", 5, 1)),
+            // A rapid mark, a word that does not belong, a second chamfer, a second F.
+            (format!("{head}X3000+45 ~ *\nF20\n"), ("NCR004", 5, 10)),
+            (format!("{head}X3000+45 *\nS700 *\nF20\n"), ("NCR011", 6, 1)),
+            (format!("{head}X3000+45 *\nZ100 *\nF20\n"), ("NCR011", 6, 1)),
+            (
+                format!("{head}X3000+45 *\nZ100-45 *\nF20\n"),
+                ("NCR011", 6, 1),
+            ),
+            (format!("{head}X3000+45 *\nF20 *\nF30\n"), ("NCR011", 7, 1)),
+            // The mark on a word that is not the chamfer's X or Z.
+            (format!("{head}X3000+45 *\nF20+45\n"), ("NCR004", 6, 4)),
+            (
+                format!("{head}G32 *\nF15000 *\nZ-100+45\n"),
+                ("NCR004", 7, 6),
+            ),
+            (format!("{head}S700-45\n"), ("NCR004", 5, 5)),
+            // A feed that is not positive, a start that is not known.
+            (format!("{head}X3000+45 *\nF0\n"), ("NCR006", 6, 1)),
+            ("X3000+45 *\nF20\n".into(), ("NCR007", 1, 1)),
+        ];
+        for (text, expected) in &cases {
+            assert_eq!(first_error(text), *expected, "{text:?}");
+        }
+    }
+
+    fn repeating() -> Profile {
+        let mut p = Profile::default();
+        p.nc31.repeat_g25 = true;
+        p
+    }
+
+    /// Grooves 5 mm apart: the frames N5 to N7 (incremental) run again twice at the G25.
+    const GROOVES: &str = "N0 M3\nN1 S500\nN2 X2000 ~ *\nN3 Z0 ~\nN4 F10\nN5 Z-500 @ ~\nN6 X-400 @\nN7 X400 @ ~\nN8 G25 *\nN9 P5007 *\nN10 P2\nN11 X5000 ~\n";
+
+    #[test]
+    fn g25_reads_the_frames_again_count_times() {
+        let (program, diags) = run_with(GROOVES, &repeating(), Unsupported::Error);
+        assert!(diags.is_empty(), "{diags:?}");
+        let moves: Vec<(ItemKind, u32)> = program
+            .items
+            .iter()
+            .skip(4)
+            .map(|i| (i.kind.clone(), i.span.line))
+            .collect();
+        let z = |z: f64| ItemKind::Rapid {
+            to: Pos {
+                x: None,
+                z: Some(mm(z)),
+            },
+        };
+        let x = |x: f64, rapid: bool| {
+            let to = Pos {
+                x: Some(mm(x)),
+                z: None,
+            };
+            if rapid {
+                ItemKind::Rapid { to }
+            } else {
+                ItemKind::Feed { to, feed: mm(0.1) }
+            }
+        };
+        let mut expected = Vec::new();
+        for groove in 1..=3 {
+            expected.extend([
+                (z(-5.0 * groove as f64), 6),
+                (x(16.0, false), 7),
+                (x(20.0, true), 8),
+            ]);
+        }
+        expected.push((x(50.0, true), 12));
+        assert_eq!(moves, expected);
+        // The repeated items keep their frames' numbers.
+        assert_eq!(program.items[7].block_number, Some(5));
+        // Without the profile's key G25 is refused by name (the help names the key), also
+        // when kept as written: one error, at the G25.
+        for unsupported in [Unsupported::Error, Unsupported::Warn] {
+            let (_, diags) = run_with(GROOVES, &Profile::default(), unsupported);
+            assert_eq!(diags.len(), 1, "{diags:?}");
+            let d = &diags[0];
+            assert_eq!(
+                (
+                    d.code,
+                    d.severity,
+                    d.location.as_ref().map(|l| (l.line, l.column))
+                ),
+                (codes::NCR_UNSUPPORTED, Severity::Error, Some((9, 4)))
+            );
+            let help = d.help.as_deref().unwrap_or_default();
+            assert!(help.contains("repeat_g25 = true"), "{help}");
+        }
+    }
+
+    #[test]
+    fn g25_repeats_absolute_frames_as_the_control_does() {
+        // An absolute move repeated goes to the same place again.
+        let text = "N0 M3\nN1 S500\nN2 X2000 ~ *\nN3 Z0 ~\nN4 F10\nN5 Z-100\nN6 G25 *\nN7 P5005 *\nN8 P3\n";
+        let (program, diags) = run_with(text, &repeating(), Unsupported::Error);
+        assert!(diags.is_empty(), "{diags:?}");
+        let feeds = program
+            .items
+            .iter()
+            .filter(|i| matches!(i.kind, ItemKind::Feed { .. }))
+            .count();
+        assert_eq!(feeds, 4);
+    }
+
+    #[test]
+    fn g25_rules_have_their_code_and_place() {
+        let head = "N0 M3\nN1 S500\nN2 X2000 ~ *\nN3 Z0 ~\nN4 F10\nN5 Z-500 @ ~\nN6 X-400 @\nN7 X400 @ ~\n";
+        let g25 = |range: &str, count: &str| format!("{head}N8 G25 *\nN9 {range} *\nN10 {count}\n");
+        let cases: Vec<(String, (&str, u32, u32))> = vec![
+            // The range: backwards, not in the program, holding the G25, negative.
+            (g25("P7005", "P2"), ("NCR018", 10, 4)),
+            (g25("P20021", "P2"), ("NCR018", 10, 4)),
+            (g25("P5008", "P2"), ("NCR018", 10, 4)),
+            (g25("P5009", "P2"), ("NCR018", 10, 4)),
+            (g25("P-5007", "P2"), ("NCR018", 10, 4)),
+            // Inside a group: N3 ends the group N2–N3, N2 starts it.
+            (g25("P3007", "P2"), ("NCR018", 10, 4)),
+            (g25("P2002", "P2"), ("NCR018", 10, 4)),
+            // The count: under 1, or too many frames in all.
+            (g25("P5007", "P0"), ("NCR018", 11, 5)),
+            (g25("P5007", "P-1"), ("NCR018", 11, 5)),
+            (g25("P5007", "P3334"), ("NCR018", 11, 5)),
+            // Missing P words, another word.
+            (format!("{head}N8 G25 *\nN9 P5007\n"), ("NCR018", 9, 4)),
+            (format!("{head}N8 G25\n"), ("NCR018", 9, 4)),
+            (
+                format!("{head}N8 G25 *\nN9 X100 *\nN10 P5007 *\nN11 P2\n"),
+                ("NCR011", 10, 4),
+            ),
+            (
+                format!("{head}N8 G25 ~ *\nN9 P5007 *\nN10 P2\n"),
+                ("NCR004", 9, 8),
+            ),
+            // A repeat of a repeat.
+            (
+                format!("{head}N8 G25 *\nN9 P5007 *\nN10 P1\nN11 G25 *\nN12 P5010 *\nN13 P1\n"),
+                ("NCR018", 13, 5),
+            ),
+            // Two frames numbered N5, frame numbers out of order.
+            (
+                format!("{head}N5 X2000 ~\nN8 G25 *\nN9 P5007 *\nN10 P2\n"),
+                ("NCR018", 11, 4),
+            ),
+            (
+                format!("{head}N1 X2000 ~\nN8 G25 *\nN9 P7001 *\nN10 P2\n"),
+                ("NCR018", 11, 4),
+            ),
+        ];
+        for (text, expected) in &cases {
+            let (_, diags) = run_with(text, &repeating(), Unsupported::Error);
+            let d = diags
+                .iter()
+                .find(|d| d.is_error())
+                .unwrap_or_else(|| panic!("no error for {text:?}"));
+            let loc = d.location.as_ref().expect("located");
+            assert!(d.help.is_some(), "{text:?}: no help");
+            assert_eq!(
+                (d.code.id, loc.line, loc.column),
+                *expected,
+                "{text:?}: {}",
+                d.message
+            );
+        }
+        // The limit is over the whole program: 3334 × 3 frames is too many, and so are two
+        // repeats of 1700 × 3.
+        let text =
+            format!("{head}N8 G25 *\nN9 P5007 *\nN10 P1700\nN11 G25 *\nN12 P5007 *\nN13 P1700\n");
+        let (_, diags) = run_with(&text, &repeating(), Unsupported::Error);
+        assert_eq!(
+            diags
+                .iter()
+                .map(|d| (d.code.id, d.location.as_ref().unwrap().line))
+                .collect::<Vec<_>>(),
+            [("NCR018", 14)]
+        );
+    }
+
+    /// A repeat that fails where its frames did not (the feed is undefined after a thread)
+    /// says so once, naming the G25; what the frames already said is not said again.
+    #[test]
+    fn a_repeat_reports_what_is_new_once() {
+        let text = "N0 M3\nN1 S500\nN2 X2000 ~ *\nN3 Z0 ~\nN4 F10\nN5 Z-100\nN6 G32 *\nN7 F15000 *\nN8 Z-200\nN9 G25 *\nN10 P5005 *\nN11 P3\n";
+        let (_, diags) = run_with(text, &repeating(), Unsupported::Error);
+        assert_eq!(diags.len(), 1, "{diags:?}");
+        assert_eq!(diags[0].code, codes::NCR_NO_FEED);
+        assert_eq!(diags[0].location.as_ref().unwrap().line, 6);
+        assert!(
+            diags[0]
+                .message
+                .ends_with("(repeated by the G25 on line 10)"),
+            "{}",
+            diags[0].message
+        );
+        let text = "N0 M3\nN1 S500\nN2 X2000 ~ *\nN3 Z0 ~\nN5 Z-100\nN6 G25 *\nN7 P5005 *\nN8 P3\n";
+        let (_, diags) = run_with(text, &repeating(), Unsupported::Error);
+        assert_eq!(diags.len(), 1, "{diags:?}");
+        assert!(!diags[0].message.contains("G25"), "{}", diags[0].message);
+        // Many repeats of frames that failed add nothing (and stay quick: the diagnostics
+        // reported are gathered once, not at every repeat), until the limit: 1666 repeats of
+        // 6 frames fit in 10,000, the 334 after them are refused at their count.
+        let mut text = String::from("N0 M3\nN1 S500\nN2 X2000 ~ *\nN3 Z0 ~\nN5 Z-100\n");
+        for n in 0..2000 {
+            text.push_str(&format!("N{} G25 *\nP5005 *\nP6\n", 6 + n));
+        }
+        let (_, diags) = run_with(&text, &repeating(), Unsupported::Error);
+        assert_eq!(diags.len(), 1 + 334);
+        assert_eq!(
+            (diags[1].code, diags[1].location.as_ref().map(|l| l.line)),
+            (codes::NCR_REPEAT, Some(8 + 3 * 1666))
         );
     }
 

@@ -151,6 +151,19 @@ impl Dialect for Nc31 {
                 } else {
                     row(Arc, Read::No, Write::No(codes::NCW_NO_EQUIVALENT))
                 },
+                row(
+                    Chamfer45,
+                    Read::Yes("X or Z with `+45`/`-45`, closed by F"),
+                    if profile.nc31.chamfer45 {
+                        Write::As(
+                            "writes `X…±45 *` + `F…` where start, end and feed are whole units, else X and Z frames",
+                        )
+                    } else {
+                        Write::As(
+                            "writes X and Z frames (`X…±45 *` + `F…` with the profile's chamfer45 = true)",
+                        )
+                    },
+                ),
                 if profile.nc31.coolant {
                     row(Coolant, Read::Yes("M8/M9"), Write::Yes("M8/M9"))
                 } else {
@@ -182,6 +195,15 @@ impl Dialect for Nc31 {
                     Parameters,
                     Read::No,
                     Write::As("leaves them out with NCW004 (their values are written where used)"),
+                ),
+                row(
+                    Repeat,
+                    if profile.nc31.repeat_g25 {
+                        Read::Yes("G25 P P, unrolled")
+                    } else {
+                        Read::No
+                    },
+                    Write::As("writes the repeated frames out, never G25"),
                 ),
                 row(
                     Comments,

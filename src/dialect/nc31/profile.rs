@@ -36,6 +36,15 @@ pub struct Nc31Profile {
     /// Which way G2 turns (key `arc_direction`); no default: a profile that enables arcs
     /// must say, and arcs are refused until it does. **[decided]**
     pub arc_direction: Option<Nc31ArcDirection>,
+    /// The machine takes 45° chamfers `X<end>±45 *` + `F<feed>` (key `chamfer45`): the
+    /// writer writes a 45° feed move so. **[evidence]** one shop's generator; the reader
+    /// reads them whatever the key says (nc31.md: "Read it; write it only when the profile
+    /// says the machine takes it").
+    pub chamfer45: bool,
+    /// The machine repeats frames with `G25 *`, `P<from><to> *`, `P<count>` (key
+    /// `repeat_g25`): the reader unrolls it; no writer writes it. **[evidence]** one shop's
+    /// checker; off by default (refused by name).
+    pub repeat_g25: bool,
 }
 
 /// Which way the НЦ-31's G2 turns.
@@ -62,6 +71,8 @@ impl Default for Nc31Profile {
             coolant: false,
             arcs: false,
             arc_direction: None,
+            chamfer45: false,
+            repeat_g25: false,
         }
     }
 }
@@ -101,6 +112,8 @@ pub(crate) struct Raw {
     coolant: Option<toml::Spanned<String>>,
     arcs: Option<toml::Spanned<String>>,
     arc_direction: Option<toml::Spanned<String>>,
+    chamfer45: Option<bool>,
+    repeat_g25: Option<bool>,
 }
 
 /// Reads the `[nc31]` section into `p`, reporting each bad value with its key.
@@ -188,6 +201,12 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut Nc31Profile, diags: &mut 
     }
     if let Some(g) = raw.gear_range_mcodes {
         p.gear_range_mcodes = g;
+    }
+    if let Some(on) = raw.chamfer45 {
+        p.chamfer45 = on;
+    }
+    if let Some(on) = raw.repeat_g25 {
+        p.repeat_g25 = on;
     }
     if let Some(value) = raw.arcs {
         match value.get_ref().as_str() {

@@ -32,15 +32,26 @@ pub enum Modifier {
     Group,
     /// `@`: the coordinate is incremental (on G33: move to X afterwards).
     Incremental,
+    /// `+45` / `-45` (`up`: `+45`): a 45° chamfer to this X or Z, the other axis moving
+    /// the same radial amount in the sign's direction. **[evidence]** nc31.md, "General
+    /// motion".
+    Chamfer { up: bool },
 }
 
 impl Modifier {
-    pub fn ascii(self) -> char {
+    pub fn ascii(self) -> &'static str {
         match self {
-            Modifier::Rapid => '~',
-            Modifier::Group => '*',
-            Modifier::Incremental => '@',
+            Modifier::Rapid => "~",
+            Modifier::Group => "*",
+            Modifier::Incremental => "@",
+            Modifier::Chamfer { up: true } => "+45",
+            Modifier::Chamfer { up: false } => "-45",
         }
+    }
+
+    /// Whether `self` and `other` are the same mark (both chamfer signs are one mark).
+    fn same_kind(self, other: Modifier) -> bool {
+        std::mem::discriminant(&self) == std::mem::discriminant(&other)
     }
 }
 
@@ -65,6 +76,14 @@ impl Frame {
             .iter()
             .find(|(x, _)| *x == m)
             .map(|(_, r)| r.clone())
+    }
+
+    /// The chamfer mark (`+45`: true), and where it is.
+    pub fn chamfer(&self) -> Option<(bool, Range<usize>)> {
+        self.modifiers.iter().find_map(|(m, r)| match m {
+            Modifier::Chamfer { up } => Some((*up, r.clone())),
+            _ => None,
+        })
     }
 }
 
@@ -182,17 +201,28 @@ fn frame(line: &str, pair: pest::iterators::Pair<'_, Rule>) -> Result<Line, Synt
                     range,
                 });
             }
-            Rule::rapid | Rule::group | Rule::incremental => {
+            Rule::rapid | Rule::group | Rule::incremental | Rule::chamfer => {
                 let m = match part.as_rule() {
                     Rule::rapid => Modifier::Rapid,
                     Rule::group => Modifier::Group,
-                    _ => Modifier::Incremental,
+                    Rule::incremental => Modifier::Incremental,
+                    _ => Modifier::Chamfer {
+                        up: span.as_str().starts_with('+'),
+                    },
                 };
-                if frame.has(m) {
+                if let Some((previous, _)) = frame.modifiers.iter().find(|(x, _)| x.same_kind(m)) {
                     return Err(SyntaxError {
                         code: codes::NCR_SYNTAX,
                         range,
-                        message: format!("modifier `{}` written twice", m.ascii()),
+                        message: if *previous == m {
+                            format!("modifier `{}` written twice", m.ascii())
+                        } else {
+                            format!(
+                                "`{}` after `{}`: a frame has one chamfer sign",
+                                m.ascii(),
+                                previous.ascii()
+                            )
+                        },
                         help: "write each modifier once".into(),
                     });
                 }
@@ -295,6 +325,35 @@ mod tests {
         assert_eq!(frame("z+450").word.unwrap().letter, 'Z');
         // A frame with only its number.
         assert_eq!(frame("N7").word, None);
+    }
+
+    #[test]
+    fn reads_the_chamfer_marks() {
+        let f = frame("N7 X3000+45*");
+        assert_eq!(
+            f.word.as_ref().map(|w| (w.letter, w.value)),
+            Some(('X', 3000))
+        );
+        assert_eq!(f.chamfer(), Some((true, 8..11)));
+        assert!(f.has(Modifier::Group));
+        let f = frame("Z-200-45 @ *");
+        assert_eq!(f.word.as_ref().map(|w| w.value), Some(-200));
+        assert_eq!(f.chamfer(), Some((false, 5..8)));
+        assert!(f.has(Modifier::Incremental));
+        assert_eq!(frame("X-45").chamfer(), None);
+        assert_eq!(frame("X3000").chamfer(), None);
+        let e = parse_line("X3000+45-45").unwrap_err();
+        assert_eq!((e.code, e.range), (codes::NCR_SYNTAX, 8..11));
+        assert!(e.message.contains("one chamfer sign"), "{}", e.message);
+        let e = parse_line("X3000+45+45").unwrap_err();
+        assert!(e.message.contains("written twice"), "{}", e.message);
+        // `+450` is not a chamfer, and a chamfer needs a word before it.
+        let e = parse_line("X3000+450").unwrap_err();
+        assert_eq!((e.code, e.range), (codes::NCR_SYNTAX, 5..6));
+        let e = parse_line("+45 X3000").unwrap_err();
+        assert_eq!((e.code, e.range), (codes::NCR_SYNTAX, 0..3));
+        let e = parse_line("N5 +45").unwrap_err();
+        assert_eq!((e.code, e.range), (codes::NCR_SYNTAX, 3..6));
     }
 
     #[test]
