@@ -299,6 +299,9 @@ pub struct FileRun<'s> {
     pub lines: Vec<Line<'s>>,
     /// `None`: the line holds a NUL.
     pub blocks: Vec<Option<Result<Block, SyntaxError>>>,
+    /// Lines of blanks only (skipped) and bare `%` lines.
+    pub blank: Vec<bool>,
+    pub percent: Vec<bool>,
     pub structure: Structure,
 }
 
@@ -314,10 +317,20 @@ impl<'s> FileRun<'s> {
             .map(|b| b.as_ref().and_then(|b| b.as_ref().ok()))
             .collect();
         let structure = Structure::of(&refs);
+        let code = |l: &Line<'_>| -> String {
+            l.text
+                .chars()
+                .filter(|c| !matches!(c, ' ' | '\t' | '\r'))
+                .collect()
+        };
+        let blank = lines.iter().map(|l| code(l).is_empty()).collect();
+        let percent = lines.iter().map(|l| code(l) == "%").collect();
         FileRun {
             src,
             lines,
             blocks,
+            blank,
+            percent,
             structure,
         }
     }
@@ -496,11 +509,18 @@ impl Params {
         if self.frames.is_empty() {
             return None;
         }
-        let parts: Vec<String> = self
-            .frames
-            .iter()
-            .rev()
-            .map(|f| format!("in {} called from {}", f.name, line_of(f.file, f.call_line)))
+        // A recursion's repeated calls are counted, not listed.
+        let mut parts: Vec<(String, usize)> = Vec::new();
+        for f in self.frames.iter().rev() {
+            let part = format!("in {} called from {}", f.name, line_of(f.file, f.call_line));
+            match parts.last_mut() {
+                Some((last, n)) if *last == part => *n += 1,
+                _ => parts.push((part, 1)),
+            }
+        }
+        let parts: Vec<String> = parts
+            .into_iter()
+            .map(|(p, n)| if n > 1 { format!("{p} ({n} times)") } else { p })
             .collect();
         Some(parts.join(", "))
     }

@@ -193,15 +193,10 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         let line = run.lines[pc];
         let here = pc;
         pc += 1;
-        let code: String = line
-            .text
-            .chars()
-            .filter(|c| !matches!(c, ' ' | '\t' | '\r'))
-            .collect();
-        if code.is_empty() {
+        if run.blank[here] {
             continue;
         }
-        let bare_percent = code == "%";
+        let bare_percent = run.percent[here];
         if let Some(end) = ended {
             // A line of comments only is kept: it says something, and runs nothing.
             let only_comments = matches!(&run.blocks[here], Some(Ok(b)) if b.is_empty() && b.number.is_none() && !b.comments.is_empty());
@@ -249,6 +244,7 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         if let Some(o) = oword {
             if broken {
                 // A program whose blocks do not match runs nowhere.
+                fe.stopped = true;
                 break;
             }
             let jump = fe.oword(here, f, o, &runs, &mut params);
@@ -269,6 +265,7 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
                             "check the loop's condition; a program that needs more iterations must be unrolled by hand",
                         );
                         fe.name_call_chain(diags_before, &params, &runs);
+                        fe.stopped = true;
                         break;
                     }
                 }
@@ -281,6 +278,7 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
                         e.help,
                     );
                     fe.name_call_chain(diags_before, &params, &runs);
+                    fe.stopped = true;
                     break;
                 }
             }
@@ -305,18 +303,19 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
             }
         }
         if fe.ended {
+            ended = Some("M2/M30");
             if !params.frames.is_empty() {
                 // M2/M30 inside a subroutine ends the whole program.
                 break;
             }
-            ended = Some("M2/M30");
         }
         if fe.stopped {
             break;
         }
     }
     fe.r.src = src;
-    if ended.is_none() && !fe.r.items.is_empty() {
+    // A run that an error stopped says so already.
+    if ended.is_none() && !fe.stopped && !fe.r.items.is_empty() {
         let last = src.lines().filter(|l| !l.text.trim().is_empty()).last();
         if let Some(line) = last {
             fe.diag(
@@ -576,7 +575,18 @@ impl FrontEnd<'_> {
         let Some(Ok(block)) = parsed else {
             return;
         };
-        let mut block = block.clone();
+        // The line's words get their values here; its expressions stay where they were read.
+        let source = block;
+        let mut block = Block {
+            number: source.number,
+            words: source.words.clone(),
+            exprs: Vec::new(),
+            settings: Vec::new(),
+            oword: None,
+            comments: source.comments.clone(),
+            unread: source.unread.clone(),
+            delimiter: source.delimiter,
+        };
         if let Some(at) = block.unread.iter().position(|u| u.what == BLOCK_DELETE) {
             match self.options.block_delete {
                 // The switch is on: LinuxCNC skips the line.
@@ -602,8 +612,8 @@ impl FrontEnd<'_> {
                 None => {}
             }
         }
-        if (!block.exprs.is_empty() || !block.settings.is_empty())
-            && let Err(e) = self.evaluate(&mut block, params)
+        if (!source.exprs.is_empty() || !source.settings.is_empty())
+            && let Err(e) = self.evaluate(source, &mut block.words, params)
         {
             self.diag(codes::ISOR_EVAL, line, e.range, e.message, e.help);
             self.stopped = true;

@@ -185,7 +185,12 @@ impl FrontEnd<'_> {
 
     /// Evaluates the line's computed values (into their words) and makes its parameter
     /// settings: every value is read before any setting takes effect, as in LinuxCNC.
-    pub(super) fn evaluate(&self, block: &mut Block, params: &mut Params) -> Result<(), EvalError> {
+    pub(super) fn evaluate(
+        &self,
+        block: &Block,
+        words: &mut [super::Word],
+        params: &mut Params,
+    ) -> Result<(), EvalError> {
         let scope = self.scope(params);
         // Left to right, as LinuxCNC reads the line: words' values and settings.
         enum Part {
@@ -219,7 +224,7 @@ impl FrontEnd<'_> {
                         help: "check the expression",
                         range: w.range.clone(),
                     })?;
-                    block.words[i].value = value;
+                    words[i].value = value;
                 }
                 Part::Setting(i) => {
                     let s = &block.settings[i];
