@@ -448,6 +448,32 @@ pub struct Params {
     pub testing: Option<usize>,
     /// Subroutine definitions (file, line) passed in sequence or called.
     pub passed: std::collections::HashSet<(usize, usize)>,
+    /// The modal state M70/M73 saved at each call level (0: the program), and whether the
+    /// return from that level restores it (M73).
+    pub contexts: HashMap<usize, (ModalState, bool)>,
+}
+
+/// What M70 and M73 save of the modal state that ncthread follows (LinuxCNC's
+/// `save_settings`): modes, spindle, coolant, feed and speed. **[evidence]** rules of
+/// `interp_convert.cc` (`gen_settings`, `gen_m_codes`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModalState {
+    pub inch: bool,
+    pub incremental: bool,
+    /// G93/G94/G95 as 930/940/950, `None` before any.
+    pub feed_mode: Option<u32>,
+    pub surface_speed: bool,
+    pub absolute_centres: bool,
+    pub diameter: Option<bool>,
+    /// 3, 4 or 5.
+    pub spindle: u8,
+    pub mist: bool,
+    pub flood: bool,
+    /// In the units in force when saved.
+    pub feed: f64,
+    pub speed: f64,
+    pub work_offset: u8,
+    pub compensation: bool,
 }
 
 impl Default for Params {
@@ -462,6 +488,7 @@ impl Default for Params {
             value_returned: false,
             testing: None,
             passed: Default::default(),
+            contexts: HashMap::new(),
         }
     }
 }

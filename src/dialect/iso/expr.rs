@@ -145,8 +145,10 @@ pub trait Env {
 /// The highest parameter number LinuxCNC has (`RS274NGC_MAX_PARAMETERS` − 1).
 pub const MAX_PARAMETER: usize = 5601;
 
-/// LinuxCNC's tolerance for EQ, NE, LE and GE (`TOLERANCE_EQUAL`); LT and GT are exact.
-const TOLERANCE_EQUAL: f64 = 1e-6;
+/// LinuxCNC's tolerance for EQ and NE (`TOLERANCE_EQUAL`); LT, LE, GT and GE are exact.
+/// **[evidence]** the rs274 ncthread is checked with (2.9.0~pre1): `[1 EQ 1.00009]` is 1,
+/// `[1.0000001 LE 1]` is 0. (Later LinuxCNC sources have 1e-6 and a tolerant LE/GE.)
+const TOLERANCE_EQUAL: f64 = 0.0001;
 
 /// The parameter number a value names: whole within 0.0001 (LinuxCNC rounds), 1 … 5601.
 pub fn parameter_number(value: f64, range: &Range<usize>) -> Result<usize, EvalError> {
@@ -274,9 +276,9 @@ impl Expr {
                     Op::Eq => truth((a - b).abs() < TOLERANCE_EQUAL),
                     Op::Ne => truth((a - b).abs() >= TOLERANCE_EQUAL),
                     Op::Gt => truth(a > b),
-                    Op::Ge => truth((a - b).abs() < TOLERANCE_EQUAL || a >= b),
+                    Op::Ge => truth(a >= b),
                     Op::Lt => truth(a < b),
-                    Op::Le => truth((a - b).abs() < TOLERANCE_EQUAL || a <= b),
+                    Op::Le => truth(a <= b),
                     Op::And => truth(a != 0.0 && b != 0.0),
                     Op::Or => truth(a != 0.0 || b != 0.0),
                     Op::Xor => truth((a != 0.0) != (b != 0.0)),
@@ -387,10 +389,10 @@ mod tests {
         assert_eq!(e(&[1.0, 2.0, 3.0], &[Op::Plus, Op::Eq]), 1.0);
         assert_eq!(e(&[-7.0, 3.0], &[Op::Modulo]), 2.0);
         assert_eq!(e(&[1.0, 0.0], &[Op::Xor]), 1.0);
-        assert_eq!(e(&[1.0000001, 1.0], &[Op::Eq]), 1.0);
-        assert_eq!(e(&[1.00001, 1.0], &[Op::Eq]), 0.0);
+        assert_eq!(e(&[1.00009, 1.0], &[Op::Eq]), 1.0);
+        assert_eq!(e(&[1.00011, 1.0], &[Op::Eq]), 0.0);
         assert_eq!(e(&[1.0, 1.0000001], &[Op::Lt]), 1.0);
-        assert_eq!(e(&[1.0000001, 1.0], &[Op::Le]), 1.0);
+        assert_eq!(e(&[1.0000001, 1.0], &[Op::Le]), 0.0);
         assert_eq!(e(&[1.0, 1.0, 0.0], &[Op::Or, Op::And]), 0.0);
     }
 

@@ -108,6 +108,12 @@ struct FrontEnd<'a> {
     skipped_lines: usize,
     /// An error that ends the run (LinuxCNC stops there): nothing after it is read.
     stopped: bool,
+    /// Coolant as M7/M8/M9 left it, and the work offset (1: G54): M72 restores them.
+    mist: bool,
+    flood: bool,
+    work_offset: u8,
+    /// `#<_ccomp>`: 400, 410 or 420.
+    ccomp: f64,
 }
 
 mod macros;
@@ -141,6 +147,10 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         ended: false,
         skipped_lines: 0,
         stopped: false,
+        mist: false,
+        flood: false,
+        work_offset: 1,
+        ccomp: 400.0,
     };
     // LinuxCNC: a program whose first non-blank line is a bare `%` ends at the next bare `%`;
     // a `%` anywhere else is refused; M2/M30 end the program. Nothing after the end runs.
@@ -489,9 +499,8 @@ fn m_meaning(code: i64) -> Meaning {
     match code {
         // Stops, program end, spindle, tool change, coolant.
         0..=9 | 30 => Meaning::Known,
-        70..=73 => Meaning::Unsupported(
-            "saving and restoring the modal state (M70–M73), which ncthread does not follow",
-        ),
+        // Saving and restoring the modal state: the macro runner's (`front/macros.rs`).
+        70..=73 => Meaning::Known,
         _ => Meaning::Unsupported("this M code"),
     }
 }
@@ -624,6 +633,9 @@ impl FrontEnd<'_> {
             if let Some(text) = self.message(c, params) {
                 *c = text;
             }
+        }
+        if self.modal_state(line, &block, params) {
+            return;
         }
         let first = self.r.items.len();
         let span = self.r.src.line_span(line);
@@ -1100,6 +1112,11 @@ impl FrontEnd<'_> {
                 _ => continue,
             };
             let at = self.r.span(line, w.range.clone());
+            match coolant {
+                Coolant::Mist => self.mist = true,
+                Coolant::Flood => self.flood = true,
+                Coolant::Off => (self.mist, self.flood) = (false, false),
+            }
             self.push(ItemKind::Coolant(coolant), at);
         }
         if let Some(g4) = words.has_g(G4) {
@@ -1187,6 +1204,12 @@ impl FrontEnd<'_> {
                     self.comp_refusal(line, w, "Cannot turn cutter radius comp on when on");
                 }
                 self.compensation = on;
+                self.ccomp = match comp {
+                    Compensation::FromTool { right: true, .. }
+                    | Compensation::Dynamic { right: true, .. } => 420.0,
+                    Compensation::Off => 400.0,
+                    _ => 410.0,
+                };
                 self.push(ItemKind::Compensation(comp), span);
             }
         }
@@ -1211,6 +1234,7 @@ impl FrontEnd<'_> {
                     "Cannot change coordinate systems with cutter radius compensation on",
                 );
             }
+            self.work_offset = index;
             self.push(ItemKind::WorkOffset(index), span);
         }
         if words.has_g(G90).is_some() {
@@ -2700,6 +2724,8 @@ mod tests {
             ("#5221 = 1\n", codes::ISOR_EVAL, "#5221 = 1"),
             ("#<_x> = 1\n", codes::ISOR_EVAL, "#<_x> = 1"),
             ("o<nope> call\n", codes::ISOR_CONTROL, "o<nope> call"),
+            ("G7 S100 M3\nM72\n", codes::ISOR_CONTROL, "M72"),
+            ("G7 S100 M3\nM70 G91\n", codes::ISOR_UNSUPPORTED, "M70"),
             ("o1 while [1]\nG0 X1\n", codes::ISOR_CONTROL, "o1 while [1]"),
             (
                 "o1 while [1]\no2 endwhile\n",

@@ -57,6 +57,31 @@ impl Dialect for Iso {
                 mark: LineMark::Mark,
             });
         }
+        // LinuxCNC's macro language: a parameter (`#1`, `#<name>`), an expression (`[`) or
+        // an O-word (`o<name> …`, `o100 while …`); no other dialect writes these.
+        let code = detect::code_part(line).trim_start().to_ascii_lowercase();
+        let macro_mark = code.contains('[')
+            || code
+                .as_bytes()
+                .windows(2)
+                .any(|w| w[0] == b'#' && (w[1].is_ascii_digit() || w[1] == b'<' || w[1] == b'['))
+            || code.starts_with("o<")
+            || (code.starts_with('o')
+                && code[1..]
+                    .trim_start()
+                    .starts_with(|c: char| c.is_ascii_digit())
+                && [
+                    "sub", "endsub", "call", "return", "if", "else", "while", "do", "repeat",
+                    "break", "continue",
+                ]
+                .iter()
+                .any(|k| code.contains(k)));
+        if macro_mark {
+            return Some(LineClaim {
+                priority: 90,
+                mark: LineMark::Mark,
+            });
+        }
         let words = detect::code_words(line);
         let g33_with_k =
             words.iter().any(|w| w == "G33") && words.iter().any(|w| w.starts_with('K'));
@@ -74,7 +99,7 @@ impl Dialect for Iso {
     }
 
     fn mark_description(&self) -> &'static str {
-        "an ISO mark (a `( )` or `;` comment after code, G33 with K, or a G7/G18/G21/G33.1/G76 word)"
+        "an ISO mark (a `( )` or `;` comment after code, a parameter, an expression or an O-word, G33 with K, or a G7/G18/G21/G33.1/G76 word)"
     }
 
     fn tie_rank(&self) -> u8 {

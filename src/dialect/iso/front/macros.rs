@@ -5,12 +5,13 @@
 
 use std::ops::Range;
 
-use super::super::control::{self, FileRun, Flow, Frame, Params, StructureError};
+use super::super::control::{self, FileRun, Flow, Frame, ModalState, Params, StructureError};
 use super::super::expr::{self, Env, EvalError, Param};
 use super::super::syntax::{Block, Keyword, OWord};
 use super::{FrontEnd, Motion};
-use crate::diag::Diagnostic;
+use crate::diag::{Diagnostic, codes};
 use crate::ir::{FeedMode, SpindleDirection};
+use crate::source::Line;
 
 /// The most loop iterations (back jumps of `endwhile`, `do … while`, `endrepeat` and
 /// `continue`) ncthread follows in one program: an endless loop ends with an error well
@@ -57,6 +58,13 @@ struct System {
     spindle: Option<SpindleDirection>,
     diameter: bool,
     per_rev: bool,
+    work_offset: u8,
+    /// 400, 410 or 420 (G40, G41, G42).
+    ccomp: f64,
+    absolute_centres: bool,
+    surface_speed: bool,
+    mist: bool,
+    flood: bool,
 }
 
 struct Scope<'p> {
@@ -89,15 +97,41 @@ impl Scope<'_> {
             "_incremental" => flag(s.incremental),
             "_feed" => Ok(s.feed.unwrap_or(0.0)),
             "_rpm" => Ok(s.rpm.unwrap_or(0.0)),
-            "_current_tool" | "_selected_tool" if name == "_current_tool" => Ok(s.tool),
+            "_current_tool" => Ok(s.tool),
             "_motion_mode" => s.motion.ok_or_else(|| unknown("the motion mode", range)),
             "_plane" => Ok(180.0),
+            // The LinuxCNC ncthread follows (and checks with): 2.9.0.
+            "_vmajor" => Ok(2.9),
+            "_vminor" => Ok(0.0),
+            // G98/G99 are not read (no canned cycle is): LinuxCNC's start-up G99 stands.
+            "_retract_old_z" => Ok(0.0),
+            "_retract_r_plane" => Ok(1.0),
+            "_coord_system" => Ok(match self.system.work_offset {
+                n @ 1..=6 => 530.0 + 10.0 * f64::from(n),
+                n => 584.0 + f64::from(n),
+            }),
+            "_ccomp" => Ok(self.system.ccomp),
+            "_ijk_absolute_mode" => flag(s.absolute_centres),
+            "_spindle_css_mode" => flag(s.surface_speed),
+            "_spindle_rpm_mode" => flag(!s.surface_speed),
+            "_mist" => flag(s.mist),
+            "_flood" => flag(s.flood),
+            "_call_level" => Ok(self.params.frames.len() as f64),
             "_lathe_diameter_mode" => flag(s.diameter),
             "_lathe_radius_mode" => flag(!s.diameter),
             "_spindle_on" => flag(s.spindle.is_some()),
             "_spindle_cw" => flag(s.spindle == Some(SpindleDirection::Clockwise)),
             "_units_per_rev" => flag(s.per_rev),
             "_units_per_minute" => flag(!s.per_rev),
+            "_selected_tool" => Ok(s.tool),
+            "_tool_offset" | "_current_pocket" | "_selected_pocket" | "_abs_x" | "_abs_z"
+            | "_metric_machine" | "_task" | "_remap_level" | "_line" => Err(EvalError {
+                message: format!(
+                    "#<{name}> holds a value of the machine or of its interpreter (tool table, offsets, configuration) that ncthread does not know"
+                ),
+                help: "compute the value in the program instead of reading it from the machine",
+                range: range.clone(),
+            }),
             "_value" => Ok(self.params.value),
             "_value_returned" => flag(self.params.value_returned),
             _ => return None,
@@ -174,6 +208,12 @@ impl FrontEnd<'_> {
                 spindle: self.turning,
                 diameter: self.diameter == Some(true),
                 per_rev: self.feed_mode == Some(FeedMode::PerRev),
+                work_offset: self.work_offset,
+                ccomp: if self.compensation { self.ccomp } else { 400.0 },
+                absolute_centres: self.absolute_centres,
+                surface_speed: self.surface_speed,
+                mist: self.mist,
+                flood: self.flood,
             },
             created: Default::default(),
         }
@@ -329,6 +369,184 @@ impl FrontEnd<'_> {
         Some(out)
     }
 
+    fn modal(&self) -> ModalState {
+        let unit = if self.inch { 25.4 } else { 1.0 };
+        ModalState {
+            inch: self.inch,
+            incremental: self.incremental,
+            feed_mode: self.feed_mode.map(|m| match m {
+                FeedMode::PerMin => 940,
+                FeedMode::PerRev => 950,
+            }),
+            surface_speed: self.surface_speed,
+            absolute_centres: self.absolute_centres,
+            diameter: self.diameter,
+            spindle: match self.turning {
+                Some(SpindleDirection::Clockwise) => 3,
+                Some(SpindleDirection::CounterClockwise) => 4,
+                None => 5,
+            },
+            mist: self.mist,
+            flood: self.flood,
+            feed: self.feed.map_or(0.0, |f| f.to_mm_f64() / unit),
+            speed: self.speed.map_or(0.0, f64::from),
+            work_offset: self.work_offset,
+            compensation: self.compensation,
+        }
+    }
+
+    /// M70 (save the modal state), M71 (forget it), M72 (restore it), M73 (save it, and
+    /// restore it when the subroutine returns) on a line of their own: true when the line
+    /// was one.
+    pub(super) fn modal_state(
+        &mut self,
+        line: Line<'_>,
+        block: &Block,
+        params: &mut Params,
+    ) -> bool {
+        let code = |w: &super::Word| w.value.to_whole().ok().filter(|m| (70..=73).contains(m));
+        let Some((m, word)) = block
+            .words
+            .iter()
+            .find_map(|w| (w.letter == 'M').then(|| code(w)).flatten().map(|m| (m, w)))
+        else {
+            return false;
+        };
+        if block.words.len() > 1 {
+            self.diag(
+                codes::ISOR_UNSUPPORTED,
+                line,
+                word.range.clone(),
+                format!("M{m} with other words on its line, whose order against it ncthread does not follow"),
+                "write M70–M73 on a line of their own",
+            );
+            return true;
+        }
+        let level = params.frames.len();
+        match m {
+            70 | 73 => {
+                params
+                    .contexts
+                    .insert(level, (self.modal(), m == 73 && level > 0));
+            }
+            71 => {
+                params.contexts.remove(&level);
+            }
+            _ => match params.contexts.get(&level).map(|(s, _)| s.clone()) {
+                Some(saved) => self.restore(line, word.range.clone(), &saved),
+                None => {
+                    self.diag(
+                        codes::ISOR_CONTROL,
+                        line,
+                        word.range.clone(),
+                        "Cannot restore context from invalid stack frame - missing M70/M73?".into(),
+                        "save the modal state with M70 (or M73) at this call level before M72",
+                    );
+                    self.stopped = true;
+                }
+            },
+        }
+        true
+    }
+
+    /// Restores `saved` as LinuxCNC's `restore_settings` does: the units first, then one line
+    /// of F (one decimal) and S (whole), the G codes that differ and the first M code that
+    /// differs, then the other M codes a line each, read here as if the program held them.
+    /// The motion mode is not restored (LinuxCNC does not), nor G64's tolerances (a path
+    /// setting ncthread keeps as written).
+    pub(super) fn restore(&mut self, line: Line<'_>, range: Range<usize>, saved: &ModalState) {
+        let now = self.modal();
+        if saved.work_offset != now.work_offset || saved.compensation != now.compensation {
+            self.diag(
+                codes::ISOR_UNSUPPORTED,
+                line,
+                range,
+                "restoring a saved work offset or cutter compensation (M72/M73), which ncthread does not follow".into(),
+                "restore them in the program with G54…G59.3 and G40/G41/G42",
+            );
+            return;
+        }
+        let mut lines: Vec<String> = Vec::new();
+        if saved.inch != now.inch {
+            lines.push(if saved.inch { "G20" } else { "G21" }.into());
+        }
+        let mut text = format!("F{:.1} S{:.0}", saved.feed, saved.speed);
+        let mut g = |differs: bool, code: &str| {
+            if differs {
+                text.push(' ');
+                text.push_str(code);
+            }
+        };
+        g(
+            saved.incremental != now.incremental,
+            if saved.incremental { "G91" } else { "G90" },
+        );
+        if let Some(mode) = saved.feed_mode {
+            g(
+                Some(mode) != now.feed_mode,
+                if mode == 950 { "G95" } else { "G94" },
+            );
+        }
+        g(
+            saved.surface_speed != now.surface_speed,
+            if saved.surface_speed { "G96" } else { "G97" },
+        );
+        g(
+            saved.absolute_centres != now.absolute_centres,
+            if saved.absolute_centres {
+                "G90.1"
+            } else {
+                "G91.1"
+            },
+        );
+        if let Some(d) = saved.diameter {
+            g(Some(d) != now.diameter, if d { "G7" } else { "G8" });
+        }
+        // The mist slot holds M7, or M9 when no coolant was on (nothing when only flood
+        // was); the flood slot M8 or nothing.
+        let slot = |s: &ModalState| match (s.mist, s.flood) {
+            (true, _) => Some("M7"),
+            (false, false) => Some("M9"),
+            (false, true) => None,
+        };
+        let mut m_codes: Vec<String> = Vec::new();
+        if saved.spindle != now.spindle {
+            m_codes.push(format!("M{}", saved.spindle));
+        }
+        if let Some(m) = slot(saved)
+            && slot(saved) != slot(&now)
+        {
+            m_codes.push(m.into());
+        }
+        if saved.flood && !now.flood {
+            m_codes.push("M8".into());
+        }
+        let mut m_codes = m_codes.into_iter();
+        if let Some(first) = m_codes.next() {
+            text.push(' ');
+            text.push_str(&first);
+        }
+        lines.push(text);
+        lines.extend(m_codes);
+        let first_item = self.r.items.len();
+        for text in &lines {
+            let synthetic = Line {
+                number: line.number,
+                offset: line.offset,
+                text,
+            };
+            // ncthread's own words: they always read.
+            if let Ok(block) = super::syntax::parse_line(text) {
+                self.block(synthetic, &block);
+            }
+        }
+        // The restored state stands at the M72 (or the return) in the program.
+        let span = self.r.src.line_span(line);
+        for item in &mut self.r.items[first_item..] {
+            item.span = span;
+        }
+    }
+
     /// Runs an O-word line at `at`: where control goes next.
     pub(super) fn oword(
         &mut self,
@@ -383,6 +601,7 @@ impl FrontEnd<'_> {
             }
             (Keyword::EndSub | Keyword::Return, _) => {
                 let value = arg(self, params, 0)?;
+                let level = params.frames.len();
                 let Some(frame) = params.frames.pop() else {
                     return Err(error(
                         o.range.clone(),
@@ -391,6 +610,12 @@ impl FrontEnd<'_> {
                     ));
                 };
                 params.numbered[1..=30].copy_from_slice(&frame.saved);
+                // M73 in the subroutine: its saved state comes back with the return.
+                if let Some((saved, true)) = params.contexts.remove(&level) {
+                    let line = runs[file].lines[at];
+                    self.restore(line, o.range.clone(), &saved);
+                }
+                params.contexts.remove(&level);
                 match value {
                     Some(v) => {
                         params.value = v;
@@ -440,6 +665,8 @@ impl FrontEnd<'_> {
                 saved.copy_from_slice(&params.numbered[1..=30]);
                 params.numbered[1..=30].copy_from_slice(&args);
                 params.passed.insert((sub_file, start));
+                // A call starts its level with no saved state.
+                params.contexts.remove(&(params.frames.len() + 1));
                 params.frames.push(Frame {
                     name: o.label.clone(),
                     file,
