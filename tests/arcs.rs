@@ -82,17 +82,7 @@ fn every_arc_form_converts_exactly_or_is_refused_by_name() {
             "{here}: {:?}\n{output}",
             v.outcome
         );
-        if rs274.is_some() {
-            assert!(!v.oracle.is_empty(), "{here}: rs274 did not judge");
-        }
-        for check in &v.oracle {
-            assert!(
-                matches!(check.outcome, ncthread::OracleOutcome::Equivalent { .. }),
-                "{here}: {}: {:?}",
-                check.what,
-                check.outcome
-            );
-        }
+        common::assert_rs274_agrees(&v, rs274.is_some(), &here);
         // The nc31 output writes the full circle and the semicircle a quadrant a group.
         if to == nc31 {
             let groups = output

@@ -81,17 +81,7 @@ fn czech_dwell_and_surface_speed_convert_exactly_or_are_refused_by_name() {
             "{here}: {:?}\n{output}",
             v.outcome
         );
-        if rs274.is_some() {
-            assert!(!v.oracle.is_empty(), "{here}: rs274 did not judge");
-        }
-        for check in &v.oracle {
-            assert!(
-                matches!(check.outcome, ncthread::OracleOutcome::Equivalent { .. }),
-                "{here}: {}: {:?}",
-                check.what,
-                check.outcome
-            );
-        }
+        common::assert_rs274_agrees(&v, rs274.is_some(), &here);
         // And back: the czech program to ISO cuts what the ISO source cuts.
         let back_src = SourceFile::new("dwell-css.nc", output.clone());
         let back = options(czech, iso, profile(&toml));
@@ -157,17 +147,11 @@ fn block_delete_is_read_as_the_switch_says_and_rs274_agrees() {
                 panic!("block delete {switch} → {to}: {:?}", v.outcome);
             };
             segments.push(n);
-            if rs274.is_some() {
-                assert!(!v.oracle.is_empty());
-            }
-            for check in &v.oracle {
-                assert!(
-                    matches!(check.outcome, ncthread::OracleOutcome::Equivalent { .. }),
-                    "block delete {switch} → {to}: {}: {:?}",
-                    check.what,
-                    check.outcome
-                );
-            }
+            common::assert_rs274_agrees(
+                &v,
+                rs274.is_some(),
+                &format!("block delete {switch} → {to}"),
+            );
         }
     }
     // The skim cut (three moves) and the stop run only with the switch off.

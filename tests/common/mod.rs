@@ -327,3 +327,19 @@ pub fn watchdog<T: Send + 'static>(
         }
     }
 }
+
+/// A `verify` with an interpreter at hand: rs274 judged (at least one ISO side) and agreed
+/// with ncthread's reading of every side it judged.
+pub fn assert_rs274_agrees(v: &ncthread::Verification, with_rs274: bool, here: &str) {
+    if with_rs274 {
+        assert!(!v.oracle.is_empty(), "{here}: rs274 did not judge");
+    }
+    for check in &v.oracle {
+        assert!(
+            matches!(check.outcome, ncthread::OracleOutcome::Equivalent { .. }),
+            "{here}: {}: {:?}",
+            check.what,
+            check.outcome
+        );
+    }
+}
