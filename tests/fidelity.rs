@@ -83,6 +83,14 @@ fn routes() -> Vec<Route> {
             warn: true,
             ..route("iso-unsupported-warn-g10-inch.ngc", Iso, Refused("LG003"))
         },
+        Route {
+            warn: true,
+            ..route(
+                "iso-unsupported-warn-g10-inch-radius.ngc",
+                Iso,
+                Refused("LG003"),
+            )
+        },
         // Arcs are read since issue 14: the G91 arc is an arc, written exactly, and refused
         // by the targets that have no arcs.
         Route {
