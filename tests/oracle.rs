@@ -265,6 +265,7 @@ fn rs274_cuts_what_the_simulator_says_the_source_cuts() {
             checked += 1;
         }
     }
+    eprintln!("{checked} synchronised moves compared with rs274");
     assert!(checked > 100, "only {checked} synchronised moves compared");
 }
 
@@ -295,7 +296,7 @@ fn rs274_motion_equals_the_iso_front_end_simulation() {
             }
         }
     }
-    let mut threads = 0;
+    let (mut threads, mut agreed, mut abstained) = (0, 0, 0);
     for (name, text) in &mut programs {
         // rs274 starts at X0 Z0; a program that moves before it states a position leaves
         // ncthread's reading unknown there (SIM001): tell it where rs274 starts.
@@ -319,15 +320,20 @@ fn rs274_motion_equals_the_iso_front_end_simulation() {
             ),
             ncthread::sim::rs274::Judgement::CannotJudge(why) => {
                 eprintln!("{name}: rs274 cannot judge: {why}");
+                abstained += 1;
                 continue;
             }
-            ncthread::sim::rs274::Judgement::Agrees { .. } => {}
+            ncthread::sim::rs274::Judgement::Agrees { .. } => agreed += 1,
         }
         threads += ours
             .iter()
             .filter(|s| matches!(s.motion, ncthread::sim::Motion::Sync { .. }))
             .count();
     }
+    eprintln!(
+        "rs274 agrees on {agreed} of {} programs ({abstained} it cannot judge), {threads} thread moves",
+        programs.len()
+    );
     assert!(
         programs.len() >= 40 && threads >= 100,
         "{} programs, {threads} thread moves",
