@@ -62,6 +62,8 @@ pub fn emit(
     src: &SourceFile,
     options: &ConvertOptions,
 ) -> (Option<String>, Vec<Diagnostic>) {
+    // Roughing cycles are legalised and written as their moves.
+    let program = &*lower::unroll(program);
     let shared = legalise::check(program, src, Some(options.to));
     if diag::has_errors(&shared) {
         return (None, shared);
@@ -138,7 +140,7 @@ pub fn check(
 ) -> Vec<Diagnostic> {
     let (program, mut diagnostics) = parse(src, from, profile, unsupported);
     if !diag::has_errors(&diagnostics) {
-        diagnostics.extend(legalise::check(&program, src, None));
+        diagnostics.extend(legalise::check(&lower::unroll(&program), src, None));
         let simulation = sim::simulate(&program);
         diagnostics.extend(simulation.problems.iter().map(|p| p.diagnostic(src)));
     }

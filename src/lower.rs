@@ -1,5 +1,8 @@
 //! Lowering: the one implementation of how thread operations become straight synchronised
 //! moves. Emitters, `explain`, `plot` and the simulator all call these functions.
+//! [`g7x`] is LinuxCNC's roughing and finishing cycles.
+
+pub mod g7x;
 
 use crate::fixed::{Angle, Lead, Length};
 use crate::ir::{
@@ -1161,4 +1164,37 @@ pub mod arc {
         }
         if clockwise { cross > 0.0 } else { cross < 0.0 }
     }
+}
+
+/// The program with every roughing or finishing cycle replaced by its moves (each stamped
+/// with the cycle's line, block number and, on the first, its comment): what every writer,
+/// the legalisation and the simulator see. Borrowed when there is none.
+pub fn unroll(program: &crate::ir::Program) -> std::borrow::Cow<'_, crate::ir::Program> {
+    use crate::ir::{Item, Program};
+    if !program
+        .items
+        .iter()
+        .any(|i| matches!(i.kind, ItemKind::Roughing(_)))
+    {
+        return std::borrow::Cow::Borrowed(program);
+    }
+    let mut items = Vec::with_capacity(program.items.len());
+    for item in &program.items {
+        let ItemKind::Roughing(cycle) = &item.kind else {
+            items.push(item.clone());
+            continue;
+        };
+        for (n, kind) in cycle.moves.iter().enumerate() {
+            items.push(Item {
+                kind: kind.clone(),
+                span: item.span,
+                block_number: item.block_number,
+                comment: if n == 0 { item.comment.clone() } else { None },
+            });
+        }
+    }
+    std::borrow::Cow::Owned(Program {
+        items,
+        dialect: program.dialect,
+    })
 }

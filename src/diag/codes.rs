@@ -221,6 +221,14 @@ pub const ISOR_EVAL: Code = error(
     "ISOR018",
     "an expression LinuxCNC refuses (division by zero, an undefined parameter, an argument out of range) or a parameter ncthread cannot know",
 );
+pub const ISOR_ROUGHING: Code = error(
+    "ISOR019",
+    "a roughing or finishing cycle (G70–G72) LinuxCNC refuses: no Q, a contour that is not monotone, a contour of one move, compensation on, or words its contour cannot hold",
+);
+pub const ISOR_CONTOUR_IGNORED: Code = warning(
+    "ISOR020",
+    "words in the contour of a G70–G72 that LinuxCNC does not run there (F, S, M, G codes other than G0–G3)",
+);
 
 // czech target
 pub const CZW_PRECISION: Code = error(
@@ -392,6 +400,8 @@ pub const ALL: &[Code] = &[
     ISOR_BLOCK_DELETE,
     ISOR_CONTROL,
     ISOR_EVAL,
+    ISOR_ROUGHING,
+    ISOR_CONTOUR_IGNORED,
     CZW_PRECISION,
     CZW_NO_EQUIVALENT,
     CZW_ANGLE,

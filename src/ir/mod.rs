@@ -465,6 +465,64 @@ pub struct TapCycle {
     pub then_x: Option<Length>,
 }
 
+/// A LinuxCNC lathe roughing or finishing cycle (G70, G71, G71.1, G71.2, G72, G72.1, G72.2):
+/// its words, the contour its subroutine traced, and the moves LinuxCNC makes for it.
+/// **[evidence]** LinuxCNC `interp_g7x.cc`; the moves come from the one implementation,
+/// [`crate::lower::g7x`], computed once by the reader from the values as written and rounded
+/// onto the grid.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RoughingCycle {
+    /// The G code ×10: 700, 710, 711, 712, 720, 721, 722.
+    pub code: u16,
+    /// The subroutine named by Q (`o100`).
+    pub subroutine: String,
+    pub kind: RoughingKind,
+    /// Where the cycle starts (the block's X and Z, to which it first rapids).
+    pub start: Pos,
+    /// The contour as the subroutine traced it.
+    pub contour: Vec<ContourElement>,
+    /// The moves: [`ItemKind::Rapid`], [`ItemKind::Feed`] and [`ItemKind::Arc`] only.
+    pub moves: Vec<ItemKind>,
+}
+
+/// The words of a roughing or finishing cycle, in mm (LinuxCNC reads them in radius whatever
+/// G7/G8 says).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RoughingKind {
+    /// G70: `passes` from `first` (D) to `last` (E) distance from the contour.
+    Finish {
+        first: Length,
+        last: Length,
+        passes: Decimal,
+    },
+    /// G71 (along Z) or G72 (`facing`: along X); `variant` 0 cuts pockets too, 1 (`.1`) none,
+    /// 2 (`.2`) only the pockets.
+    Rough {
+        facing: bool,
+        variant: u8,
+        /// U and W: the stock left in X (radius) and Z.
+        stock_x: Length,
+        stock_z: Length,
+        /// D: the distance left along the contour.
+        allowance: Length,
+        /// I: the depth of each cut.
+        depth: Length,
+        /// R: the retract after each cut.
+        retract: Length,
+    },
+}
+
+/// One element of a cycle's contour (X as a diameter).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ContourElement {
+    Line { to: Pos },
+    Arc { to: Pos, centre: Pos, clockwise: bool },
+    /// `A`: a rounded corner of this radius.
+    Round { radius: Length },
+    /// `C`: a chamfer of this size.
+    Chamfer { size: Length },
+}
+
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum ItemKind {
     Rapid {
@@ -551,6 +609,9 @@ pub enum ItemKind {
     Dwell {
         seconds: Decimal,
     },
+    /// A roughing or finishing cycle; every target writes its moves
+    /// ([`crate::lower::unroll`]).
+    Roughing(Box<RoughingCycle>),
 }
 
 impl ItemKind {
@@ -580,6 +641,10 @@ impl ItemKind {
                 z: current.z,
             },
             ItemKind::Opaque { block: Some(c), .. } if c.moves => Pos::UNKNOWN,
+            ItemKind::Roughing(cycle) => cycle
+                .moves
+                .iter()
+                .fold(current, |at, m| m.end_position(at)),
             // What the machine's coordinates are in the program's is the machine's.
             ItemKind::MachineMove(MachineMove::Machine { to, .. }) => Pos {
                 x: if to.x.is_some() { None } else { current.x },

@@ -395,6 +395,11 @@ impl Machine {
 
     fn item(&mut self, kind: &ItemKind, span: Span) {
         match kind {
+            ItemKind::Roughing(cycle) => {
+                for m in &cycle.moves {
+                    self.item(m, span);
+                }
+            }
             ItemKind::Rapid { to } => self.segment(Motion::Rapid, *to, span, None),
             ItemKind::Feed { to, feed } => {
                 let per_minute = self.per_minute;

@@ -72,6 +72,8 @@ pub fn emit(
     renumber: Renumber,
     round: bool,
 ) -> (Option<String>, Vec<Diagnostic>) {
+    // Roughing cycles are written as their moves.
+    let program = &*crate::lower::unroll(program);
     let mut params = BTreeMap::new();
     // Parameters the program assigns are not free for leads.
     for item in &program.items {
@@ -468,6 +470,8 @@ impl Emitter<'_> {
             // No compensation and the default work offset are this control's only state;
             // the others, and machine coordinates, are refused by legalisation.
             ItemKind::Compensation(_) | ItemKind::WorkOffset(_) | ItemKind::MachineMove(_) => {}
+            // Unrolled into its moves at the top of `emit`.
+            ItemKind::Roughing(_) => {}
             // Written where the profile declares the codes; legalisation refuses the rest.
             ItemKind::Coolant(c) => block.words.push(
                 match c {

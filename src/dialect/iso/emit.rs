@@ -45,6 +45,8 @@ pub fn emit(
     src: &SourceFile,
     profile: &Profile,
 ) -> (Option<String>, Vec<Diagnostic>) {
+    // Roughing cycles are written as their moves.
+    let program = &*crate::lower::unroll(program);
     let from = program.dialect;
     let mut e = Emitter {
         w: Writer::new(src),
@@ -417,6 +419,8 @@ impl Emitter<'_> {
             }),
             ItemKind::Stop { optional } => self.line(if *optional { "M1" } else { "M0" }),
             ItemKind::Delimiter => {}
+            // Unrolled into its moves at the top of `emit`.
+            ItemKind::Roughing(_) => {}
         }
         self.w.pos = item.kind.end_position(self.w.pos);
         let comment = match (&item.kind, &item.comment) {

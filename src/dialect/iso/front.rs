@@ -60,6 +60,8 @@ enum Motion {
     Thread,
     Tap,
     Cycle,
+    /// G70–G72 (the code).
+    Roughing(GCode),
 }
 
 /// The denominator of the slope that stands for tan(Q) of a G76.
@@ -114,9 +116,14 @@ struct FrontEnd<'a> {
     work_offset: u8,
     /// `#<_ccomp>`: 400, 410 or 420.
     ccomp: f64,
+    /// A G70–G72 whose contour subroutine is running.
+    contour: Option<Box<roughing::Contour>>,
+    /// The call of a contour subroutine that a G70–G72 line asks the run to make.
+    cycle_call: Option<syntax::OWord>,
 }
 
 mod macros;
+mod roughing;
 
 use macros::{Jump, LOOP_LIMIT};
 
@@ -151,6 +158,8 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         flood: false,
         work_offset: 1,
         ccomp: 400.0,
+        contour: None,
+        cycle_call: None,
     };
     // LinuxCNC: a program whose first non-blank line is a bare `%` ends at the next bare `%`;
     // a `%` anywhere else is refused; M2/M30 end the program. Nothing after the end runs.
@@ -208,6 +217,12 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         }
         let bare_percent = run.percent[here];
         if let Some(end) = ended {
+            // A subroutine defined after the end is called from before it (LinuxCNC looks
+            // ahead for it): its definition is no line after the end.
+            if let Some(control::Flow::Sub { end }) = run.structure.flow.get(&here) {
+                pc = end + 1;
+                continue;
+            }
             // A line of comments only is kept: it says something, and runs nothing.
             let only_comments = matches!(&run.blocks[here], Some(Ok(b)) if b.is_empty() && b.number.is_none() && !b.comments.is_empty());
             if bare_percent && percent {
@@ -293,6 +308,20 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
                 }
             }
             fe.r.src = runs[f].src;
+            // A roughing cycle's contour subroutine has returned: the cycle runs.
+            if fe
+                .contour
+                .as_ref()
+                .is_some_and(|c| params.frames.len() <= c.level)
+            {
+                let before = fe.r.diags.len();
+                fe.finish_contour();
+                fe.name_call_chain(before, &params, &runs);
+                if fe.r.diags[before..].iter().any(|d| d.is_error()) {
+                    fe.stopped = true;
+                    break;
+                }
+            }
             continue;
         }
         if !reported[f][here] {
@@ -300,6 +329,34 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         }
         reported[f][here] = true;
         fe.line(line, &run.blocks[here], &mut params);
+        // A G70–G72 line calls its contour subroutine, as `o<Q> call` there would.
+        if let Some(call) = fe.cycle_call.take() {
+            let level = params.frames.len();
+            if let Some(c) = &mut fe.contour {
+                c.level = level;
+            }
+            match fe.oword(here, f, &call, &runs, &mut params) {
+                Ok(Jump::To(file, target)) => {
+                    (f, pc) = (file, target);
+                    fe.r.src = runs[f].src;
+                }
+                Ok(_) => {}
+                Err(e) => {
+                    fe.contour = None;
+                    fe.diag(
+                        codes::ISOR_CONTROL,
+                        line,
+                        e.range,
+                        e.message,
+                        e.help,
+                    );
+                    fe.name_call_chain(diags_before, &params, &runs);
+                    fe.stopped = true;
+                    break;
+                }
+            }
+            continue;
+        }
         fe.name_call_chain(diags_before, &params, &runs);
         if f != 0 {
             // The items of a subroutine in another file stand at the call in the program.
@@ -324,6 +381,18 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         }
     }
     fe.r.src = src;
+    if let Some(c) = fe.contour.take()
+        && !fe.stopped
+    {
+        fe.r.diags.push(
+            Diagnostic::new(
+                codes::ISOR_ROUGHING,
+                format!("the contour subroutine {} of this cycle does not return before the program ends", c.label()),
+            )
+            .at(src, c.span())
+            .help("end the contour's subroutine with `endsub` (or `return`)"),
+        );
+    }
     // A run that an error stopped says so already.
     if ended.is_none() && !fe.stopped && !fe.r.items.is_empty() {
         let last = src.lines().filter(|l| !l.text.trim().is_empty()).last();
@@ -373,7 +442,9 @@ impl<'b> Words<'b> {
 }
 
 /// The motion codes ncthread reads (LinuxCNC's modal group 1, less the canned cycles).
-const MOTION: [GCode; 7] = [G0, G1, G2, G3, G33, G33_1, G76];
+const MOTION: [GCode; 14] = [
+    G0, G1, G2, G3, G33, G33_1, G76, G70, G71, G71_1, G71_2, G72, G72_1, G72_2,
+];
 
 /// What a G or M code is to ncthread.
 enum Meaning {
@@ -389,7 +460,8 @@ fn g_meaning(code: GCode) -> Meaning {
     match code {
         G0 | G1 | G2 | G3 | G33 | G33_1 | G76 | G4 | G7 | G8 | G18 | G20 | G21 | G43 | G90
         | G91 | G90_1 | G91_1 | G94 | G95 | G96 | G97 | G40 | G41 | G42 | G41_1 | G42_1 | G54
-        | G55 | G56 | G57 | G58 | G59 | G59_1 | G59_2 | G59_3 | G28 | G28_1 | G30 | G30_1 | G53 => {
+        | G55 | G56 | G57 | G58 | G59 | G59_1 | G59_2 | G59_3 | G28 | G28_1 | G30 | G30_1 | G53
+        | G70 | G71 | G71_1 | G71_2 | G72 | G72_1 | G72_2 => {
             Meaning::Known
         }
         // Tool length offset off, exact path / blending, canned cycle off.
@@ -399,7 +471,6 @@ fn g_meaning(code: GCode) -> Meaning {
         }
         G10 | G92..=G92_3 => Meaning::Unsupported("changes of the coordinate systems (G10, G92)"),
         G93 => Meaning::Unsupported("inverse-time feed (G93)"),
-        G70 | G71 | G71_1 | G72 | G72_1 => Meaning::Unsupported("roughing and finishing cycles"),
         G81..=G89 | G73 | G74 => Meaning::Unsupported("drilling and boring cycles"),
         _ => Meaning::Unsupported("this G code"),
     }
@@ -634,6 +705,11 @@ impl FrontEnd<'_> {
                 *c = text;
             }
         }
+        // A line of a roughing cycle's contour: only its shape counts.
+        if self.contour.is_some() {
+            self.contour_line(line, &block);
+            return;
+        }
         if self.modal_state(line, &block, params) {
             return;
         }
@@ -651,6 +727,11 @@ impl FrontEnd<'_> {
         }
         // A line whose words made no item (G21, G90…) keeps its comment as an item.
         let comment = (!block.comments.is_empty()).then(|| block.comments.join("; "));
+        if self.cycle_call.is_some() {
+            // The comment stays on the cycle's rapid, if it made one.
+            let pushed = self.r.items.len() > first;
+            self.stamp_contour(block.number, if pushed { None } else { comment.clone() });
+        }
         self.r
             .stamp_block(first, block.number, comment, span, false);
     }
@@ -1257,6 +1338,7 @@ impl FrontEnd<'_> {
             G33 => Some(Motion::Thread),
             G33_1 => Some(Motion::Tap),
             G76 => Some(Motion::Cycle),
+            G70 | G71 | G71_1 | G71_2 | G72 | G72_1 | G72_2 => Some(Motion::Roughing(c)),
             _ => None,
         });
         if let Some(m) = motion_code {
@@ -1330,7 +1412,7 @@ impl FrontEnd<'_> {
         if axes
             || matches!(
                 motion_code,
-                Some(Motion::Tap | Motion::Cycle | Motion::Arc { .. })
+                Some(Motion::Tap | Motion::Cycle | Motion::Arc { .. } | Motion::Roughing(_))
             )
         {
             match self.motion {
@@ -1375,8 +1457,10 @@ impl FrontEnd<'_> {
                 );
             }
         }
-        // An F that no move of the line used stays where it is written.
+        // An F that no move of the line used stays where it is written (a roughing cycle's
+        // moves come when its contour has run).
         if let Some(feed) = f_word
+            && self.cycle_call.is_none()
             && !self.r.items[first_item..].iter().any(|i| {
                 matches!(
                     i.kind,
@@ -1610,6 +1694,7 @@ impl FrontEnd<'_> {
                 }
             }
             Motion::Cycle => self.cycle(line, words, code_word, span),
+            Motion::Roughing(code) => self.roughing(line, words, code_word, span, code),
         }
     }
 

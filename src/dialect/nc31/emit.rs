@@ -47,6 +47,8 @@ pub fn emit(
     profile: &Profile,
     options: &WriteOptions,
 ) -> (Option<String>, Vec<Diagnostic>) {
+    // Roughing cycles are written as their moves.
+    let program = &*crate::lower::unroll(program);
     // An nc31 program's own groups and `(` comment lines are kept as they were.
     let own = program.dialect == super::ID;
     let mut e = Emitter {
@@ -385,6 +387,8 @@ impl Emitter<'_> {
             // No compensation and the default work offset are this control's only state;
             // the others, and machine coordinates, are refused by legalisation.
             ItemKind::Compensation(_) | ItemKind::WorkOffset(_) | ItemKind::MachineMove(_) => {}
+            // Unrolled into its moves at the top of `emit`.
+            ItemKind::Roughing(_) => {}
             // M8/M9 where the profile declares them; legalisation refuses them otherwise.
             ItemKind::Coolant(c) => group.push(
                 if *c == Coolant::Flood { "M8" } else { "M9" }.to_string(),

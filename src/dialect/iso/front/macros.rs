@@ -204,6 +204,7 @@ impl FrontEnd<'_> {
                     Motion::Thread => 330.0,
                     Motion::Tap => 331.0,
                     Motion::Cycle => 760.0,
+                    Motion::Roughing(code) => code as f64,
                 }),
                 spindle: self.turning,
                 diameter: self.diameter == Some(true),
