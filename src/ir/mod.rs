@@ -515,12 +515,22 @@ pub enum RoughingKind {
 /// One element of a cycle's contour (X as a diameter).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ContourElement {
-    Line { to: Pos },
-    Arc { to: Pos, centre: Pos, clockwise: bool },
+    Line {
+        to: Pos,
+    },
+    Arc {
+        to: Pos,
+        centre: Pos,
+        clockwise: bool,
+    },
     /// `A`: a rounded corner of this radius.
-    Round { radius: Length },
+    Round {
+        radius: Length,
+    },
     /// `C`: a chamfer of this size.
-    Chamfer { size: Length },
+    Chamfer {
+        size: Length,
+    },
 }
 
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -641,10 +651,9 @@ impl ItemKind {
                 z: current.z,
             },
             ItemKind::Opaque { block: Some(c), .. } if c.moves => Pos::UNKNOWN,
-            ItemKind::Roughing(cycle) => cycle
-                .moves
-                .iter()
-                .fold(current, |at, m| m.end_position(at)),
+            ItemKind::Roughing(cycle) => {
+                cycle.moves.iter().fold(current, |at, m| m.end_position(at))
+            }
             // What the machine's coordinates are in the program's is the machine's.
             ItemKind::MachineMove(MachineMove::Machine { to, .. }) => Pos {
                 x: if to.x.is_some() { None } else { current.x },

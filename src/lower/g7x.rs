@@ -255,7 +255,8 @@ impl Seg {
     fn offset(&mut self, distance: f64) {
         match self.kind {
             Kind::Straight => {
-                let d = (I.scale(distance) * (self.start - self.end)).over((self.start - self.end).abs());
+                let d = (I.scale(distance) * (self.start - self.end))
+                    .over((self.start - self.end).abs());
                 self.start += d;
                 self.end += d;
             }
@@ -697,8 +698,7 @@ impl Sink {
         let ccw = ccw != self.mirrored();
         let (centre, end) = (self.map(centre), self.map(end));
         // TOLERANCE_EQUAL of `equal()`.
-        if (self.current.re - end.re).abs() < 0.0001 && (self.current.im - end.im).abs() < 0.0001
-        {
+        if (self.current.re - end.re).abs() < 0.0001 && (self.current.im - end.im).abs() < 0.0001 {
             return;
         }
         self.moves.push(Out::Arc { ccw, centre, end });
@@ -803,12 +803,8 @@ impl Path {
                     s.offset(-max_distance);
                     e.offset(-max_distance);
                     let centre = (s.end + e.start).over(2.0);
-                    let arc = Seg::round(
-                        distance > 0.0,
-                        self.segs[p].end,
-                        centre,
-                        self.segs[n].start,
-                    );
+                    let arc =
+                        Seg::round(distance > 0.0, self.segs[p].end, centre, self.segs[n].start);
                     self.segs.insert(n, arc);
                     p += 1;
                 }

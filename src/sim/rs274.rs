@@ -67,6 +67,54 @@ pub enum Canon {
     ChangeTool(u32),
     /// SELECT_TOOL: the tool the next change takes (a turret that indexes on T changes to it).
     SelectTool(u32),
+    /// SET_G92_OFFSET: the G52/G92 offset (X a diameter) that the calls after it leave out of
+    /// their coordinates. [`Interpreter::run`] adds it back and drops this call.
+    AxisOffset {
+        x: f64,
+        z: f64,
+    },
+}
+
+/// The calls with every G52/G92 offset added back into the coordinates: what the tool does in
+/// the work coordinates, whatever offsets the program set.
+pub fn without_axis_offsets(canon: impl IntoIterator<Item = Canon>) -> Vec<Canon> {
+    let (mut dx, mut dz) = (0.0, 0.0);
+    let mut out = Vec::new();
+    for c in canon {
+        out.push(match c {
+            Canon::AxisOffset { x, z } => {
+                (dx, dz) = (x, z);
+                continue;
+            }
+            Canon::Traverse { x, z } => Canon::Traverse {
+                x: x + dx,
+                z: z + dz,
+            },
+            Canon::Feed { x, z } => Canon::Feed {
+                x: x + dx,
+                z: z + dz,
+            },
+            Canon::RigidTap { x, z } => Canon::RigidTap {
+                x: x + dx,
+                z: z + dz,
+            },
+            Canon::Arc {
+                x,
+                z,
+                cx,
+                cz,
+                rotation,
+            } => Canon::Arc {
+                x: x + dx,
+                z: z + dz,
+                cx: cx + dx,
+                cz: cz + dz,
+                rotation,
+            },
+            other => other,
+        });
+    }
+    out
 }
 
 fn numbers(args: &str) -> Vec<f64> {
@@ -131,6 +179,10 @@ pub fn parse_canon(line: &str) -> Option<Canon> {
         "DWELL" => Canon::Dwell(arg(0)?),
         "CHANGE_TOOL" => Canon::ChangeTool(arg(0)? as u32),
         "SELECT_TOOL" => Canon::SelectTool(arg(0)? as u32),
+        "SET_G92_OFFSET" => Canon::AxisOffset {
+            x: 2.0 * arg(0)?,
+            z: arg(2)?,
+        },
         _ => return None,
     })
 }
@@ -245,7 +297,7 @@ impl Interpreter {
         if !ran_to_the_end && !stdout.contains("FINISH()") && !stdout.contains("PROGRAM_END()") {
             return Err("rs274 did not reach the end of the program".into());
         }
-        Ok(stdout.lines().filter_map(parse_canon).collect())
+        Ok(without_axis_offsets(stdout.lines().filter_map(parse_canon)))
     }
 
     fn path(&self) -> &Path {
@@ -293,6 +345,8 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
     };
     for c in canon {
         match *c {
+            // Added back into the coordinates when the calls were read.
+            Canon::AxisOffset { .. } => {}
             Canon::Traverse { x, z } => {
                 let to = Pos::new(mm(x * scale), mm(z * scale));
                 push(&mut out, Motion::Rapid, pos, to);

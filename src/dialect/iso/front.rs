@@ -120,9 +120,20 @@ struct FrontEnd<'a> {
     contour: Option<Box<roughing::Contour>>,
     /// The call of a contour subroutine that a G70–G72 line asks the run to make.
     cycle_call: Option<syntax::OWord>,
+    /// The G52/G92 offset in force (mm, X a diameter): a position the program writes is this
+    /// much nearer the work zero than the IR's, which holds where the tool goes.
+    axis_offset: (f64, f64),
+    /// #5210, #5211, #5213 as the line before left them; the line's G52/G92 family sets
+    /// #5210 again.
+    offset_params: [f64; 3],
+    /// The offset G92.3 restores (the last G52/G92's, until G92.1).
+    saved_offset: (f64, f64),
+    /// The program has set the offset (G52, G92, G92.1): #5210–#5219 are known.
+    offsets_set: bool,
 }
 
 mod macros;
+mod offsets;
 mod roughing;
 
 use macros::{Jump, LOOP_LIMIT};
@@ -160,6 +171,10 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         ccomp: 400.0,
         contour: None,
         cycle_call: None,
+        axis_offset: (0.0, 0.0),
+        offset_params: [0.0; 3],
+        saved_offset: (0.0, 0.0),
+        offsets_set: false,
     };
     // LinuxCNC: a program whose first non-blank line is a bare `%` ends at the next bare `%`;
     // a `%` anywhere else is refused; M2/M30 end the program. Nothing after the end runs.
@@ -343,13 +358,7 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
                 Ok(_) => {}
                 Err(e) => {
                     fe.contour = None;
-                    fe.diag(
-                        codes::ISOR_CONTROL,
-                        line,
-                        e.range,
-                        e.message,
-                        e.help,
-                    );
+                    fe.diag(codes::ISOR_CONTROL, line, e.range, e.message, e.help);
                     fe.name_call_chain(diags_before, &params, &runs);
                     fe.stopped = true;
                     break;
@@ -461,7 +470,7 @@ fn g_meaning(code: GCode) -> Meaning {
         G0 | G1 | G2 | G3 | G33 | G33_1 | G76 | G4 | G7 | G8 | G18 | G20 | G21 | G43 | G90
         | G91 | G90_1 | G91_1 | G94 | G95 | G96 | G97 | G40 | G41 | G42 | G41_1 | G42_1 | G54
         | G55 | G56 | G57 | G58 | G59 | G59_1 | G59_2 | G59_3 | G28 | G28_1 | G30 | G30_1 | G53
-        | G70 | G71 | G71_1 | G71_2 | G72 | G72_1 | G72_2 => {
+        | G52 | G92 | G92_1 | G92_2 | G92_3 | G70 | G71 | G71_1 | G71_2 | G72 | G72_1 | G72_2 => {
             Meaning::Known
         }
         // Tool length offset off, exact path / blending, canned cycle off.
@@ -469,7 +478,7 @@ fn g_meaning(code: GCode) -> Meaning {
         G17 | G19 | G17_1 | G18_1 | G19_1 => {
             Meaning::Unsupported("another plane than ZX (G18): not a lathe program")
         }
-        G10 | G92..=G92_3 => Meaning::Unsupported("changes of the coordinate systems (G10, G92)"),
+        G10 => Meaning::Unsupported("changes of the coordinate systems (G10)"),
         G93 => Meaning::Unsupported("inverse-time feed (G93)"),
         G81..=G89 | G73 | G74 => Meaning::Unsupported("drilling and boring cycles"),
         _ => Meaning::Unsupported("this G code"),
@@ -503,6 +512,8 @@ fn changes_followed_state(w: &Word) -> bool {
                     | G54..=G59_3
                     | G28..=G30_1
                     | G53
+                    | G52
+                    | G92..=G92_3
             )
         }),
         'M' => w
@@ -705,6 +716,11 @@ impl FrontEnd<'_> {
                 *c = text;
             }
         }
+        self.offset_params = [
+            params.numbered[5210],
+            params.numbered[5211],
+            params.numbered[5213],
+        ];
         // A line of a roughing cycle's contour: only its shape counts.
         if self.contour.is_some() {
             self.contour_line(line, &block);
@@ -724,6 +740,7 @@ impl FrontEnd<'_> {
             return;
         } else {
             self.block(line, &block);
+            params.numbered[5210] = self.offset_params[0];
         }
         // A line whose words made no item (G21, G90…) keeps its comment as an item.
         let comment = (!block.comments.is_empty()).then(|| block.comments.join("; "));
@@ -884,9 +901,9 @@ impl FrontEnd<'_> {
                 "one work offset (G54 … G59.3) per line",
             ),
             (
-                "machine coordinate",
-                &[G28, G28_1, G30, G30_1, G53],
-                "one of G28, G28.1, G30, G30.1, G53 per line",
+                "non-modal",
+                &[G28, G28_1, G30, G30_1, G53, G52, G92, G92_1, G92_2, G92_3],
+                "one of G28, G28.1, G30, G30.1, G52, G53, G92, G92.1, G92.2, G92.3 per line",
             ),
             ("feed mode", &[G94, G95], "one of G94, G95 per line"),
             ("diameter mode", &[G7, G8], "one of G7, G8 per line"),
@@ -1344,6 +1361,14 @@ impl FrontEnd<'_> {
         if let Some(m) = motion_code {
             self.motion = Some(m);
         }
+        // G52 and G92 (the line's axes are theirs), G92.1, G92.2, G92.3.
+        if let Some(&(code, w)) = words
+            .g
+            .iter()
+            .find(|(c, _)| matches!(*c, G52 | G92 | G92_1 | G92_2 | G92_3))
+        {
+            self.axis_offsets(line, &mut words, code, w, motion_code.is_some());
+        }
         // G28/G30 (via the line's axes to the stored position), G28.1/G30.1, and G53 with
         // G0 or G1: the line's axes are theirs, and nothing else moves.
         if let Some(&(code, w)) = words
@@ -1363,7 +1388,10 @@ impl FrontEnd<'_> {
                     .map(|via| MachineMove::Home { second, via }),
                 _ => match self.motion {
                     Some(m @ (Motion::Rapid | Motion::Feed)) => {
+                        // Machine coordinates: no G52/G92 offset.
+                        let offset = std::mem::take(&mut self.axis_offset);
                         let to = self.target(line, &mut words);
+                        self.axis_offset = offset;
                         let feed = if m == Motion::Feed {
                             self.feed_rate(line, Some(w), "G53 G1", span).map(Some)
                         } else {
@@ -1591,7 +1619,7 @@ impl FrontEnd<'_> {
                     None => return self.unknown(line, w),
                 }
             } else {
-                (v, exact)
+                self.shifted_x(v, exact)
             };
             to.x = Some(x);
             self.exact_target.0 = Some(exact);
@@ -1605,7 +1633,7 @@ impl FrontEnd<'_> {
                     None => return self.unknown(line, w),
                 }
             } else {
-                (v, exact)
+                self.shifted_z(v, exact)
             };
             to.z = Some(z);
             self.exact_target.1 = Some(exact);
@@ -1945,7 +1973,7 @@ impl FrontEnd<'_> {
                 let value = |w: Option<&Word>| w.map_or(0.0, |w| w.value.to_f64() * unit);
                 let (i_e, k_e) = (2.0 * value(i), value(k));
                 if self.absolute_centres {
-                    (i_e, k_e)
+                    (i_e + self.axis_offset.0, k_e + self.axis_offset.1)
                 } else {
                     (sx_e + i_e, sz_e + k_e)
                 }

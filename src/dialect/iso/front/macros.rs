@@ -65,6 +65,8 @@ struct System {
     surface_speed: bool,
     mist: bool,
     flood: bool,
+    /// The program has set the G52/G92 offset (#5210–#5219 are then its values).
+    offsets_set: bool,
 }
 
 struct Scope<'p> {
@@ -145,6 +147,9 @@ impl Env for Scope<'_> {
         match n {
             1..=5000 => Ok(self.params.numbered[n]),
             5400 => Ok(s.tool),
+            // Whether a G52/G92 offset is applied; the offsets themselves (#5211–#5219) are
+            // kept in the machine's own units, which the program does not say.
+            5210 if s.offsets_set => Ok(self.params.numbered[n]),
             5420 => s.x.ok_or_else(|| unknown("the X position (#5420)", range)),
             5421 | 5423..=5428 => Ok(0.0),
             5422 => s.z.ok_or_else(|| unknown("the Z position (#5422)", range)),
@@ -186,11 +191,13 @@ impl FrontEnd<'_> {
     fn scope<'p>(&self, params: &'p Params) -> Scope<'p> {
         let unit = if self.inch { 25.4 } else { 1.0 };
         let (x, z) = self.exact_start();
+        // In the program's coordinates: less the G52/G92 offset.
+        let (dx, dz) = self.axis_offset;
         Scope {
             params,
             system: System {
-                x: x.map(|x| x / 2.0 / unit),
-                z: z.map(|z| z / unit),
+                x: x.map(|x| (x - dx) / 2.0 / unit),
+                z: z.map(|z| (z - dz) / unit),
                 inch: self.inch,
                 incremental: self.incremental,
                 feed: self.feed.map(|f| f.to_mm_f64() / unit),
@@ -210,6 +217,7 @@ impl FrontEnd<'_> {
                 diameter: self.diameter == Some(true),
                 per_rev: self.feed_mode == Some(FeedMode::PerRev),
                 work_offset: self.work_offset,
+                offsets_set: self.offsets_set,
                 ccomp: if self.compensation { self.ccomp } else { 400.0 },
                 absolute_centres: self.absolute_centres,
                 surface_speed: self.surface_speed,

@@ -266,8 +266,20 @@ impl FrontEnd<'_> {
                             }
                             motion = Some((g / 10) as u8);
                         }
-                        G33 | G33_1 | G76 | G70 | G71 | G71_1 | G71_2 | G72 | G72_1 | G72_2
-                        | G73 | G74 | G80..=G8X_LAST | G38_1..=G38_5 => {
+                        G33
+                        | G33_1
+                        | G76
+                        | G70
+                        | G71
+                        | G71_1
+                        | G71_2
+                        | G72
+                        | G72_1
+                        | G72_2
+                        | G73
+                        | G74
+                        | G80..=G8X_LAST
+                        | G38_1..=G38_5 => {
                             let text = &line.text[w.range.clone()];
                             return self.roughing_error(
                                 line,
@@ -287,7 +299,10 @@ impl FrontEnd<'_> {
                             codes::ISOR_CONFLICT,
                             line,
                             w.range.clone(),
-                            format!("a second {} word on the line (the first is `{first}`)", w.letter),
+                            format!(
+                                "a second {} word on the line (the first is `{first}`)",
+                                w.letter
+                            ),
                             "LinuxCNC refuses a line with two words of one letter; split the line",
                         );
                     }
@@ -304,7 +319,10 @@ impl FrontEnd<'_> {
             }
         }
         if !ignored.is_empty() {
-            let list: Vec<&str> = ignored.iter().map(|w| &line.text[w.range.clone()]).collect();
+            let list: Vec<&str> = ignored
+                .iter()
+                .map(|w| &line.text[w.range.clone()])
+                .collect();
             let span = self.r.span(line, ignored[0].range.clone());
             self.r.diags.push(
                 Diagnostic::new(
@@ -337,9 +355,17 @@ impl FrontEnd<'_> {
                 "I, K and R belong to arcs (G2, G3)",
             );
         }
+        let offset = self.axis_offset;
         let Some(c) = self.contour.as_deref_mut() else {
             return;
         };
+        // The G52/G92 offset, in the contour's units (X a radius).
+        let shift = if c.incremental {
+            C::default()
+        } else {
+            C::new(offset.1 * c.unit, offset.0 / 2.0 * c.unit)
+        };
+        let centre_shift = C::new(offset.1 * c.unit, offset.0 / 2.0 * c.unit);
         let v = |l: char| words.get(&l).map(|w| w.value.to_f64());
         let mut end = if c.incremental { C::default() } else { c.at };
         let mut centre = C::default();
@@ -347,9 +373,13 @@ impl FrontEnd<'_> {
             if let Some(w) = words.get(&axis) {
                 let text = line.text[w.range.clone()].to_string();
                 let why = if c.incremental {
-                    format!("`{text}` in the contour while G91 is in force (LinuxCNC: \"G7x error: Cannot use {axis} in incremental mode (G91)\")")
+                    format!(
+                        "`{text}` in the contour while G91 is in force (LinuxCNC: \"G7x error: Cannot use {axis} in incremental mode (G91)\")"
+                    )
                 } else if words.contains_key(&alias) {
-                    format!("`{text}` with {alias} on one line (LinuxCNC: \"G7x error: Cannot use {axis} and {alias} in the same block\")")
+                    format!(
+                        "`{text}` with {alias} on one line (LinuxCNC: \"G7x error: Cannot use {axis} and {alias} in the same block\")"
+                    )
                 } else {
                     continue;
                 };
@@ -364,12 +394,12 @@ impl FrontEnd<'_> {
         if let Some(u) = v('U') {
             end.im += if c.diameter { u / 2.0 } else { u };
         } else if let Some(x) = v('X') {
-            end.im = if c.diameter { x / 2.0 } else { x };
+            end.im = if c.diameter { x / 2.0 } else { x } + shift.im;
         }
         if let Some(w) = v('W') {
             end.re += w;
         } else if let Some(z) = v('Z') {
-            end.re = z;
+            end.re = z + shift.re;
         }
         if let Some(i) = v('I') {
             centre.im = i;
@@ -400,7 +430,7 @@ impl FrontEnd<'_> {
                     }
                     let chord = (end - start).norm();
                     let h = (r * r - chord / 4.0) / chord;
-                    if !(h >= 0.0) {
+                    if h.is_nan() || h < 0.0 {
                         return self.roughing_error(
                             line,
                             range('R').unwrap_or(0..line.text.len()),
@@ -430,7 +460,9 @@ impl FrontEnd<'_> {
                             "give the arc its centre (I for X, K for Z) or its radius R",
                         );
                     }
-                    if !c.absolute_centres {
+                    if c.absolute_centres {
+                        centre += centre_shift;
+                    } else {
                         centre += start;
                     }
                     Element::Arc {
@@ -487,7 +519,9 @@ impl FrontEnd<'_> {
             self.roughing_error(
                 line,
                 0..line.text.len(),
-                format!("the contour has more than {MAX_ELEMENTS} elements, more than ncthread follows"),
+                format!(
+                    "the contour has more than {MAX_ELEMENTS} elements, more than ncthread follows"
+                ),
                 "check the contour's loops",
             );
             self.stopped = true;
@@ -510,7 +544,11 @@ impl FrontEnd<'_> {
         if c.elements.len() < 2 {
             return error(
                 self,
-                format!("the contour of this {name} ({}) has {} element(s): LinuxCNC then cuts nothing and takes the contour's end as its position, where the tool is not", c.label, c.elements.len()),
+                format!(
+                    "the contour of this {name} ({}) has {} element(s): LinuxCNC then cuts nothing and takes the contour's end as its position, where the tool is not",
+                    c.label,
+                    c.elements.len()
+                ),
                 "give the contour at least two moves (the first from the cycle's start)",
             );
         }
@@ -519,7 +557,10 @@ impl FrontEnd<'_> {
             Err(why) => {
                 return error(
                     self,
-                    format!("{name} along {}: LinuxCNC refuses the cycle (\"G7X error: {why}\")", c.label),
+                    format!(
+                        "{name} along {}: LinuxCNC refuses the cycle (\"G7X error: {why}\")",
+                        c.label
+                    ),
                     if why == "Not monotonic" {
                         "a G71.1/G72.1 contour, and the contour of a G70, must not turn back (X and Z each change one way only)"
                     } else {
@@ -535,7 +576,9 @@ impl FrontEnd<'_> {
             _ => {
                 return error(
                     self,
-                    format!("{name} with no feed rate (F) set, or F0: its cuts are G1 and G2/G3 moves (LinuxCNC: \"Cannot do G1 with zero feed rate\")"),
+                    format!(
+                        "{name} with no feed rate (F) set, or F0: its cuts are G1 and G2/G3 moves (LinuxCNC: \"Cannot do G1 with zero feed rate\")"
+                    ),
                     "set the feed with F before or on the cycle's line",
                 );
             }
@@ -564,17 +607,21 @@ impl FrontEnd<'_> {
                         clockwise: !ccw,
                         feed,
                     };
-                    if let (Some(s), Some(e), Some(k)) = (
-                        at.known(),
-                        grid(end).known(),
-                        grid(centre).known(),
-                    ) {
+                    if let (Some(s), Some(e), Some(k)) =
+                        (at.known(), grid(end).known(), grid(centre).known())
+                    {
                         let (r1, r2) = crate::lower::arc::radii(s, e, k);
                         let off = (r1 - r2).abs();
-                        if r1 < 0.00127 || r2 < 0.00127 || off > 2.0 * 0.01 * std::f64::consts::SQRT_2 {
+                        if r1 < 0.00127
+                            || r2 < 0.00127
+                            || off > 2.0 * 0.01 * std::f64::consts::SQRT_2
+                        {
                             return error(
                                 self,
-                                format!("{name} along {}: an arc of its path, rounded onto ncthread's 0.0001 mm grid, is one LinuxCNC refuses (radius {r1:.5} mm at its start, {r2:.5} mm at its end)", c.label),
+                                format!(
+                                    "{name} along {}: an arc of its path, rounded onto ncthread's 0.0001 mm grid, is one LinuxCNC refuses (radius {r1:.5} mm at its start, {r2:.5} mm at its end)",
+                                    c.label
+                                ),
                                 "check the contour's arcs and corners",
                             );
                         }
@@ -593,7 +640,9 @@ impl FrontEnd<'_> {
                 match kind {
                     ItemKind::Rapid { .. } => Motion::Rapid,
                     ItemKind::Feed { .. } => Motion::Feed,
-                    _ => Motion::Arc { clockwise: !matches!(m, Out::Arc { ccw: true, .. }) },
+                    _ => Motion::Arc {
+                        clockwise: !matches!(m, Out::Arc { ccw: true, .. }),
+                    },
                 },
                 end,
             ));
