@@ -369,6 +369,79 @@ fn iso_program() -> impl Strategy<Value = Input> {
         })
 }
 
+/// A roughing cycle (G71, G71.1, G72) on a random contour of lines and R arcs, with random
+/// corners, then a G70: LinuxCNC expands both, and ncthread must agree move for move.
+fn roughing_program() -> impl Strategy<Value = Input> {
+    let element = (
+        0u8..3,
+        1i64..60,
+        -40i64..120,
+        10u32..30,
+        prop::option::weighted(0.2, (any::<bool>(), 2u32..8)),
+    );
+    (
+        prop::sample::select(vec!["G71", "G71.1", "G72"]),
+        prop::collection::vec(element, 2..7),
+        1u32..15,
+        2u32..6,
+        any::<bool>(),
+    )
+        .prop_map(|(cycle, elements, depth, allowance, g70)| {
+            let facing = cycle == "G72";
+            // The contour, X a diameter (in tenths of mm): Z falls; X rises for a facing
+            // cycle and may fall (a pocket) for G71.
+            let (mut x, mut z) = (100i64, 0i64);
+            let mut lines = vec![
+                "o100 sub".to_string(),
+                format!("G1 X{} Z0", x as f64 / 10.0),
+            ];
+            for (kind, dz, dx, r, corner) in elements {
+                let dx = if facing { dx.abs() + 5 } else { dx };
+                let (nx, nz) = ((x + dx).clamp(20, 500), z - dz);
+                let corner = match corner {
+                    Some((true, a)) => format!(" A{}", a as f64 / 10.0),
+                    Some((false, c)) => format!(" C{}", c as f64 / 10.0),
+                    None => String::new(),
+                };
+                let (fx, fz) = (nx as f64 / 10.0, nz as f64 / 10.0);
+                let line = match kind {
+                    0 => format!("G1 X{fx} Z{fz}{corner}"),
+                    k => {
+                        // R at least half the chord (X as a radius).
+                        let chord = ((nx - x) as f64 / 20.0).hypot((nz - z) as f64 / 10.0);
+                        let radius = (chord / 2.0 * f64::from(r) / 10.0 * 1000.0).ceil() / 1000.0;
+                        format!("G{} X{fx} Z{fz} R{radius}{corner}", k + 1)
+                    }
+                };
+                lines.push(line);
+                (x, z) = (nx, nz);
+            }
+            lines.push("o100 endsub".into());
+            let start = "X60 Z2";
+            let d = f64::from(allowance) / 10.0;
+            let mut all = lines;
+            all.extend([
+                "G7 G18 G21 G90 G95".to_string(),
+                "S500 M3".into(),
+                format!("G0 {start}"),
+                format!(
+                    "{cycle} Q100 {start} D{d} I{} R0.5 F0.2",
+                    f64::from(depth) / 10.0
+                ),
+            ]);
+            if g70 {
+                all.push(format!("G70 Q100 {start} F0.1"));
+            }
+            all.extend(["M5".to_string(), "M2".into()]);
+            let text: String = all.iter().map(|l| format!("{l}\n")).collect();
+            Input {
+                from: ncthread::dialect::iso::ID,
+                bytes: text.into_bytes(),
+                profile: None,
+            }
+        })
+}
+
 // ---------------------------------------------------------------------------------------
 // Mutations of corpus files, and arbitrary bytes
 
@@ -572,6 +645,21 @@ fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, Strin
             let opts = options(input.from, to, &profile, round);
             let conversion = ncthread::convert(&src, &opts);
             let Some(output) = conversion.output else {
+                // A roughing cycle ncthread refuses as LinuxCNC would: LinuxCNC refuses it too.
+                if let Some(rs274) = rs274
+                    && to == input.from
+                    && !round
+                    && conversion
+                        .diagnostics
+                        .iter()
+                        .any(|d| d.code.id == "ISOR019" && !d.message.contains("does not end"))
+                    && rs274.run(&src.text).is_ok()
+                {
+                    return Err(format!(
+                        "ncthread refuses a roughing cycle that LinuxCNC runs: {:?}",
+                        conversion.diagnostics
+                    ));
+                }
                 continue;
             };
             tally.conversions += 1;
@@ -783,6 +871,18 @@ fn generated_iso_programs() {
     assert!(t.tally.proved > 0, "no generated ISO program converted");
     if common::rs274().is_some() {
         assert!(t.tally.rs274 > 0, "rs274 judged no generated ISO program");
+    }
+}
+
+#[test]
+fn generated_roughing_cycles() {
+    let t = run("roughing", roughing_program(), interpreter());
+    assert!(t.tally.proved > 0, "no generated roughing cycle converted");
+    if common::rs274().is_some() {
+        assert!(
+            t.tally.rs274 > 0,
+            "rs274 judged no generated roughing cycle"
+        );
     }
 }
 

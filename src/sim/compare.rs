@@ -158,7 +158,9 @@ fn arcs_continue(last: &Segment, s: &Segment) -> bool {
     else {
         return false;
     };
-    if (c, cw, f, p) != (d, dw, g, q) || last.to != s.from {
+    // The same circle within the grid of a printed radius (rs274 prints four decimals of a
+    // radius: a centre computed two ways can differ by one step of it on the diameter).
+    if (cw, f, p) != (dw, g, q) || !close_pos(c, d, Length(2)) || last.to != s.from {
         return false;
     }
     let turned =

@@ -187,6 +187,66 @@ pub fn parse_canon(line: &str) -> Option<Canon> {
     })
 }
 
+/// How long one run of LinuxCNC's interpreter may take: some of its cycles never end on
+/// some contours (its G71 before 2.9.1), and a judge must not hang.
+const RUN_LIMIT: std::time::Duration = std::time::Duration::from_secs(60);
+
+/// Runs `command` with its output captured; kills it (and says so) after `limit`.
+fn run_bounded(
+    mut command: Command,
+    limit: std::time::Duration,
+) -> Result<std::process::Output, String> {
+    use std::io::Read;
+    use std::process::Stdio;
+    let mut child = command
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|e| e.to_string())?;
+    // The pipes are drained on threads so that a full pipe never stalls the child.
+    let drain = |pipe: Option<Box<dyn Read + Send>>| {
+        std::thread::spawn(move || {
+            let mut bytes = Vec::new();
+            if let Some(mut p) = pipe {
+                let _ = p.read_to_end(&mut bytes);
+            }
+            bytes
+        })
+    };
+    let stdout = drain(
+        child
+            .stdout
+            .take()
+            .map(|p| Box::new(p) as Box<dyn Read + Send>),
+    );
+    let stderr = drain(
+        child
+            .stderr
+            .take()
+            .map(|p| Box::new(p) as Box<dyn Read + Send>),
+    );
+    let started = std::time::Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().map_err(|e| e.to_string())? {
+            break status;
+        }
+        if started.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Err(format!(
+                "it did not finish within {} s (LinuxCNC's interpreter loops for ever on this program)",
+                limit.as_secs()
+            ));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    };
+    Ok(std::process::Output {
+        status,
+        stdout: stdout.join().unwrap_or_default(),
+        stderr: stderr.join().unwrap_or_default(),
+    })
+}
+
 /// The machine's settings a run of LinuxCNC's interpreter follows.
 #[derive(Clone, Debug, Default)]
 pub struct Settings {
@@ -258,8 +318,12 @@ impl Interpreter {
         let file = dir.path().join("program.ngc");
         std::fs::write(&file, program)
             .map_err(|e| format!("cannot write {}: {e}", file.display()))?;
-        let output = match self {
-            Interpreter::Wrapper(cmd) => Command::new(cmd).args(&switch).arg(&file).output(),
+        let command = match self {
+            Interpreter::Wrapper(cmd) => {
+                let mut c = Command::new(cmd);
+                c.args(&switch).arg(&file);
+                Ok(c)
+            }
             Interpreter::Binary(bin) => {
                 let tools = dir.path().join("tools.tbl");
                 let table: String = (1..=999)
@@ -267,16 +331,13 @@ impl Interpreter {
                     .collect();
                 std::fs::write(&tools, table)
                     .map_err(|e| format!("cannot write {}: {e}", tools.display()))?;
-                Command::new(bin)
-                    .arg("-t")
-                    .arg(&tools)
-                    .arg("-g")
-                    .args(&switch)
-                    .arg(&file)
-                    .output()
+                let mut c = Command::new(bin);
+                c.arg("-t").arg(&tools).arg("-g").args(&switch).arg(&file);
+                Ok::<_, String>(c)
             }
-        };
-        let out = output.map_err(|e| format!("cannot run {}: {e}", self.path().display()))?;
+        }?;
+        let out = run_bounded(command, RUN_LIMIT)
+            .map_err(|e| format!("cannot run {}: {e}", self.path().display()))?;
         let stderr = String::from_utf8_lossy(&out.stderr);
         let stdout = String::from_utf8_lossy(&out.stdout);
         let complaint: Vec<&str> = stderr

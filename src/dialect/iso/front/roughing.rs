@@ -554,6 +554,17 @@ impl FrontEnd<'_> {
         }
         let moves = match g7x::run(&c.cycle, c.start, &c.elements) {
             Ok(m) => m,
+            Err(why) if why.starts_with(g7x::ENDLESS) => {
+                return error(
+                    self,
+                    format!(
+                        "{name} along {}: LinuxCNC's cycle does not end on this contour: its interpreter loops for ever (ncthread stops after {})",
+                        c.label,
+                        why.trim_start_matches(g7x::ENDLESS).trim()
+                    ),
+                    "change the contour (a tiny element, or arcs that meet at a cusp, are the usual causes); LinuxCNC fixed some of these loops after 2.9.0~pre1",
+                );
+            }
             Err(why) => {
                 return error(
                     self,
