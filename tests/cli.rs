@@ -630,3 +630,33 @@ fn verify_rs274_is_a_second_judge() {
         text(&out.stdout)
     );
 }
+
+#[test]
+fn a_mill_program_is_refused_in_every_mode() {
+    for mode in ["error", "warn"] {
+        let out = ncthread(
+            &[
+                "convert",
+                "corpus/bad/iso/mill-program-xy-plane.ngc",
+                "--from",
+                "iso",
+                "--to",
+                "iso",
+                "--unsupported",
+                mode,
+            ],
+            None,
+        );
+        assert_eq!(out.status.code(), Some(1), "--unsupported {mode}");
+        assert!(text(&out.stdout).is_empty(), "--unsupported {mode}");
+        let err = text(&out.stderr);
+        assert!(
+            err.contains(
+                "error[ISOR021]: `G17`: another plane than ZX (G18): this is not a lathe program"
+            ),
+            "--unsupported {mode}: {err}"
+        );
+        // Reported at its first line only: the program is refused whole.
+        assert_eq!(err.matches("ISOR021").count(), 1, "{err}");
+    }
+}

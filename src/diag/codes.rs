@@ -229,6 +229,10 @@ pub const ISOR_CONTOUR_IGNORED: Code = warning(
     "ISOR020",
     "words in the contour of a G70–G72 that LinuxCNC does not run there (F, S, M, G codes other than G0–G3)",
 );
+pub const ISOR_NOT_LATHE: Code = error(
+    "ISOR021",
+    "not a lathe program: a plane other than ZX (G17, G19…) or an axis other than X and Z (Y, A, B, C, U, V, W), refused in every mode",
+);
 
 // czech target
 pub const CZW_PRECISION: Code = error(

@@ -116,6 +116,9 @@ struct FrontEnd<'a> {
     work_offset: u8,
     /// `#<_ccomp>`: 400, 410 or 420.
     ccomp: f64,
+    /// A line was refused as not a lathe program (ISOR021): the later ones are skipped
+    /// unreported, since the program is refused whole.
+    not_lathe_reported: bool,
     /// A G70–G72 whose contour subroutine is running.
     contour: Option<Box<roughing::Contour>>,
     /// The call of a contour subroutine that a G70–G72 line asks the run to make.
@@ -169,6 +172,7 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         flood: false,
         work_offset: 1,
         ccomp: 400.0,
+        not_lathe_reported: false,
         contour: None,
         cycle_call: None,
         axis_offset: (0.0, 0.0),
@@ -475,6 +479,7 @@ fn g_meaning(code: GCode) -> Meaning {
         }
         // Tool length offset off, exact path / blending, canned cycle off.
         G49 | G61 | G61_1 | G64 | G80 => Meaning::Kept,
+        // Refused in every mode by `not_a_lathe_program`.
         G17 | G19 | G17_1 | G18_1 | G19_1 => {
             Meaning::Unsupported("another plane than ZX (G18): not a lathe program")
         }
@@ -753,9 +758,68 @@ impl FrontEnd<'_> {
             .stamp_block(first, block.number, comment, span, false);
     }
 
+    /// A plane other than ZX or an axis other than X and Z: the program is not a lathe
+    /// program, and no mode may keep the line (a mill program half converted is worse than
+    /// none). Reports each such word (ISOR021); true when there was one.
+    fn not_a_lathe_program(&mut self, line: Line<'_>, block: &Block) -> bool {
+        let roughing = block.words.iter().any(|w| {
+            w.letter == 'G'
+                && w.value
+                    .to_scaled(1)
+                    .is_ok_and(|g| matches!(g, G70 | G71 | G71_1 | G71_2 | G72 | G72_1 | G72_2))
+        });
+        // The first such word of the line is reported (a line may hold thousands).
+        let Some((w, why)) = block.words.iter().find_map(|w| {
+            let why = match w.letter {
+                'U' | 'W' if roughing => None,
+                'G' if w
+                    .value
+                    .to_scaled(1)
+                    .is_ok_and(|g| matches!(g, G17 | G19 | G17_1 | G18_1 | G19_1)) =>
+                {
+                    Some("another plane than ZX (G18)")
+                }
+                'Y' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W' => Some("an axis other than X and Z"),
+                _ => None,
+            };
+            Some((w, why)).filter(|_| why.is_some() || roughing && matches!(w.letter, 'U' | 'W'))
+        }) else {
+            return false;
+        };
+        let text = line.text[w.range.clone()].to_string();
+        match why {
+            // U and W on a G70–G72 line: the stock to leave, which this LinuxCNC refuses.
+            None => self.diag(
+                codes::ISOR_ROUGHING,
+                line,
+                w.range.clone(),
+                format!(
+                    "`{text}`: the stock to leave on a roughing cycle's line is read by LinuxCNC 2.9 as an axis, and a lathe has none (rs274: \"Bad character '{}' used\")",
+                    w.letter.to_ascii_lowercase()
+                ),
+                "leave the stock with D (the distance kept along the contour), or write the contour offset by the stock",
+            ),
+            Some(_) if self.not_lathe_reported => {}
+            Some(why) => {
+                self.not_lathe_reported = true;
+                self.diag(
+                    codes::ISOR_NOT_LATHE,
+                    line,
+                    w.range.clone(),
+                    format!("`{text}`: {why}: this is not a lathe program"),
+                    "ncthread converts lathe programs (X and Z in the ZX plane, G18); a mill program is refused whole, in every mode, never half converted (later lines of this kind are not reported again)",
+                );
+            }
+        }
+        true
+    }
+
     /// Reports what the line holds that ncthread does not read; true when the line must
     /// be skipped (or was kept opaque).
     fn unsupported(&mut self, line: Line<'_>, block: &Block) -> bool {
+        if self.not_a_lathe_program(line, block) {
+            return true;
+        }
         let mut found: Vec<(Range<usize>, String)> = block
             .unread
             .iter()
@@ -783,9 +847,6 @@ impl FrontEnd<'_> {
                     Err(_) => Some("this M code"),
                     _ => None,
                 },
-                'Y' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W' => {
-                    Some("an axis other than X and Z: not a lathe program")
-                }
                 _ => None,
             };
             if let Some(why) = why {
@@ -2738,11 +2799,7 @@ mod tests {
     #[test]
     fn refusals_name_the_word() {
         let cases: &[(&str, Code, &str)] = &[
-            (
-                "G7 G0 X1\nG17 G1 X2 Z0 F1\n",
-                codes::ISOR_UNSUPPORTED,
-                "G17",
-            ),
+            ("G7 G0 X1\nG17 G1 X2 Z0 F1\n", codes::ISOR_NOT_LATHE, "G17"),
             ("G7 G0 X1 Z0\nG2 X2 Z-1 R1\n", codes::ISOR_WORD, "G2"),
             ("G7 G0 X1 Z0\nG2 X2 Z-1 R1 I1 F1\n", codes::ISOR_ARC, "R1"),
             ("G7 G0 X1 Z0\nG2 X2 Z-1 F1\n", codes::ISOR_ARC, "G2"),
@@ -2829,8 +2886,8 @@ mod tests {
                 codes::ISOR_COMPENSATION,
                 "G76",
             ),
-            ("G7 G0 X1 Z0\nG17\n", codes::ISOR_UNSUPPORTED, "G17"),
-            ("G0 Y1\n", codes::ISOR_UNSUPPORTED, "Y1"),
+            ("G7 G0 X1 Z0\nG17\n", codes::ISOR_NOT_LATHE, "G17"),
+            ("G0 Y1\n", codes::ISOR_NOT_LATHE, "Y1"),
             ("G0 X[1/0]\n", codes::ISOR_EVAL, "1/0"),
             ("G0 X#<nope>\n", codes::ISOR_EVAL, "#<nope>"),
             ("#1 = SQRT[-1]\n", codes::ISOR_EVAL, "SQRT[-1]"),
