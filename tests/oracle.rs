@@ -506,3 +506,81 @@ fn every_program_through_czech_or_nc31_cuts_what_it_cuts_directly() {
         );
     }
 }
+
+/// LinuxCNC runs each ISO source of the corpus and ncthread's ISO conversion of it alike:
+/// rs274's own motion of the one equals its motion of the other. Cutter compensation, which
+/// ncthread does not simulate, is judged here: rs274 compensates both programs.
+#[test]
+fn rs274_runs_the_iso_output_as_it_runs_the_iso_source() {
+    use ncthread::sim::{compare_within, normalise};
+    let Some(cmd) = rs274() else { return };
+    let (mut programs, mut segments, mut compensated, mut abstained) = (0, 0, 0, 0);
+    for case in corpus_cases() {
+        if case.from != ncthread::dialect::iso::ID || case.path.starts_with("corpus/bad/") {
+            continue;
+        }
+        let Some(ngc) = convert_case(&case, ncthread::dialect::iso::ID).output else {
+            continue;
+        };
+        let source = std::fs::read_to_string(common::root().join(&case.path)).unwrap();
+        // The machine's settings, as the case's profile says (block delete, subroutines).
+        let profile = case
+            .profile
+            .as_deref()
+            .map(common::load_profile)
+            .unwrap_or_default();
+        let settings = ncthread::sim::rs274::Settings {
+            block_delete: profile.iso.block_delete == Some(ncthread::profile::BlockDelete::On),
+            subroutine_path: profile.iso.subroutine_path.clone(),
+        };
+        let rs274 = ncthread::sim::rs274::Interpreter::Wrapper(cmd.to_path_buf());
+        let run = |text: &str| {
+            rs274
+                .run_with(text, &settings)
+                .unwrap_or_else(|e| panic!("{}: {e}", case.name))
+        };
+        let (theirs, ours) = (run(&source), run(&ngc));
+        // rs274 starts at X0 Z0: a rapid there before any other move (a `G0` without axes)
+        // moves nothing.
+        let moves = |canon: &[common::Canon]| {
+            let origin = ncthread::ir::Pos::new(Default::default(), Default::default());
+            let segments: Vec<_> = common::rs274_segments(canon)
+                .into_iter()
+                .skip_while(|s| matches!(s.motion, ncthread::sim::Motion::Rapid) && s.to == origin)
+                .collect();
+            normalise(&segments)
+        };
+        let (a, b) = (moves(&theirs), moves(&ours));
+        // rs274 prints four decimals: of an inch under G20, and of a chain's K.
+        use ncthread::sim::rs274::{Canon, phase_uncertainty};
+        let inch = theirs.iter().any(|c| matches!(c, Canon::Inches(true)));
+        let tolerance =
+            ncthread::sim::TOLERANCE + ncthread::fixed::Length(if inch { 26 } else { 0 });
+        let slack = phase_uncertainty(&theirs).max(phase_uncertainty(&ours));
+        if slack >= 180.0 {
+            eprintln!(
+                "{}: rs274's four decimals leave a helix uncertain by {slack:.0}°",
+                case.name
+            );
+            abstained += 1;
+            continue;
+        }
+        let slack = ncthread::fixed::Angle((slack * 1000.0).ceil() as i64);
+        if let Some(d) = compare_within(&a, &b, tolerance, slack) {
+            panic!(
+                "{}: rs274 runs the source and the output differently: {d}",
+                case.name
+            );
+        }
+        programs += 1;
+        segments += a.len();
+        compensated += usize::from(source.contains("G41") || source.contains("G42"));
+    }
+    eprintln!(
+        "rs274 runs {programs} ISO sources and their ISO outputs alike ({segments} segments, {compensated} programs with cutter compensation); {abstained} it cannot judge"
+    );
+    assert!(
+        programs >= 30 && compensated >= 1,
+        "{programs} programs, {compensated} compensated"
+    );
+}

@@ -102,6 +102,16 @@ impl FrontEnd<'_> {
                 "name the contour's subroutine with Q: `G71 Q100 …` runs `o100 sub`",
             );
         };
+        if self.compensation && finish {
+            return self.roughing_error(
+                line,
+                range,
+                format!(
+                    "{name} while cutter radius compensation is on: LinuxCNC 2.9.0~pre1 takes the contour's end for the tool's position while it reads the contour, so the compensated path it cuts is not the cycle's moves (later LinuxCNC versions cut the moves; ncthread cannot write a program that both cut alike)"
+                ),
+                "write the finishing contour as G1/G2/G3 moves under G41.1/G42.1 (or G41/G42), or run G70 without compensation",
+            );
+        }
         if self.compensation && !finish {
             return self.roughing_error(
                 line,
@@ -110,7 +120,7 @@ impl FrontEnd<'_> {
                     "{name} while cutter radius compensation is on (LinuxCNC: \"{} cannot be used with cutter compensation enabled\")",
                     dotted(code)
                 ),
-                "turn the compensation off with G40 before the roughing cycle (G70 may run with it)",
+                "turn the compensation off with G40 before the roughing cycle",
             );
         }
         let value = |w: Option<&Word>, default: f64| w.map_or(default, |w| w.value.to_f64());
