@@ -55,6 +55,12 @@ impl Length {
         format_scaled(self.0, Self::DECIMALS, Trailing::Point)
     }
 
+    /// The value in millimetres with all four decimals (`0.2000`, `-47.5000`): a table's
+    /// column.
+    pub fn mm_fixed(self) -> String {
+        format_scaled(self.0, Self::DECIMALS, Trailing::All)
+    }
+
     /// Half of this length in mm, exactly (a diameter's radius: a fifth decimal when it
     /// falls between two grid steps): `Length(3)` → `0.00015`.
     pub fn half_mm(self) -> String {
@@ -228,6 +234,8 @@ pub fn div_round(num: i128, den: i128) -> i128 {
 enum Trailing {
     None,
     Point,
+    /// Every decimal, zeros too (`0.2000`): columns of a table.
+    All,
 }
 
 fn format_scaled(value: i64, decimals: u32, trailing: Trailing) -> String {
@@ -240,9 +248,13 @@ fn format_scaled(value: i64, decimals: u32, trailing: Trailing) -> String {
         return match trailing {
             Trailing::None => format!("{sign}{whole}"),
             Trailing::Point => format!("{sign}{whole}."),
+            Trailing::All => format!("{sign}{whole}.{:0width$}", 0, width = decimals as usize),
         };
     }
     let frac = format!("{frac:0width$}", width = decimals as usize);
+    if trailing == Trailing::All {
+        return format!("{sign}{whole}.{frac}");
+    }
     format!("{sign}{whole}.{}", frac.trim_end_matches('0'))
 }
 

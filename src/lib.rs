@@ -7,10 +7,12 @@
 pub mod batch;
 pub mod diag;
 pub mod dialect;
+pub mod explain;
 pub mod fixed;
 pub mod ir;
 pub mod legalise;
 pub mod lower;
+pub mod plot;
 pub mod profile;
 pub mod sim;
 pub mod source;

@@ -36,6 +36,12 @@ enum Command {
     Verify(VerifyArgs),
     /// Lint programs: every diagnostic of each file, no output program.
     Check(CheckArgs),
+    /// Print every thread operation (a cycle, a tap, a thread written as single passes) with
+    /// its pass table, and every roughing cycle with its cuts.
+    Explain(ExplainArgs),
+    /// Draw a program as an SVG: the toolpath, and a thread operation's passes in XZ and in
+    /// cross-section with a legend.
+    Plot(PlotArgs),
     /// Convert a whole tree of programs into a mirrored tree, in parallel.
     Batch(BatchArgs),
     /// Print what each dialect reads and writes (the capability table, Markdown): what a
@@ -171,10 +177,69 @@ struct VerifyArgs {
     /// ncthread's simulation of the other program: a second, independent judge.
     #[arg(long)]
     rs274: bool,
+    /// Also write an SVG of both motions overlaid, the first difference marked.
+    #[arg(long, value_name = "FILE.svg")]
+    plot: Option<PathBuf>,
     #[command(flatten)]
     target: TargetArgs,
     #[command(flatten)]
     common: CommonArgs,
+}
+
+#[derive(clap::Args)]
+struct ExplainArgs {
+    /// The program to read; `-` or nothing reads stdin.
+    input: Option<PathBuf>,
+    /// The dialect of the program; `auto` chooses from the text.
+    #[arg(long, value_parser = source_dialect())]
+    from: SourceDialect,
+    /// `text`: a heading and a table per operation; `json`: `{ "operations": [ … ] }`;
+    /// `csv`: one row per pass.
+    #[arg(long, value_enum, default_value_t = ExplainFormat::Text)]
+    format: ExplainFormat,
+    /// Draw the text tables in ASCII instead of UTF-8 box drawing.
+    #[arg(long)]
+    plain: bool,
+    /// The crest (nominal) diameter of a thread written as single passes, in mm: such a
+    /// program does not say it, and without it depths are counted from the first pass.
+    #[arg(long, value_name = "MM", value_parser = parse_length)]
+    crest: Option<ncthread::fixed::Length>,
+    #[command(flatten)]
+    common: CommonArgs,
+}
+
+#[derive(clap::Args)]
+struct PlotArgs {
+    /// The program to read; `-` or nothing reads stdin.
+    input: Option<PathBuf>,
+    /// The dialect of the program; `auto` chooses from the text.
+    #[arg(long, value_parser = source_dialect())]
+    from: SourceDialect,
+    /// Where to write the SVG; `-` or nothing writes stdout.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// The operation (as `explain` numbers them) drawn in detail; default the first thread.
+    #[arg(long, value_name = "N")]
+    operation: Option<usize>,
+    /// The crest diameter of a thread written as single passes (see `explain --crest`).
+    #[arg(long, value_name = "MM", value_parser = parse_length)]
+    crest: Option<ncthread::fixed::Length>,
+    #[command(flatten)]
+    common: CommonArgs,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum ExplainFormat {
+    Text,
+    Json,
+    Csv,
+}
+
+fn parse_length(text: &str) -> Result<ncthread::fixed::Length, String> {
+    ncthread::fixed::Decimal::parse(text)
+        .and_then(|d| d.to_length().ok())
+        .filter(|l| l.0 > 0)
+        .ok_or_else(|| format!("`{text}` is not a positive length in mm (at most 4 decimals)"))
 }
 
 #[derive(clap::Args)]
@@ -386,6 +451,8 @@ fn main() -> ExitCode {
         Command::Simulate(args) => simulate(args),
         Command::Verify(args) => verify(args),
         Command::Check(args) => check(args),
+        Command::Explain(args) => explain(args),
+        Command::Plot(args) => plot(args),
         Command::Batch(args) => batch(args),
         Command::Completions { shell } => {
             let mut cmd = <Cli as clap::CommandFactory>::command();
@@ -569,6 +636,73 @@ fn simulate(args: SimulateArgs) -> Result<ExitCode, Fatal> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// Reads a program for a command that looks at it (explain, plot): its diagnostics are
+/// printed, and `None` when it has errors.
+fn read_program(
+    input: &Option<PathBuf>,
+    from: SourceDialect,
+    common: &CommonArgs,
+) -> Result<Option<(SourceFile, ncthread::ir::Program)>, Fatal> {
+    let profile = common.profile()?;
+    let (src, from) = read_source(input, from, common.encoding)?;
+    let (program, mut diags) =
+        ncthread::parse(&src, from, &profile, unsupported(common.unsupported));
+    diag::sort(&mut diags);
+    print_diagnostics(&diags, common.diagnostics);
+    Ok((!diag::has_errors(&diags)).then_some((src, program)))
+}
+
+fn explain(args: ExplainArgs) -> Result<ExitCode, Fatal> {
+    let Some((_, program)) = read_program(&args.input, args.from, &args.common)? else {
+        return Ok(ExitCode::from(1));
+    };
+    let options = ncthread::explain::Options { crest: args.crest };
+    let ops = ncthread::explain::explain(&program, &options);
+    let out = match args.format {
+        ExplainFormat::Text => ncthread::explain::to_text(
+            &ops,
+            if args.plain {
+                ncthread::explain::Table::Plain
+            } else {
+                ncthread::explain::Table::Box
+            },
+        ),
+        ExplainFormat::Json => {
+            let mut text = serde_json::to_string_pretty(&ncthread::explain::to_json(&ops))
+                .map_err(|e| Fatal(format!("cannot write JSON: {e}")))?;
+            text.push('\n');
+            text
+        }
+        ExplainFormat::Csv => ncthread::explain::to_csv(&ops),
+    };
+    write_output(&None, out.as_bytes())?;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn plot(args: PlotArgs) -> Result<ExitCode, Fatal> {
+    let Some((src, program)) = read_program(&args.input, args.from, &args.common)? else {
+        return Ok(ExitCode::from(1));
+    };
+    let ops =
+        ncthread::explain::explain(&program, &ncthread::explain::Options { crest: args.crest });
+    let operation = match args.operation {
+        Some(n) => Some(ops.get(n.wrapping_sub(1)).ok_or_else(|| {
+            Fatal(format!(
+                "--operation {n}: the program has {} operation(s) (see `ncthread explain`)",
+                ops.len()
+            ))
+        })?),
+        None => ops
+            .iter()
+            .find(|o| o.lead.is_some() && !o.passes.is_empty())
+            .or(ops.first()),
+    };
+    let simulation = ncthread::sim::simulate(&program);
+    let svg = ncthread::plot::plot(&src.name, &simulation.segments, operation);
+    write_output(&args.output, svg.as_bytes())?;
+    Ok(ExitCode::SUCCESS)
+}
+
 fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
     let profile = args.common.profile()?;
     let (src, from) = read_source(&args.input, args.from, args.common.encoding)?;
@@ -633,6 +767,21 @@ fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
             ExitCode::from(1),
         ),
     };
+    if let Some(path) = &args.plot {
+        let difference = match &v.outcome {
+            ncthread::Outcome::Different(d) => Some(&**d),
+            _ => None,
+        };
+        let svg = ncthread::plot::verify_plot(
+            &format!("verify: {} ({from}) against {other} ({to})", src.name),
+            &format!("{} ({from})", src.name),
+            &v.left,
+            &format!("{other} ({to})"),
+            &v.right,
+            difference,
+        );
+        write_output(&Some(path.clone()), svg.as_bytes())?;
+    }
     for check in &v.oracle {
         match &check.outcome {
             ncthread::OracleOutcome::Equivalent {

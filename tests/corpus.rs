@@ -1,5 +1,5 @@
 //! One test per corpus case (each file, and each file with its profile): its conversions to
-//! every target as insta snapshots (diagnostics and output). A program the reader refuses is
+//! every target as insta snapshots (diagnostics and output), and what `explain` says of it. A program the reader refuses is
 //! snapshotted once (`…__read`), since no target sees it. Every test runs and reports on its
 //! own, so the first failing file does not hide the rest: `cargo test --test corpus czech/ex4`
 //! runs the cases whose name contains `czech/ex4`.
@@ -81,6 +81,7 @@ fn snapshots(case: &Case) -> Result<(), Failed> {
         }
         snaps.push((format!("{base}__read"), first));
     } else {
+        snaps.push((format!("{base}__explain"), explain(case)));
         for (to, c) in &conversions {
             snaps.push((
                 format!("{base}__to_{to}"),
@@ -138,6 +139,7 @@ fn no_stale_snapshots(cases: &[Case]) -> Result<(), Failed> {
         if common::reader_refuses(case) {
             expected.insert(format!("{base}__read.snap"));
         } else {
+            expected.insert(format!("{base}__explain.snap"));
             for to in common::TARGETS {
                 expected.insert(format!("{base}__to_{to}.snap"));
             }
@@ -154,4 +156,29 @@ fn no_stale_snapshots(cases: &[Case]) -> Result<(), Failed> {
     } else {
         Err(format!("snapshots of no corpus case (delete them): {stale:?}").into())
     }
+}
+
+/// `ncthread explain` of the case: the text table, then the JSON.
+fn explain(case: &Case) -> String {
+    let profile = case
+        .profile
+        .as_deref()
+        .map(common::load_profile)
+        .unwrap_or_default();
+    let (program, _) = ncthread::parse(
+        &common::case_source(case),
+        case.from,
+        &profile,
+        ncthread::Unsupported::Error,
+    );
+    let ops = ncthread::explain::explain(&program, &Default::default());
+    format!(
+        "source: {}\nprofile: {}\n--- text\n{}--- json\n{}\n",
+        case.path,
+        case.profile
+            .as_deref()
+            .unwrap_or("none (built-in defaults)"),
+        ncthread::explain::to_text(&ops, ncthread::explain::Table::Box),
+        serde_json::to_string_pretty(&ncthread::explain::to_json(&ops)).unwrap()
+    )
 }

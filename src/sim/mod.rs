@@ -227,6 +227,17 @@ pub(crate) fn angle_at(z: Length, phase: Angle, lead: Lead, towards: i64) -> Ang
 }
 
 impl Machine {
+    fn new(pos: Pos) -> Machine {
+        Machine {
+            pos,
+            per_minute: false,
+            direction: None,
+            sync_end: None,
+            state: MachineState::default(),
+            out: Simulation::default(),
+        }
+    }
+
     /// A change of the machine state, as an event where the tool stands (none when nothing
     /// changes).
     fn change(&mut self, state: MachineState, span: Span) {
@@ -786,18 +797,24 @@ impl Segment {
 
 /// Runs `program` from an unknown position with the spindle stopped.
 pub fn simulate(program: &Program) -> Simulation {
-    let mut m = Machine {
-        pos: Pos::UNKNOWN,
-        per_minute: false,
-        direction: None,
-        sync_end: None,
-        state: MachineState::default(),
-        out: Simulation::default(),
-    };
+    let mut m = Machine::new(Pos::UNKNOWN);
     for item in &program.items {
         m.item(&item.kind, item.span);
     }
     m.out
+}
+
+/// The phase (see [`Motion::Sync`]) of the helix that `pass`, started at `from`, cuts: the
+/// phase of its first move along Z, as [`simulate`] computes it. `None` when it has none or
+/// the start is not known.
+pub fn pass_phase(from: Pos, pass: &ThreadPass) -> Option<Angle> {
+    let mut m = Machine::new(from);
+    m.direction = Some(SpindleDirection::Clockwise);
+    m.thread_pass(pass, Span::default(), None);
+    m.out.segments.iter().find_map(|s| match s.motion {
+        Motion::Sync { phase, .. } => phase,
+        _ => None,
+    })
 }
 
 #[cfg(test)]

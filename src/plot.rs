@@ -1,0 +1,888 @@
+//! `ncthread plot` and `verify --plot`: SVG pictures of a program's motion and of its
+//! threads, written directly (no renderer at run time).
+//!
+//! Every picture is drawn from what the simulator ([`crate::sim::simulate`]) and `explain`
+//! ([`crate::explain`]) computed: nothing here knows a cycle or a schedule. The XZ views put
+//! Z to the right and X (as a radius, so that angles are true; the labels give diameters) up.
+
+use std::fmt::Write as _;
+
+use crate::explain::Operation;
+use crate::fixed::Length;
+use crate::sim::{Difference, Motion, Segment};
+
+const WIDTH: f64 = 1100.0;
+const FONT: &str = "font-family=\"DejaVu Sans, Arial, sans-serif\"";
+const RAPID: &str = "#888888";
+const FEED: &str = "#1b6b1b";
+const LEFT: &str = "#1f5fbf";
+const RIGHT: &str = "#e07b00";
+const MARK: &str = "#d00000";
+
+/// A rectangle of the picture and the mm window it shows (equal scale on both axes unless
+/// `stretch` says how much more X is magnified).
+#[derive(Clone, Copy)]
+struct View {
+    /// Pixels: left, top, width, height.
+    left: f64,
+    top: f64,
+    width: f64,
+    height: f64,
+    /// mm: Z from, radius from, pixels per mm along Z, along X.
+    z0: f64,
+    r0: f64,
+    sz: f64,
+    sr: f64,
+}
+
+impl View {
+    /// A view of `box` (z min, z max, r min, r max in mm) inside the pixel rectangle, with
+    /// a margin, equal scales when `equal`.
+    fn fit(rect: (f64, f64, f64, f64), bounds: (f64, f64, f64, f64), equal: bool) -> View {
+        let (left, top, width, height) = rect;
+        let (mut zmin, mut zmax, mut rmin, mut rmax) = bounds;
+        if zmax - zmin < 1e-6 {
+            zmin -= 1.0;
+            zmax += 1.0;
+        }
+        if rmax - rmin < 1e-6 {
+            rmin -= 1.0;
+            rmax += 1.0;
+        }
+        let (pad_z, pad_r) = ((zmax - zmin) * 0.06, (rmax - rmin) * 0.08);
+        let (zmin, zmax, rmin, rmax) = (zmin - pad_z, zmax + pad_z, rmin - pad_r, rmax + pad_r);
+        let mut sz = width / (zmax - zmin);
+        let mut sr = height / (rmax - rmin);
+        if equal {
+            sz = sz.min(sr);
+            sr = sz;
+        }
+        // Centred in the rectangle.
+        let z0 = zmin - (width / sz - (zmax - zmin)) / 2.0;
+        let r0 = rmin - (height / sr - (rmax - rmin)) / 2.0;
+        View {
+            left,
+            top,
+            width,
+            height,
+            z0,
+            r0,
+            sz,
+            sr,
+        }
+    }
+
+    fn px(&self, z: f64, r: f64) -> (f64, f64) {
+        (
+            self.left + (z - self.z0) * self.sz,
+            self.top + self.height - (r - self.r0) * self.sr,
+        )
+    }
+
+    /// A program point (X a diameter).
+    fn at(&self, p: (Length, Length)) -> (f64, f64) {
+        self.px(p.1.to_mm_f64(), p.0.to_mm_f64() / 2.0)
+    }
+
+    fn z_range(&self) -> (f64, f64) {
+        (self.z0, self.z0 + self.width / self.sz)
+    }
+
+    fn r_range(&self) -> (f64, f64) {
+        (self.r0, self.r0 + self.height / self.sr)
+    }
+}
+
+/// Text for SVG: `&`, `<`, `>` and quotes escaped.
+fn esc(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            c if (c as u32) < 0x20 => out.push(' '),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+fn text(out: &mut String, x: f64, y: f64, size: f64, anchor: &str, fill: &str, s: &str) {
+    let _ = writeln!(
+        out,
+        r#"<text x="{x:.1}" y="{y:.1}" font-size="{size}" text-anchor="{anchor}" fill="{fill}" {FONT}>{}</text>"#,
+        esc(s)
+    );
+}
+
+/// A "nice" tick step for a span of `span` mm shown in about `n` ticks.
+fn tick_step(span: f64, n: f64) -> f64 {
+    let raw = (span / n).max(1e-4);
+    let mag = 10f64.powf(raw.log10().floor());
+    let f = raw / mag;
+    mag * if f < 1.5 {
+        1.0
+    } else if f < 3.5 {
+        2.0
+    } else if f < 7.5 {
+        5.0
+    } else {
+        10.0
+    }
+}
+
+fn number(v: f64) -> String {
+    let s = format!("{v:.4}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" { "0".into() } else { s.into() }
+}
+
+/// The frame, a grid with mm ticks, and the axis names. `diameter`: the vertical ticks are
+/// labelled as diameters (the view holds radii).
+fn axes(out: &mut String, v: &View, z_name: &str, r_name: &str, diameter: bool) {
+    let _ = writeln!(
+        out,
+        "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\" fill=\"#ffffff\" stroke=\"#444444\" stroke-width=\"1\"/>",
+        v.left, v.top, v.width, v.height
+    );
+    let (z0, z1) = v.z_range();
+    let step = tick_step(z1 - z0, v.width / 90.0);
+    let mut z = (z0 / step).ceil() * step;
+    while z <= z1 + 1e-9 {
+        let (x, _) = v.px(z, 0.0);
+        let _ = writeln!(
+            out,
+            "<line x1=\"{x:.1}\" y1=\"{:.1}\" x2=\"{x:.1}\" y2=\"{:.1}\" stroke=\"#e6e6e6\" stroke-width=\"1\"/>",
+            v.top,
+            v.top + v.height
+        );
+        text(
+            out,
+            x,
+            v.top + v.height + 14.0,
+            10.0,
+            "middle",
+            "#444444",
+            &number(z),
+        );
+        z += step;
+    }
+    let (r0, r1) = v.r_range();
+    let step = tick_step(r1 - r0, v.height / 45.0);
+    let mut r = (r0 / step).ceil() * step;
+    while r <= r1 + 1e-9 {
+        let (_, y) = v.px(0.0, r);
+        let _ = writeln!(
+            out,
+            "<line x1=\"{:.1}\" y1=\"{y:.1}\" x2=\"{:.1}\" y2=\"{y:.1}\" stroke=\"#e6e6e6\" stroke-width=\"1\"/>",
+            v.left,
+            v.left + v.width
+        );
+        let label = if diameter { r * 2.0 } else { r };
+        text(
+            out,
+            v.left - 4.0,
+            y + 3.5,
+            10.0,
+            "end",
+            "#444444",
+            &number(label),
+        );
+        r += step;
+    }
+    text(
+        out,
+        v.left + v.width / 2.0,
+        v.top + v.height + 28.0,
+        11.0,
+        "middle",
+        "#222222",
+        z_name,
+    );
+    let _ = writeln!(
+        out,
+        r##"<text x="{:.1}" y="{:.1}" font-size="11" text-anchor="middle" fill="#222222" transform="rotate(-90 {:.1} {:.1})" {FONT}>{}</text>"##,
+        v.left - 40.0,
+        v.top + v.height / 2.0,
+        v.left - 40.0,
+        v.top + v.height / 2.0,
+        esc(r_name)
+    );
+}
+
+/// The colour of pass `i` of `n` (blue for the first, red for the last).
+fn pass_colour(i: usize, n: usize) -> String {
+    let t = if n <= 1 {
+        0.0
+    } else {
+        i as f64 / (n - 1) as f64
+    };
+    format!("hsl({:.0},80%,42%)", 220.0 - 220.0 * t)
+}
+
+/// The mm bounds (z min, z max, r min, r max) of segments with known ends.
+fn bounds<'a>(segments: impl Iterator<Item = &'a Segment>) -> Option<(f64, f64, f64, f64)> {
+    let mut b: Option<(f64, f64, f64, f64)> = None;
+    for s in segments {
+        for p in [s.from, s.to] {
+            let Some((x, z)) = p.known() else { continue };
+            let (z, r) = (z.to_mm_f64(), x.to_mm_f64() / 2.0);
+            b = Some(match b {
+                None => (z, z, r, r),
+                Some((a, bz, c, d)) => (a.min(z), bz.max(z), c.min(r), d.max(r)),
+            });
+        }
+        // An arc may bulge past its ends.
+        if let Motion::Arc { centre, .. } = s.motion
+            && let (Some((cx, cz)), Some((fx, fz))) = (centre.known(), s.from.known())
+        {
+            let (cz, cr) = (cz.to_mm_f64(), cx.to_mm_f64() / 2.0);
+            let rad = (fz.to_mm_f64() - cz).hypot(fx.to_mm_f64() / 2.0 - cr);
+            if let Some((a, bz, c, d)) = b {
+                b = Some((
+                    a.min(cz - rad),
+                    bz.max(cz + rad),
+                    c.min(cr - rad),
+                    d.max(cr + rad),
+                ));
+            }
+        }
+    }
+    b
+}
+
+/// How a segment is stroked.
+struct Stroke<'a> {
+    colour: String,
+    width: f64,
+    dash: Option<&'a str>,
+}
+
+/// The SVG path of one segment (`None` when an end is unknown or it does not move).
+fn segment_path(v: &View, s: &Segment) -> Option<String> {
+    let (from, to) = (s.from.known()?, s.to.known()?);
+    let (x0, y0) = v.at(from);
+    let (x1, y1) = v.at(to);
+    match s.motion {
+        Motion::Arc {
+            centre, clockwise, ..
+        } => {
+            let c = centre.known()?;
+            let (cx, cy) = v.at(c);
+            let rad = (x0 - cx).hypot(y0 - cy);
+            // With X up, LinuxCNC's clockwise G2 turns counter-clockwise on the screen.
+            let sweep = if clockwise { 0 } else { 1 };
+            if from == to {
+                // A full circle: two halves.
+                let (ox, oy) = (2.0 * cx - x0, 2.0 * cy - y0);
+                return Some(format!(
+                    "M{x0:.2},{y0:.2} A{rad:.2},{rad:.2} 0 0 {sweep} {ox:.2},{oy:.2} A{rad:.2},{rad:.2} 0 0 {sweep} {x0:.2},{y0:.2}"
+                ));
+            }
+            // The sweep's size decides the large-arc flag: the cross product of the ends
+            // around the centre, in the motion's sense.
+            let cross = (x0 - cx) * (y1 - cy) - (y0 - cy) * (x1 - cx);
+            let screen_ccw = cross < 0.0;
+            let large = if (sweep == 0) == screen_ccw { 0 } else { 1 };
+            Some(format!(
+                "M{x0:.2},{y0:.2} A{rad:.2},{rad:.2} 0 {large} {sweep} {x1:.2},{y1:.2}"
+            ))
+        }
+        _ if from == to => None,
+        _ => Some(format!("M{x0:.2},{y0:.2} L{x1:.2},{y1:.2}")),
+    }
+}
+
+fn stroke_path(out: &mut String, d: &str, s: &Stroke<'_>, title: Option<&str>) {
+    let dash = s
+        .dash
+        .map_or(String::new(), |d| format!(" stroke-dasharray=\"{d}\""));
+    match title {
+        Some(t) => {
+            let _ = writeln!(
+                out,
+                "<path d=\"{d}\" fill=\"none\" stroke=\"{}\" stroke-width=\"{}\"{dash}><title>{}</title></path>",
+                s.colour,
+                s.width,
+                esc(t)
+            );
+        }
+        None => {
+            let _ = writeln!(
+                out,
+                "<path d=\"{d}\" fill=\"none\" stroke=\"{}\" stroke-width=\"{}\"{dash}/>",
+                s.colour, s.width
+            );
+        }
+    }
+}
+
+/// The moves of a program in `v`: rapids dashed grey, feeds and arcs green, threads
+/// coloured by pass order (or all in `colour` when given: an overlay).
+fn draw_motion(out: &mut String, v: &View, segments: &[Segment], colour: Option<&str>) {
+    let sync: Vec<usize> = segments
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| matches!(s.motion, Motion::Sync { .. } | Motion::SyncRadial { .. }))
+        .map(|(i, _)| i)
+        .collect();
+    for (i, s) in segments.iter().enumerate() {
+        let Some(d) = segment_path(v, s) else {
+            continue;
+        };
+        let title = s.to_text();
+        let stroke = match s.motion {
+            Motion::Rapid => Stroke {
+                colour: colour.unwrap_or(RAPID).to_string(),
+                width: 1.0,
+                dash: Some("5,4"),
+            },
+            Motion::Sync { .. } | Motion::SyncRadial { .. } | Motion::Tap { .. } => {
+                let n = sync.iter().position(|&j| j == i).unwrap_or(0);
+                Stroke {
+                    colour: colour.map_or_else(|| pass_colour(n, sync.len()), str::to_string),
+                    width: 2.0,
+                    dash: None,
+                }
+            }
+            _ => Stroke {
+                colour: colour.unwrap_or(FEED).to_string(),
+                width: 1.5,
+                dash: None,
+            },
+        };
+        stroke_path(out, &d, &stroke, Some(title.trim()));
+    }
+}
+
+fn dot(out: &mut String, (x, y): (f64, f64), r: f64, fill: &str, title: &str) {
+    let _ = writeln!(
+        out,
+        "<circle cx=\"{x:.1}\" cy=\"{y:.1}\" r=\"{r}\" fill=\"{fill}\"><title>{}</title></circle>",
+        esc(title)
+    );
+}
+
+fn svg_open(height: f64, title: &str) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{WIDTH}\" height=\"{height}\" viewBox=\"0 0 {WIDTH} {height}\">"
+    );
+    let _ = writeln!(out, "<title>{}</title>", esc(title));
+    let _ = writeln!(
+        out,
+        "<rect width=\"{WIDTH}\" height=\"{height}\" fill=\"#fafafa\"/>"
+    );
+    text(&mut out, 20.0, 26.0, 16.0, "start", "#111111", title);
+    out
+}
+
+/// `ncthread plot`: the whole program's toolpath, the chosen thread operation's passes in XZ
+/// (X magnified), its cross-section, and a legend. `operation` is the one drawn in detail.
+pub fn plot(title: &str, segments: &[Segment], operation: Option<&Operation>) -> String {
+    let height = if operation.is_some() { 900.0 } else { 520.0 };
+    let mut out = svg_open(height, title);
+    // 1. The toolpath.
+    let rect = (70.0, 60.0, WIDTH - 110.0, 400.0);
+    text(
+        &mut out,
+        70.0,
+        52.0,
+        13.0,
+        "start",
+        "#222222",
+        "toolpath (XZ; rapids dashed, feeds green, threads coloured by pass: first blue, last red)",
+    );
+    match bounds(segments.iter()) {
+        Some(b) => {
+            let v = View::fit(rect, b, true);
+            axes(&mut out, &v, "Z (mm)", "X (diameter, mm)", true);
+            draw_motion(&mut out, &v, segments, None);
+            if let Some(start) = segments
+                .iter()
+                .find_map(|s| s.from.known().or(s.to.known()))
+            {
+                dot(&mut out, v.at(start), 4.0, "#111111", "start point");
+            }
+        }
+        None => text(
+            &mut out,
+            rect.0 + 10.0,
+            rect.1 + 30.0,
+            13.0,
+            "start",
+            "#444444",
+            "no move with a known position",
+        ),
+    }
+    if let Some(op) = operation {
+        thread_detail(&mut out, op, (70.0, 520.0, 470.0, 320.0));
+        cross_section(&mut out, op, (600.0, 520.0, 300.0, 320.0));
+        legend(&mut out, op, (920.0, 520.0));
+    }
+    out.push_str("</svg>\n");
+    out
+}
+
+/// The operation's passes along Z, X magnified so that each pass is apart.
+fn thread_detail(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
+    text(
+        out,
+        rect.0,
+        rect.1 - 8.0,
+        13.0,
+        "start",
+        "#222222",
+        &format!("operation {}: passes along Z (X magnified)", op.number),
+    );
+    let mut b: Option<(f64, f64, f64, f64)> = None;
+    let mut add = |p: (Length, Length)| {
+        let (z, r) = (p.1.to_mm_f64(), p.0.to_mm_f64() / 2.0);
+        b = Some(match b {
+            None => (z, z, r, r),
+            Some((a, c, d, e)) => (a.min(z), c.max(z), d.min(r), e.max(r)),
+        });
+    };
+    for p in &op.passes {
+        add(p.start);
+        add(p.end);
+    }
+    if let (Some(c), Some(&(_, z))) = (op.crest, op.passes.first().map(|p| &p.start)) {
+        add((c, z));
+    }
+    let Some(b) = b else { return };
+    let v = View::fit(rect, b, false);
+    axes(out, &v, "Z (mm)", "X (diameter, mm)", true);
+    let (z0, z1) = v.z_range();
+    let n = op.passes.len();
+    if let Some(crest) = op.crest {
+        line_across(
+            out,
+            &v,
+            crest,
+            z0,
+            z1,
+            "#555555",
+            &format!("crest Ø{}", crest.mm()),
+        );
+    }
+    if let Some(root) = op.root {
+        line_across(
+            out,
+            &v,
+            root,
+            z0,
+            z1,
+            "#555555",
+            &format!("root Ø{}", root.mm()),
+        );
+    }
+    // Pass numbers where they do not overlap the one labelled before.
+    let mut labelled: Option<f64> = None;
+    for (i, p) in op.passes.iter().enumerate() {
+        let (a, c) = (v.at(p.start), v.at(p.end));
+        let colour = pass_colour(i, n);
+        let _ = writeln!(
+            out,
+            "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"{colour}\" stroke-width=\"2\"><title>pass {}: X{} Z{} to X{} Z{}</title></line>",
+            a.0,
+            a.1,
+            c.0,
+            c.1,
+            p.number,
+            p.start.0.mm(),
+            p.start.1.mm(),
+            p.end.0.mm(),
+            p.end.1.mm()
+        );
+        if labelled.is_none_or(|y| (y - c.1).abs() >= 10.0) || i + 1 == n {
+            text(
+                out,
+                c.0 + 4.0,
+                c.1 + 3.5,
+                9.0,
+                "start",
+                &colour,
+                &p.number.to_string(),
+            );
+            labelled = Some(c.1);
+        }
+    }
+}
+
+fn line_across(out: &mut String, v: &View, x: Length, z0: f64, z1: f64, colour: &str, label: &str) {
+    let r = x.to_mm_f64() / 2.0;
+    let (a, y) = v.px(z0, r);
+    let (b, _) = v.px(z1, r);
+    let _ = writeln!(
+        out,
+        "<line x1=\"{a:.1}\" y1=\"{y:.1}\" x2=\"{b:.1}\" y2=\"{y:.1}\" stroke=\"{colour}\" stroke-width=\"1\" stroke-dasharray=\"2,3\"/>"
+    );
+    text(out, a + 4.0, y - 3.0, 10.0, "start", colour, label);
+}
+
+/// The thread's cross-section: the form (60° flanks from the crest to the deepest pass) and
+/// the tool's tip at every pass (its depth, and its shift along the cut).
+fn cross_section(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
+    text(
+        out,
+        rect.0,
+        rect.1 - 8.0,
+        13.0,
+        "start",
+        "#222222",
+        &format!("operation {}: cross-section (tool at each pass)", op.number),
+    );
+    let depth_of =
+        |p: &crate::explain::Pass| p.cumulative_depth.unwrap_or(p.below_first).to_mm_f64();
+    let deepest = op.passes.iter().map(depth_of).fold(0.0f64, f64::max);
+    let lead = op.lead.map_or(1.0, |l| l.to_mm_f64());
+    let tan30 = (30f64).to_radians().tan();
+    // Horizontal: along the cut (mm), the first pass's tip at 0; vertical: depth (down).
+    let shifts: Vec<f64> = op
+        .passes
+        .iter()
+        .map(|p| p.shift.map_or(0.0, |s| s.to_mm_f64()))
+        .collect();
+    let (smin, smax) = shifts
+        .iter()
+        .fold((0.0f64, 0.0f64), |(a, b), &s| (a.min(s), b.max(s)));
+    let half = (deepest * tan30 + lead * 0.15).max(lead * 0.3);
+    let v = View::fit(
+        rect,
+        (smin - half, smax + half, -deepest * 1.15, deepest * 0.25),
+        true,
+    );
+    let _ = writeln!(
+        out,
+        "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\" fill=\"#ffffff\" stroke=\"#444444\"/>",
+        v.left, v.top, v.width, v.height
+    );
+    let (z0, z1) = v.z_range();
+    // The part: the crest line, and the groove the deepest passes leave.
+    let crest_y = v.px(0.0, 0.0).1;
+    let _ = writeln!(
+        out,
+        "<line x1=\"{:.1}\" y1=\"{crest_y:.1}\" x2=\"{:.1}\" y2=\"{crest_y:.1}\" stroke=\"#555555\" stroke-dasharray=\"2,3\"/>",
+        v.left,
+        v.left + v.width
+    );
+    let crest = match op.crest {
+        Some(c) => format!("crest Ø{}", c.mm()),
+        None => "pass 1 (the crest is not in the program)".into(),
+    };
+    text(
+        out,
+        v.left + 4.0,
+        crest_y - 4.0,
+        10.0,
+        "start",
+        "#555555",
+        &crest,
+    );
+    if let Some(root) = op.root {
+        let y = v.px(0.0, -deepest).1;
+        text(
+            out,
+            v.left + 4.0,
+            y + 12.0,
+            10.0,
+            "start",
+            "#555555",
+            &format!("root Ø{}", root.mm()),
+        );
+    }
+    // The tools reach above the crest: they are cut at the frame.
+    let _ = writeln!(
+        out,
+        "<clipPath id=\"section\"><rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"/></clipPath>\n<g clip-path=\"url(#section)\">",
+        v.left, v.top, v.width, v.height
+    );
+    let n = op.passes.len();
+    let height = deepest * 1.1 + lead * 0.05;
+    for (i, p) in op.passes.iter().enumerate() {
+        let (s, d) = (shifts[i], depth_of(p));
+        let top = d - height;
+        let points = [
+            v.px(s - (d - top) * tan30, -top),
+            v.px(s, -d),
+            v.px(s + (d - top) * tan30, -top),
+        ];
+        let colour = pass_colour(i, n);
+        let _ = writeln!(
+            out,
+            "<polyline points=\"{:.1},{:.1} {:.1},{:.1} {:.1},{:.1}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"1.5\"><title>pass {}: depth {} mm, shift {} mm</title></polyline>",
+            points[0].0,
+            points[0].1,
+            points[1].0,
+            points[1].1,
+            points[2].0,
+            points[2].1,
+            p.number,
+            number(d),
+            number(s)
+        );
+        dot(out, points[1], 2.5, &colour, &format!("pass {}", p.number));
+    }
+    out.push_str("</g>\n");
+    // A scale bar of one tick step.
+    let step = tick_step(z1 - z0, 4.0);
+    let (a, y) = (v.left + 10.0, v.top + v.height - 10.0);
+    let b = a + step * v.sz;
+    let _ = writeln!(
+        out,
+        "<line x1=\"{a:.1}\" y1=\"{y:.1}\" x2=\"{b:.1}\" y2=\"{y:.1}\" stroke=\"#222222\" stroke-width=\"2\"/>"
+    );
+    text(
+        out,
+        (a + b) / 2.0,
+        y - 4.0,
+        10.0,
+        "middle",
+        "#222222",
+        &format!("{} mm", number(step)),
+    );
+}
+
+fn legend(out: &mut String, op: &Operation, (x, y): (f64, f64)) {
+    let mut lines = vec![format!("operation {} (line {})", op.number, op.line)];
+    if let Some(l) = op.lead {
+        lines.push(format!("lead {} mm", l.mm()));
+    }
+    if let Some(c) = op.crest {
+        lines.push(format!("crest Ø{}", c.mm()));
+    }
+    if let Some(r) = op.root {
+        lines.push(format!("root Ø{}", r.mm()));
+    }
+    match op.depth {
+        Some(d) => lines.push(format!("depth {} mm", d.mm())),
+        None => lines.push("depth: crest not known".into()),
+    }
+    lines.push(format!("{} passes", op.passes.len()));
+    if op.spring_passes > 0 {
+        lines.push(format!("({} spring)", op.spring_passes));
+    }
+    if let Some(s) = op.schedule {
+        lines.push(format!("{s} schedule"));
+    }
+    if let Some(a) = op.infeed_angle {
+        lines.push(format!("infeed {a:.1}°"));
+    }
+    if let Some(h) = op.hand {
+        lines.push(format!("{}-hand", h.id()));
+    }
+    for (i, l) in lines.iter().enumerate() {
+        text(out, x, y + 14.0 * i as f64, 12.0, "start", "#222222", l);
+    }
+    // The colour ramp of the passes.
+    let n = op.passes.len();
+    let top = y + 14.0 * lines.len() as f64 + 6.0;
+    for i in 0..n.min(40) {
+        let _ = writeln!(
+            out,
+            "<rect x=\"{:.1}\" y=\"{top:.1}\" width=\"{:.1}\" height=\"10\" fill=\"{}\"/>",
+            x + i as f64 * 150.0 / n.min(40) as f64,
+            150.0 / n.min(40) as f64,
+            pass_colour(i, n)
+        );
+    }
+    text(
+        out,
+        x,
+        top + 22.0,
+        10.0,
+        "start",
+        "#444444",
+        "first pass → last pass",
+    );
+}
+
+/// `verify --plot`: both programs' normalised motions overlaid, and the first difference
+/// marked and labelled.
+pub fn verify_plot(
+    title: &str,
+    left_name: &str,
+    left: &[Segment],
+    right_name: &str,
+    right: &[Segment],
+    difference: Option<&Difference>,
+) -> String {
+    let near: Vec<Segment> = difference
+        .map(|d| [d.left, d.right].into_iter().flatten().collect())
+        .unwrap_or_default();
+    let detail = bounds(near.iter());
+    let height = if detail.is_some() { 1000.0 } else { 640.0 };
+    let mut out = svg_open(height, title);
+    let Some(b) = bounds(left.iter().chain(right)) else {
+        text(
+            &mut out,
+            80.0,
+            120.0,
+            13.0,
+            "start",
+            "#444444",
+            "no move with a known position",
+        );
+        out.push_str("</svg>\n");
+        return out;
+    };
+    let key = |out: &mut String, y: f64, colour: &str, dash: &str, name: &str| {
+        let _ = writeln!(
+            out,
+            "<line x1=\"70\" y1=\"{y}\" x2=\"100\" y2=\"{y}\" stroke=\"{colour}\" stroke-width=\"2.5\"{dash}/>"
+        );
+        text(out, 106.0, y + 4.0, 12.0, "start", "#222222", name);
+    };
+    key(&mut out, 50.0, LEFT, "", left_name);
+    key(
+        &mut out,
+        66.0,
+        RIGHT,
+        " stroke-dasharray=\"6,3\"",
+        right_name,
+    );
+    let whole = View::fit((70.0, 80.0, WIDTH - 110.0, 440.0), b, true);
+    axes(&mut out, &whole, "Z (mm)", "X (diameter, mm)", true);
+    overlay(&mut out, &whole, left, right, difference);
+    let Some(d) = difference else {
+        text(
+            &mut out,
+            70.0,
+            575.0,
+            12.0,
+            "start",
+            "#1b6b1b",
+            "equivalent: the motions agree within the tolerance",
+        );
+        out.push_str("</svg>\n");
+        return out;
+    };
+    let label = format!("first difference: {d}");
+    for (i, l) in wrap(&label, 150).iter().enumerate() {
+        text(
+            &mut out,
+            70.0,
+            570.0 + 15.0 * i as f64,
+            12.0,
+            "start",
+            MARK,
+            l,
+        );
+    }
+    if let Some((z0, z1, r0, r1)) = detail {
+        // Around the difference, X magnified: a small step is seen.
+        let (dz, dr) = ((z1 - z0).max(1.0), (r1 - r0).max(0.05));
+        let bounds = (z0 - dz * 0.1, z1 + dz * 0.1, r0 - dr * 2.0, r1 + dr * 2.0);
+        let rect = (70.0, 640.0, WIDTH - 110.0, 300.0);
+        text(
+            &mut out,
+            70.0,
+            630.0,
+            13.0,
+            "start",
+            "#222222",
+            "around the first difference (X magnified)",
+        );
+        let v = View::fit(rect, bounds, false);
+        axes(&mut out, &v, "Z (mm)", "X (diameter, mm)", true);
+        let _ = writeln!(
+            out,
+            "<clipPath id=\"detail\"><rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"/></clipPath>\n<g clip-path=\"url(#detail)\">",
+            v.left, v.top, v.width, v.height
+        );
+        overlay(&mut out, &v, left, right, difference);
+        out.push_str("</g>\n");
+    }
+    out.push_str("</svg>\n");
+    out
+}
+
+/// Both motions in `v`, the difference's segments in red and circled.
+fn overlay(
+    out: &mut String,
+    v: &View,
+    left: &[Segment],
+    right: &[Segment],
+    difference: Option<&Difference>,
+) {
+    draw_overlay(out, v, left, LEFT, 2.5, None);
+    draw_overlay(out, v, right, RIGHT, 1.2, Some("6,3"));
+    let Some(d) = difference else { return };
+    let label = format!("first difference: {d}");
+    for s in [d.left, d.right].iter().flatten() {
+        if let Some(path) = segment_path(v, s) {
+            stroke_path(
+                out,
+                &path,
+                &Stroke {
+                    colour: MARK.to_string(),
+                    width: 3.5,
+                    dash: None,
+                },
+                Some(&s.to_text()),
+            );
+        }
+    }
+    if let Some(p) = [d.left, d.right]
+        .iter()
+        .flatten()
+        .find_map(|s| s.to.known().or(s.from.known()))
+    {
+        let (x, y) = v.at(p);
+        let _ = writeln!(
+            out,
+            "<circle cx=\"{x:.1}\" cy=\"{y:.1}\" r=\"12\" fill=\"none\" stroke=\"{MARK}\" stroke-width=\"2.5\"><title>{}</title></circle>",
+            esc(&label)
+        );
+    }
+}
+
+fn draw_overlay(
+    out: &mut String,
+    v: &View,
+    segments: &[Segment],
+    colour: &str,
+    width: f64,
+    dash: Option<&str>,
+) {
+    for s in segments {
+        let Some(d) = segment_path(v, s) else {
+            continue;
+        };
+        let dash = match s.motion {
+            Motion::Rapid => Some("2,4"),
+            _ => dash,
+        };
+        stroke_path(
+            out,
+            &d,
+            &Stroke {
+                colour: colour.to_string(),
+                width,
+                dash,
+            },
+            Some(s.to_text().trim()),
+        );
+    }
+}
+
+/// `text` in lines of at most `width` characters, broken at spaces.
+fn wrap(text: &str, width: usize) -> Vec<String> {
+    let mut lines = vec![String::new()];
+    for word in text.split(' ') {
+        let last = lines.last_mut().expect("one line");
+        if !last.is_empty() && last.chars().count() + 1 + word.chars().count() > width {
+            lines.push(word.to_string());
+        } else {
+            if !last.is_empty() {
+                last.push(' ');
+            }
+            last.push_str(word);
+        }
+    }
+    lines
+}
