@@ -70,5 +70,7 @@ fn options(src: &Path, out: &Path, jobs: usize) -> BatchOptions {
         glob: None,
         input_encoding: None,
         output: Default::default(),
+        html: None,
+        profile_name: "built-in defaults".into(),
     }
 }

@@ -40,6 +40,10 @@ pub struct BatchOptions {
     /// The input encoding, or `None` for UTF-8 when valid, else the dialect's legacy one.
     pub input_encoding: Option<TextEncoding>,
     pub output: OutputOptions,
+    /// Write a static HTML report into this folder: `index.html` and the plots.
+    pub html: Option<PathBuf>,
+    /// The profile the conversions use, for people (`built-in defaults` or its path).
+    pub profile_name: String,
 }
 
 /// The default extension of a target's files.
@@ -81,6 +85,9 @@ pub struct FileReport {
     pub diagnostics: Vec<Diagnostic>,
     /// Why the file failed or was skipped when it is not a diagnostic (I/O, an existing output).
     pub reason: Option<String>,
+    /// With an HTML report: the converted program's `explain` text and its plot's file
+    /// (relative to the report's folder).
+    pub explained: Option<(String, Option<PathBuf>)>,
 }
 
 impl FileReport {
@@ -201,6 +208,18 @@ pub fn run(
     }
     std::fs::create_dir_all(&options.out_dir)
         .map_err(|e| format!("cannot create {}: {e}", options.out_dir.display()))?;
+    if let Some(dir) = &options.html {
+        let resolved = resolve(dir).map_err(|e| format!("cannot read {}: {e}", dir.display()))?;
+        if resolved.starts_with(&src_root) {
+            return Err(format!(
+                "the report folder {} is inside the source folder {}; ncthread never writes into the source tree",
+                dir.display(),
+                options.src_dir.display()
+            ));
+        }
+        std::fs::create_dir_all(dir.join("plots"))
+            .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    }
     let files = inputs(&options.src_dir, options.glob.as_ref())
         .map_err(|e| format!("cannot walk {}: {e}", options.src_dir.display()))?;
     let pool = rayon::ThreadPoolBuilder::new()
@@ -271,6 +290,7 @@ fn one(options: &BatchOptions, src_root: &Path, rel: &Path, clash: Option<&Path>
         encoding: None,
         diagnostics: Vec::new(),
         reason: None,
+        explained: None,
     };
     if let Some(first) = clash {
         report.reason = Some(format!(
@@ -324,6 +344,9 @@ fn one(options: &BatchOptions, src_root: &Path, rel: &Path, clash: Option<&Path>
             return report;
         }
     };
+    if let Some(dir) = &options.html {
+        report.explained = Some(explain_output(&program, &options.conversion, rel, dir));
+    }
     match write_atomically(&output, &bytes, options.force, src_root) {
         Ok(()) => report.status = Status::Converted,
         Err(Write::Exists) => {
@@ -380,3 +403,153 @@ fn write_atomically(path: &Path, bytes: &[u8], force: bool, src_root: &Path) -> 
         Err(e) => Err(failed(e.error)),
     }
 }
+
+/// The converted program as the target reads it: its `explain` text, and its plot written
+/// into the report's `plots/` folder (`None` when it could not be written).
+fn explain_output(
+    program: &str,
+    conversion: &ConvertOptions,
+    rel: &Path,
+    dir: &Path,
+) -> (String, Option<PathBuf>) {
+    let name = rel.display().to_string();
+    let src = SourceFile::new(name.clone(), program);
+    let (ir, _) = crate::parse(
+        &src,
+        conversion.to,
+        &conversion.profile,
+        conversion.unsupported,
+    );
+    let ops = crate::explain::explain(&ir, &Default::default());
+    let table = crate::explain::to_text(&ops, crate::explain::Table::Box);
+    let operation = ops
+        .iter()
+        .find(|o| o.lead.is_some() && !o.passes.is_empty())
+        .or(ops.first());
+    let svg = crate::plot::plot(
+        &format!("{name} ({})", conversion.to),
+        &crate::sim::simulate(&ir).segments,
+        operation,
+    );
+    let plot = PathBuf::from("plots").join(rel).with_extension("svg");
+    let written = dir
+        .join(&plot)
+        .parent()
+        .map_or(Ok(()), std::fs::create_dir_all)
+        .and_then(|()| std::fs::write(dir.join(&plot), svg));
+    (table, written.ok().map(|()| plot))
+}
+
+/// A path as a relative URL: each segment percent-encoded.
+fn url(path: &Path) -> String {
+    let mut out = String::new();
+    for (i, part) in path.components().enumerate() {
+        if i > 0 {
+            out.push('/');
+        }
+        for b in part.as_os_str().to_string_lossy().bytes() {
+            if b.is_ascii_alphanumeric() || b"-_.~".contains(&b) {
+                out.push(b as char);
+            } else {
+                out.push_str(&format!("%{b:02X}"));
+            }
+        }
+    }
+    out
+}
+
+impl BatchReport {
+    /// The static HTML report (`index.html` in `options.html`, beside the `plots/` the run
+    /// wrote): a summary on top, a table of every file, and per file its status, encoding,
+    /// profile, diagnostics with their source lines, and for a converted program its
+    /// `explain` table and plot. One page, no script, no outside resource.
+    pub fn write_html(&self, options: &BatchOptions) -> Result<(), String> {
+        let Some(dir) = &options.html else {
+            return Ok(());
+        };
+        let esc = crate::plot::escape;
+        let mut page = String::new();
+        let title = format!(
+            "ncthread batch: {} → {}",
+            options.src_dir.display(),
+            options.out_dir.display()
+        );
+        page.push_str(&format!(
+            "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</title>\n<style>\n{}\n</style>\n</head>\n<body>\n<h1>{}</h1>\n",
+            esc(&title),
+            HTML_STYLE,
+            esc(&title)
+        ));
+        page.push_str(&format!(
+            "<p class=\"summary\">{} · from {} to {} · profile: {}</p>\n",
+            esc(&self.summary()),
+            options.from.map_or("auto".to_string(), |d| d.to_string()),
+            options.conversion.to,
+            esc(&options.profile_name)
+        ));
+        page.push_str("<table>\n<tr><th>file</th><th>status</th><th>dialect</th><th>encoding</th><th>errors</th><th>warnings</th><th>output</th></tr>\n");
+        for (i, f) in self.files.iter().enumerate() {
+            let errors = f.diagnostics.iter().filter(|d| d.is_error()).count();
+            page.push_str(&format!(
+                "<tr><td><a href=\"#f{i}\">{}</a></td><td class=\"{}\">{}</td><td>{}</td><td>{}</td><td>{errors}</td><td>{}</td><td>{}</td></tr>\n",
+                esc(&f.input.display().to_string()),
+                f.status.name(),
+                f.status.name(),
+                f.dialect.map_or("—".to_string(), |d| d.to_string()),
+                f.encoding.map_or("—", |e| e.name()),
+                f.diagnostics.len() - errors,
+                esc(&f.output.display().to_string()),
+            ));
+        }
+        page.push_str("</table>\n");
+        for (i, f) in self.files.iter().enumerate() {
+            page.push_str(&format!(
+                "<section id=\"f{i}\">\n<h2>{} <span class=\"{}\">{}</span></h2>\n<p>read as {} in {}; profile: {}; output {}</p>\n",
+                esc(&f.input.display().to_string()),
+                f.status.name(),
+                f.status.name(),
+                f.dialect.map_or("—".to_string(), |d| d.to_string()),
+                f.encoding.map_or("—", |e| e.name()),
+                esc(&options.profile_name),
+                esc(&f.output.display().to_string()),
+            ));
+            if let Some(reason) = &f.reason {
+                page.push_str(&format!("<p class=\"reason\">{}</p>\n", esc(reason)));
+            }
+            if !f.diagnostics.is_empty() {
+                let text =
+                    crate::diag::render_all(&f.diagnostics, crate::diag::Format::Human, false);
+                page.push_str(&format!(
+                    "<h3>diagnostics</h3>\n<pre>{}</pre>\n",
+                    esc(&text)
+                ));
+            }
+            if let Some((table, plot)) = &f.explained {
+                page.push_str(&format!(
+                    "<h3>explain (the {} output)</h3>\n<pre>{}</pre>\n",
+                    options.conversion.to,
+                    esc(table)
+                ));
+                if let Some(plot) = plot {
+                    page.push_str(&format!(
+                        "<h3>plot</h3>\n<img src=\"{}\" alt=\"plot of {}\" width=\"1100\">\n",
+                        url(plot),
+                        esc(&f.input.display().to_string())
+                    ));
+                }
+            }
+            page.push_str("</section>\n");
+        }
+        page.push_str("</body>\n</html>\n");
+        std::fs::write(dir.join("index.html"), page)
+            .map_err(|e| format!("cannot write {}: {e}", dir.join("index.html").display()))
+    }
+}
+
+const HTML_STYLE: &str = "body { font-family: DejaVu Sans, Arial, sans-serif; margin: 2em; color: #222; }
+table { border-collapse: collapse; }
+td, th { border: 1px solid #ccc; padding: 0.2em 0.6em; text-align: left; }
+pre { background: #f6f6f6; padding: 0.6em; overflow-x: auto; font-family: DejaVu Sans Mono, monospace; }
+.converted { color: #1b6b1b; } .failed { color: #c00000; } .skipped { color: #806000; }
+section { border-top: 1px solid #ccc; margin-top: 2em; }
+.summary { font-size: 1.1em; }";

@@ -98,6 +98,11 @@ struct BatchArgs {
     /// Only convert files whose path below SRC_DIR matches this glob (e.g. `**/*.nc`).
     #[arg(long)]
     glob: Option<String>,
+    /// Also write a static HTML report into this folder (`index.html` and the plots): each
+    /// file's status, encoding, profile and diagnostics, and each converted program's
+    /// `explain` table and plot.
+    #[arg(long, value_name = "DIR")]
+    html: Option<PathBuf>,
     #[command(flatten)]
     target: TargetArgs,
     #[command(flatten)]
@@ -919,6 +924,12 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
         glob,
         input_encoding: args.common.encoding,
         output: args.output.options(),
+        html: args.html.clone(),
+        profile_name: args
+            .common
+            .profile
+            .as_ref()
+            .map_or("built-in defaults".to_string(), |p| p.display().to_string()),
     };
     let total = ncthread::batch::inputs(&options.src_dir, options.glob.as_ref())
         .map(|f| f.len())
@@ -951,6 +962,7 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
         std::fs::write(path, json + "\n")
             .map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))?;
     }
+    report.write_html(&options).map_err(Fatal)?;
     note(format!("ncthread: {}", report.summary()));
     Ok(if report.all_converted() {
         ExitCode::SUCCESS

@@ -11,6 +11,8 @@ use crate::explain::Operation;
 use crate::fixed::Length;
 use crate::sim::{Difference, Motion, Segment};
 
+use self::escape as esc;
+
 const WIDTH: f64 = 1100.0;
 const FONT: &str = "font-family=\"DejaVu Sans, Arial, sans-serif\"";
 const RAPID: &str = "#888888";
@@ -93,8 +95,8 @@ impl View {
     }
 }
 
-/// Text for SVG: `&`, `<`, `>` and quotes escaped.
-fn esc(text: &str) -> String {
+/// Text for SVG and HTML: `&`, `<`, `>` and quotes escaped, control characters as spaces.
+pub fn escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {
@@ -102,7 +104,7 @@ fn esc(text: &str) -> String {
             '<' => out.push_str("&lt;"),
             '>' => out.push_str("&gt;"),
             '"' => out.push_str("&quot;"),
-            c if (c as u32) < 0x20 => out.push(' '),
+            c if (c as u32) < 0x20 && c != '\n' && c != '\t' => out.push(' '),
             c => out.push(c),
         }
     }

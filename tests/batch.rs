@@ -380,3 +380,86 @@ fn completions_and_man_page_come_from_the_clap_definitions() {
     );
     assert!(man.contains("batch"));
 }
+
+/// `batch --html DIR`: one page with a summary on top, every file's status, encoding, profile
+/// and diagnostics with their source lines, and each converted program's `explain` table and
+/// plot, the plots beside it; nothing loaded from elsewhere.
+#[test]
+fn html_report_shows_every_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let (src, out, html) = (
+        dir.path().join("src"),
+        dir.path().join("out"),
+        dir.path().join("report"),
+    );
+    std::fs::create_dir_all(src.join("shop a")).unwrap();
+    let corpus = Path::new(env!("CARGO_MANIFEST_DIR")).join("corpus/nc31");
+    std::fs::copy(corpus.join("g31-m36x1.5.nc"), src.join("shop a/m36.nc")).unwrap();
+    std::fs::copy(corpus.join("g32-three-passes.nc"), src.join("g32.nc")).unwrap();
+    std::fs::write(src.join("bad.nc"), "N0 M3\nN1 X36.00 ~\n").unwrap();
+    let run = ncthread(
+        &[
+            "batch",
+            src.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--from",
+            "nc31",
+            "--to",
+            "iso",
+            "--html",
+            html.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(run.status.code(), Some(1), "{}", text(&run.stderr));
+    let page = std::fs::read_to_string(html.join("index.html")).unwrap();
+    assert!(page.starts_with("<!DOCTYPE html>"));
+    assert!(page.contains("converted 2, failed 1, skipped 0"), "{page}");
+    assert!(page.contains("profile: built-in defaults"));
+    // The failed file: its error with the source line and the caret.
+    assert!(page.contains("error[NCR002]"), "{page}");
+    assert!(page.contains("2 | N1 X36.00 ~"), "{page}");
+    // The converted ones: the explain table of the output, and the plot beside the page.
+    assert_eq!(page.matches("<h3>explain (the iso output)</h3>").count(), 2);
+    assert!(
+        page.contains("│    8 │"),
+        "the eight passes of the G31: {page}"
+    );
+    assert!(
+        page.contains("<img src=\"plots/shop%20a/m36.svg\""),
+        "{page}"
+    );
+    let svg = std::fs::read_to_string(html.join("plots/shop a/m36.svg")).unwrap();
+    assert!(svg.starts_with("<svg ") && svg.contains("<title>pass 8: depth"));
+    assert!(html.join("plots/g32.svg").is_file());
+    assert!(!html.join("plots/bad.svg").exists());
+    // One page, no script, nothing from elsewhere.
+    for outside in [
+        "<script",
+        "src=\"http",
+        "href=\"http",
+        "url(http",
+        "@import",
+    ] {
+        assert!(!page.contains(outside), "{outside}");
+    }
+    // The report never goes into the source tree.
+    let inside = ncthread(
+        &[
+            "batch",
+            src.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--from",
+            "nc31",
+            "--to",
+            "iso",
+            "--force",
+            "--html",
+            src.join("report").to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(inside.status.code(), Some(2));
+    assert!(text(&inside.stderr).contains("never writes into the source tree"));
+    assert!(!src.join("report").exists());
+}
