@@ -7,7 +7,7 @@
 use std::path::Path;
 use std::time::Instant;
 
-use ncthread::batch::{BatchOptions, run};
+use ncthread::batch::{BatchOptions, ProfileChoice, plan, run};
 use ncthread::{ConvertOptions, Unsupported};
 
 fn program(i: usize) -> String {
@@ -38,9 +38,11 @@ fn main() {
         let out = dir.path().join(format!("out{jobs}"));
         let options = options(&src, &out, jobs);
         let started = Instant::now();
-        let report = run(&options, &|_| {}).expect("the batch runs");
+        let plan = plan(&options).expect("the trees can be used");
+        let stop = std::sync::atomic::AtomicBool::new(false);
+        let report = run(&options, &plan, &|_| {}, &stop).expect("the batch runs");
         let elapsed = started.elapsed();
-        assert!(report.all_converted(), "{}", report.summary());
+        assert!(report.succeeded(), "{}", report.summary());
         println!(
             "  --jobs {jobs}: {:.2} s wall ({:.0} files/s) — {}",
             elapsed.as_secs_f64(),
@@ -67,10 +69,15 @@ fn options(src: &Path, out: &Path, jobs: usize) -> BatchOptions {
         jobs,
         force: false,
         extension: "ngc".into(),
-        glob: None,
+        selection: ncthread::files::Selection {
+            extensions: ncthread::batch::program_extensions(Some(ncthread::dialect::czech::ID)),
+            ..Default::default()
+        },
+        profile: ProfileChoice::Defaults,
+        overrides: Default::default(),
+        dry_run: false,
         input_encoding: None,
         output: Default::default(),
         html: None,
-        profile_name: "built-in defaults".into(),
     }
 }

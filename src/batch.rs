@@ -1,14 +1,17 @@
 //! Converting a whole tree of programs (`ncthread batch`).
 //!
-//! The source tree is walked (hidden files and folders left out, files sorted), each file is
-//! converted in parallel on its own, and its output is written into the mirrored place of
+//! The source tree is walked ([`crate::files::walk`]: hidden entries and what
+//! `.ncthreadignore` names left out, program files chosen by extension or `--glob`), each
+//! program is converted on its own, in parallel, with its own profile
+//! ([`crate::files::discover_profile`]), and its output is written into the mirrored place of
 //! the output tree with the target's extension. A bad file is reported and the rest go on. An
 //! output is written to a temporary file beside it and renamed into place, so a reader never
 //! sees half a program; an existing output is kept unless `force`. Nothing is ever written
-//! inside the source tree.
+//! inside the source tree. An interrupt stops the workers between files.
 
-use std::io::Write as _;
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
@@ -16,9 +19,23 @@ use serde_json::json;
 
 use crate::diag::Diagnostic;
 use crate::dialect::{self, DialectId};
+use crate::files::{self, Selection, Verdict};
+use crate::profile::Profile;
 use crate::source::SourceFile;
 use crate::text::{self, OutputOptions, TextEncoding};
 use crate::{ConvertOptions, convert};
+
+/// Which profile the programs use.
+#[derive(Clone, Debug)]
+pub enum ProfileChoice {
+    /// The one the command line names, for every program.
+    Given(PathBuf, Box<Profile>),
+    /// Each program's own: a sidecar, or the nearest `ncthread.toml` (else the built-in
+    /// defaults).
+    Discover,
+    /// The built-in defaults for every program (`--no-profile`).
+    Defaults,
+}
 
 /// What a batch run does.
 #[derive(Clone, Debug)]
@@ -27,28 +44,46 @@ pub struct BatchOptions {
     pub out_dir: PathBuf,
     /// The source dialect, or `None` to choose it per file from the text.
     pub from: Option<DialectId>,
-    /// The conversion (its `from` is set per file).
+    /// The conversion (its `from` and `profile` are set per file).
     pub conversion: ConvertOptions,
+    pub profile: ProfileChoice,
+    /// What the command line says on top of every profile.
+    pub overrides: crate::profile::Overrides,
     /// Worker threads; 0 lets rayon choose (one per core).
     pub jobs: usize,
     /// Overwrite existing outputs.
     pub force: bool,
+    /// Convert, but write nothing: say what would be written.
+    pub dry_run: bool,
     /// The outputs' extension, without the dot.
     pub extension: String,
-    /// Only the files whose path below `src_dir` matches.
-    pub glob: Option<globset::GlobMatcher>,
+    /// Which files of the tree are programs.
+    pub selection: Selection,
     /// The input encoding, or `None` for UTF-8 when valid, else the dialect's legacy one.
     pub input_encoding: Option<TextEncoding>,
     pub output: OutputOptions,
     /// Write a static HTML report into this folder: `index.html` and the plots.
     pub html: Option<PathBuf>,
-    /// The profile the conversions use, for people (`built-in defaults` or its path).
-    pub profile_name: String,
 }
 
 /// The default extension of a target's files.
 pub fn default_extension(to: DialectId) -> &'static str {
     dialect::get(to).extension()
+}
+
+/// The extensions of the program files of `from` (every dialect's for `auto`).
+pub fn program_extensions(from: Option<DialectId>) -> Vec<&'static str> {
+    let mut all: Vec<&'static str> = match from {
+        Some(d) => dialect::get(d).extensions().to_vec(),
+        None => dialect::ALL
+            .iter()
+            .flat_map(|d| d.extensions())
+            .copied()
+            .collect(),
+    };
+    all.sort_unstable();
+    all.dedup();
+    all
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -58,6 +93,10 @@ pub enum Status {
     Failed,
     /// The output exists and `force` was not given.
     Skipped,
+    /// Not a program (its name or its bytes say so): left out, with the reason.
+    LeftOut,
+    /// The run was interrupted before the file's turn.
+    NotDone,
 }
 
 impl Status {
@@ -66,6 +105,8 @@ impl Status {
             Status::Converted => "converted",
             Status::Failed => "failed",
             Status::Skipped => "skipped",
+            Status::LeftOut => "left out",
+            Status::NotDone => "not done",
         }
     }
 }
@@ -80,8 +121,11 @@ pub struct FileReport {
     pub output: PathBuf,
     /// The dialect the file was read as.
     pub dialect: Option<DialectId>,
-    /// The encoding the file was read in.
+    /// The encoding the file was read in, and the one its output was written in.
     pub encoding: Option<TextEncoding>,
+    pub output_encoding: Option<TextEncoding>,
+    /// The profile used (`None`: the built-in defaults).
+    pub profile: Option<PathBuf>,
     pub diagnostics: Vec<Diagnostic>,
     /// Why the file failed or was skipped when it is not a diagnostic (I/O, an existing output).
     pub reason: Option<String>,
@@ -91,6 +135,28 @@ pub struct FileReport {
 }
 
 impl FileReport {
+    fn new(input: PathBuf, output: PathBuf, status: Status) -> FileReport {
+        FileReport {
+            input,
+            status,
+            output,
+            dialect: None,
+            encoding: None,
+            output_encoding: None,
+            profile: None,
+            diagnostics: Vec::new(),
+            reason: None,
+            explained: None,
+        }
+    }
+
+    /// The profile used, for people.
+    pub fn profile_name(&self) -> String {
+        self.profile
+            .as_ref()
+            .map_or("built-in defaults".into(), |p| p.display().to_string())
+    }
+
     pub fn to_json(&self) -> serde_json::Value {
         json!({
             "path": self.input.display().to_string(),
@@ -98,6 +164,8 @@ impl FileReport {
             "output": self.output.display().to_string(),
             "dialect": self.dialect.map(|d| d.to_string()),
             "encoding": self.encoding.map(|e| e.name()),
+            "output_encoding": self.output_encoding.map(|e| e.name()),
+            "profile": self.profile.as_ref().map(|p| p.display().to_string()),
             "reason": self.reason,
             "diagnostics": self.diagnostics.iter().map(|d| {
                 let loc = d.location.as_ref();
@@ -118,6 +186,10 @@ impl FileReport {
 pub struct BatchReport {
     pub files: Vec<FileReport>,
     pub elapsed: Duration,
+    /// Nothing was written (`--dry-run`).
+    pub dry_run: bool,
+    /// The run was interrupted.
+    pub interrupted: bool,
 }
 
 impl BatchReport {
@@ -125,19 +197,43 @@ impl BatchReport {
         self.files.iter().filter(|f| f.status == status).count()
     }
 
-    /// `converted 151, failed 3, skipped 0 in 0.4 s`
+    /// `converted 151, failed 3, skipped 2 (exist; --force to overwrite), left out 4 (not
+    /// programs) in 0.4 s`
     pub fn summary(&self) -> String {
-        format!(
-            "converted {}, failed {}, skipped {} in {:.1} s",
+        let mut text = format!(
+            "{} {}, failed {}",
+            if self.dry_run {
+                "would convert"
+            } else {
+                "converted"
+            },
             self.count(Status::Converted),
             self.count(Status::Failed),
-            self.count(Status::Skipped),
-            self.elapsed.as_secs_f64()
-        )
+        );
+        let skipped = self.count(Status::Skipped);
+        if skipped > 0 {
+            text.push_str(&format!(
+                ", skipped {skipped} (exist; --force to overwrite)"
+            ));
+        } else {
+            text.push_str(", skipped 0");
+        }
+        let left = self.count(Status::LeftOut);
+        if left > 0 {
+            text.push_str(&format!(", left out {left} (not programs)"));
+        }
+        let not_done = self.count(Status::NotDone);
+        if self.interrupted {
+            text.push_str(&format!(", interrupted: {not_done} not done"));
+        }
+        text.push_str(&format!(" in {:.1} s", self.elapsed.as_secs_f64()));
+        text
     }
 
-    pub fn all_converted(&self) -> bool {
-        self.files.iter().all(|f| f.status == Status::Converted)
+    /// Whether the run succeeded: nothing failed and nothing was left undone (skipped
+    /// outputs and files that are not programs are no failure).
+    pub fn succeeded(&self) -> bool {
+        !self.interrupted && self.count(Status::Failed) == 0
     }
 
     pub fn to_json(&self, options: &BatchOptions) -> serde_json::Value {
@@ -146,107 +242,193 @@ impl BatchReport {
             "output": options.out_dir.display().to_string(),
             "from": options.from.map_or("auto".to_string(), |d| d.to_string()),
             "to": options.conversion.to.to_string(),
+            "dry_run": self.dry_run,
+            "interrupted": self.interrupted,
             "converted": self.count(Status::Converted),
             "failed": self.count(Status::Failed),
             "skipped": self.count(Status::Skipped),
+            "left_out": self.count(Status::LeftOut),
+            "not_done": self.count(Status::NotDone),
             "seconds": self.elapsed.as_secs_f64(),
             "files": self.files.iter().map(FileReport::to_json).collect::<Vec<_>>(),
         })
     }
 }
 
-/// The files below `dir` (paths relative to it), sorted, hidden entries left out. Symbolic
-/// links to files are followed, links to folders are not (no cycles).
-pub fn inputs(dir: &Path, glob: Option<&globset::GlobMatcher>) -> std::io::Result<Vec<PathBuf>> {
-    fn walk(root: &Path, rel: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
-        let mut entries: Vec<_> =
-            std::fs::read_dir(root.join(rel))?.collect::<Result<Vec<_>, _>>()?;
-        entries.sort_by_key(|e| e.file_name());
-        for entry in entries {
-            let name = entry.file_name();
-            if name.to_string_lossy().starts_with('.') {
-                continue;
-            }
-            let path = rel.join(&name);
-            let kind = entry.file_type()?;
-            if kind.is_dir() {
-                walk(root, &path, out)?;
-            } else if kind.is_file() || (kind.is_symlink() && root.join(&path).is_file()) {
-                out.push(path);
-            }
-        }
-        Ok(())
-    }
-    let mut out = Vec::new();
-    walk(dir, Path::new(""), &mut out)?;
-    if let Some(glob) = glob {
-        out.retain(|p| glob.is_match(p));
-    }
-    Ok(out)
+/// What a run will do, decided before any work: the files, each program's profile, and the
+/// trees checked.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    src_root: PathBuf,
+    walk: files::Walk,
+    /// Per file of the walk: the profile's path (`None`: the built-in defaults).
+    profiles: Vec<Option<PathBuf>>,
+    /// Each profile read once: its path → the profile, or why it cannot be used.
+    loaded: HashMap<PathBuf, Result<Profile, String>>,
 }
 
-/// Runs a batch. `progress` is called once per file as it finishes (from worker threads).
-/// `Err` is a usage or I/O problem with the trees themselves (nothing was converted).
-pub fn run(
-    options: &BatchOptions,
-    progress: &(dyn Fn(&FileReport) + Sync),
-) -> Result<BatchReport, String> {
-    let started = Instant::now();
+impl Plan {
+    /// The programs the run will convert.
+    pub fn programs(&self) -> usize {
+        self.walk.programs().count()
+    }
+
+    /// The positive globs that matched no file.
+    pub fn unmatched_globs(&self) -> &[String] {
+        &self.walk.unmatched
+    }
+}
+
+/// Walks the source tree and finds each program's profile; checks that the output tree is
+/// outside it and can be written. `Err` is a usage or I/O problem with the trees themselves.
+pub fn plan(options: &BatchOptions) -> Result<Plan, String> {
     let src_root = std::fs::canonicalize(&options.src_dir)
         .map_err(|e| format!("cannot read {}: {e}", options.src_dir.display()))?;
     if !src_root.is_dir() {
         return Err(format!("{} is not a folder", options.src_dir.display()));
     }
-    let out_root = resolve(&options.out_dir)
-        .map_err(|e| format!("cannot read {}: {e}", options.out_dir.display()))?;
-    if out_root.starts_with(&src_root) {
-        return Err(format!(
-            "the output folder {} is inside the source folder {}; ncthread never writes into the source tree",
-            options.out_dir.display(),
-            options.src_dir.display()
-        ));
-    }
-    std::fs::create_dir_all(&options.out_dir)
-        .map_err(|e| format!("cannot create {}: {e}", options.out_dir.display()))?;
-    if let Some(dir) = &options.html {
+    let inside = |dir: &Path, what: &str| -> Result<(), String> {
         let resolved = resolve(dir).map_err(|e| format!("cannot read {}: {e}", dir.display()))?;
         if resolved.starts_with(&src_root) {
             return Err(format!(
-                "the report folder {} is inside the source folder {}; ncthread never writes into the source tree",
+                "the {what} {} is inside the source folder {}; ncthread never writes into the source tree",
                 dir.display(),
                 options.src_dir.display()
             ));
         }
-        std::fs::create_dir_all(dir.join("plots"))
-            .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+        Ok(())
+    };
+    inside(&options.out_dir, "output folder")?;
+    if let Some(dir) = &options.html {
+        inside(dir, "report folder")?;
     }
-    let files = inputs(&options.src_dir, options.glob.as_ref())
-        .map_err(|e| format!("cannot walk {}: {e}", options.src_dir.display()))?;
+    let walk = files::walk(&options.src_dir, &options.selection)?;
+    let mut loaded = HashMap::new();
+    let profiles: Vec<Option<PathBuf>> = walk
+        .files
+        .iter()
+        .map(|f| match &options.profile {
+            ProfileChoice::Given(path, _) => Some(path.clone()),
+            ProfileChoice::Defaults => None,
+            ProfileChoice::Discover if f.verdict == Verdict::Program => {
+                files::discover_profile(&options.src_dir.join(&f.rel))
+            }
+            ProfileChoice::Discover => None,
+        })
+        .collect();
+    for path in profiles.iter().flatten() {
+        if loaded.contains_key(path) {
+            continue;
+        }
+        let profile = match &options.profile {
+            ProfileChoice::Given(_, p) => Ok((**p).clone()),
+            _ => read_profile(path).map(|mut p| {
+                options.overrides.apply(&mut p);
+                p
+            }),
+        };
+        loaded.insert(path.clone(), profile);
+    }
+    Ok(Plan {
+        src_root,
+        walk,
+        profiles,
+        loaded,
+    })
+}
+
+/// Reads a discovered profile; its errors become one reason.
+fn read_profile(path: &Path) -> Result<Profile, String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read the profile {}: {e}", path.display()))?;
+    Profile::from_toml(&SourceFile::new(path.display().to_string(), text)).map_err(|diags| {
+        let first = diags
+            .iter()
+            .find(|d| d.is_error())
+            .map_or(String::new(), |d| {
+                format!(": {} ({})", d.message, d.code.id)
+            });
+        format!("the profile {} has errors{first}", path.display())
+    })
+}
+
+/// Runs a batch as planned. `progress` is called once per file as it finishes (from worker
+/// threads); `stop` ends the run between files (an interrupt). `Err` is a usage or I/O
+/// problem with the trees themselves (nothing was converted).
+pub fn run(
+    options: &BatchOptions,
+    plan: &Plan,
+    progress: &(dyn Fn(&FileReport) + Sync),
+    stop: &AtomicBool,
+) -> Result<BatchReport, String> {
+    let started = Instant::now();
+    if !options.dry_run {
+        std::fs::create_dir_all(&options.out_dir)
+            .map_err(|e| format!("cannot create {}: {e}", options.out_dir.display()))?;
+        // A folder that cannot be written is the user's problem, named as they wrote it.
+        tempfile::Builder::new()
+            .prefix(".ncthread-")
+            .tempfile_in(&options.out_dir)
+            .map_err(|e| format!("cannot write into {}: {e}", options.out_dir.display()))?;
+        if let Some(dir) = &options.html {
+            std::fs::create_dir_all(dir.join("plots"))
+                .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+        }
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.jobs)
         .build()
         .map_err(|e| format!("cannot start the worker threads: {e}"))?;
     // Two inputs that differ only in their extension would write one output.
-    let mut first_of: std::collections::HashMap<PathBuf, &Path> = Default::default();
-    let clashes: Vec<Option<&Path>> = files
+    let mut first_of: HashMap<PathBuf, &Path> = Default::default();
+    let clashes: Vec<Option<&Path>> = plan
+        .walk
+        .files
         .iter()
-        .map(|rel| {
-            let out = rel.with_extension(&options.extension);
+        .map(|f| {
+            if f.verdict != Verdict::Program {
+                return None;
+            }
+            let out = f.rel.with_extension(&options.extension);
             match first_of.get(&out) {
                 Some(first) => Some(*first),
                 None => {
-                    first_of.insert(out, rel);
+                    first_of.insert(out, &f.rel);
                     None
                 }
             }
         })
         .collect();
     let files = pool.install(|| {
-        files
+        plan.walk
+            .files
             .par_iter()
             .zip(clashes.par_iter())
-            .map(|(rel, clash)| {
-                let report = one(options, &src_root, rel, *clash);
+            .zip(plan.profiles.par_iter())
+            .map(|((found, clash), profile)| {
+                let input = options.src_dir.join(&found.rel);
+                let output = options
+                    .out_dir
+                    .join(&found.rel)
+                    .with_extension(&options.extension);
+                let report = match &found.verdict {
+                    Verdict::Skip(why) => {
+                        let mut r = FileReport::new(input, output, Status::LeftOut);
+                        r.reason = Some(why.clone());
+                        r
+                    }
+                    Verdict::Program if stop.load(Ordering::Relaxed) => {
+                        let mut r = FileReport::new(input, output, Status::NotDone);
+                        r.reason = Some("interrupted before its turn".into());
+                        r
+                    }
+                    Verdict::Program => {
+                        let profile = profile
+                            .as_ref()
+                            .map(|p| (p.clone(), plan.loaded.get(p).cloned()));
+                        one(options, plan, &found.rel, *clash, profile)
+                    }
+                };
                 progress(&report);
                 report
             })
@@ -255,6 +437,8 @@ pub fn run(
     Ok(BatchReport {
         files,
         elapsed: started.elapsed(),
+        dry_run: options.dry_run,
+        interrupted: stop.load(Ordering::Relaxed),
     })
 }
 
@@ -278,20 +462,18 @@ fn resolve(path: &Path) -> std::io::Result<PathBuf> {
     Ok(resolved)
 }
 
-/// Converts one file.
-fn one(options: &BatchOptions, src_root: &Path, rel: &Path, clash: Option<&Path>) -> FileReport {
+/// Converts one program with its profile (`None`: the built-in defaults; else its path and
+/// the profile read, or why it could not be).
+fn one(
+    options: &BatchOptions,
+    plan: &Plan,
+    rel: &Path,
+    clash: Option<&Path>,
+    profile: Option<(PathBuf, Option<Result<Profile, String>>)>,
+) -> FileReport {
     let input = options.src_dir.join(rel);
     let output = options.out_dir.join(rel).with_extension(&options.extension);
-    let mut report = FileReport {
-        input: input.clone(),
-        status: Status::Failed,
-        output: output.clone(),
-        dialect: None,
-        encoding: None,
-        diagnostics: Vec::new(),
-        reason: None,
-        explained: None,
-    };
+    let mut report = FileReport::new(input.clone(), output.clone(), Status::Failed);
     if let Some(first) = clash {
         report.reason = Some(format!(
             "{} is written to the same output; give the files different names",
@@ -299,6 +481,25 @@ fn one(options: &BatchOptions, src_root: &Path, rel: &Path, clash: Option<&Path>
         ));
         return report;
     }
+    let defaults = || {
+        let mut p = Profile::default();
+        options.overrides.apply(&mut p);
+        p
+    };
+    let profile = match profile {
+        None => defaults(),
+        Some((path, found)) => {
+            report.profile = Some(path);
+            match found {
+                Some(Ok(p)) => p,
+                Some(Err(why)) => {
+                    report.reason = Some(why);
+                    return report;
+                }
+                None => defaults(),
+            }
+        }
+    };
     if !options.force && output.exists() {
         report.status = Status::Skipped;
         report.reason = Some("the output exists (--force overwrites it)".into());
@@ -315,28 +516,29 @@ fn one(options: &BatchOptions, src_root: &Path, rel: &Path, clash: Option<&Path>
         text,
         encoding,
         dialect: from,
+        eof_mark,
         ..
     } = text::decode_program(&bytes, options.from, options.input_encoding);
     report.dialect = Some(from);
     report.encoding = Some(encoding);
-    let crlf = text::uses_crlf(&text);
+    let kept = text::Input::of(&text, encoding, &eof_mark, from == options.conversion.to);
     let src = SourceFile::new(input.display().to_string(), text);
-    let conversion = convert(
-        &src,
-        &ConvertOptions {
-            from,
-            ..options.conversion.clone()
-        },
-    );
-    report.diagnostics = conversion.diagnostics;
-    let Some(program) = conversion.output else {
+    let conversion = ConvertOptions {
+        from,
+        profile,
+        ..options.conversion.clone()
+    };
+    let converted = convert(&src, &conversion);
+    report.diagnostics = converted.diagnostics;
+    let Some(program) = converted.output else {
         return report;
     };
+    report.output_encoding = Some(options.output.encoding_for(&kept));
     let bytes = match text::encode_output(
         &program,
         &output.display().to_string(),
         &options.output,
-        crlf,
+        &kept,
     ) {
         Ok(b) => b,
         Err(d) => {
@@ -345,63 +547,21 @@ fn one(options: &BatchOptions, src_root: &Path, rel: &Path, clash: Option<&Path>
         }
     };
     if let Some(dir) = &options.html {
-        report.explained = Some(explain_output(&program, &options.conversion, rel, dir));
+        report.explained = Some(explain_output(&program, &conversion, rel, dir));
     }
-    match write_atomically(&output, &bytes, options.force, src_root) {
+    if options.dry_run {
+        report.status = Status::Converted;
+        return report;
+    }
+    match files::write_atomically(&output, &bytes, options.force, Some(&plan.src_root)) {
         Ok(()) => report.status = Status::Converted,
-        Err(Write::Exists) => {
+        Err(files::WriteError::Exists) => {
             report.status = Status::Skipped;
             report.reason = Some("the output exists (--force overwrites it)".into());
         }
-        Err(Write::Failed(e)) => report.reason = Some(e),
+        Err(files::WriteError::Failed(e)) => report.reason = Some(e),
     }
     report
-}
-
-enum Write {
-    Exists,
-    Failed(String),
-}
-
-/// Writes `bytes` to a temporary file beside `path` and renames it into place (without
-/// replacing an existing file unless `force`).
-fn write_atomically(path: &Path, bytes: &[u8], force: bool, src_root: &Path) -> Result<(), Write> {
-    let parent = path.parent().unwrap_or(Path::new("."));
-    std::fs::create_dir_all(parent)
-        .map_err(|e| Write::Failed(format!("cannot create {}: {e}", parent.display())))?;
-    match std::fs::canonicalize(parent) {
-        Ok(p) if p.starts_with(src_root) => {
-            return Err(Write::Failed(format!(
-                "{} is inside the source tree; ncthread never writes there",
-                parent.display()
-            )));
-        }
-        Ok(_) => {}
-        Err(e) => {
-            return Err(Write::Failed(format!(
-                "cannot read {}: {e}",
-                parent.display()
-            )));
-        }
-    }
-    let failed = |e: std::io::Error| Write::Failed(format!("cannot write {}: {e}", path.display()));
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".ncthread-")
-        .tempfile_in(parent)
-        .map_err(failed)?;
-    tmp.write_all(bytes)
-        .and_then(|()| tmp.flush())
-        .map_err(failed)?;
-    let persisted = if force {
-        tmp.persist(path).map(drop)
-    } else {
-        tmp.persist_noclobber(path).map(drop)
-    };
-    match persisted {
-        Ok(()) => Ok(()),
-        Err(e) if e.error.kind() == std::io::ErrorKind::AlreadyExists => Err(Write::Exists),
-        Err(e) => Err(failed(e.error)),
-    }
 }
 
 /// The converted program as the target reads it: its `explain` text, and its plot written
@@ -485,7 +645,11 @@ impl BatchReport {
             esc(&self.summary()),
             options.from.map_or("auto".to_string(), |d| d.to_string()),
             options.conversion.to,
-            esc(&options.profile_name)
+            esc(&match &options.profile {
+                ProfileChoice::Given(p, _) => p.display().to_string(),
+                ProfileChoice::Discover => "each program's own (sidecar or ncthread.toml)".into(),
+                ProfileChoice::Defaults => "built-in defaults".into(),
+            })
         ));
         page.push_str("<table>\n<tr><th>file</th><th>status</th><th>dialect</th><th>encoding</th><th>errors</th><th>warnings</th><th>output</th></tr>\n");
         for (i, f) in self.files.iter().enumerate() {
@@ -510,7 +674,7 @@ impl BatchReport {
                 f.status.name(),
                 f.dialect.map_or("—".to_string(), |d| d.to_string()),
                 f.encoding.map_or("—", |e| e.name()),
-                esc(&options.profile_name),
+                esc(&f.profile_name()),
                 esc(&f.output.display().to_string()),
             ));
             if let Some(reason) = &f.reason {

@@ -8,6 +8,7 @@ pub mod batch;
 pub mod diag;
 pub mod dialect;
 pub mod explain;
+pub mod files;
 pub mod fixed;
 pub mod ir;
 pub mod legalise;
@@ -84,10 +85,32 @@ pub fn emit(
     (output, diags)
 }
 
+/// INP001 when `src` holds no program: its reading made nothing (blank lines, an empty
+/// comment).
+fn empty_input(src: &SourceFile, program: &Program) -> Option<Diagnostic> {
+    program.items.is_empty().then(|| {
+        let what = if src.text.trim().is_empty() {
+            "it is empty"
+        } else {
+            "nothing in it is a block or a comment"
+        };
+        Diagnostic::new(
+            diag::codes::EMPTY_INPUT,
+            format!("{} holds no program: {what}", src.name),
+        )
+        .help("there is nothing to convert; check that the right file (or stdin) was given")
+    })
+}
+
 /// Parses and emits. Refuses (no output) when any error remains.
 pub fn convert(src: &SourceFile, options: &ConvertOptions) -> Conversion {
     let (program, mut diagnostics) =
         parse(src, options.from, &options.profile, options.unsupported);
+    if !diag::has_errors(&diagnostics)
+        && let Some(empty) = empty_input(src, &program)
+    {
+        diagnostics.push(empty);
+    }
     if diag::has_errors(&diagnostics) {
         diag::sort(&mut diagnostics);
         return Conversion {
@@ -141,6 +164,11 @@ pub fn check(
     unsupported: Unsupported,
 ) -> Vec<Diagnostic> {
     let (program, mut diagnostics) = parse(src, from, profile, unsupported);
+    if !diag::has_errors(&diagnostics)
+        && let Some(empty) = empty_input(src, &program)
+    {
+        diagnostics.push(empty.as_warning());
+    }
     if !diag::has_errors(&diagnostics) {
         diagnostics.extend(legalise::check(&lower::unroll(&program), src, None));
         let simulation = sim::simulate(&program);
@@ -158,6 +186,8 @@ pub enum Outcome {
     Equivalent {
         segments: usize,
         deviation: fixed::Length,
+        /// The position tolerance they were compared with.
+        tolerance: fixed::Length,
     },
     /// The first place where they differ.
     Different(Box<sim::Difference>),
@@ -254,6 +284,19 @@ pub fn verify(
     against: Option<&SourceFile>,
     rs274: Option<&sim::rs274::Interpreter>,
 ) -> Verification {
+    verify_within(src, options, against, rs274, sim::TOLERANCE)
+}
+
+/// [`verify`] with positions allowed to differ by `tolerance` (at least
+/// [`sim::TOLERANCE`]); a conversion made with `--round` is allowed the deviation its
+/// rounding reported, when that is larger.
+pub fn verify_within(
+    src: &SourceFile,
+    options: &ConvertOptions,
+    against: Option<&SourceFile>,
+    rs274: Option<&sim::rs274::Interpreter>,
+    tolerance: fixed::Length,
+) -> Verification {
     let refused = |mut diagnostics: Vec<Diagnostic>| {
         diag::sort(&mut diagnostics);
         Verification {
@@ -307,10 +350,19 @@ pub fn verify(
     diag::sort(&mut diagnostics);
     let left = sim::normalise(&left.segments);
     let right = sim::normalise(&right.segments);
-    let outcome = match sim::compare(&left, &right) {
+    // The rounding a `--round` conversion reported (half a step of the target's grid, or a
+    // lead's drift over its thread) is allowed, and the tolerance asked for.
+    let rounded = diagnostics
+        .iter()
+        .filter_map(|d| d.deviation)
+        .max()
+        .unwrap_or(fixed::Length::ZERO);
+    let tolerance = tolerance.max(sim::TOLERANCE).max(rounded);
+    let outcome = match sim::compare_within(&left, &right, tolerance, fixed::Angle::ZERO) {
         None => Outcome::Equivalent {
             segments: left.len(),
             deviation: sim::largest_deviation(&left, &right),
+            tolerance,
         },
         Some(d) => Outcome::Different(Box::new(d)),
     };

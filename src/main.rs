@@ -62,13 +62,44 @@ enum Command {
 
 #[derive(clap::Args)]
 struct CheckArgs {
-    /// The programs to check; `-` or nothing reads stdin.
+    /// The programs to check, and folders of programs (walked as `batch` walks them); `-` or
+    /// nothing reads stdin.
     files: Vec<PathBuf>,
     /// The dialect of the programs; `auto` chooses per file from the text.
-    #[arg(long, value_parser = source_dialect(), default_value = "auto")]
-    dialect: SourceDialect,
+    #[arg(long, alias = "dialect", value_parser = source_dialect(), default_value = "auto")]
+    from: SourceDialect,
+    /// Print the diagnostics only: no summary line, no notes.
+    #[arg(long, short = 'q')]
+    quiet: bool,
+    /// The name of the program read from stdin: for its diagnostics and to find its profile.
+    #[arg(long, value_name = "NAME")]
+    stdin_filename: Option<PathBuf>,
+    #[command(flatten)]
+    selection: SelectionArgs,
     #[command(flatten)]
     common: CommonArgs,
+}
+
+/// Which files of a folder are programs.
+#[derive(clap::Args)]
+struct SelectionArgs {
+    /// Take the files whose path below the folder matches this glob (gitignore syntax, e.g.
+    /// `**/*.NC`) instead of the dialect's extensions; `!GLOB` leaves files out. Repeatable.
+    #[arg(long, value_name = "GLOB")]
+    glob: Vec<String>,
+    /// As --glob, matched without regard to case.
+    #[arg(long, value_name = "GLOB")]
+    iglob: Vec<String>,
+}
+
+impl SelectionArgs {
+    fn selection(&self, from: Option<DialectId>) -> ncthread::files::Selection {
+        ncthread::files::Selection {
+            globs: self.glob.clone(),
+            iglobs: self.iglob.clone(),
+            extensions: ncthread::batch::program_extensions(from),
+        }
+    }
 }
 
 #[derive(clap::Args)]
@@ -95,9 +126,11 @@ struct BatchArgs {
     /// The outputs' extension (default: ngc for iso, ncp for czech, nc31 for nc31).
     #[arg(long)]
     ext: Option<String>,
-    /// Only convert files whose path below SRC_DIR matches this glob (e.g. `**/*.nc`).
+    /// Convert, but write nothing: list what would be written.
     #[arg(long)]
-    glob: Option<String>,
+    dry_run: bool,
+    #[command(flatten)]
+    selection: SelectionArgs,
     /// Also write a static HTML report into this folder (`index.html` and the plots): each
     /// file's status, encoding, profile and diagnostics, and each converted program's
     /// `explain` table and plot.
@@ -136,7 +169,7 @@ enum EolArg {
 impl OutputArgs {
     fn options(&self) -> OutputOptions {
         OutputOptions {
-            encoding: self.output_encoding.unwrap_or(TextEncoding::UTF_8),
+            encoding: self.output_encoding,
             transliterate: self.transliterate,
             eol: match self.eol {
                 EolArg::Keep => Eol::Keep,
@@ -185,6 +218,10 @@ struct VerifyArgs {
     /// Also write an SVG of both motions overlaid, the first difference marked.
     #[arg(long, value_name = "FILE.svg")]
     plot: Option<PathBuf>,
+    /// How far positions may differ, in mm (default 0.001). A conversion with --round is
+    /// allowed the deviation its rounding reported.
+    #[arg(long, value_name = "MM", value_parser = parse_length)]
+    tolerance: Option<ncthread::fixed::Length>,
     #[command(flatten)]
     target: TargetArgs,
     #[command(flatten)]
@@ -265,9 +302,16 @@ struct SimulateArgs {
 #[derive(clap::Args)]
 struct CommonArgs {
     /// Machine profile (TOML) with the machine's constants: czech constant 8, nc31 units
-    /// and parameters 6/7, ISO M code mappings.
+    /// and parameters 6/7, ISO M code mappings. Without it, a program's sidecar
+    /// `STEM.profile.toml`, else the nearest `ncthread.toml` in its folder or above.
     #[arg(long)]
     profile: Option<PathBuf>,
+    /// Use the built-in defaults: no sidecar or `ncthread.toml` is looked for.
+    #[arg(long, conflicts_with = "profile")]
+    no_profile: bool,
+    /// Say which profile (and, in batch and check, which encoding) each program used.
+    #[arg(long, short = 'v')]
+    verbose: bool,
     /// How to print diagnostics on stderr.
     #[arg(long, value_enum, default_value_t = DiagnosticsFormat::Human)]
     diagnostics: DiagnosticsFormat,
@@ -312,19 +356,37 @@ struct TargetArgs {
 }
 
 impl CommonArgs {
-    /// The profile, loaded (before the input is read, so a bad profile stops early).
-    fn profile(&self) -> Result<Profile, Fatal> {
-        let mut profile = load_profile(&self.profile, self.diagnostics)?;
-        if let Some(b) = self.block_delete {
-            profile.iso.block_delete = Some(match b {
+    /// What the command line says of the machine on top of any profile.
+    fn overrides(&self) -> ncthread::profile::Overrides {
+        ncthread::profile::Overrides {
+            block_delete: self.block_delete.map(|b| match b {
                 BlockDeleteArg::Off => BlockDelete::Off,
                 BlockDeleteArg::On => BlockDelete::On,
-            });
+            }),
+            subroutine_path: self.subroutine_path.clone(),
         }
-        profile
-            .iso
-            .subroutine_path
-            .extend(self.subroutine_path.iter().cloned());
+    }
+
+    /// The profile of the program `input` (stdin: `None`): `--profile`, else (unless
+    /// `--no-profile`) its sidecar `STEM.profile.toml` or the nearest `ncthread.toml`, else
+    /// the built-in defaults; with the command line's settings on top. Loaded before the
+    /// program is read, so that a bad profile stops early.
+    fn profile_for(&self, input: &Option<PathBuf>) -> Result<Profile, Fatal> {
+        let path = match (&self.profile, input) {
+            (Some(p), _) => Some(p.clone()),
+            (None, _) if self.no_profile => None,
+            (None, Some(file)) if !is_stdio(input) => ncthread::files::discover_profile(file),
+            (None, _) => None,
+        };
+        if self.verbose {
+            note(format!(
+                "ncthread: profile: {}",
+                path.as_ref()
+                    .map_or("built-in defaults".into(), |p| p.display().to_string())
+            ));
+        }
+        let mut profile = load_profile(&path, self.diagnostics)?;
+        self.overrides().apply(&mut profile);
         Ok(profile)
     }
 
@@ -503,6 +565,9 @@ fn is_stdio(path: &Option<PathBuf>) -> bool {
 
 fn read_input(path: &Option<PathBuf>) -> Result<(String, Vec<u8>), Fatal> {
     if is_stdio(path) {
+        if io::stdin().is_terminal() {
+            note("ncthread: reading the program from the terminal: type it and end with Ctrl-D, or give a FILE".into());
+        }
         let mut bytes = Vec::new();
         io::stdin()
             .read_to_end(&mut bytes)
@@ -550,6 +615,20 @@ fn read_source(
     Ok((src, from))
 }
 
+/// [`read_source`], with what the output keeps of the input for a conversion to `to`.
+fn read_source_for(
+    input: &Option<PathBuf>,
+    from: SourceDialect,
+    encoding: Option<TextEncoding>,
+    to: DialectId,
+) -> Result<(SourceFile, DialectId, ncthread::text::Input), Fatal> {
+    let (name, bytes) = read_input(input)?;
+    let (src, from, decoded) = decode_source(name, &bytes, from, encoding);
+    let kept =
+        ncthread::text::Input::of(&src.text, decoded.encoding, &decoded.eof_mark, from == to);
+    Ok((src, from, kept))
+}
+
 /// Decodes a program in the given dialect, or chooses the dialect (`auto`, saying so on
 /// stderr when unsure). Also returns the encoding used.
 fn decode_source(
@@ -557,19 +636,16 @@ fn decode_source(
     bytes: &[u8],
     from: SourceDialect,
     encoding: Option<TextEncoding>,
-) -> (SourceFile, DialectId, TextEncoding) {
-    let decoded = ncthread::text::decode_program(bytes, from.known(), encoding);
-    if let Some(detection) = decoded.detection.filter(|d| !d.certain) {
+) -> (SourceFile, DialectId, ncthread::text::Decoded) {
+    let mut decoded = ncthread::text::decode_program(bytes, from.known(), encoding);
+    if let Some(detection) = decoded.detection.as_ref().filter(|d| !d.certain) {
         note(format!(
             "ncthread: --from auto: reading {name} as {} ({}); give --from to be sure",
             detection.dialect, detection.reason
         ));
     }
-    (
-        SourceFile::new(name, decoded.text),
-        decoded.dialect,
-        decoded.encoding,
-    )
+    let text = std::mem::take(&mut decoded.text);
+    (SourceFile::new(name, text), decoded.dialect, decoded)
 }
 
 fn unsupported(arg: UnsupportedArg) -> Unsupported {
@@ -580,8 +656,9 @@ fn unsupported(arg: UnsupportedArg) -> Unsupported {
 }
 
 fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
-    let profile = args.common.profile()?;
-    let (src, from) = read_source(&args.input, args.from, args.common.encoding)?;
+    let profile = args.common.profile_for(&args.input)?;
+    let (src, from, input) =
+        read_source_for(&args.input, args.from, args.common.encoding, args.to.into())?;
     let options = args
         .common
         .options(from, args.to.into(), profile, &args.target);
@@ -592,12 +669,7 @@ fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
             .as_ref()
             .filter(|_| !is_stdio(&args.output))
             .map_or("<stdout>".to_string(), |p| p.display().to_string());
-        ncthread::text::encode_output(
-            output,
-            &name,
-            &args.output_format.options(),
-            ncthread::text::uses_crlf(&src.text),
-        )
+        ncthread::text::encode_output(output, &name, &args.output_format.options(), &input)
     });
     let bytes = match bytes {
         Some(Ok(b)) => Some(b),
@@ -616,7 +688,7 @@ fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
 }
 
 fn simulate(args: SimulateArgs) -> Result<ExitCode, Fatal> {
-    let profile = args.common.profile()?;
+    let profile = args.common.profile_for(&args.input)?;
     let (src, from) = read_source(&args.input, args.from, args.common.encoding)?;
     let (program, mut diags) =
         ncthread::parse(&src, from, &profile, unsupported(args.common.unsupported));
@@ -648,7 +720,7 @@ fn read_program(
     from: SourceDialect,
     common: &CommonArgs,
 ) -> Result<Option<(SourceFile, ncthread::ir::Program)>, Fatal> {
-    let profile = common.profile()?;
+    let profile = common.profile_for(input)?;
     let (src, from) = read_source(input, from, common.encoding)?;
     let (program, mut diags) =
         ncthread::parse(&src, from, &profile, unsupported(common.unsupported));
@@ -709,7 +781,7 @@ fn plot(args: PlotArgs) -> Result<ExitCode, Fatal> {
 }
 
 fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
-    let profile = args.common.profile()?;
+    let profile = args.common.profile_for(&args.input)?;
     let (src, from) = read_source(&args.input, args.from, args.common.encoding)?;
     let to: DialectId = args.to.into();
     let against = match &args.against {
@@ -734,7 +806,13 @@ fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
     } else {
         None
     };
-    let v = ncthread::verify(&src, &options, against.as_ref(), interpreter.as_ref());
+    let v = ncthread::verify_within(
+        &src,
+        &options,
+        against.as_ref(),
+        interpreter.as_ref(),
+        args.tolerance.unwrap_or(ncthread::sim::TOLERANCE),
+    );
     print_diagnostics(&v.diagnostics, args.common.diagnostics);
     let other = against
         .as_ref()
@@ -748,11 +826,13 @@ fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
         ncthread::Outcome::Equivalent {
             segments,
             deviation,
+            tolerance,
         } => (
             format!(
-                "equivalent: {} ({from}) and {other} ({to}) make the same motion ({segments} segments after normalising; largest deviation {} mm; tolerance 0.001 mm, 0.01°)\n",
+                "equivalent: {} ({from}) and {other} ({to}) make the same motion ({segments} segments after normalising; largest deviation {} mm; tolerance {} mm, 0.01°)\n",
                 src.name,
-                deviation.mm()
+                deviation.mm(),
+                tolerance.mm()
             ),
             ExitCode::SUCCESS,
         ),
@@ -841,16 +921,46 @@ fn write_output(path: &Option<PathBuf>, bytes: &[u8]) -> Result<(), Fatal> {
 }
 
 fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
-    let profile = args.common.profile()?;
-    let files: Vec<Option<PathBuf>> = if args.files.is_empty() {
-        vec![None]
-    } else {
-        args.files.iter().cloned().map(Some).collect()
-    };
-    let (mut errors, mut warnings, mut failed_files) = (0, 0, 0);
-    let mut out = String::new();
+    let from = args.from.known();
+    let selection = args.selection.selection(from);
+    // Every program named, and every program of every folder named.
+    let mut programs: Vec<Option<PathBuf>> = Vec::new();
     let mut unreadable = 0;
-    for file in &files {
+    let mut unmatched = Vec::new();
+    if args.files.is_empty() {
+        programs.push(None);
+    }
+    for file in &args.files {
+        if file.as_os_str() == "-" {
+            programs.push(None);
+        } else if file.is_dir() {
+            let walk = ncthread::files::walk(file, &selection).map_err(Fatal)?;
+            for f in &walk.files {
+                if let ncthread::files::Verdict::Skip(why) = &f.verdict
+                    && args.common.verbose
+                {
+                    note(format!(
+                        "ncthread: {}: left out: {why}",
+                        file.join(&f.rel).display()
+                    ));
+                }
+            }
+            programs.extend(walk.programs().map(|rel| Some(file.join(rel))));
+            unmatched.extend(walk.unmatched);
+        } else if file.exists() {
+            programs.push(Some(file.clone()));
+        } else {
+            note(format!(
+                "ncthread: cannot read {}: no such file or folder",
+                file.display()
+            ));
+            unreadable += 1;
+        }
+    }
+    let (mut errors, mut warnings, mut failed_files, mut checked) = (0, 0, 0, 0);
+    let mut uncertain: Vec<String> = Vec::new();
+    let mut out = String::new();
+    for file in &programs {
         // An unreadable file is reported and the others are still checked.
         let (name, bytes) = match read_input(file) {
             Ok(input) => input,
@@ -860,8 +970,30 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
                 continue;
             }
         };
-        let (src, from, _) = decode_source(name, &bytes, args.dialect, args.common.encoding);
-        let diags = ncthread::check(&src, from, &profile, unsupported(args.common.unsupported));
+        let named = match file {
+            Some(_) => file.clone(),
+            None => args.stdin_filename.clone(),
+        };
+        let name = named.as_ref().map_or(name, |n| n.display().to_string());
+        let profile = args.common.profile_for(&named)?;
+        let decoded = ncthread::text::decode_program(&bytes, from, args.common.encoding);
+        if let Some(d) = decoded.detection.as_ref().filter(|d| !d.certain) {
+            uncertain.push(format!("{name} as {}", d.dialect));
+        }
+        if args.common.verbose {
+            note(format!(
+                "ncthread: {name}: read as {} in {}",
+                decoded.dialect, decoded.encoding
+            ));
+        }
+        let src = SourceFile::new(name, decoded.text);
+        let diags = ncthread::check(
+            &src,
+            decoded.dialect,
+            &profile,
+            unsupported(args.common.unsupported),
+        );
+        checked += 1;
         let e = diags.iter().filter(|d| d.is_error()).count();
         errors += e;
         warnings += diags.len() - e;
@@ -876,13 +1008,24 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
         out.push_str(&diag::render_all(&diags, format, color));
     }
     write_output(&None, out.as_bytes())?;
-    if args.common.diagnostics == DiagnosticsFormat::Human {
+    let human = args.common.diagnostics == DiagnosticsFormat::Human && !args.quiet;
+    if human && !uncertain.is_empty() {
         note(format!(
-            "ncthread: checked {} file(s): {errors} error(s) in {failed_files} file(s), {warnings} warning(s)",
-            files.len()
+            "ncthread: --from auto: {} file(s) read without a certain dialect ({}{}); give --from to be sure",
+            uncertain.len(),
+            uncertain[..uncertain.len().min(3)].join(", "),
+            if uncertain.len() > 3 { ", …" } else { "" }
         ));
     }
-    Ok(if unreadable > 0 {
+    for glob in &unmatched {
+        note(format!("ncthread: warning: --glob {glob} matched no file"));
+    }
+    if human {
+        note(format!(
+            "ncthread: checked {checked} file(s): {errors} error(s) in {failed_files} file(s), {warnings} warning(s)"
+        ));
+    }
+    Ok(if unreadable > 0 || !unmatched.is_empty() {
         ExitCode::from(2)
     } else if errors > 0 {
         ExitCode::from(1)
@@ -892,22 +1035,22 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
 }
 
 fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
-    let profile = args.common.profile()?;
     let to: DialectId = args.to.into();
     let from = args.from.known();
-    let glob = match &args.glob {
-        Some(pattern) => Some(
-            globset::Glob::new(pattern)
-                .map_err(|e| Fatal(format!("--glob {pattern}: {e}")))?
-                .compile_matcher(),
-        ),
-        None => None,
-    };
     let extension = args
         .ext
         .clone()
         .unwrap_or_else(|| ncthread::batch::default_extension(to).to_string());
     let extension = extension.trim_start_matches('.').to_string();
+    let profile = match (&args.common.profile, args.common.no_profile) {
+        (Some(path), _) => {
+            let mut p = load_profile(&Some(path.clone()), args.common.diagnostics)?;
+            args.common.overrides().apply(&mut p);
+            ncthread::batch::ProfileChoice::Given(path.clone(), Box::new(p))
+        }
+        (None, true) => ncthread::batch::ProfileChoice::Defaults,
+        (None, false) => ncthread::batch::ProfileChoice::Discover,
+    };
     let options = ncthread::batch::BatchOptions {
         src_dir: args.src_dir.clone(),
         out_dir: args.out_dir.clone(),
@@ -915,27 +1058,34 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
         conversion: args.common.options(
             from.unwrap_or(ncthread::dialect::ALL[0].id()),
             to,
-            profile,
+            Profile::default(),
             &args.target,
         ),
+        profile,
+        overrides: args.common.overrides(),
         jobs: args.jobs.unwrap_or(0),
         force: args.force,
+        dry_run: args.dry_run,
         extension,
-        glob,
+        selection: args.selection.selection(from),
         input_encoding: args.common.encoding,
         output: args.output.options(),
         html: args.html.clone(),
-        profile_name: args
-            .common
-            .profile
-            .as_ref()
-            .map_or("built-in defaults".to_string(), |p| p.display().to_string()),
     };
-    let total = ncthread::batch::inputs(&options.src_dir, options.glob.as_ref())
-        .map(|f| f.len())
-        .unwrap_or(0);
+    // The report must be writable before any work is done.
+    if let Some(path) = &args.report {
+        std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(path)
+            .map_err(|e| Fatal(format!("cannot write the report {}: {e}", path.display())))?;
+    }
+    let plan = ncthread::batch::plan(&options).map_err(Fatal)?;
+    for glob in plan.unmatched_globs() {
+        note(format!("ncthread: warning: --glob {glob} matched no file"));
+    }
     let bar = if io::stderr().is_terminal() {
-        let bar = indicatif::ProgressBar::new(total as u64);
+        let bar = indicatif::ProgressBar::new(plan.programs() as u64);
         bar.set_style(
             indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {wide_msg}")
                 .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
@@ -944,17 +1094,38 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
     } else {
         indicatif::ProgressBar::hidden()
     };
+    // Ctrl-C: the workers finish the file in hand, the rest is not done, and the summary and
+    // the report say what was.
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    {
+        let stop = stop.clone();
+        let _ = ctrlc::set_handler(move || stop.store(true, std::sync::atomic::Ordering::Relaxed));
+    }
     let format = args.common.diagnostics;
+    let verbose = args.common.verbose;
+    let dry_run = args.dry_run;
     let progress = |f: &ncthread::batch::FileReport| {
-        if f.status != ncthread::batch::Status::Converted {
-            let text = file_problem(f, format);
+        use ncthread::batch::Status;
+        let mut text = String::new();
+        if verbose || (dry_run && f.status == Status::Converted) {
+            text.push_str(&file_line(f, dry_run));
+        }
+        if !matches!(
+            f.status,
+            Status::Converted | Status::LeftOut | Status::NotDone
+        ) {
+            text.push_str(&file_problem(f, format));
+        }
+        if !text.is_empty() {
             bar.suspend(|| {
                 let _ = io::stderr().write_all(text.as_bytes());
             });
         }
-        bar.inc(1);
+        if f.status != Status::LeftOut {
+            bar.inc(1);
+        }
     };
-    let report = ncthread::batch::run(&options, &progress).map_err(Fatal)?;
+    let report = ncthread::batch::run(&options, &plan, &progress, &stop).map_err(Fatal)?;
     bar.finish_and_clear();
     if let Some(path) = &args.report {
         let json = serde_json::to_string_pretty(&report.to_json(&options))
@@ -962,13 +1133,46 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
         std::fs::write(path, json + "\n")
             .map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))?;
     }
-    report.write_html(&options).map_err(Fatal)?;
+    if !dry_run {
+        report.write_html(&options).map_err(Fatal)?;
+    }
     note(format!("ncthread: {}", report.summary()));
-    Ok(if report.all_converted() {
+    Ok(if report.interrupted {
+        ExitCode::from(130)
+    } else if !plan.unmatched_globs().is_empty() {
+        ExitCode::from(2)
+    } else if report.succeeded() {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)
     })
+}
+
+/// One file's line under --verbose or --dry-run: what it was read as, its profile, and
+/// what is (or would be) written.
+fn file_line(f: &ncthread::batch::FileReport, dry_run: bool) -> String {
+    use ncthread::batch::Status;
+    let path = f.input.display();
+    match f.status {
+        Status::LeftOut => format!(
+            "{path}: left out: {}\n",
+            f.reason.as_deref().unwrap_or("not a program")
+        ),
+        _ => format!(
+            "{path}: {} as {} in {}, profile {} → {}{}\n",
+            if dry_run && f.status == Status::Converted {
+                "would convert"
+            } else {
+                f.status.name()
+            },
+            f.dialect.map_or("?".to_string(), |d| d.to_string()),
+            f.encoding.map_or("?", |e| e.name()),
+            f.profile_name(),
+            f.output.display(),
+            f.output_encoding
+                .map_or(String::new(), |e| format!(" in {e}")),
+        ),
+    }
 }
 
 /// What went wrong with one batch file: its errors (human: `path:line:col: error[CODE]

@@ -48,6 +48,26 @@ pub struct Profile {
     pub iso: IsoProfile,
 }
 
+/// What the command line says of the machine on top of any profile.
+#[derive(Clone, Debug, Default)]
+pub struct Overrides {
+    pub block_delete: Option<BlockDelete>,
+    /// More folders of subroutine files (after the profile's).
+    pub subroutine_path: Vec<std::path::PathBuf>,
+}
+
+impl Overrides {
+    pub fn apply(&self, profile: &mut Profile) {
+        if let Some(b) = self.block_delete {
+            profile.iso.block_delete = Some(b);
+        }
+        profile
+            .iso
+            .subroutine_path
+            .extend(self.subroutine_path.iter().cloned());
+    }
+}
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawProfile {

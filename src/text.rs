@@ -121,6 +121,7 @@ pub fn decode_as(
     encoding: Option<TextEncoding>,
     dialect: DialectId,
 ) -> (String, TextEncoding) {
+    let (bytes, _) = split_eof_mark(bytes);
     match encoding {
         Some(e) => (e.decode(bytes), e),
         None => decode(bytes, dialect),
@@ -160,6 +161,18 @@ pub struct Decoded {
     pub encoding: TextEncoding,
     pub dialect: DialectId,
     pub detection: Option<Detection>,
+    /// The file's end-of-file mark (`^Z` and NUL padding of a DOS file), left out of `text`.
+    pub eof_mark: Vec<u8>,
+}
+
+/// Splits a file's trailing end-of-file mark off: a DOS `^Z` (0x1A) and the NUL padding of a
+/// file written in fixed-size blocks are where the file ends, not part of the program.
+pub fn split_eof_mark(bytes: &[u8]) -> (&[u8], &[u8]) {
+    let end = bytes
+        .iter()
+        .rposition(|&b| b != 0x1A && b != 0)
+        .map_or(0, |i| i + 1);
+    bytes.split_at(end)
 }
 
 /// Decodes a program in dialect `from`, or (`None`) chooses the dialect from the text;
@@ -169,6 +182,8 @@ pub fn decode_program(
     from: Option<DialectId>,
     encoding: Option<TextEncoding>,
 ) -> Decoded {
+    let (bytes, eof_mark) = split_eof_mark(bytes);
+    let eof_mark = eof_mark.to_vec();
     match from {
         Some(dialect) => {
             let (text, encoding) = decode_as(bytes, encoding, dialect);
@@ -177,6 +192,7 @@ pub fn decode_program(
                 encoding,
                 dialect,
                 detection: None,
+                eof_mark,
             }
         }
         None => {
@@ -186,6 +202,7 @@ pub fn decode_program(
                 encoding,
                 dialect: detection.dialect,
                 detection: Some(detection),
+                eof_mark,
             }
         }
     }
@@ -207,21 +224,51 @@ pub enum Eol {
 }
 
 /// How an output program becomes bytes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct OutputOptions {
-    pub encoding: TextEncoding,
+    /// The output's encoding; `None`: the input's when the output is in the input's dialect
+    /// (an editor's filter, a clean-up), else UTF-8.
+    pub encoding: Option<TextEncoding>,
     /// Write a character the encoding lacks as its ASCII transliteration instead of refusing.
     pub transliterate: bool,
     pub eol: Eol,
 }
 
-impl Default for OutputOptions {
-    fn default() -> Self {
-        OutputOptions {
-            encoding: TextEncoding::UTF_8,
-            transliterate: false,
-            eol: Eol::Keep,
+/// What the output keeps of its input when asked to: line endings, encoding, and a DOS
+/// end-of-file mark.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Input {
+    pub crlf: bool,
+    pub encoding: Option<TextEncoding>,
+    pub eof_mark: Vec<u8>,
+    /// The output is in the input's dialect.
+    pub same_dialect: bool,
+}
+
+impl Input {
+    /// The input `decoded` as text, converted to `to`.
+    pub fn of(
+        decoded_text: &str,
+        encoding: TextEncoding,
+        eof_mark: &[u8],
+        same_dialect: bool,
+    ) -> Input {
+        Input {
+            crlf: uses_crlf(decoded_text),
+            encoding: Some(encoding),
+            eof_mark: eof_mark.to_vec(),
+            same_dialect,
         }
+    }
+}
+
+impl OutputOptions {
+    /// The encoding an output of `input` is written in.
+    pub fn encoding_for(&self, input: &Input) -> TextEncoding {
+        self.encoding.unwrap_or(match input.encoding {
+            Some(e) if input.same_dialect && e.can_encode() => e,
+            _ => TextEncoding::UTF_8,
+        })
     }
 }
 
@@ -232,25 +279,28 @@ pub fn uses_crlf(text: &str) -> bool {
 }
 
 /// Encodes an output program (lines ending in LF) with the line endings and encoding asked
-/// for. `input_crlf`: the input's line endings (for [`Eol::Keep`]). A character the encoding
-/// lacks is an error located in the output (`output_name`), unless transliterated.
+/// for, or the input's ([`Eol::Keep`]; [`OutputOptions::encoding_for`]). A same-dialect output
+/// in the input's encoding ends with the input's end-of-file mark, as the input did. A
+/// character the encoding lacks is an error located in the output (`output_name`), unless
+/// transliterated.
 pub fn encode_output(
     text: &str,
     output_name: &str,
     options: &OutputOptions,
-    input_crlf: bool,
+    input: &Input,
 ) -> Result<Vec<u8>, Box<Diagnostic>> {
     let crlf = match options.eol {
-        Eol::Keep => input_crlf,
+        Eol::Keep => input.crlf,
         Eol::Lf => false,
         Eol::CrLf => true,
     };
+    let encoding = options.encoding_for(input);
     let mut out = Vec::with_capacity(text.len() + text.len() / 16);
     for (index, line) in text.split_inclusive('\n').enumerate() {
         let body = line.strip_suffix('\n').unwrap_or(line);
         let body = body.strip_suffix('\r').unwrap_or(body);
         for (at, c) in body.char_indices() {
-            if let Some(bytes) = options.encoding.encode_char(c) {
+            if let Some(bytes) = encoding.encode_char(c) {
                 out.extend_from_slice(&bytes);
                 continue;
             }
@@ -268,7 +318,7 @@ pub fn encode_output(
                         format!(
                             "`{c}` (U+{:04X}) in output line {line_number} cannot be written in {}",
                             c as u32,
-                            options.encoding
+                            encoding
                         ),
                     )
                     .at(&src, span)
@@ -282,6 +332,9 @@ pub fn encode_output(
         if line.ends_with('\n') {
             out.extend_from_slice(if crlf { b"\r\n" } else { b"\n" });
         }
+    }
+    if input.same_dialect && input.encoding == Some(encoding) {
+        out.extend_from_slice(&input.eof_mark);
     }
     Ok(out)
 }
@@ -330,26 +383,31 @@ mod tests {
     #[test]
     fn output_takes_the_encoding_line_endings_and_transliteration() {
         let utf8 = OutputOptions::default();
+        let crlf = Input {
+            crlf: true,
+            ..Input::default()
+        };
+        let lf = Input::default();
         assert_eq!(
-            encode_output("A\nB\n", "o", &utf8, true).unwrap(),
+            encode_output("A\nB\n", "o", &utf8, &crlf).unwrap(),
             b"A\r\nB\r\n"
         );
-        assert_eq!(encode_output("A\nB", "o", &utf8, false).unwrap(), b"A\nB");
+        assert_eq!(encode_output("A\nB", "o", &utf8, &lf).unwrap(), b"A\nB");
         let cp852 = OutputOptions {
-            encoding: TextEncoding::Ibm852,
+            encoding: Some(TextEncoding::Ibm852),
             eol: Eol::CrLf,
             ..utf8
         };
         assert_eq!(
-            encode_output("\"ROZTOČENÍ\n", "o", &cp852, false).unwrap(),
+            encode_output("\"ROZTOČENÍ\n", "o", &cp852, &lf).unwrap(),
             b"\"ROZTO\xACEN\xD6\r\n"
         );
         let ascii = OutputOptions {
-            encoding: TextEncoding::for_label("us-ascii").unwrap(),
+            encoding: TextEncoding::for_label("us-ascii"),
             ..utf8
         };
         // windows-1252 (WHATWG's "us-ascii") has no Č: refused with its output line.
-        let d = encode_output("N10\nN20 \"ROZTOČENÍ\n", "out", &ascii, false).unwrap_err();
+        let d = encode_output("N10\nN20 \"ROZTOČENÍ\n", "out", &ascii, &lf).unwrap_err();
         assert!(
             d.message.starts_with("`Č` (U+010C) in output line 2"),
             "{}",
@@ -365,8 +423,44 @@ mod tests {
         };
         // Č becomes C; windows-1252 has Í.
         assert_eq!(
-            encode_output("\"ROZTOČENÍ\n", "o", &t, false).unwrap(),
+            encode_output("\"ROZTOČENÍ\n", "o", &t, &lf).unwrap(),
             b"\"ROZTOCEN\xCD\n"
+        );
+    }
+
+    #[test]
+    fn a_same_dialect_output_keeps_the_input_encoding_and_its_eof_mark() {
+        let (body, mark) = split_eof_mark(b"N10\r\n\x1a\0\0");
+        assert_eq!((body, mark), (&b"N10\r\n"[..], &b"\x1a\0\0"[..]));
+        assert_eq!(split_eof_mark(b"\0\x1a"), (&b""[..], &b"\0\x1a"[..]));
+        assert_eq!(split_eof_mark(b"N1\0N2"), (&b"N1\0N2"[..], &b""[..]));
+        let input = Input {
+            crlf: true,
+            encoding: Some(TextEncoding::Ibm852),
+            eof_mark: b"\x1a".to_vec(),
+            same_dialect: true,
+        };
+        let keep = OutputOptions::default();
+        assert_eq!(
+            encode_output("\"Č\n", "o", &keep, &input).unwrap(),
+            b"\"\xAC\r\n\x1a"
+        );
+        // Another dialect: UTF-8, no mark; an encoding asked for: no mark either.
+        let other = Input {
+            same_dialect: false,
+            ..input.clone()
+        };
+        assert_eq!(
+            encode_output("\"Č\n", "o", &keep, &other).unwrap(),
+            "\"Č\r\n".as_bytes()
+        );
+        let utf8 = OutputOptions {
+            encoding: Some(TextEncoding::UTF_8),
+            ..keep
+        };
+        assert_eq!(
+            encode_output("\"Č\n", "o", &utf8, &input).unwrap(),
+            "\"Č\r\n".as_bytes()
         );
     }
 }

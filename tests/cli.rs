@@ -547,9 +547,11 @@ fn writes_nc31_exactly_or_refuses_with_the_reason() {
     // nc31 → nc31 keeps G31 as a cycle, and the `(` comments of a PC-side file.
     let out = to_nc31(&["corpus/nc31/pc-archive-cp866-crlf.nc", "--from", "nc31"]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
-    // The file's CRLF line endings are kept.
-    assert!(text(&out.stdout).ends_with("M30\r\n%\r\n"));
-    let nc31 = text(&out.stdout).replace("\r\n", "\n");
+    // The file's CRLF line endings and its encoding (IBM866) are kept.
+    assert!(out.stdout.ends_with(b"M30\r\n%\r\n"));
+    let (decoded, _, errors) = encoding_rs::IBM866.decode(&out.stdout);
+    assert!(!errors);
+    let nc31 = decoded.replace("\r\n", "\n");
     assert!(
         nc31.contains("N9 G31 *\nN10 X3600 *\nN11 Z-4750 *\nN12 F15000 *\nN13 P96 *\nN14 P20\n"),
         "{nc31}"

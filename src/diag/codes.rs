@@ -308,6 +308,10 @@ pub const ENCODING: Code = error(
     "ENC001",
     "a character of the output that the output encoding cannot represent",
 );
+pub const EMPTY_INPUT: Code = error(
+    "INP001",
+    "the input holds no program (it is empty, or only blank lines): nothing to convert; a warning in `check`",
+);
 
 // shared by every target (legalise, lower)
 pub const SPINDLE_OFF: Code = error("LG001", "thread cut while the spindle is not turning");
@@ -426,6 +430,7 @@ pub const ALL: &[Code] = &[
     NCW_COMMENTS,
     NCW_NOTHING,
     ENCODING,
+    EMPTY_INPUT,
     SPINDLE_OFF,
     FEED_SPINDLE_OFF,
     OPAQUE_MEANING,

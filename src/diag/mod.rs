@@ -40,6 +40,9 @@ pub struct Diagnostic {
     /// A short text printed beside the caret.
     pub label: Option<String>,
     pub help: Option<String>,
+    /// How far the output may move from the source because of what this reports (the
+    /// largest rounding of `--round`): what `verify` then allows.
+    pub deviation: Option<crate::fixed::Length>,
 }
 
 impl Diagnostic {
@@ -51,6 +54,7 @@ impl Diagnostic {
             location: None,
             label: None,
             help: None,
+            deviation: None,
         }
     }
 

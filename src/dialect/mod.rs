@@ -98,6 +98,9 @@ pub trait Dialect: Sync {
     fn title(&self) -> &'static str;
     /// The extension `batch` gives its outputs (without the dot).
     fn extension(&self) -> &'static str;
+    /// The extensions its programs are found under in a shop's archive (without the dot,
+    /// matched case-insensitively): what `batch` and `check` take from a folder.
+    fn extensions(&self) -> &'static [&'static str];
     /// The encoding of its files when they are not UTF-8.
     fn legacy_encoding(&self) -> TextEncoding;
     /// Its claim on one line of a text whose dialect is not given (`--from auto`).

@@ -67,11 +67,14 @@ impl Inexact {
             grid,
             largest: self.largest.mm(),
         };
-        let d = if round {
+        let mut d = if round {
             rounded(&summary)
         } else {
             refused(&summary)
         };
+        if round {
+            d.deviation = Some(self.largest);
+        }
         Some(d.at(src, span))
     }
 

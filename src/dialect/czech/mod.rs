@@ -36,6 +36,10 @@ impl Dialect for Czech {
         "ncp"
     }
 
+    fn extensions(&self) -> &'static [&'static str] {
+        &["nc", "ncp", "cnc"]
+    }
+
     fn legacy_encoding(&self) -> TextEncoding {
         TextEncoding::Standard(encoding_rs::WINDOWS_1250)
     }

@@ -39,6 +39,10 @@ impl Dialect for Iso {
         "ngc"
     }
 
+    fn extensions(&self) -> &'static [&'static str] {
+        &["ngc", "nc", "tap"]
+    }
+
     fn legacy_encoding(&self) -> TextEncoding {
         TextEncoding::Standard(encoding_rs::WINDOWS_1252)
     }

@@ -36,6 +36,10 @@ impl Dialect for Nc31 {
         "nc31"
     }
 
+    fn extensions(&self) -> &'static [&'static str] {
+        &["nc", "nc31"]
+    }
+
     fn legacy_encoding(&self) -> TextEncoding {
         TextEncoding::Standard(encoding_rs::IBM866)
     }

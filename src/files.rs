@@ -1,0 +1,309 @@
+//! A shop's archive: which files of a folder are programs, and which machine profile each
+//! program uses.
+//!
+//! Folders are walked as ripgrep walks them (the `ignore` crate): hidden entries are left out,
+//! an `.ncthreadignore` (gitignore syntax) in a folder leaves out what it names below it,
+//! `--glob`/`--iglob` choose files by their path below the folder (`!` leaves out). Without a
+//! positive glob, a file is a program when its extension is one its dialect's files have
+//! (case-insensitive); what is not a program is listed with the reason, never failed.
+//!
+//! The profile of a program is the first of: the one the command line names; a sidecar
+//! `STEM.profile.toml` beside the program (`STEM` its file name without the extension); the
+//! nearest `ncthread.toml` in its folder or a folder above it (as `rustfmt.toml` is found).
+
+use std::path::{Path, PathBuf};
+
+/// What a walk takes.
+#[derive(Clone, Debug, Default)]
+pub struct Selection {
+    /// Globs on the path below the folder; `!GLOB` leaves out what it matches.
+    pub globs: Vec<String>,
+    /// The same, matched case-insensitively.
+    pub iglobs: Vec<String>,
+    /// The extensions of program files (without the dot), when no positive glob is given.
+    pub extensions: Vec<&'static str>,
+}
+
+impl Selection {
+    /// The positive globs, each with whether it ignores case.
+    fn positive(&self) -> impl Iterator<Item = (&str, bool)> {
+        let globs = self.globs.iter().map(|g| (g.as_str(), false));
+        let iglobs = self.iglobs.iter().map(|g| (g.as_str(), true));
+        globs.chain(iglobs).filter(|(g, _)| !g.starts_with('!'))
+    }
+}
+
+/// What a walk found: a program to read, or a file left out and why.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Verdict {
+    Program,
+    Skip(String),
+}
+
+/// A file below the walked folder.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Found {
+    /// Relative to the folder.
+    pub rel: PathBuf,
+    pub verdict: Verdict,
+}
+
+/// A walk's files (sorted by path) and the positive globs that matched no file.
+#[derive(Clone, Debug, Default)]
+pub struct Walk {
+    pub files: Vec<Found>,
+    pub unmatched: Vec<String>,
+}
+
+impl Walk {
+    pub fn programs(&self) -> impl Iterator<Item = &Path> {
+        self.files
+            .iter()
+            .filter(|f| f.verdict == Verdict::Program)
+            .map(|f| f.rel.as_path())
+    }
+}
+
+fn overrides(root: &Path, globs: &[(&str, bool)]) -> Result<ignore::overrides::Override, String> {
+    let mut builder = ignore::overrides::OverrideBuilder::new(root);
+    for &(glob, nocase) in globs {
+        builder
+            .case_insensitive(nocase)
+            .and_then(|b| b.add(glob))
+            .map_err(|e| format!("--glob {glob}: {e}"))?;
+    }
+    builder.build().map_err(|e| format!("--glob: {e}"))
+}
+
+/// Walks `root`: every file, sorted by path, each a program or left out with a reason.
+pub fn walk(root: &Path, selection: &Selection) -> Result<Walk, String> {
+    let all: Vec<(&str, bool)> = selection
+        .globs
+        .iter()
+        .map(|g| (g.as_str(), false))
+        .chain(selection.iglobs.iter().map(|g| (g.as_str(), true)))
+        .collect();
+    let chosen = overrides(root, &all)?;
+    let by_extension = selection.positive().next().is_none();
+    let mut builder = ignore::WalkBuilder::new(root);
+    builder
+        .standard_filters(false)
+        .hidden(true)
+        .follow_links(false)
+        .add_custom_ignore_filename(".ncthreadignore")
+        .overrides(chosen)
+        .sort_by_file_name(|a, b| a.cmp(b));
+    let mut files = Vec::new();
+    for entry in builder.build() {
+        let entry = entry.map_err(|e| format!("cannot walk {}: {e}", root.display()))?;
+        let path = entry.path();
+        // A link to a file is followed; a link to a folder is not (no cycles).
+        let is_file = entry.file_type().is_some_and(|t| t.is_file())
+            || entry.path_is_symlink() && path.is_file();
+        if !is_file {
+            continue;
+        }
+        let rel = path.strip_prefix(root).unwrap_or(path).to_path_buf();
+        let verdict = if by_extension {
+            by_name(&rel, &selection.extensions)
+        } else {
+            Verdict::Program
+        };
+        let verdict = match verdict {
+            Verdict::Program => by_content(path),
+            skip => skip,
+        };
+        files.push(Found { rel, verdict });
+    }
+    // A glob that matched no file is worth saying: a typo chooses nothing.
+    let mut unmatched = Vec::new();
+    for (glob, nocase) in selection.positive() {
+        let one = overrides(root, &[(glob, nocase)])?;
+        if !files
+            .iter()
+            .any(|f| one.matched(root.join(&f.rel), false).is_whitelist())
+        {
+            unmatched.push(glob.to_string());
+        }
+    }
+    Ok(Walk { files, unmatched })
+}
+
+/// Whether a file's name says it is a program.
+fn by_name(rel: &Path, extensions: &[&str]) -> Verdict {
+    let name = rel
+        .file_name()
+        .map(|n| n.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
+    if name == "ncthread.toml" || name.ends_with(".profile.toml") {
+        return Verdict::Skip("a machine profile".into());
+    }
+    match rel.extension().map(|e| e.to_string_lossy().to_lowercase()) {
+        Some(e) if extensions.contains(&e.as_str()) => Verdict::Program,
+        Some(e) => Verdict::Skip(format!(
+            "not a program file (.{e}; programs are {}; --glob takes others)",
+            list(extensions)
+        )),
+        None => Verdict::Skip(format!(
+            "not a program file (no extension; programs are {}; --glob takes others)",
+            list(extensions)
+        )),
+    }
+}
+
+fn list(extensions: &[&str]) -> String {
+    extensions
+        .iter()
+        .map(|e| format!(".{e}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Whether a file's bytes are a program's: not empty, not binary.
+fn by_content(path: &Path) -> Verdict {
+    use std::io::Read as _;
+    let mut head = Vec::with_capacity(8192);
+    let read = std::fs::File::open(path).and_then(|f| f.take(8192).read_to_end(&mut head));
+    if let Err(e) = read {
+        return Verdict::Skip(format!("cannot read: {e}"));
+    }
+    content_verdict(&head)
+}
+
+/// The verdict on a file's first bytes (at most 8 KB).
+pub fn content_verdict(head: &[u8]) -> Verdict {
+    let (body, _) = crate::text::split_eof_mark(head);
+    if body.iter().all(|b| b.is_ascii_whitespace()) {
+        return Verdict::Skip("empty".into());
+    }
+    let control = body
+        .iter()
+        .filter(|&&b| b == 0 || (b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\r' | 0x0C)))
+        .count();
+    if body.contains(&0) || control * 100 > body.len() {
+        return Verdict::Skip("binary (NUL or control bytes): not a program".into());
+    }
+    Verdict::Program
+}
+
+/// The profile a program uses when the command line names none: a sidecar
+/// `STEM.profile.toml`, else the nearest `ncthread.toml` in its folder or above.
+pub fn discover_profile(program: &Path) -> Option<PathBuf> {
+    let stem = program.file_stem()?;
+    let folder = program.parent().unwrap_or(Path::new(""));
+    let mut sidecar = stem.to_os_string();
+    sidecar.push(".profile.toml");
+    let sidecar = folder.join(sidecar);
+    if sidecar.is_file() {
+        return Some(sidecar);
+    }
+    let start = std::path::absolute(folder).ok()?;
+    start
+        .ancestors()
+        .map(|dir| dir.join("ncthread.toml"))
+        .find(|p| p.is_file())
+}
+
+/// Why [`write_atomically`] wrote nothing.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum WriteError {
+    /// The file exists and `force` was not given.
+    Exists,
+    Failed(String),
+}
+
+/// Writes `bytes` to a temporary file beside `path` and renames it into place, so that no
+/// reader sees half a file (without replacing an existing file unless `force`). The file
+/// gets the mode a new file gets (0666 less the umask), as `File::create` would give it.
+/// With `guard`, a folder inside it is refused (a source tree).
+pub fn write_atomically(
+    path: &Path,
+    bytes: &[u8],
+    force: bool,
+    guard: Option<&Path>,
+) -> Result<(), WriteError> {
+    use std::io::Write as _;
+    let parent = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    std::fs::create_dir_all(parent)
+        .map_err(|e| WriteError::Failed(format!("cannot create {}: {e}", parent.display())))?;
+    if let Some(guard) = guard {
+        match std::fs::canonicalize(parent) {
+            Ok(p) if p.starts_with(guard) => {
+                return Err(WriteError::Failed(format!(
+                    "{} is inside the source tree; ncthread never writes there",
+                    parent.display()
+                )));
+            }
+            Ok(_) => {}
+            Err(e) => {
+                return Err(WriteError::Failed(format!(
+                    "cannot read {}: {e}",
+                    parent.display()
+                )));
+            }
+        }
+    }
+    let failed =
+        |e: std::io::Error| WriteError::Failed(format!("cannot write {}: {e}", path.display()));
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".ncthread-");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt as _;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let mut tmp = builder.tempfile_in(parent).map_err(failed)?;
+    tmp.write_all(bytes)
+        .and_then(|()| tmp.flush())
+        .map_err(failed)?;
+    let persisted = if force {
+        tmp.persist(path).map(drop)
+    } else {
+        tmp.persist_noclobber(path).map(drop)
+    };
+    match persisted {
+        Ok(()) => Ok(()),
+        Err(e) if e.error.kind() == std::io::ErrorKind::AlreadyExists => Err(WriteError::Exists),
+        Err(e) => Err(failed(e.error)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn content_tells_programs_from_empty_and_binary_files() {
+        assert_eq!(content_verdict(b"N10 G00 X1.\r\n\x1a"), Verdict::Program);
+        assert_eq!(content_verdict(b"G0 X1\n\0\0\0"), Verdict::Program);
+        assert!(matches!(content_verdict(b"  \r\n"), Verdict::Skip(r) if r == "empty"));
+        assert!(matches!(content_verdict(b"\x1a"), Verdict::Skip(r) if r == "empty"));
+        assert!(
+            matches!(content_verdict(b"MZ\x90\0\x03\0\0\0"), Verdict::Skip(r) if r.starts_with("binary"))
+        );
+        // Legacy encodings' high bytes are text.
+        assert_eq!(content_verdict(b"\"ROZTO\xC8EN\xCD\n"), Verdict::Program);
+    }
+
+    #[test]
+    fn names_tell_programs_profiles_and_other_files() {
+        let ext = ["nc", "ngc"];
+        assert_eq!(by_name(Path::new("a/P1.NC"), &ext), Verdict::Program);
+        assert_eq!(by_name(Path::new("p.ngc"), &ext), Verdict::Program);
+        assert!(
+            matches!(by_name(Path::new("p.profile.toml"), &ext), Verdict::Skip(r) if r == "a machine profile")
+        );
+        assert!(
+            matches!(by_name(Path::new("NCTHREAD.TOML"), &ext), Verdict::Skip(r) if r == "a machine profile")
+        );
+        assert!(
+            matches!(by_name(Path::new("README"), &ext), Verdict::Skip(r) if r.contains("no extension"))
+        );
+        assert!(
+            matches!(by_name(Path::new("p.BAK"), &ext), Verdict::Skip(r) if r.contains(".bak"))
+        );
+    }
+}
