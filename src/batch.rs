@@ -582,10 +582,7 @@ fn explain_output(
     );
     let ops = crate::explain::explain(&ir, &Default::default());
     let table = crate::explain::to_text(&ops, crate::explain::Table::Box);
-    let operation = ops
-        .iter()
-        .find(|o| o.lead.is_some() && !o.passes.is_empty())
-        .or(ops.first());
+    let operation = crate::explain::default_operation(&ops);
     let svg = crate::plot::plot(
         &format!("{name} ({})", conversion.to),
         &crate::sim::simulate(&ir).segments,

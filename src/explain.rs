@@ -99,8 +99,10 @@ impl Hand {
 pub struct Pass {
     /// 1-based.
     pub number: usize,
-    /// Depth of cut of this pass per side (`None` for the first pass of a thread whose crest
-    /// is not known).
+    /// The start (groove) it cuts, 1-based: a multi-start thread's passes cut several.
+    pub start_number: usize,
+    /// Depth of cut of this pass per side, from the pass before on its start (`None` for
+    /// the first pass of a start whose crest is not known).
     pub cut: Option<Length>,
     /// Depth per side below the crest after this pass (`None` when the crest is not known).
     pub cumulative_depth: Option<Length>,
@@ -109,15 +111,16 @@ pub struct Pass {
     /// The chip's cross-section relative to the first pass's (a V form:
     /// (dₙ² − dₙ₋₁²)/d₁²), when the depths are known.
     pub chip_area: Option<f64>,
-    /// The thread line's start and end (X a diameter), entry and runout left out.
-    pub start: (Length, Length),
-    pub end: (Length, Length),
+    /// The thread line's start and end (X a diameter): the part of the pass at its full
+    /// depth, its entry and runout left out.
+    pub start: Pos,
+    pub end: Pos,
     /// Where along the cut this pass's helix lies relative to the first pass's (mm, within
     /// half a lead): the flank infeed, or another start.
     pub shift: Option<Length>,
-    /// The spindle angle after the index pulse at which it starts.
+    /// The spindle angle after the index pulse at which it starts, as written.
     pub start_angle: Option<Angle>,
-    /// A pass at the depth of the pass before (a spring pass).
+    /// A pass at the depth of the pass before on its start (a spring pass).
     pub spring: bool,
 }
 
@@ -131,11 +134,12 @@ pub struct Operation {
     pub line: u32,
     pub block: Option<u32>,
     pub direction: Option<SpindleDirection>,
-    /// The direction of the cut along Z: −1, +1 (0: none).
+    /// The direction of the cut along Z: −1, +1 (0: none, or not known).
     pub towards: i64,
     pub hand: Option<Hand>,
     pub lead: Option<Lead>,
-    /// The distinct start angles (after the index pulse) of its passes.
+    /// The starts (grooves) it cuts, each by its angle after the index pulse relative to
+    /// the first's helix: `[0°, 180°]` for a two-start thread.
     pub start_angles: Vec<Angle>,
     /// An internal thread (the tool cuts outward).
     pub internal: bool,
@@ -157,16 +161,29 @@ pub struct Operation {
     /// The pass schedule of a cycle (`halving`, `degression`…).
     pub schedule: Option<&'static str>,
     pub passes: Vec<Pass>,
-    /// For a roughing cycle: the cut increment per pass, and the pass count. For a tap: its
-    /// depth along Z.
+    /// A tap's travel along Z (from, to).
     pub z_range: Option<(Length, Length)>,
+}
+
+impl Operation {
+    /// Whether it is a thread (a cycle or passes) with passes to draw.
+    pub fn is_thread(&self) -> bool {
+        matches!(self.kind, Kind::Cycle | Kind::Passes) && !self.passes.is_empty()
+    }
+}
+
+/// The operation `plot` and the HTML report draw when none is named: the first thread, else
+/// none.
+pub fn default_operation(ops: &[Operation]) -> Option<&Operation> {
+    ops.iter().find(|o| o.is_thread())
 }
 
 /// Options of [`explain`].
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Options {
-    /// The crest diameter of threads written as single passes (a program of passes does not
-    /// say it: the nominal diameter, e.g. 36 for M36).
+    /// The crest diameter of threads written as single passes, which such a program does
+    /// not say: the major diameter of an external thread (36 for M36), the minor (bore)
+    /// diameter of an internal one.
     pub crest: Option<Length>,
 }
 
@@ -176,44 +193,50 @@ pub fn explain(program: &Program, options: &Options) -> Vec<Operation> {
     let mut pos = Pos::UNKNOWN;
     let mut direction = None;
     let mut run: Option<Run> = None;
-    let items = &program.items;
-    for item in items {
+    for item in &program.items {
         let kind = &item.kind;
         let at = (item.span.line, item.block_number);
         match kind {
-            ItemKind::ThreadPass(pass) => {
+            // A block that continues the pass before without waiting (a chain).
+            ItemKind::ThreadPass(pass)
                 if pass.start == SyncStart::Continue
-                    && let Some(r) = run.as_mut().and_then(|r| r.chained(pos))
-                {
-                    r.push(*pass);
-                } else {
-                    let p = RunPass::new(pos, pass);
-                    if !run.as_ref().is_some_and(|r| r.takes(&p, direction)) {
+                    && run.as_ref().is_some_and(|r| r.continues_at(pos)) =>
+            {
+                if let Some(r) = run.as_mut() {
+                    r.chain(*pass);
+                }
+            }
+            ItemKind::ThreadPass(pass) => {
+                let p = RunPass::new(at, pos, pass);
+                match run.as_mut() {
+                    Some(r) if r.direction == direction => r.push(p, &mut ops, options),
+                    _ => {
                         flush(&mut run, &mut ops, options);
-                        run = Some(Run {
-                            at,
-                            direction,
-                            passes: Vec::new(),
-                            retract: 0,
-                        });
-                    }
-                    if let Some(r) = run.as_mut() {
-                        r.passes.push(p);
+                        run = Some(Run::new(at, direction, p));
                     }
                 }
             }
             // What a thread written as passes holds between its passes.
             ItemKind::Rapid { .. }
             | ItemKind::Feed { .. }
+            | ItemKind::Arc { .. }
             | ItemKind::Comment(_)
             | ItemKind::FeedRate(_)
             | ItemKind::FeedMode(_)
             | ItemKind::Delimiter
-            | ItemKind::ParamAssign { .. } => {
+            | ItemKind::ParamAssign { .. }
+            | ItemKind::Coolant(_)
+            | ItemKind::Dwell { .. }
+            | ItemKind::Stop { .. } => {
                 if let Some(r) = run.as_mut() {
                     r.moved(pos, kind.end_position(pos));
                 }
             }
+            // The spindle said again, or its speed changed: the helix is the same.
+            ItemKind::Spindle {
+                direction: d @ (None | Some(_)),
+                ..
+            } if d.is_none() || *d == direction => {}
             _ => {
                 flush(&mut run, &mut ops, options);
                 match kind {
@@ -280,97 +303,126 @@ fn blank(
 }
 
 /// One pass of a thread: its first block (which waits for the index pulse) and the blocks
-/// that continue it without waiting (a chain: entry, thread, runout as blocks of their own),
-/// each with where it starts.
+/// that continue it without waiting (a chain: entry, thread, runout as blocks of their own).
 #[derive(Clone, Debug)]
 struct RunPass {
-    blocks: Vec<(Pos, ThreadPass)>,
+    /// Its first block's line and block number.
+    at: (u32, Option<u32>),
+    from: Pos,
+    blocks: Vec<ThreadPass>,
     /// Where the chain ends (the last block's end).
     end: Pos,
-    phase: Option<Angle>,
+    /// Its straight pieces (infeed, entry, thread, runout of every block) as the simulator
+    /// moves them, with the helix phase of each piece along Z; made when first asked for
+    /// (the chain is complete then).
+    moves: std::cell::OnceCell<Vec<(Pos, Pos, Option<Angle>)>>,
 }
 
+/// A straight piece of a pass.
+type Piece = (Pos, Pos);
+
 impl RunPass {
-    fn new(from: Pos, pass: &ThreadPass) -> RunPass {
-        RunPass {
-            blocks: vec![(from, *pass)],
-            end: ItemKind::ThreadPass(*pass).end_position(from),
-            phase: sim::pass_phase(from, pass),
-        }
+    fn new(at: (u32, Option<u32>), from: Pos, pass: &ThreadPass) -> RunPass {
+        let mut p = RunPass {
+            at,
+            from,
+            blocks: Vec::new(),
+            end: from,
+            moves: std::cell::OnceCell::new(),
+        };
+        p.chain(*pass);
+        p
     }
 
     /// A block continuing the chain.
-    fn push(&mut self, pass: ThreadPass) {
-        self.blocks.push((self.end, pass));
+    fn chain(&mut self, pass: ThreadPass) {
         self.end = ItemKind::ThreadPass(pass).end_position(self.end);
+        self.blocks.push(pass);
+        self.moves = std::cell::OnceCell::new();
     }
 
-    /// The block of the chain that is its thread: the longest along Z.
-    fn main(&self) -> usize {
-        let travel = |(from, pass): &(Pos, ThreadPass)| match (from.z, pass.to.z) {
-            (Some(a), Some(b)) => (b - a).abs().0,
-            _ => 0,
+    fn moves(&self) -> &[(Pos, Pos, Option<Angle>)] {
+        self.moves
+            .get_or_init(|| sim::chain_moves(self.from, &self.blocks))
+    }
+
+    /// The index of the thread line among the pieces: the longest along Z (along X for a
+    /// face thread).
+    fn main(&self) -> Option<usize> {
+        let along = |&(a, b, _): &(Pos, Pos, Option<Angle>), z: bool| {
+            let (p, q) = if z { (a.z, b.z) } else { (a.x, b.x) };
+            p.zip(q).map_or(0, |(p, q)| (q - p).0.abs())
         };
-        let mut best = 0;
-        for (i, b) in self.blocks.iter().enumerate() {
-            if travel(b) > travel(&self.blocks[best]) {
-                best = i;
+        let moves = self.moves();
+        let axial = moves.iter().any(|p| along(p, true) > 0);
+        (0..moves.len()).max_by_key(|&i| (along(&moves[i], axial), usize::MAX - i))
+    }
+
+    /// The thread line, and the lengths along Z of what comes before it (the entry) and
+    /// after it (the runout).
+    fn line(&self) -> Option<(Piece, Length, Length)> {
+        let main = self.main()?;
+        let z_of = |ps: &[(Pos, Pos, Option<Angle>)]| {
+            Length(
+                ps.iter()
+                    .map(|(a, b, _)| a.z.zip(b.z).map_or(0, |(a, b)| (b - a).0.abs()))
+                    .sum(),
+            )
+        };
+        let moves = self.moves();
+        let (a, b, _) = moves[main];
+        Some(((a, b), z_of(&moves[..main]), z_of(&moves[main + 1..])))
+    }
+
+    /// The phase of the thread line's helix.
+    fn phase(&self) -> Option<Angle> {
+        self.moves()[self.main()?].2
+    }
+
+    /// Every piece's ends.
+    fn pieces(&self) -> impl Iterator<Item = Piece> + '_ {
+        self.moves().iter().map(|&(a, b, _)| (a, b))
+    }
+
+    /// The thread block's lead (every block of a LinuxCNC chain has its own K: the thread's
+    /// is the block that travels furthest along Z).
+    fn thread_lead(&self) -> Lead {
+        let mut at = self.from;
+        let mut best = (0, self.blocks.first().map_or(Lead::ZERO, |p| p.lead));
+        for p in &self.blocks {
+            let next = ItemKind::ThreadPass(*p).end_position(at);
+            let travel = at.z.zip(next.z).map_or(0, |(a, b)| (b - a).0.abs());
+            if travel > best.0 {
+                best = (travel, p.lead);
             }
+            at = next;
         }
-        best
-    }
-
-    fn thread(&self) -> &ThreadPass {
-        &self.blocks[self.main()].1
-    }
-
-    /// The thread line's start (after the infeed, before the entry) and its end.
-    fn line(&self) -> Option<((Length, Length), (Length, Length))> {
-        let (from, pass) = &self.blocks[self.main()];
-        let (x, z) = from.known()?;
-        let x = pass.infeed.map_or(x, |i| i.x);
-        let x = x - pass.entry.map_or(Length::ZERO, |e| e.offset);
-        // An axis the pass does not write stays where the line starts.
-        let end = (pass.to.x.unwrap_or(x), pass.to.z.unwrap_or(z));
-        Some(((x, z), end))
-    }
-
-    /// The entry and the runout along Z: the thread block's own, and the blocks of the chain
-    /// before and after it.
-    fn chamfers(&self) -> (Option<Length>, Option<Length>) {
-        let main = self.main();
-        let travel = |blocks: &[(Pos, ThreadPass)]| {
-            blocks
-                .iter()
-                .filter_map(|(from, pass)| Some((pass.to.z? - from.z?).abs()))
-                .fold(Length::ZERO, |a, b| a + b)
-        };
-        let sum = |own: Option<Length>, blocks: &[(Pos, ThreadPass)]| {
-            let l = own.unwrap_or_default() + travel(blocks);
-            (l.0 > 0).then_some(l)
-        };
-        let pass = &self.blocks[main].1;
-        (
-            sum(pass.entry.map(|e| e.length), &self.blocks[..main]),
-            sum(pass.exit.map(|e| e.length), &self.blocks[main + 1..]),
-        )
+        best.1
     }
 
     fn towards(&self) -> i64 {
         match self.line() {
-            Some(((_, a), (_, b))) => (b - a).signum(),
+            Some(((a, b), ..)) => a.z.zip(b.z).map_or(0, |(a, b)| (b - a).signum()),
             None => 0,
         }
     }
 
     /// The line's diameter at `z` (on the line extended).
     fn x_at(&self, z: Length) -> Option<Length> {
-        let ((x0, z0), (x1, z1)) = self.line()?;
+        let ((a, b), ..) = self.line()?;
+        let ((x0, z0), (x1, z1)) = (a.known()?, b.known()?);
         Some(if z1 == z0 {
             x0
         } else {
             x0 + (x1 - x0).mul_div((z - z0).0, (z1 - z0).0)
         })
+    }
+
+    /// The Z range of the line (a point for a face thread).
+    fn z_range(&self) -> Option<(Length, Length)> {
+        let ((a, b), ..) = self.line()?;
+        let (za, zb) = (a.z?, b.z?);
+        Some((za.min(zb), za.max(zb)))
     }
 }
 
@@ -384,35 +436,71 @@ struct Run {
 }
 
 impl Run {
-    /// The last pass, when a block continuing a synchronised move at `pos` extends it.
-    fn chained(&mut self, pos: Pos) -> Option<&mut Run> {
-        (self.passes.last()?.end == pos).then_some(self)
-    }
-
-    fn push(&mut self, pass: ThreadPass) {
-        if let Some(last) = self.passes.last_mut() {
-            last.push(pass);
+    fn new(at: (u32, Option<u32>), direction: Option<SpindleDirection>, first: RunPass) -> Run {
+        Run {
+            at,
+            direction,
+            passes: vec![first],
+            retract: 0,
         }
     }
 
-    /// Whether `p` cuts the same thread: the same lead, spindle and cutting direction, over
-    /// Z that overlaps the first pass's.
-    fn takes(&self, p: &RunPass, direction: Option<SpindleDirection>) -> bool {
-        let Some(first) = self.passes.first() else {
-            return false;
-        };
-        let range = |r: &RunPass| {
-            let ((_, a), (_, b)) = r.line()?;
-            Some((a.min(b), a.max(b)))
-        };
-        let overlaps = match (range(first), range(p)) {
+    /// Whether a block continuing a synchronised move at `pos` continues the last pass.
+    fn continues_at(&self, pos: Pos) -> bool {
+        self.passes.last().is_some_and(|p| p.end == pos)
+    }
+
+    fn chain(&mut self, pass: ThreadPass) {
+        if let Some(last) = self.passes.last_mut() {
+            last.chain(pass);
+        }
+    }
+
+    /// A new pass: the last one is complete now, so whether it belongs to this thread can be
+    /// told; if it does not, it begins an operation of its own.
+    fn push(&mut self, next: RunPass, ops: &mut Vec<Operation>, options: &Options) {
+        self.settle(ops, options);
+        self.passes.push(next);
+    }
+
+    /// The last pass (complete) stays when it cuts the same thread as the first, else it
+    /// ends this run's operation and begins the next.
+    fn settle(&mut self, ops: &mut Vec<Operation>, options: &Options) {
+        if self.passes.len() < 2 {
+            return;
+        }
+        let last = self.passes.len() - 1;
+        if self.same_thread(&self.passes[last]) {
+            return;
+        }
+        let Some(p) = self.passes.pop() else { return };
+        let done = std::mem::replace(self, Run::new(p.at, self.direction, p));
+        ops.push(passes_operation(done, options));
+    }
+
+    /// Whether `p` cuts the same thread as the first pass: the same lead and cutting
+    /// direction, over Z that overlaps the first's, within a thread's depth of it.
+    fn same_thread(&self, p: &RunPass) -> bool {
+        let first = &self.passes[0];
+        let overlaps = match (first.z_range(), p.z_range()) {
+            (Some((a0, a1)), Some((b0, b1))) if a0 == a1 || b0 == b1 => a0 <= b1 && b0 <= a1,
             (Some((a0, a1)), Some((b0, b1))) => a0 < b1 && b0 < a1,
             _ => false,
         };
-        first.thread().lead == p.thread().lead
-            && self.direction == direction
+        // A thread is at most about a lead deep per side: two diameters further apart than
+        // two leads are two threads.
+        let reach = first.thread_lead().length_times(2, 1) + Length::from_mm(0);
+        let close = match first
+            .z_range()
+            .and_then(|(z, _)| first.x_at(z).zip(p.x_at(z)))
+        {
+            Some((a, b)) => (a - b).abs() <= reach,
+            None => true,
+        };
+        first.thread_lead() == p.thread_lead()
             && first.towards() == p.towards()
             && overlaps
+            && close
     }
 
     /// A move between passes: the first one along X after a pass tells where outside is.
@@ -426,82 +514,102 @@ impl Run {
 }
 
 fn flush(run: &mut Option<Run>, ops: &mut Vec<Operation>, options: &Options) {
-    if let Some(r) = run.take()
-        && !r.passes.is_empty()
-    {
+    if let Some(mut r) = run.take() {
+        r.settle(ops, options);
         ops.push(passes_operation(r, options));
     }
 }
 
-/// The depth of each pass below the crest, and the rows.
+/// `v²` of a length, for chip areas.
+fn square(l: Length) -> f64 {
+    (l.0 as f64) * (l.0 as f64)
+}
+
+/// The rows of a thread's passes: depths below the crest (or the first pass), cuts from
+/// the pass before on the same start, chip areas, shifts and spring passes.
 struct Rows<'a> {
+    /// +1: the passes go in from larger diameters (external).
     outward: i64,
     crest: Option<Length>,
-    reference_z: Length,
+    reference_z: Option<Length>,
     lead: Lead,
     passes: &'a [RunPass],
+    /// The depth of each pass when the thread says it (a cycle's expansion).
+    depths: Option<Vec<Length>>,
 }
 
 impl Rows<'_> {
     fn rows(&self) -> Vec<Pass> {
-        let below = |p: &RunPass, x0: Length| {
-            p.x_at(self.reference_z)
-                .map(|x| Length(self.outward * (x0 - x).0).mul_div(1, 2))
-        };
-        let first_x = self
-            .passes
-            .first()
-            .and_then(|p| p.x_at(self.reference_z))
-            .unwrap_or_default();
-        let depths: Vec<Option<Length>> = self
-            .passes
-            .iter()
-            .map(|p| self.crest.and_then(|c| below(p, c)))
-            .collect();
-        let first_depth = depths.first().copied().flatten();
-        let first_phase = self.passes.first().and_then(|p| p.phase);
-        let mut rows = Vec::with_capacity(self.passes.len());
-        // Each start (start angle) is its own groove: a pass's cut is from the pass before
-        // of the same start.
-        let mut previous: Vec<(Option<Angle>, Option<Length>, Length)> = Vec::new();
+        let x_at = |p: &RunPass| self.reference_z.and_then(|z| p.x_at(z));
+        let below = |x: Length, from: Length| Length(self.outward * (from - x).0).mul_div(1, 2);
+        let first_x = self.passes.first().and_then(x_at);
+        let first_phase = self.passes.first().and_then(|p| p.phase());
+        let mut rows: Vec<Pass> = Vec::with_capacity(self.passes.len());
+        // Each start: its last pass's shift, depth below the first pass, and depth.
+        let mut starts: Vec<(Length, Length, Option<Length>)> = Vec::new();
+        let mut previous_depth = Length::ZERO;
         for (i, p) in self.passes.iter().enumerate() {
-            let depth = depths[i];
-            let below_first = below(p, first_x).unwrap_or_default();
-            let angle = p.blocks[0].1.start.angle();
-            let before = previous.iter().rev().find(|(a, ..)| *a == angle).copied();
-            let prev_depth = match before {
-                Some((_, d, _)) => d,
-                None => Some(Length::ZERO).filter(|_| self.crest.is_some()),
+            let x = x_at(p);
+            let below_first = x.zip(first_x).map_or(Length::ZERO, |(x, f)| below(x, f));
+            let depth = match &self.depths {
+                Some(d) => d.get(i).copied(),
+                None => self.crest.zip(x).map(|(c, x)| below(x, c)),
             };
-            let cut = match (depth, prev_depth) {
-                (Some(d), Some(prev)) => Some(d - prev),
-                _ => before.map(|(_, _, prev)| below_first - prev),
-            };
-            let chip_area = match (depth, prev_depth, first_depth) {
-                (Some(d), Some(prev), Some(d1)) if d1.0 > 0 => {
-                    let sq = |l: Length| (l.0 as f64) * (l.0 as f64);
-                    Some((sq(d) - sq(prev)) / sq(d1))
-                }
+            let shift = p
+                .phase()
+                .zip(first_phase)
+                .map(|(a, b)| shift_of(b, a, self.lead));
+            // A pass belongs to the start whose last pass's helix it follows: its shift
+            // moves by no more than its depth grew (an infeed of at most 45°), give or take
+            // 0.01 mm.
+            let s = shift.unwrap_or_default();
+            let start = starts
+                .iter()
+                .position(|&(ss, d, _)| (s - ss).abs() <= (below_first - d).abs() + Length(100));
+            let before = start.map(|k| starts[k]);
+            let start = start.unwrap_or_else(|| {
+                starts.push((s, below_first, depth));
+                starts.len() - 1
+            });
+            let cut = match (&self.depths, depth, before) {
+                // A cycle's passes follow one another on one start.
+                (Some(_), Some(d), _) => Some(d - previous_depth),
+                (None, Some(d), Some((_, _, Some(b)))) => Some(d - b),
+                (None, Some(d), None) => Some(d),
+                (_, _, Some((_, b, _))) => Some(below_first - b),
                 _ => None,
             };
-            let shift = match (p.phase, first_phase) {
-                (Some(a), Some(b)) => Some(shift_of(b, a, self.lead)),
-                _ => None,
-            };
-            let ((sx, sz), end) = p.line().unwrap_or_default();
+            previous_depth = depth.unwrap_or_default();
+            starts[start] = (s, below_first, depth);
             rows.push(Pass {
                 number: i + 1,
+                start_number: start + 1,
                 cut,
                 cumulative_depth: depth,
                 below_first,
-                chip_area,
-                start: (sx, sz),
-                end,
+                chip_area: None,
+                start: Pos::UNKNOWN,
+                end: Pos::UNKNOWN,
                 shift,
-                start_angle: angle,
-                spring: before.is_some_and(|(_, _, prev)| prev == below_first),
+                start_angle: p.blocks[0].start.angle(),
+                spring: before.is_some() && cut == Some(Length::ZERO),
             });
-            previous.push((angle, depth, below_first));
+            if let Some(((a, b), ..)) = p.line() {
+                let row = rows.last_mut().expect("pushed");
+                row.start = a;
+                row.end = b;
+            }
+        }
+        // Chip areas relative to the first pass.
+        let first = rows
+            .first()
+            .and_then(|r| r.cumulative_depth)
+            .filter(|d| d.0 > 0);
+        for row in &mut rows {
+            row.chip_area = match (first, row.cumulative_depth, row.cut) {
+                (Some(f), Some(d), Some(c)) => Some((square(d) - square(d - c)) / square(f)),
+                _ => None,
+            };
         }
         rows
     }
@@ -521,24 +629,24 @@ fn shift_of(first: Angle, other: Angle, lead: Lead) -> Length {
 fn passes_operation(run: Run, options: &Options) -> Operation {
     let first = &run.passes[0];
     let towards = first.towards();
-    let lead = first.thread().lead;
+    let lead = first.thread_lead();
     let mut op = blank(Kind::Passes, run.at, run.direction, towards, Some(lead));
-    let reference_z = first.line().map_or(Length::ZERO, |((_, z), _)| z);
-    // Outside is where the passes come from: a deeper pass lies further in.
+    let reference_z = first.line().and_then(|((a, _), ..)| a.z);
     let xs: Vec<Length> = run
         .passes
         .iter()
-        .filter_map(|p| p.x_at(reference_z))
+        .filter_map(|p| reference_z.and_then(|z| p.x_at(z)))
         .collect();
     let spread = xs.last().copied().unwrap_or_default() - xs.first().copied().unwrap_or_default();
     // A runout or an entry rises out of the thread; else the deeper passes lie further in;
     // else the first move along X after a pass leaves the thread.
-    let chamfer = first
-        .thread()
-        .exit
-        .or(first.thread().entry)
-        .map_or(0, |c| c.offset.signum());
-    let outward = match (chamfer, spread.signum(), run.retract) {
+    let rise = first.line().and_then(|((a, b), ..)| {
+        let pieces: Vec<Piece> = first.pieces().collect();
+        let (start, end) = (pieces.first()?.0, pieces.last()?.1);
+        let out = |p: Pos, q: Pos| p.x.zip(q.x).map(|(p, q)| (p - q).signum());
+        out(end, b).filter(|s| *s != 0).or(out(start, a))
+    });
+    let outward = match (rise.unwrap_or(0), spread.signum(), run.retract) {
         (0, 0, r) if r < 0 => -1,
         (0, 0, _) => 1,
         (0, s, _) => -s,
@@ -557,6 +665,7 @@ fn passes_operation(run: Run, options: &Options) -> Operation {
         reference_z,
         lead,
         passes: &run.passes,
+        depths: None,
     }
     .rows();
     // The deepest pass's diameter.
@@ -568,19 +677,39 @@ fn passes_operation(run: Run, options: &Options) -> Operation {
         (Some(c), Some(r)) => Some(Length(outward * (c - r).0).mul_div(1, 2)),
         _ => None,
     };
-    if let Some(((x0, _), (x1, _))) = run.passes.last().and_then(|p| p.line()) {
+    if let Some(((a, b), ..)) = run.passes.last().and_then(|p| p.line())
+        && let (Some(x0), Some(x1)) = (a.x, b.x)
+    {
         op.taper = x1 - x0;
     }
-    (op.entry, op.runout) = first.chamfers();
-    let mut angles: Vec<Angle> = rows.iter().filter_map(|r| r.start_angle).collect();
-    angles.sort_by_key(|a| a.0);
-    angles.dedup();
-    op.start_angles = angles;
-    // The infeed angle from the first pass to the deepest, when both shift and depth grow.
-    if let Some(last) = rows.last()
+    if let Some((_, entry, runout)) = first.line() {
+        op.entry = Some(entry).filter(|l| l.0 > 0);
+        op.runout = Some(runout).filter(|l| l.0 > 0);
+    }
+    // The starts: each start's angle after the index pulse relative to the first's helix.
+    let mut starts: Vec<(usize, Length)> = Vec::new();
+    for r in &rows {
+        if !starts.iter().any(|(n, _)| *n == r.start_number) {
+            starts.push((r.start_number, r.shift.unwrap_or_default()));
+        }
+    }
+    let base = rows
+        .first()
+        .and_then(|r| r.start_angle)
+        .unwrap_or(Angle::ZERO);
+    op.start_angles = starts
+        .iter()
+        .map(|&(_, shift)| {
+            let turns = (shift.0 as i128 * TURN as i128 * Lead::PER_LENGTH as i128)
+                .checked_div(lead.0.max(1) as i128)
+                .unwrap_or(0);
+            Angle((base.0 - turns as i64).rem_euclid(TURN))
+        })
+        .collect();
+    // The infeed angle from the first pass to the deepest of its start.
+    if let Some(last) = rows.iter().rev().find(|r| r.start_number == 1)
         && let Some(shift) = last.shift
         && last.below_first.0 > 0
-        && op.start_angles.len() <= 1
     {
         op.infeed_angle = Some(
             (shift.to_mm_f64() / last.below_first.to_mm_f64())
@@ -621,46 +750,32 @@ fn cycle_operation(
     let mut passes = Vec::with_capacity(expansion.passes.len());
     for m in &expansion.moves {
         if let lower::Move::Pass(p) = &m.kind {
-            passes.push(RunPass::new(pos, p));
+            passes.push(RunPass::new(at, pos, p));
         }
         pos = m.kind.end_position(pos);
     }
     let mut rows = Rows {
         outward,
         crest: Some(cycle.crest),
-        reference_z: cycle.start.1,
+        reference_z: Some(cycle.start.1),
         lead: cycle.lead,
         passes: &passes,
+        // The expansion's depths are the cycle's own.
+        depths: Some(expansion.passes.iter().map(|p| p.depth).collect()),
     }
     .rows();
-    // The expansion's depths are the cycle's own (the line of a taper thread is measured
-    // at each pass's start, where the cycle places it).
-    for (row, p) in rows.iter_mut().zip(&expansion.passes) {
-        row.cumulative_depth = Some(p.depth);
-        row.cut = Some(p.cut);
-        row.spring = row.number > expansion.passes.len() - cycle.spring_passes as usize;
-    }
-    let first = rows.first().and_then(|r| r.cumulative_depth);
-    let mut previous = Length::ZERO;
+    let spring_from = expansion.passes.len() - cycle.spring_passes as usize;
     for row in &mut rows {
-        let d = row.cumulative_depth.unwrap_or_default();
-        row.chip_area = first.filter(|f| f.0 > 0).map(|f| {
-            let sq = |l: Length| (l.0 as f64) * (l.0 as f64);
-            (sq(d) - sq(previous)) / sq(f)
-        });
-        previous = d;
+        row.spring = row.number > spring_from;
+        row.start_number = 1;
     }
     op.passes = rows;
     op
 }
 
 fn roughing_operation(cycle: &RoughingCycle, at: (u32, Option<u32>), from: Pos) -> Operation {
-    let code = match cycle.code {
-        c if c % 10 == 0 => format!("G{}", c / 10),
-        c => format!("G{}.{}", c / 10, c % 10),
-    };
     let facing = matches!(cycle.kind, RoughingKind::Rough { facing: true, .. });
-    let mut op = blank(Kind::Roughing(code), at, None, 0, None);
+    let mut op = blank(Kind::Roughing(roughing_code(cycle.code)), at, None, 0, None);
     // A cut: the feeds and arcs between two rapids.
     let mut pos = from;
     let mut rows: Vec<Pass> = Vec::new();
@@ -671,15 +786,15 @@ fn roughing_operation(cycle: &RoughingCycle, at: (u32, Option<u32>), from: Pos) 
             ItemKind::Rapid { .. } => cutting = false,
             _ => {
                 if !cutting {
-                    let start = pos.known().unwrap_or_default();
                     rows.push(Pass {
                         number: rows.len() + 1,
+                        start_number: 1,
                         cut: None,
                         cumulative_depth: None,
                         below_first: Length::ZERO,
                         chip_area: None,
-                        start,
-                        end: start,
+                        start: pos,
+                        end: pos,
                         shift: None,
                         start_angle: None,
                         spring: false,
@@ -687,26 +802,34 @@ fn roughing_operation(cycle: &RoughingCycle, at: (u32, Option<u32>), from: Pos) 
                     cutting = true;
                 }
                 if let Some(row) = rows.last_mut() {
-                    row.end = next.known().unwrap_or_default();
+                    row.end = next;
                 }
             }
         }
         pos = next;
     }
-    // The step of each roughing cut from the one before, per side (along Z for facing).
-    // (A pocket's cuts, G71.2/G72.2, start where each pocket does: no step.)
+    // The step of each roughing cut from the one before, per side (along Z for facing). (A
+    // pocket's cuts, G71.2/G72.2, start where each pocket does: no step.)
     if let RoughingKind::Rough { variant: 0 | 1, .. } = cycle.kind {
         for i in 1..rows.len() {
             let (a, b) = (rows[i - 1].start, rows[i].start);
-            rows[i].cut = Some(if facing {
-                (b.1 - a.1).abs()
+            rows[i].cut = if facing {
+                a.z.zip(b.z).map(|(a, b)| (b - a).abs())
             } else {
-                (b.0 - a.0).abs().mul_div(1, 2)
-            });
+                a.x.zip(b.x).map(|(a, b)| (b - a).abs().mul_div(1, 2))
+            };
         }
     }
     op.passes = rows;
     op
+}
+
+/// `G71.1` for 711: the code as LinuxCNC names it.
+fn roughing_code(code: u16) -> String {
+    match code {
+        c if c % 10 == 0 => format!("G{}", c / 10),
+        c => format!("G{}.{}", c / 10, c % 10),
+    }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -715,7 +838,7 @@ fn roughing_operation(cycle: &RoughingCycle, at: (u32, Option<u32>), from: Pos) 
 /// How the text table is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Table {
-    /// UTF-8 box drawing.
+    /// UTF-8: box drawing, `Ø`, `°`, `−`.
     Box,
     /// ASCII only.
     Plain,
@@ -726,11 +849,9 @@ fn diameter(l: Length) -> String {
 }
 
 fn hand_text(op: &Operation) -> String {
-    let spindle = match op.direction {
-        Some(SpindleDirection::Clockwise) => "M3",
-        Some(SpindleDirection::CounterClockwise) => "M4",
-        None => "spindle not turning",
-    };
+    let spindle = op
+        .direction
+        .map_or("spindle not turning", SpindleDirection::code);
     let towards = match op.towards {
         t if t < 0 => "cut towards −Z",
         t if t > 0 => "cut towards +Z",
@@ -768,11 +889,20 @@ pub fn to_text(ops: &[Operation], table: Table) -> String {
             out.push_str(&pass_table(op, table));
         }
     }
-    out
+    match table {
+        Table::Box => out,
+        // What the plain table must not hold either.
+        Table::Plain => out
+            .replace('Ø', "D")
+            .replace('°', " deg")
+            .replace(['−', '—'], "-")
+            .replace('²', "^2"),
+    }
 }
 
 /// The lines under an operation's heading.
 fn facts(op: &Operation) -> Vec<String> {
+    use std::fmt::Write as _;
     let mut lines = Vec::new();
     match &op.kind {
         Kind::Roughing(_) => {
@@ -783,10 +913,7 @@ fn facts(op: &Operation) -> Vec<String> {
         Kind::Tap => {
             let mut l = format!("{}, lead {} mm", hand_text(op), lead_text(op));
             if let Some((a, b)) = op.z_range {
-                let _ = std::fmt::Write::write_fmt(
-                    &mut l,
-                    format_args!(", Z{} to Z{}", a.mm(), b.mm()),
-                );
+                let _ = write!(l, ", Z{} to Z{}", a.mm(), b.mm());
             }
             lines.push(l);
             return lines;
@@ -806,7 +933,7 @@ fn facts(op: &Operation) -> Vec<String> {
         lead_text(op),
         starts,
         if starts == 1 { "" } else { "s" },
-        if op.start_angles.len() == 1 { "" } else { "s" },
+        if op.start_angles.len() > 1 { "s" } else { "" },
         if angles.is_empty() {
             "0°".into()
         } else {
@@ -823,12 +950,22 @@ fn facts(op: &Operation) -> Vec<String> {
     };
     let mut l = format!("{side}, {crest}");
     if let Some(r) = op.root {
-        let _ = std::fmt::Write::write_fmt(&mut l, format_args!(", root {}", diameter(r)));
+        let _ = write!(l, ", root {}", diameter(r));
     }
     if let Some(d) = op.depth {
-        let _ = std::fmt::Write::write_fmt(&mut l, format_args!(", depth {} mm per side", d.mm()));
+        let _ = write!(l, ", depth {} mm per side", d.mm());
     }
     lines.push(l);
+    if op
+        .passes
+        .iter()
+        .any(|p| p.cumulative_depth.is_some_and(|d| d.0 < 0))
+    {
+        lines.push(format!(
+            "some passes lie outside the crest: is it right? (the crest of an {side} thread is its {} diameter)",
+            if op.internal { "minor (bore)" } else { "major" }
+        ));
+    }
     let taper = if op.taper == Length::ZERO {
         "straight".to_string()
     } else {
@@ -851,7 +988,7 @@ fn facts(op: &Operation) -> Vec<String> {
         if op.spring_passes == 1 { "" } else { "es" }
     );
     if let Some(s) = op.schedule {
-        let _ = std::fmt::Write::write_fmt(&mut l, format_args!(", {s} schedule"));
+        let _ = write!(l, ", {s} schedule");
     }
     lines.push(l);
     lines
@@ -861,48 +998,56 @@ fn lead_text(op: &Operation) -> String {
     op.lead.map_or("?".into(), |l| l.mm())
 }
 
+/// An axis of a point in a table column (`?` when not known).
+fn axis(v: Option<Length>) -> String {
+    v.map_or("?".to_string(), |v| v.mm_fixed())
+}
+
 /// The pass table as aligned columns.
 fn pass_table(op: &Operation, table: Table) -> String {
     let roughing = matches!(op.kind, Kind::Roughing(_));
     let known = op.crest.is_some();
+    let many = op.start_angles.len() > 1;
     let mut header: Vec<&str> = vec!["pass"];
     if roughing {
-        header.extend(["step", "X start", "Z start", "X end", "Z end"]);
+        header.push("step");
     } else {
+        if many {
+            header.push("start");
+        }
         header.extend([
             "cut",
             if known { "depth" } else { "below pass 1" },
             "chip area",
             "shift",
-            "X start",
-            "Z start",
-            "X end",
-            "Z end",
         ]);
     }
-    let opt = |l: Option<Length>| l.map_or("—".to_string(), |l| l.mm_fixed());
+    header.extend(["X start", "Z start", "X end", "Z end"]);
+    let none = "—".to_string();
+    let opt = |l: Option<Length>| l.map_or(none.clone(), |l| l.mm_fixed());
     let rows: Vec<Vec<String>> = op
         .passes
         .iter()
         .map(|p| {
             let mut r = vec![format!("{}{}", p.number, if p.spring { "s" } else { "" })];
-            if roughing {
-                r.push(opt(p.cut));
-            } else {
-                r.push(opt(p.cut));
+            if !roughing && many {
+                r.push(p.start_number.to_string());
+            }
+            r.push(opt(p.cut));
+            if !roughing {
                 r.push(if known {
                     opt(p.cumulative_depth)
                 } else {
                     p.below_first.mm_fixed()
                 });
-                r.push(p.chip_area.map_or("—".into(), |a| format!("{a:.2}")));
+                r.push(p.chip_area.map_or(none.clone(), |a| format!("{a:.2}")));
                 r.push(opt(p.shift));
             }
             r.extend([
-                p.start.0.mm_fixed(),
-                p.start.1.mm_fixed(),
-                p.end.0.mm_fixed(),
-                p.end.1.mm_fixed(),
+                axis(p.start.x),
+                axis(p.start.z),
+                axis(p.end.x),
+                axis(p.end.z),
             ]);
             r
         })
@@ -957,13 +1102,12 @@ fn mm(l: Length) -> serde_json::Value {
     serde_json::json!(l.to_mm_f64())
 }
 
-fn lead_mm(l: Lead) -> serde_json::Value {
-    l.mm()
-        .parse::<f64>()
-        .map_or(serde_json::Value::Null, |v| serde_json::json!(v))
+fn point(p: Pos) -> (Option<serde_json::Value>, Option<serde_json::Value>) {
+    (p.x.map(mm), p.z.map(mm))
 }
 
-/// The JSON form: `{ "operations": [ { …, "passes": [ … ] } ] }`, lengths in mm.
+/// The JSON form: `{ "operations": [ { …, "passes": [ … ] } ] }`, lengths in mm, `null` for
+/// what the program does not say.
 pub fn to_json(ops: &[Operation]) -> serde_json::Value {
     let operations: Vec<serde_json::Value> = ops
         .iter()
@@ -972,8 +1116,10 @@ pub fn to_json(ops: &[Operation]) -> serde_json::Value {
                 .passes
                 .iter()
                 .map(|p| {
+                    let ((xs, zs), (xe, ze)) = (point(p.start), point(p.end));
                     serde_json::json!({
                         "pass": p.number,
+                        "start": p.start_number,
                         "cut": p.cut.map(mm),
                         "cumulative_depth": p.cumulative_depth.map(mm),
                         "below_first": mm(p.below_first),
@@ -981,10 +1127,10 @@ pub fn to_json(ops: &[Operation]) -> serde_json::Value {
                         "shift": p.shift.map(mm),
                         "start_angle": p.start_angle.map(|a| a.to_deg_f64()),
                         "spring": p.spring,
-                        "x_start": mm(p.start.0),
-                        "z_start": mm(p.start.1),
-                        "x_end": mm(p.end.0),
-                        "z_end": mm(p.end.1),
+                        "x_start": xs,
+                        "z_start": zs,
+                        "x_end": xe,
+                        "z_end": ze,
                     })
                 })
                 .collect();
@@ -998,15 +1144,11 @@ pub fn to_json(ops: &[Operation]) -> serde_json::Value {
                 "code": code,
                 "line": op.line,
                 "block": op.block,
-                "spindle": match op.direction {
-                    Some(SpindleDirection::Clockwise) => Some("M3"),
-                    Some(SpindleDirection::CounterClockwise) => Some("M4"),
-                    None => None,
-                },
+                "spindle": op.direction.map(SpindleDirection::code),
                 "towards": op.towards,
                 "hand": op.hand.map(Hand::id),
-                "lead": op.lead.map(lead_mm),
-                "starts": if op.lead.is_some() { Some(op.start_angles.len().max(1)) } else { None },
+                "lead": op.lead.map(|l| l.to_mm_f64()),
+                "starts": op.lead.map(|_| op.start_angles.len().max(1)),
                 "start_angles": op.start_angles.iter().map(|a| a.to_deg_f64()).collect::<Vec<_>>(),
                 "internal": op.internal,
                 "crest": op.crest.map(mm),
@@ -1030,16 +1172,17 @@ pub fn to_json(ops: &[Operation]) -> serde_json::Value {
     serde_json::json!({ "operations": operations })
 }
 
-/// The CSV form: one row per pass, the operation's facts repeated on each.
+/// The CSV form: one row per pass, the operation's facts repeated on each; empty cells for
+/// what the program does not say.
 pub fn to_csv(ops: &[Operation]) -> String {
     let mut out = String::from(
-        "operation,kind,line,hand,lead,crest,pass,cut,cumulative_depth,below_first,chip_area,shift,x_start,z_start,x_end,z_end\n",
+        "operation,kind,line,hand,lead,crest,pass,start,cut,cumulative_depth,below_first,chip_area,shift,x_start,z_start,x_end,z_end\n",
     );
     let opt = |l: Option<Length>| l.map_or(String::new(), |l| l.mm());
     for op in ops {
         for p in &op.passes {
             out.push_str(&format!(
-                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+                "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
                 op.number,
                 op.kind.id(),
                 op.line,
@@ -1047,15 +1190,16 @@ pub fn to_csv(ops: &[Operation]) -> String {
                 op.lead.map_or(String::new(), |l| l.mm()),
                 opt(op.crest),
                 p.number,
+                p.start_number,
                 opt(p.cut),
                 opt(p.cumulative_depth),
                 p.below_first.mm(),
                 p.chip_area.map_or(String::new(), |a| format!("{a:.4}")),
                 opt(p.shift),
-                p.start.0.mm(),
-                p.start.1.mm(),
-                p.end.0.mm(),
-                p.end.1.mm(),
+                opt(p.start.x),
+                opt(p.start.z),
+                opt(p.end.x),
+                opt(p.end.z),
             ));
         }
     }

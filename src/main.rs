@@ -215,8 +215,9 @@ struct VerifyArgs {
     /// ncthread's simulation of the other program: a second, independent judge.
     #[arg(long)]
     rs274: bool,
-    /// Also write an SVG of both motions overlaid, the first difference marked.
-    #[arg(long, value_name = "FILE.svg")]
+    /// Also write an SVG of both motions overlaid, the first difference marked (a file: the
+    /// verdict goes to stdout).
+    #[arg(long, value_name = "FILE.svg", value_parser = not_stdout)]
     plot: Option<PathBuf>,
     /// How far positions may differ, in mm (default 0.001). A conversion with --round is
     /// allowed the deviation its rounding reported.
@@ -242,8 +243,9 @@ struct ExplainArgs {
     /// Draw the text tables in ASCII instead of UTF-8 box drawing.
     #[arg(long)]
     plain: bool,
-    /// The crest (nominal) diameter of a thread written as single passes, in mm: such a
-    /// program does not say it, and without it depths are counted from the first pass.
+    /// The crest diameter of a thread written as single passes, in mm, which such a program
+    /// does not say: the major diameter of an external thread (36 for M36), the minor (bore)
+    /// diameter of an internal one. Without it, depths are counted from the first pass.
     #[arg(long, value_name = "MM", value_parser = parse_length)]
     crest: Option<ncthread::fixed::Length>,
     #[command(flatten)]
@@ -275,6 +277,13 @@ enum ExplainFormat {
     Text,
     Json,
     Csv,
+}
+
+fn not_stdout(text: &str) -> Result<PathBuf, String> {
+    if text == "-" {
+        return Err("give a file: the verdict is written on stdout".into());
+    }
+    Ok(PathBuf::from(text))
 }
 
 fn parse_length(text: &str) -> Result<ncthread::fixed::Length, String> {
@@ -769,10 +778,7 @@ fn plot(args: PlotArgs) -> Result<ExitCode, Fatal> {
                 ops.len()
             ))
         })?),
-        None => ops
-            .iter()
-            .find(|o| o.lead.is_some() && !o.passes.is_empty())
-            .or(ops.first()),
+        None => ncthread::explain::default_operation(&ops),
     };
     let simulation = ncthread::sim::simulate(&program);
     let svg = ncthread::plot::plot(&src.name, &simulation.segments, operation);
@@ -852,6 +858,7 @@ fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
             ExitCode::from(1),
         ),
     };
+    let mut plot = None;
     if let Some(path) = &args.plot {
         let difference = match &v.outcome {
             ncthread::Outcome::Different(d) => Some(&**d),
@@ -865,7 +872,7 @@ fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
             &v.right,
             difference,
         );
-        write_output(&Some(path.clone()), svg.as_bytes())?;
+        plot = Some((path, svg));
     }
     for check in &v.oracle {
         match &check.outcome {
@@ -903,6 +910,10 @@ fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
         }
     }
     write_output(&None, text.as_bytes())?;
+    // The verdict first: a plot that cannot be written does not hide it.
+    if let Some((path, svg)) = plot {
+        write_output(&Some(path.clone()), svg.as_bytes())?;
+    }
     Ok(code)
 }
 

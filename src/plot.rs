@@ -9,6 +9,7 @@ use std::fmt::Write as _;
 
 use crate::explain::Operation;
 use crate::fixed::Length;
+use crate::ir::Pos;
 use crate::sim::{Difference, Motion, Segment};
 
 use self::escape as esc;
@@ -20,6 +21,7 @@ const FEED: &str = "#1b6b1b";
 const LEFT: &str = "#1f5fbf";
 const RIGHT: &str = "#e07b00";
 const MARK: &str = "#d00000";
+const TAP: &str = "#7a3db8";
 
 /// A rectangle of the picture and the mm window it shows (equal scale on both axes unless
 /// `stretch` says how much more X is magnified).
@@ -324,13 +326,12 @@ fn stroke_path(out: &mut String, d: &str, s: &Stroke<'_>, title: Option<&str>) {
 /// The moves of a program in `v`: rapids dashed grey, feeds and arcs green, threads
 /// coloured by pass order (or all in `colour` when given: an overlay).
 fn draw_motion(out: &mut String, v: &View, segments: &[Segment], colour: Option<&str>) {
-    let sync: Vec<usize> = segments
+    let threads = segments
         .iter()
-        .enumerate()
-        .filter(|(_, s)| matches!(s.motion, Motion::Sync { .. } | Motion::SyncRadial { .. }))
-        .map(|(i, _)| i)
-        .collect();
-    for (i, s) in segments.iter().enumerate() {
+        .filter(|s| matches!(s.motion, Motion::Sync { .. } | Motion::SyncRadial { .. }))
+        .count();
+    let mut nth = 0;
+    for s in segments {
         let Some(d) = segment_path(v, s) else {
             continue;
         };
@@ -341,14 +342,19 @@ fn draw_motion(out: &mut String, v: &View, segments: &[Segment], colour: Option<
                 width: 1.0,
                 dash: Some("5,4"),
             },
-            Motion::Sync { .. } | Motion::SyncRadial { .. } | Motion::Tap { .. } => {
-                let n = sync.iter().position(|&j| j == i).unwrap_or(0);
+            Motion::Sync { .. } | Motion::SyncRadial { .. } => {
+                nth += 1;
                 Stroke {
-                    colour: colour.map_or_else(|| pass_colour(n, sync.len()), str::to_string),
+                    colour: colour.map_or_else(|| pass_colour(nth - 1, threads), str::to_string),
                     width: 2.0,
                     dash: None,
                 }
             }
+            Motion::Tap { .. } => Stroke {
+                colour: colour.unwrap_or(TAP).to_string(),
+                width: 2.5,
+                dash: None,
+            },
             _ => Stroke {
                 colour: colour.unwrap_or(FEED).to_string(),
                 width: 1.5,
@@ -385,6 +391,7 @@ fn svg_open(height: f64, title: &str) -> String {
 /// `ncthread plot`: the whole program's toolpath, the chosen thread operation's passes in XZ
 /// (X magnified), its cross-section, and a legend. `operation` is the one drawn in detail.
 pub fn plot(title: &str, segments: &[Segment], operation: Option<&Operation>) -> String {
+    let operation = operation.filter(|o| !o.passes.is_empty());
     let height = if operation.is_some() { 900.0 } else { 520.0 };
     let mut out = svg_open(height, title);
     // 1. The toolpath.
@@ -422,8 +429,10 @@ pub fn plot(title: &str, segments: &[Segment], operation: Option<&Operation>) ->
     }
     if let Some(op) = operation {
         thread_detail(&mut out, op, (70.0, 520.0, 470.0, 320.0));
-        cross_section(&mut out, op, (600.0, 520.0, 300.0, 320.0));
-        legend(&mut out, op, (920.0, 520.0));
+        if op.is_thread() {
+            cross_section(&mut out, op, (600.0, 520.0, 300.0, 320.0));
+            legend(&mut out, op, (920.0, 520.0));
+        }
     }
     out.push_str("</svg>\n");
     out
@@ -438,11 +447,16 @@ fn thread_detail(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
         13.0,
         "start",
         "#222222",
-        &format!("operation {}: passes along Z (X magnified)", op.number),
+        &format!(
+            "operation {}: {} along Z (X magnified)",
+            op.number,
+            if op.is_thread() { "passes" } else { "cuts" }
+        ),
     );
     let mut b: Option<(f64, f64, f64, f64)> = None;
-    let mut add = |p: (Length, Length)| {
-        let (z, r) = (p.1.to_mm_f64(), p.0.to_mm_f64() / 2.0);
+    let mut add = |p: Pos| {
+        let Some((x, z)) = p.known() else { return };
+        let (z, r) = (z.to_mm_f64(), x.to_mm_f64() / 2.0);
         b = Some(match b {
             None => (z, z, r, r),
             Some((a, c, d, e)) => (a.min(z), c.max(z), d.min(r), e.max(r)),
@@ -452,8 +466,8 @@ fn thread_detail(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
         add(p.start);
         add(p.end);
     }
-    if let (Some(c), Some(&(_, z))) = (op.crest, op.passes.first().map(|p| &p.start)) {
-        add((c, z));
+    if let (Some(c), Some(z)) = (op.crest, op.passes.first().and_then(|p| p.start.z)) {
+        add(Pos::new(c, z));
     }
     let Some(b) = b else { return };
     let v = View::fit(rect, b, false);
@@ -485,20 +499,21 @@ fn thread_detail(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
     // Pass numbers where they do not overlap the one labelled before.
     let mut labelled: Option<f64> = None;
     for (i, p) in op.passes.iter().enumerate() {
-        let (a, c) = (v.at(p.start), v.at(p.end));
+        let (Some(start), Some(end)) = (p.start.known(), p.end.known()) else {
+            continue;
+        };
+        let (a, c) = (v.at(start), v.at(end));
         let colour = pass_colour(i, n);
         let _ = writeln!(
             out,
-            "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"{colour}\" stroke-width=\"2\"><title>pass {}: X{} Z{} to X{} Z{}</title></line>",
+            "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"{colour}\" stroke-width=\"2\"><title>pass {}: {} to {}</title></line>",
             a.0,
             a.1,
             c.0,
             c.1,
             p.number,
-            p.start.0.mm(),
-            p.start.1.mm(),
-            p.end.0.mm(),
-            p.end.1.mm()
+            crate::sim::show_pos(p.start),
+            crate::sim::show_pos(p.end)
         );
         if labelled.is_none_or(|y| (y - c.1).abs() >= 10.0) || i + 1 == n {
             text(

@@ -131,9 +131,9 @@ fn csv_has_a_row_per_pass() {
     let csv = text(&out.stdout);
     let rows: Vec<&str> = csv.lines().collect();
     assert_eq!(rows.len(), 9, "{csv}");
-    assert!(rows[0].starts_with("operation,kind,line,hand,lead,crest,pass,cut"));
+    assert!(rows[0].starts_with("operation,kind,line,hand,lead,crest,pass,start,cut"));
     assert!(
-        rows[8].starts_with("1,cycle,10,right,1.5,36,8,0.0125,0.96,"),
+        rows[8].starts_with("1,cycle,10,right,1.5,36,8,1,0.0125,0.96,"),
         "{csv}"
     );
 }
@@ -397,4 +397,123 @@ fn readme_examples_are_current() {
         svg == kept,
         "docs/plot-g31-m36x1.5.svg is stale: ncthread plot corpus/nc31/g31-m36x1.5.nc --from nc31 -o docs/plot-g31-m36x1.5.svg"
     );
+}
+
+/// `explain --format json` of a program given on stdin.
+fn explain_stdin(program: &str, from: &str, more: &[&str]) -> serde_json::Value {
+    let mut args = vec!["explain", "--from", from, "--format", "json"];
+    args.extend(more);
+    let out = ncthread(&args, Some(program.as_bytes()));
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+/// How passes are gathered into threads (found in review): the whole chain decides, not its
+/// first block; another diameter is another thread; a spindle said again, coolant or a dwell
+/// between passes do not end a thread; starts are told by the helix, not the angle written.
+#[test]
+fn passes_are_gathered_into_the_threads_they_cut() {
+    let pass = |x: &str, z: &str, k: &str| format!("G0 X{x} Z{z}\nG33 Z-20 K{k}\nG0 X40\nG0 Z5\n");
+    // Two threads of one lead over one length: Ø15.4/14.8 outside, Ø9/9.6 inside.
+    let two = format!(
+        "G7 G21 G95\nS300 M3\nG0 X40 Z5\n{}{}G0 X8\n{}{}M2\n",
+        pass("15.4", "4", "2"),
+        pass("14.8", "4", "2"),
+        pass("9", "4", "2").replace("G0 X40", "G0 X8"),
+        pass("9.6", "4", "2").replace("G0 X40", "G0 X8"),
+    );
+    let v = explain_stdin(&two, "iso", &[]);
+    let ops = v["operations"].as_array().unwrap();
+    assert_eq!(ops.len(), 2, "{v:#}");
+    assert_eq!((ops[0]["internal"].clone(), ops[1]["internal"].clone()), (false.into(), true.into()));
+    // A spindle said again, coolant and a dwell between the passes: one thread.
+    let restated = format!(
+        "G7 G21 G95\nS300 M3\nG0 X40 Z5\n{}S300 M3\n{}M8\n{}G4 P0.5\n{}M2\n",
+        pass("15.4", "4", "2"),
+        pass("14.8", "4", "2"),
+        pass("14.4", "4", "2"),
+        pass("14.2", "4", "2")
+    );
+    let v = explain_stdin(&restated, "iso", &[]);
+    assert_eq!(v["operations"].as_array().unwrap().len(), 1, "{v:#}");
+    assert_eq!(v["operations"][0]["passes"].as_array().unwrap().len(), 4);
+    // A two-start thread written by moving Z half a lead: two starts, each pass cuts its own.
+    let twostart = format!(
+        "G7 G21 G95\nS300 M3\nG0 X40 Z6\n{}{}{}{}M2\n",
+        pass("29.4", "6", "3"),
+        pass("29", "6", "3"),
+        pass("29.4", "7.5", "3"),
+        pass("29", "7.5", "3")
+    );
+    let v = explain_stdin(&twostart, "iso", &["--crest", "30"]);
+    let op = &v["operations"][0];
+    assert_eq!(op["start_angles"], serde_json::json!([0.0, 180.0]), "{op:#}");
+    assert_eq!(numbers(op, "start"), [1.0, 1.0, 2.0, 2.0]);
+    assert_eq!(numbers(op, "cut"), [0.3, 0.2, 0.3, 0.2]);
+    // A czech flank infeed by the start angle (I0, I6, I12 on a 3 mm lead): one start, each
+    // pass 0.05 mm back along the helix, an infeed of atan(0.05 / 0.2) = 14.036°.
+    let flank = "N10 G00 G95 S800 M03\nN20 X29.6 Z5.\nN30 G33 Z-30. I0. F3.\nN40 G00 X32.\nN50 Z5.\nN60 X29.2\nN70 G33 Z-30. I6. F3.\nN80 G00 X32.\nN90 Z5.\nN100 X28.8\nN110 G33 Z-30. I12. F3.\nN120 G00 X32.\nN130 M30\n";
+    let v = explain_stdin(flank, "czech", &["--crest", "30"]);
+    let op = &v["operations"][0];
+    assert_eq!(op["starts"], 1, "{op:#}");
+    assert_eq!(numbers(op, "cut"), [0.2, 0.2, 0.2]);
+    assert_eq!(numbers(op, "shift"), [0.0, -0.05, -0.1]);
+    assert_eq!(op["infeed_angle"], -14.036);
+    // A chain (entry, thread, runout as three G33 lines) is one pass; two such passes are
+    // one thread, its line the full-depth part.
+    let chain = "G7 G21 G95\nS500 M3\nG0 X44 Z5\nG33 X40 Z-1 K2.10818511\nG33 Z-40 K2\nG33 X44 Z-44 K2.23606798\nG0 X50\nG0 Z5\nG0 X44\nG33 X39.4 Z-1 K2.10818511\nG33 Z-40 K2\nG33 X44 Z-44 K2.23606798\nG0 X50\nG0 Z5\nM2\n";
+    let v = explain_stdin(chain, "iso", &[]);
+    let op = &v["operations"][0];
+    assert_eq!(v["operations"].as_array().unwrap().len(), 1, "{v:#}");
+    assert_eq!(op["lead"], 2.0);
+    assert_eq!(numbers(op, "z_start"), [-1.0, -1.0]);
+    assert_eq!(numbers(op, "z_end"), [-40.0, -40.0]);
+    assert_eq!((op["entry"].clone(), op["runout"].clone()), (6.0.into(), 4.0.into()));
+}
+
+/// A pass's start and end are its full-depth line: a czech J runout and a G76's tapers are
+/// left out; a position the program never gave is `null`, not 0.
+#[test]
+fn the_pass_line_leaves_out_entry_and_runout_and_unknowns_are_null() {
+    let v = explain_json(
+        "corpus/czech/ex4-runout-constant.nc",
+        "czech",
+        &["--profile", "corpus/czech/ex4-runout-constant.profile.toml"],
+    );
+    let op = &v["operations"][0];
+    assert_eq!(numbers(op, "z_end"), [-88.0]);
+    assert_eq!(op["runout"], 12.0);
+    let v = explain_json("corpus/czech/ex2-start-angle.nc", "czech", &[]);
+    let p = &v["operations"][0]["passes"][0];
+    assert_eq!((p["x_start"].clone(), p["z_start"].clone()), (serde_json::Value::Null, serde_json::Value::Null));
+}
+
+#[test]
+fn plain_tables_are_ascii() {
+    let out = ncthread(
+        &["explain", "corpus/iso/g76-external.ngc", "--from", "iso", "--plain"],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(0));
+    assert!(out.stdout.is_ascii(), "{}", text(&out.stdout));
+    assert!(text(&out.stdout).contains("crest D16, root D13.5466"));
+}
+
+/// A roughing cycle is drawn as its cuts, never as a thread's cross-section; `verify --plot`
+/// writes a file, never stdout.
+#[test]
+fn plot_draws_threads_as_threads_only() {
+    let svg = plot("corpus/iso/roughing-g71-bore.ngc", "iso");
+    assert!(!svg.contains("cross-section"), "no thread: no cross-section");
+    let out = ncthread(
+        &["plot", "corpus/iso/roughing-g71-bore.ngc", "--from", "iso", "--operation", "1"],
+        None,
+    );
+    let svg = text(&out.stdout);
+    assert!(svg.contains("operation 1: cuts along Z") && !svg.contains("cross-section"));
+    let out = ncthread(
+        &["verify", "corpus/nc31/g31-m36x1.5.nc", "--from", "nc31", "--to", "iso", "--plot", "-"],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(2));
 }

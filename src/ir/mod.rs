@@ -176,6 +176,16 @@ pub enum SpindleDirection {
     CounterClockwise,
 }
 
+impl SpindleDirection {
+    /// `M3` or `M4`: how people name it.
+    pub fn code(self) -> &'static str {
+        match self {
+            SpindleDirection::Clockwise => "M3",
+            SpindleDirection::CounterClockwise => "M4",
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum FeedMode {
     /// G95: mm per spindle revolution.

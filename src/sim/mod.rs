@@ -607,7 +607,7 @@ impl Machine {
 }
 
 /// `X35.6 Z-47.5`, with `?` for an unknown axis.
-pub(crate) fn show_pos(p: Pos) -> String {
+pub fn show_pos(p: Pos) -> String {
     let axis = |v: Option<Length>| v.map_or("?".to_string(), |v| v.mm());
     format!("X{} Z{}", axis(p.x), axis(p.z))
 }
@@ -634,11 +634,7 @@ impl Segment {
     /// One line of text: `line 14 pass 1  thread  X35.6 Z4.5 → X35.6 Z-47.5  lead 1.5 M3 phase 0°`.
     pub fn to_text(&self) -> String {
         let pos = show_pos;
-        let dir = |d: Option<SpindleDirection>| match d {
-            Some(SpindleDirection::Clockwise) => "M3",
-            Some(SpindleDirection::CounterClockwise) => "M4",
-            None => "spindle stopped",
-        };
+        let dir = |d: Option<SpindleDirection>| d.map_or("spindle stopped", SpindleDirection::code);
         let (name, extra) = match self.motion {
             Motion::Rapid => ("rapid", String::new()),
             Motion::Feed { feed, per_minute } => (
@@ -715,11 +711,7 @@ impl Segment {
     pub fn to_json(&self) -> serde_json::Value {
         let num = |v: Length| serde_json::json!(v.to_mm_f64());
         let pos = |p: Pos| serde_json::json!({ "x": p.x.map(num), "z": p.z.map(num) });
-        let dir = |d: Option<SpindleDirection>| match d {
-            Some(SpindleDirection::Clockwise) => Some("M3"),
-            Some(SpindleDirection::CounterClockwise) => Some("M4"),
-            None => None,
-        };
+        let dir = |d: Option<SpindleDirection>| d.map(SpindleDirection::code);
         let mut v = serde_json::json!({
             "line": self.line,
             "pass": self.pass,
@@ -804,17 +796,24 @@ pub fn simulate(program: &Program) -> Simulation {
     m.out
 }
 
-/// The phase (see [`Motion::Sync`]) of the helix that `pass`, started at `from`, cuts: the
-/// phase of its first move along Z, as [`simulate`] computes it. `None` when it has none or
-/// the start is not known.
-pub fn pass_phase(from: Pos, pass: &ThreadPass) -> Option<Angle> {
+/// The synchronised moves of a pass written as a chain of blocks (the first waits for the
+/// index pulse, the others continue it), started at `from`, as [`simulate`] moves them: each
+/// move's ends and, for a move along Z, the phase of its helix (see [`Motion::Sync`]).
+pub fn chain_moves(from: Pos, chain: &[ThreadPass]) -> Vec<(Pos, Pos, Option<Angle>)> {
     let mut m = Machine::new(from);
     m.direction = Some(SpindleDirection::Clockwise);
-    m.thread_pass(pass, Span::default(), None);
-    m.out.segments.iter().find_map(|s| match s.motion {
-        Motion::Sync { phase, .. } => phase,
-        _ => None,
-    })
+    for pass in chain {
+        m.thread_pass(pass, Span::default(), None);
+    }
+    m.out
+        .segments
+        .iter()
+        .filter_map(|s| match s.motion {
+            Motion::Sync { phase, .. } => Some((s.from, s.to, phase)),
+            Motion::SyncRadial { .. } => Some((s.from, s.to, None)),
+            _ => None,
+        })
+        .collect()
 }
 
 #[cfg(test)]
