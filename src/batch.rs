@@ -512,15 +512,24 @@ fn one(
             return report;
         }
     };
+    let decoded = text::decode_program(&bytes, options.from, options.input_encoding);
+    let note = decoded.encoding_diagnostic(&input.display().to_string());
     let text::Decoded {
         text,
         encoding,
         dialect: from,
         eof_mark,
         ..
-    } = text::decode_program(&bytes, options.from, options.input_encoding);
+    } = decoded;
     report.dialect = Some(from);
     report.encoding = Some(encoding);
+    if let Some(d) = note {
+        let refused = d.is_error();
+        report.diagnostics.push(d);
+        if refused {
+            return report;
+        }
+    }
     let kept = text::Input::of(&text, encoding, &eof_mark, from == options.conversion.to);
     let src = SourceFile::new(input.display().to_string(), text);
     let conversion = ConvertOptions {
@@ -529,7 +538,7 @@ fn one(
         ..options.conversion.clone()
     };
     let converted = convert(&src, &conversion);
-    report.diagnostics = converted.diagnostics;
+    report.diagnostics.extend(converted.diagnostics);
     let Some(program) = converted.output else {
         return report;
     };

@@ -49,13 +49,38 @@ pub struct Conversion {
 }
 
 /// Reads `src` in dialect `from`. The program is usable only when no diagnostic is an error.
+/// A program with errors whose text reads like another dialect says so (INP002): the
+/// `--from` may be wrong.
 pub fn parse(
     src: &SourceFile,
     from: DialectId,
     profile: &Profile,
     unsupported: Unsupported,
 ) -> (Program, Vec<Diagnostic>) {
-    dialect::get(from).read(src, profile, unsupported)
+    let (program, mut diags) = dialect::get(from).read(src, profile, unsupported);
+    if diag::has_errors(&diags) {
+        let detection = dialect::detect::detect(&src.text);
+        let other = detection.dialect;
+        if detection.certain
+            && other != from
+            && !diag::has_errors(&dialect::get(other).read(src, profile, unsupported).1)
+        {
+            diags.push(
+                Diagnostic::new(
+                    diag::codes::OTHER_DIALECT,
+                    format!(
+                        "{} was read as {from}, and it reads without errors as {other} ({})",
+                        src.name, detection.reason
+                    ),
+                )
+                .help(format!(
+                    "if it is a {0} program, give --from {0} (or --from auto)",
+                    detection.dialect
+                )),
+            );
+        }
+    }
+    (program, diags)
 }
 
 /// Writes `program` (read from `src`) in dialect `options.to`, after the rules every target

@@ -34,7 +34,8 @@ enum Command {
     /// Prove a conversion (or check a hand conversion with --against): the two programs'
     /// simulated motions must agree within 0.001 mm and 0.01°.
     Verify(VerifyArgs),
-    /// Lint programs: every diagnostic of each file, no output program.
+    /// Lint programs and folders of programs: every diagnostic of each file on stdout (the
+    /// count on stderr), no output program.
     Check(CheckArgs),
     /// Print every thread operation (a cycle, a tap, a thread written as single passes) with
     /// its pass table, and every roughing cycle with its cuts.
@@ -56,8 +57,15 @@ enum Command {
         #[arg(value_enum)]
         shell: clap_complete::Shell,
     },
-    /// Print the manual page (roff) on stdout.
-    Man,
+    /// Print a manual page (roff): ncthread(1), or a subcommand's (`ncthread man convert`);
+    /// `--dir DIR` writes every page there (ncthread.1, ncthread-convert.1, …).
+    Man {
+        /// The subcommand whose page to print.
+        subcommand: Option<String>,
+        /// Write every page into this folder instead.
+        #[arg(long, value_name = "DIR", conflicts_with = "subcommand")]
+        dir: Option<PathBuf>,
+    },
 }
 
 #[derive(clap::Args)]
@@ -66,7 +74,7 @@ struct CheckArgs {
     /// nothing reads stdin.
     files: Vec<PathBuf>,
     /// The dialect of the programs; `auto` chooses per file from the text.
-    #[arg(long, alias = "dialect", value_parser = source_dialect(), default_value = "auto")]
+    #[arg(long, alias = "dialect", ignore_case = true, value_parser = source_dialect(), default_value = "auto")]
     from: SourceDialect,
     /// Print the diagnostics only: no summary line, no notes.
     #[arg(long, short = 'q')]
@@ -109,10 +117,10 @@ struct BatchArgs {
     /// The folder the converted tree is written to (created when missing).
     out_dir: PathBuf,
     /// The source dialect; `auto` chooses per file from the text.
-    #[arg(long, value_parser = source_dialect())]
+    #[arg(long, ignore_case = true, value_parser = source_dialect())]
     from: SourceDialect,
     /// The target dialect.
-    #[arg(long, value_parser = target_dialect())]
+    #[arg(long, ignore_case = true, value_parser = target_dialect())]
     to: TargetDialect,
     /// Worker threads (default: one per core).
     #[arg(long, short = 'j')]
@@ -201,10 +209,10 @@ struct VerifyArgs {
     /// The source program; `-` or nothing reads stdin.
     input: Option<PathBuf>,
     /// The source dialect; `auto` chooses from the text.
-    #[arg(long, value_parser = source_dialect())]
+    #[arg(long, ignore_case = true, value_parser = source_dialect())]
     from: SourceDialect,
     /// The target dialect.
-    #[arg(long, value_parser = target_dialect())]
+    #[arg(long, ignore_case = true, value_parser = target_dialect())]
     to: TargetDialect,
     /// An existing program in the target dialect (e.g. the shop's hand conversion) to check
     /// instead of ncthread's own conversion.
@@ -234,7 +242,7 @@ struct ExplainArgs {
     /// The program to read; `-` or nothing reads stdin.
     input: Option<PathBuf>,
     /// The dialect of the program; `auto` chooses from the text.
-    #[arg(long, value_parser = source_dialect())]
+    #[arg(long, ignore_case = true, value_parser = source_dialect())]
     from: SourceDialect,
     /// `text`: a heading and a table per operation; `json`: `{ "operations": [ … ] }`;
     /// `csv`: one row per pass.
@@ -257,7 +265,7 @@ struct PlotArgs {
     /// The program to read; `-` or nothing reads stdin.
     input: Option<PathBuf>,
     /// The dialect of the program; `auto` chooses from the text.
-    #[arg(long, value_parser = source_dialect())]
+    #[arg(long, ignore_case = true, value_parser = source_dialect())]
     from: SourceDialect,
     /// Where to write the SVG; `-` or nothing writes stdout.
     #[arg(short, long)]
@@ -298,7 +306,7 @@ struct SimulateArgs {
     /// The program to read; `-` or nothing reads stdin.
     input: Option<PathBuf>,
     /// The dialect of the program; `auto` chooses from the text.
-    #[arg(long, value_parser = source_dialect())]
+    #[arg(long, ignore_case = true, value_parser = source_dialect())]
     from: SourceDialect,
     /// `text`: one segment per line; `json`: one JSON object per segment.
     #[arg(long, value_enum, default_value_t = OutputFormat::Text)]
@@ -430,10 +438,10 @@ struct ConvertArgs {
     /// The program to read; `-` or nothing reads stdin.
     input: Option<PathBuf>,
     /// The source dialect; `auto` chooses from the text (and says so on stderr when unsure).
-    #[arg(long, value_parser = source_dialect())]
+    #[arg(long, ignore_case = true, value_parser = source_dialect())]
     from: SourceDialect,
     /// The target dialect.
-    #[arg(long, value_parser = target_dialect())]
+    #[arg(long, ignore_case = true, value_parser = target_dialect())]
     to: TargetDialect,
     /// Where to write the program; `-` or nothing writes stdout.
     #[arg(short, long)]
@@ -465,14 +473,16 @@ fn dialect_ids() -> Vec<&'static str> {
 fn source_dialect() -> impl clap::builder::TypedValueParser<Value = SourceDialect> {
     let mut ids = dialect_ids();
     ids.push("auto");
-    clap::builder::PossibleValuesParser::new(ids)
-        .map(|id: String| SourceDialect(ncthread::dialect::by_id(&id).map(|d| d.id())))
+    clap::builder::PossibleValuesParser::new(ids).map(|id: String| {
+        SourceDialect(ncthread::dialect::by_id(&id.to_ascii_lowercase()).map(|d| d.id()))
+    })
 }
 
 fn target_dialect() -> impl clap::builder::TypedValueParser<Value = TargetDialect> {
     clap::builder::PossibleValuesParser::new(dialect_ids()).map(|id: String| {
         TargetDialect(
-            ncthread::dialect::by_id(&id).map_or(ncthread::dialect::ALL[0].id(), |d| d.id()),
+            ncthread::dialect::by_id(&id.to_ascii_lowercase())
+                .map_or(ncthread::dialect::ALL[0].id(), |d| d.id()),
         )
     })
 }
@@ -511,14 +521,25 @@ fn parse_renumber(text: &str) -> Result<ncthread::dialect::Renumber, String> {
             .parse::<u32>()
             .map_err(|_| format!("`{t}` is not a whole number"))
     };
-    Ok(ncthread::dialect::Renumber {
-        start: number(start)?,
-        step: number(step)?,
-    })
+    let (start, step) = (number(start)?, number(step)?);
+    if step == 0 {
+        return Err("STEP must be at least 1: blocks need numbers that grow".into());
+    }
+    // Block numbers are written as N and up to 9 digits (the czech control's N words are
+    // read as whole numbers; larger ones would not read back).
+    if start > 999_999_999 {
+        return Err(format!("START {start} has more than 9 digits"));
+    }
+    Ok(ncthread::dialect::Renumber { start, step })
 }
 
 /// A failure that is the user's invocation or the file system, not the program's content.
-struct Fatal(String);
+enum Fatal {
+    /// A usage or I/O problem (exit 2), said on stderr.
+    Usage(String),
+    /// The input was refused and its diagnostics printed (exit 1).
+    Refused,
+}
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
@@ -544,23 +565,106 @@ fn main() -> ExitCode {
                 )
             })
             .map(|()| ExitCode::SUCCESS),
-        Command::Man => {
-            let cmd = <Cli as clap::CommandFactory>::command();
-            let mut out = Vec::new();
-            clap_mangen::Man::new(cmd)
-                .render(&mut out)
-                .map_err(|e| Fatal(format!("cannot render the manual page: {e}")))
-                .and_then(|()| write_output(&None, &out))
-                .map(|()| ExitCode::SUCCESS)
-        }
+        Command::Man { subcommand, dir } => man(subcommand, dir),
     };
     match result {
         Ok(code) => code,
-        Err(Fatal(message)) => {
+        Err(Fatal::Usage(message)) => {
             note(format!("ncthread: {message}"));
             ExitCode::from(2)
         }
+        Err(Fatal::Refused) => ExitCode::from(1),
     }
+}
+
+/// The sections every manual page ends with: exit status, the profile, the diagnostic codes.
+fn man_sections() -> String {
+    use clap_mangen::roff::{Roff, bold, roman};
+    let mut roff = Roff::new();
+    roff.control("SH", ["EXIT STATUS"]);
+    for (code, what) in [
+        (
+            "0",
+            "success (converted, equivalent, or no error found; warnings may have been printed)",
+        ),
+        (
+            "1",
+            "the input has errors (nothing written for that file), or verify found a difference",
+        ),
+        (
+            "2",
+            "usage or I/O error (also a profile with errors, a --glob that matched nothing)",
+        ),
+        (
+            "130",
+            "batch was interrupted (Ctrl-C): the summary and the report say what was done",
+        ),
+    ] {
+        roff.control("TP", [])
+            .text([bold(code)])
+            .text([roman(what)]);
+    }
+    roff.control("SH", ["FILES"]);
+    roff.text([roman(
+        "A machine profile (TOML) gives the constants that differ per machine: sections [czech] (constant8, coolant, arcs, dwell, surface_speed…), [nc31] (units, infeed_p6, runout_p7, retract_mm, schedule, arcs, chamfer45, repeat_g25…) and [iso] (mcodes, tool_change, block_delete, subroutine_path). Without --profile a program uses its sidecar STEM.profile.toml, else the nearest ncthread.toml in its folder or above, else the built-in defaults (--no-profile). An .ncthreadignore file (gitignore syntax) leaves files out of batch and check. README.md lists every key.",
+    )]);
+    roff.control("SH", ["DIAGNOSTICS"]);
+    roff.text([roman(
+        "Every diagnostic has a stable code, a severity, the file, line and column, the source line with a caret, and a help text; --diagnostics json prints one JSON object per diagnostic.",
+    )]);
+    for code in ncthread::diag::codes::ALL {
+        let severity = if code.severity == diag::Severity::Error {
+            "error"
+        } else {
+            "warning"
+        };
+        roff.control("TP", [])
+            .text([bold(code.id)])
+            .text([roman(format!("{severity}: {}", code.summary))]);
+    }
+    roff.render()
+}
+
+/// `ncthread man`: ncthread(1) or a subcommand's page on stdout, or every page into a folder.
+fn man(subcommand: Option<String>, dir: Option<PathBuf>) -> Result<ExitCode, Fatal> {
+    let cmd = <Cli as clap::CommandFactory>::command();
+    let page = |cmd: clap::Command| -> Result<Vec<u8>, Fatal> {
+        let mut out = Vec::new();
+        clap_mangen::Man::new(cmd)
+            .render(&mut out)
+            .map_err(|e| Fatal::Usage(format!("cannot render the manual page: {e}")))?;
+        out.extend_from_slice(man_sections().as_bytes());
+        Ok(out)
+    };
+    // A subcommand's page is named ncthread-NAME(1).
+    let sub = |c: &clap::Command| c.clone().name(format!("ncthread-{}", c.get_name()));
+    let pages: Vec<(String, clap::Command)> =
+        std::iter::once(("ncthread".to_string(), cmd.clone()))
+            .chain(
+                cmd.get_subcommands()
+                    .filter(|c| c.get_name() != "help")
+                    .map(|c| (format!("ncthread-{}", c.get_name()), sub(c))),
+            )
+            .collect();
+    match (subcommand, dir) {
+        (None, None) => write_output(&None, &page(cmd)?)?,
+        (Some(name), _) => {
+            let Some((_, c)) = pages.iter().find(|(n, _)| *n == format!("ncthread-{name}")) else {
+                return Err(Fatal::Usage(format!(
+                    "`{name}` is not a subcommand of ncthread"
+                )));
+            };
+            write_output(&None, &page(c.clone())?)?;
+        }
+        (None, Some(dir)) => {
+            std::fs::create_dir_all(&dir)
+                .map_err(|e| Fatal::Usage(format!("cannot create {}: {e}", dir.display())))?;
+            for (name, c) in pages {
+                write_output(&Some(dir.join(format!("{name}.1"))), &page(c)?)?;
+            }
+        }
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
 /// One line on stderr. Never panics: a closed or broken stderr loses the line, nothing more.
@@ -580,12 +684,12 @@ fn read_input(path: &Option<PathBuf>) -> Result<(String, Vec<u8>), Fatal> {
         let mut bytes = Vec::new();
         io::stdin()
             .read_to_end(&mut bytes)
-            .map_err(|e| Fatal(format!("cannot read stdin: {e}")))?;
+            .map_err(|e| Fatal::Usage(format!("cannot read stdin: {e}")))?;
         return Ok(("<stdin>".into(), bytes));
     }
     let path = path.as_ref().expect("not stdio");
-    let bytes =
-        std::fs::read(path).map_err(|e| Fatal(format!("cannot read {}: {e}", path.display())))?;
+    let bytes = std::fs::read(path)
+        .map_err(|e| Fatal::Usage(format!("cannot read {}: {e}", path.display())))?;
     Ok((path.display().to_string(), bytes))
 }
 
@@ -606,10 +710,10 @@ fn load_profile(path: &Option<PathBuf>, format: DiagnosticsFormat) -> Result<Pro
         return Ok(Profile::default());
     };
     let text = std::fs::read_to_string(path)
-        .map_err(|e| Fatal(format!("cannot read profile {}: {e}", path.display())))?;
+        .map_err(|e| Fatal::Usage(format!("cannot read profile {}: {e}", path.display())))?;
     Profile::from_toml(&SourceFile::new(path.display().to_string(), text)).map_err(|diags| {
         print_diagnostics(&diags, format);
-        Fatal(format!("the profile {} has errors", path.display()))
+        Fatal::Usage(format!("the profile {} has errors", path.display()))
     })
 }
 
@@ -617,10 +721,11 @@ fn load_profile(path: &Option<PathBuf>, format: DiagnosticsFormat) -> Result<Pro
 fn read_source(
     input: &Option<PathBuf>,
     from: SourceDialect,
-    encoding: Option<TextEncoding>,
+    common: &CommonArgs,
 ) -> Result<(SourceFile, DialectId), Fatal> {
     let (name, bytes) = read_input(input)?;
-    let (src, from, _) = decode_source(name, &bytes, from, encoding);
+    let (src, from, decoded) = decode_source(name, &bytes, from, common.encoding);
+    encoding_checked(&src, &decoded, common.diagnostics)?;
     Ok((src, from))
 }
 
@@ -628,11 +733,12 @@ fn read_source(
 fn read_source_for(
     input: &Option<PathBuf>,
     from: SourceDialect,
-    encoding: Option<TextEncoding>,
+    common: &CommonArgs,
     to: DialectId,
 ) -> Result<(SourceFile, DialectId, ncthread::text::Input), Fatal> {
     let (name, bytes) = read_input(input)?;
-    let (src, from, decoded) = decode_source(name, &bytes, from, encoding);
+    let (src, from, decoded) = decode_source(name, &bytes, from, common.encoding);
+    encoding_checked(&src, &decoded, common.diagnostics)?;
     let kept =
         ncthread::text::Input::of(&src.text, decoded.encoding, &decoded.eof_mark, from == to);
     Ok((src, from, kept))
@@ -657,6 +763,20 @@ fn decode_source(
     (SourceFile::new(name, text), decoded.dialect, decoded)
 }
 
+/// The note of a legacy encoding chosen from a file's bytes (printed), or its refusal.
+fn encoding_checked(
+    src: &SourceFile,
+    decoded: &ncthread::text::Decoded,
+    format: DiagnosticsFormat,
+) -> Result<(), Fatal> {
+    let Some(d) = decoded.encoding_diagnostic(&src.name) else {
+        return Ok(());
+    };
+    let refused = d.is_error();
+    print_diagnostics(&[d], format);
+    if refused { Err(Fatal::Refused) } else { Ok(()) }
+}
+
 fn unsupported(arg: UnsupportedArg) -> Unsupported {
     match arg {
         UnsupportedArg::Error => Unsupported::Error,
@@ -666,8 +786,7 @@ fn unsupported(arg: UnsupportedArg) -> Unsupported {
 
 fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
     let profile = args.common.profile_for(&args.input)?;
-    let (src, from, input) =
-        read_source_for(&args.input, args.from, args.common.encoding, args.to.into())?;
+    let (src, from, input) = read_source_for(&args.input, args.from, &args.common, args.to.into())?;
     let options = args
         .common
         .options(from, args.to.into(), profile, &args.target);
@@ -698,7 +817,7 @@ fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
 
 fn simulate(args: SimulateArgs) -> Result<ExitCode, Fatal> {
     let profile = args.common.profile_for(&args.input)?;
-    let (src, from) = read_source(&args.input, args.from, args.common.encoding)?;
+    let (src, from) = read_source(&args.input, args.from, &args.common)?;
     let (program, mut diags) =
         ncthread::parse(&src, from, &profile, unsupported(args.common.unsupported));
     if diag::has_errors(&diags) {
@@ -730,7 +849,7 @@ fn read_program(
     common: &CommonArgs,
 ) -> Result<Option<(SourceFile, ncthread::ir::Program)>, Fatal> {
     let profile = common.profile_for(input)?;
-    let (src, from) = read_source(input, from, common.encoding)?;
+    let (src, from) = read_source(input, from, common)?;
     let (program, mut diags) =
         ncthread::parse(&src, from, &profile, unsupported(common.unsupported));
     diag::sort(&mut diags);
@@ -755,7 +874,7 @@ fn explain(args: ExplainArgs) -> Result<ExitCode, Fatal> {
         ),
         ExplainFormat::Json => {
             let mut text = serde_json::to_string_pretty(&ncthread::explain::to_json(&ops))
-                .map_err(|e| Fatal(format!("cannot write JSON: {e}")))?;
+                .map_err(|e| Fatal::Usage(format!("cannot write JSON: {e}")))?;
             text.push('\n');
             text
         }
@@ -773,7 +892,7 @@ fn plot(args: PlotArgs) -> Result<ExitCode, Fatal> {
         ncthread::explain::explain(&program, &ncthread::explain::Options { crest: args.crest });
     let operation = match args.operation {
         Some(n) => Some(ops.get(n.wrapping_sub(1)).ok_or_else(|| {
-            Fatal(format!(
+            Fatal::Usage(format!(
                 "--operation {n}: the program has {} operation(s) (see `ncthread explain`)",
                 ops.len()
             ))
@@ -788,12 +907,12 @@ fn plot(args: PlotArgs) -> Result<ExitCode, Fatal> {
 
 fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
     let profile = args.common.profile_for(&args.input)?;
-    let (src, from) = read_source(&args.input, args.from, args.common.encoding)?;
+    let (src, from) = read_source(&args.input, args.from, &args.common)?;
     let to: DialectId = args.to.into();
     let against = match &args.against {
         Some(path) => {
             let bytes = std::fs::read(path)
-                .map_err(|e| Fatal(format!("cannot read {}: {e}", path.display())))?;
+                .map_err(|e| Fatal::Usage(format!("cannot read {}: {e}", path.display())))?;
             let text = ncthread::text::decode_as(&bytes, args.common.encoding, to).0;
             Some(SourceFile::new(path.display().to_string(), text))
         }
@@ -804,7 +923,7 @@ fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
         match ncthread::sim::rs274::Interpreter::find() {
             Some(i) => Some(i),
             None => {
-                return Err(Fatal(
+                return Err(Fatal::Usage(
                     "--rs274: LinuxCNC's interpreter was not found: put `rs274` on the PATH or name a command in NCTHREAD_RS274 (the project's scripts/rs274 fetches one)".into(),
                 ));
             }
@@ -923,12 +1042,13 @@ fn write_output(path: &Option<PathBuf>, bytes: &[u8]) -> Result<(), Fatal> {
         return match out.write_all(bytes).and_then(|()| out.flush()) {
             // The reader (e.g. `head`) has what it wanted.
             Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
-            Err(e) => Err(Fatal(format!("cannot write stdout: {e}"))),
+            Err(e) => Err(Fatal::Usage(format!("cannot write stdout: {e}"))),
             Ok(()) => Ok(()),
         };
     }
     let path = path.as_ref().expect("not stdio");
-    std::fs::write(path, bytes).map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))
+    std::fs::write(path, bytes)
+        .map_err(|e| Fatal::Usage(format!("cannot write {}: {e}", path.display())))
 }
 
 fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
@@ -945,7 +1065,7 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
         if file.as_os_str() == "-" {
             programs.push(None);
         } else if file.is_dir() {
-            let walk = ncthread::files::walk(file, &selection).map_err(Fatal)?;
+            let walk = ncthread::files::walk(file, &selection).map_err(Fatal::Usage)?;
             for f in &walk.files {
                 if let ncthread::files::Verdict::Skip(why) = &f.verdict
                     && args.common.verbose
@@ -975,8 +1095,10 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
         // An unreadable file is reported and the others are still checked.
         let (name, bytes) = match read_input(file) {
             Ok(input) => input,
-            Err(Fatal(message)) => {
-                note(format!("ncthread: {message}"));
+            Err(e) => {
+                if let Fatal::Usage(message) = e {
+                    note(format!("ncthread: {message}"));
+                }
                 unreadable += 1;
                 continue;
             }
@@ -997,13 +1119,21 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
                 decoded.dialect, decoded.encoding
             ));
         }
+        let encoding_note = decoded.encoding_diagnostic(&name);
         let src = SourceFile::new(name, decoded.text);
-        let diags = ncthread::check(
-            &src,
-            decoded.dialect,
-            &profile,
-            unsupported(args.common.unsupported),
-        );
+        let diags = match encoding_note {
+            Some(d) if d.is_error() => vec![d],
+            note => {
+                let mut diags = ncthread::check(
+                    &src,
+                    decoded.dialect,
+                    &profile,
+                    unsupported(args.common.unsupported),
+                );
+                diags.extend(note);
+                diags
+            }
+        };
         checked += 1;
         let e = diags.iter().filter(|d| d.is_error()).count();
         errors += e;
@@ -1089,9 +1219,11 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
             .create(true)
             .append(true)
             .open(path)
-            .map_err(|e| Fatal(format!("cannot write the report {}: {e}", path.display())))?;
+            .map_err(|e| {
+                Fatal::Usage(format!("cannot write the report {}: {e}", path.display()))
+            })?;
     }
-    let plan = ncthread::batch::plan(&options).map_err(Fatal)?;
+    let plan = ncthread::batch::plan(&options).map_err(Fatal::Usage)?;
     for glob in plan.unmatched_globs() {
         note(format!("ncthread: warning: --glob {glob} matched no file"));
     }
@@ -1136,16 +1268,16 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
             bar.inc(1);
         }
     };
-    let report = ncthread::batch::run(&options, &plan, &progress, &stop).map_err(Fatal)?;
+    let report = ncthread::batch::run(&options, &plan, &progress, &stop).map_err(Fatal::Usage)?;
     bar.finish_and_clear();
     if let Some(path) = &args.report {
         let json = serde_json::to_string_pretty(&report.to_json(&options))
-            .map_err(|e| Fatal(format!("cannot write the report: {e}")))?;
+            .map_err(|e| Fatal::Usage(format!("cannot write the report: {e}")))?;
         std::fs::write(path, json + "\n")
-            .map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))?;
+            .map_err(|e| Fatal::Usage(format!("cannot write {}: {e}", path.display())))?;
     }
     if !dry_run {
-        report.write_html(&options).map_err(Fatal)?;
+        report.write_html(&options).map_err(Fatal::Usage)?;
     }
     note(format!("ncthread: {}", report.summary()));
     Ok(if report.interrupted {

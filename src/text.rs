@@ -103,15 +103,71 @@ pub fn legacy_encoding(dialect: DialectId) -> TextEncoding {
 }
 
 /// Decodes a program: UTF-8 (a BOM is removed) when the bytes are valid UTF-8, else the
-/// dialect's legacy encoding. Returns the text and the encoding used.
+/// dialect's legacy encoding (see [`legacy_choice`]). Returns the text and the encoding used.
 pub fn decode(bytes: &[u8], dialect: DialectId) -> (String, TextEncoding) {
     let body = without_bom(bytes);
     match std::str::from_utf8(body) {
         Ok(text) => (text.to_string(), TextEncoding::UTF_8),
         Err(_) => {
-            let encoding = legacy_encoding(dialect);
+            let encoding = legacy_choice(body, dialect).0;
             (encoding.decode(body), encoding)
         }
+    }
+}
+
+/// Which legacy encoding a non-UTF-8 file is in. A Czech file is windows-1250 unless its
+/// bytes read as Czech only in DOS Latin 2 (CP852, the shop-floor PC's): then CP852, with a
+/// note. When neither reads cleanly the choice is not certain (`Some(false)`): the caller
+/// refuses rather than garble it. `None`: nothing to tell (no doubt, or no other candidate).
+pub fn legacy_choice(body: &[u8], dialect: DialectId) -> (TextEncoding, Option<bool>) {
+    let legacy = legacy_encoding(dialect);
+    if legacy != TextEncoding::Standard(encoding_rs::WINDOWS_1250) {
+        return (legacy, None);
+    }
+    const LETTERS: &str = "áčďéěíňóřšťúůýžÁČĎÉĚÍŇÓŘŠŤÚŮÝŽäöüÄÖÜ";
+    const FAIR: &str = "°§´¨«»–—„“”‚‘’×÷µ±·";
+    // (Czech letters, characters no Czech text has there) in each reading.
+    let score = |e: TextEncoding| {
+        let text = e.decode(body);
+        let mut letters = 0usize;
+        let mut odd = 0usize;
+        for c in text.chars().filter(|c| !c.is_ascii()) {
+            if LETTERS.contains(c) {
+                letters += 1;
+            } else if !FAIR.contains(c) {
+                odd += 1;
+            }
+        }
+        (letters, odd)
+    };
+    let (l1250, odd1250) = score(legacy);
+    let (l852, odd852) = score(TextEncoding::Ibm852);
+    if odd1250 == 0 && l1250 >= l852 {
+        (legacy, None)
+    } else if odd852 == 0 && l852 > 0 {
+        (TextEncoding::Ibm852, Some(true))
+    } else if odd1250 <= odd852 {
+        (legacy, Some(false))
+    } else {
+        (TextEncoding::Ibm852, Some(false))
+    }
+}
+
+/// The diagnostic of a legacy encoding chosen from the bytes: a note that a Czech file was
+/// read as CP852, or the refusal of a file that reads cleanly in neither.
+pub fn legacy_diagnostic(name: &str, encoding: TextEncoding, certain: bool) -> Diagnostic {
+    if certain {
+        Diagnostic::new(
+            codes::ENCODING_GUESSED,
+            format!("{name} is read as {encoding}: its bytes are Czech letters in DOS Latin 2, not in windows-1250"),
+        )
+        .help("give --encoding to say which it is")
+    } else {
+        Diagnostic::new(
+            codes::ENCODING_UNKNOWN,
+            format!("{name} reads cleanly neither as windows-1250 nor as IBM852 (CP852): which one it is cannot be told"),
+        )
+        .help("give --encoding windows-1250 or --encoding ibm852 (or another label)")
     }
 }
 
@@ -163,6 +219,17 @@ pub struct Decoded {
     pub detection: Option<Detection>,
     /// The file's end-of-file mark (`^Z` and NUL padding of a DOS file), left out of `text`.
     pub eof_mark: Vec<u8>,
+    /// Whether the legacy encoding was chosen from the bytes ([`legacy_choice`]): certain, or
+    /// not (the file must be refused).
+    pub guessed: Option<bool>,
+}
+
+impl Decoded {
+    /// The note (or refusal) of a legacy encoding chosen from the bytes, for a file `name`.
+    pub fn encoding_diagnostic(&self, name: &str) -> Option<Diagnostic> {
+        self.guessed
+            .map(|certain| legacy_diagnostic(name, self.encoding, certain))
+    }
 }
 
 /// Splits a file's trailing end-of-file mark off: a DOS `^Z` (0x1A) and the NUL padding of a
@@ -184,7 +251,7 @@ pub fn decode_program(
 ) -> Decoded {
     let (bytes, eof_mark) = split_eof_mark(bytes);
     let eof_mark = eof_mark.to_vec();
-    match from {
+    let mut decoded = match from {
         Some(dialect) => {
             let (text, encoding) = decode_as(bytes, encoding, dialect);
             Decoded {
@@ -193,6 +260,7 @@ pub fn decode_program(
                 dialect,
                 detection: None,
                 eof_mark,
+                guessed: None,
             }
         }
         None => {
@@ -203,9 +271,15 @@ pub fn decode_program(
                 dialect: detection.dialect,
                 detection: Some(detection),
                 eof_mark,
+                guessed: None,
             }
         }
+    };
+    let body = without_bom(bytes);
+    if encoding.is_none() && std::str::from_utf8(body).is_err() {
+        decoded.guessed = legacy_choice(body, decoded.dialect).1;
     }
+    decoded
 }
 
 /// [`decode_detect_as`] without an encoding.

@@ -51,6 +51,13 @@ fn archive(src: &Path) {
     let mut dos = corpus("czech/feed-incremental-crlf.nc");
     dos.push(0x1A);
     put("czech/DOS.NC", &dos);
+    // A file from a DOS PC: CP852.
+    put(
+        "czech/DOSPC.NC",
+        &encoding_rs_cp852(
+            "N10 G00 G95 S500 M03 \"ŘEZÁNÍ ZÁVITU\r\nN20 X30. Z5.\r\nN30 G33 Z-20. F1.5\r\nN40 M30\r\n",
+        ),
+    );
     // nc31: an ncthread.toml for the folder (parameter 7: a runout), a program below it in a
     // nested folder that finds it.
     put(
@@ -118,11 +125,17 @@ fn batch_converts_an_archive_as_it_is() {
         "czech/ex4.nc",
         "czech/P0001.NC",
         "czech/DOS.NC",
+        "czech/DOSPC.NC",
         "nc31/lathe 2/G31.NC",
         "iso/shaft.ngc",
     ] {
         assert_eq!(status(rel), "converted", "{rel}: {:#}", files[rel]);
     }
+    // The encodings read and written: the DOS PC's file is CP852, with a note.
+    assert_eq!(files["czech/DOSPC.NC"]["encoding"], "IBM852");
+    assert_eq!(files["czech/DOSPC.NC"]["diagnostics"][0]["code"], "ENC002");
+    assert_eq!(files["czech/P0001.NC"]["encoding"], "UTF-8");
+    assert_eq!(files["czech/P0001.NC"]["output_encoding"], "UTF-8");
     // The profiles each program used.
     assert!(
         files["czech/ex4.nc"]["profile"]
@@ -180,7 +193,7 @@ fn batch_converts_an_archive_as_it_is() {
     );
     let summary = text(&first.stderr);
     assert!(
-        summary.contains("converted 5, failed 1, skipped 0, left out 7 (not programs)"),
+        summary.contains("converted 6, failed 1, skipped 0, left out 7 (not programs)"),
         "{summary}"
     );
     // A re-run: everything there is skipped, exit 0 … but the failure fails again.
@@ -189,14 +202,14 @@ fn batch_converts_an_archive_as_it_is() {
     assert_eq!(again.status.code(), Some(0), "{}", text(&again.stderr));
     assert!(
         text(&again.stderr)
-            .contains("converted 0, failed 0, skipped 5 (exist; --force to overwrite)"),
+            .contains("converted 0, failed 0, skipped 6 (exist; --force to overwrite)"),
         "{}",
         text(&again.stderr)
     );
     // --force converts again; --dry-run writes nothing and says what it would write.
     let forced = run(&["--force"]);
     assert_eq!(forced.status.code(), Some(0));
-    assert!(text(&forced.stderr).contains("converted 5, failed 0"));
+    assert!(text(&forced.stderr).contains("converted 6, failed 0"));
     let dry_out = dir.path().join("dry");
     let dry = ncthread(
         &[
@@ -214,7 +227,7 @@ fn batch_converts_an_archive_as_it_is() {
     assert_eq!(dry.status.code(), Some(0));
     assert!(!dry_out.exists());
     let said = text(&dry.stderr);
-    assert!(said.contains("would convert 5"), "{said}");
+    assert!(said.contains("would convert 6"), "{said}");
     assert!(
         said.contains("czech/P0001.NC: would convert as czech in UTF-8"),
         "{said}"
@@ -273,10 +286,10 @@ fn check_takes_folders_and_finds_profiles() {
     archive(&src);
     let out = ncthread(&["check", src.to_str().unwrap()], None);
     let err = text(&out.stderr);
-    // Six programs checked (the bad one fails), nothing else counted; one note for the
+    // Seven programs checked (the bad one fails), nothing else counted; one note for the
     // programs whose dialect is not certain.
     assert!(
-        err.contains("checked 6 file(s): 1 error(s) in 1 file(s)"),
+        err.contains("checked 7 file(s): 1 error(s) in 1 file(s)"),
         "{err}"
     );
     assert_eq!(err.matches("--from auto").count(), 1, "{err}");
@@ -341,7 +354,7 @@ fn check_takes_folders_and_finds_profiles() {
     );
     assert_eq!(glob.status.code(), Some(2));
     assert!(text(&glob.stderr).contains("--glob **/*.ncx matched no file"));
-    // --iglob and `!`: the upper-case czech files but DOS.NC.
+    // --iglob and `!`: the czech programs in any case but DOS.NC (and the binary one).
     let chosen = ncthread(
         &[
             "check",
@@ -356,12 +369,12 @@ fn check_takes_folders_and_finds_profiles() {
         None,
     );
     let err = text(&chosen.stderr);
-    assert!(err.contains("checked 3 file(s)"), "{err}");
+    assert!(err.contains("checked 4 file(s)"), "{err}");
     // An .ncthreadignore leaves a folder out.
     std::fs::write(src.join(".ncthreadignore"), "iso/\n").unwrap();
     let ignored = ncthread(&["check", src.to_str().unwrap()], None);
     assert_eq!(ignored.status.code(), Some(0), "{}", text(&ignored.stdout));
-    assert!(text(&ignored.stderr).contains("checked 4 file(s): 0 error(s)"));
+    assert!(text(&ignored.stderr).contains("checked 5 file(s): 0 error(s)"));
 }
 
 #[test]
@@ -503,4 +516,239 @@ fn an_interrupt_leaves_no_temporary_file_and_a_report() {
 
 fn tree_len(dir: &Path) -> usize {
     std::fs::read_dir(dir).map_or(0, |d| d.count())
+}
+
+/// Messages that lead somewhere: a code one digit off is named; a thread block's refusal
+/// does not advise keeping it; a wrong --from is pointed out; dialect names in any case;
+/// --renumber checked.
+#[test]
+fn messages_lead_somewhere() {
+    let iso = b"G7 G21 G95\nS300 M3\nG0 X30 Z5\nG32 Z-20 F1.5\nM2\n";
+    let out = ncthread(&["convert", "--from", "iso", "--to", "iso"], Some(iso));
+    assert!(
+        text(&out.stderr).contains("`G32`: this G code — not read by ncthread (did you mean G33?)"),
+        "{}",
+        text(&out.stderr)
+    );
+    let czech = b"N10 G95 M03 S500\nN20 G00 X30. Z5.\nN30 G32 Z-20. F1.5\nN40 M30\n";
+    let out = ncthread(&["convert", "--from", "czech", "--to", "iso"], Some(czech));
+    assert!(
+        text(&out.stderr).contains("G32 (did you mean G33?)"),
+        "{}",
+        text(&out.stderr)
+    );
+    // A thread block with an unsupported word: refused in every mode, no advice to keep it.
+    let thread = b"N10 G95 M03 S500\nN20 G00 X30. Z5.\nN30 G33 Z-20. F1.5 Y3.\nN40 M30\n";
+    for mode in ["error", "warn"] {
+        let out = ncthread(
+            &[
+                "convert",
+                "--from",
+                "czech",
+                "--to",
+                "czech",
+                "--unsupported",
+                mode,
+            ],
+            Some(thread),
+        );
+        assert_eq!(out.status.code(), Some(1));
+        let err = text(&out.stderr);
+        assert!(err.contains("this block cuts a thread"), "{err}");
+        assert!(!err.contains("`--unsupported warn` keeps"), "{err}");
+    }
+    // An НЦ-31 program read as czech.
+    let out = ncthread(
+        &[
+            "convert",
+            "corpus/nc31/g31-m36x1.5.nc",
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("warning[INP002]"),
+        "{}",
+        text(&out.stderr)
+    );
+    assert!(text(&out.stderr).contains("give --from nc31"));
+    // Dialect names in any case.
+    let out = ncthread(
+        &[
+            "convert",
+            "corpus/czech/ex3-taper.nc",
+            "--from",
+            "Czech",
+            "--to",
+            "ISO",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    // --renumber with a step of 0 would number every block alike.
+    let out = ncthread(
+        &[
+            "convert",
+            "corpus/iso/g76-external.ngc",
+            "--from",
+            "iso",
+            "--to",
+            "czech",
+            "--renumber",
+            "10,0",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("STEP must be at least 1"));
+}
+
+/// A czech file written on a DOS PC (CP852) is read as such, with a note; one that reads
+/// cleanly in neither encoding is refused, never garbled.
+#[test]
+fn a_cp852_file_is_told_from_windows_1250() {
+    let cp852 = encoding_rs_cp852(
+        "N10 G00 G95 S500 M03 \"ROZTOČENÍ VŘETENE, ŘEZÁNÍ ZÁVITU\r\nN20 X30. Z5.\r\nN30 G33 Z-20. F1.5\r\nN40 M30\r\n",
+    );
+    let out = ncthread(
+        &["convert", "--from", "czech", "--to", "czech"],
+        Some(&cp852),
+    );
+    assert_eq!(out.status.code(), Some(0));
+    assert!(
+        text(&out.stderr).contains("warning[ENC002]"),
+        "{}",
+        text(&out.stderr)
+    );
+    // Kept in CP852 (Č is 0xAC there).
+    assert!(
+        out.stdout.windows(2).any(|w| w == b"O\xAC"),
+        "{:?}",
+        out.stdout
+    );
+    let out = ncthread(&["convert", "--from", "czech", "--to", "iso"], Some(&cp852));
+    assert!(
+        text(&out.stdout).contains("ROZTOČENÍ VŘETENE"),
+        "{}",
+        text(&out.stdout)
+    );
+    let garbled = b"N10 G00 G95 S500 M03 \"\x80\x81\x83\x88\x90\r\nN20 M30\r\n";
+    let out = ncthread(
+        &["convert", "--from", "czech", "--to", "iso"],
+        Some(garbled),
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains("error[ENC003]"));
+    // The windows-1250 corpus file stays windows-1250, without a note.
+    let out = ncthread(
+        &[
+            "convert",
+            "corpus/czech/windows-1250.nc",
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+        ],
+        None,
+    );
+    assert!(
+        !text(&out.stderr).contains("ENC00"),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+/// CP852 bytes of `text` (the few Czech letters the tests use).
+fn encoding_rs_cp852(text: &str) -> Vec<u8> {
+    text.chars()
+        .map(|c| match c {
+            'Č' => 0xAC,
+            'Í' => 0xD6,
+            'Ř' => 0xFC,
+            'Á' => 0xB5,
+            c if c.is_ascii() => c as u8,
+            c => panic!("no CP852 byte for {c}"),
+        })
+        .collect()
+}
+
+#[test]
+fn man_pages_for_every_subcommand() {
+    let out = ncthread(&["man", "convert"], None);
+    assert_eq!(out.status.code(), Some(0));
+    let page = text(&out.stdout);
+    assert!(page.contains(".TH ncthread-convert 1"), "{page}");
+    for section in [
+        "EXIT STATUS",
+        "FILES",
+        "DIAGNOSTICS",
+        "ISOR021",
+        "ncthread.toml",
+    ] {
+        assert!(page.contains(section), "{section}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = ncthread(&["man", "--dir", dir.path().to_str().unwrap()], None);
+    assert_eq!(out.status.code(), Some(0));
+    for name in [
+        "ncthread",
+        "ncthread-convert",
+        "ncthread-batch",
+        "ncthread-check",
+        "ncthread-explain",
+        "ncthread-plot",
+        "ncthread-verify",
+    ] {
+        assert!(dir.path().join(format!("{name}.1")).is_file(), "{name}");
+    }
+    let help = text(&ncthread(&["check", "--help"], None).stdout);
+    assert!(help.contains("on stdout"), "{help}");
+}
+
+/// `verify --round` proves a conversion within the deviation its rounding reported;
+/// `--tolerance` allows what it is told.
+#[test]
+fn verify_allows_the_reported_rounding() {
+    let out = ncthread(
+        &[
+            "verify",
+            "corpus/czech/ex1-multipass.nc",
+            "--from",
+            "czech",
+            "--to",
+            "nc31",
+            "--round",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stdout));
+    assert!(text(&out.stdout).contains("largest deviation 0.003 mm; tolerance 0.003 mm"));
+    let hand =
+        std::fs::read_to_string(common::root().join("corpus/iso/m36x1.5-by-hand.ngc")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let off = dir.path().join("off.ngc");
+    std::fs::write(&off, hand.replace("G0 X34.255\n", "G0 X34.259\n")).unwrap();
+    let verify = |tolerance: &str| {
+        ncthread(
+            &[
+                "verify",
+                "corpus/nc31/g31-m36x1.5.nc",
+                "--from",
+                "nc31",
+                "--to",
+                "iso",
+                "--against",
+                off.to_str().unwrap(),
+                "--tolerance",
+                tolerance,
+            ],
+            None,
+        )
+    };
+    assert_eq!(verify("0.001").status.code(), Some(1));
+    assert_eq!(verify("0.005").status.code(), Some(0));
 }

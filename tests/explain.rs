@@ -425,7 +425,10 @@ fn passes_are_gathered_into_the_threads_they_cut() {
     let v = explain_stdin(&two, "iso", &[]);
     let ops = v["operations"].as_array().unwrap();
     assert_eq!(ops.len(), 2, "{v:#}");
-    assert_eq!((ops[0]["internal"].clone(), ops[1]["internal"].clone()), (false.into(), true.into()));
+    assert_eq!(
+        (ops[0]["internal"].clone(), ops[1]["internal"].clone()),
+        (false.into(), true.into())
+    );
     // A spindle said again, coolant and a dwell between the passes: one thread.
     let restated = format!(
         "G7 G21 G95\nS300 M3\nG0 X40 Z5\n{}S300 M3\n{}M8\n{}G4 P0.5\n{}M2\n",
@@ -447,7 +450,11 @@ fn passes_are_gathered_into_the_threads_they_cut() {
     );
     let v = explain_stdin(&twostart, "iso", &["--crest", "30"]);
     let op = &v["operations"][0];
-    assert_eq!(op["start_angles"], serde_json::json!([0.0, 180.0]), "{op:#}");
+    assert_eq!(
+        op["start_angles"],
+        serde_json::json!([0.0, 180.0]),
+        "{op:#}"
+    );
     assert_eq!(numbers(op, "start"), [1.0, 1.0, 2.0, 2.0]);
     assert_eq!(numbers(op, "cut"), [0.3, 0.2, 0.3, 0.2]);
     // A czech flank infeed by the start angle (I0, I6, I12 on a 3 mm lead): one start, each
@@ -468,7 +475,10 @@ fn passes_are_gathered_into_the_threads_they_cut() {
     assert_eq!(op["lead"], 2.0);
     assert_eq!(numbers(op, "z_start"), [-1.0, -1.0]);
     assert_eq!(numbers(op, "z_end"), [-40.0, -40.0]);
-    assert_eq!((op["entry"].clone(), op["runout"].clone()), (6.0.into(), 4.0.into()));
+    assert_eq!(
+        (op["entry"].clone(), op["runout"].clone()),
+        (6.0.into(), 4.0.into())
+    );
 }
 
 /// A pass's start and end are its full-depth line: a czech J runout and a G76's tapers are
@@ -485,13 +495,22 @@ fn the_pass_line_leaves_out_entry_and_runout_and_unknowns_are_null() {
     assert_eq!(op["runout"], 12.0);
     let v = explain_json("corpus/czech/ex2-start-angle.nc", "czech", &[]);
     let p = &v["operations"][0]["passes"][0];
-    assert_eq!((p["x_start"].clone(), p["z_start"].clone()), (serde_json::Value::Null, serde_json::Value::Null));
+    assert_eq!(
+        (p["x_start"].clone(), p["z_start"].clone()),
+        (serde_json::Value::Null, serde_json::Value::Null)
+    );
 }
 
 #[test]
 fn plain_tables_are_ascii() {
     let out = ncthread(
-        &["explain", "corpus/iso/g76-external.ngc", "--from", "iso", "--plain"],
+        &[
+            "explain",
+            "corpus/iso/g76-external.ngc",
+            "--from",
+            "iso",
+            "--plain",
+        ],
         None,
     );
     assert_eq!(out.status.code(), Some(0));
@@ -504,15 +523,34 @@ fn plain_tables_are_ascii() {
 #[test]
 fn plot_draws_threads_as_threads_only() {
     let svg = plot("corpus/iso/roughing-g71-bore.ngc", "iso");
-    assert!(!svg.contains("cross-section"), "no thread: no cross-section");
+    assert!(
+        !svg.contains("cross-section"),
+        "no thread: no cross-section"
+    );
     let out = ncthread(
-        &["plot", "corpus/iso/roughing-g71-bore.ngc", "--from", "iso", "--operation", "1"],
+        &[
+            "plot",
+            "corpus/iso/roughing-g71-bore.ngc",
+            "--from",
+            "iso",
+            "--operation",
+            "1",
+        ],
         None,
     );
     let svg = text(&out.stdout);
     assert!(svg.contains("operation 1: cuts along Z") && !svg.contains("cross-section"));
     let out = ncthread(
-        &["verify", "corpus/nc31/g31-m36x1.5.nc", "--from", "nc31", "--to", "iso", "--plot", "-"],
+        &[
+            "verify",
+            "corpus/nc31/g31-m36x1.5.nc",
+            "--from",
+            "nc31",
+            "--to",
+            "iso",
+            "--plot",
+            "-",
+        ],
         None,
     );
     assert_eq!(out.status.code(), Some(2));

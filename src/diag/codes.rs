@@ -308,6 +308,18 @@ pub const ENCODING: Code = error(
     "ENC001",
     "a character of the output that the output encoding cannot represent",
 );
+pub const OTHER_DIALECT: Code = warning(
+    "INP002",
+    "the program has errors, and reads without errors as another dialect than the one given (--from)",
+);
+pub const ENCODING_GUESSED: Code = warning(
+    "ENC002",
+    "a Czech file read as IBM852 (CP852, DOS Latin 2): its bytes are Czech letters there, not in windows-1250",
+);
+pub const ENCODING_UNKNOWN: Code = error(
+    "ENC003",
+    "a Czech file that reads cleanly neither as windows-1250 nor as IBM852: its encoding cannot be told",
+);
 pub const EMPTY_INPUT: Code = error(
     "INP001",
     "the input holds no program (it is empty, or only blank lines): nothing to convert; a warning in `check`",
@@ -430,7 +442,10 @@ pub const ALL: &[Code] = &[
     NCW_COMMENTS,
     NCW_NOTHING,
     ENCODING,
+    ENCODING_GUESSED,
+    ENCODING_UNKNOWN,
     EMPTY_INPUT,
+    OTHER_DIALECT,
     SPINDLE_OFF,
     FEED_SPINDLE_OFF,
     OPAQUE_MEANING,

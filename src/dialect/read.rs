@@ -10,6 +10,44 @@ use crate::diag::{Code, Diagnostic};
 use crate::ir::{DialectId, Item, ItemKind, ModalContext, Pos, Program};
 use crate::source::{Line, SourceFile, Span};
 
+/// ` (did you mean G33?)` when `code` (`G32`) is one edit away from a code the dialect reads
+/// (a digit changed, added or left out), else nothing.
+pub fn did_you_mean(code: &str, known: &[&str]) -> String {
+    fn distance(a: &str, b: &str) -> usize {
+        let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
+        let mut row: Vec<usize> = (0..=b.len()).collect();
+        for (i, ca) in a.iter().enumerate() {
+            let mut previous = row[0];
+            row[0] = i + 1;
+            for (j, cb) in b.iter().enumerate() {
+                let here = row[j + 1];
+                row[j + 1] = (previous + usize::from(ca != cb))
+                    .min(row[j] + 1)
+                    .min(here + 1);
+                previous = here;
+            }
+        }
+        row[b.len()]
+    }
+    known
+        .iter()
+        .filter(|k| **k != code && distance(code, k) == 1)
+        // A digit changed before one added or left out; then the nearest number (G32 → G33,
+        // not G30 or G02).
+        .min_by_key(|k| {
+            let number = |c: &str| c[1..].parse::<f64>().unwrap_or(0.0);
+            (
+                k.len().abs_diff(code.len()),
+                ((number(k) - number(code)).abs() * 10.0) as u64,
+            )
+        })
+        .map(|k| format!(" (did you mean {k}?)"))
+        .unwrap_or_default()
+}
+
+/// The help of an unsupported word in a block that cuts a thread.
+pub const THREAD_HELP: &str = "this block cuts a thread, which ncthread converts only when it reads every word of the block: rewrite or remove this word (`--unsupported warn` cannot keep a thread block: the thread would not be checked)";
+
 /// How many problems of one kind a reader reports for one line before it only counts them:
 /// a hostile line of 50,000 repeated words gets a few diagnostics and a count.
 pub(crate) const WORD_REPORTS: usize = 5;
@@ -202,12 +240,17 @@ impl<'a> Reader<'a> {
 
     /// Reports the unsupported words `found` (span, message): at most [`WORD_REPORTS`],
     /// the last saying how many more there are. Errors, or warnings when `keep`.
+    /// A block that may cut a thread (`thread`) is never kept, in any mode, and its help
+    /// never suggests `--unsupported warn` (a thread is converted only when every word of its
+    /// block is read). Returns whether the block was kept.
     pub fn unsupported(
         &mut self,
         wording: &UnsupportedWording,
         mut found: Vec<(Span, String)>,
         keep: bool,
-    ) {
+        thread: bool,
+    ) -> bool {
+        let keep = keep && !thread;
         let more = found.len().saturating_sub(WORD_REPORTS);
         found.truncate(WORD_REPORTS);
         if more > 0
@@ -219,10 +262,13 @@ impl<'a> Reader<'a> {
             let d = Diagnostic::new(wording.code, message).at(self.src, span);
             self.diags.push(if keep {
                 d.help(wording.keep_help).as_warning()
+            } else if thread {
+                d.help(THREAD_HELP)
             } else {
                 d.help(wording.refuse_help)
             });
         }
+        keep
     }
 
     /// Refuses to keep a block opaque because its word `text` at `span` changes state the
@@ -277,19 +323,39 @@ mod tests {
     };
 
     #[test]
+    fn a_code_one_edit_away_is_suggested() {
+        let known = ["G0", "G1", "G33", "G33.1", "G76"];
+        assert_eq!(did_you_mean("G32", &known), " (did you mean G33?)");
+        assert_eq!(did_you_mean("G34", &known), " (did you mean G33?)");
+        assert_eq!(did_you_mean("G133", &known), " (did you mean G33?)");
+        assert_eq!(did_you_mean("G2", &known), " (did you mean G1?)");
+        assert_eq!(did_you_mean("G92", &known), "");
+        assert_eq!(did_you_mean("G33", &known), "");
+    }
+
+    #[test]
     fn unsupported_words_are_counted_past_the_limit_and_warn_only_when_kept() {
         let src = SourceFile::new("t", "A1 A2 A3 A4 A5 A6 A7\n");
         let found: Vec<(Span, String)> = (1..=7)
             .map(|i| (Span::default(), format!("`A{i}`")))
             .collect();
         let mut r = Reader::new(&src, crate::dialect::iso::ID);
-        r.unsupported(&WORDING, found.clone(), false);
+        r.unsupported(&WORDING, found.clone(), false, false);
         assert_eq!(r.diags.len(), WORD_REPORTS);
         assert_eq!(r.diags[4].message, "`A5` (and 2 more on this line)");
         assert!(r.diags.iter().all(|d| d.severity == Severity::Error));
         let mut r = Reader::new(&src, crate::dialect::iso::ID);
-        r.unsupported(&WORDING, found, true);
+        r.unsupported(&WORDING, found.clone(), true, false);
         assert!(r.diags.iter().all(|d| d.severity == Severity::Warning));
+        // A thread block: refused under `keep` too, and no advice to keep it.
+        let mut r = Reader::new(&src, crate::dialect::iso::ID);
+        assert!(!r.unsupported(&WORDING, found, true, true));
+        assert!(r.diags.iter().all(|d| d.severity == Severity::Error));
+        assert!(
+            r.diags
+                .iter()
+                .all(|d| d.help.as_deref() == Some(THREAD_HELP))
+        );
     }
 
     #[test]

@@ -319,7 +319,12 @@ impl<'a> FrontEnd<'a> {
                             None
                         }
                         _ => {
-                            words.unsupported.push((word, format!("G{g}")));
+                            let known = [
+                                "G00", "G01", "G02", "G03", "G33", "G90", "G91", "G94", "G95",
+                            ];
+                            let text = format!("G{g:02}");
+                            let hint = crate::dialect::read::did_you_mean(&text, &known);
+                            words.unsupported.push((word, format!("G{g}{hint}")));
                             None
                         }
                     };
@@ -543,8 +548,8 @@ impl<'a> FrontEnd<'a> {
                 )
             })
             .collect();
-        self.r.unsupported(&UNSUPPORTED, found, keep);
-        if !keep {
+        let thread = words.motion.is_some_and(|(m, _)| m == Motion::Thread);
+        if !self.r.unsupported(&UNSUPPORTED, found, keep, thread) {
             return;
         }
         // A kept block must not change what ncthread follows: its motion, distance or

@@ -469,6 +469,13 @@ enum Meaning {
     Unsupported(&'static str),
 }
 
+/// The G codes the reader reads, as written (for "did you mean").
+const KNOWN_G: &[&str] = &[
+    "G0", "G1", "G2", "G3", "G4", "G7", "G8", "G18", "G20", "G21", "G28", "G30", "G33", "G33.1",
+    "G40", "G41", "G42", "G41.1", "G42.1", "G43", "G52", "G53", "G54", "G55", "G56", "G57", "G58",
+    "G59", "G70", "G71", "G72", "G76", "G90", "G91", "G92", "G94", "G95", "G96", "G97",
+];
+
 fn g_meaning(code: GCode) -> Meaning {
     match code {
         G0 | G1 | G2 | G3 | G33 | G33_1 | G76 | G4 | G7 | G8 | G18 | G20 | G21 | G43 | G90
@@ -838,6 +845,14 @@ impl FrontEnd<'_> {
             let text = &line.text[w.range.clone()];
             let why = match w.letter {
                 'G' => match w.value.to_scaled(1).map(g_meaning) {
+                    Ok(Meaning::Unsupported("this G code")) => {
+                        let hint = crate::dialect::read::did_you_mean(text, KNOWN_G);
+                        found.push((
+                            w.range.clone(),
+                            format!("`{text}`: this G code — not read by ncthread{hint}"),
+                        ));
+                        None
+                    }
                     Ok(Meaning::Unsupported(why)) => Some(why),
                     Err(_) => Some("this G code"),
                     _ => None,
@@ -864,8 +879,13 @@ impl FrontEnd<'_> {
             .into_iter()
             .map(|(range, message)| (self.r.span(line, range), message))
             .collect();
-        self.r.unsupported(&UNSUPPORTED, found, keep);
-        if keep {
+        let thread = block.words.iter().any(|w| {
+            w.letter == 'G'
+                && w.value
+                    .to_scaled(1)
+                    .is_ok_and(|g| matches!(g, G33 | G33_1 | G76))
+        });
+        if self.r.unsupported(&UNSUPPORTED, found, keep, thread) {
             // A kept line must not change what ncthread follows: its modes and F, S, T or
             // spindle words would take effect in LinuxCNC and not here, and the lines after
             // it would be read wrongly. (A motion code leaves the motion mode unknown.)

@@ -390,8 +390,10 @@ impl<'a> FrontEnd<'a> {
                 )
             })
             .collect();
-        self.r.unsupported(&UNSUPPORTED, found, keep);
-        if !keep {
+        let thread = frames
+            .iter()
+            .any(|f| f.word().letter == 'G' && matches!(f.word().value, 31..=33));
+        if !self.r.unsupported(&UNSUPPORTED, found, keep, thread) {
             return false;
         }
         // A kept group must not change what ncthread follows (the feed, the spindle, a
