@@ -1046,9 +1046,21 @@ fn write_output(path: &Option<PathBuf>, bytes: &[u8]) -> Result<(), Fatal> {
             Ok(()) => Ok(()),
         };
     }
+    // Whole or not at all: a temporary file beside it, renamed into place.
     let path = path.as_ref().expect("not stdio");
-    std::fs::write(path, bytes)
-        .map_err(|e| Fatal::Usage(format!("cannot write {}: {e}", path.display())))
+    if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty())
+        && !parent.is_dir()
+    {
+        return Err(Fatal::Usage(format!(
+            "cannot write {}: the folder {} does not exist",
+            path.display(),
+            parent.display()
+        )));
+    }
+    ncthread::files::write_atomically(path, bytes, true, None).map_err(|e| match e {
+        ncthread::files::WriteError::Failed(why) => Fatal::Usage(why),
+        ncthread::files::WriteError::Exists => Fatal::Usage(format!("{} exists", path.display())),
+    })
 }
 
 fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {

@@ -51,6 +51,10 @@ fn archive(src: &Path) {
     let mut dos = corpus("czech/feed-incremental-crlf.nc");
     dos.push(0x1A);
     put("czech/DOS.NC", &dos);
+    // A file padded with NULs to its block size.
+    let mut padded = corpus("czech/ex3-taper.nc");
+    padded.extend([0u8; 100]);
+    put("czech/PADDED.NC", &padded);
     // A file from a DOS PC: CP852.
     put(
         "czech/DOSPC.NC",
@@ -126,6 +130,7 @@ fn batch_converts_an_archive_as_it_is() {
         "czech/P0001.NC",
         "czech/DOS.NC",
         "czech/DOSPC.NC",
+        "czech/PADDED.NC",
         "nc31/lathe 2/G31.NC",
         "iso/shaft.ngc",
     ] {
@@ -193,7 +198,7 @@ fn batch_converts_an_archive_as_it_is() {
     );
     let summary = text(&first.stderr);
     assert!(
-        summary.contains("converted 6, failed 1, skipped 0, left out 7 (not programs)"),
+        summary.contains("converted 7, failed 1, skipped 0, left out 7 (not programs)"),
         "{summary}"
     );
     // A re-run: everything there is skipped, exit 0 … but the failure fails again.
@@ -202,14 +207,14 @@ fn batch_converts_an_archive_as_it_is() {
     assert_eq!(again.status.code(), Some(0), "{}", text(&again.stderr));
     assert!(
         text(&again.stderr)
-            .contains("converted 0, failed 0, skipped 6 (exist; --force to overwrite)"),
+            .contains("converted 0, failed 0, skipped 7 (exist; --force to overwrite)"),
         "{}",
         text(&again.stderr)
     );
     // --force converts again; --dry-run writes nothing and says what it would write.
     let forced = run(&["--force"]);
     assert_eq!(forced.status.code(), Some(0));
-    assert!(text(&forced.stderr).contains("converted 6, failed 0"));
+    assert!(text(&forced.stderr).contains("converted 7, failed 0"));
     let dry_out = dir.path().join("dry");
     let dry = ncthread(
         &[
@@ -227,7 +232,7 @@ fn batch_converts_an_archive_as_it_is() {
     assert_eq!(dry.status.code(), Some(0));
     assert!(!dry_out.exists());
     let said = text(&dry.stderr);
-    assert!(said.contains("would convert 6"), "{said}");
+    assert!(said.contains("would convert 7"), "{said}");
     assert!(
         said.contains("czech/P0001.NC: would convert as czech in UTF-8"),
         "{said}"
@@ -289,7 +294,7 @@ fn check_takes_folders_and_finds_profiles() {
     // Seven programs checked (the bad one fails), nothing else counted; one note for the
     // programs whose dialect is not certain.
     assert!(
-        err.contains("checked 7 file(s): 1 error(s) in 1 file(s)"),
+        err.contains("checked 8 file(s): 1 error(s) in 1 file(s)"),
         "{err}"
     );
     assert_eq!(err.matches("--from auto").count(), 1, "{err}");
@@ -369,12 +374,12 @@ fn check_takes_folders_and_finds_profiles() {
         None,
     );
     let err = text(&chosen.stderr);
-    assert!(err.contains("checked 4 file(s)"), "{err}");
+    assert!(err.contains("checked 5 file(s)"), "{err}");
     // An .ncthreadignore leaves a folder out.
     std::fs::write(src.join(".ncthreadignore"), "iso/\n").unwrap();
     let ignored = ncthread(&["check", src.to_str().unwrap()], None);
     assert_eq!(ignored.status.code(), Some(0), "{}", text(&ignored.stdout));
-    assert!(text(&ignored.stderr).contains("checked 5 file(s): 0 error(s)"));
+    assert!(text(&ignored.stderr).contains("checked 6 file(s): 0 error(s)"));
 }
 
 #[test]
@@ -751,4 +756,65 @@ fn verify_allows_the_reported_rounding() {
     };
     assert_eq!(verify("0.001").status.code(), Some(1));
     assert_eq!(verify("0.005").status.code(), Some(0));
+}
+
+/// `convert -o` writes whole or not at all, with the mode a new file gets; a folder that is
+/// not there is exit 2, naming the path given.
+#[test]
+fn convert_writes_its_output_atomically() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("p.ngc");
+    let run = ncthread(
+        &[
+            "convert",
+            "corpus/czech/ex3-taper.nc",
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(run.status.code(), Some(0));
+    assert!(std::fs::read_to_string(&out).unwrap().contains("G33"));
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        1,
+        "no temporary file is left"
+    );
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt as _;
+        let probe = dir.path().join("probe");
+        std::fs::File::create(&probe).unwrap();
+        let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode(&out), mode(&probe));
+    }
+    for bad in [
+        dir.path().join("no/such/p.ngc"),
+        dir.path().join("p.ngc/x.ngc"),
+    ] {
+        let run = ncthread(
+            &[
+                "convert",
+                "corpus/czech/ex3-taper.nc",
+                "--from",
+                "czech",
+                "--to",
+                "iso",
+                "-o",
+                bad.to_str().unwrap(),
+            ],
+            None,
+        );
+        assert_eq!(run.status.code(), Some(2));
+        let err = text(&run.stderr);
+        assert!(
+            err.contains(&format!("cannot write {}", bad.display())),
+            "{err}"
+        );
+        assert!(!dir.path().join("no").exists(), "no folder is made");
+    }
 }
