@@ -438,15 +438,16 @@ pub fn plot(title: &str, segments: &[Segment], operation: Option<&Operation>) ->
     out
 }
 
+/// A view's title above its rectangle.
+fn heading(out: &mut String, rect: (f64, f64, f64, f64), title: &str) {
+    text(out, rect.0, rect.1 - 8.0, 13.0, "start", "#222222", title);
+}
+
 /// The operation's passes along Z, X magnified so that each pass is apart.
 fn thread_detail(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
-    text(
+    heading(
         out,
-        rect.0,
-        rect.1 - 8.0,
-        13.0,
-        "start",
-        "#222222",
+        rect,
         &format!(
             "operation {}: {} along Z (X magnified)",
             op.number,
@@ -544,13 +545,9 @@ fn line_across(out: &mut String, v: &View, x: Length, z0: f64, z1: f64, colour: 
 /// The thread's cross-section: the form (60° flanks from the crest to the deepest pass) and
 /// the tool's tip at every pass (its depth, and its shift along the cut).
 fn cross_section(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
-    text(
+    heading(
         out,
-        rect.0,
-        rect.1 - 8.0,
-        13.0,
-        "start",
-        "#222222",
+        rect,
         &format!("operation {}: cross-section (tool at each pass)", op.number),
     );
     let depth_of =

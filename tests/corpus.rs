@@ -160,17 +160,7 @@ fn no_stale_snapshots(cases: &[Case]) -> Result<(), Failed> {
 
 /// `ncthread explain` of the case: the text table, then the JSON.
 fn explain(case: &Case) -> String {
-    let profile = case
-        .profile
-        .as_deref()
-        .map(common::load_profile)
-        .unwrap_or_default();
-    let (program, _) = ncthread::parse(
-        &common::case_source(case),
-        case.from,
-        &profile,
-        ncthread::Unsupported::Error,
-    );
+    let program = common::parse_case(case);
     let ops = ncthread::explain::explain(&program, &Default::default());
     format!(
         "source: {}\nprofile: {}\n--- text\n{}--- json\n{}\n",

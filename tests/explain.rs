@@ -329,17 +329,7 @@ fn every_corpus_program_plots() {
         if common::reader_refuses(&case) {
             continue;
         }
-        let profile = case
-            .profile
-            .as_deref()
-            .map(common::load_profile)
-            .unwrap_or_default();
-        let (program, _) = ncthread::parse(
-            &common::case_source(&case),
-            case.from,
-            &profile,
-            ncthread::Unsupported::Error,
-        );
+        let program = common::parse_case(&case);
         let ops = ncthread::explain::explain(&program, &Default::default());
         let segments = ncthread::sim::simulate(&program).segments;
         for op in ops.iter().map(Some).chain([None]) {

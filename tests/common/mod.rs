@@ -117,6 +117,16 @@ pub fn case_source(case: &Case) -> SourceFile {
     SourceFile::new(case.path.clone(), text)
 }
 
+/// The case read with its profile (diagnostics dropped: for cases the reader accepts).
+pub fn parse_case(case: &Case) -> ncthread::ir::Program {
+    let profile = case
+        .profile
+        .as_deref()
+        .map(load_profile)
+        .unwrap_or_default();
+    ncthread::parse(&case_source(case), case.from, &profile, Unsupported::Error).0
+}
+
 /// Whether the reader alone refuses the case (so that every target refuses it alike).
 pub fn reader_refuses(case: &Case) -> bool {
     let profile = case
