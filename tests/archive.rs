@@ -447,11 +447,13 @@ fn a_report_or_an_output_folder_that_cannot_be_written_stops_before_any_work() {
 }
 
 /// Ctrl-C: the workers stop between files, no temporary file is left, the summary and the
-/// report say what was done, exit 130.
+/// report say what was done, exit 130. The batch runs on a pseudo-terminal (util-linux's
+/// `script`), and Ctrl-C is typed into it: the terminal's line discipline interrupts the
+/// batch as it would a user's (where `script` is missing, SIGINT is sent instead).
 #[cfg(unix)]
 #[test]
 fn an_interrupt_leaves_no_temporary_file_and_a_report() {
-    use std::io::Read as _;
+    use std::io::{Read as _, Write as _};
     let dir = tempfile::tempdir().unwrap();
     let (src, out) = (dir.path().join("src"), dir.path().join("out"));
     std::fs::create_dir_all(&src).unwrap();
@@ -460,48 +462,80 @@ fn an_interrupt_leaves_no_temporary_file_and_a_report() {
         std::fs::write(src.join(format!("p{i:04}.nc")), &program).unwrap();
     }
     let report = dir.path().join("report.json");
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_ncthread"))
-        .args([
-            "batch",
-            src.to_str().unwrap(),
-            out.to_str().unwrap(),
-            "--from",
-            "nc31",
-            "--to",
-            "iso",
-            "-j",
-            "1",
-            "--report",
-            report.to_str().unwrap(),
-        ])
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
+    let args = [
+        env!("CARGO_BIN_EXE_ncthread"),
+        "batch",
+        src.to_str().unwrap(),
+        out.to_str().unwrap(),
+        "--from",
+        "nc31",
+        "--to",
+        "iso",
+        "-j",
+        "1",
+        "--report",
+        report.to_str().unwrap(),
+    ];
+    let pty = std::process::Command::new("script")
+        .arg("--version")
+        .output()
+        .is_ok();
+    let mut child = if pty {
+        let line = args
+            .iter()
+            .map(|a| format!("'{a}'"))
+            .collect::<Vec<_>>()
+            .join(" ");
+        std::process::Command::new("script")
+            .args(["-qfec", &line, "/dev/null"])
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap()
+    } else {
+        std::process::Command::new(args[0])
+            .args(&args[1..])
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap()
+    };
     // Once the work has begun (the first outputs are there), the interrupt.
     let started = std::time::Instant::now();
     while tree_len(&out) < 5 && started.elapsed().as_secs() < 30 {
         std::thread::sleep(std::time::Duration::from_millis(5));
     }
-    let kill = std::process::Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(kill.success());
+    if pty {
+        let mut stdin = child.stdin.take().unwrap();
+        stdin.write_all(b"\x03").unwrap();
+        stdin.flush().unwrap();
+        // (kept open until the batch ends: script would end the session on EOF)
+        std::mem::forget(stdin);
+    } else {
+        let kill = std::process::Command::new("kill")
+            .args(["-INT", &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(kill.success());
+    }
     let status = child.wait().unwrap();
-    let mut err = String::new();
+    let mut said = String::new();
+    if let Some(mut o) = child.stdout.take() {
+        o.read_to_string(&mut said).unwrap();
+    }
     child
         .stderr
         .take()
         .unwrap()
-        .read_to_string(&mut err)
+        .read_to_string(&mut said)
         .unwrap();
     if tree_len(&out) == 3000 {
         // It finished before the interrupt arrived: nothing to judge.
         eprintln!("the batch ended before the interrupt");
         return;
     }
-    assert_eq!(status.code(), Some(130), "{err}");
-    assert!(err.contains("interrupted:"), "{err}");
+    assert_eq!(status.code(), Some(130), "{said}");
+    assert!(said.contains("interrupted:"), "{said}");
     assert!(
         !tree(&out)
             .keys()
