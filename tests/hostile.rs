@@ -1,6 +1,6 @@
 //! Issue 12's acceptance: no panic and no hang on 400 hostile inputs and on every corpus
 //! file, through `check`, `convert` (every target, also with `--unsupported warn` and
-//! `--round`) and `verify`. The inputs are made here, deterministically: hand-written ones
+//! `--round`), `verify`, `explain` and `plot`. The inputs are made here, deterministically: hand-written ones
 //! (multi-byte text at every place an error can point, a BOM, NUL, ^Z, CR-only lines, a
 //! line of 50,000 words, a 1 MB line, absurd numbers) and seeded mutations of corpus files.
 //! Each input runs on a watchdog thread; a panic or a run over 20 s fails the test.
@@ -114,12 +114,31 @@ fn mutate(rng: &mut Lcg, bytes: &[u8]) -> Vec<u8> {
     b
 }
 
-/// check, convert to every target (plain, `--unsupported warn`, `--round`) and verify.
+/// check, explain and plot, convert to every target (plain, `--unsupported warn`,
+/// `--round`) and verify.
 fn exercise(from: DialectId, bytes: &[u8], profile: &Profile) {
     let (text, _) = ncthread::text::decode(bytes, from);
     let src = SourceFile::new("hostile", text);
     for unsupported in [Unsupported::Error, Unsupported::Warn] {
         let _ = ncthread::check(&src, from, profile, unsupported);
+        // What reads (warnings allowed) is explained and plotted, with and without a crest.
+        let (program, _) = ncthread::parse(&src, from, profile, unsupported);
+        let segments = ncthread::sim::simulate(&program).segments;
+        for crest in [None, Some(ncthread::fixed::Length::from_mm(30))] {
+            let options = ncthread::explain::Options { crest };
+            let ops = ncthread::explain::explain(&program, &options);
+            for table in [
+                ncthread::explain::Table::Box,
+                ncthread::explain::Table::Plain,
+            ] {
+                let _ = ncthread::explain::to_text(&ops, table);
+            }
+            let _ = ncthread::explain::to_json(&ops);
+            let _ = ncthread::explain::to_csv(&ops);
+            for op in ops.iter().map(Some).chain([None]) {
+                let _ = ncthread::plot::plot("hostile", &segments, op);
+            }
+        }
     }
     for to in DIALECTS {
         for (unsupported, round) in [
