@@ -211,6 +211,18 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
     fe.r.src = src;
     let broken = runs.iter().any(|r| !r.structure.errors.is_empty());
     let mut reported: Vec<Vec<bool>> = runs.iter().map(|r| vec![false; r.lines.len()]).collect();
+    // A line that reads like an O-word but cannot be read would leave the program's branches
+    // and loops to guesswork wherever it stands, run or skipped: it is reported up front.
+    for (f, run) in runs.iter().enumerate() {
+        fe.r.src = run.src;
+        for (i, line) in run.lines.iter().enumerate() {
+            if matches!(run.blocks[i], Some(Err(_))) && control::looks_like_oword(line.text) {
+                fe.report_unreadable(*line, &run.blocks[i]);
+                reported[f][i] = true;
+            }
+        }
+    }
+    fe.r.src = src;
     let mut params = control::Params::default();
     let mut percent = false;
     let mut first = true;
@@ -2956,6 +2968,13 @@ mod tests {
                 "G76",
             ),
             ("G0 X1 (open\n", codes::ISOR_SYNTAX, "("),
+            // An O-word line that cannot be read, in a branch that is not run: reported
+            // all the same (its branch structure would be guessed).
+            (
+                "G7 G0 X1 Z0\n#1=5\no1 if [#1 LT 2]\no1 elseif [#1 LT 20] ?\no1 endif\nM2\n",
+                codes::ISOR_SYNTAX,
+                "?",
+            ),
         ];
         for (text, code, marked) in cases {
             let src = SourceFile::new("t.ngc", *text);
