@@ -126,6 +126,8 @@ pub struct FileReport {
     pub output_encoding: Option<TextEncoding>,
     /// The profile used (`None`: the built-in defaults).
     pub profile: Option<PathBuf>,
+    /// How `--from auto` chose the dialect when the text did not say it for certain.
+    pub dialect_note: Option<String>,
     pub diagnostics: Vec<Diagnostic>,
     /// Why the file failed or was skipped when it is not a diagnostic (I/O, an existing output).
     pub reason: Option<String>,
@@ -144,6 +146,7 @@ impl FileReport {
             encoding: None,
             output_encoding: None,
             profile: None,
+            dialect_note: None,
             diagnostics: Vec::new(),
             reason: None,
             explained: None,
@@ -166,6 +169,7 @@ impl FileReport {
             "encoding": self.encoding.map(|e| e.name()),
             "output_encoding": self.output_encoding.map(|e| e.name()),
             "profile": self.profile.as_ref().map(|p| p.display().to_string()),
+            "dialect_note": self.dialect_note,
             "reason": self.reason,
             "diagnostics": self.diagnostics.iter().map(|d| {
                 let loc = d.location.as_ref();
@@ -288,7 +292,8 @@ pub fn plan(options: &BatchOptions) -> Result<Plan, String> {
         return Err(format!("{} is not a folder", options.src_dir.display()));
     }
     let inside = |dir: &Path, what: &str| -> Result<(), String> {
-        let resolved = resolve(dir).map_err(|e| format!("cannot read {}: {e}", dir.display()))?;
+        let resolved =
+            files::resolve(dir).map_err(|e| format!("cannot read {}: {e}", dir.display()))?;
         if resolved.starts_with(&src_root) {
             return Err(format!(
                 "the {what} {} is inside the source folder {}; ncthread never writes into the source tree",
@@ -299,6 +304,15 @@ pub fn plan(options: &BatchOptions) -> Result<Plan, String> {
         Ok(())
     };
     inside(&options.out_dir, "output folder")?;
+    let out_root = files::resolve(&options.out_dir)
+        .map_err(|e| format!("cannot read {}: {e}", options.out_dir.display()))?;
+    if src_root.starts_with(&out_root) {
+        return Err(format!(
+            "the output folder {} holds the source folder {}: outputs could land in the source tree",
+            options.out_dir.display(),
+            options.src_dir.display()
+        ));
+    }
     if let Some(dir) = &options.html {
         inside(dir, "report folder")?;
     }
@@ -442,26 +456,6 @@ pub fn run(
     })
 }
 
-/// The absolute, symlink-free form of `path`, which need not exist yet: its deepest existing
-/// ancestor canonicalised, then the rest.
-fn resolve(path: &Path) -> std::io::Result<PathBuf> {
-    let absolute = std::path::absolute(path)?;
-    let mut existing = absolute.as_path();
-    let mut rest = Vec::new();
-    while !existing.exists() {
-        match (existing.parent(), existing.file_name()) {
-            (Some(parent), Some(name)) => {
-                rest.push(name.to_owned());
-                existing = parent;
-            }
-            _ => break,
-        }
-    }
-    let mut resolved = std::fs::canonicalize(existing)?;
-    resolved.extend(rest.iter().rev());
-    Ok(resolved)
-}
-
 /// Converts one program with its profile (`None`: the built-in defaults; else its path and
 /// the profile read, or why it could not be).
 fn one(
@@ -512,7 +506,13 @@ fn one(
             return report;
         }
     };
-    let decoded = text::decode_program(&bytes, options.from, options.input_encoding);
+    let decoded = text::decode_program(&bytes, options.from, options.input_encoding, Some(rel));
+    report.dialect_note = decoded.detection.as_ref().filter(|d| !d.certain).map(|d| {
+        format!(
+            "--from auto: read as {} ({}); give --from to be sure",
+            d.dialect, d.reason
+        )
+    });
     let note = decoded.encoding_diagnostic(&input.display().to_string());
     let text::Decoded {
         text,
@@ -555,7 +555,7 @@ fn one(
             return report;
         }
     };
-    if let Some(dir) = &options.html {
+    if let Some(dir) = options.html.as_ref().filter(|_| !options.dry_run) {
         report.explained = Some(explain_output(&program, &conversion, rel, dir));
     }
     if options.dry_run {

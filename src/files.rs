@@ -77,12 +77,14 @@ fn overrides(root: &Path, globs: &[(&str, bool)]) -> Result<ignore::overrides::O
 
 /// Walks `root`: every file, sorted by path, each a program or left out with a reason.
 pub fn walk(root: &Path, selection: &Selection) -> Result<Walk, String> {
-    let all: Vec<(&str, bool)> = selection
+    // Every glob, the `!` ones last: a file left out stays out, whatever chose it.
+    let mut all: Vec<(&str, bool)> = selection
         .globs
         .iter()
         .map(|g| (g.as_str(), false))
         .chain(selection.iglobs.iter().map(|g| (g.as_str(), true)))
         .collect();
+    all.sort_by_key(|(g, _)| g.starts_with('!'));
     let chosen = overrides(root, &all)?;
     let by_extension = selection.positive().next().is_none();
     let mut builder = ignore::WalkBuilder::new(root);
@@ -97,13 +99,24 @@ pub fn walk(root: &Path, selection: &Selection) -> Result<Walk, String> {
     for entry in builder.build() {
         let entry = entry.map_err(|e| format!("cannot walk {}: {e}", root.display()))?;
         let path = entry.path();
-        // A link to a file is followed; a link to a folder is not (no cycles).
+        // A link to a file is followed; a link to a folder is not (no cycles), and is said.
         let is_file = entry.file_type().is_some_and(|t| t.is_file())
             || entry.path_is_symlink() && path.is_file();
+        let rel = path.strip_prefix(root).unwrap_or(path).to_path_buf();
         if !is_file {
+            if entry.path_is_symlink() {
+                let why = if path.exists() {
+                    "a link to a folder (not followed)"
+                } else {
+                    "a link to nothing"
+                };
+                files.push(Found {
+                    rel,
+                    verdict: Verdict::Skip(why.into()),
+                });
+            }
             continue;
         }
-        let rel = path.strip_prefix(root).unwrap_or(path).to_path_buf();
         let verdict = if by_extension {
             by_name(&rel, &selection.extensions)
         } else {
@@ -197,11 +210,37 @@ pub fn discover_profile(program: &Path) -> Option<PathBuf> {
     if sidecar.is_file() {
         return Some(sidecar);
     }
-    let start = std::path::absolute(folder).ok()?;
+    // The folders really above the program: `..` resolved, a bare file name in `.`.
+    let folder = if folder.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        folder
+    };
+    let start = std::fs::canonicalize(folder).ok()?;
     start
         .ancestors()
         .map(|dir| dir.join("ncthread.toml"))
         .find(|p| p.is_file())
+}
+
+/// The absolute, symlink-free form of `path`, which need not exist yet: its deepest existing
+/// ancestor canonicalised, then the rest.
+pub fn resolve(path: &Path) -> std::io::Result<PathBuf> {
+    let absolute = std::path::absolute(path)?;
+    let mut existing = absolute.as_path();
+    let mut rest = Vec::new();
+    while !existing.exists() {
+        match (existing.parent(), existing.file_name()) {
+            (Some(parent), Some(name)) => {
+                rest.push(name.to_owned());
+                existing = parent;
+            }
+            _ => break,
+        }
+    }
+    let mut resolved = std::fs::canonicalize(existing)?;
+    resolved.extend(rest.iter().rev());
+    Ok(resolved)
 }
 
 /// Why [`write_atomically`] wrote nothing.
@@ -227,10 +266,9 @@ pub fn write_atomically(
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
-    std::fs::create_dir_all(parent)
-        .map_err(|e| WriteError::Failed(format!("cannot create {}: {e}", parent.display())))?;
+    // The source tree is checked before any folder is made.
     if let Some(guard) = guard {
-        match std::fs::canonicalize(parent) {
+        match resolve(parent) {
             Ok(p) if p.starts_with(guard) => {
                 return Err(WriteError::Failed(format!(
                     "{} is inside the source tree; ncthread never writes there",
@@ -246,6 +284,8 @@ pub fn write_atomically(
             }
         }
     }
+    std::fs::create_dir_all(parent)
+        .map_err(|e| WriteError::Failed(format!("cannot create {}: {e}", parent.display())))?;
     let failed =
         |e: std::io::Error| WriteError::Failed(format!("cannot write {}: {e}", path.display()));
     let mut builder = tempfile::Builder::new();

@@ -74,7 +74,7 @@ pub fn parse(
                     ),
                 )
                 .help(format!(
-                    "if it is a {0} program, give --from {0} (or --from auto)",
+                    "if it is written in {0}, give --from {0} (or --from auto)",
                     detection.dialect
                 )),
             );

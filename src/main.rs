@@ -752,7 +752,12 @@ fn decode_source(
     from: SourceDialect,
     encoding: Option<TextEncoding>,
 ) -> (SourceFile, DialectId, ncthread::text::Decoded) {
-    let mut decoded = ncthread::text::decode_program(bytes, from.known(), encoding);
+    let mut decoded = ncthread::text::decode_program(
+        bytes,
+        from.known(),
+        encoding,
+        Some(std::path::Path::new(&name)),
+    );
     if let Some(detection) = decoded.detection.as_ref().filter(|d| !d.certain) {
         note(format!(
             "ncthread: --from auto: reading {name} as {} ({}); give --from to be sure",
@@ -1100,6 +1105,12 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
             unreadable += 1;
         }
     }
+    // A file named twice (or inside a folder named too) is checked once.
+    let mut seen = std::collections::HashSet::new();
+    programs.retain(|p| match p {
+        Some(path) => seen.insert(std::fs::canonicalize(path).unwrap_or_else(|_| path.clone())),
+        None => true,
+    });
     let (mut errors, mut warnings, mut failed_files, mut checked) = (0, 0, 0, 0);
     let mut uncertain: Vec<String> = Vec::new();
     let mut out = String::new();
@@ -1120,8 +1131,23 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
             None => args.stdin_filename.clone(),
         };
         let name = named.as_ref().map_or(name, |n| n.display().to_string());
-        let profile = args.common.profile_for(&named)?;
-        let decoded = ncthread::text::decode_program(&bytes, from, args.common.encoding);
+        // A profile with errors fails its program, not the run.
+        let profile = match args.common.profile_for(&named) {
+            Ok(p) => p,
+            Err(e) => {
+                if let Fatal::Usage(message) = e {
+                    note(format!("ncthread: {message}"));
+                }
+                unreadable += 1;
+                continue;
+            }
+        };
+        let decoded = ncthread::text::decode_program(
+            &bytes,
+            from,
+            args.common.encoding,
+            Some(std::path::Path::new(&name)),
+        );
         if let Some(d) = decoded.detection.as_ref().filter(|d| !d.certain) {
             uncertain.push(format!("{name} as {}", d.dialect));
         }
@@ -1195,6 +1221,11 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
         .clone()
         .unwrap_or_else(|| ncthread::batch::default_extension(to).to_string());
     let extension = extension.trim_start_matches('.').to_string();
+    if extension.is_empty() || extension.contains(['/', '\\']) || extension == ".." {
+        return Err(Fatal::Usage(format!(
+            "--ext {extension:?}: an extension is a name without a folder (ngc, nc, ncp)"
+        )));
+    }
     let profile = match (&args.common.profile, args.common.no_profile) {
         (Some(path), _) => {
             let mut p = load_profile(&Some(path.clone()), args.common.diagnostics)?;
@@ -1225,8 +1256,19 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
         output: args.output.options(),
         html: args.html.clone(),
     };
-    // The report must be writable before any work is done.
+    // The report must be writable, and outside the source tree, before any work is done.
     if let Some(path) = &args.report {
+        let inside = ncthread::files::resolve(path)
+            .ok()
+            .zip(std::fs::canonicalize(&args.src_dir).ok());
+        if inside.is_some_and(|(r, s)| r.starts_with(s)) {
+            return Err(Fatal::Usage(format!(
+                "the report {} is inside the source folder {}; ncthread never writes into the source tree",
+                path.display(),
+                args.src_dir.display()
+            )));
+        }
+        let existed = path.exists();
         std::fs::OpenOptions::new()
             .create(true)
             .append(true)
@@ -1234,6 +1276,9 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
             .map_err(|e| {
                 Fatal::Usage(format!("cannot write the report {}: {e}", path.display()))
             })?;
+        if !existed {
+            let _ = std::fs::remove_file(path);
+        }
     }
     let plan = ncthread::batch::plan(&options).map_err(Fatal::Usage)?;
     for glob in plan.unmatched_globs() {
@@ -1264,6 +1309,9 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
         let mut text = String::new();
         if verbose || (dry_run && f.status == Status::Converted) {
             text.push_str(&file_line(f, dry_run));
+        }
+        if let Some(note) = &f.dialect_note {
+            text.push_str(&format!("{}: {note}\n", f.input.display()));
         }
         if !matches!(
             f.status,
@@ -1338,7 +1386,13 @@ fn file_problem(f: &ncthread::batch::FileReport, format: DiagnosticsFormat) -> S
     if let Some(reason) = &f.reason {
         text.push_str(&format!("{path}: {}: {reason}\n", f.status.name()));
     }
-    for d in f.diagnostics.iter().filter(|d| d.is_error()) {
+    // Its errors, and the warnings that say why (another dialect, an encoding guessed).
+    let why = |d: &&diag::Diagnostic| {
+        d.is_error()
+            || d.code == diag::codes::OTHER_DIALECT
+            || d.code == diag::codes::ENCODING_GUESSED
+    };
+    for d in f.diagnostics.iter().filter(why) {
         match format {
             DiagnosticsFormat::Json => {
                 text.push_str(&d.to_json());
@@ -1348,7 +1402,8 @@ fn file_problem(f: &ncthread::batch::FileReport, format: DiagnosticsFormat) -> S
                 let at = d.location.as_ref().map_or(format!("{path}"), |l| {
                     format!("{}:{}:{}", l.file, l.line, l.column)
                 });
-                text.push_str(&format!("{at}: error[{}]: {}\n", d.code.id, d.message));
+                let level = if d.is_error() { "error" } else { "warning" };
+                text.push_str(&format!("{at}: {level}[{}]: {}\n", d.code.id, d.message));
             }
         }
     }

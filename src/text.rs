@@ -242,14 +242,23 @@ pub fn split_eof_mark(bytes: &[u8]) -> (&[u8], &[u8]) {
     bytes.split_at(end)
 }
 
-/// Decodes a program in dialect `from`, or (`None`) chooses the dialect from the text;
-/// `encoding` when given, else UTF-8 when valid, else the dialect's legacy encoding.
+/// Decodes a program in dialect `from`, or (`None`) chooses the dialect from the text, and
+/// from the file's name (`name`: an extension only one dialect's files have, such as `.ngc`)
+/// when the text leaves it uncertain; `encoding` when given, else UTF-8 when valid, else the
+/// dialect's legacy encoding.
 pub fn decode_program(
     bytes: &[u8],
     from: Option<DialectId>,
     encoding: Option<TextEncoding>,
+    name: Option<&std::path::Path>,
 ) -> Decoded {
-    let (bytes, eof_mark) = split_eof_mark(bytes);
+    // A UTF-16 file's NUL bytes are half of its characters, not padding.
+    let utf16 = encoding.is_some_and(|e| e.name().starts_with("UTF-16"));
+    let (bytes, eof_mark) = if utf16 {
+        (bytes, &b""[..])
+    } else {
+        split_eof_mark(bytes)
+    };
     let eof_mark = eof_mark.to_vec();
     let mut decoded = match from {
         Some(dialect) => {
@@ -264,7 +273,23 @@ pub fn decode_program(
             }
         }
         None => {
-            let (text, encoding, detection) = decode_detect_as(bytes, encoding);
+            let (mut text, mut encoding_used, mut detection) = decode_detect_as(bytes, encoding);
+            let by_name = name
+                .and_then(|n| n.extension())
+                .and_then(|e| dialect::by_extension(&e.to_string_lossy()));
+            if let Some(d) = by_name.filter(|d| !detection.certain && *d != detection.dialect) {
+                (text, encoding_used) = decode_as(bytes, encoding, d);
+                detection = Detection {
+                    dialect: d,
+                    certain: false,
+                    reason: format!(
+                        "the text has no dialect's marks, and only {d}'s files are called .{}",
+                        name.and_then(|n| n.extension())
+                            .map_or(String::new(), |e| e.to_string_lossy().into_owned())
+                    ),
+                };
+            }
+            let encoding = encoding_used;
             Decoded {
                 text,
                 encoding,

@@ -374,7 +374,7 @@ fn check_takes_folders_and_finds_profiles() {
         None,
     );
     let err = text(&chosen.stderr);
-    assert!(err.contains("checked 5 file(s)"), "{err}");
+    assert!(err.contains("checked 4 file(s)"), "{err}");
     // An .ncthreadignore leaves a folder out.
     std::fs::write(src.join(".ncthreadignore"), "iso/\n").unwrap();
     let ignored = ncthread(&["check", src.to_str().unwrap()], None);
@@ -851,4 +851,166 @@ fn convert_writes_its_output_atomically() {
         );
         assert!(!dir.path().join("no").exists(), "no folder is made");
     }
+}
+
+/// Found in review: the profile of `p.nc31` and of `../A/p.nc31` is the same one; the report,
+/// an extension with a folder or an output folder holding the source are refused before any
+/// work; a `.ngc` file without dialect marks is read as iso (said); links are listed; a file
+/// named twice is checked once; a `!` glob wins over an
+/// `--iglob`; `--dry-run` writes no plot.
+#[test]
+fn review_findings_stay_fixed() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    let (a, b) = (root.join("Y/A"), root.join("Y/B"));
+    std::fs::create_dir_all(&a).unwrap();
+    std::fs::create_dir_all(&b).unwrap();
+    std::fs::write(a.join("p.nc31"), corpus("nc31/g31-m36x1.5.nc")).unwrap();
+    std::fs::write(a.join("ncthread.toml"), "[nc31]\nlinear_unit_mm = 0.001\n").unwrap();
+    std::fs::write(b.join("ncthread.toml"), "[nc31]\nlinear_unit_mm = 0.1\n").unwrap();
+    let run_in = |cwd: &Path, args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_ncthread"))
+            .current_dir(cwd)
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    for (cwd, file) in [(&a, "p.nc31"), (&b, "../A/p.nc31")] {
+        let out = run_in(cwd, &["convert", file, "--from", "nc31", "--to", "iso"]);
+        assert!(
+            text(&out.stdout).contains("G0 X10 Z5"),
+            "{file}: {}",
+            text(&out.stdout)
+        );
+    }
+    let src = a.to_str().unwrap();
+    let refused = |args: &[&str], says: &str| {
+        let out = ncthread(args, None);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(text(&out.stderr).contains(says), "{}", text(&out.stderr));
+    };
+    let report = a.join("p.nc31");
+    refused(
+        &[
+            "batch",
+            src,
+            root.join("o").to_str().unwrap(),
+            "--from",
+            "nc31",
+            "--to",
+            "iso",
+            "--report",
+            report.to_str().unwrap(),
+        ],
+        "is inside the source folder",
+    );
+    assert_eq!(
+        std::fs::read(&report).unwrap(),
+        corpus("nc31/g31-m36x1.5.nc")
+    );
+    refused(
+        &[
+            "batch",
+            src,
+            root.join("o").to_str().unwrap(),
+            "--from",
+            "nc31",
+            "--to",
+            "iso",
+            "--ext",
+            "a/b",
+        ],
+        "an extension is a name without a folder",
+    );
+    refused(
+        &[
+            "batch",
+            src,
+            root.join("Y").to_str().unwrap(),
+            "--from",
+            "nc31",
+            "--to",
+            "iso",
+        ],
+        "holds the source folder",
+    );
+    assert!(!root.join("o").exists());
+    // A .ngc file without any dialect's marks.
+    let g = root.join("G");
+    std::fs::create_dir_all(&g).unwrap();
+    std::fs::write(
+        g.join("plain.ngc"),
+        "G95\nS500 M3\nG0 X20 Z5\nG1 Z-10 F0.2\nM30\n",
+    )
+    .unwrap();
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink(&a, g.join("lathe-a")).unwrap();
+        std::os::unix::fs::symlink(root.join("nowhere.nc"), g.join("dangling.nc")).unwrap();
+    }
+    let go = root.join("GO");
+    let report = root.join("g.json");
+    let out = ncthread(
+        &[
+            "batch",
+            g.to_str().unwrap(),
+            go.to_str().unwrap(),
+            "--from",
+            "auto",
+            "--to",
+            "iso",
+            "--report",
+            report.to_str().unwrap(),
+            "--dry-run",
+            "--html",
+            root.join("h").to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(text(&out.stderr).contains(
+        "read as iso (the text has no dialect's marks, and only iso's files are called .ngc)"
+    ));
+    assert!(
+        !go.exists() && !root.join("h").exists(),
+        "--dry-run writes nothing"
+    );
+    #[cfg(unix)]
+    {
+        let json = std::fs::read_to_string(&report).unwrap();
+        assert!(json.contains("a link to a folder (not followed)"), "{json}");
+        assert!(json.contains("a link to nothing"), "{json}");
+    }
+    // Checked once though named twice.
+    let twice = ncthread(
+        &[
+            "check",
+            g.to_str().unwrap(),
+            g.join("plain.ngc").to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(
+        text(&twice.stderr).contains("checked 1 file(s)"),
+        "{}",
+        text(&twice.stderr)
+    );
+    // A `!` glob wins over an --iglob given after it.
+    std::fs::write(g.join("README.NGC"), "G95\nM30\n").unwrap();
+    let chosen = ncthread(
+        &[
+            "check",
+            g.to_str().unwrap(),
+            "--glob",
+            "!README.NGC",
+            "--iglob",
+            "*.ngc",
+        ],
+        None,
+    );
+    assert!(
+        text(&chosen.stderr).contains("checked 1 file(s)"),
+        "{}",
+        text(&chosen.stderr)
+    );
 }

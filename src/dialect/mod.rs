@@ -25,6 +25,19 @@ use crate::text::TextEncoding;
 pub static ALL: [&'static dyn Dialect; 3] = [&czech::Czech, &nc31::Nc31, &iso::Iso];
 
 /// The dialect with this id (`czech`, `nc31`, `iso`), when there is one.
+/// The dialect whose programs alone are called `*.ext` (case-insensitive): `ngc` is iso's;
+/// `nc`, which every dialect uses, is none's.
+pub fn by_extension(ext: &str) -> Option<DialectId> {
+    let ext = ext.to_ascii_lowercase();
+    let mut having = ALL
+        .iter()
+        .filter(|d| d.extensions().contains(&ext.as_str()));
+    match (having.next(), having.next()) {
+        (Some(d), None) => Some(d.id()),
+        _ => None,
+    }
+}
+
 pub fn by_id(id: &str) -> Option<&'static dyn Dialect> {
     ALL.iter().copied().find(|d| d.id().as_str() == id)
 }
