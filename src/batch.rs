@@ -353,17 +353,7 @@ pub fn plan(options: &BatchOptions) -> Result<Plan, String> {
 
 /// Reads a discovered profile; its errors become one reason.
 fn read_profile(path: &Path) -> Result<Profile, String> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| format!("cannot read the profile {}: {e}", path.display()))?;
-    Profile::from_toml(&SourceFile::new(path.display().to_string(), text)).map_err(|diags| {
-        let first = diags
-            .iter()
-            .find(|d| d.is_error())
-            .map_or(String::new(), |d| {
-                format!(": {} ({})", d.message, d.code.id)
-            });
-        format!("the profile {} has errors{first}", path.display())
-    })
+    Profile::load(path).map_err(|e| e.summary(path))
 }
 
 /// Runs a batch as planned. `progress` is called once per file as it finishes (from worker

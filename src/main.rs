@@ -709,11 +709,12 @@ fn load_profile(path: &Option<PathBuf>, format: DiagnosticsFormat) -> Result<Pro
     let Some(path) = path else {
         return Ok(Profile::default());
     };
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Fatal::Usage(format!("cannot read profile {}: {e}", path.display())))?;
-    Profile::from_toml(&SourceFile::new(path.display().to_string(), text)).map_err(|diags| {
-        print_diagnostics(&diags, format);
-        Fatal::Usage(format!("the profile {} has errors", path.display()))
+    Profile::load(path).map_err(|e| match e {
+        ncthread::profile::LoadError::Io(why) => Fatal::Usage(why),
+        ncthread::profile::LoadError::Invalid(diags) => {
+            print_diagnostics(&diags, format);
+            Fatal::Usage(format!("the profile {} has errors", path.display()))
+        }
     })
 }
 

@@ -48,6 +48,35 @@ pub struct Profile {
     pub iso: IsoProfile,
 }
 
+/// Why a profile file cannot be used.
+#[derive(Clone, Debug)]
+pub enum LoadError {
+    Io(String),
+    Invalid(Vec<Diagnostic>),
+}
+
+impl LoadError {
+    /// One line for a report: the I/O error, or the first error with its place.
+    pub fn summary(&self, path: &std::path::Path) -> String {
+        match self {
+            LoadError::Io(why) => why.clone(),
+            LoadError::Invalid(diags) => {
+                let first = diags
+                    .iter()
+                    .find(|d| d.is_error())
+                    .map_or(String::new(), |d| {
+                        let at = d
+                            .location
+                            .as_ref()
+                            .map_or(String::new(), |l| format!(" at {}:{}", l.line, l.column));
+                        format!(": {}{at} ({})", d.message, d.code.id)
+                    });
+                format!("the profile {} has errors{first}", path.display())
+            }
+        }
+    }
+}
+
 /// What the command line says of the machine on top of any profile.
 #[derive(Clone, Debug, Default)]
 pub struct Overrides {
@@ -101,6 +130,16 @@ impl RawNumber {
 }
 
 impl Profile {
+    /// Reads the profile file at `path`: an I/O error as text, or the profile's diagnostics
+    /// (each with its file, line and key).
+    pub fn load(path: &std::path::Path) -> Result<Profile, LoadError> {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            LoadError::Io(format!("cannot read the profile {}: {e}", path.display()))
+        })?;
+        Profile::from_toml(&SourceFile::new(path.display().to_string(), text))
+            .map_err(LoadError::Invalid)
+    }
+
     /// Reads a profile from its text; every problem is a diagnostic pointing into the file.
     pub fn from_toml(src: &SourceFile) -> Result<Profile, Vec<Diagnostic>> {
         let raw: RawProfile = toml::from_str(&src.text).map_err(|e| {
