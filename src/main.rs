@@ -1076,10 +1076,16 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
     let mut programs: Vec<Option<PathBuf>> = Vec::new();
     let mut unreadable = 0;
     let mut unmatched = Vec::new();
-    if args.files.is_empty() {
+    // Globs choose files of folders: without a path they walk the current folder.
+    let globbed = !args.selection.glob.is_empty() || !args.selection.iglob.is_empty();
+    let files = match (args.files.is_empty(), globbed) {
+        (true, true) => vec![PathBuf::from(".")],
+        _ => args.files.clone(),
+    };
+    if files.is_empty() {
         programs.push(None);
     }
-    for file in &args.files {
+    for file in &files {
         if file.as_os_str() == "-" {
             programs.push(None);
         } else if file.is_dir() {

@@ -995,6 +995,13 @@ fn review_findings_stay_fixed() {
         "{}",
         text(&twice.stderr)
     );
+    // `check --glob` without a path walks the current folder (it read stdin).
+    let here = run_in(&g, &["check", "--glob", "*.ngc"]);
+    assert!(
+        text(&here.stderr).contains("checked 1 file(s)"),
+        "{}",
+        text(&here.stderr)
+    );
     // A `!` glob wins over an --iglob given after it.
     std::fs::write(g.join("README.NGC"), "G95\nM30\n").unwrap();
     let chosen = ncthread(
