@@ -15,7 +15,8 @@
 //! mutated inputs also go through the `ncthread` binary, whose exit code must be 0, 1 or 2.
 //!
 //! `cargo test` runs a bounded number of cases (about half a minute). The long mode runs for a
-//! number of seconds with fresh seeds: `NCTHREAD_FUZZ_SECONDS=1800 cargo test --release --test
+//! number of seconds with fresh seeds (from the clock, printed; `NCTHREAD_FUZZ_SEED=N` repeats
+//! a run): `NCTHREAD_FUZZ_SECONDS=1800 cargo test --release --test
 //! fuzz -- --nocapture`. Every failing input is written to `target/fuzz-findings/` (and
 //! proptest shrinks it first); findings become corpus files.
 mod common;
@@ -777,11 +778,26 @@ fn run(name: &str, strategy: impl Strategy<Value = Input>, rs274: Option<Interpr
     let started = Instant::now();
     let totals = std::cell::RefCell::new(Totals::default());
     let mut findings = Vec::new();
+    // The bounded run's seeds are fixed; a long run's start from the clock (each run tries
+    // other inputs) or from `NCTHREAD_FUZZ_SEED`, printed so that a run can be repeated.
+    let base: u64 = match std::env::var("NCTHREAD_FUZZ_SEED")
+        .ok()
+        .and_then(|v| v.parse().ok())
+    {
+        Some(seed) => seed,
+        None if seconds.is_some() => std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_nanos() as u64),
+        None => 0,
+    };
+    if base != 0 {
+        eprintln!("fuzz {name}: NCTHREAD_FUZZ_SEED={base}");
+    }
     let mut round: u64 = 0;
     loop {
         let seed = {
             let mut s = [0u8; 32];
-            s[..8].copy_from_slice(&round.to_le_bytes());
+            s[..8].copy_from_slice(&round.wrapping_add(base.wrapping_mul(1 << 20)).to_le_bytes());
             s[8..8 + name.len().min(24)].copy_from_slice(&name.as_bytes()[..name.len().min(24)]);
             s
         };
