@@ -459,7 +459,7 @@ impl FrontEnd<'_> {
     }
 
     /// Restores `saved` as LinuxCNC's `restore_settings` does: the units first, then one line
-    /// of F (one decimal) and S (whole), the G codes that differ and the first M code that
+    /// of F (one decimal) and S (whole) where they differ, the G codes that differ and the first M code that
     /// differs, then the other M codes a line each, read here as if the program held them.
     /// The motion mode is not restored (LinuxCNC does not), nor G64's tolerances (a path
     /// setting ncthread keeps as written).
@@ -479,7 +479,15 @@ impl FrontEnd<'_> {
         if saved.inch != now.inch {
             lines.push(if saved.inch { "G20" } else { "G21" }.into());
         }
-        let mut text = format!("F{:.1} S{:.0}", saved.feed, saved.speed);
+        // Only what differs is said again (LinuxCNC's `gen_settings` compares the values as
+        // held): an F the subroutine left alone is not rounded to one decimal.
+        let mut text = String::new();
+        if saved.feed != now.feed {
+            text.push_str(&format!("F{:.1}", saved.feed));
+        }
+        if saved.speed != now.speed {
+            text.push_str(&format!(" S{:.0}", saved.speed));
+        }
         let mut g = |differs: bool, code: &str| {
             if differs {
                 text.push(' ');
@@ -535,7 +543,9 @@ impl FrontEnd<'_> {
             text.push(' ');
             text.push_str(&first);
         }
-        lines.push(text);
+        if !text.trim().is_empty() {
+            lines.push(text.trim_start().to_string());
+        }
         lines.extend(m_codes);
         let first_item = self.r.items.len();
         for text in &lines {
