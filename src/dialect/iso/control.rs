@@ -293,41 +293,12 @@ impl Structure {
     }
 }
 
-/// Whether a line reads like an O-word (`o210 elseif …`, `o<thread> call …`) once its blanks
-/// are left out and its case folded, as LinuxCNC reads it, whether or not ncthread can read
-/// the rest.
+/// Whether a line is an O-word line to LinuxCNC: its first character that is not a blank is
+/// an `o` (LinuxCNC reads such lines even in a branch it skips, and stops at one it cannot
+/// read), whether or not ncthread can read the rest.
 pub fn looks_like_oword(text: &str) -> bool {
-    let code: String = text
-        .chars()
-        .filter(|c| !c.is_whitespace())
-        .flat_map(char::to_lowercase)
-        .collect();
-    let Some(rest) = code.strip_prefix('o') else {
-        return false;
-    };
-    let rest = match rest.strip_prefix('<') {
-        Some(named) => named.split_once('>').map_or("", |(_, after)| after),
-        None => rest.trim_start_matches(|c: char| c.is_ascii_digit()),
-    };
-    [
-        "sub",
-        "endsub",
-        "call",
-        "return",
-        "if",
-        "elseif",
-        "else",
-        "endif",
-        "while",
-        "endwhile",
-        "do",
-        "repeat",
-        "endrepeat",
-        "break",
-        "continue",
-    ]
-    .iter()
-    .any(|k| rest.starts_with(k))
+    text.trim_start_matches([' ', '\t', '\r'])
+        .starts_with(['o', 'O'])
 }
 
 /// A file the run reads: the program, or a subroutine's file. Each line is read once.

@@ -211,8 +211,9 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
     fe.r.src = src;
     let broken = runs.iter().any(|r| !r.structure.errors.is_empty());
     let mut reported: Vec<Vec<bool>> = runs.iter().map(|r| vec![false; r.lines.len()]).collect();
-    // A line that reads like an O-word but cannot be read would leave the program's branches
-    // and loops to guesswork wherever it stands, run or skipped: it is reported up front.
+    // An O-word line that cannot be read stops LinuxCNC wherever it stands, run or skipped
+    // (it reads O-word lines while skipping), and would leave ncthread's branches to
+    // guesswork: it is reported up front.
     for (f, run) in runs.iter().enumerate() {
         fe.r.src = run.src;
         for (i, line) in run.lines.iter().enumerate() {
