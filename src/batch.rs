@@ -411,10 +411,7 @@ pub fn run(
             .zip(plan.profiles.par_iter())
             .map(|((found, clash), profile)| {
                 let input = options.src_dir.join(&found.rel);
-                let output = options
-                    .out_dir
-                    .join(&found.rel)
-                    .with_extension(&options.extension);
+                let output = output_path(options, &found.rel);
                 let report = match &found.verdict {
                     Verdict::Skip(why) => {
                         let mut r = FileReport::new(input, output, Status::LeftOut);
@@ -446,6 +443,14 @@ pub fn run(
     })
 }
 
+/// Why an output that exists is not written.
+const OUTPUT_EXISTS: &str = "the output exists (--force overwrites it)";
+
+/// Where the output of the program at `rel` (below the source folder) goes.
+fn output_path(options: &BatchOptions, rel: &Path) -> PathBuf {
+    options.out_dir.join(rel).with_extension(&options.extension)
+}
+
 /// Converts one program with its profile (`None`: the built-in defaults; else its path and
 /// the profile read, or why it could not be).
 fn one(
@@ -456,7 +461,7 @@ fn one(
     profile: Option<(PathBuf, Option<Result<Profile, String>>)>,
 ) -> FileReport {
     let input = options.src_dir.join(rel);
-    let output = options.out_dir.join(rel).with_extension(&options.extension);
+    let output = output_path(options, rel);
     let mut report = FileReport::new(input.clone(), output.clone(), Status::Failed);
     if let Some(first) = clash {
         report.reason = Some(format!(
@@ -486,7 +491,7 @@ fn one(
     };
     if !options.force && output.exists() {
         report.status = Status::Skipped;
-        report.reason = Some("the output exists (--force overwrites it)".into());
+        report.reason = Some(OUTPUT_EXISTS.into());
         return report;
     }
     let bytes = match std::fs::read(&input) {
@@ -556,7 +561,7 @@ fn one(
         Ok(()) => report.status = Status::Converted,
         Err(files::WriteError::Exists) => {
             report.status = Status::Skipped;
-            report.reason = Some("the output exists (--force overwrites it)".into());
+            report.reason = Some(OUTPUT_EXISTS.into());
         }
         Err(files::WriteError::Failed(e)) => report.reason = Some(e),
     }

@@ -775,7 +775,7 @@ fn cycle_operation(
 
 fn roughing_operation(cycle: &RoughingCycle, at: (u32, Option<u32>), from: Pos) -> Operation {
     let facing = matches!(cycle.kind, RoughingKind::Rough { facing: true, .. });
-    let mut op = blank(Kind::Roughing(roughing_code(cycle.code)), at, None, 0, None);
+    let mut op = blank(Kind::Roughing(cycle.code_name()), at, None, 0, None);
     // A cut: the feeds and arcs between two rapids.
     let mut pos = from;
     let mut rows: Vec<Pass> = Vec::new();
@@ -822,14 +822,6 @@ fn roughing_operation(cycle: &RoughingCycle, at: (u32, Option<u32>), from: Pos) 
     }
     op.passes = rows;
     op
-}
-
-/// `G71.1` for 711: the code as LinuxCNC names it.
-fn roughing_code(code: u16) -> String {
-    match code {
-        c if c % 10 == 0 => format!("G{}", c / 10),
-        c => format!("G{}.{}", c / 10, c % 10),
-    }
 }
 
 // ---------------------------------------------------------------------------------------

@@ -495,6 +495,22 @@ pub struct RoughingCycle {
     pub moves: Vec<ItemKind>,
 }
 
+impl RoughingCycle {
+    /// Its G code as LinuxCNC names it: `G71.1` for 711, `G70` for 700.
+    pub fn code_name(&self) -> String {
+        g_code_name(i64::from(self.code))
+    }
+}
+
+/// A G code ×10 (`711`) as it is written (`G71.1`; `G70` for 700).
+pub fn g_code_name(code: i64) -> String {
+    if code % 10 == 0 {
+        format!("G{}", code / 10)
+    } else {
+        format!("G{}.{}", code / 10, code % 10)
+    }
+}
+
 /// The words of a roughing or finishing cycle, in mm (LinuxCNC reads them in radius whatever
 /// G7/G8 says).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

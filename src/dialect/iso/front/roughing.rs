@@ -45,11 +45,7 @@ fn dotted(code: GCode) -> String {
 }
 
 fn plain(code: GCode) -> String {
-    if code % 10 == 0 {
-        format!("G{}", code / 10)
-    } else {
-        dotted(code)
-    }
+    crate::ir::g_code_name(code)
 }
 
 /// The most elements a contour may have (ncthread's limit, far above any real contour).
