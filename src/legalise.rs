@@ -160,12 +160,30 @@ pub fn occurrences(program: &Program) -> Vec<Occurrence> {
             ItemKind::Feed { .. } | ItemKind::FeedRate(_) if per_minute => {
                 out.push(at(Construct::PerMinuteFeed, None))
             }
-            ItemKind::ThreadCycle(c) if c.entry_infeed && c.entry.is_some() => {
-                out.push(at(Construct::SyncInfeed, None))
+            ItemKind::ThreadCycle(c) => {
+                if c.entry_infeed && c.entry.is_some() {
+                    out.push(at(Construct::SyncInfeed, None))
+                }
+                if let Ok(e) = crate::lower::expand(c) {
+                    let mut p = pos;
+                    let mut steep = false;
+                    for m in &e.moves {
+                        if let crate::lower::Move::Pass(pass) = &m.kind {
+                            steep |= crate::dialect::capabilities::steep_sync(p, pass);
+                        }
+                        p = m.kind.end_position(p);
+                    }
+                    if steep {
+                        out.push(at(Construct::SteepSync, None));
+                    }
+                }
             }
             ItemKind::ThreadPass(pass) => {
                 if pass.infeed.is_some() {
                     out.push(at(Construct::SyncInfeed, None));
+                }
+                if crate::dialect::capabilities::steep_sync(pos, pass) {
+                    out.push(at(Construct::SteepSync, None));
                 }
                 match pass.start {
                     SyncStart::Continue => out.push(at(Construct::ContinuedChain, None)),

@@ -23,18 +23,25 @@
 //! [iso]
 //! mcodes = { 42 = "M142" }      # legacy M codes → LinuxCNC M words
 //! tool_change = "m6"            # "m6" writes `T9 M6`, "t" writes `T9` alone
+//!
+//! [fanuc]
+//! decimal_point = "increment"   # a word without a point: 0.001 mm (or "calculator": mm)
+//! thread_chamfer_0p1_lead = 10  # G92's chamfer (parameter 5130); needed to read G92
+//! tool_offset = "same"          # T0303 for tool 3 without an offset; "none": T0300
+//! program_number = 1            # O0001
 //! ```
 
 use serde::Deserialize;
 
 use crate::diag::{Diagnostic, codes};
-use crate::dialect::{czech, iso, nc31};
+use crate::dialect::{czech, fanuc, iso, nc31};
 use crate::fixed::Length;
 use crate::source::{SourceFile, Span};
 
 pub use crate::dialect::czech::profile::{
     AngleSource, Constant8, CzechArcs, CzechDwell, CzechProfile, InitialMotion,
 };
+pub use crate::dialect::fanuc::profile::{DecimalPoint, FanucProfile, ToolOffset};
 pub use crate::dialect::iso::profile::{BlockDelete, IsoProfile, ToolChange};
 pub use crate::dialect::nc31::profile::{Nc31ArcDirection, Nc31Profile};
 
@@ -46,6 +53,7 @@ pub struct Profile {
     pub czech: CzechProfile,
     pub nc31: Nc31Profile,
     pub iso: IsoProfile,
+    pub fanuc: FanucProfile,
 }
 
 /// Why a profile file cannot be used.
@@ -106,6 +114,8 @@ struct RawProfile {
     nc31: nc31::profile::Raw,
     #[serde(default)]
     iso: iso::profile::Raw,
+    #[serde(default)]
+    fanuc: fanuc::profile::Raw,
 }
 
 #[derive(Deserialize, Clone, Copy)]
@@ -167,6 +177,7 @@ impl Profile {
         czech::profile::read(src, raw.czech, &mut profile.czech, &mut diags);
         nc31::profile::read(src, raw.nc31, &mut profile.nc31, &mut diags);
         iso::profile::read(src, raw.iso, &mut profile.iso, &mut diags);
+        fanuc::profile::read(src, raw.fanuc, &mut profile.fanuc, &mut diags);
         if diags.is_empty() {
             Ok(profile)
         } else {

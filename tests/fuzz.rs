@@ -444,6 +444,94 @@ fn roughing_program() -> impl Strategy<Value = Input> {
 }
 
 // ---------------------------------------------------------------------------------------
+// Generated FANUC programs
+
+fn fanuc_block() -> impl Strategy<Value = Vec<String>> {
+    let x = length(10, 120, 3);
+    let z = length(-150, 30, 3);
+    let lead = length(1, 8, 4);
+    prop_oneof![
+        4 => (x.clone(), z.clone()).prop_map(|(x, z)| vec![format!("G00 X{x} Z{z}")]),
+        2 => x.clone().prop_map(|x| vec![format!("G00 X{x}")]),
+        2 => (x.clone(), z.clone(), prop::sample::select(vec!["0.1", "0.25", "0.05"])).prop_map(|(x, z, f)| vec![format!("G01 X{x} Z{z} F{f}")]),
+        1 => (length(-20, 20, 3), length(-20, 20, 3)).prop_map(|(u, w)| vec![format!("G01 U{u} W{w} F0.2")]),
+        // A pass: to its diameter, the thread (a start angle, a taper, a runout chained),
+        // out and back.
+        6 => (x.clone(), length(-100, -5, 3), lead.clone(), prop::option::of(0u32..360_000), prop::option::of(length(-2, 2, 3)), prop::option::of(1u32..4))
+            .prop_map(|(x, z, f, q, taper, runout)| {
+                let q = q.map_or(String::new(), |q| format!(" Q{q}"));
+                let end_x = match &taper {
+                    Some(t) => format!("X{:.3}", x.parse::<f64>().unwrap_or(20.0) + t.parse::<f64>().unwrap_or(0.0)),
+                    None => format!("X{x}"),
+                };
+                let mut v = vec![
+                    "G00 Z10.".to_string(),
+                    format!("X{x}"),
+                    format!("G32 {end_x} Z{z} F{f}{q}"),
+                ];
+                if let Some(r) = runout {
+                    v.push(format!("U{r}. W-{r}."));
+                }
+                v.push("G00 X130.".into());
+                v.push("Z10.".into());
+                v
+            }),
+        // G92 with repeat blocks (the profile gives the chamfer).
+        2 => (x.clone(), length(-100, -5, 3), lead.clone(), prop::option::of(length(-2, 0, 3)))
+            .prop_map(|(x, z, f, r)| {
+                let r = r.map_or(String::new(), |r| format!(" R{r}"));
+                vec![
+                    "G00 X130. Z10.".to_string(),
+                    format!("G92 X{x} Z{z}{r} F{f}"),
+                    format!("X{:.3}", x.parse::<f64>().unwrap_or(20.0) - 0.2),
+                    "G00 X130. Z10.".to_string(),
+                ]
+            }),
+        1 => Just(vec!["M05".to_string()]),
+        1 => (100u32..2000, any::<bool>()).prop_map(|(s, ccw)| vec![format!("G97 S{s} {}", if ccw { "M04" } else { "M03" })]),
+        1 => (100u32..300, 1000u32..3000).prop_map(|(v, l)| vec![format!("G50 S{l}"), format!("G96 S{v} M03")]),
+        1 => prop::sample::select(vec!["M08", "M09", "G04 U0.5", "G04 P250", "G98", "G99"]).prop_map(|c| vec![c.to_string()]),
+        1 => comment_text().prop_map(|c| vec![format!("({c})")]),
+        1 => (1u32..12).prop_map(|t| vec![format!("T{t:02}{t:02}")]),
+    ]
+}
+
+fn fanuc_program() -> impl Strategy<Value = Input> {
+    (
+        prop::collection::vec(fanuc_block(), 1..10),
+        prop::sample::select(vec![0u32, 10, 15]),
+        any::<bool>(),
+    )
+        .prop_map(|(blocks, chamfer, numbered)| {
+            let mut lines = vec![
+                "O0001 (FUZZ)".to_string(),
+                "G21 G99".into(),
+                "G97 S500 M03".into(),
+                "G00 X130. Z20.".into(),
+            ];
+            lines.extend(blocks.into_iter().flatten());
+            lines.push("M05".into());
+            lines.push("M30".into());
+            let body: String = lines
+                .iter()
+                .enumerate()
+                .map(|(i, l)| {
+                    if numbered && i > 0 {
+                        format!("N{} {l}\n", i * 10)
+                    } else {
+                        format!("{l}\n")
+                    }
+                })
+                .collect();
+            Input {
+                from: ncthread::dialect::fanuc::ID,
+                bytes: format!("%\n{body}%\n").into_bytes(),
+                profile: Some(format!("[fanuc]\nthread_chamfer_0p1_lead = {chamfer}\n")),
+            }
+        })
+}
+
+// ---------------------------------------------------------------------------------------
 // Mutations of corpus files, and arbitrary bytes
 
 fn corpus_files() -> Vec<(DialectId, Vec<u8>, Option<String>)> {
@@ -592,6 +680,7 @@ fn arbitrary() -> impl Strategy<Value = Input> {
             ncthread::dialect::czech::ID,
             ncthread::dialect::nc31::ID,
             ncthread::dialect::iso::ID,
+            ncthread::dialect::fanuc::ID,
         ]),
         prop::collection::vec(any::<u8>(), 0..400),
     )
@@ -641,6 +730,7 @@ fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, Strin
         ncthread::dialect::iso::ID,
         ncthread::dialect::czech::ID,
         ncthread::dialect::nc31::ID,
+        ncthread::dialect::fanuc::ID,
     ] {
         for round in [false, true] {
             let opts = options(input.from, to, &profile, round);
@@ -704,6 +794,27 @@ fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, Strin
                     other => {
                         return Err(format!("{route}: {}: {other:?}\n{output}", check.what));
                     }
+                }
+            }
+            // A FANUC output through the test side's translation: rs274 must cut what
+            // ncthread's simulation of the source cuts.
+            if to == ncthread::dialect::fanuc::ID
+                && let Some(rs274) = rs274
+                && let Ok(ngc) = common::fanuc::translate(&output, false)
+            {
+                let canon = rs274.run(&ngc).map_err(|e| {
+                    format!("{route}: rs274 refuses the translation of the output: {e}\n{ngc}")
+                })?;
+                let (program, _) = ncthread::parse(&src, input.from, &profile, Unsupported::Error);
+                let sim = ncthread::sim::simulate(&program);
+                match ncthread::sim::rs274::judge(&sim.segments, &canon) {
+                    ncthread::sim::rs274::Judgement::Differs(d) => {
+                        return Err(format!(
+                            "{route}: rs274 cuts the output's translation otherwise: {d:?}\n{output}\n{ngc}"
+                        ));
+                    }
+                    ncthread::sim::rs274::Judgement::Agrees { .. } => tally.rs274 += 1,
+                    ncthread::sim::rs274::Judgement::CannotJudge(_) => {}
                 }
             }
             let again = ncthread::convert(
@@ -884,6 +995,15 @@ fn generated_czech_programs() {
 fn generated_nc31_programs() {
     let t = run("nc31", nc31_program(), interpreter());
     assert!(t.tally.proved > 0, "no generated nc31 program converted");
+}
+
+#[test]
+fn generated_fanuc_programs() {
+    let t = run("fanuc", fanuc_program(), interpreter());
+    assert!(t.tally.proved > 0, "no generated FANUC program converted");
+    if common::rs274().is_some() {
+        assert!(t.tally.rs274 > 0, "rs274 judged no generated FANUC program");
+    }
 }
 
 #[test]

@@ -10,10 +10,11 @@ use ncthread::profile::Profile;
 use ncthread::source::SourceFile;
 use ncthread::{ConvertOptions, DialectId, Unsupported};
 
-const DIALECTS: [DialectId; 3] = [
+const DIALECTS: [DialectId; 4] = [
     ncthread::dialect::czech::ID,
     ncthread::dialect::nc31::ID,
     ncthread::dialect::iso::ID,
+    ncthread::dialect::fanuc::ID,
 ];
 
 /// A small deterministic generator (64-bit LCG, Knuth's constants).

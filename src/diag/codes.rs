@@ -234,6 +234,64 @@ pub const ISOR_NOT_LATHE: Code = error(
     "not a lathe program: a plane other than ZX (G17, G19…) or an axis other than X and Z (Y, A, B, C, U, V, W), refused in every mode",
 );
 
+// fanuc front end
+pub const FANR_SYNTAX: Code = error("FANR001", "the block cannot be read");
+pub const FANR_UNSUPPORTED: Code = error(
+    "FANR002",
+    "a code or word ncthread does not read in a FANUC program (G90/G94 cycles, G70–G75, G28, G53, tapping…)",
+);
+pub const FANR_G76: Code = error(
+    "FANR003",
+    "the G76 threading cycle: its pass placement is not documented in any source ncthread holds",
+);
+pub const FANR_G92_CHAMFER: Code = error(
+    "FANR004",
+    "a G92 threading cycle while the profile does not give the machine's thread chamfer ([fanuc] thread_chamfer_0p1_lead)",
+);
+pub const FANR_STEEP: Code = error(
+    "FANR005",
+    "a thread move steeper than 45° (X moves more than Z): the unit of its X lead is not confirmed",
+);
+pub const FANR_NUMBER: Code = error(
+    "FANR006",
+    "a number that does not fit its word (too large, too precise, or a decimal point where the word takes none)",
+);
+pub const FANR_UNKNOWN_POSITION: Code =
+    error("FANR007", "the move needs a position that is not known yet");
+pub const FANR_CONFLICT: Code = error("FANR008", "conflicting or repeated words in one block");
+pub const FANR_NO_FEED: Code = error(
+    "FANR009",
+    "a move without its feed, or a thread without its lead (F last set for the other kind of move)",
+);
+pub const FANR_TOOL: Code = error(
+    "FANR010",
+    "a T word that is not a tool and offset number of two digits each (T0101)",
+);
+pub const FANR_ARC: Code = error(
+    "FANR011",
+    "an arc that cannot be cut: no centre or radius, a radius too small for its chord, an end off its circle",
+);
+pub const FANR_CHAIN: Code = error(
+    "FANR012",
+    "a thread chain ncthread cannot follow: a block between two G32 blocks, or Q on a block that continues the one before",
+);
+pub const FANR_DECIMAL_POINT: Code = warning(
+    "FANR013",
+    "words without a decimal point, read as the profile's decimal_point rule says",
+);
+pub const FANR_AFTER_END: Code = warning(
+    "FANR014",
+    "blocks after the program's end (M02/M30), which the control does not run",
+);
+pub const FANR_INCH_ROUNDED: Code = warning(
+    "FANR016",
+    "inch values rounded onto the 0.0001 mm grid (0.0001 in is 0.00254 mm)",
+);
+pub const FANR_INCH: Code = error(
+    "FANR015",
+    "G20/G21 after the first move: the unit must be set at the program's start",
+);
+
 // czech target
 pub const CZW_PRECISION: Code = error(
     "CZW001",
@@ -274,6 +332,36 @@ pub const ISOW_BAD_MAPPING: Code = error("ISOW005", "profile M code mapping is n
 pub const ISOW_INDEX_WAIT: Code = error(
     "ISOW006",
     "a pass that waits for the index pulse where another thread move ended (LinuxCNC would continue it)",
+);
+
+// fanuc target
+pub const FANW_PRECISION: Code = error(
+    "FANW001",
+    "a value needs more decimals than the FANUC program takes (3 for lengths, 4 for leads and feeds)",
+);
+pub const FANW_NO_EQUIVALENT: Code = error(
+    "FANW002",
+    "an operation FANUC lathe G-code has no form for that ncthread writes (tapping, G28, cutter compensation without the profile key…)",
+);
+pub const FANW_STEEP: Code = error(
+    "FANW003",
+    "a synchronised move steeper than 45° or along X only: the unit of its X lead is not confirmed",
+);
+pub const FANW_COMMENT: Code = warning(
+    "FANW004",
+    "a source word with no FANUC equivalent is kept only as a comment",
+);
+pub const FANW_ROUNDED: Code = warning(
+    "FANW005",
+    "values rounded to 0.001 mm, leads and feeds to 0.0001 mm (--round)",
+);
+pub const FANW_TOOL: Code = error(
+    "FANW006",
+    "a tool or offset number over 99, which the four-digit T word cannot hold",
+);
+pub const FANW_INDEX_WAIT: Code = error(
+    "FANW007",
+    "a pass that waits for the index pulse where another thread move ended (consecutive G32 blocks continue)",
 );
 
 // nc31 target
@@ -423,6 +511,22 @@ pub const ALL: &[Code] = &[
     ISOR_ROUGHING,
     ISOR_CONTOUR_IGNORED,
     ISOR_NOT_LATHE,
+    FANR_SYNTAX,
+    FANR_UNSUPPORTED,
+    FANR_G76,
+    FANR_G92_CHAMFER,
+    FANR_STEEP,
+    FANR_NUMBER,
+    FANR_UNKNOWN_POSITION,
+    FANR_CONFLICT,
+    FANR_NO_FEED,
+    FANR_TOOL,
+    FANR_ARC,
+    FANR_CHAIN,
+    FANR_DECIMAL_POINT,
+    FANR_AFTER_END,
+    FANR_INCH,
+    FANR_INCH_ROUNDED,
     CZW_PRECISION,
     CZW_NO_EQUIVALENT,
     CZW_ANGLE,
@@ -440,6 +544,13 @@ pub const ALL: &[Code] = &[
     NCW_DROPPED,
     NCW_ROUNDED,
     NCW_COMMENTS,
+    FANW_PRECISION,
+    FANW_NO_EQUIVALENT,
+    FANW_STEEP,
+    FANW_COMMENT,
+    FANW_ROUNDED,
+    FANW_TOOL,
+    FANW_INDEX_WAIT,
     NCW_NOTHING,
     ENCODING,
     ENCODING_GUESSED,

@@ -28,6 +28,8 @@ pub enum Construct {
     IndexWaitInCut,
     /// A synchronised move along X (LinuxCNC's G76 infeed, a G33 along X).
     SyncInfeed,
+    /// A synchronised move steeper than 45°: X (as a radius) moves more than Z.
+    SteepSync,
     /// A circular feed move (G2/G3).
     Arc,
     /// A feed move at 45° in both axes (the НЦ-31's `X…±45 *` + `F…`): a linear feed move
@@ -64,7 +66,7 @@ pub enum Construct {
 }
 
 impl Construct {
-    pub const ALL: [Construct; 24] = [
+    pub const ALL: [Construct; 25] = [
         Construct::ThreadCycle,
         Construct::StartAngle,
         Construct::Entry,
@@ -73,6 +75,7 @@ impl Construct {
         Construct::ContinuedChain,
         Construct::IndexWaitInCut,
         Construct::SyncInfeed,
+        Construct::SteepSync,
         Construct::Arc,
         Construct::Chamfer45,
         Construct::Coolant,
@@ -102,6 +105,7 @@ impl Construct {
             Construct::ContinuedChain => "continued G33 chain",
             Construct::IndexWaitInCut => "index wait in the cut",
             Construct::SyncInfeed => "synchronised move along X",
+            Construct::SteepSync => "synchronised move steeper than 45°",
             Construct::Arc => "arc (G2/G3)",
             Construct::Chamfer45 => "45° chamfer",
             Construct::Coolant => "flood coolant, coolant off",
@@ -209,6 +213,7 @@ impl Construct {
                     }
                     Construct::ContinuedChain => pass.start == SyncStart::Continue,
                     Construct::SyncInfeed => pass.infeed.is_some(),
+                    Construct::SteepSync => steep_sync(*start, pass),
                     _ => false,
                 };
                 if hit {
@@ -219,6 +224,20 @@ impl Construct {
         }
         false
     }
+}
+
+/// Whether a pass from `start` has a synchronised move (its entry, thread or runout) along
+/// which X, as a radius, moves more than Z: steeper than 45° (a move along X only is a
+/// [`Construct::SyncInfeed`]).
+pub fn steep_sync(start: Pos, pass: &crate::ir::ThreadPass) -> bool {
+    lower::pass_segments(start, pass).is_ok_and(|segs| {
+        segs.iter().any(|s| match (s.from.known(), s.to.known()) {
+            (Some((sx, sz)), Some((ex, ez))) => {
+                sz != ez && (ex - sx).0.unsigned_abs() > 2 * (ez - sz).0.unsigned_abs()
+            }
+            _ => false,
+        })
+    })
 }
 
 /// Whether a move from `from` to `to` changes the diameter by twice its Z travel, and moves.
@@ -307,7 +326,7 @@ pub fn table(dialects: &[(&str, Capabilities)]) -> String {
     out.push('\n');
     let cell = |c: Option<&Capability>| -> String {
         let Some(c) = c else {
-            return "—".into();
+            return "reads; writes".into();
         };
         let read = match c.read {
             Read::Yes("") => "reads".to_string(),

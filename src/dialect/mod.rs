@@ -5,6 +5,7 @@
 pub mod capabilities;
 pub mod czech;
 pub mod detect;
+pub mod fanuc;
 pub mod iso;
 pub mod nc31;
 pub(crate) mod read;
@@ -22,7 +23,7 @@ use crate::source::SourceFile;
 use crate::text::TextEncoding;
 
 /// Every dialect, in the order ncthread lists them.
-pub static ALL: [&'static dyn Dialect; 3] = [&czech::Czech, &nc31::Nc31, &iso::Iso];
+pub static ALL: [&'static dyn Dialect; 4] = [&czech::Czech, &nc31::Nc31, &iso::Iso, &fanuc::Fanuc];
 
 /// The dialect with this id (`czech`, `nc31`, `iso`), when there is one.
 /// The dialect whose programs alone are called `*.ext` (case-insensitive): `ngc` is iso's;

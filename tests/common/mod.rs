@@ -2,6 +2,8 @@
 //! as the oracle for ISO output.
 #![allow(dead_code)]
 
+pub mod fanuc;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
@@ -15,6 +17,7 @@ pub const TARGETS: &[DialectId] = &[
     ncthread::dialect::iso::ID,
     ncthread::dialect::czech::ID,
     ncthread::dialect::nc31::ID,
+    ncthread::dialect::fanuc::ID,
 ];
 
 pub fn root() -> PathBuf {
@@ -42,6 +45,8 @@ pub fn corpus_cases() -> Vec<Case> {
         ("bad/czech", ncthread::dialect::czech::ID),
         ("bad/nc31", ncthread::dialect::nc31::ID),
         ("bad/iso", ncthread::dialect::iso::ID),
+        ("fanuc", ncthread::dialect::fanuc::ID),
+        ("bad/fanuc", ncthread::dialect::fanuc::ID),
         ("fidelity", ncthread::dialect::czech::ID),
         ("fidelity", ncthread::dialect::iso::ID),
         ("fuzz/czech", ncthread::dialect::czech::ID),

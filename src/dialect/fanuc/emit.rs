@@ -1,0 +1,833 @@
+//! IR → FANUC lathe G-code (system A).
+//!
+//! The frame: `%`, `O0001`, a comment saying where the program came from, `G21 G99`, the
+//! program, `%` (an `M30` only where the program has its end: M30 resets the machine's state). Every X Z I K word has a decimal point
+//! and at most 3 decimals (X a diameter, I a radius value); F and the dwell's U take 4 and 3.
+//! Threads are consecutive `G32` blocks (a pass's entry, thread and runout one chain), `Q` the
+//! start angle on a chain's first block; cycles are written as their passes. Comments are
+//! upper-case ASCII. Block numbers are kept from a FANUC source, else none.
+
+use std::fmt::Write as _;
+
+use crate::diag::{Code, Diagnostic, codes};
+use crate::dialect::write::{self, Writer};
+use crate::dialect::{Inexact, one_line};
+use crate::fixed::{Angle, Lead, Length};
+use crate::ir::{
+    Compensation, Coolant, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection,
+    SpindleMode, SyncStart, ThreadCycle, ThreadPass,
+};
+use crate::lower;
+use crate::profile::{Profile, ToolOffset};
+use crate::source::SourceFile;
+
+/// How the header comment of a program ncthread wrote ends.
+pub(crate) const HEADER_END: &str = ", CONVERTED BY NCTHREAD";
+
+#[derive(Default)]
+struct Block {
+    number: Option<u32>,
+    words: Vec<String>,
+    comment: Option<String>,
+    /// The block holds a motion word (a second motion starts a new block).
+    moves: bool,
+}
+
+struct Emitter<'a> {
+    w: Writer<'a>,
+    profile: &'a Profile,
+    keep: bool,
+    motion: Option<&'static str>,
+    /// The F register: its value and whether it was written as a lead.
+    f: Option<(Lead, bool)>,
+    /// Where the last G32 block ended, while the next block may continue it.
+    sync_end: Option<Pos>,
+    /// The speed limit written (G50 S).
+    limit: Option<i64>,
+    /// G96 is in force in the output.
+    surface_speed: bool,
+    inexact: Inexact,
+    round: bool,
+}
+
+/// Upper-case ASCII comment text without parentheses. **[decided]**
+pub(crate) fn comment_text(text: &str) -> String {
+    let ascii: String = one_line(text)
+        .chars()
+        .map(|c| {
+            if c.is_ascii() {
+                c.to_string()
+            } else {
+                deunicode::deunicode_char(c)
+                    .filter(|t| t.is_ascii())
+                    .unwrap_or("?")
+                    .to_string()
+            }
+        })
+        .collect();
+    ascii
+        .to_ascii_uppercase()
+        .replace('(', "[")
+        .replace(')', "]")
+        .chars()
+        .map(|c| if c.is_ascii_control() { ' ' } else { c })
+        .collect::<String>()
+        .trim()
+        .to_string()
+}
+
+/// Writes `program` (read from `src`) as a FANUC program. `None` when any item cannot be
+/// expressed; the diagnostics say why.
+pub fn emit(
+    program: &Program,
+    src: &SourceFile,
+    profile: &Profile,
+    round: bool,
+) -> (Option<String>, Vec<Diagnostic>) {
+    let program = &*lower::unroll(program);
+    let keep = program.dialect == super::ID;
+    let mut e = Emitter {
+        w: Writer::new(src),
+        profile,
+        keep,
+        motion: None,
+        f: None,
+        sync_end: None,
+        limit: None,
+        surface_speed: false,
+        inexact: Inexact::default(),
+        round,
+    };
+    e.w.out.push_str("%\n");
+    let _ = writeln!(e.w.out, "O{:04}", profile.fanuc.program_number);
+    let mut items = program.items.as_slice();
+    while let Some((first, rest)) = items.split_first()
+        && first.kind == ItemKind::Delimiter
+    {
+        items = rest;
+    }
+    match items.split_first() {
+        Some((first, rest)) if matches!(&first.kind, ItemKind::Comment(c) if comment_text(c).ends_with(HEADER_END)) =>
+        {
+            if let ItemKind::Comment(c) = &first.kind {
+                let _ = writeln!(e.w.out, "({})", comment_text(c));
+            }
+            items = rest;
+        }
+        _ => {
+            let _ = writeln!(
+                e.w.out,
+                "({}, DIALECT {}{HEADER_END})",
+                comment_text(&src.name),
+                comment_text(program.dialect.as_str())
+            );
+        }
+    }
+    e.w.out.push_str("G21 G99\n");
+    // The header's feed mode, as the reader reads it back, is not written again.
+    let mut header = true;
+    let mut rest: Vec<Item> = Vec::with_capacity(items.len());
+    for item in items {
+        if header && item.kind == ItemKind::FeedMode(FeedMode::PerRev) {
+            header = false;
+            if let Some(c) = &item.comment {
+                rest.push(Item::new(ItemKind::Comment(c.clone()), item.span));
+            }
+            continue;
+        }
+        if !matches!(item.kind, ItemKind::Comment(_) | ItemKind::Delimiter) {
+            header = false;
+        }
+        rest.push(item.clone());
+    }
+    let body = Program {
+        items: rest,
+        dialect: program.dialect,
+    };
+    let groups: Vec<&[Item]> = write::blocks(&body, keep).collect();
+    let mut i = 0;
+    while i < groups.len() {
+        let group = groups[i];
+        // A speed mode and the spindle item after it are one block: `G96 S200 M03`.
+        if !keep
+            && matches!(group[0].kind, ItemKind::SpindleMode(_))
+            && let Some(next) = groups.get(i + 1)
+            && matches!(next[0].kind, ItemKind::Spindle { .. })
+            && next[0].comment.is_none()
+        {
+            let both = [group[0].clone(), next[0].clone()];
+            e.group(&both);
+            i += 2;
+            continue;
+        }
+        e.group(group);
+        i += 1;
+    }
+    e.w.out.push_str("%\n");
+    let summary = e.inexact.diagnostic(
+        src,
+        e.round,
+        |s| {
+            Diagnostic::new(
+                codes::FANW_ROUNDED,
+                format!("{} value(s) rounded to the FANUC program's grid (0.001 mm, leads and feeds 0.0001 mm), the first {}; the largest deviation is {} mm", s.count, s.what, s.largest),
+            )
+            .help("a thread's start keeps its start angle Q")
+        },
+        |s| {
+            Diagnostic::new(
+                codes::FANW_PRECISION,
+                format!("{} is finer than the FANUC program's {} mm ({} value(s) in this program are; lengths take 3 decimals, leads and feeds 4)", s.what, s.grid, s.count),
+            )
+            .help(format!("pass --round to round them (largest deviation {} mm, for a lead its drift at the thread's end)", s.largest))
+        },
+    );
+    e.w.diags.extend(summary);
+    e.w.finish()
+}
+
+impl Emitter<'_> {
+    fn diag(&mut self, code: Code, item: &Item, message: String, help: &str) {
+        self.w.error(code, item.span, message, help);
+    }
+
+    fn write(&mut self, block: Block) {
+        let mut line = String::new();
+        if let Some(n) = block.number.filter(|_| self.keep) {
+            let _ = write!(line, "N{n}");
+        }
+        for w in &block.words {
+            if !line.is_empty() {
+                line.push(' ');
+            }
+            line.push_str(w);
+        }
+        if let Some(c) = block
+            .comment
+            .map(|c| comment_text(&c))
+            .filter(|c| !c.is_empty())
+        {
+            if !line.is_empty() {
+                line.push(' ');
+            }
+            let _ = write!(line, "({c})");
+        }
+        if !line.is_empty() {
+            self.w.out.push_str(&line);
+            self.w.out.push('\n');
+        }
+    }
+
+    fn flush(&mut self, block: &mut Block) {
+        if !block.words.is_empty() || block.comment.is_some() {
+            let b = std::mem::take(block);
+            self.write(b);
+        }
+    }
+
+    fn group(&mut self, items: &[Item]) {
+        let mut block = Block {
+            number: items[0].block_number,
+            comment: items[0].comment.clone(),
+            ..Block::default()
+        };
+        for item in items {
+            self.item(item, &mut block);
+        }
+        self.flush(&mut block);
+    }
+
+    /// `v` with a decimal point and at most 3 decimals (rounded with `--round`, or counted
+    /// for one error).
+    fn three(&mut self, item: &Item, what: &str, v: Length) -> String {
+        if v.0 % 10 == 0 {
+            return v.mm_with_point();
+        }
+        let rounded = Length(crate::fixed::div_round(v.0 as i128, 10) as i64 * 10);
+        self.inexact.note(item.span, what, v, rounded, Length(10));
+        rounded.mm_with_point()
+    }
+
+    /// The axis words of a move to `to`.
+    fn axes(&mut self, item: &Item, to: Pos) -> Vec<String> {
+        let mut words = Vec::new();
+        if let Some(x) = to.x {
+            words.push(format!("X{}", self.three(item, "X", x)));
+        }
+        if let Some(z) = to.z {
+            words.push(format!("Z{}", self.three(item, "Z", z)));
+        }
+        words
+    }
+
+    /// Starts a new block when this one moves already, then puts the motion word.
+    fn motion_block(&mut self, block: &mut Block, g: &'static str) {
+        if block.moves {
+            let number = block.number.take();
+            self.flush(block);
+            block.number = number.filter(|_| false);
+        }
+        block.moves = true;
+        if self.motion != Some(g) {
+            block.words.push(g.to_string());
+            self.motion = Some(g);
+        }
+    }
+
+    fn feed_word(&mut self, item: &Item, feed: Length, block: &mut Block) {
+        let lead = Lead::from_length(feed);
+        if self.f != Some((lead, false)) {
+            block.words.push(format!("F{}", feed.mm_with_point()));
+            self.f = Some((lead, false));
+        }
+        let _ = item;
+    }
+
+    fn item(&mut self, item: &Item, block: &mut Block) {
+        match &item.kind {
+            ItemKind::Rapid { to } => {
+                self.sync_end = None;
+                self.motion_block(block, "G00");
+                let words = self.axes(item, *to);
+                block.words.extend(words);
+            }
+            ItemKind::Feed { to, feed } => {
+                self.sync_end = None;
+                self.motion_block(block, "G01");
+                let words = self.axes(item, *to);
+                block.words.extend(words);
+                self.feed_word(item, *feed, block);
+            }
+            ItemKind::Arc {
+                to,
+                centre,
+                clockwise,
+                feed,
+            } => {
+                self.sync_end = None;
+                self.arc(item, *to, *centre, *clockwise, *feed, block);
+            }
+            ItemKind::ThreadPass(pass) => self.thread_pass(item, pass, block),
+            ItemKind::ThreadCycle(cycle) => {
+                self.flush(block);
+                self.thread_cycle(item, cycle);
+            }
+            // Refused by legalisation (no rigid tapping, no machine coordinates).
+            ItemKind::TapCycle(_) | ItemKind::MachineMove(_) | ItemKind::Roughing(_) => {}
+            ItemKind::Spindle { speed, direction } => {
+                if let Some(s) = speed {
+                    block.words.push(format!("S{s}"));
+                }
+                match direction {
+                    Some(SpindleDirection::Clockwise) => block.words.push("M03".into()),
+                    Some(SpindleDirection::CounterClockwise) => block.words.push("M04".into()),
+                    None => {}
+                }
+            }
+            ItemKind::SpindleStop => block.words.push("M05".into()),
+            ItemKind::SpindleMode(SpindleMode::Rpm) => {
+                self.surface_speed = false;
+                block.words.push("G97".into())
+            }
+            ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit }) => {
+                let limit = match limit {
+                    Some(d) => match d.to_whole() {
+                        Ok(n) if n > 0 => Some(n),
+                        _ => {
+                            self.diag(
+                                codes::FANW_PRECISION,
+                                item,
+                                format!("the surface speed's limit of {d} rpm is not a whole number of rpm, which G50 S takes"),
+                                "write the limit in whole rpm in the source",
+                            );
+                            return;
+                        }
+                    },
+                    None => None,
+                };
+                let changed = limit.is_some() && limit != self.limit;
+                match (limit, self.limit) {
+                    (Some(n), last) if last != Some(n) => {
+                        // The limit on a line of its own before the G96 (which keeps the
+                        // block's number and comment).
+                        let (comment, number) = (block.comment.take(), block.number.take());
+                        self.flush(block);
+                        self.write(Block {
+                            words: vec![format!("G50 S{n}")],
+                            ..Block::default()
+                        });
+                        (block.comment, block.number) = (comment, number);
+                        self.limit = Some(n);
+                    }
+                    (None, Some(_)) => {
+                        self.diag(
+                            codes::FANW_NO_EQUIVALENT,
+                            item,
+                            "a surface speed without a speed limit after one with a limit: a FANUC program cannot lift the limit G50 S set".into(),
+                            "give this G96 a limit in the source (G96 … D)",
+                        );
+                        return;
+                    }
+                    _ => {}
+                }
+                // Under G96 already, a new limit is its G50 S alone.
+                if !(self.surface_speed && changed) {
+                    block.words.push("G96".into());
+                }
+                self.surface_speed = true;
+            }
+            ItemKind::Tool { number, offset } => self.tool(item, *number, *offset, block),
+            ItemKind::GearRange { code, .. } => {
+                self.as_comment(
+                    item,
+                    block,
+                    &format!("M{code}: gear range of the source machine"),
+                );
+            }
+            ItemKind::FeedMode(FeedMode::PerRev) => block.words.push("G99".into()),
+            ItemKind::FeedMode(FeedMode::PerMin) => block.words.push("G98".into()),
+            ItemKind::ProgramEnd(EndCode::M2) => block.words.push("M02".into()),
+            ItemKind::ProgramEnd(EndCode::M30) => block.words.push("M30".into()),
+            ItemKind::Comment(text) => {
+                if block.words.is_empty() && block.comment.is_none() {
+                    block.comment = Some(text.clone());
+                } else {
+                    self.flush(block);
+                    block.comment = Some(text.clone());
+                }
+            }
+            ItemKind::ParamAssign { number, value } => {
+                // Its effect is already in the items that use it.
+                self.flush(block);
+                self.write(Block {
+                    comment: Some(format!("R{number:02}={value}")),
+                    ..Block::default()
+                });
+            }
+            ItemKind::Opaque {
+                dialect: super::ID,
+                text,
+                ..
+            } => {
+                self.sync_end = None;
+                block.words.push(text.clone());
+            }
+            ItemKind::Opaque { dialect, text, .. } => {
+                self.as_comment(item, block, &format!("{dialect}: {text}"));
+            }
+            ItemKind::Delimiter => {}
+            ItemKind::Coolant(c) => block.words.push(
+                match c {
+                    Coolant::Mist => "M07",
+                    Coolant::Flood => "M08",
+                    Coolant::Off => "M09",
+                }
+                .into(),
+            ),
+            ItemKind::Stop { optional } => block
+                .words
+                .push(if *optional { "M01" } else { "M00" }.into()),
+            ItemKind::Dwell { seconds } => {
+                let Ok(ms) = seconds.to_scaled(3) else {
+                    self.diag(
+                        codes::FANW_PRECISION,
+                        item,
+                        format!("the dwell of {seconds} s needs more than the 0.001 s G04 U takes"),
+                        "write the dwell in whole milliseconds in the source",
+                    );
+                    return;
+                };
+                self.flush(block);
+                let comment = block.comment.take();
+                self.write(Block {
+                    number: item.block_number,
+                    words: vec![
+                        "G04".into(),
+                        format!("U{}", Length(ms * 10).mm_with_point()),
+                    ],
+                    comment,
+                    moves: false,
+                });
+            }
+            ItemKind::Compensation(Compensation::Off) => block.words.push("G40".into()),
+            ItemKind::Compensation(Compensation::FromTool { right, tool: None }) => {
+                block.words.push(if *right { "G42" } else { "G41" }.into())
+            }
+            ItemKind::Compensation(c) => {
+                let what = match c {
+                    Compensation::FromTool { tool: Some(d), .. } => {
+                        format!("cutter radius compensation with tool table entry {d}")
+                    }
+                    _ => "cutter radius compensation with a diameter in the program (G41.1/G42.1)"
+                        .into(),
+                };
+                self.diag(
+                    codes::FANW_NO_EQUIVALENT,
+                    item,
+                    format!("{what}: a FANUC lathe takes the nose radius from the offset of the tool in use"),
+                    "compensate with the tool's own offset (G41/G42 without D) in the source",
+                );
+            }
+            ItemKind::WorkOffset(n) if (1..=6).contains(n) => {
+                block.words.push(format!("G{}", 53 + u32::from(*n)))
+            }
+            ItemKind::WorkOffset(n) => self.diag(
+                codes::FANW_NO_EQUIVALENT,
+                item,
+                format!(
+                    "work offset {n} (G59.{}) has no form in FANUC lathe G-code ncthread writes",
+                    n.saturating_sub(6)
+                ),
+                "use G54–G59 in the source",
+            ),
+            ItemKind::FeedRate(feed) => {
+                // A feed of its own: in a G01 block when F last held a lead.
+                if self.f != Some((Lead::from_length(*feed), false)) {
+                    if matches!(self.f, Some((_, true))) || self.motion == Some("G32") {
+                        self.motion_word_only(block, "G01");
+                    }
+                    self.feed_word(item, *feed, block);
+                }
+            }
+        }
+        if !matches!(
+            item.kind,
+            ItemKind::ThreadCycle(_) | ItemKind::ThreadPass(_)
+        ) {
+            self.w.pos = item.kind.end_position(self.w.pos);
+        }
+    }
+
+    fn motion_word_only(&mut self, block: &mut Block, g: &'static str) {
+        if self.motion != Some(g) {
+            block.words.push(g.to_string());
+            self.motion = Some(g);
+        }
+    }
+
+    fn as_comment(&mut self, item: &Item, block: &mut Block, text: &str) {
+        self.flush(block);
+        self.write(Block {
+            comment: Some(format!("{text} (not converted)")),
+            ..Block::default()
+        });
+        self.w.report(
+            Diagnostic::new(
+                codes::FANW_COMMENT,
+                format!("`{text}` has no FANUC equivalent; it is written as a comment"),
+            )
+            .at(self.w.src, item.span)
+            .help("check the FANUC program by hand where this matters"),
+        );
+    }
+
+    /// `T0101`: the tool and its offset, two digits each.
+    fn tool(&mut self, item: &Item, number: Option<u32>, offset: Option<u32>, block: &mut Block) {
+        let Some(t) = number else {
+            self.diag(
+                codes::FANW_NO_EQUIVALENT,
+                item,
+                "a tool offset without a tool: a FANUC T word names both".into(),
+                "give the tool in the source",
+            );
+            return;
+        };
+        let o = offset.unwrap_or(match self.profile.fanuc.tool_offset {
+            ToolOffset::Same => t,
+            ToolOffset::None => 0,
+        });
+        if t > 99 || o > 99 || t == 0 {
+            self.diag(
+                codes::FANW_TOOL,
+                item,
+                format!("tool {t} with offset {o}: the T word holds a tool of 1–99 and an offset of 0–99 (T0101)"),
+                "renumber the tool in the source to the turret station it stands in",
+            );
+            return;
+        }
+        block.words.push(format!("T{t:02}{o:02}"));
+    }
+
+    /// `G02`/`G03 X Z I K F`: I the centre's X offset from the start as a radius value.
+    fn arc(
+        &mut self,
+        item: &Item,
+        to: Pos,
+        centre: Pos,
+        clockwise: bool,
+        feed: Length,
+        block: &mut Block,
+    ) {
+        let (Some((sx, sz)), Some((cx, cz)), Some((ex, ez))) =
+            (self.w.pos.known(), centre.known(), to.known())
+        else {
+            self.diag(
+                codes::FANW_NO_EQUIVALENT,
+                item,
+                "an arc from a position that is not known: its centre cannot be written".into(),
+                "move to an absolute X and Z before the arc",
+            );
+            return;
+        };
+        self.motion_block(block, if clockwise { "G02" } else { "G03" });
+        let words = self.axes(item, Pos::new(ex, ez));
+        block.words.extend(words);
+        let dx = cx - sx;
+        let on_grid = dx.0 % 20 == 0 && (cz - sz).0 % 10 == 0;
+        // A centre off the grid (an R arc's, from the source's radius) is written as the R
+        // the control takes, where the centre it finds from it stays within 0.0005 mm.
+        if !on_grid
+            && (sx, sz) != (ex, ez)
+            && !lower::arc::over_half_turn((sx, sz), (ex, ez), (cx, cz), clockwise)
+        {
+            let (r1, _) = lower::arc::radii((sx, sz), (ex, ez), (cx, cz));
+            let r =
+                Length(crate::fixed::div_round(Length::from_mm_f64(r1).0 as i128, 10) as i64 * 10);
+            let off =
+                lower::arc::centre_from_radius((sx, sz), (ex, ez), r.to_mm_f64(), clockwise, 0.001)
+                    .ok()
+                    .and_then(|c| c.known())
+                    .map_or(f64::INFINITY, |(x, z)| {
+                        ((x - cx).to_mm_f64() / 2.0).hypot((z - cz).to_mm_f64())
+                    });
+            if off <= 0.0005 && r.0 > 0 {
+                block.words.push(format!("R{}", r.mm_with_point()));
+                self.feed_word(item, feed, block);
+                return;
+            }
+        }
+        let i = if dx.0 % 20 == 0 {
+            Length(dx.0 / 2).mm_with_point()
+        } else {
+            let rounded = Length(crate::fixed::div_round(dx.0 as i128, 20) as i64 * 10);
+            self.inexact.note(
+                item.span,
+                "I (as a diameter)",
+                dx,
+                rounded + rounded,
+                Length(20),
+            );
+            rounded.mm_with_point()
+        };
+        let k = self.three(item, "K", cz - sz);
+        block.words.push(format!("I{i}"));
+        block.words.push(format!("K{k}"));
+        self.feed_word(item, feed, block);
+    }
+
+    /// Whether a synchronised move is steeper than 45° (or along X only).
+    fn steep(seg: &lower::SyncSegment) -> bool {
+        match (seg.from.known(), seg.to.known()) {
+            (Some((sx, sz)), Some((ex, ez))) => {
+                (ex - sx).0.unsigned_abs() > 2 * (ez - sz).0.unsigned_abs()
+            }
+            _ => seg.is_radial(),
+        }
+    }
+
+    fn thread_pass(&mut self, item: &Item, pass: &ThreadPass, block: &mut Block) {
+        let segments = match lower::pass_segments(self.w.pos, pass) {
+            Ok(s) => s,
+            Err(_) => {
+                self.diag(
+                    codes::FANW_NO_EQUIVALENT,
+                    item,
+                    "this thread pass needs its start point, which is not known".into(),
+                    "move to the start of the thread with X and Z first",
+                );
+                return;
+            }
+        };
+        let in_chain = self.sync_end.is_some() && self.sync_end == Some(self.w.pos);
+        let end = ItemKind::ThreadPass(*pass).end_position(self.w.pos);
+        // Refused by legalisation (the table's SyncInfeed, SteepSync and IndexWaitInCut):
+        // the position goes on, so that what follows reads right.
+        let refused = segments.iter().any(Self::steep)
+            || (in_chain && matches!(pass.start, SyncStart::Index(_)));
+        if refused {
+            self.w.pos = end;
+            self.sync_end = Some(end);
+            return;
+        }
+        let angle = match pass.start {
+            SyncStart::Continue if !in_chain => {
+                self.diag(
+                    codes::FANW_INDEX_WAIT,
+                    item,
+                    "this thread move continues a synchronised move that does not end where it starts".into(),
+                    "this is a bug in the program's reader; report it with the program",
+                );
+                return;
+            }
+            SyncStart::Continue => None,
+            SyncStart::Index(a) => Some(Angle(a.0.rem_euclid(360_000))),
+        };
+        // Leads take 4 decimals: another is refused, or with --round rounded with the drift
+        // at the thread's end as its deviation.
+        let (units, exact) = pass.lead.in_units(4);
+        let lead = Lead::from_units(units, 4);
+        if units <= 0 {
+            self.diag(
+                codes::FANW_PRECISION,
+                item,
+                format!(
+                    "the lead {} mm rounds to 0 in the FANUC program's 0.0001 mm",
+                    pass.lead
+                ),
+                "a thread needs a lead the control can hold",
+            );
+            return;
+        }
+        if !exact {
+            let travel = match (
+                segments.first().and_then(|s| s.from.z),
+                segments.last().and_then(|s| s.to.z),
+            ) {
+                (Some(a), Some(b)) => (b - a).abs(),
+                _ => Length::ZERO,
+            };
+            let drift = pass.lead.drift(lead, travel);
+            self.inexact
+                .note_lead(item.span, "lead F", pass.lead, drift, Length(1));
+        }
+        for (n, seg) in segments.iter().enumerate() {
+            self.motion_block(block, "G32");
+            let words = self.axes(item, seg.to);
+            block.words.extend(words);
+            if (n == 0 && angle.is_some()) || self.f != Some((lead, true)) {
+                block.words.push(format!("F{}", lead.mm_with_point()));
+                self.f = Some((lead, true));
+            }
+            if n == 0
+                && let Some(a) = angle.filter(|a| *a != Angle::ZERO)
+            {
+                block.words.push(format!("Q{}", a.0));
+            }
+        }
+        self.w.pos = ItemKind::ThreadPass(*pass).end_position(self.w.pos);
+        self.sync_end = Some(self.w.pos);
+    }
+
+    fn thread_cycle(&mut self, item: &Item, cycle: &ThreadCycle) {
+        let Some(expansion) = self.w.expand(cycle, item.span) else {
+            return;
+        };
+        self.write(Block {
+            comment: Some(expansion.summary(cycle, "D")),
+            ..Block::default()
+        });
+        for step in expansion.steps() {
+            let m = match step {
+                lower::Step::Heading(heading) => {
+                    self.write(Block {
+                        comment: Some(heading),
+                        ..Block::default()
+                    });
+                    continue;
+                }
+                lower::Step::Move(m) => m,
+            };
+            let moved = Item {
+                kind: m.item_kind(),
+                comment: None,
+                block_number: None,
+                span: item.span,
+            };
+            let mut block = Block::default();
+            self.item(&moved, &mut block);
+            self.flush(&mut block);
+        }
+        self.w.pos = item.kind.end_position(self.w.pos);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ir::{SpindleDirection, ThreadPass};
+    use crate::source::Span;
+
+    fn mm(v: i64) -> Length {
+        Length::from_mm(v)
+    }
+
+    fn write(kinds: Vec<ItemKind>) -> (Option<String>, Vec<Diagnostic>) {
+        let program = Program {
+            dialect: crate::dialect::iso::ID,
+            items: kinds
+                .into_iter()
+                .map(|k| Item::new(k, Span::default()))
+                .collect(),
+        };
+        emit(
+            &program,
+            &SourceFile::new("t", ""),
+            &Profile::default(),
+            false,
+        )
+    }
+
+    #[test]
+    fn comments_are_upper_case_ascii_without_parentheses() {
+        assert_eq!(comment_text("závit (Ø20) ok"), "ZAVIT [O20] OK");
+    }
+
+    #[test]
+    fn a_pass_with_its_runout_is_one_chain_and_its_angle_is_q() {
+        let pass = ThreadPass {
+            to: Pos::new(mm(20), mm(-20)),
+            lead: Lead::from_length(Length(15_000)),
+            start: SyncStart::Index(Angle(180_000)),
+            infeed: None,
+            entry: None,
+            exit: Some(crate::ir::Chamfer {
+                length: Length(15_000),
+                offset: Length(30_000),
+            }),
+        };
+        let (out, d) = write(vec![
+            ItemKind::Spindle {
+                speed: Some(500),
+                direction: Some(SpindleDirection::Clockwise),
+            },
+            ItemKind::Rapid {
+                to: Pos::new(mm(20), mm(5)),
+            },
+            ItemKind::ThreadPass(pass),
+            ItemKind::Tool {
+                number: Some(3),
+                offset: None,
+            },
+        ]);
+        assert!(d.is_empty(), "{d:?}");
+        let out = out.unwrap();
+        assert!(
+            out.contains("G32 X20. Z-18.5 F1.5 Q180000\nX23. Z-20.\n"),
+            "{out}"
+        );
+        assert!(
+            out.starts_with("%\nO0001\n(T, DIALECT ISO, CONVERTED BY NCTHREAD)\nG21 G99\n"),
+            "{out}"
+        );
+        assert!(out.contains("T0303\n"), "{out}");
+        assert!(
+            !out.contains("M30"),
+            "no end the source does not have: {out}"
+        );
+    }
+
+    #[test]
+    fn tools_over_99_and_lengths_off_the_grid_are_refused() {
+        let (out, d) = write(vec![ItemKind::Tool {
+            number: Some(120),
+            offset: Some(1),
+        }]);
+        assert!(out.is_none());
+        assert_eq!(d[0].code, codes::FANW_TOOL);
+        let (out, d) = write(vec![ItemKind::Rapid {
+            to: Pos::new(Length(200_005), mm(5)),
+        }]);
+        assert!(out.is_none());
+        assert_eq!(d[0].code, codes::FANW_PRECISION);
+    }
+}

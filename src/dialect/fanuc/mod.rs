@@ -1,0 +1,255 @@
+//! Dialect `fanuc`: FANUC lathe G-code, system A (Series 0i-TF and the controls that copy
+//! it: Haas, Mitsubishi and many others). See ../shared/spec/fanuc.md.
+
+mod emit;
+mod front;
+pub mod profile;
+pub mod syntax;
+
+use super::capabilities::{Capabilities, Construct, Read, Write, row};
+use super::{Dialect, DialectId, LineClaim, LineMark, Unsupported, WriteOptions, detect};
+use crate::diag::{Diagnostic, codes};
+use crate::ir::Program;
+use crate::legalise::Occurrence;
+use crate::profile::Profile;
+use crate::source::SourceFile;
+use crate::text::TextEncoding;
+
+/// The FANUC dialect's id.
+pub const ID: DialectId = DialectId::new("fanuc");
+
+/// FANUC lathe G-code.
+pub struct Fanuc;
+
+/// Whether a line's words are FANUC's alone: G32, G50, G98/G99, a G92 with F, a four-digit
+/// T, U or W words.
+fn fanuc_word(words: &[String]) -> bool {
+    let g92_with_f = words.iter().any(|w| w == "G92") && words.iter().any(|w| w.starts_with('F'));
+    g92_with_f
+        || words.iter().any(|w| {
+            matches!(w.as_str(), "G32" | "G50" | "G98" | "G99")
+                || (w.len() == 5
+                    && w.starts_with('T')
+                    && w[1..].bytes().all(|b| b.is_ascii_digit()))
+                || ((w.starts_with('U') || w.starts_with('W')) && w.contains('.'))
+        })
+}
+
+impl Dialect for Fanuc {
+    fn id(&self) -> DialectId {
+        ID
+    }
+
+    fn title(&self) -> &'static str {
+        "FANUC lathe G-code (system A)"
+    }
+
+    fn extension(&self) -> &'static str {
+        "nc"
+    }
+
+    fn extensions(&self) -> &'static [&'static str] {
+        &["nc", "tap"]
+    }
+
+    fn legacy_encoding(&self) -> TextEncoding {
+        TextEncoding::Standard(encoding_rs::WINDOWS_1252)
+    }
+
+    fn claim_line(&self, line: &str) -> Option<LineClaim> {
+        // `O0001` (a program number, perhaps with its name).
+        let code = detect::code_part(line).trim();
+        let program_number = code.len() > 1
+            && code.starts_with(['O', 'o'])
+            && code[1..].bytes().all(|b| b.is_ascii_digit());
+        let words = detect::code_words(line);
+        // A single whole-number word alone on its line may be the НЦ-31's: FANUC's mark needs
+        // a second word, a decimal point or a comment beside it.
+        let beside = words.len() > 1
+            || words.iter().any(|w| w.contains('.'))
+            || code.len() < line.trim().len();
+        (program_number || (beside && fanuc_word(&words))).then_some(LineClaim {
+            priority: 96,
+            mark: LineMark::Mark,
+        })
+    }
+
+    fn mark_description(&self) -> &'static str {
+        "a FANUC mark (an `O0001` program number, G32, G50, G98/G99, G92 with F, T0101, or U/W words)"
+    }
+
+    fn tie_rank(&self) -> u8 {
+        0
+    }
+
+    fn output_feed_mode(&self) -> Option<crate::ir::FeedMode> {
+        // The header: `G21 G99`.
+        Some(crate::ir::FeedMode::PerRev)
+    }
+
+    fn read(
+        &self,
+        src: &SourceFile,
+        profile: &Profile,
+        unsupported: Unsupported,
+    ) -> (Program, Vec<Diagnostic>) {
+        front::parse(src, profile, unsupported)
+    }
+
+    fn capabilities(&self, profile: &Profile) -> Capabilities {
+        use Construct::*;
+        let f = &profile.fanuc;
+        Capabilities {
+            rows: vec![
+                row(
+                    ThreadCycle,
+                    Read::No,
+                    Write::As("writes its passes as G32 blocks (G92 and G76 never)"),
+                ),
+                row(
+                    StartAngle,
+                    Read::Yes("G32/G92 … Q (0.001°)"),
+                    Write::Yes("Q on a chain's first G32"),
+                ),
+                row(
+                    Entry,
+                    Read::No,
+                    Write::As("writes it as a G32 block of the pass's chain"),
+                ),
+                row(
+                    Runout,
+                    Read::Yes("G92's chamfer, from the profile's `thread_chamfer_0p1_lead`"),
+                    Write::As("writes it as a G32 block of the pass's chain"),
+                ),
+                row(
+                    TaperPass,
+                    Read::Yes("G32 X Z, G92 R"),
+                    Write::Yes("G32 X Z, F the lead along Z"),
+                ),
+                row(
+                    ContinuedChain,
+                    Read::Yes("consecutive G32 blocks"),
+                    Write::Yes("consecutive G32 blocks"),
+                ),
+                row(IndexWaitInCut, Read::No, Write::No(codes::FANW_INDEX_WAIT)),
+                row(SyncInfeed, Read::No, Write::No(codes::FANW_STEEP)),
+                row(SteepSync, Read::No, Write::No(codes::FANW_STEEP)),
+                row(
+                    Arc,
+                    Read::Yes("G02/G03 X Z I K, I a radius; R up to half a circle"),
+                    Write::Yes("G02/G03 X Z I K, I a radius"),
+                ),
+                row(
+                    Chamfer45,
+                    Read::No,
+                    Write::As("writes it as a feed move (G01 X Z)"),
+                ),
+                row(Coolant, Read::Yes("M08/M09"), Write::Yes("M08/M09")),
+                if f.mist {
+                    row(MistCoolant, Read::Yes("M07"), Write::Yes("M07"))
+                } else {
+                    row(MistCoolant, Read::No, Write::No(codes::FANW_NO_EQUIVALENT))
+                },
+                row(Stop, Read::Yes("M00/M01"), Write::Yes("M00/M01")),
+                row(
+                    SurfaceSpeed,
+                    Read::Yes("G96 S (m/min), G50 S its limit, G97 S"),
+                    Write::Yes("G50 S, G96 S, G97 S"),
+                ),
+                if f.nose_radius_in_offsets {
+                    row(
+                        CutterCompensation,
+                        Read::Yes("G41/G42, the nose radius in the offset page"),
+                        Write::As(
+                            "G41/G42 (the nose radius in the offset page; G41.1/G42.1: FANW002)",
+                        ),
+                    )
+                } else {
+                    row(
+                        CutterCompensation,
+                        Read::Yes("G41/G42, the nose radius in the offset page"),
+                        Write::No(codes::FANW_NO_EQUIVALENT),
+                    )
+                },
+                row(
+                    WorkOffset,
+                    Read::Yes("G54–G59"),
+                    Write::As("G54–G59 (G59.1–G59.3: FANW002)"),
+                ),
+                row(
+                    MachineCoordinates,
+                    Read::No,
+                    Write::No(codes::FANW_NO_EQUIVALENT),
+                ),
+                row(Tapping, Read::No, Write::No(codes::FANW_NO_EQUIVALENT)),
+                row(
+                    Dwell,
+                    Read::Yes("G04 U/X (s), G04 P (ms)"),
+                    Write::Yes("G04 U (s)"),
+                ),
+                row(PerMinuteFeed, Read::Yes("G98"), Write::Yes("G98")),
+                row(ToolOffset, Read::Yes("T0101"), Write::Yes("T0101")),
+                row(Parameters, Read::No, Write::As("writes them as comments")),
+                row(Repeat, Read::No, Write::As("writes the repeated moves out")),
+                row(
+                    Comments,
+                    Read::Yes("`( )`"),
+                    Write::As("`( )`, upper-case ASCII"),
+                ),
+            ],
+            numbers: "lengths to 0.001 mm (X a diameter, I a radius), leads and feeds to 0.0001 mm, a decimal point on every length; `--round` rounds, reporting the largest deviation",
+        }
+    }
+
+    fn refusal(&self, at: Occurrence, src: &SourceFile) -> Option<Diagnostic> {
+        let (code, message, help) = match at.construct {
+            Construct::SyncInfeed => (
+                codes::FANW_STEEP,
+                "the pass starts with a synchronised move along X (LinuxCNC's G76 infeed before an entry taper, or a G33 along X): its F would be a lead along X, whose unit no source ncthread holds confirms",
+                "cut this thread without the synchronised infeed (a G76 without L1/L3), or convert it by hand",
+            ),
+            Construct::SteepSync => (
+                codes::FANW_STEEP,
+                "a synchronised move steeper than 45° (a runout, an entry or a taper where X, as a radius, moves more than Z): its F would be a lead along X, whose unit no source ncthread holds confirms",
+                "give the thread a runout or entry under 45° in the source, or convert this pass by hand",
+            ),
+            Construct::IndexWaitInCut => (
+                codes::FANW_INDEX_WAIT,
+                "a pass waits for the index pulse where the thread move before it ended; consecutive G32 blocks continue without waiting, so FANUC would cut another helix",
+                "retract between the two moves in the source",
+            ),
+            Construct::MistCoolant => (
+                codes::FANW_NO_EQUIVALENT,
+                "mist coolant (M7) is the machine builder's option on a FANUC lathe",
+                "if the machine has M07, set `mist = true` in the profile's [fanuc] section",
+            ),
+            Construct::CutterCompensation => (
+                codes::FANW_NO_EQUIVALENT,
+                "cutter radius (tool nose) compensation: on a FANUC lathe its radius and tip direction are in the offset page, which the program cannot state",
+                "if the machine's offsets hold the nose radius and tip of every tool, set `nose_radius_in_offsets = true` in the profile's [fanuc] section",
+            ),
+            Construct::MachineCoordinates => (
+                codes::FANW_NO_EQUIVALENT,
+                "a move in machine coordinates or to a stored position (G53, G28, G30): FANUC's G28 goes to the machine's reference point, not to LinuxCNC's stored position",
+                "program the tool change position in the part's coordinates, or add the reference return by hand",
+            ),
+            Construct::Tapping => (
+                codes::FANW_NO_EQUIVALENT,
+                "rigid tapping: on a FANUC lathe it needs an option and parameters (M29 S… G84) that the program cannot state",
+                "tap this hole by hand on the FANUC machine, or cut the thread with G32 passes",
+            ),
+            _ => return None,
+        };
+        Some(Diagnostic::new(code, message).at(src, at.span).help(help))
+    }
+
+    fn write(
+        &self,
+        program: &Program,
+        src: &SourceFile,
+        profile: &Profile,
+        options: &WriteOptions,
+    ) -> (Option<String>, Vec<Diagnostic>) {
+        emit::emit(program, src, profile, options.round)
+    }
+}

@@ -1,0 +1,143 @@
+//! The FANUC section of the machine profile (`[fanuc]`).
+//!
+//! ```toml
+//! [fanuc]
+//! decimal_point = "increment"     # a word without a point: "increment" (X10 = 0.010 mm) or "calculator" (X10 = 10 mm)
+//! thread_chamfer_0p1_lead = 10    # G92's chamfer (parameter 5130) in 0.1 lead; needed to read G92
+//! tool_offset = "same"            # T0303 for tool 3 without an offset number; "none" writes T0300
+//! program_number = 1              # O0001
+//! nose_radius_in_offsets = false  # the offset page holds nose radius and tip: G41/G42 may be written
+//! mist = false                    # the machine has M07
+//! ```
+
+use serde::Deserialize;
+
+use crate::diag::Diagnostic;
+use crate::profile::bad_value;
+use crate::source::SourceFile;
+
+/// How a word without a decimal point is read: FANUC parameter 3401#0 (DPI). **[evidence]**
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DecimalPoint {
+    /// In least input increments: 0.001 mm for X Z U W I K R, 0.0001 mm for a lead F (the
+    /// control's default, DPI = 0).
+    #[default]
+    Increment,
+    /// As millimetres, like a pocket calculator (DPI = 1).
+    Calculator,
+}
+
+/// Which offset a tool gets when the program names none.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ToolOffset {
+    /// The offset of the same number: `T0303`.
+    #[default]
+    Same,
+    /// No offset: `T0300`.
+    None,
+}
+
+/// What ncthread knows of a FANUC lathe.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FanucProfile {
+    pub decimal_point: DecimalPoint,
+    /// G92's thread chamfer (pull-out) in 0.1 lead (FANUC parameter 5130), at 45°. `None`:
+    /// not said, so a G92 is refused. **[decided]**
+    pub thread_chamfer_0p1_lead: Option<u32>,
+    pub tool_offset: ToolOffset,
+    /// The `O` number of a program ncthread writes (1–9999).
+    pub program_number: u32,
+    /// The offset page holds the nose radius and tip direction, so `G41`/`G42` may be
+    /// written. **[decided]** off: the program cannot state them.
+    pub nose_radius_in_offsets: bool,
+    /// The machine has mist coolant on `M07`.
+    pub mist: bool,
+}
+
+impl Default for FanucProfile {
+    fn default() -> Self {
+        FanucProfile {
+            decimal_point: DecimalPoint::Increment,
+            thread_chamfer_0p1_lead: None,
+            tool_offset: ToolOffset::Same,
+            program_number: 1,
+            nose_radius_in_offsets: false,
+            mist: false,
+        }
+    }
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct Raw {
+    decimal_point: Option<toml::Spanned<String>>,
+    thread_chamfer_0p1_lead: Option<toml::Spanned<i64>>,
+    tool_offset: Option<toml::Spanned<String>>,
+    program_number: Option<toml::Spanned<i64>>,
+    nose_radius_in_offsets: Option<bool>,
+    mist: Option<bool>,
+}
+
+/// Reads the `[fanuc]` section into `p`, reporting each bad value with its line.
+pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut FanucProfile, diags: &mut Vec<Diagnostic>) {
+    if let Some(v) = raw.decimal_point {
+        let span = src.span_of(v.span());
+        match v.into_inner().as_str() {
+            "increment" => p.decimal_point = DecimalPoint::Increment,
+            "calculator" => p.decimal_point = DecimalPoint::Calculator,
+            other => diags.push(bad_value(
+                src,
+                span,
+                "decimal_point",
+                format!("`{other}` is not a decimal point rule"),
+                "\"increment\" (X10 is 0.010 mm: FANUC parameter 3401#0 = 0) or \"calculator\" (X10 is 10 mm: 3401#0 = 1)",
+            )),
+        }
+    }
+    if let Some(v) = raw.thread_chamfer_0p1_lead {
+        let span = src.span_of(v.span());
+        match u32::try_from(v.into_inner()) {
+            Ok(n) if n <= 127 => p.thread_chamfer_0p1_lead = Some(n),
+            _ => diags.push(bad_value(
+                src,
+                span,
+                "thread_chamfer_0p1_lead",
+                "the thread chamfer is 0 to 127 tenths of the lead".into(),
+                "copy the machine's parameter 5130 (0 is no chamfer)",
+            )),
+        }
+    }
+    if let Some(v) = raw.tool_offset {
+        let span = src.span_of(v.span());
+        match v.into_inner().as_str() {
+            "same" => p.tool_offset = ToolOffset::Same,
+            "none" => p.tool_offset = ToolOffset::None,
+            other => diags.push(bad_value(
+                src,
+                span,
+                "tool_offset",
+                format!("`{other}` is not a tool offset rule"),
+                "\"same\" (T0303 for tool 3) or \"none\" (T0300)",
+            )),
+        }
+    }
+    if let Some(v) = raw.program_number {
+        let span = src.span_of(v.span());
+        match u32::try_from(v.into_inner()) {
+            Ok(n) if (1..=9999).contains(&n) => p.program_number = n,
+            _ => diags.push(bad_value(
+                src,
+                span,
+                "program_number",
+                "a program number is 1 to 9999".into(),
+                "O0001 is program_number = 1",
+            )),
+        }
+    }
+    if let Some(b) = raw.nose_radius_in_offsets {
+        p.nose_radius_in_offsets = b;
+    }
+    if let Some(b) = raw.mist {
+        p.mist = b;
+    }
+}

@@ -1,0 +1,209 @@
+//! The FANUC block syntax (`grammar/fanuc.pest`): one line in, one [`Block`] out.
+
+use std::ops::Range;
+
+use pest::Parser;
+use pest_derive::Parser;
+
+use crate::fixed::Decimal;
+
+#[derive(Parser)]
+#[grammar = "../grammar/fanuc.pest"]
+struct FanucParser;
+
+/// `X26.618`: the address letter (upper case), the value as written, and its byte range.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Word {
+    pub letter: char,
+    pub value: Decimal,
+    pub range: Range<usize>,
+}
+
+/// Everything a line holds, in the order written.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Block {
+    pub number: Option<u32>,
+    pub words: Vec<Word>,
+    /// The comments, joined by a blank.
+    pub comment: Option<String>,
+    /// A `%` line.
+    pub delimiter: bool,
+    /// A `/` (block skip) in front.
+    pub block_delete: Option<Range<usize>>,
+    /// The range of the block without its comments and trailing blanks.
+    pub code_range: Range<usize>,
+}
+
+impl Block {
+    /// Only a block number and/or a comment.
+    pub fn is_empty(&self) -> bool {
+        self.words.is_empty() && !self.delimiter
+    }
+
+    /// The first word with this letter.
+    pub fn get(&self, letter: char) -> Option<&Word> {
+        self.words.iter().find(|w| w.letter == letter)
+    }
+}
+
+/// Why a line could not be read: the byte offset and what was found there.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SyntaxError {
+    pub offset: usize,
+    pub message: String,
+    pub help: String,
+    /// A number too large for its place.
+    pub number_too_large: bool,
+}
+
+/// Parses one line (without its line ending).
+pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
+    let mut pairs = FanucParser::parse(Rule::line, line).map_err(|e| syntax_error(line, &e))?;
+    let Some(line_pair) = pairs.next() else {
+        return Ok(Block::default());
+    };
+    let mut block = Block::default();
+    let mut comments: Vec<String> = Vec::new();
+    let first = line.len() - line.trim_start_matches([' ', '\t', '\r']).len();
+    let mut code_end = first;
+    for pair in line_pair.into_inner() {
+        match pair.as_rule() {
+            Rule::delimiter => block.delimiter = true,
+            Rule::block => {
+                for part in pair.into_inner() {
+                    let span = part.as_span();
+                    match part.as_rule() {
+                        Rule::block_delete => {
+                            block.block_delete = Some(span.start()..span.end());
+                            code_end = span.end();
+                        }
+                        Rule::block_number => {
+                            code_end = span.end();
+                            let digits = part.into_inner().next().map_or("", |d| d.as_str());
+                            block.number = Some(digits.parse().map_err(|_| SyntaxError {
+                                offset: span.start(),
+                                message: format!(
+                                    "`{}` is too large for a block number",
+                                    span.as_str()
+                                ),
+                                help: "block numbers are N1 to N99999".into(),
+                                number_too_large: true,
+                            })?);
+                        }
+                        Rule::word => {
+                            code_end = span.end();
+                            let mut inner = part.into_inner();
+                            let letter = inner
+                                .next()
+                                .and_then(|a| a.as_str().chars().next())
+                                .unwrap_or('?')
+                                .to_ascii_uppercase();
+                            let text = inner.next().map_or("", |n| n.as_str());
+                            let value = Decimal::parse(text).ok_or_else(|| SyntaxError {
+                                offset: span.start(),
+                                message: format!("`{}` has too many digits", span.as_str()),
+                                help: "numbers are at most 30 digits long".into(),
+                                number_too_large: true,
+                            })?;
+                            block.words.push(Word {
+                                letter,
+                                value,
+                                range: span.start()..span.end(),
+                            });
+                        }
+                        Rule::comment => {
+                            let text = part.into_inner().next().map_or("", |t| t.as_str());
+                            if let Some(t) = crate::dialect::comment_text(text) {
+                                comments.push(t);
+                            }
+                        }
+                        _ => {}
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    if !comments.is_empty() {
+        block.comment = Some(comments.join(" "));
+    }
+    block.code_range = first..code_end.max(first);
+    Ok(block)
+}
+
+fn syntax_error(line: &str, e: &pest::error::Error<Rule>) -> SyntaxError {
+    let offset = crate::dialect::pest_error_offset(line, e);
+    let rest = &line[offset..];
+    let found = rest.chars().next();
+    let help = "a FANUC block is `N<number>`, then words (a letter and a number: `X26.618`, `Z-9.`, `T0101`), with `( )` comments".to_string();
+    // `X#1`: pest stops at the letter whose number is a macro variable or expression.
+    let after = rest
+        .get(found.map_or(0, char::len_utf8)..)
+        .unwrap_or("")
+        .trim_start();
+    let found = if found.is_some_and(|c| c.is_ascii_alphabetic()) && after.starts_with(['#', '[']) {
+        after.chars().next()
+    } else {
+        found
+    };
+    let (message, help) = match found {
+        None => ("the block ends where a value was expected".to_string(), help),
+        Some('#' | '[') => (
+            format!("`{}`: custom macro variables and expressions are not read", found.unwrap_or('#')),
+            "ncthread reads FANUC programs without custom macros (macro B): write the values the macro computes".to_string(),
+        ),
+        Some('(') => (
+            "a comment that is not closed, or a `(` inside a comment".to_string(),
+            "close the comment with `)` on the same line; comments do not nest".to_string(),
+        ),
+        Some(c) if c.is_ascii_alphabetic() => {
+            (format!("address `{c}` is not followed by a number"), help)
+        }
+        Some(c) if c.is_ascii_digit() || c == '.' || c == '-' || c == '+' => (
+            format!(
+                "number `{}` does not belong to an address",
+                rest.split([' ', '\t']).next().unwrap_or(rest)
+            ),
+            help,
+        ),
+        Some(c) => (format!("unexpected character `{c}`"), help),
+    };
+    SyntaxError {
+        offset,
+        message,
+        help,
+        number_too_large: false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn words_comments_and_marks() {
+        let b = parse_line("N10 g32 x19.4 Z-20. F1.5 Q180000 (PASS 1);").unwrap();
+        assert_eq!(b.number, Some(10));
+        let letters: String = b.words.iter().map(|w| w.letter).collect();
+        assert_eq!(letters, "GXZFQ");
+        assert!(b.words[2].value.has_point);
+        assert!(!b.words[4].value.has_point);
+        assert_eq!(b.comment.as_deref(), Some("PASS 1"));
+        assert!(parse_line("%").unwrap().delimiter);
+        assert!(parse_line("O0001 (SHAFT)").unwrap().get('O').is_some());
+        assert!(parse_line("/ G00 X1.").unwrap().block_delete.is_some());
+    }
+
+    #[test]
+    fn what_cannot_be_read_is_said_at_its_character() {
+        let e = parse_line("G00 X#1").unwrap_err();
+        assert_eq!(e.offset, 4);
+        assert!(e.message.contains("macro"), "{}", e.message);
+        let e = parse_line("G00 X").unwrap_err();
+        assert_eq!(e.offset, 4);
+        let e = parse_line("G00 (OPEN").unwrap_err();
+        assert!(e.message.contains("comment"), "{}", e.message);
+        // Multi-byte text never splits a character.
+        assert!(parse_line("G00 Ž").is_err());
+    }
+}
