@@ -66,6 +66,8 @@ pub fn translate(fanuc: &str, calculator: bool) -> Result<String, String> {
     let mut turning: Option<&str> = None;
     let mut surface = false;
     let mut limit: Option<String> = None;
+    // The header's G95.
+    let mut per_minute = Some(false);
     for line in code_lines(fanuc) {
         let ws = words(&line);
         let get = |c: char| ws.iter().find(|(l, _)| *l == c).map(|(_, v)| v.clone());
@@ -92,8 +94,13 @@ pub fn translate(fanuc: &str, calculator: bool) -> Result<String, String> {
                 4 => dwell = true,
                 20 => now.push("G20".into()),
                 21 => now.push("G21".into()),
-                98 => now.push("G94".into()),
-                99 => now.push("G95".into()),
+                // LinuxCNC sets F to 0 on every G94/G95: said only where the mode changes.
+                98 | 99 => {
+                    if per_minute != Some(g == 98) {
+                        per_minute = Some(g == 98);
+                        now.push(if g == 98 { "G94" } else { "G95" }.into());
+                    }
+                }
                 97 => {
                     surface = false;
                     now.push("G97".into())

@@ -384,8 +384,21 @@ impl Emitter<'_> {
                     &format!("M{code}: gear range of the source machine"),
                 );
             }
-            ItemKind::FeedMode(FeedMode::PerRev) => block.words.push("G99".into()),
-            ItemKind::FeedMode(FeedMode::PerMin) => block.words.push("G98".into()),
+            // A feed after a feed mode word states its F again (what F holds across the
+            // change is not something to rely on).
+            ItemKind::FeedMode(mode) => {
+                block.words.push(
+                    if *mode == FeedMode::PerRev {
+                        "G99"
+                    } else {
+                        "G98"
+                    }
+                    .into(),
+                );
+                if matches!(self.f, Some((_, false))) {
+                    self.f = None;
+                }
+            }
             ItemKind::ProgramEnd(EndCode::M2) => block.words.push("M02".into()),
             ItemKind::ProgramEnd(EndCode::M30) => block.words.push("M30".into()),
             ItemKind::Comment(text) => {

@@ -665,6 +665,11 @@ impl FrontEnd<'_> {
             self.inch = inch;
         }
         if let Some((per_minute, _)) = feed_mode {
+            // A feed set in the other mode is not carried over: which number F then holds
+            // (mm/min or mm/rev) no source settles.
+            if per_minute != self.per_minute && matches!(self.f, Some(FRegister::Feed(_))) {
+                self.f = None;
+            }
             self.per_minute = per_minute;
             self.push(
                 ItemKind::FeedMode(if per_minute {
