@@ -7,7 +7,7 @@
 //! and the like. The claim with the highest priority decides a line. The choice is certain
 //! when one dialect has marks and no other has any.
 
-use super::{ALL, DialectId, LineMark};
+use super::{ALL, DialectId, LineClaim, LineMark};
 
 /// The chosen dialect, whether the text left any doubt, and why it was chosen.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -62,14 +62,32 @@ pub(crate) fn code_words(line: &str) -> Vec<String> {
 pub fn detect(text: &str) -> Detection {
     let n = ALL.len();
     let (mut marks, mut weak, mut first) = (vec![0usize; n], vec![0usize; n], vec![None; n]);
+    // Lines that two dialects mark alike (a `( )` comment after code: ISO's and FANUC's).
+    let (mut shared, mut first_shared) = (vec![0usize; n], None);
     let mut plain = 0;
     for (i, line) in text.lines().enumerate() {
         let line = line.trim();
         if line.is_empty() || line == "%" {
             continue;
         }
-        let claim = (0..n)
+        let claims: Vec<(usize, LineClaim)> = (0..n)
             .filter_map(|k| ALL[k].claim_line(line).map(|c| (k, c)))
+            .collect();
+        let top = claims.iter().map(|(_, c)| c.priority).max();
+        let marking: Vec<usize> = claims
+            .iter()
+            .filter(|(_, c)| Some(c.priority) == top && c.mark == LineMark::Mark)
+            .map(|(k, _)| *k)
+            .collect();
+        if marking.len() > 1 {
+            for k in marking {
+                shared[k] += 1;
+            }
+            first_shared.get_or_insert(i + 1);
+            continue;
+        }
+        let claim = claims
+            .into_iter()
             .max_by_key(|(k, c)| (c.priority, std::cmp::Reverse(*k)));
         match claim {
             None => plain += 1,
@@ -82,6 +100,29 @@ pub fn detect(text: &str) -> Detection {
         }
     }
     let marked = marks.iter().filter(|&&m| m > 0).count();
+    // Only marks that several dialects share: the likeliest of them, never certain.
+    if marked == 0
+        && let Some(line) = first_shared
+    {
+        let k = (0..n)
+            .filter(|&k| shared[k] > 0)
+            .max_by_key(|&k| (shared[k], ALL[k].tie_rank()))
+            .unwrap_or(0);
+        let others: Vec<&str> = (0..n)
+            .filter(|&j| j != k && shared[j] > 0)
+            .map(|j| ALL[j].id().as_str())
+            .collect();
+        return Detection {
+            dialect: ALL[k].id(),
+            certain: false,
+            reason: format!(
+                "line {line} has a mark that {} and {} share ({})",
+                ALL[k].id(),
+                others.join(" and "),
+                ALL[k].mark_description()
+            ),
+        };
+    }
     if marked == 0 {
         let weakest = (0..n)
             .filter(|&k| weak[k] > 0 && ALL[k].weak_reason().is_some())
@@ -149,6 +190,18 @@ mod tests {
         let iso = "%\n(ncthread)\nG7 G18 G21 G90 G95\nG33 Z-9 K1.5\n%\n";
         let d = detect(iso);
         assert_eq!((d.dialect.as_str(), d.certain), ("iso", true), "{d:?}");
+    }
+
+    #[test]
+    fn a_mark_two_dialects_share_leaves_a_doubt() {
+        // A `( )` comment after code: LinuxCNC's and FANUC's.
+        let text = "G21 G97 S500 M03 (SPINDLE)\nG00 X40. Z2. (APPROACH)\nG01 Z-10. F0.2\n";
+        let d = detect(text);
+        assert!(!d.certain, "{d:?}");
+        assert!(d.reason.contains("share"), "{}", d.reason);
+        // A mark of one of them decides.
+        let d = detect(&format!("{text}G99\nG32 Z-20. F1.5 (THREAD)\n"));
+        assert_eq!((d.dialect.as_str(), d.certain), ("fanuc", true), "{d:?}");
     }
 
     #[test]

@@ -46,6 +46,11 @@ struct Emitter<'a> {
     limit: Option<i64>,
     /// G96 is in force in the output.
     surface_speed: bool,
+    /// The last S written, and a G96/G97 of this block that still needs its S.
+    speed: Option<u32>,
+    speed_word: Option<Item>,
+    /// Comments met inside a G32 chain, written after it.
+    deferred: Vec<String>,
     inexact: Inexact,
     round: bool,
 }
@@ -65,10 +70,14 @@ pub(crate) fn comment_text(text: &str) -> String {
             }
         })
         .collect();
+    // `%` ends the tape (a control stops reading there, inside a comment too), `;` is the
+    // end of block as the control shows it.
     ascii
         .to_ascii_uppercase()
         .replace('(', "[")
         .replace(')', "]")
+        .replace('%', " PCT")
+        .replace(';', ",")
         .chars()
         .map(|c| if c.is_ascii_control() { ' ' } else { c })
         .collect::<String>()
@@ -95,6 +104,9 @@ pub fn emit(
         sync_end: None,
         limit: None,
         surface_speed: false,
+        speed: None,
+        speed_word: None,
+        deferred: Vec::new(),
         inexact: Inexact::default(),
         round,
     };
@@ -118,7 +130,11 @@ pub fn emit(
             let _ = writeln!(
                 e.w.out,
                 "({}, DIALECT {}{HEADER_END})",
-                comment_text(&src.name),
+                comment_text(
+                    std::path::Path::new(&src.name)
+                        .file_name()
+                        .map_or(src.name.as_str(), |n| n.to_str().unwrap_or(&src.name))
+                ),
                 comment_text(program.dialect.as_str())
             );
         }
@@ -162,6 +178,12 @@ pub fn emit(
         }
         e.group(group);
         i += 1;
+    }
+    for text in std::mem::take(&mut e.deferred) {
+        e.write(Block {
+            comment: Some(text),
+            ..Block::default()
+        });
     }
     e.w.out.push_str("%\n");
     let summary = e.inexact.diagnostic(
@@ -234,6 +256,19 @@ impl Emitter<'_> {
         for item in items {
             self.item(item, &mut block);
         }
+        // A G96 or G97 says its speed: what a FANUC keeps without S (the rpm surface speed
+        // ran at, the last G97 S) is not the one S register LinuxCNC and the IR have.
+        if let Some(item) = self.speed_word.take() {
+            match self.speed {
+                Some(s) => block.words.push(format!("S{s}")),
+                None => self.diag(
+                    codes::FANW_NO_EQUIVALENT,
+                    &item,
+                    "a change of spindle speed mode (G96/G97) before any speed is set: a FANUC block says the speed with it".into(),
+                    "give the speed (S) in the source before or with G96/G97",
+                ),
+            }
+        }
         self.flush(&mut block);
     }
 
@@ -284,6 +319,17 @@ impl Emitter<'_> {
     }
 
     fn item(&mut self, item: &Item, block: &mut Block) {
+        let continues =
+            matches!(&item.kind, ItemKind::ThreadPass(p) if p.start == SyncStart::Continue);
+        if !continues && !matches!(item.kind, ItemKind::Comment(_)) && !self.deferred.is_empty() {
+            self.flush(block);
+            for text in std::mem::take(&mut self.deferred) {
+                self.write(Block {
+                    comment: Some(text),
+                    ..Block::default()
+                });
+            }
+        }
         match &item.kind {
             ItemKind::Rapid { to } => {
                 self.sync_end = None;
@@ -317,6 +363,8 @@ impl Emitter<'_> {
             ItemKind::Spindle { speed, direction } => {
                 if let Some(s) = speed {
                     block.words.push(format!("S{s}"));
+                    self.speed = Some(*s);
+                    self.speed_word = None;
                 }
                 match direction {
                     Some(SpindleDirection::Clockwise) => block.words.push("M03".into()),
@@ -327,7 +375,8 @@ impl Emitter<'_> {
             ItemKind::SpindleStop => block.words.push("M05".into()),
             ItemKind::SpindleMode(SpindleMode::Rpm) => {
                 self.surface_speed = false;
-                block.words.push("G97".into())
+                block.words.push("G97".into());
+                self.speed_word = Some(item.clone());
             }
             ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit }) => {
                 let limit = match limit {
@@ -373,6 +422,7 @@ impl Emitter<'_> {
                 // Under G96 already, a new limit is its G50 S alone.
                 if !(self.surface_speed && changed) {
                     block.words.push("G96".into());
+                    self.speed_word = Some(item.clone());
                 }
                 self.surface_speed = true;
             }
@@ -401,6 +451,13 @@ impl Emitter<'_> {
             }
             ItemKind::ProgramEnd(EndCode::M2) => block.words.push("M02".into()),
             ItemKind::ProgramEnd(EndCode::M30) => block.words.push("M30".into()),
+            // Inside a G32 chain a comment block would stand between two thread blocks:
+            // it waits until the chain ends.
+            ItemKind::Comment(text)
+                if self.sync_end.is_some() && self.sync_end == Some(self.w.pos) =>
+            {
+                self.deferred.push(text.clone());
+            }
             ItemKind::Comment(text) => {
                 if block.words.is_empty() && block.comment.is_none() {
                     block.comment = Some(text.clone());
@@ -783,6 +840,7 @@ mod tests {
     #[test]
     fn comments_are_upper_case_ascii_without_parentheses() {
         assert_eq!(comment_text("závit (Ø20) ok"), "ZAVIT [O20] OK");
+        assert_eq!(comment_text("50% ; x"), "50 PCT , X");
     }
 
     #[test]

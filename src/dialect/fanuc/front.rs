@@ -79,6 +79,8 @@ enum FRegister {
 /// A G92 cycle's words, kept for its repeat blocks.
 #[derive(Clone, Copy, Debug)]
 struct Cycle {
+    /// The diameter of the last pass (a repeat block with only Z or W keeps it).
+    x: Length,
     end_z: Length,
     /// Radius at the start minus radius at the end of the cut.
     taper: Length,
@@ -408,6 +410,9 @@ impl FrontEnd<'_> {
         let first = self.r.items.len();
         let code_span = self.span(line, code_range(block));
         if block.words.is_empty() {
+            // A comment block is a block too: between two G32 blocks it is refused (whether
+            // the chain waits there is documented nowhere).
+            self.blocks_since_sync = self.blocks_since_sync.saturating_add(1);
             if let Some(range) = block.block_delete.clone() {
                 self.skip_marked(line, block, range);
             }
@@ -419,7 +424,6 @@ impl FrontEnd<'_> {
             self.skip_marked(line, block, range);
             return;
         }
-        // A comment block keeps a G32 chain; any other block ends it.
         self.blocks_since_sync = self.blocks_since_sync.saturating_add(1);
         let _ = self.read_block(line, block, code_span);
         self.r
@@ -495,6 +499,7 @@ impl FrontEnd<'_> {
         let mut letters: Vec<&Word> = Vec::new();
         let mut state: Vec<&Word> = Vec::new();
         let mut conflict: Option<&Word> = None;
+        let mut modal_unsupported: Option<&Word> = None;
         let mut refused_by_name = false;
         for w in &block.words {
             let text = &line.text[w.range.clone()];
@@ -549,6 +554,10 @@ impl FrontEnd<'_> {
                             );
                         }
                         _ => {
+                            // A cycle code is modal: the blocks after it would repeat it.
+                            if matches!(g, 90 | 94 | 83..=89) {
+                                modal_unsupported.get_or_insert(w);
+                            }
                             let what = match g {
                                 90 => "the G90 turning cycle (system A) is not read yet".to_string(),
                                 94 => "the G94 facing cycle (system A) is not read yet".to_string(),
@@ -595,6 +604,22 @@ impl FrontEnd<'_> {
             );
             return None;
         }
+        // M codes of one function that contradict each other: which wins is the machine
+        // builder's ladder.
+        let has = |m: i64| m_codes.iter().find(|(c, _)| *c == m).map(|(_, w)| *w);
+        for (a, b) in [(3, 4), (3, 5), (4, 5), (8, 9), (7, 9)] {
+            if let (Some(_), Some(w)) = (has(a), has(b)) {
+                let text = &line.text[w.range.clone()];
+                self.error(
+                    codes::FANR_CONFLICT,
+                    line,
+                    w.range.clone(),
+                    format!("`{text}` contradicts M{a:02} in the same block"),
+                    "write each spindle or coolant command in a block of its own",
+                );
+                return None;
+            }
+        }
         let get = |c: char| letters.iter().copied().find(|w| w.letter == c);
         for (a, b) in [('X', 'U'), ('Z', 'W')] {
             if let (Some(_), Some(w)) = (get(a), get(b)) {
@@ -618,6 +643,7 @@ impl FrontEnd<'_> {
         if !unsupported.is_empty() {
             let keep = self.unsupported == Unsupported::Warn;
             if self.r.unsupported(&UNSUPPORTED, unsupported, keep, thread) {
+                state.extend(modal_unsupported);
                 state.extend(g_motion.map(|(_, w)| w));
                 state.extend(units.map(|(_, w)| w));
                 state.extend(feed_mode.map(|(_, w)| w));
@@ -641,9 +667,16 @@ impl FrontEnd<'_> {
                     "write `O0001 (NAME)` as the program's first line",
                 );
             } else if let Some(n) = self.whole(line, w)
-                && !(0..=9999).contains(&n)
+                && !(1..=9999).contains(&n)
             {
-                self.number_error(line, w, NumberError::TooLarge, "");
+                let text = &line.text[w.range.clone()];
+                self.error(
+                    codes::FANR_NUMBER,
+                    line,
+                    w.range.clone(),
+                    format!("`{text}` is not a program number"),
+                    "program numbers are O1 to O9999",
+                );
             }
             return None;
         }
@@ -706,6 +739,17 @@ impl FrontEnd<'_> {
         }
         // G50: the spindle's limit (S), never a coordinate setting.
         if let Some(w50) = g50 {
+            if let Some((_, w)) = speed_mode {
+                let text = &line.text[w.range.clone()];
+                self.error(
+                    codes::FANR_CONFLICT,
+                    line,
+                    w.range.clone(),
+                    format!("`{text}` in a G50 block: its S would be the limit, not the speed"),
+                    "write `G50 S<limit>` and `G96 S<speed>` in blocks of their own",
+                );
+                return None;
+            }
             if get('X').is_some() || get('Z').is_some() || get('U').is_some() || get('W').is_some()
             {
                 let text = &line.text[w50.range.clone()];
@@ -741,6 +785,22 @@ impl FrontEnd<'_> {
                     code_span,
                 );
             }
+        }
+        if let Some((surface, w)) = speed_mode
+            && get('S').is_none()
+            && (surface || self.surface_speed)
+        {
+            // What G96 or G97 keeps without S (the last G96 S? the rpm the surface speed ran
+            // at?) no source ncthread holds settles.
+            let text = &line.text[w.range.clone()];
+            self.error(
+                codes::FANR_UNSUPPORTED,
+                line,
+                w.range.clone(),
+                format!("`{text}` without S: which speed the control keeps when the mode changes is not settled by any source ncthread holds"),
+                "write the speed in the same block: `G96 S200 M03`, `G97 S800`",
+            );
+            return None;
         }
         if let Some((surface, w)) = speed_mode {
             if surface && self.inch {
@@ -791,12 +851,17 @@ impl FrontEnd<'_> {
                 let s = self.whole(line, w)?;
                 let Ok(s) = u32::try_from(s) else {
                     let text = &line.text[w.range.clone()];
+                    let why = if s < 0 {
+                        "a speed is not negative"
+                    } else {
+                        "too large for a speed"
+                    };
                     self.error(
                         codes::FANR_NUMBER,
                         line,
                         w.range.clone(),
-                        format!("`{text}`: a speed is not negative"),
-                        "write the speed",
+                        format!("`{text}`: {why}"),
+                        "write the speed in rpm or m/min",
                     );
                     return None;
                 };
@@ -826,6 +891,23 @@ impl FrontEnd<'_> {
             self.push(ItemKind::Compensation(c), code_span);
         }
         if let Some(g04) = g_dwell {
+            // G04 is one-shot; a motion code beside it is modal and takes effect for the
+            // blocks after it (a thread or a cycle there would need the axes G04 takes).
+            if let Some((m, w)) = g_motion {
+                if matches!(m, Motion::Thread | Motion::Cycle) {
+                    let text = &line.text[w.range.clone()];
+                    self.error(
+                        codes::FANR_CONFLICT,
+                        line,
+                        w.range.clone(),
+                        format!("`{text}` in a G04 block: X and U are the dwell's time there"),
+                        "write the dwell and the thread in blocks of their own",
+                    );
+                    return None;
+                }
+                self.motion = m;
+                self.cycle = None;
+            }
             self.dwell(line, g04, &get, code_span)?;
         } else {
             if let Some((m, _)) = g_motion {
@@ -903,8 +985,8 @@ impl FrontEnd<'_> {
             }
         } else {
             let v = self.mm_value(line, w, Unit::Seconds)?;
-            if v.to_scaled(3).is_err() {
-                self.number_error(line, w, NumberError::TooPrecise { decimals: 3 }, "0.001 s");
+            if let Err(e) = v.to_scaled(3) {
+                self.number_error(line, w, e, "0.001 s");
                 return None;
             }
             v
@@ -1254,7 +1336,7 @@ impl FrontEnd<'_> {
             );
             return None;
         };
-        let Some(x) = to.x else {
+        let Some(x) = to.x.or(self.cycle.map(|c| c.x)) else {
             self.error(
                 codes::FANR_UNSUPPORTED,
                 line,
@@ -1292,6 +1374,24 @@ impl FrontEnd<'_> {
             );
             return None;
         }
+        // R against U: with opposite signs FANUC allows only |R| ≤ |U/2| (its sign table);
+        // beyond, the path is not documented. **[evidence]** GSK980TDc, HUST H6D-T.
+        let u = x - sx;
+        if taper.0 != 0
+            && taper.signum() != u.signum()
+            && 2 * taper.0.unsigned_abs() > u.0.unsigned_abs()
+        {
+            let w = get('R');
+            let range = w.map_or(whole.clone(), |w| w.range.clone());
+            self.error(
+                codes::FANR_UNSUPPORTED,
+                line,
+                range,
+                format!("G92's taper R {} against U {}: with opposite signs the cycle allows only |R| ≤ |U/2|", taper.mm(), u.mm()),
+                "check R's sign: the radius at the cut's start minus the radius at its end",
+            );
+            return None;
+        }
         // The cut starts 2R (on the diameter) from the end diameter, at the start Z.
         let cut_x = x + taper + taper;
         let angle = self.start_angle(line, get)?;
@@ -1309,6 +1409,30 @@ impl FrontEnd<'_> {
             None
         } else {
             let length = lead.length_times(i64::from(chamfer), 10);
+            // On a taper the chamfer's geometry (45° from where it leaves the taper?) is in
+            // no source ncthread holds.
+            if taper.0 != 0 {
+                self.error(
+                    codes::FANR_G92_CHAMFER,
+                    line,
+                    whole,
+                    "a tapered G92 (R) on a machine whose G92 chamfers the thread's end: where that chamfer leaves the taper and at which angle, no source ncthread holds says".into(),
+                    "cut the taper thread with G32 passes, or set `thread_chamfer_0p1_lead = 0` if the machine does not chamfer",
+                );
+                return None;
+            }
+            // The chamfer is part of the retract towards the start X: past it, what the
+            // control does is not documented.
+            if 2 * length.0.unsigned_abs() > (sx - x).0.unsigned_abs() {
+                self.error(
+                    codes::FANR_G92_CHAMFER,
+                    line,
+                    whole,
+                    format!("the machine's thread chamfer ({} mm at 45°, {} mm on the diameter) goes past the cycle's start X{}", length.mm(), (length + length).mm(), sx.mm()),
+                    "start the cycle further from the thread (X at least the thread's diameter plus twice the chamfer)",
+                );
+                return None;
+            }
             if length >= (end_z - sz).abs() {
                 self.error(
                     codes::FANR_G92_CHAMFER,
@@ -1326,7 +1450,7 @@ impl FrontEnd<'_> {
                 offset: Length(out * 2 * length.0),
             })
         };
-        self.cycle = Some(Cycle { end_z, taper });
+        self.cycle = Some(Cycle { x, end_z, taper });
         self.sync_end = None;
         self.push(
             ItemKind::Rapid {
@@ -1606,18 +1730,17 @@ mod tests {
 
     #[test]
     fn g92_is_its_four_moves_with_the_machines_chamfer_and_repeats_on_x() {
-        let text = "G00 X26. Z5.\nG92 X19.4 Z-20. R-1. F1.5\nX19.\nG00 X100.\n";
+        let text = "G00 X26. Z5.\nG92 X19.4 Z-20. F1.5\nX19.\nG00 X100.\n";
         let (_, d) = read(text, "");
         assert_eq!(codes(&d), ["FANR004"]);
         let (items, d) = read(text, "[fanuc]\nthread_chamfer_0p1_lead = 10\n");
         assert!(d.is_empty(), "{d:?}");
         let kinds: Vec<&ItemKind> = items.iter().map(|i| &i.kind).collect();
         assert_eq!(kinds.len(), 1 + 4 + 4 + 1);
-        // The cut starts 2R from the end diameter, at the start Z.
         assert_eq!(
             *kinds[1],
             ItemKind::Rapid {
-                to: Pos::new(mm("17.4"), mm("5"))
+                to: Pos::new(mm("19.4"), mm("5"))
             }
         );
         let ItemKind::ThreadPass(pass) = kinds[2] else {
@@ -1648,14 +1771,33 @@ mod tests {
         assert_eq!(
             *kinds[5],
             ItemKind::Rapid {
-                to: Pos::new(mm("17"), mm("5"))
+                to: Pos::new(mm("19"), mm("5"))
             }
         );
+        // A taper: the cut starts 2R from the end diameter, at the start Z (no chamfer: where
+        // a machine's chamfer leaves a taper no source says).
+        let taper = "G00 X26. Z5.\nG92 X19.4 Z-20. R-1. F1.5\n";
+        let none = "[fanuc]\nthread_chamfer_0p1_lead = 0\n";
+        let ten = "[fanuc]\nthread_chamfer_0p1_lead = 10\n";
+        let (items, d) = read(taper, none);
+        assert!(d.is_empty(), "{d:?}");
+        assert_eq!(
+            items[1].kind,
+            ItemKind::Rapid {
+                to: Pos::new(mm("17.4"), mm("5"))
+            }
+        );
+        assert_eq!(codes(&read(taper, ten).1), ["FANR004"]);
+        // A chamfer past the start X, and R against U beyond |U/2|.
+        let past = "G00 X22. Z5.\nG92 X19.4 Z-20. F1.5\n";
+        assert_eq!(codes(&read(past, ten).1), ["FANR004"]);
+        let against = "G00 X20. Z5.\nG92 X19.4 Z-20. R2. F1.5\n";
+        assert_eq!(codes(&read(against, none).1), ["FANR002"]);
     }
 
     #[test]
     fn stop_codes_act_after_the_motion_and_t_is_tool_and_offset() {
-        let (items, d) = read("G00 X20. Z5. T0100 M03 S500 M05\n", "");
+        let (items, d) = read("G00 X20. Z5. T0100 M03 S500\nG00 X30. M05\n", "");
         assert!(d.is_empty(), "{d:?}");
         let kinds: Vec<&ItemKind> = items.iter().map(|i| &i.kind).collect();
         assert_eq!(
@@ -1672,9 +1814,16 @@ mod tests {
                 &ItemKind::Rapid {
                     to: Pos::new(mm("20"), mm("5"))
                 },
+                &ItemKind::Rapid {
+                    to: Pos {
+                        x: Some(mm("30")),
+                        z: None
+                    }
+                },
                 &ItemKind::SpindleStop,
             ]
         );
+        assert_eq!(codes(&read("S500 M03 M05\n", "").1), ["FANR008"]);
         assert_eq!(codes(&read("T12001\n", "").1), ["FANR010"]);
         assert_eq!(codes(&read("T5\n", "").1), ["FANR010"]);
     }

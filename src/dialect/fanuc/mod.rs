@@ -68,8 +68,17 @@ impl Dialect for Fanuc {
         let beside = words.len() > 1
             || words.iter().any(|w| w.contains('.'))
             || code.len() < line.trim().len();
-        (program_number || (beside && fanuc_word(&words))).then_some(LineClaim {
-            priority: 96,
+        if program_number || (beside && fanuc_word(&words)) {
+            return Some(LineClaim {
+                priority: 96,
+                mark: LineMark::Mark,
+            });
+        }
+        // A `( )` comment after code: FANUC's as much as LinuxCNC's (a shared mark).
+        // So is a `;` at the end: FANUC's end of block, LinuxCNC's empty comment.
+        let eob = line.trim_end().ends_with(';') && code.len() + 1 == line.trim().len();
+        ((code.len() < line.trim().len() && line.contains('(')) || eob).then_some(LineClaim {
+            priority: 90,
             mark: LineMark::Mark,
         })
     }

@@ -80,15 +80,18 @@ pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
                         Rule::block_number => {
                             code_end = span.end();
                             let digits = part.into_inner().next().map_or("", |d| d.as_str());
-                            block.number = Some(digits.parse().map_err(|_| SyntaxError {
-                                offset: span.start(),
-                                message: format!(
-                                    "`{}` is too large for a block number",
-                                    span.as_str()
-                                ),
-                                help: "block numbers are N1 to N99999".into(),
-                                number_too_large: true,
-                            })?);
+                            block.number =
+                                Some(digits.parse().ok().filter(|n| *n <= 99_999).ok_or_else(
+                                    || SyntaxError {
+                                        offset: span.start(),
+                                        message: format!(
+                                            "`{}` is too large for a block number",
+                                            span.as_str()
+                                        ),
+                                        help: "block numbers are N1 to N99999".into(),
+                                        number_too_large: true,
+                                    },
+                                )?);
                         }
                         Rule::word => {
                             code_end = span.end();
