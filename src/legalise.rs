@@ -221,12 +221,13 @@ pub fn for_target(
 ) -> Vec<Diagnostic> {
     let caps = target.capabilities(profile);
     let mut diags: Vec<Diagnostic> = Vec::new();
+    let mut seen = crate::diag::Seen::default();
     for o in occurrences(program) {
         if caps.writes(o.construct) {
             continue;
         }
         if let Some(d) = target.refusal(o, src)
-            && !diags.contains(&d)
+            && seen.first_time(&diags, &d)
         {
             diags.push(d);
         }

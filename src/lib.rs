@@ -196,8 +196,7 @@ pub fn check(
     }
     if !diag::has_errors(&diagnostics) {
         diagnostics.extend(legalise::check(&lower::unroll(&program), src, None));
-        let simulation = sim::simulate(&program);
-        diagnostics.extend(simulation.problems.iter().map(|p| p.diagnostic(src)));
+        diagnostics.extend(sim::problems(&program).iter().map(|p| p.diagnostic(src)));
     }
     diag::sort(&mut diagnostics);
     diagnostics

@@ -4,7 +4,7 @@
 use super::Severity;
 
 /// A stable diagnostic code with its default severity and a one-line summary.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Code {
     pub id: &'static str,
     pub severity: Severity,

@@ -12,7 +12,7 @@ pub use codes::Code;
 
 use crate::source::{SourceFile, Span};
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Severity {
     Warning,
@@ -21,7 +21,7 @@ pub enum Severity {
 
 /// Where a diagnostic points: the file, the 1-based line and column, and a copy of the line
 /// so that the diagnostic can be printed without the source at hand.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Location {
     pub file: String,
     pub line: u32,
@@ -31,7 +31,7 @@ pub struct Location {
     pub range: Range<usize>,
 }
 
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct Diagnostic {
     pub code: Code,
     pub severity: Severity,
@@ -43,6 +43,26 @@ pub struct Diagnostic {
     /// How far the output may move from the source because of what this reports (the
     /// largest rounding of `--round`): what `verify` then allows.
     pub deviation: Option<crate::fixed::Length>,
+}
+
+/// The diagnostics reported so far, each once: a repeated one is found by its hash, not by
+/// comparing it with every other (a program with 100,000 warnings stays linear).
+#[derive(Debug, Default)]
+pub(crate) struct Seen(std::collections::HashMap<u64, Vec<usize>>);
+
+impl Seen {
+    /// Whether `d` is already in `diags`; if not, remembers that it will be at `diags.len()`.
+    pub(crate) fn first_time(&mut self, diags: &[Diagnostic], d: &Diagnostic) -> bool {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        d.hash(&mut h);
+        let at = self.0.entry(h.finish()).or_default();
+        if at.iter().any(|&i| diags.get(i) == Some(d)) {
+            return false;
+        }
+        at.push(diags.len());
+        true
+    }
 }
 
 impl Diagnostic {

@@ -105,6 +105,7 @@ pub(crate) struct Writer<'a> {
     pub out: String,
     pub diags: Vec<Diagnostic>,
     pub pos: Pos,
+    seen: crate::diag::Seen,
 }
 
 impl<'a> Writer<'a> {
@@ -114,6 +115,7 @@ impl<'a> Writer<'a> {
             out: String::new(),
             diags: Vec::new(),
             pos: Pos::UNKNOWN,
+            seen: Default::default(),
         }
     }
 
@@ -147,7 +149,7 @@ impl<'a> Writer<'a> {
 
     /// Adds `d` unless the same diagnostic was reported already.
     pub fn report(&mut self, d: Diagnostic) {
-        if !self.diags.contains(&d) {
+        if self.seen.first_time(&self.diags, &d) {
             self.diags.push(d);
         }
     }

@@ -204,6 +204,8 @@ struct Machine {
     /// Coolant and spindle.
     state: MachineState,
     out: Simulation,
+    /// Keep the segments (`false`: only the problems, for `check`).
+    record: bool,
 }
 
 /// The spindle angle at Z = 0 of a synchronised move through `z` at spindle angle `angle`,
@@ -235,6 +237,14 @@ impl Machine {
             sync_end: None,
             state: MachineState::default(),
             out: Simulation::default(),
+            record: true,
+        }
+    }
+
+    /// Records a segment (unless only the problems are wanted).
+    fn keep(&mut self, segment: Segment) {
+        if self.record {
+            self.out.segments.push(segment);
         }
     }
 
@@ -249,7 +259,7 @@ impl Machine {
 
     /// Something the machine does where the tool stands.
     fn event(&mut self, motion: Motion, span: Span) {
-        self.out.segments.push(Segment {
+        self.keep(Segment {
             motion,
             from: self.pos,
             to: self.pos,
@@ -281,7 +291,7 @@ impl Machine {
                 "the move starts from a position that is not known: its path cannot be compared",
             );
         }
-        self.out.segments.push(Segment {
+        self.keep(Segment {
             motion,
             from,
             to,
@@ -345,7 +355,7 @@ impl Machine {
                             message: "the tool stands in the cut until the index pulse: this pass starts where the thread move before it ended".into(),
                             index_wait: true,
                         });
-                        self.out.segments.push(Segment {
+                        self.keep(Segment {
                             motion: Motion::IndexWait,
                             from: seg.from,
                             to: seg.from,
@@ -561,7 +571,7 @@ impl Machine {
                 }
                 // The rapid to where the machine's coordinates put the tool: unknown here.
                 let to = kind.end_position(self.pos);
-                self.out.segments.push(Segment {
+                self.keep(Segment {
                     motion: Motion::Rapid,
                     from: self.pos,
                     to,
@@ -794,6 +804,17 @@ pub fn simulate(program: &Program) -> Simulation {
         m.item(&item.kind, item.span);
     }
     m.out
+}
+
+/// What [`simulate`] finds it cannot know, without keeping the motion (`check`: memory stays
+/// small for a large program).
+pub fn problems(program: &Program) -> Vec<Problem> {
+    let mut m = Machine::new(Pos::UNKNOWN);
+    m.record = false;
+    for item in &program.items {
+        m.item(&item.kind, item.span);
+    }
+    m.out.problems
 }
 
 /// The synchronised moves of a pass written as a chain of blocks (the first waits for the

@@ -258,6 +258,11 @@ impl<'a> FrontEnd<'a> {
 
     /// Keeps a group read from the source for the G25 repeats after it.
     fn record(&mut self, frames: Vec<GroupFrame>, readable: bool) {
+        // Without repeats (G25 is refused by name) nothing reads them again: a large
+        // program's groups are not kept.
+        if !self.profile.repeat_g25 {
+            return;
+        }
         let index = self.groups.len();
         for (k, f) in frames.iter().enumerate() {
             if let Some(n) = f.frame.number {
