@@ -97,7 +97,7 @@ fn iso(part: usize, out: &mut String) {
     );
     // A macro loop of G33 passes in every fourth part (LinuxCNC's loops are counted: a
     // program's loops run at most 200,000 times in ncthread).
-    if part % 4 != 0 {
+    if !part.is_multiple_of(4) {
         out.push_str("G0 X60 Z50\n");
         return;
     }
