@@ -301,12 +301,20 @@ pub fn looks_like_oword(text: &str) -> bool {
         .starts_with(['o', 'O'])
 }
 
-/// A file the run reads: the program, or a subroutine's file. Each line is read once.
+/// A line read into a block: `None` when it holds a NUL.
+pub type ReadLine = Option<Result<Block, SyntaxError>>;
+
+/// A file the run reads: the program, or a subroutine's file.
+///
+/// The lines that may hold an O-word (an `o` anywhere: the structure needs them before the
+/// run), and every line inside a subroutine or a loop (they may run many times), are read
+/// once, up front; every other line runs at most once and is read when it runs, so that a
+/// long straight program is never held as parsed blocks (issue 19).
 pub struct FileRun<'s> {
     pub src: &'s SourceFile,
     pub lines: Vec<Line<'s>>,
-    /// `None`: the line holds a NUL.
-    pub blocks: Vec<Option<Result<Block, SyntaxError>>>,
+    /// The lines read up front; `Some(None)`: the line holds a NUL.
+    read: Vec<Option<Box<ReadLine>>>,
     /// Lines of blanks only (skipped) and bare `%` lines.
     pub blank: Vec<bool>,
     pub percent: Vec<bool>,
@@ -316,15 +324,40 @@ pub struct FileRun<'s> {
 impl<'s> FileRun<'s> {
     pub fn new(src: &'s SourceFile) -> FileRun<'s> {
         let lines: Vec<Line<'s>> = src.lines().collect();
-        let blocks: Vec<_> = lines
+        let parse = |l: &Line<'_>| (!l.text.contains('\0')).then(|| syntax::parse_line(l.text));
+        let mut read: Vec<Option<Box<ReadLine>>> = lines
             .iter()
-            .map(|l| (!l.text.contains('\0')).then(|| syntax::parse_line(l.text)))
+            .map(|l| {
+                l.text
+                    .bytes()
+                    .any(|b| b == b'o' || b == b'O')
+                    .then(|| Box::new(parse(l)))
+            })
             .collect();
-        let refs: Vec<Option<&Block>> = blocks
-            .iter()
-            .map(|b| b.as_ref().and_then(|b| b.as_ref().ok()))
-            .collect();
-        let structure = Structure::of(&refs);
+        let structure = {
+            let refs: Vec<Option<&Block>> = read
+                .iter()
+                .map(|b| {
+                    b.as_deref()
+                        .and_then(|b| b.as_ref())
+                        .and_then(|b| b.as_ref().ok())
+                })
+                .collect();
+            Structure::of(&refs)
+        };
+        // Subroutine and loop bodies run again: read once.
+        for flow in structure.flow.iter() {
+            let (start, end) = match *flow.1 {
+                Flow::Sub { end } | Flow::While { end } | Flow::Repeat { end } => (*flow.0, end),
+                Flow::Do { close } => (*flow.0, close),
+                _ => continue,
+            };
+            for i in start..=end.min(lines.len().saturating_sub(1)) {
+                if read[i].is_none() {
+                    read[i] = Some(Box::new(parse(&lines[i])));
+                }
+            }
+        }
         let code = |l: &Line<'_>| -> String {
             l.text
                 .chars()
@@ -336,11 +369,27 @@ impl<'s> FileRun<'s> {
         FileRun {
             src,
             lines,
-            blocks,
+            read,
             blank,
             percent,
             structure,
         }
+    }
+
+    /// Line `i` read into a block; `None` when it holds a NUL.
+    pub fn block(&self, i: usize) -> std::borrow::Cow<'_, ReadLine> {
+        match self.read.get(i) {
+            Some(Some(b)) => std::borrow::Cow::Borrowed(&**b),
+            _ => {
+                let text = self.lines.get(i).map_or("", |l| l.text);
+                std::borrow::Cow::Owned((!text.contains('\0')).then(|| syntax::parse_line(text)))
+            }
+        }
+    }
+
+    /// Whether line `i` was read up front as a line that cannot be read.
+    pub fn unreadable_up_front(&self, i: usize) -> bool {
+        matches!(self.read.get(i), Some(Some(b)) if matches!(**b, Some(Err(_))))
     }
 }
 

@@ -217,8 +217,8 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
     for (f, run) in runs.iter().enumerate() {
         fe.r.src = run.src;
         for (i, line) in run.lines.iter().enumerate() {
-            if matches!(run.blocks[i], Some(Err(_))) && control::looks_like_oword(line.text) {
-                fe.report_unreadable(*line, &run.blocks[i]);
+            if run.unreadable_up_front(i) && control::looks_like_oword(line.text) {
+                fe.report_unreadable(*line, &run.block(i));
                 reported[f][i] = true;
             }
         }
@@ -256,11 +256,12 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
                 continue;
             }
             // A line of comments only is kept: it says something, and runs nothing.
-            let only_comments = matches!(&run.blocks[here], Some(Ok(b)) if b.is_empty() && b.number.is_none() && !b.comments.is_empty());
+            let block = run.block(here);
+            let only_comments = matches!(&*block, Some(Ok(b)) if b.is_empty() && b.number.is_none() && !b.comments.is_empty());
             if bare_percent && percent {
                 fe.push(ItemKind::Delimiter, src.line_span(line));
             } else if only_comments {
-                fe.line(line, &run.blocks[here], &mut params);
+                fe.line(line, &block, &mut params);
             } else {
                 let span = fe.r.span(line, 0..line.text.len());
                 fe.r.after_end(
@@ -294,7 +295,8 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         first = false;
         let diags_before = fe.r.diags.len();
         let items_before = fe.r.items.len();
-        let oword = match &run.blocks[here] {
+        let block = run.block(here);
+        let oword = match &*block {
             Some(Ok(b)) => b.oword.as_ref(),
             _ => None,
         };
@@ -357,10 +359,10 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
             continue;
         }
         if !reported[f][here] {
-            fe.report_unreadable(line, &run.blocks[here]);
+            fe.report_unreadable(line, &block);
         }
         reported[f][here] = true;
-        fe.line(line, &run.blocks[here], &mut params);
+        fe.line(line, &block, &mut params);
         // A G70–G72 line calls its contour subroutine, as `o<Q> call` there would.
         if let Some(call) = fe.cycle_call.take() {
             let level = params.frames.len();
