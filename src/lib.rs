@@ -145,6 +145,8 @@ pub fn convert(src: &SourceFile, options: &ConvertOptions) -> Conversion {
     }
     let (mut output, more) = emit(&program, src, options);
     diagnostics.extend(more);
+    // The source's program is not needed again: the read-back's need not stand beside it.
+    drop(program);
     // Never write what the target's reader refuses: a last check, which finds what the
     // writers' own checks miss (it names the output line).
     if let Some(text) = &output
