@@ -98,6 +98,12 @@ impl Inexact {
     }
 }
 
+/// A line of a cycle written out ([`Writer::cycle_steps`]).
+pub(crate) enum CycleStep {
+    Comment(String),
+    Move(Item),
+}
+
 /// The state every writer keeps: the source (for diagnostics), the text written so far,
 /// the diagnostics, and the tool's position as the output leaves it.
 pub(crate) struct Writer<'a> {
@@ -145,6 +151,25 @@ impl<'a> Writer<'a> {
                 None
             }
         }
+    }
+
+    /// A cycle written out as its passes, for a writer with one kind of comment line: its
+    /// summary (with `diameter`, `D` or `Ø`) and each pass's heading as comments, and each
+    /// move as an item at the cycle's span. `None` after refusing a cycle that cannot be
+    /// expanded.
+    pub fn cycle_steps(
+        &mut self,
+        cycle: &ThreadCycle,
+        span: Span,
+        diameter: &str,
+    ) -> Option<Vec<CycleStep>> {
+        let expansion = self.expand(cycle, span)?;
+        let mut steps = vec![CycleStep::Comment(expansion.summary(cycle, diameter))];
+        steps.extend(expansion.steps().map(|step| match step {
+            lower::Step::Heading(heading) => CycleStep::Comment(heading),
+            lower::Step::Move(m) => CycleStep::Move(Item::new(m.item_kind(), span)),
+        }));
+        Some(steps)
     }
 
     /// Adds `d` unless the same diagnostic was reported already.

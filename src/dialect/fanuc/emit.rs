@@ -779,33 +779,21 @@ impl Emitter<'_> {
     }
 
     fn thread_cycle(&mut self, item: &Item, cycle: &ThreadCycle) {
-        let Some(expansion) = self.w.expand(cycle, item.span) else {
+        let Some(steps) = self.w.cycle_steps(cycle, item.span, "D") else {
             return;
         };
-        self.write(Block {
-            comment: Some(expansion.summary(cycle, "D")),
-            ..Block::default()
-        });
-        for step in expansion.steps() {
-            let m = match step {
-                lower::Step::Heading(heading) => {
-                    self.write(Block {
-                        comment: Some(heading),
-                        ..Block::default()
-                    });
-                    continue;
+        for step in steps {
+            match step {
+                write::CycleStep::Comment(comment) => self.write(Block {
+                    comment: Some(comment),
+                    ..Block::default()
+                }),
+                write::CycleStep::Move(moved) => {
+                    let mut block = Block::default();
+                    self.item(&moved, &mut block);
+                    self.flush(&mut block);
                 }
-                lower::Step::Move(m) => m,
-            };
-            let moved = Item {
-                kind: m.item_kind(),
-                comment: None,
-                block_number: None,
-                span: item.span,
-            };
-            let mut block = Block::default();
-            self.item(&moved, &mut block);
-            self.flush(&mut block);
+            }
         }
         self.w.pos = item.kind.end_position(self.w.pos);
     }
