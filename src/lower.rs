@@ -32,6 +32,15 @@ impl SyncSegment {
         self.from.z.is_some() && self.from.z == self.to.z
     }
 
+    /// X (as a radius) moves more than Z ([`steeper_than_45`]); a move along X only is, and
+    /// so is one whose ends are not known to be otherwise when it runs along X.
+    pub fn is_steep(&self) -> bool {
+        match (self.from.known(), self.to.known()) {
+            (Some(a), Some(b)) => steeper_than_45(a, b),
+            _ => self.is_radial(),
+        }
+    }
+
     /// The advance per revolution along the segment's own path (LinuxCNC's G33 K): the Z
     /// lead scaled by path length / |ΔZ|, with X converted from diameter to radius.
     pub fn lead_along_path(&self) -> f64 {
@@ -49,6 +58,13 @@ impl SyncSegment {
         }
         lead * dz.hypot(dr) / dz.abs()
     }
+}
+
+/// Whether a move from `a` to `b` ((X diameter, Z)) is steeper than 45°: X, as a radius, moves
+/// more than Z (a move along X only included). The one rule for a lead given along the long
+/// axis (FANUC's G32 F).
+pub fn steeper_than_45(a: (Length, Length), b: (Length, Length)) -> bool {
+    (b.0 - a.0).0.unsigned_abs() > 2 * (b.1 - a.1).0.unsigned_abs()
 }
 
 /// The lead along Z of a synchronised move that advances `k_mm` per revolution along its
@@ -1055,6 +1071,24 @@ pub mod arc {
         let mm = |p: (Length, Length)| (p.0.to_mm_f64(), p.1.to_mm_f64());
         centre_from_radius_mm(mm(start), mm(end), radius, clockwise, tolerance)
             .map(|(x, z)| Pos::new(Length::from_mm_f64(x), Length::from_mm_f64(z)))
+    }
+
+    /// How far from `centre` (mm) the control places the centre of an arc written with the
+    /// radius `radius` (mm, negative beyond half a turn): what a writer checks before it
+    /// writes an arc's centre as a rounded R. Infinite when the radius is too short.
+    pub fn centre_miss(
+        start: (Length, Length),
+        end: (Length, Length),
+        centre: (Length, Length),
+        radius: f64,
+        clockwise: bool,
+    ) -> f64 {
+        centre_from_radius(start, end, radius, clockwise, 0.001)
+            .ok()
+            .and_then(|c| c.known())
+            .map_or(f64::INFINITY, |(x, z)| {
+                ((x - centre.0).to_mm_f64() / 2.0).hypot((z - centre.1).to_mm_f64())
+            })
     }
 
     /// [`centre_from_radius`] on exact values in mm ((X diameter, Z)), not rounded.

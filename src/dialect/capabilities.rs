@@ -230,14 +230,8 @@ impl Construct {
 /// which X, as a radius, moves more than Z: steeper than 45° (a move along X only is a
 /// [`Construct::SyncInfeed`]).
 pub fn steep_sync(start: Pos, pass: &crate::ir::ThreadPass) -> bool {
-    lower::pass_segments(start, pass).is_ok_and(|segs| {
-        segs.iter().any(|s| match (s.from.known(), s.to.known()) {
-            (Some((sx, sz)), Some((ex, ez))) => {
-                sz != ez && (ex - sx).0.unsigned_abs() > 2 * (ez - sz).0.unsigned_abs()
-            }
-            _ => false,
-        })
-    })
+    lower::pass_segments(start, pass)
+        .is_ok_and(|segs| segs.iter().any(|s| !s.is_radial() && s.is_steep()))
 }
 
 /// Whether a move from `from` to `to` changes the diameter by twice its Z travel, and moves.

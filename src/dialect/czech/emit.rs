@@ -285,14 +285,7 @@ impl Emitter<'_> {
                 let text = self.three_decimals(item, "R", r);
                 // The centre the control finds from the written R.
                 let written = Decimal::parse(&text).map(|d| d.to_f64()).unwrap_or(0.0);
-                let again =
-                    lower::arc::centre_from_radius((sx, sz), (ex, ez), written, clockwise, 0.001);
-                let off = again
-                    .ok()
-                    .and_then(|c| c.known())
-                    .map_or(f64::INFINITY, |(x, z)| {
-                        ((x - cx).to_mm_f64() / 2.0).hypot((z - cz).to_mm_f64())
-                    });
+                let off = lower::arc::centre_miss((sx, sz), (ex, ez), (cx, cz), written, clockwise);
                 if off > 0.0005 {
                     if !self.round {
                         self.diag(

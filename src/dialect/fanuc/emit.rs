@@ -309,13 +309,12 @@ impl Emitter<'_> {
         }
     }
 
-    fn feed_word(&mut self, item: &Item, feed: Length, block: &mut Block) {
+    fn feed_word(&mut self, feed: Length, block: &mut Block) {
         let lead = Lead::from_length(feed);
         if self.f != Some((lead, false)) {
             block.words.push(format!("F{}", feed.mm_with_point()));
             self.f = Some((lead, false));
         }
-        let _ = item;
     }
 
     fn item(&mut self, item: &Item, block: &mut Block) {
@@ -342,7 +341,7 @@ impl Emitter<'_> {
                 self.motion_block(block, "G01");
                 let words = self.axes(item, *to);
                 block.words.extend(words);
-                self.feed_word(item, *feed, block);
+                self.feed_word(*feed, block);
             }
             ItemKind::Arc {
                 to,
@@ -556,7 +555,7 @@ impl Emitter<'_> {
                     if matches!(self.f, Some((_, true))) || self.motion == Some("G32") {
                         self.motion_word_only(block, "G01");
                     }
-                    self.feed_word(item, *feed, block);
+                    self.feed_word(*feed, block);
                 }
             }
         }
@@ -654,15 +653,10 @@ impl Emitter<'_> {
             let r =
                 Length(crate::fixed::div_round(Length::from_mm_f64(r1).0 as i128, 10) as i64 * 10);
             let off =
-                lower::arc::centre_from_radius((sx, sz), (ex, ez), r.to_mm_f64(), clockwise, 0.001)
-                    .ok()
-                    .and_then(|c| c.known())
-                    .map_or(f64::INFINITY, |(x, z)| {
-                        ((x - cx).to_mm_f64() / 2.0).hypot((z - cz).to_mm_f64())
-                    });
+                lower::arc::centre_miss((sx, sz), (ex, ez), (cx, cz), r.to_mm_f64(), clockwise);
             if off <= 0.0005 && r.0 > 0 {
                 block.words.push(format!("R{}", r.mm_with_point()));
-                self.feed_word(item, feed, block);
+                self.feed_word(feed, block);
                 return;
             }
         }
@@ -682,17 +676,7 @@ impl Emitter<'_> {
         let k = self.three(item, "K", cz - sz);
         block.words.push(format!("I{i}"));
         block.words.push(format!("K{k}"));
-        self.feed_word(item, feed, block);
-    }
-
-    /// Whether a synchronised move is steeper than 45° (or along X only).
-    fn steep(seg: &lower::SyncSegment) -> bool {
-        match (seg.from.known(), seg.to.known()) {
-            (Some((sx, sz)), Some((ex, ez))) => {
-                (ex - sx).0.unsigned_abs() > 2 * (ez - sz).0.unsigned_abs()
-            }
-            _ => seg.is_radial(),
-        }
+        self.feed_word(feed, block);
     }
 
     fn thread_pass(&mut self, item: &Item, pass: &ThreadPass, block: &mut Block) {
@@ -712,7 +696,7 @@ impl Emitter<'_> {
         let end = ItemKind::ThreadPass(*pass).end_position(self.w.pos);
         // Refused by legalisation (the table's SyncInfeed, SteepSync and IndexWaitInCut):
         // the position goes on, so that what follows reads right.
-        let refused = segments.iter().any(Self::steep)
+        let refused = segments.iter().any(lower::SyncSegment::is_steep)
             || (in_chain && matches!(pass.start, SyncStart::Index(_)));
         if refused {
             self.w.pos = end;

@@ -219,11 +219,6 @@ pub fn parse(
     fe.r.finish()
 }
 
-/// The range of a block's code in its line.
-fn code_range(block: &Block) -> Range<usize> {
-    block.code_range.clone()
-}
-
 impl FrontEnd<'_> {
     fn span(&self, line: Line<'_>, range: Range<usize>) -> Span {
         self.r.span(line, range)
@@ -408,7 +403,7 @@ impl FrontEnd<'_> {
 
     fn block(&mut self, line: Line<'_>, block: &Block) {
         let first = self.r.items.len();
-        let code_span = self.span(line, code_range(block));
+        let code_span = self.span(line, block.code_range.clone());
         if block.words.is_empty() {
             // A comment block is a block too: between two G32 blocks it is refused (whether
             // the chain waits there is documented nowhere).
@@ -456,7 +451,7 @@ impl FrontEnd<'_> {
                 .state_in_opaque(&UNSUPPORTED, span, &line.text[w.range.clone()]);
             return;
         }
-        let code = line.text[code_range(block)].trim().to_string();
+        let code = line.text[block.code_range.clone()].trim().to_string();
         let code = match block.number {
             Some(_) => code
                 .trim_start_matches(['N', 'n'])
@@ -467,7 +462,7 @@ impl FrontEnd<'_> {
             None => code,
         };
         let incremental = block.words.iter().any(|w| matches!(w.letter, 'U' | 'W'));
-        let span = self.span(line, code_range(block));
+        let span = self.span(line, block.code_range.clone());
         self.r.keep_opaque(
             code,
             span,
@@ -1208,12 +1203,9 @@ impl FrontEnd<'_> {
         Some(Angle(q))
     }
 
-    /// Whether a move from `from` to `to` is steeper than 45° (X radius moves more than Z).
+    /// Whether a move between two known points is steeper than 45° ([`lower::steeper_than_45`]).
     fn steep(from: Pos, to: Pos) -> bool {
-        let (Some((sx, sz)), Some((ex, ez))) = (from.known(), to.known()) else {
-            return false;
-        };
-        (ex - sx).0.unsigned_abs() > 2 * (ez - sz).0.unsigned_abs()
+        matches!((from.known(), to.known()), (Some(a), Some(b)) if lower::steeper_than_45(a, b))
     }
 
     #[allow(clippy::too_many_arguments)]
