@@ -1821,6 +1821,33 @@ mod tests {
     }
 
     #[test]
+    fn every_rule_has_its_code_line_and_column() {
+        let first = |text: &str| {
+            let (_, d) = read(text, "");
+            let d = d.into_iter().next().expect("a diagnostic");
+            let at = d.location.as_ref().map(|l| (l.line, l.column));
+            (d.code.id, at)
+        };
+        assert_eq!(first("G01 U2. F0.2\n"), ("FANR007", Some((1, 5))));
+        assert_eq!(
+            first("G00 X20. Z5.\nG01 Z-10.\n"),
+            ("FANR009", Some((2, 1)))
+        );
+        assert_eq!(
+            first("G00 X20. Z5.\nG02 X30. Z0. R1. F0.1\n"),
+            ("FANR011", Some((2, 14)))
+        );
+        assert_eq!(
+            first("G00 X20. Z5.\nG02 X30. Z0. F0.1\n"),
+            ("FANR011", Some((2, 1)))
+        );
+        assert_eq!(first("M30\nG00 X20.\n"), ("FANR014", Some((2, 1))));
+        assert_eq!(first("G21\nG00 X20. Z5.\nG20\n"), ("FANR015", Some((3, 1))));
+        assert_eq!(first("G20\nG00 X0.0001 Z1.\n"), ("FANR016", Some((2, 5))));
+        assert_eq!(first("G00 X20. X30.\n"), ("FANR008", Some((1, 10))));
+    }
+
+    #[test]
     fn g96_takes_its_limit_from_g50_s() {
         let (items, _) = read("G50 S2500\nG96 S200 M03\nG50 S3000\nG97 S800\n", "");
         let limit = |n| {
