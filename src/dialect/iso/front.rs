@@ -1155,7 +1155,9 @@ impl FrontEnd<'_> {
             return;
         };
         let span = self.r.src.line_span(line);
-        let errors = self.r.diags.iter().filter(|d| d.is_error()).count();
+        // Where this line's diagnostics start (counting every error again would be
+        // quadratic in a program with many warnings).
+        let diags_before = self.r.diags.len();
 
         // LinuxCNC's order of execution within a line. A feed mode code also clears the
         // feed rate there (G1 needs a new F after it).
@@ -1625,7 +1627,12 @@ impl FrontEnd<'_> {
         }
         // Words no command read (LinuxCNC refuses them too), unless an error on this line
         // already explains the line.
-        if self.r.diags.iter().filter(|d| d.is_error()).count() == errors {
+        if !self
+            .r
+            .diags
+            .get(diags_before..)
+            .is_some_and(|d| d.iter().any(|d| d.is_error()))
+        {
             let unused: Vec<&Word> = words
                 .other
                 .iter()
