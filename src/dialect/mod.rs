@@ -7,6 +7,7 @@ pub mod czech;
 pub mod detect;
 pub mod fanuc;
 pub mod iso;
+pub(crate) mod lex;
 pub mod nc31;
 pub(crate) mod read;
 pub(crate) mod write;

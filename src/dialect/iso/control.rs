@@ -358,14 +358,18 @@ impl<'s> FileRun<'s> {
                 }
             }
         }
-        let code = |l: &Line<'_>| -> String {
-            l.text
-                .chars()
-                .filter(|c| !matches!(c, ' ' | '\t' | '\r'))
-                .collect()
-        };
-        let blank = lines.iter().map(|l| code(l).is_empty()).collect();
-        let percent = lines.iter().map(|l| code(l) == "%").collect();
+        let code = |text: &'s str| text.bytes().filter(|b| !matches!(b, b' ' | b'\t' | b'\r'));
+        let blank = lines
+            .iter()
+            .map(|l| code(l.text).next().is_none())
+            .collect();
+        let percent = lines
+            .iter()
+            .map(|l| {
+                let mut c = code(l.text);
+                c.next() == Some(b'%') && c.next().is_none()
+            })
+            .collect();
         FileRun {
             src,
             lines,

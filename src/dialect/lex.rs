@@ -1,0 +1,168 @@
+//! A byte cursor for the syntax layers' fast paths.
+//!
+//! Every dialect's grammar (`grammar/*.pest`) is the definition of its line syntax and the
+//! source of its syntax errors. Parsing each line with pest costs most of a reader's time
+//! (its call tracker, stack checks and pair tree), so each syntax layer first tries a
+//! hand-written reading of the common, well-formed lines: it returns `None` at anything it is
+//! not sure of (an error, an expression, a rare form), and pest reads that line. Each fast path
+//! is tested against its grammar line by line (the corpus, generated programs and random
+//! lines): where it answers, it answers exactly what the grammar's reading does.
+
+/// A position in a line's bytes.
+pub(crate) struct Cursor<'a> {
+    pub text: &'a str,
+    pub pos: usize,
+}
+
+impl<'a> Cursor<'a> {
+    pub fn new(text: &'a str) -> Self {
+        Cursor { text, pos: 0 }
+    }
+
+    pub fn peek(&self) -> Option<u8> {
+        self.text.as_bytes().get(self.pos).copied()
+    }
+
+    pub fn peek_at(&self, ahead: usize) -> Option<u8> {
+        self.text.as_bytes().get(self.pos + ahead).copied()
+    }
+
+    pub fn at_end(&self) -> bool {
+        self.pos >= self.text.len()
+    }
+
+    pub fn rest(&self) -> &'a str {
+        &self.text[self.pos..]
+    }
+
+    /// Skips the bytes `sep` accepts (the grammar's `sep*`).
+    pub fn skip(&mut self, sep: impl Fn(u8) -> bool) {
+        while self.peek().is_some_and(&sep) {
+            self.pos += 1;
+        }
+    }
+
+    /// `ASCII_DIGIT+`: the digits' range, or `None` (nothing taken).
+    pub fn digits(&mut self) -> Option<std::ops::Range<usize>> {
+        let start = self.pos;
+        while self.peek().is_some_and(|b| b.is_ascii_digit()) {
+            self.pos += 1;
+        }
+        (self.pos > start).then_some(start..self.pos)
+    }
+
+    /// The grammars' `number`: `("+" | "-")? ~ (ASCII_DIGIT+ ~ ("." ~ ASCII_DIGIT*)? | "." ~
+    /// ASCII_DIGIT+)`, greedy as pest reads it; `None` takes nothing.
+    pub fn number(&mut self) -> Option<&'a str> {
+        let start = self.pos;
+        if matches!(self.peek(), Some(b'+' | b'-')) {
+            self.pos += 1;
+        }
+        if self.digits().is_some() {
+            if self.peek() == Some(b'.') {
+                self.pos += 1;
+                self.digits();
+            }
+        } else if self.peek() == Some(b'.') && self.peek_at(1).is_some_and(|b| b.is_ascii_digit()) {
+            self.pos += 1;
+            self.digits();
+        } else {
+            self.pos = start;
+            return None;
+        }
+        Some(&self.text[start..self.pos])
+    }
+}
+
+/// The grammars' `sep` of czech and НЦ-31 lines: a blank or a tab.
+pub(crate) fn blank_or_tab(b: u8) -> bool {
+    b == b' ' || b == b'\t'
+}
+
+/// The grammars' `sep` of ISO and FANUC lines: a blank, a tab or a carriage return.
+pub(crate) fn blank_tab_or_cr(b: u8) -> bool {
+    b == b' ' || b == b'\t' || b == b'\r'
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn number(text: &str) -> Option<(&str, usize)> {
+        let mut c = Cursor::new(text);
+        c.number().map(|n| (n, c.pos))
+    }
+
+    #[test]
+    fn reads_numbers_as_the_grammar_does() {
+        assert_eq!(number("26.618Z"), Some(("26.618", 6)));
+        assert_eq!(number("-9."), Some(("-9.", 3)));
+        assert_eq!(number("+.5"), Some(("+.5", 3)));
+        assert_eq!(number("1.2.3"), Some(("1.2", 3)));
+        assert_eq!(number("-."), None);
+        assert_eq!(number("."), None);
+        assert_eq!(number("- 5"), None);
+        assert_eq!(number(""), None);
+    }
+}
+
+/// What the fast paths' tests share: every line of the corpus, and random lines made of a
+/// dialect's tokens.
+#[cfg(test)]
+pub(crate) mod agreement {
+    use proptest::prelude::*;
+
+    /// Every line of every program in `corpus/` (of any dialect: another dialect's lines are
+    /// hostile input too), decoded lossily.
+    pub fn corpus_lines() -> Vec<String> {
+        let mut lines = Vec::new();
+        let mut dirs = vec![std::path::PathBuf::from(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/corpus"
+        ))];
+        while let Some(dir) = dirs.pop() {
+            for entry in std::fs::read_dir(&dir).expect("corpus/ is readable") {
+                let path = entry.expect("a corpus entry").path();
+                if path.is_dir() {
+                    dirs.push(path);
+                } else if path.extension().is_some_and(|e| e == "nc" || e == "ngc") {
+                    let bytes = std::fs::read(&path).expect("a corpus file");
+                    let text = String::from_utf8_lossy(&bytes);
+                    lines.extend(
+                        text.split('\n')
+                            .map(|l| l.trim_end_matches('\r').to_string()),
+                    );
+                }
+            }
+        }
+        lines
+    }
+
+    /// Checks the fast path against the grammar on every corpus line; returns how many of
+    /// the lines the grammar reads the fast path reads too, and of how many.
+    pub fn on_corpus<B: PartialEq + std::fmt::Debug, E: std::fmt::Debug>(
+        fast: impl Fn(&str) -> Option<B>,
+        grammar: impl Fn(&str) -> Result<B, E>,
+    ) -> (usize, usize) {
+        let (mut fast_read, mut read) = (0, 0);
+        for line in corpus_lines() {
+            let slow = grammar(&line);
+            if slow.is_ok() {
+                read += 1;
+            }
+            if let Some(b) = fast(&line) {
+                fast_read += 1;
+                match slow {
+                    Ok(s) => assert_eq!(b, s, "the fast path differs on {line:?}"),
+                    Err(e) => panic!("the fast path reads {line:?}, the grammar does not: {e:?}"),
+                }
+            }
+        }
+        (fast_read, read)
+    }
+
+    /// Lines of 0 to 14 tokens from `tokens`, joined without blanks.
+    pub fn lines(tokens: &'static [&'static str]) -> impl Strategy<Value = String> {
+        prop::collection::vec(prop::sample::select(tokens), 0..14).prop_map(|t| t.concat())
+    }
+}
