@@ -203,7 +203,7 @@ pub fn explain(program: &Program, options: &Options) -> Vec<Operation> {
                     && run.as_ref().is_some_and(|r| r.continues_at(pos)) =>
             {
                 if let Some(r) = run.as_mut() {
-                    r.chain(*pass);
+                    r.chain(**pass);
                 }
             }
             ItemKind::ThreadPass(pass) => {
@@ -336,7 +336,7 @@ impl RunPass {
 
     /// A block continuing the chain.
     fn chain(&mut self, pass: ThreadPass) {
-        self.end = ItemKind::ThreadPass(pass).end_position(self.end);
+        self.end = pass.end_position(self.end);
         self.blocks.push(pass);
         self.moves = std::cell::OnceCell::new();
     }
@@ -390,7 +390,7 @@ impl RunPass {
         let mut at = self.from;
         let mut best = (0, self.blocks.first().map_or(Lead::ZERO, |p| p.lead));
         for p in &self.blocks {
-            let next = ItemKind::ThreadPass(*p).end_position(at);
+            let next = p.end_position(at);
             let travel = at.z.zip(next.z).map_or(0, |(a, b)| (b - a).0.abs());
             if travel > best.0 {
                 best = (travel, p.lead);

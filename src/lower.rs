@@ -384,7 +384,7 @@ impl Move {
     pub fn item_kind(&self) -> ItemKind {
         match *self {
             Move::Rapid(to) => ItemKind::Rapid { to },
-            Move::Pass(pass) => ItemKind::ThreadPass(pass),
+            Move::Pass(pass) => ItemKind::pass(pass),
         }
     }
 

@@ -161,7 +161,7 @@ fn program(steps: &[Step], chains: bool) -> Program {
                 } else {
                     SyncStart::Index(start_angle)
                 };
-                items.push(item(ItemKind::ThreadPass(ThreadPass {
+                items.push(item(ItemKind::pass(ThreadPass {
                     to: Pos { x, z: Some(z) },
                     lead: Lead::from_length(lead),
                     start,
@@ -221,7 +221,7 @@ fn motion(p: &Program) -> Vec<ItemKind> {
             }
             ItemKind::ThreadPass(pass) => {
                 let end = i.kind.end_position(pos);
-                ItemKind::ThreadPass(ThreadPass { to: end, ..*pass })
+                ItemKind::pass(ThreadPass { to: end, ..**pass })
             }
             ItemKind::ThreadCycle(_)
             | ItemKind::Arc { .. }

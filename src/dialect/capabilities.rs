@@ -159,7 +159,7 @@ impl Construct {
                     self == Construct::ThreadCycle
                 }
                 ItemKind::ThreadPass(pass) => {
-                    passes.push((pos, *pass));
+                    passes.push((pos, **pass));
                     false
                 }
                 ItemKind::TapCycle(_) => self == Construct::Tapping,

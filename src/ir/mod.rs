@@ -270,6 +270,20 @@ pub struct ThreadPass {
     pub exit: Option<Chamfer>,
 }
 
+impl ThreadPass {
+    /// Where the tool is after this pass (its exit chamfer included), starting from `current`.
+    pub fn end_position(&self, current: Pos) -> Pos {
+        let x = self.to.x.or(current.x);
+        Pos {
+            x: match self.exit {
+                Some(exit) => x.map(|x| x + exit.offset),
+                None => x,
+            },
+            z: self.to.z.or(current.z),
+        }
+    }
+}
+
 /// The tangent of an angle as an exact ratio `rise / run` (e.g. the НЦ-31's parameter 6:
 /// `P6 / 4096`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -579,7 +593,7 @@ pub enum ItemKind {
         clockwise: bool,
         feed: Length,
     },
-    ThreadPass(ThreadPass),
+    ThreadPass(Box<ThreadPass>),
     ThreadCycle(Box<ThreadCycle>),
     TapCycle(TapCycle),
     /// Spindle speed (rpm) and/or direction; a direction starts the spindle.
@@ -651,6 +665,12 @@ pub enum ItemKind {
 }
 
 impl ItemKind {
+    /// A [`ItemKind::ThreadPass`] (the pass is boxed: it is the largest item, and most items
+    /// are moves).
+    pub fn pass(pass: ThreadPass) -> ItemKind {
+        ItemKind::ThreadPass(Box::new(pass))
+    }
+
     /// Where the tool is after this item, starting from `current`.
     pub fn end_position(&self, current: Pos) -> Pos {
         match self {
@@ -658,16 +678,7 @@ impl ItemKind {
                 x: to.x.or(current.x),
                 z: to.z.or(current.z),
             },
-            ItemKind::ThreadPass(pass) => {
-                let x = pass.to.x.or(current.x);
-                Pos {
-                    x: match pass.exit {
-                        Some(exit) => x.map(|x| x + exit.offset),
-                        None => x,
-                    },
-                    z: pass.to.z.or(current.z),
-                }
-            }
+            ItemKind::ThreadPass(pass) => pass.end_position(current),
             ItemKind::ThreadCycle(cycle) => match cycle.finish {
                 Finish::Start => Pos::new(cycle.start.0, cycle.start.1),
                 Finish::EndAt(x) => Pos::new(x, cycle.end_z),

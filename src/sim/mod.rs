@@ -317,7 +317,7 @@ impl Machine {
                     span,
                     "the thread pass needs its start point, which is not known",
                 );
-                self.pos = ItemKind::ThreadPass(*pass).end_position(self.pos);
+                self.pos = pass.end_position(self.pos);
                 self.sync_end = None;
                 return;
             }
@@ -872,7 +872,7 @@ mod tests {
     }
 
     fn pass(x: f64, z: f64, lead: f64, angle: i64) -> ItemKind {
-        ItemKind::ThreadPass(ThreadPass {
+        ItemKind::pass(ThreadPass {
             to: Pos::new(mm(x), mm(z)),
             lead: Lead::from_mm_f64(lead).unwrap(),
             start: SyncStart::Index(Angle::from_deg(angle)),
@@ -922,7 +922,7 @@ mod tests {
         let sim = simulate(&program(vec![
             spindle(),
             rapid(64.0, 5.0),
-            ItemKind::ThreadPass(ThreadPass {
+            ItemKind::pass(ThreadPass {
                 to: Pos::new(mm(64.0), mm(-100.0)),
                 lead: Lead::from_mm_f64(6.0).unwrap(),
                 start: SyncStart::default(),

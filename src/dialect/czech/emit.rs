@@ -904,7 +904,7 @@ impl Emitter<'_> {
             words.push(format!("E{t}"));
         }
         block.words.extend(words);
-        self.w.pos = ItemKind::ThreadPass(*pass).end_position(self.w.pos);
+        self.w.pos = pass.end_position(self.w.pos);
         self.in_cut = Some(self.w.pos);
         if pass.entry.is_some() || pass.exit.is_some() {
             // The empty block, then a block that programs every axis. **[seed]**

@@ -966,7 +966,7 @@ impl<'a> FrontEnd<'a> {
                 }
             }
             Motion::Thread => match self.thread_pass(line, words, f, start, to, code_span) {
-                Some(pass) => ItemKind::ThreadPass(pass),
+                Some(pass) => ItemKind::pass(pass),
                 None => return,
             },
         };
@@ -1609,7 +1609,7 @@ mod tests {
             .items
             .iter()
             .filter_map(|i| match &i.kind {
-                ItemKind::ThreadPass(p) => Some(*p),
+                ItemKind::ThreadPass(p) => Some(**p),
                 _ => None,
             })
             .collect()

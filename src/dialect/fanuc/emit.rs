@@ -693,7 +693,7 @@ impl Emitter<'_> {
             }
         };
         let in_chain = self.sync_end.is_some() && self.sync_end == Some(self.w.pos);
-        let end = ItemKind::ThreadPass(*pass).end_position(self.w.pos);
+        let end = pass.end_position(self.w.pos);
         // Refused by legalisation (the table's SyncInfeed, SteepSync and IndexWaitInCut):
         // the position goes on, so that what follows reads right.
         let refused = segments.iter().any(lower::SyncSegment::is_steep)
@@ -758,7 +758,7 @@ impl Emitter<'_> {
                 block.words.push(format!("Q{}", a.0));
             }
         }
-        self.w.pos = ItemKind::ThreadPass(*pass).end_position(self.w.pos);
+        self.w.pos = pass.end_position(self.w.pos);
         self.sync_end = Some(self.w.pos);
     }
 
@@ -836,7 +836,7 @@ mod tests {
             ItemKind::Rapid {
                 to: Pos::new(mm(20), mm(5)),
             },
-            ItemKind::ThreadPass(pass),
+            ItemKind::pass(pass),
             ItemKind::Tool {
                 number: Some(3),
                 offset: None,

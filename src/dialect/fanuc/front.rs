@@ -1281,7 +1281,7 @@ impl FrontEnd<'_> {
             entry: None,
             exit: None,
         };
-        self.push(ItemKind::ThreadPass(pass), code_span);
+        self.push(ItemKind::pass(pass), code_span);
         self.sync_end = Some(end);
         self.blocks_since_sync = 0;
         Some(())
@@ -1451,7 +1451,7 @@ impl FrontEnd<'_> {
             code_span,
         );
         self.push(
-            ItemKind::ThreadPass(ThreadPass {
+            ItemKind::pass(ThreadPass {
                 to: Pos::new(x, end_z),
                 lead,
                 start: SyncStart::Index(angle),
@@ -1698,8 +1698,8 @@ mod tests {
         assert!(d.is_empty(), "{d:?}");
         let passes: Vec<_> = items
             .iter()
-            .filter_map(|i| match i.kind {
-                ItemKind::ThreadPass(p) => Some(p),
+            .filter_map(|i| match &i.kind {
+                ItemKind::ThreadPass(p) => Some(**p),
                 _ => None,
             })
             .collect();

@@ -2285,7 +2285,7 @@ impl FrontEnd<'_> {
                 entry: None,
                 exit: None,
             };
-            self.push(ItemKind::ThreadPass(pass), span);
+            self.push(ItemKind::pass(pass), span);
             self.r.pos = Pos::new(x, z);
             self.sync_end = Some(self.r.pos);
             self.in_cut = Some(self.r.pos);
@@ -2330,8 +2330,8 @@ impl FrontEnd<'_> {
             entry: None,
             exit: None,
         };
-        self.push(ItemKind::ThreadPass(pass), span);
-        self.r.pos = ItemKind::ThreadPass(pass).end_position(from);
+        self.push(ItemKind::pass(pass), span);
+        self.r.pos = pass.end_position(from);
         self.sync_end = Some(self.r.pos);
         self.in_cut = Some(self.r.pos);
     }
@@ -2659,7 +2659,7 @@ mod tests {
         assert_eq!(k[2], ItemKind::FeedMode(FeedMode::PerRev));
         assert_eq!(
             k[5],
-            ItemKind::ThreadPass(ThreadPass {
+            ItemKind::pass(ThreadPass {
                 to: Pos::new(mm(35.6), mm(-47.5)),
                 lead: crate::fixed::Lead::from_mm_f64(1.5).unwrap(),
                 start: crate::ir::SyncStart::Index(Angle::ZERO),

@@ -995,7 +995,7 @@ mod tests {
         ];
         for (p, what) in cases {
             let (out, diags) = write(
-                vec![turning(), at(mm(20), mm(5)), ItemKind::ThreadPass(p)],
+                vec![turning(), at(mm(20), mm(5)), ItemKind::pass(p)],
                 WriteOptions::default(),
             );
             assert!(out.is_none(), "{what}");
@@ -1007,7 +1007,7 @@ mod tests {
             vec![
                 turning(),
                 at(mm(20), mm(5)),
-                ItemKind::ThreadPass(ThreadPass {
+                ItemKind::pass(ThreadPass {
                     to: Pos::new(mm(20), mm(-20)),
                     ..pass(mm(-20))
                 }),
@@ -1034,7 +1034,7 @@ mod tests {
             vec![
                 turning(),
                 at(Length(266_180), mm(3)),
-                ItemKind::ThreadPass(pass(mm(-9))),
+                ItemKind::pass(pass(mm(-9))),
                 at(Length(264_180), mm(3)),
             ]
         };
@@ -1071,19 +1071,15 @@ mod tests {
         let mut profile = Profile::default();
         profile.nc31.lead_unit = Length(10);
         let program = Program {
-            items: vec![
-                turning(),
-                at(mm(20), mm(5)),
-                ItemKind::ThreadPass(pass(mm(-9))),
-            ]
-            .into_iter()
-            .map(|mut k| {
-                if let ItemKind::ThreadPass(p) = &mut k {
-                    p.lead = crate::fixed::Lead::from_length(Length(15_005));
-                }
-                Item::new(k, Span::default())
-            })
-            .collect(),
+            items: vec![turning(), at(mm(20), mm(5)), ItemKind::pass(pass(mm(-9)))]
+                .into_iter()
+                .map(|mut k| {
+                    if let ItemKind::ThreadPass(p) = &mut k {
+                        p.lead = crate::fixed::Lead::from_length(Length(15_005));
+                    }
+                    Item::new(k, Span::default())
+                })
+                .collect(),
             dialect: crate::dialect::iso::ID,
         };
         let (out, diags) = emit(

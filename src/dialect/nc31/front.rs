@@ -1055,7 +1055,7 @@ impl<'a> FrontEnd<'a> {
             entry: None,
             exit: None,
         };
-        let kind = ItemKind::ThreadPass(pass);
+        let kind = ItemKind::pass(pass);
         self.r.pos = kind.end_position(self.r.pos);
         self.push(kind, span, None);
         self.feed = Feed::AfterThread(g.line);
@@ -1884,7 +1884,7 @@ mod tests {
         let k = kinds(&format!("{START}N9 G32 *\nN10 F15000 *\nN11 Z-4700\n"));
         assert_eq!(
             k.last(),
-            Some(&ItemKind::ThreadPass(ThreadPass {
+            Some(&ItemKind::pass(ThreadPass {
                 to: Pos::new(mm(36.0), mm(-47.0)),
                 lead: crate::fixed::Lead::from_mm_f64(1.5).unwrap(),
                 start: crate::ir::SyncStart::default(),
