@@ -13,7 +13,7 @@ pub(crate) mod read;
 pub(crate) mod write;
 
 pub use read::Unsupported;
-pub(crate) use read::{WORD_REPORTS, budget, comment_text, one_line, pest_error_offset};
+pub(crate) use read::{Letters, WORD_REPORTS, budget, comment_text, one_line, pest_error_offset};
 pub(crate) use write::Inexact;
 
 use crate::diag::Diagnostic;

@@ -6,7 +6,7 @@ use std::ops::Range;
 use super::syntax::{self, Block, Value, Word};
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::read::{Reader, UnsupportedWording};
-use crate::dialect::{Unsupported, WORD_REPORTS, budget};
+use crate::dialect::{Letters, Unsupported, WORD_REPORTS, budget};
 use crate::fixed::{Angle, Decimal, Lead, Length, NumberError};
 use crate::ir::{
     Chamfer, Coolant, EndCode, FeedMode, ItemKind, ModalContext, Pos, Program, SpindleDirection,
@@ -141,7 +141,7 @@ struct Words<'b> {
     dwell: Option<(&'b Word, Option<&'b Word>)>,
     /// G96 (true) or G97 (the profile's `surface_speed`).
     speed_mode: Option<(bool, &'b Word)>,
-    by_letter: HashMap<char, &'b Word>,
+    by_letter: Letters<&'b Word>,
     unsupported: Vec<(&'b Word, String)>,
 }
 

@@ -9,14 +9,12 @@
 
 use std::ops::Range;
 
-use indexmap::IndexMap;
-
 use super::control;
 use super::gcode::*;
 use super::syntax::{self, BLOCK_DELETE, Block, Word};
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::read::{Reader, UnsupportedWording};
-use crate::dialect::{Unsupported, WORD_REPORTS, budget};
+use crate::dialect::{Letters, Unsupported, WORD_REPORTS, budget};
 use crate::fixed::{Angle, Decimal, Lead, Length, div_round};
 use crate::ir::{
     Compensation, Coolant, CycleChamfer, Degression, EndCode, FeedMode, Finish, IjkScale, ItemKind,
@@ -448,7 +446,7 @@ struct Words<'b> {
     /// M codes with their words.
     m: Vec<(i64, &'b Word)>,
     /// Every other word by letter (each letter once).
-    other: IndexMap<char, &'b Word>,
+    other: Letters<&'b Word>,
     /// Letters a command has read.
     used: Vec<char>,
 }
@@ -936,7 +934,7 @@ impl FrontEnd<'_> {
         let mut words = Words {
             g: Vec::new(),
             m: Vec::new(),
-            other: IndexMap::new(),
+            other: Letters::default(),
             used: Vec::new(),
         };
         let mut ok = true;
