@@ -230,7 +230,7 @@ pub fn div_round(num: i128, den: i128) -> i128 {
     }
 }
 
-#[derive(Clone, Copy, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Trailing {
     None,
     Point,
@@ -239,23 +239,46 @@ enum Trailing {
 }
 
 fn format_scaled(value: i64, decimals: u32, trailing: Trailing) -> String {
-    let scale = 10i64.pow(decimals);
-    let sign = if value < 0 { "-" } else { "" };
+    // Written digit by digit (no `format!`): the writers format every coordinate.
+    let mut out = String::with_capacity(24);
+    if value < 0 {
+        out.push('-');
+    }
     let abs = value.unsigned_abs();
-    let whole = abs / scale as u64;
-    let frac = abs % scale as u64;
+    let scale = 10u64.pow(decimals);
+    let (whole, frac) = (abs / scale, abs % scale);
+    push_digits(&mut out, whole, 1, false);
     if frac == 0 {
-        return match trailing {
-            Trailing::None => format!("{sign}{whole}"),
-            Trailing::Point => format!("{sign}{whole}."),
-            Trailing::All => format!("{sign}{whole}.{:0width$}", 0, width = decimals as usize),
-        };
+        match trailing {
+            Trailing::None => {}
+            Trailing::Point => out.push('.'),
+            Trailing::All => {
+                out.push('.');
+                out.extend(std::iter::repeat_n('0', (decimals as usize).max(1)));
+            }
+        }
+        return out;
     }
-    let frac = format!("{frac:0width$}", width = decimals as usize);
-    if trailing == Trailing::All {
-        return format!("{sign}{whole}.{frac}");
+    out.push('.');
+    push_digits(&mut out, frac, decimals as usize, trailing != Trailing::All);
+    out
+}
+
+/// Appends `n` in decimal with at least `width` digits (leading zeros), without its trailing
+/// zeros when `trim` is set.
+fn push_digits(out: &mut String, mut n: u64, width: usize, trim: bool) {
+    let mut buf = [b'0'; 20];
+    let mut start = buf.len();
+    while n > 0 || buf.len() - start < width {
+        start -= 1;
+        buf[start] = b'0' + (n % 10) as u8;
+        n /= 10;
     }
-    format!("{sign}{whole}.{}", frac.trim_end_matches('0'))
+    let mut end = buf.len();
+    while trim && end > start + 1 && buf[end - 1] == b'0' {
+        end -= 1;
+    }
+    out.extend(buf[start..end].iter().map(|&b| b as char));
 }
 
 /// Splits an optional leading `+`/`-` from `text`: (negative, the rest). `None` for "".
@@ -408,6 +431,66 @@ impl fmt::Display for Decimal {
 
 #[cfg(test)]
 mod tests {
+
+    /// The formatting as `format!` writes it: what `format_scaled` must equal.
+    fn format_reference(value: i64, decimals: u32, trailing: Trailing) -> String {
+        let scale = 10i64.pow(decimals);
+        let sign = if value < 0 { "-" } else { "" };
+        let (whole, frac) = (
+            value.unsigned_abs() / scale as u64,
+            value.unsigned_abs() % scale as u64,
+        );
+        if frac == 0 {
+            return match trailing {
+                Trailing::None => format!("{sign}{whole}"),
+                Trailing::Point => format!("{sign}{whole}."),
+                Trailing::All => format!("{sign}{whole}.{:0width$}", 0, width = decimals as usize),
+            };
+        }
+        let frac = format!("{frac:0width$}", width = decimals as usize);
+        if trailing == Trailing::All {
+            return format!("{sign}{whole}.{frac}");
+        }
+        format!("{sign}{whole}.{}", frac.trim_end_matches('0'))
+    }
+
+    #[test]
+    fn numbers_are_written_as_format_writes_them() {
+        let values = [
+            0,
+            1,
+            -1,
+            5,
+            10,
+            100,
+            1000,
+            10000,
+            12345,
+            -12345,
+            120000,
+            -5000,
+            99999,
+            100001,
+            i64::MAX,
+            i64::MIN,
+            i64::MIN + 1,
+            7,
+            70,
+            700,
+            1_000_000_007,
+        ];
+        for value in values {
+            for decimals in [0, 1, 3, 4, 5, 6] {
+                for trailing in [Trailing::None, Trailing::Point, Trailing::All] {
+                    assert_eq!(
+                        format_scaled(value, decimals, trailing),
+                        format_reference(value, decimals, trailing),
+                        "{value} {decimals} {trailing:?}"
+                    );
+                }
+            }
+        }
+    }
     use super::*;
 
     #[test]
