@@ -398,35 +398,11 @@ pub fn encode_output(
     for (index, line) in text.split_inclusive('\n').enumerate() {
         let body = line.strip_suffix('\n').unwrap_or(line);
         let body = body.strip_suffix('\r').unwrap_or(body);
-        for (at, c) in body.char_indices() {
-            if let Some(bytes) = encoding.encode_char(c) {
-                out.extend_from_slice(&bytes);
-                continue;
-            }
-            let ascii = deunicode::deunicode_char(c).filter(|t| !t.is_empty() && t.is_ascii());
-            match ascii {
-                Some(t) if options.transliterate => out.extend_from_slice(t.as_bytes()),
-                None if options.transliterate => out.push(b'?'),
-                _ => {
-                    let src = SourceFile::new(output_name, text);
-                    let line_number = index as u32 + 1;
-                    let line = src.line(line_number);
-                    let span = src.span_in_line(line, at..at + c.len_utf8());
-                    return Err(Box::new(Diagnostic::new(
-                        codes::ENCODING,
-                        format!(
-                            "`{c}` (U+{:04X}) in output line {line_number} cannot be written in {}",
-                            c as u32,
-                            encoding
-                        ),
-                    )
-                    .at(&src, span)
-                    .help(format!(
-                        "pass --transliterate to write it as `{}`, or choose an --output-encoding that has it (e.g. utf-8)",
-                        ascii.unwrap_or("?")
-                    ))));
-                }
-            }
+        // Every encoding ncthread writes is ASCII in its first 128 characters.
+        if body.is_ascii() {
+            out.extend_from_slice(body.as_bytes());
+        } else {
+            encode_line(&mut out, body, index, text, output_name, options, encoding)?;
         }
         if line.ends_with('\n') {
             out.extend_from_slice(if crlf { b"\r\n" } else { b"\n" });
@@ -436,6 +412,49 @@ pub fn encode_output(
         out.extend_from_slice(&input.eof_mark);
     }
     Ok(out)
+}
+
+/// Encodes one line's `body` (line `index` of `text`) character by character.
+fn encode_line(
+    out: &mut Vec<u8>,
+    body: &str,
+    index: usize,
+    text: &str,
+    output_name: &str,
+    options: &OutputOptions,
+    encoding: TextEncoding,
+) -> Result<(), Box<Diagnostic>> {
+    for (at, c) in body.char_indices() {
+        if let Some(bytes) = encoding.encode_char(c) {
+            out.extend_from_slice(&bytes);
+            continue;
+        }
+        let ascii = deunicode::deunicode_char(c).filter(|t| !t.is_empty() && t.is_ascii());
+        match ascii {
+            Some(t) if options.transliterate => out.extend_from_slice(t.as_bytes()),
+            None if options.transliterate => out.push(b'?'),
+            _ => {
+                let src = SourceFile::new(output_name, text);
+                let line_number = index as u32 + 1;
+                let line = src.line(line_number);
+                let span = src.span_in_line(line, at..at + c.len_utf8());
+                return Err(Box::new(Diagnostic::new(
+                    codes::ENCODING,
+                    format!(
+                        "`{c}` (U+{:04X}) in output line {line_number} cannot be written in {}",
+                        c as u32,
+                        encoding
+                    ),
+                )
+                .at(&src, span)
+                .help(format!(
+                    "pass --transliterate to write it as `{}`, or choose an --output-encoding that has it (e.g. utf-8)",
+                    ascii.unwrap_or("?")
+                ))));
+            }
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
