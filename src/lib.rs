@@ -149,12 +149,14 @@ pub fn convert(src: &SourceFile, options: &ConvertOptions) -> Conversion {
     drop(program);
     // Never write what the target's reader refuses: a last check, which finds what the
     // writers' own checks miss (it names the output line).
-    if let Some(text) = &output
-        && !diag::has_errors(&diagnostics)
-        && let Some(refusal) = read_back(text, options)
+    if !diag::has_errors(&diagnostics)
+        && let Some(text) = output.take()
     {
-        diagnostics.push(refusal);
-        output = None;
+        let (text, refusal) = read_back(text, options);
+        match refusal {
+            Some(refusal) => diagnostics.push(refusal),
+            None => output = Some(text),
+        }
     }
     diag::sort(&mut diagnostics);
     Conversion {
@@ -164,10 +166,15 @@ pub fn convert(src: &SourceFile, options: &ConvertOptions) -> Conversion {
 }
 
 /// The first error of reading `output` back as the target dialect, as an LG004 that points
-/// into the output.
-fn read_back(output: &str, options: &ConvertOptions) -> Option<Diagnostic> {
+/// into the output; the output is handed back (it is not copied to be read).
+fn read_back(output: String, options: &ConvertOptions) -> (String, Option<Diagnostic>) {
     let out = SourceFile::new(format!("({} output)", options.to), output);
     let (_, diags) = parse(&out, options.to, &options.profile, options.unsupported);
+    let refusal = refusal(diags, options);
+    (out.text, refusal)
+}
+
+fn refusal(diags: Vec<Diagnostic>, options: &ConvertOptions) -> Option<Diagnostic> {
     let first = diags.into_iter().find(|d| d.is_error())?;
     let mut refusal = Diagnostic::new(
         diag::codes::OUTPUT_UNREADABLE,
@@ -454,15 +461,15 @@ mod tests {
     #[test]
     fn an_output_the_target_refuses_is_not_written() {
         // A G33 block without Z travel, as a writer could have rounded it.
-        let refusal = read_back(
-            "N10 S500 M03\nN20 G00 X20. Z0.\nN30 G33 Z0. F1.\nN40 M02\n",
-            &options(dialect::czech::ID),
-        )
-        .expect("refused");
+        let text = "N10 S500 M03\nN20 G00 X20. Z0.\nN30 G33 Z0. F1.\nN40 M02\n";
+        let (back, refusal) = read_back(text.to_string(), &options(dialect::czech::ID));
+        assert_eq!(back, text, "the output is handed back as it was");
+        let refusal = refusal.expect("refused");
         assert_eq!(refusal.code, diag::codes::OUTPUT_UNREADABLE);
         assert!(refusal.message.contains("CZR017"), "{}", refusal.message);
         let at = refusal.location.expect("located");
         assert_eq!((at.file.as_str(), at.line), ("(czech output)", 3));
-        assert!(read_back("N10 S500 M03\nN20 M02\n", &options(dialect::czech::ID)).is_none());
+        let text = "N10 S500 M03\nN20 M02\n".to_string();
+        assert!(read_back(text, &options(dialect::czech::ID)).1.is_none());
     }
 }
