@@ -169,7 +169,7 @@ pub fn convert(src: &SourceFile, options: &ConvertOptions) -> Conversion {
 /// into the output; the output is handed back (it is not copied to be read).
 fn read_back(output: String, options: &ConvertOptions) -> (String, Option<Diagnostic>) {
     let out = SourceFile::new(format!("({} output)", options.to), output);
-    let (_, diags) = parse(&out, options.to, &options.profile, options.unsupported);
+    let diags = dialect::get(options.to).diagnostics(&out, &options.profile, options.unsupported);
     let refusal = refusal(diags, options);
     (out.text, refusal)
 }

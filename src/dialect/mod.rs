@@ -13,7 +13,9 @@ pub(crate) mod read;
 pub(crate) mod write;
 
 pub use read::Unsupported;
-pub(crate) use read::{Letters, WORD_REPORTS, budget, comment_text, one_line, pest_error_offset};
+pub(crate) use read::{
+    Keep, Letters, WORD_REPORTS, budget, comment_text, one_line, pest_error_offset,
+};
 pub(crate) use write::Inexact;
 
 use crate::diag::Diagnostic;
@@ -156,6 +158,16 @@ pub trait Dialect: Sync {
         profile: &Profile,
         unsupported: Unsupported,
     ) -> (Program, Vec<Diagnostic>);
+    /// The diagnostics of [`Dialect::read`] without the program: what a conversion's
+    /// read-back of its output needs. A reader may let go of each line's items once read.
+    fn diagnostics(
+        &self,
+        src: &SourceFile,
+        profile: &Profile,
+        unsupported: Unsupported,
+    ) -> Vec<Diagnostic> {
+        self.read(src, profile, unsupported).1
+    }
     /// What it reads and writes, for the machine `profile` describes.
     fn capabilities(&self, profile: &Profile) -> capabilities::Capabilities;
     /// The diagnostic that refuses a use of a construct its table says it does not write: its

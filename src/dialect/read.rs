@@ -162,11 +162,89 @@ pub(crate) fn pest_error_offset<R: pest::RuleType>(line: &str, e: &pest::error::
     }
 }
 
+/// What a read keeps: the program, or only its diagnostics.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Keep {
+    Program,
+    /// A conversion's read-back of its output needs only the diagnostics: the reader lets go
+    /// of each line's items once the line is read ([`Items::line_read`]).
+    Diagnostics,
+}
+
+/// The items a reader has made. Front ends use them as a vector indexed from 0 (`len()`
+/// before a line, then `items[first..]`); under [`Keep::Diagnostics`] the items of the lines
+/// read are dropped and only counted, so that no front end may look back past the line it
+/// is reading.
+pub(crate) struct Items {
+    held: Vec<Item>,
+    dropped: usize,
+    keep: Keep,
+}
+
+impl Items {
+    pub fn len(&self) -> usize {
+        self.dropped + self.held.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    pub fn last_mut(&mut self) -> Option<&mut Item> {
+        self.held.last_mut()
+    }
+
+    /// The items from index `first` on.
+    pub fn get(&self, first: std::ops::RangeFrom<usize>) -> Option<&[Item]> {
+        debug_assert!(
+            first.start >= self.dropped,
+            "an item of a line already let go of"
+        );
+        self.held.get(first.start.saturating_sub(self.dropped)..)
+    }
+
+    /// A line is read, and nothing will look at its items again: they are dropped when
+    /// only the diagnostics are kept.
+    pub fn line_read(&mut self) {
+        if self.keep == Keep::Diagnostics {
+            self.dropped += self.held.len();
+            self.held.clear();
+        }
+    }
+}
+
+impl std::ops::Index<std::ops::RangeFrom<usize>> for Items {
+    type Output = [Item];
+
+    fn index(&self, range: std::ops::RangeFrom<usize>) -> &[Item] {
+        self.get(range).unwrap_or(&[])
+    }
+}
+
+impl std::ops::Index<usize> for Items {
+    type Output = Item;
+
+    fn index(&self, i: usize) -> &Item {
+        &self[i..][0]
+    }
+}
+
+impl std::ops::IndexMut<std::ops::RangeFrom<usize>> for Items {
+    fn index_mut(&mut self, range: std::ops::RangeFrom<usize>) -> &mut [Item] {
+        debug_assert!(
+            range.start >= self.dropped,
+            "an item of a line already let go of"
+        );
+        let start = range.start.saturating_sub(self.dropped);
+        self.held.get_mut(start..).unwrap_or(&mut [])
+    }
+}
+
 /// The state every reader keeps: the source, the items and diagnostics so far, and the
 /// tool's position as far as it is known.
 pub(crate) struct Reader<'a> {
     pub src: &'a SourceFile,
-    pub items: Vec<Item>,
+    pub items: Items,
     pub diags: Vec<Diagnostic>,
     pub pos: Pos,
     dialect: DialectId,
@@ -174,10 +252,14 @@ pub(crate) struct Reader<'a> {
 }
 
 impl<'a> Reader<'a> {
-    pub fn new(src: &'a SourceFile, dialect: DialectId) -> Self {
+    pub fn new(src: &'a SourceFile, dialect: DialectId, keep: Keep) -> Self {
         Reader {
             src,
-            items: Vec::new(),
+            items: Items {
+                held: Vec::new(),
+                dropped: 0,
+                keep,
+            },
             diags: Vec::new(),
             pos: Pos::UNKNOWN,
             dialect,
@@ -185,11 +267,12 @@ impl<'a> Reader<'a> {
         }
     }
 
-    /// The program read, and every diagnostic.
+    /// The program read (without the items let go of under [`Keep::Diagnostics`]), and
+    /// every diagnostic.
     pub fn finish(self) -> (Program, Vec<Diagnostic>) {
         (
             Program {
-                items: self.items,
+                items: self.items.held,
                 dialect: self.dialect,
             },
             self.diags,
@@ -197,7 +280,7 @@ impl<'a> Reader<'a> {
     }
 
     pub fn push(&mut self, kind: ItemKind, span: Span, number: Option<u32>) {
-        self.items.push(Item {
+        self.items.held.push(Item {
             block_number: number,
             ..Item::new(kind, span)
         });
@@ -380,16 +463,16 @@ mod tests {
         let found: Vec<(Span, String)> = (1..=7)
             .map(|i| (Span::default(), format!("`A{i}`")))
             .collect();
-        let mut r = Reader::new(&src, crate::dialect::iso::ID);
+        let mut r = Reader::new(&src, crate::dialect::iso::ID, Keep::Program);
         r.unsupported(&WORDING, found.clone(), false, false);
         assert_eq!(r.diags.len(), WORD_REPORTS);
         assert_eq!(r.diags[4].message, "`A5` (and 2 more on this line)");
         assert!(r.diags.iter().all(|d| d.severity == Severity::Error));
-        let mut r = Reader::new(&src, crate::dialect::iso::ID);
+        let mut r = Reader::new(&src, crate::dialect::iso::ID, Keep::Program);
         r.unsupported(&WORDING, found.clone(), true, false);
         assert!(r.diags.iter().all(|d| d.severity == Severity::Warning));
         // A thread block: refused under `keep` too, and no advice to keep it.
-        let mut r = Reader::new(&src, crate::dialect::iso::ID);
+        let mut r = Reader::new(&src, crate::dialect::iso::ID, Keep::Program);
         assert!(!r.unsupported(&WORDING, found, true, true));
         assert!(r.diags.iter().all(|d| d.severity == Severity::Error));
         assert!(
@@ -402,7 +485,7 @@ mod tests {
     #[test]
     fn a_block_stamps_its_number_and_comment_on_its_items() {
         let src = SourceFile::new("t", "N10 M5 (stop)\n");
-        let mut r = Reader::new(&src, crate::dialect::iso::ID);
+        let mut r = Reader::new(&src, crate::dialect::iso::ID, Keep::Program);
         r.stamp_block(0, Some(5), Some("alone".into()), Span::default(), false);
         assert_eq!(r.items[0].kind, ItemKind::Comment("alone".into()));
         assert_eq!(r.items[0].block_number, Some(5));
@@ -425,7 +508,7 @@ mod tests {
     #[test]
     fn only_the_first_block_after_the_end_is_reported() {
         let src = SourceFile::new("t", "M30\nX1\nX2\n");
-        let mut r = Reader::new(&src, crate::dialect::iso::ID);
+        let mut r = Reader::new(&src, crate::dialect::iso::ID, Keep::Program);
         r.push(
             ItemKind::ProgramEnd(crate::ir::EndCode::M30),
             Span::default(),

@@ -5,7 +5,7 @@ use std::ops::Range;
 
 use super::syntax::{self, Block, Value, Word};
 use crate::diag::{Code, Diagnostic, codes};
-use crate::dialect::read::{Reader, UnsupportedWording};
+use crate::dialect::read::{Keep, Reader, UnsupportedWording};
 use crate::dialect::{Letters, Unsupported, WORD_REPORTS, budget};
 use crate::fixed::{Angle, Decimal, Lead, Length, NumberError};
 use crate::ir::{
@@ -75,8 +75,18 @@ struct FrontEnd<'a> {
 /// Reads a czech program. The program holds every item that could be read; the program is
 /// usable only when no diagnostic is an error.
 pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program, Vec<Diagnostic>) {
+    read(src, profile, options, Keep::Program)
+}
+
+/// [`parse`], keeping the program or only the diagnostics.
+pub(crate) fn read(
+    src: &SourceFile,
+    profile: &Profile,
+    options: &Options,
+    keep: Keep,
+) -> (Program, Vec<Diagnostic>) {
     let mut fe = FrontEnd {
-        r: Reader::new(src, super::ID),
+        r: Reader::new(src, super::ID, keep),
         profile,
         options,
         motion: match profile.czech.initial_motion {
@@ -91,6 +101,8 @@ pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program
     // M02/M30 end the program: blocks after it never run. **[decided]** (as LinuxCNC)
     let mut ended = false;
     for line in src.lines() {
+        // Nothing looks back past the line being read.
+        fe.r.items.line_read();
         if line.text.trim().is_empty() {
             continue;
         }

@@ -15,7 +15,7 @@ use std::ops::Range;
 use super::syntax::{self, Block, Word};
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::Unsupported;
-use crate::dialect::read::{Reader, UnsupportedWording};
+use crate::dialect::read::{Keep, Reader, UnsupportedWording};
 use crate::fixed::{Angle, Decimal, Lead, Length, NumberError, div_round};
 use crate::ir::{
     Chamfer, Compensation, Coolant, EndCode, FeedMode, ItemKind, ModalContext, Pos, Program,
@@ -131,8 +131,18 @@ pub fn parse(
     profile: &Profile,
     unsupported: Unsupported,
 ) -> (Program, Vec<Diagnostic>) {
+    read(src, profile, unsupported, Keep::Program)
+}
+
+/// [`parse`], keeping the program or only the diagnostics.
+pub(crate) fn read(
+    src: &SourceFile,
+    profile: &Profile,
+    unsupported: Unsupported,
+    keep: Keep,
+) -> (Program, Vec<Diagnostic>) {
     let mut fe = FrontEnd {
-        r: Reader::new(src, super::ID),
+        r: Reader::new(src, super::ID, keep),
         profile,
         unsupported,
         motion: Motion::Rapid,
@@ -152,6 +162,8 @@ pub fn parse(
     let mut ended = false;
     let mut percents = 0;
     for line in src.lines() {
+        // Nothing looks back past the line being read.
+        fe.r.items.line_read();
         if line.text.trim().is_empty() {
             continue;
         }

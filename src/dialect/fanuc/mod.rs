@@ -7,7 +7,7 @@ pub mod profile;
 pub mod syntax;
 
 use super::capabilities::{Capabilities, Construct, Read, Write, row};
-use super::{Dialect, DialectId, LineClaim, LineMark, Unsupported, WriteOptions, detect};
+use super::{Dialect, DialectId, Keep, LineClaim, LineMark, Unsupported, WriteOptions, detect};
 use crate::diag::{Diagnostic, codes};
 use crate::ir::Program;
 use crate::legalise::Occurrence;
@@ -103,6 +103,15 @@ impl Dialect for Fanuc {
         unsupported: Unsupported,
     ) -> (Program, Vec<Diagnostic>) {
         front::parse(src, profile, unsupported)
+    }
+
+    fn diagnostics(
+        &self,
+        src: &SourceFile,
+        profile: &Profile,
+        unsupported: Unsupported,
+    ) -> Vec<Diagnostic> {
+        front::read(src, profile, unsupported, Keep::Diagnostics).1
     }
 
     fn capabilities(&self, profile: &Profile) -> Capabilities {

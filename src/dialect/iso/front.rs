@@ -13,7 +13,7 @@ use super::control;
 use super::gcode::*;
 use super::syntax::{self, BLOCK_DELETE, Block, Word};
 use crate::diag::{Code, Diagnostic, codes};
-use crate::dialect::read::{Reader, UnsupportedWording};
+use crate::dialect::read::{Keep, Reader, UnsupportedWording};
 use crate::dialect::{Letters, Unsupported, WORD_REPORTS, budget};
 use crate::fixed::{Angle, Decimal, Lead, Length, div_round};
 use crate::ir::{
@@ -141,8 +141,13 @@ use macros::{Jump, LOOP_LIMIT};
 
 /// Reads an RS274/NGC program. The program is usable only when no diagnostic is an error.
 pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) {
+    read(src, options, Keep::Program)
+}
+
+/// [`parse`], keeping the program or only the diagnostics.
+pub(crate) fn read(src: &SourceFile, options: &Options, keep: Keep) -> (Program, Vec<Diagnostic>) {
     let mut fe = FrontEnd {
-        r: Reader::new(src, super::ID),
+        r: Reader::new(src, super::ID, keep),
         options,
         motion: None,
         diameter: None,
@@ -292,6 +297,8 @@ pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) 
         }
         first = false;
         let diags_before = fe.r.diags.len();
+        // Nothing looks back past the line being read.
+        fe.r.items.line_read();
         let items_before = fe.r.items.len();
         let block = run.block(here);
         let oword = match &*block {

@@ -12,7 +12,7 @@ mod syntax;
 pub use front::Options;
 
 use super::capabilities::{Capabilities, Construct, Read, Write, row};
-use super::{Dialect, DialectId, LineClaim, LineMark, Unsupported, WriteOptions, detect};
+use super::{Dialect, DialectId, Keep, LineClaim, LineMark, Unsupported, WriteOptions, detect};
 use crate::diag::{Diagnostic, codes};
 use crate::ir::Program;
 use crate::legalise::Occurrence;
@@ -25,6 +25,15 @@ pub const ID: DialectId = DialectId::new("iso");
 
 /// RS274/NGC as LinuxCNC reads it.
 pub struct Iso;
+
+/// The reader's options from the machine profile.
+fn options(profile: &Profile, unsupported: Unsupported) -> Options {
+    Options {
+        unsupported,
+        block_delete: profile.iso.block_delete,
+        subroutine_path: profile.iso.subroutine_path.clone(),
+    }
+}
 
 impl Dialect for Iso {
     fn id(&self) -> DialectId {
@@ -125,14 +134,16 @@ impl Dialect for Iso {
         profile: &Profile,
         unsupported: Unsupported,
     ) -> (Program, Vec<Diagnostic>) {
-        front::parse(
-            src,
-            &Options {
-                unsupported,
-                block_delete: profile.iso.block_delete,
-                subroutine_path: profile.iso.subroutine_path.clone(),
-            },
-        )
+        front::parse(src, &options(profile, unsupported))
+    }
+
+    fn diagnostics(
+        &self,
+        src: &SourceFile,
+        profile: &Profile,
+        unsupported: Unsupported,
+    ) -> Vec<Diagnostic> {
+        front::read(src, &options(profile, unsupported), Keep::Diagnostics).1
     }
 
     fn capabilities(&self, _profile: &Profile) -> Capabilities {

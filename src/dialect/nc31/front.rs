@@ -10,7 +10,7 @@ use std::ops::Range;
 use super::syntax::{self, Frame, Line as SyntaxLine, Modifier, Word};
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::Unsupported;
-use crate::dialect::read::{Reader, UnsupportedWording};
+use crate::dialect::read::{Keep, Reader, UnsupportedWording};
 use crate::fixed::{Angle, Lead, Length};
 use crate::ir::{
     Coolant, CycleChamfer, EndCode, Finish, ItemKind, ModalContext, Pos, Program, Retract, Rise,
@@ -111,8 +111,18 @@ struct FrontEnd<'a> {
 
 /// Reads an nc31 program. The program is usable only when no diagnostic is an error.
 pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program, Vec<Diagnostic>) {
+    read(src, profile, options, Keep::Program)
+}
+
+/// [`parse`], keeping the program or only the diagnostics.
+pub(crate) fn read(
+    src: &SourceFile,
+    profile: &Profile,
+    options: &Options,
+    keep: Keep,
+) -> (Program, Vec<Diagnostic>) {
     let mut fe = FrontEnd {
-        r: Reader::new(src, super::ID),
+        r: Reader::new(src, super::ID, keep),
         profile: &profile.nc31,
         options,
         feed: Feed::Unset,
@@ -129,6 +139,8 @@ pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program
     let (mut ended, mut seen) = (false, 0);
     for line in src.lines() {
         ended |= fe.r.ends_program(seen);
+        // Nothing looks back past the line being read (a group is read when it closes).
+        fe.r.items.line_read();
         seen = fe.r.items.len();
         match syntax::parse_line(line.text) {
             Ok(SyntaxLine::Frame(_)) | Err(_) if ended => fe.r.after_end(

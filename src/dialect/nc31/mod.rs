@@ -9,7 +9,7 @@ pub mod syntax;
 pub use front::Options;
 
 use super::capabilities::{Capabilities, Construct, Read, Write, row};
-use super::{Dialect, DialectId, LineClaim, LineMark, Unsupported, WriteOptions, detect};
+use super::{Dialect, DialectId, Keep, LineClaim, LineMark, Unsupported, WriteOptions, detect};
 use crate::diag::{Diagnostic, codes};
 use crate::ir::Program;
 use crate::legalise::Occurrence;
@@ -104,6 +104,15 @@ impl Dialect for Nc31 {
         unsupported: Unsupported,
     ) -> (Program, Vec<Diagnostic>) {
         front::parse(src, profile, &Options { unsupported })
+    }
+
+    fn diagnostics(
+        &self,
+        src: &SourceFile,
+        profile: &Profile,
+        unsupported: Unsupported,
+    ) -> Vec<Diagnostic> {
+        front::read(src, profile, &Options { unsupported }, Keep::Diagnostics).1
     }
 
     fn capabilities(&self, profile: &Profile) -> Capabilities {
