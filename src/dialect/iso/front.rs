@@ -264,7 +264,7 @@ pub(crate) fn read(src: &SourceFile, options: &Options, keep: Keep) -> (Program,
             if bare_percent && percent {
                 fe.push(ItemKind::Delimiter, src.line_span(line));
             } else if only_comments {
-                fe.line(line, &block, &mut params);
+                fe.line(line, block, &mut params);
             } else {
                 let span = fe.r.span(line, 0..line.text.len());
                 fe.r.after_end(
@@ -367,7 +367,7 @@ pub(crate) fn read(src: &SourceFile, options: &Options, keep: Keep) -> (Program,
             fe.report_unreadable(line, &block);
         }
         reported[f][here] = true;
-        fe.line(line, &block, &mut params);
+        fe.line(line, block, &mut params);
         // A G70–G72 line calls its contour subroutine, as `o<Q> call` there would.
         if let Some(call) = fe.cycle_call.take() {
             let level = params.frames.len();
@@ -456,6 +456,21 @@ struct Words<'b> {
     other: Letters<&'b Word>,
     /// Letters a command has read.
     used: Vec<char>,
+}
+
+/// A block's copy that its words' values are evaluated into (without its expressions,
+/// settings and O-word, which stay in the block read).
+fn evaluated_copy(source: &Block) -> Block {
+    Block {
+        number: source.number,
+        words: source.words.clone(),
+        exprs: Vec::new(),
+        settings: Vec::new(),
+        oword: None,
+        comments: source.comments.clone(),
+        unread: source.unread.clone(),
+        delimiter: source.delimiter,
+    }
 }
 
 impl<'b> Words<'b> {
@@ -692,23 +707,32 @@ impl FrontEnd<'_> {
     fn line(
         &mut self,
         line: Line<'_>,
-        parsed: &Option<Result<Block, syntax::SyntaxError>>,
+        parsed: std::borrow::Cow<'_, control::ReadLine>,
         params: &mut control::Params,
     ) {
-        let Some(Ok(block)) = parsed else {
-            return;
-        };
         // The line's words get their values here; its expressions stay where they were read.
-        let source = block;
-        let mut block = Block {
-            number: source.number,
-            words: source.words.clone(),
-            exprs: Vec::new(),
-            settings: Vec::new(),
-            oword: None,
-            comments: source.comments.clone(),
-            unread: source.unread.clone(),
-            delimiter: source.delimiter,
+        // A line read for this run alone and without expressions is taken as it is.
+        let (source, mut block) = match parsed {
+            std::borrow::Cow::Owned(Some(Ok(block)))
+                if block.exprs.is_empty() && block.settings.is_empty() =>
+            {
+                (
+                    None,
+                    Block {
+                        oword: None,
+                        ..block
+                    },
+                )
+            }
+            std::borrow::Cow::Owned(Some(Ok(source))) => {
+                let block = evaluated_copy(&source);
+                (Some(std::borrow::Cow::Owned(source)), block)
+            }
+            std::borrow::Cow::Borrowed(Some(Ok(source))) => (
+                Some(std::borrow::Cow::Borrowed(source)),
+                evaluated_copy(source),
+            ),
+            _ => return,
         };
         if let Some(at) = block.unread.iter().position(|u| u.what == BLOCK_DELETE) {
             match self.options.block_delete {
@@ -735,8 +759,9 @@ impl FrontEnd<'_> {
                 None => {}
             }
         }
-        if (!source.exprs.is_empty() || !source.settings.is_empty())
-            && let Err(e) = self.evaluate(source, &mut block.words, params)
+        if let Some(source) = source
+            && (!source.exprs.is_empty() || !source.settings.is_empty())
+            && let Err(e) = self.evaluate(&source, &mut block.words, params)
         {
             self.diag(codes::ISOR_EVAL, line, e.range, e.message, e.help);
             self.stopped = true;
