@@ -3,15 +3,14 @@
 
 use crate::diag::{Code, Diagnostic, codes};
 use crate::fixed::{Lead, Length};
-use crate::ir::{Item, Pos, Program, ThreadCycle};
+use crate::ir::{Item, Pos, ThreadCycle};
 use crate::lower::{self, Expansion};
 use crate::source::{SourceFile, Span};
 
 /// The program's items a block at a time: the items read from one source line stay
 /// together when the writer keeps the source's blocks (`keep`: the program is in the
 /// writer's own dialect), else each item is a block of its own.
-pub(crate) fn blocks(program: &Program, keep: bool) -> impl Iterator<Item = &[Item]> {
-    let items = program.items.as_slice();
+pub(crate) fn blocks(items: &[Item], keep: bool) -> impl Iterator<Item = &[Item]> {
     let mut i = 0;
     std::iter::from_fn(move || {
         let first = items.get(i)?;
@@ -194,7 +193,7 @@ impl<'a> Writer<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ir::ItemKind;
+    use crate::ir::{ItemKind, Program};
 
     #[test]
     fn blocks_keep_the_items_of_one_source_line_together_only_when_asked() {
@@ -208,7 +207,7 @@ mod tests {
             items: vec![on(1), on(1), on(2), on(3), on(3)],
         };
         let sizes = |keep| {
-            blocks(&program, keep)
+            blocks(&program.items, keep)
                 .map(<[Item]>::len)
                 .collect::<Vec<_>>()
         };

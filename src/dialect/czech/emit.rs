@@ -101,7 +101,7 @@ pub fn emit(
     };
     let reserved: Vec<u32> = params.keys().copied().collect();
     // Items of one source block stay one block when the source is czech.
-    for block in write::blocks(program, e.keep_numbers) {
+    for block in write::blocks(&program.items, e.keep_numbers) {
         e.group(block, &reserved);
     }
     let summary = e.inexact.diagnostic(

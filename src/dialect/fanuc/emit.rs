@@ -140,27 +140,34 @@ pub fn emit(
         }
     }
     e.w.out.push_str("G21 G99\n");
-    // The header's feed mode, as the reader reads it back, is not written again.
-    let mut header = true;
-    let mut rest: Vec<Item> = Vec::with_capacity(items.len());
-    for item in items {
-        if header && item.kind == ItemKind::FeedMode(FeedMode::PerRev) {
-            header = false;
-            if let Some(c) = &item.comment {
-                rest.push(Item::new(ItemKind::Comment(c.clone()), item.span));
+    // The header's feed mode, as the reader reads it back, is not written again (its
+    // comment stays, as a comment item). Only the header's items are copied for that.
+    let header_end = items
+        .iter()
+        .position(|i| !matches!(i.kind, ItemKind::Comment(_) | ItemKind::Delimiter));
+    let (mut head, tail): (Vec<Item>, &[Item]) = match header_end {
+        Some(p) if items[p].kind == ItemKind::FeedMode(FeedMode::PerRev) => {
+            let mut head = items[..p].to_vec();
+            if let Some(c) = &items[p].comment {
+                head.push(Item::new(ItemKind::Comment(c.clone()), items[p].span));
             }
-            continue;
+            (head, &items[p + 1..])
         }
-        if !matches!(item.kind, ItemKind::Comment(_) | ItemKind::Delimiter) {
-            header = false;
-        }
-        rest.push(item.clone());
-    }
-    let body = Program {
-        items: rest,
-        dialect: program.dialect,
+        _ => (Vec::new(), items),
     };
-    let groups: Vec<&[Item]> = write::blocks(&body, keep).collect();
+    // A block of the kept program's source line must not be cut in two: then the copy takes
+    // the rest too.
+    let straddles = keep
+        && matches!((head.last(), tail.first()), (Some(last), Some(next)) if last.span.line == next.span.line);
+    let tail = if straddles {
+        head.extend(tail.iter().cloned());
+        &[][..]
+    } else {
+        tail
+    };
+    let groups: Vec<&[Item]> = write::blocks(&head, keep)
+        .chain(write::blocks(tail, keep))
+        .collect();
     let mut i = 0;
     while i < groups.len() {
         let group = groups[i];

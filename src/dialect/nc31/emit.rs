@@ -65,7 +65,7 @@ pub fn emit(
     // The items of one nc31 group stay one group. A G25 reads a group again right after
     // itself (its items then share the source line): where the items start over (the
     // group's first item again, or a second move) a new group begins.
-    for block in write::blocks(program, own) {
+    for block in write::blocks(&program.items, own) {
         let mut group = Vec::new();
         let mut moved = false;
         for (i, item) in block.iter().enumerate() {
