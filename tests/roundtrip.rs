@@ -187,7 +187,7 @@ fn program(steps: &[Step], chains: bool) -> Program {
                 if radius >= 0.01 {
                     items.push(item(ItemKind::Arc {
                         to: Pos::new(ex, ez),
-                        centre: Pos::new(cx, cz),
+                        centre: Box::new(Pos::new(cx, cz)),
                         clockwise,
                         feed,
                     }));

@@ -338,7 +338,7 @@ impl<'a> Reader<'a> {
         if let Some(comment) = comment
             && !matches!(items[0].kind, ItemKind::Comment(_))
         {
-            items[0].comment = Some(comment);
+            items[0].comment = Some(comment.into());
         }
         let stamped = if every { items.len() } else { 1 };
         for item in &mut items[..stamped] {

@@ -48,7 +48,7 @@ pub struct Item {
     /// The source block number (`N335` → 335), if any.
     pub block_number: Option<u32>,
     /// The comment written on the item's block (attached to the block's first item).
-    pub comment: Option<String>,
+    pub comment: Option<Box<str>>,
 }
 
 impl Item {
@@ -589,7 +589,7 @@ pub enum ItemKind {
     /// lathe with the tool in front of the spindle axis shows Z to the right and X down.
     Arc {
         to: Pos,
-        centre: Pos,
+        centre: Box<Pos>,
         clockwise: bool,
         feed: Length,
     },
@@ -708,5 +708,18 @@ impl ItemKind {
             }
             _ => current,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A program holds an item for about every 15–25 bytes of its text: the item's size is
+    /// the reader's memory (issue 19). The large variants are boxed; this keeps them so.
+    #[test]
+    fn items_stay_small() {
+        assert!(size_of::<ItemKind>() <= 64, "{}", size_of::<ItemKind>());
+        assert!(size_of::<Item>() <= 112, "{}", size_of::<Item>());
     }
 }

@@ -441,7 +441,7 @@ impl Machine {
                 feed,
             } => {
                 let motion = Motion::Arc {
-                    centre: *centre,
+                    centre: **centre,
                     clockwise: *clockwise,
                     feed: *feed,
                     per_minute: self.per_minute,

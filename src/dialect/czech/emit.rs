@@ -351,7 +351,7 @@ impl Emitter<'_> {
     fn group(&mut self, items: &[Item], reserved: &[u32]) {
         let mut block = Block {
             number: items[0].block_number,
-            comment: items[0].comment.clone(),
+            comment: items[0].comment.as_deref().map(str::to_string),
             ..Block::default()
         };
         for item in items {
@@ -413,7 +413,7 @@ impl Emitter<'_> {
                 clockwise,
                 feed,
             } if self.profile.czech.arcs != CzechArcs::None => {
-                self.arc(item, *to, *centre, *clockwise, *feed, block)
+                self.arc(item, *to, **centre, *clockwise, *feed, block)
             }
             // Refused by legalisation (the czech table has no tap, dwell or stop, and no arc
             // unless the profile declares its form).

@@ -970,7 +970,7 @@ impl<'a> FrontEnd<'a> {
                 match self.arc(line, words, start, to, g02, code_span) {
                     Some((to, centre, clockwise)) => ItemKind::Arc {
                         to,
-                        centre,
+                        centre: Box::new(centre),
                         clockwise,
                         feed,
                     },
@@ -1537,13 +1537,13 @@ mod tests {
             let head = "N10 M03 S500 G95\nN20 G00 X20. Z0.\nN30 G01 F0.1\nN40 ";
             let src = SourceFile::new("t.nc", format!("{head}{text}\n"));
             let (p, d) = parse(&src, &profile, &Options::default());
-            let arc = p.items.iter().find_map(|i| match i.kind {
+            let arc = p.items.iter().find_map(|i| match &i.kind {
                 ItemKind::Arc {
                     to,
                     centre,
                     clockwise,
                     ..
-                } => Some((to, centre, clockwise)),
+                } => Some((*to, **centre, *clockwise)),
                 _ => None,
             });
             let first = d.iter().find(|d| d.is_error()).map(|d| d.code.id);

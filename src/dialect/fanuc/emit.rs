@@ -149,7 +149,7 @@ pub fn emit(
         Some(p) if items[p].kind == ItemKind::FeedMode(FeedMode::PerRev) => {
             let mut head = items[..p].to_vec();
             if let Some(c) = &items[p].comment {
-                head.push(Item::new(ItemKind::Comment(c.clone()), items[p].span));
+                head.push(Item::new(ItemKind::Comment(c.to_string()), items[p].span));
             }
             (head, &items[p + 1..])
         }
@@ -257,7 +257,7 @@ impl Emitter<'_> {
     fn group(&mut self, items: &[Item]) {
         let mut block = Block {
             number: items[0].block_number,
-            comment: items[0].comment.clone(),
+            comment: items[0].comment.as_deref().map(str::to_string),
             ..Block::default()
         };
         for item in items {
@@ -357,7 +357,7 @@ impl Emitter<'_> {
                 feed,
             } => {
                 self.sync_end = None;
-                self.arc(item, *to, *centre, *clockwise, *feed, block);
+                self.arc(item, *to, **centre, *clockwise, *feed, block);
             }
             ItemKind::ThreadPass(pass) => self.thread_pass(item, pass, block),
             ItemKind::ThreadCycle(cycle) => {

@@ -1145,7 +1145,7 @@ impl FrontEnd<'_> {
                     self.push(
                         ItemKind::Arc {
                             to,
-                            centre,
+                            centre: Box::new(centre),
                             clockwise,
                             feed,
                         },

@@ -224,7 +224,7 @@ impl Emitter<'_> {
                 centre,
                 clockwise,
                 feed,
-            } => self.arc(item, *to, *centre, *clockwise, *feed),
+            } => self.arc(item, *to, **centre, *clockwise, *feed),
             ItemKind::ThreadPass(pass) => self.thread_pass(item, pass),
             ItemKind::ThreadCycle(cycle) => self.thread_cycle(item, cycle),
             ItemKind::TapCycle(tap) => self.tap_cycle(item, tap),
@@ -427,7 +427,7 @@ impl Emitter<'_> {
             (ItemKind::TapCycle(_), Some(c)) if !c.contains(TAP_NOTE) => {
                 Some(format!("{TAP_NOTE}; {c}"))
             }
-            (_, c) => c.clone(),
+            (_, c) => c.as_deref().map(str::to_string),
         };
         if let Some(comment) = &comment {
             let text = comment_text(comment);

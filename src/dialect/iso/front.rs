@@ -2201,7 +2201,7 @@ impl FrontEnd<'_> {
         }
         let kind = ItemKind::Arc {
             to: end,
-            centre,
+            centre: Box::new(centre),
             clockwise,
             feed,
         };
@@ -2785,7 +2785,7 @@ mod tests {
                     centre,
                     clockwise,
                     ..
-                }) => (to, centre, clockwise),
+                }) => (to, *centre, clockwise),
                 other => panic!("{text:?}: {other:?}"),
             }
         };

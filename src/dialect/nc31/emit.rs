@@ -363,7 +363,7 @@ impl Emitter<'_> {
                         self.write(group);
                         self.feed = Some(*feed);
                     }
-                    self.arc(item.span, *to, *centre, *clockwise, direction);
+                    self.arc(item.span, *to, **centre, *clockwise, direction);
                 }
             }
             // Refused by legalisation (no dwell, arc, stop or mist on the НЦ-31).

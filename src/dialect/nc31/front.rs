@@ -1217,7 +1217,7 @@ impl<'a> FrontEnd<'a> {
         };
         let kind = ItemKind::Arc {
             to: Pos::new(ex, ez),
-            centre,
+            centre: Box::new(centre),
             clockwise,
             feed,
         };
@@ -1840,10 +1840,10 @@ mod tests {
                 &profile(direction),
                 Unsupported::Error,
             );
-            let arc = p.items.iter().find_map(|i| match i.kind {
+            let arc = p.items.iter().find_map(|i| match &i.kind {
                 ItemKind::Arc {
                     centre, clockwise, ..
-                } => Some((centre, clockwise)),
+                } => Some((**centre, *clockwise)),
                 _ => None,
             });
             (arc, d.iter().find(|d| d.is_error()).map(|d| d.code.id))

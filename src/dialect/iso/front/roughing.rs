@@ -620,7 +620,7 @@ impl FrontEnd<'_> {
                 Out::Arc { ccw, centre, end } => {
                     let kind = ItemKind::Arc {
                         to: grid(end),
-                        centre: grid(centre),
+                        centre: Box::new(grid(centre)),
                         clockwise: !ccw,
                         feed,
                     };
@@ -677,7 +677,7 @@ impl FrontEnd<'_> {
         self.push(kind.clone(), c.span);
         if let Some(item) = self.r.items.last_mut() {
             item.block_number = c.block_number;
-            item.comment = c.comment.clone();
+            item.comment = c.comment.as_deref().map(Box::from);
         }
         self.r.pos = at;
         if let Some((motion, end)) = last {
