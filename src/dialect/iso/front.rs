@@ -1051,6 +1051,9 @@ impl FrontEnd<'_> {
             ),
         ];
         for (codes_on_line, groups) in [(&words.g, &g_groups[..]), (&words.m, &m_groups[..])] {
+            if codes_on_line.len() < 2 {
+                continue;
+            }
             for &(name, members, help) in groups {
                 let mut found = codes_on_line.iter().filter(|(c, _)| members.contains(c));
                 if let (Some((_, a)), Some((_, b))) = (found.next(), found.next()) {
@@ -1330,7 +1333,7 @@ impl FrontEnd<'_> {
             self.turning = None;
             self.push(ItemKind::SpindleStop, span);
         }
-        for (code, w) in words.m.clone() {
+        for &(code, w) in &words.m {
             let coolant = match code {
                 7 => Coolant::Mist,
                 8 => Coolant::Flood,
@@ -1371,7 +1374,8 @@ impl FrontEnd<'_> {
         if words.has_g(G8).is_some() {
             self.diameter = Some(false);
         }
-        for (code, w) in words.g.clone() {
+        for i in 0..words.g.len() {
+            let (code, w) = words.g[i];
             if matches!(g_meaning(code), Meaning::Kept) {
                 // G64's tolerances belong to it.
                 let extra: Vec<&Word> = if code == G64 {
@@ -1628,7 +1632,7 @@ impl FrontEnd<'_> {
         {
             self.push(ItemKind::FeedRate(feed), span);
         }
-        for (code, w) in words.m.clone() {
+        for &(code, w) in &words.m {
             match code {
                 0 | 1 => {
                     let at = self.r.span(line, w.range.clone());

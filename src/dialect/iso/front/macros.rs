@@ -332,8 +332,10 @@ impl FrontEnd<'_> {
     /// LinuxCNC prints it (`%lf`; `######` for a parameter that has none), so that the
     /// unrolled program says what the macro said. Other comments as they are.
     pub(super) fn message(&self, text: &str, params: &Params) -> Option<String> {
-        let lower = text.to_ascii_lowercase();
-        if !(lower.starts_with("debug,") || lower.starts_with("print,")) || !text.contains('#') {
+        let tagged = text.get(..6).is_some_and(|tag| {
+            tag.eq_ignore_ascii_case("debug,") || tag.eq_ignore_ascii_case("print,")
+        });
+        if !tagged || !text.contains('#') {
             return None;
         }
         let scope = self.scope(params);
