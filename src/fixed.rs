@@ -313,27 +313,38 @@ pub enum NumberError {
 impl Decimal {
     /// Parses `[+-]digits[.digits]` or `[+-].digits`; `None` when the text is not such a number.
     pub fn parse(text: &str) -> Option<Decimal> {
+        // One pass; the digits add up in a u64 while they fit (every word of a real program),
+        // then in an i128.
         let (negative, rest) = split_sign(text)?;
-        let (int, frac, has_point) = match rest.split_once('.') {
-            Some((i, f)) => (i, f, true),
-            None => (rest, "", false),
-        };
-        if int.is_empty() && frac.is_empty() {
+        let (mut narrow, mut wide) = (0u64, None::<i128>);
+        let (mut digits, mut scale, mut has_point) = (0usize, 0u32, false);
+        for b in rest.bytes() {
+            match b {
+                b'0'..=b'9' => {
+                    let d = b - b'0';
+                    digits += 1;
+                    if has_point {
+                        scale += 1;
+                    }
+                    match wide.as_mut() {
+                        None if narrow < 1_000_000_000_000_000_000 => {
+                            narrow = narrow * 10 + d as u64
+                        }
+                        None => wide = Some(narrow as i128 * 10 + d as i128),
+                        Some(w) => *w = w.checked_mul(10)?.checked_add(d as i128)?,
+                    }
+                }
+                b'.' if !has_point => has_point = true,
+                _ => return None,
+            }
+        }
+        if digits == 0 {
             return None;
         }
-        if !int.bytes().chain(frac.bytes()).all(|b| b.is_ascii_digit()) {
-            return None;
-        }
-        let mut mantissa: i128 = 0;
-        for b in int.bytes().chain(frac.bytes()) {
-            mantissa = mantissa.checked_mul(10)?.checked_add((b - b'0') as i128)?;
-        }
-        if negative {
-            mantissa = -mantissa;
-        }
+        let mantissa = wide.unwrap_or(narrow as i128);
         Some(Decimal {
-            mantissa,
-            scale: frac.len() as u32,
+            mantissa: if negative { -mantissa } else { mantissa },
+            scale,
             has_point,
         })
     }
@@ -452,6 +463,84 @@ mod tests {
             return format!("{sign}{whole}.{frac}");
         }
         format!("{sign}{whole}.{}", frac.trim_end_matches('0'))
+    }
+
+    /// Decimal::parse as it was written first (split at the point, i128 throughout): what
+    /// the one-pass form must equal.
+    fn parse_reference(text: &str) -> Option<Decimal> {
+        let (negative, rest) = split_sign(text)?;
+        let (int, frac, has_point) = match rest.split_once('.') {
+            Some((i, f)) => (i, f, true),
+            None => (rest, "", false),
+        };
+        if int.is_empty() && frac.is_empty() {
+            return None;
+        }
+        if !int.bytes().chain(frac.bytes()).all(|b| b.is_ascii_digit()) {
+            return None;
+        }
+        let mut mantissa: i128 = 0;
+        for b in int.bytes().chain(frac.bytes()) {
+            mantissa = mantissa.checked_mul(10)?.checked_add((b - b'0') as i128)?;
+        }
+        Some(Decimal {
+            mantissa: if negative { -mantissa } else { mantissa },
+            scale: frac.len() as u32,
+            has_point,
+        })
+    }
+
+    #[test]
+    fn numbers_are_read_as_the_first_form_read_them() {
+        let long = "9".repeat(38);
+        let longer = "9".repeat(39);
+        let fixed = [
+            "",
+            "-",
+            "+",
+            ".",
+            "-.",
+            "5",
+            "-5",
+            "+5",
+            "5.",
+            ".5",
+            "-.5",
+            "00120.000",
+            "-00120.000",
+            "1.2.3",
+            "1..",
+            "..1",
+            "1-",
+            "12a",
+            "a",
+            " 1",
+            "1 ",
+            "999999999999999999",
+            "1000000000000000000",
+            "9999999999999999999",
+            "18446744073709551616",
+            "-18446744073709551617.5",
+            long.as_str(),
+            longer.as_str(),
+            "0.0000000000000000000001",
+        ];
+        for text in fixed {
+            assert_eq!(Decimal::parse(text), parse_reference(text), "{text:?}");
+        }
+        // Every string of up to 4 characters from the number alphabet.
+        let alphabet = ['0', '1', '9', '.', '-', '+', 'x'];
+        let mut texts = vec![String::new()];
+        for _ in 0..4 {
+            let next: Vec<String> = texts
+                .iter()
+                .flat_map(|t| alphabet.iter().map(move |c| format!("{t}{c}")))
+                .collect();
+            for text in &next {
+                assert_eq!(Decimal::parse(text), parse_reference(text), "{text:?}");
+            }
+            texts = next;
+        }
     }
 
     #[test]
