@@ -222,6 +222,18 @@ impl fmt::Display for Lead {
 /// Integer division rounding half away from zero.
 pub fn div_round(num: i128, den: i128) -> i128 {
     debug_assert!(den != 0);
+    // i128 division is a library call: numbers well inside i64 (every word of a program)
+    // take the machine's, which rounds the same.
+    const SMALL: i128 = 1 << 61;
+    if num.abs() < SMALL && den.abs() < SMALL {
+        let (num, den) = (num as i64, den as i64);
+        let (num, den) = if den < 0 { (-num, -den) } else { (num, den) };
+        return if num >= 0 {
+            (num + den / 2) / den
+        } else {
+            -((-num + den / 2) / den)
+        } as i128;
+    }
     let (num, den) = if den < 0 { (-num, -den) } else { (num, den) };
     if num >= 0 {
         (num + den / 2) / den
@@ -362,10 +374,15 @@ impl Decimal {
             let factor = 10i128
                 .checked_pow(self.scale - decimals)
                 .ok_or(NumberError::TooLarge)?;
-            if self.mantissa % factor != 0 {
+            // As in `div_round`: the machine's division where both fit in an i64.
+            let (rem, quot) = match (i64::try_from(self.mantissa), i64::try_from(factor)) {
+                (Ok(m), Ok(f)) => ((m % f) as i128, (m / f) as i128),
+                _ => (self.mantissa % factor, self.mantissa / factor),
+            };
+            if rem != 0 {
                 return Err(NumberError::TooPrecise { decimals });
             }
-            self.mantissa / factor
+            quot
         };
         // Keep well inside i64 so later products (lead · length) cannot overflow.
         const LIMIT: i128 = 1 << 50;
@@ -540,6 +557,52 @@ mod tests {
                 assert_eq!(Decimal::parse(text), parse_reference(text), "{text:?}");
             }
             texts = next;
+        }
+    }
+
+    #[test]
+    fn rounded_division_is_the_same_in_i64_and_i128() {
+        let reference = |num: i128, den: i128| {
+            let (num, den) = if den < 0 { (-num, -den) } else { (num, den) };
+            if num >= 0 {
+                (num + den / 2) / den
+            } else {
+                -((-num + den / 2) / den)
+            }
+        };
+        let values: [i128; 14] = [
+            0,
+            1,
+            -1,
+            2,
+            -2,
+            3,
+            5,
+            -5,
+            7,
+            10_000,
+            -254_000,
+            1 << 40,
+            (1 << 61) - 1,
+            -(1 << 61) + 1,
+        ];
+        for num in values.iter().chain(&[1 << 61, 1 << 62, -(1 << 70)]) {
+            for den in [
+                1,
+                -1,
+                2,
+                -2,
+                3,
+                7,
+                -10,
+                10_000,
+                254_000,
+                (1 << 61) - 1,
+                1 << 61,
+                1 << 65,
+            ] {
+                assert_eq!(div_round(*num, den), reference(*num, den), "{num} / {den}");
+            }
         }
     }
 

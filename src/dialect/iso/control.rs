@@ -415,7 +415,7 @@ pub fn load_externals(
         let mut calls = Vec::new();
         for line in file.lines() {
             if line.text.contains('\0')
-                || !line.text.trim_start().to_ascii_lowercase().starts_with('o')
+                || !matches!(line.text.trim_start().as_bytes().first(), Some(b'o' | b'O'))
             {
                 continue;
             }
