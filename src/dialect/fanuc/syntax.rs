@@ -71,12 +71,10 @@ fn fast_line(line: &str) -> Option<Block> {
     c.skip(blank_tab_or_cr);
     let first = c.pos;
     let mut block = Block::default();
-    if c.peek() == Some(b'%') {
-        c.pos += 1;
-        c.skip(blank_tab_or_cr);
+    if c.delimiter(blank_tab_or_cr)? {
         block.delimiter = true;
         block.code_range = first..first;
-        return c.at_end().then_some(block);
+        return Some(block);
     }
     let mut code_end = first;
     if c.peek() == Some(b'/') {
@@ -85,34 +83,16 @@ fn fast_line(line: &str) -> Option<Block> {
         code_end = c.pos;
         c.skip(blank_tab_or_cr);
     }
-    if matches!(c.peek(), Some(b'N' | b'n')) {
-        let start = c.pos;
-        c.pos += 1;
+    if let Some(digits) = c.block_number(blank_tab_or_cr) {
+        block.number = Some(line[digits].parse().ok().filter(|n| *n <= 99_999)?);
+        code_end = c.pos;
         c.skip(blank_tab_or_cr);
-        match c.digits() {
-            Some(digits) => {
-                let number = line[digits].parse().ok().filter(|n| *n <= 99_999)?;
-                block.number = Some(number);
-                code_end = c.pos;
-                c.skip(blank_tab_or_cr);
-            }
-            // `N-5` is a word N.
-            None => c.pos = start,
-        }
     }
     let mut comments: Vec<String> = Vec::new();
     while !c.at_end() {
         let start = c.pos;
         match c.peek()? {
-            b'(' => {
-                let text = &c.rest()[1..];
-                let end = text.find([')', '('])?;
-                if text.as_bytes()[end] != b')' {
-                    return None;
-                }
-                comments.extend(crate::dialect::comment_text(&text[..end]));
-                c.pos += end + 2;
-            }
+            b'(' => comments.extend(crate::dialect::comment_text(c.paren_comment()?)),
             b';' => {
                 c.pos += 1;
                 c.skip(blank_tab_or_cr);
@@ -123,8 +103,7 @@ fn fast_line(line: &str) -> Option<Block> {
             }
             b if b.is_ascii_alphabetic() => {
                 c.pos += 1;
-                c.skip(blank_tab_or_cr);
-                let value = Decimal::parse(c.number()?)?;
+                let value = c.value(blank_tab_or_cr)?;
                 block.words.push(Word {
                     letter: b.to_ascii_uppercase() as char,
                     value,
@@ -298,30 +277,10 @@ mod tests {
         assert!(parse_line("G00 Ž").is_err());
     }
 
-    use crate::dialect::lex::agreement;
-    use proptest::prelude::*;
-
-    #[test]
-    fn the_fast_path_reads_as_the_grammar_does_on_the_corpus() {
-        let (fast, read) = agreement::on_corpus(fast_line, parse_with_grammar);
-        assert!(
-            fast * 10 >= read * 9,
-            "the fast path reads {fast} of {read} lines"
-        );
-    }
-
     const TOKENS: &[&str] = &[
         " ", "\t", "\r", "/", "N", "n", "10", "0", "99999", "100000", "G", "x", "Z", "F", "-", "+",
         ".", "5", "26.618", "(", ")", "(AB)", ";", "%", "é", "#", "O",
     ];
 
-    proptest! {
-        #![proptest_config(ProptestConfig::with_cases(4000))]
-        #[test]
-        fn the_fast_path_reads_as_the_grammar_does(line in agreement::lines(TOKENS)) {
-            if let Some(parsed) = fast_line(&line) {
-                prop_assert_eq!(Ok(parsed), parse_with_grammar(&line));
-            }
-        }
-    }
+    crate::dialect::lex::agreement_tests!(fast_line, parse_with_grammar, TOKENS);
 }

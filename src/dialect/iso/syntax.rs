@@ -180,11 +180,9 @@ fn fast_line(line: &str) -> Option<Block> {
     let mut c = Cursor::new(line);
     c.skip(blank_tab_or_cr);
     let mut block = Block::default();
-    if c.peek() == Some(b'%') {
-        c.pos += 1;
-        c.skip(blank_tab_or_cr);
+    if c.delimiter(blank_tab_or_cr)? {
         block.delimiter = true;
-        return c.at_end().then_some(block);
+        return Some(block);
     }
     if c.peek() == Some(b'/') {
         block.unread.push(Unread {
@@ -194,37 +192,20 @@ fn fast_line(line: &str) -> Option<Block> {
         c.pos += 1;
         c.skip(blank_tab_or_cr);
     }
-    if matches!(c.peek(), Some(b'N' | b'n')) {
-        let start = c.pos;
-        c.pos += 1;
-        c.skip(blank_tab_or_cr);
-        match c.digits() {
-            Some(digits) => {
-                block.number = Some(line[digits].parse().ok()?);
-                if c.peek() == Some(b'.') {
-                    c.pos += 1;
-                    c.digits()?;
-                }
-                c.skip(blank_tab_or_cr);
-            }
-            // `N-5` is a word N.
-            None => c.pos = start,
+    if let Some(digits) = c.block_number(blank_tab_or_cr) {
+        block.number = Some(line[digits].parse().ok()?);
+        if c.peek() == Some(b'.') {
+            c.pos += 1;
+            c.digits()?;
         }
+        c.skip(blank_tab_or_cr);
     }
     while !c.at_end() {
         let start = c.pos;
         match c.peek()? {
-            b'(' => {
-                let text = &c.rest()[1..];
-                let end = text.find([')', '('])?;
-                if text.as_bytes()[end] != b')' {
-                    return None;
-                }
-                block
-                    .comments
-                    .extend(crate::dialect::comment_text(&text[..end]));
-                c.pos += end + 2;
-            }
+            b'(' => block
+                .comments
+                .extend(crate::dialect::comment_text(c.paren_comment()?)),
             b';' => {
                 block
                     .comments
@@ -234,8 +215,7 @@ fn fast_line(line: &str) -> Option<Block> {
             b'O' | b'o' => return None,
             b if b.is_ascii_alphabetic() => {
                 c.pos += 1;
-                c.skip(blank_tab_or_cr);
-                let value = Decimal::parse(c.number()?)?;
+                let value = c.value(blank_tab_or_cr)?;
                 block.words.push(Word {
                     letter: b.to_ascii_uppercase() as char,
                     value,
@@ -649,18 +629,6 @@ mod tests {
         assert_eq!(e.offset, 3);
     }
 
-    use crate::dialect::lex::agreement;
-    use proptest::prelude::*;
-
-    #[test]
-    fn the_fast_path_reads_as_the_grammar_does_on_the_corpus() {
-        let (fast, read) = agreement::on_corpus(fast_line, parse_with_grammar);
-        assert!(
-            fast * 10 >= read * 9,
-            "the fast path reads {fast} of {read} lines"
-        );
-    }
-
     const TOKENS: &[&str] = &[
         " ",
         "\t",
@@ -697,13 +665,5 @@ mod tests {
         "sub",
     ];
 
-    proptest! {
-        #![proptest_config(ProptestConfig::with_cases(4000))]
-        #[test]
-        fn the_fast_path_reads_as_the_grammar_does(line in agreement::lines(TOKENS)) {
-            if let Some(parsed) = fast_line(&line) {
-                prop_assert_eq!(Ok(parsed), parse_with_grammar(&line));
-            }
-        }
-    }
+    crate::dialect::lex::agreement_tests!(fast_line, parse_with_grammar, TOKENS);
 }

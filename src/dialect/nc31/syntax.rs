@@ -130,11 +130,7 @@ fn fast_line(line: &str) -> Option<Line> {
             let text = text.strip_suffix(')').unwrap_or(text).trim_end();
             return Some(crate::dialect::comment_text(text).map_or(Line::Empty, Line::Comment));
         }
-        Some(b'%') => {
-            c.pos += 1;
-            c.skip(blank_or_tab);
-            return c.at_end().then_some(Line::Delimiter);
-        }
+        Some(b'%') => return c.delimiter(blank_or_tab)?.then_some(Line::Delimiter),
         _ => {}
     }
     let first = c.pos;
@@ -488,18 +484,6 @@ mod tests {
         assert!(e.message.contains("`;`"), "{}", e.message);
     }
 
-    use crate::dialect::lex::agreement;
-    use proptest::prelude::*;
-
-    #[test]
-    fn the_fast_path_reads_as_the_grammar_does_on_the_corpus() {
-        let (fast, read) = agreement::on_corpus(fast_line, parse_with_grammar);
-        assert!(
-            fast * 10 >= read * 9,
-            "the fast path reads {fast} of {read} lines"
-        );
-    }
-
     const TOKENS: &[&str] = &[
         " ",
         "\t",
@@ -535,13 +519,5 @@ mod tests {
         "3600",
     ];
 
-    proptest! {
-        #![proptest_config(ProptestConfig::with_cases(4000))]
-        #[test]
-        fn the_fast_path_reads_as_the_grammar_does(line in agreement::lines(TOKENS)) {
-            if let Some(parsed) = fast_line(&line) {
-                prop_assert_eq!(Ok(parsed), parse_with_grammar(&line));
-            }
-        }
-    }
+    crate::dialect::lex::agreement_tests!(fast_line, parse_with_grammar, TOKENS);
 }
