@@ -174,6 +174,7 @@ fn read_back(output: String, options: &ConvertOptions) -> (String, Option<Diagno
     (out.text, refusal)
 }
 
+/// The read-back's first error as an LG004 refusal that points into the output.
 fn refusal(diags: Vec<Diagnostic>, options: &ConvertOptions) -> Option<Diagnostic> {
     let first = diags.into_iter().find(|d| d.is_error())?;
     let mut refusal = Diagnostic::new(

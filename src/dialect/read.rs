@@ -196,11 +196,13 @@ impl Items {
 
     /// The items from index `first` on.
     pub fn get(&self, first: std::ops::RangeFrom<usize>) -> Option<&[Item]> {
-        debug_assert!(
-            first.start >= self.dropped,
-            "an item of a line already let go of"
-        );
-        self.held.get(first.start.saturating_sub(self.dropped)..)
+        self.held.get(self.held_index(first.start)..)
+    }
+
+    /// Where item `i` stands in `held`.
+    fn held_index(&self, i: usize) -> usize {
+        debug_assert!(i >= self.dropped, "an item of a line already let go of");
+        i.saturating_sub(self.dropped)
     }
 
     /// A line is read, and nothing will look at its items again: they are dropped when
@@ -221,6 +223,7 @@ impl std::ops::Index<std::ops::RangeFrom<usize>> for Items {
     }
 }
 
+#[cfg(test)]
 impl std::ops::Index<usize> for Items {
     type Output = Item;
 
@@ -231,11 +234,7 @@ impl std::ops::Index<usize> for Items {
 
 impl std::ops::IndexMut<std::ops::RangeFrom<usize>> for Items {
     fn index_mut(&mut self, range: std::ops::RangeFrom<usize>) -> &mut [Item] {
-        debug_assert!(
-            range.start >= self.dropped,
-            "an item of a line already let go of"
-        );
-        let start = range.start.saturating_sub(self.dropped);
+        let start = self.held_index(range.start);
         self.held.get_mut(start..).unwrap_or(&mut [])
     }
 }
