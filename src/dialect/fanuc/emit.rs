@@ -816,6 +816,26 @@ mod tests {
         )
     }
 
+    /// The frame's `G21 G99` stands for the source's header feed mode, which is not written
+    /// again; a source line that holds it with a move stays one block, with its comment.
+    #[test]
+    fn the_header_feed_mode_is_not_written_again_and_its_line_stays_one_block() {
+        let src = SourceFile::new(
+            "t.nc",
+            "%\nO0001\n(HEADER)\nG99 (FEED) G0 X20. Z5.\nS500 M3\nG1 Z-10. F0.2\nM30\n%\n",
+        );
+        let (program, diags) = super::super::front::parse(
+            &src,
+            &Profile::default(),
+            crate::dialect::Unsupported::Error,
+        );
+        assert!(!crate::diag::has_errors(&diags), "{diags:?}");
+        let (out, diags) = emit(&program, &src, &Profile::default(), false);
+        let out = out.unwrap_or_else(|| panic!("{diags:?}"));
+        assert_eq!(out.matches("G99").count(), 1, "{out}");
+        assert!(out.contains("\n(HEADER)\nG00 X20. Z5. (FEED)\n"), "{out}");
+    }
+
     #[test]
     fn comments_are_upper_case_ascii_without_parentheses() {
         assert_eq!(comment_text("závit (Ø20) ok"), "ZAVIT [O20] OK");
