@@ -87,6 +87,7 @@ fn every_macro_program_runs_as_rs274_runs_it() {
 #[test]
 fn macro_refusals_name_their_code() {
     let expected = [
+        ("corpus/bad/iso/macro-continue-in-repeat.ngc", "ISOR017"),
         ("corpus/bad/iso/macro-div-zero.ngc", "ISOR018"),
         ("corpus/bad/iso/macro-endless-recursion.ngc", "ISOR017"),
         ("corpus/bad/iso/macro-endless-while.ngc", "ISOR017"),

@@ -63,10 +63,13 @@ pub enum Flow {
     Break {
         start: usize,
         end: usize,
+        /// The loop is a `repeat` (LinuxCNC refuses the line when it reaches it).
+        repeat: bool,
     },
     Continue {
         start: usize,
         end: usize,
+        repeat: bool,
     },
 }
 
@@ -85,6 +88,10 @@ pub struct Structure {
     pub flow: HashMap<usize, Flow>,
     /// `o<name> sub` / `o100 sub`: the definition's first line.
     pub subs: HashMap<Label, usize>,
+    /// For each O-word line, the next O-word line of the same label in the file: where
+    /// LinuxCNC's skipping to a label stops (`break`, `continue`, a false `while`, a
+    /// `repeat` that has run its count).
+    pub next_same: HashMap<usize, usize>,
     pub errors: Vec<StructureError>,
 }
 
@@ -103,11 +110,15 @@ impl Structure {
     pub fn of(blocks: &[Option<&Block>]) -> Structure {
         let mut s = Structure::default();
         let mut stack: Vec<Open> = Vec::new();
+        let mut last: HashMap<Label, usize> = HashMap::new();
         for (i, block) in blocks.iter().enumerate() {
             let Some(o) = block.and_then(|b| b.oword.as_ref()) else {
                 continue;
             };
             let label = o.label.clone();
+            if let Some(before) = last.insert(label.clone(), i) {
+                s.next_same.insert(before, i);
+            }
             let open = |keyword| Open {
                 label: label.clone(),
                 keyword,
@@ -279,14 +290,15 @@ impl Structure {
     }
 
     fn resolve_exits(&mut self, t: &Open, end: usize) {
+        let repeat = t.keyword == Keyword::Repeat;
         for &(line, brk) in &t.exits {
             let (start, end) = (t.line, end);
             self.flow.insert(
                 line,
                 if brk {
-                    Flow::Break { start, end }
+                    Flow::Break { start, end, repeat }
                 } else {
-                    Flow::Continue { start, end }
+                    Flow::Continue { start, end, repeat }
                 },
             );
         }
@@ -507,6 +519,15 @@ pub struct Params {
     pub value_returned: bool,
     /// The `elseif`/`else` line a failed test sent control to: it tests (or runs).
     pub testing: Option<usize>,
+    /// Control skipped to the O-word line it reaches next (LinuxCNC's `skipping_o`: a
+    /// `break`, a `continue`, a false `while`, a `repeat` that has run its count).
+    pub skipping: bool,
+    /// LinuxCNC's `doing_break` and `doing_continue`: set by `break` and `continue`, and
+    /// cleared only where 2.9's interpreter clears them (the end of a `do` loop that does
+    /// not go round again; an `endwhile`/`endrepeat` reached by skipping), so that a flag
+    /// left set changes a later loop exactly as it does in LinuxCNC.
+    pub doing_break: bool,
+    pub doing_continue: bool,
     /// Subroutine definitions (file, line) passed in sequence or called.
     pub passed: std::collections::HashSet<(usize, usize)>,
     /// The modal state M70/M73 saved at each call level (0: the program), and whether the
@@ -548,6 +569,9 @@ impl Default for Params {
             value: 0.0,
             value_returned: false,
             testing: None,
+            skipping: false,
+            doing_break: false,
+            doing_continue: false,
             passed: Default::default(),
             contexts: HashMap::new(),
         }
@@ -643,10 +667,24 @@ mod tests {
         assert!(s.errors.is_empty(), "{:?}", s.errors);
         assert_eq!(s.flow[&0], Flow::Sub { end: 5 });
         assert_eq!(s.flow[&1], Flow::While { end: 3 });
-        assert_eq!(s.flow[&2], Flow::Break { start: 1, end: 3 });
+        assert_eq!(
+            s.flow[&2],
+            Flow::Break {
+                start: 1,
+                end: 3,
+                repeat: false
+            }
+        );
         assert_eq!(s.flow[&4], Flow::Return { start: 0 });
         assert_eq!(s.flow[&6], Flow::Do { close: 8 });
-        assert_eq!(s.flow[&7], Flow::Continue { start: 6, end: 8 });
+        assert_eq!(
+            s.flow[&7],
+            Flow::Continue {
+                start: 6,
+                end: 8,
+                repeat: false
+            }
+        );
         assert_eq!(
             s.flow[&9],
             Flow::If {

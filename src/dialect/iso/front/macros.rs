@@ -193,11 +193,22 @@ impl FrontEnd<'_> {
         let (x, z) = self.exact_start();
         // In the program's coordinates: less the G52/G92 offset.
         let (dx, dz) = self.axis_offset;
+        let (x, z) = match self.contour.as_deref() {
+            // Inside a G7x contour: the contour's current point.
+            Some(c) => {
+                let (x, z) = c.current(self.axis_offset);
+                (Some(x), Some(z))
+            }
+            None => (
+                x.map(|x| (x - dx) / 2.0 / unit),
+                z.map(|z| (z - dz) / unit),
+            ),
+        };
         Scope {
             params,
             system: System {
-                x: x.map(|x| (x - dx) / 2.0 / unit),
-                z: z.map(|z| (z - dz) / unit),
+                x,
+                z,
                 inch: self.inch,
                 incremental: self.incremental,
                 feed: self.feed.map(|f| f.to_mm_f64() / unit),
@@ -604,6 +615,38 @@ impl FrontEnd<'_> {
             }
         };
         let flow = structure.flow.get(&at);
+        // Reached by skipping to this label (LinuxCNC's `skipping_o`)?
+        let skipped = std::mem::take(&mut params.skipping);
+        // Skip on to the next line of this label.
+        let skip = |params: &mut Params| -> Result<Jump, StructureError> {
+            match structure.next_same.get(&at) {
+                Some(&next) => {
+                    params.skipping = true;
+                    Ok(Jump::Here(next))
+                }
+                None => Err(error(
+                    o.range.clone(),
+                    format!(
+                        "File ended with no percent sign or program end: LinuxCNC skips from {} {} to the next line of {0}, and there is none",
+                        o.label,
+                        o.keyword.name()
+                    ),
+                    "close the loop with its end of the same label",
+                )),
+            }
+        };
+        let not_a_loop = |start: usize| {
+            let line = runs[file].lines[start].number;
+            error(
+                o.range.clone(),
+                format!(
+                    "no matching while/do label: '{} {}' (found 'repeat' in line {line}): LinuxCNC has no `{1}` for a `repeat`",
+                    o.label,
+                    o.keyword.name()
+                ),
+                "leave a `repeat` by a `while` loop with the count in a parameter, or by an `if` around its body",
+            )
+        };
         Ok(match (o.keyword, flow) {
             // A definition is passed once; reaching it again (a loop, or after a call
             // that found it further down) is LinuxCNC's "found in illegal location".
@@ -732,23 +775,38 @@ impl FrontEnd<'_> {
                 }
             }
             (Keyword::EndIf, _) => Jump::Next,
-            (Keyword::While, Some(Flow::While { end })) => {
+            (Keyword::While, Some(Flow::While { .. })) => {
                 if condition(self, params)? {
                     Jump::Next
                 } else {
-                    Jump::Here(end + 1)
+                    skip(params)?
                 }
             }
-            (Keyword::EndWhile, Some(Flow::EndWhile { start })) => Jump::Loop(*start),
+            // LinuxCNC's `endwhile`/`endrepeat`: reached by skipping, it ends the loop, unless
+            // a `continue` is pending (then the loop goes round, and the flag is cleared);
+            // reached in sequence, back to the loop's first line.
+            (
+                Keyword::EndWhile | Keyword::EndRepeat,
+                Some(Flow::EndWhile { start } | Flow::EndRepeat { start }),
+            ) => {
+                if skipped && !std::mem::take(&mut params.doing_continue) {
+                    Jump::Next
+                } else {
+                    Jump::Loop(*start)
+                }
+            }
             (Keyword::Do, _) => Jump::Next,
             (Keyword::While, Some(Flow::DoWhile { start })) => {
-                if condition(self, params)? {
+                if condition(self, params)? && !params.doing_break {
                     Jump::Loop(start + 1)
                 } else {
+                    params.doing_break = false;
                     Jump::Next
                 }
             }
-            (Keyword::Repeat, Some(Flow::Repeat { end })) => {
+            // The count is taken when the loop starts (and again once it has run out), and
+            // counted down at its first line, as LinuxCNC's `repeat_count`.
+            (Keyword::Repeat, Some(Flow::Repeat { .. })) => {
                 let count = arg(self, params, 0)?.ok_or_else(|| {
                     error(
                         o.range.clone(),
@@ -756,30 +814,32 @@ impl FrontEnd<'_> {
                         "write the count in brackets: `o100 repeat [3]`",
                     )
                 })?;
-                let count = count.round() as i64;
-                if count <= 0 {
-                    Jump::Here(end + 1)
-                } else {
-                    params.repeats_mut().insert(at, count);
-                    Jump::Next
-                }
-            }
-            (Keyword::EndRepeat, Some(Flow::EndRepeat { start })) => {
-                let left = params.repeats_mut().get(start).copied().unwrap_or(1) - 1;
+                let left = match params.repeats_mut().get(&at) {
+                    Some(&left) => left,
+                    None => count.round() as i64,
+                };
                 if left > 0 {
-                    params.repeats_mut().insert(*start, left);
-                    Jump::Loop(start + 1)
-                } else {
-                    params.repeats_mut().remove(start);
+                    params.repeats_mut().insert(at, left - 1);
                     Jump::Next
+                } else {
+                    params.repeats_mut().remove(&at);
+                    skip(params)?
                 }
             }
-            (Keyword::Break, Some(Flow::Break { start, end })) => {
-                params.repeats_mut().remove(start);
-                Jump::Here(end + 1)
+            (Keyword::Break | Keyword::Continue, Some(Flow::Break { start, repeat: true, .. } | Flow::Continue { start, repeat: true, .. })) => {
+                return Err(not_a_loop(*start));
             }
-            // On to the loop's end, which tests or counts.
-            (Keyword::Continue, Some(Flow::Continue { end, .. })) => Jump::Here(*end),
+            (Keyword::Break, Some(Flow::Break { .. })) => {
+                params.doing_break = true;
+                skip(params)?
+            }
+            // Already skipping to this label, a `continue` does nothing.
+            (Keyword::Continue, Some(Flow::Continue { .. })) => {
+                if !skipped {
+                    params.doing_continue = true;
+                }
+                skip(params)?
+            }
             _ => {
                 return Err(error(
                     o.range.clone(),

@@ -39,6 +39,20 @@ pub(super) struct Contour {
     absolute_centres: bool,
 }
 
+impl Contour {
+    /// The contour's current point in the program's coordinates (program units, X a radius,
+    /// less the G52/G92 `offset` in mm, X a diameter): what `#<_x>`, `#<_z>`, #5420 and
+    /// #5422 read on a contour line. LinuxCNC's cycle moves its current position to the end
+    /// of each element as it reads the contour (`convert_g7x`), so a contour line may build
+    /// on the one before it (LinuxCNC's `lathe_g7x_face_boring.ngc` does).
+    pub(super) fn current(&self, offset: (f64, f64)) -> (f64, f64) {
+        (
+            self.at.im - offset.0 / 2.0 * self.unit,
+            self.at.re - offset.1 * self.unit,
+        )
+    }
+}
+
 /// The G code's name as LinuxCNC prints it in its messages: `G71.0`.
 fn dotted(code: GCode) -> String {
     format!("G{}.{}", code / 10, code % 10)
