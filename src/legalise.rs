@@ -245,6 +245,7 @@ mod tests {
     fn check_kinds(kinds: Vec<ItemKind>) -> Vec<String> {
         let program = Program {
             dialect: crate::dialect::iso::ID,
+            library: Vec::new(),
             items: kinds
                 .into_iter()
                 .map(|k| Item::new(k, Span::default()))

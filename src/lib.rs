@@ -113,7 +113,7 @@ pub fn emit(
 /// INP001 when `src` holds no program: its reading made nothing (blank lines, an empty
 /// comment).
 fn empty_input(src: &SourceFile, program: &Program) -> Option<Diagnostic> {
-    program.items.is_empty().then(|| {
+    (program.items.is_empty() && program.library.is_empty()).then(|| {
         let what = if src.text.trim().is_empty() {
             "it is empty"
         } else {
@@ -131,6 +131,9 @@ fn empty_input(src: &SourceFile, program: &Program) -> Option<Diagnostic> {
 pub fn convert(src: &SourceFile, options: &ConvertOptions) -> Conversion {
     let (program, mut diagnostics) =
         parse(src, options.from, &options.profile, options.unsupported);
+    if !diag::has_errors(&diagnostics) && !program.library.is_empty() {
+        return library(src, &program, options, diagnostics);
+    }
     if !diag::has_errors(&diagnostics)
         && let Some(empty) = empty_input(src, &program)
     {
@@ -161,6 +164,47 @@ pub fn convert(src: &SourceFile, options: &ConvertOptions) -> Conversion {
     diag::sort(&mut diagnostics);
     Conversion {
         output,
+        diagnostics,
+    }
+}
+
+/// A subroutine library (`Program::library`): nothing in it runs until a program calls it,
+/// so there is no motion to convert. Its own dialect keeps it as it is, byte for byte; any
+/// other target refuses it by name (LG005): the caller is what converts, with the library on
+/// its subroutine path, and the subroutines it calls are then unrolled into its output.
+fn library(
+    src: &SourceFile,
+    program: &Program,
+    options: &ConvertOptions,
+    mut diagnostics: Vec<Diagnostic>,
+) -> Conversion {
+    let names: Vec<&str> = program.library.iter().map(|(n, _)| n.as_str()).collect();
+    let names = names.join(", ");
+    if options.to == program.dialect {
+        diag::sort(&mut diagnostics);
+        return Conversion {
+            output: Some(src.text.clone()),
+            diagnostics,
+        };
+    }
+    diagnostics.push(
+        Diagnostic::new(
+            diag::codes::LIBRARY,
+            format!(
+                "{} is a subroutine library ({names}): it runs nothing until a program calls it, and a {} program cannot hold {} subroutines",
+                src.name, options.to, program.dialect
+            ),
+        )
+        .at(src, program.library[0].1)
+        .label("the first definition")
+        .help(format!(
+            "convert the program that calls it, with this file's folder on --subroutine-path: its calls are unrolled into that output; --to {} keeps the library as it is",
+            program.dialect
+        )),
+    );
+    diag::sort(&mut diagnostics);
+    Conversion {
+        output: None,
         diagnostics,
     }
 }
@@ -472,5 +516,47 @@ mod tests {
         assert_eq!((at.file.as_str(), at.line), ("(czech output)", 3));
         let text = "N10 S500 M03\nN20 M02\n".to_string();
         assert!(read_back(text, &options(dialect::czech::ID)).1.is_none());
+    }
+}
+
+#[cfg(test)]
+mod library_tests {
+    use super::*;
+
+    fn options(to: DialectId) -> ConvertOptions {
+        ConvertOptions {
+            from: dialect::iso::ID,
+            to,
+            profile: Profile::default(),
+            unsupported: Unsupported::Error,
+            renumber: Default::default(),
+            round: false,
+            nc31_comments: false,
+        }
+    }
+
+    /// A library whose first line is its first definition (no comment, no `%`): iso → iso
+    /// keeps it as it is (it was INP001 "holds no program"); another target refuses it by
+    /// name at that line.
+    #[test]
+    fn a_subroutine_library_is_kept_or_refused_by_name() {
+        let text = "o<x> sub\n  G1 X#1 F0.1\no<x> endsub\n\no<y> sub\n  G0 Z#1\no<y> endsub\n";
+        let src = SourceFile::new("lib.ngc", text.to_string());
+        let kept = convert(&src, &options(dialect::iso::ID));
+        assert_eq!(kept.output.as_deref(), Some(text), "{:?}", kept.diagnostics);
+        assert!(kept.diagnostics.is_empty(), "{:?}", kept.diagnostics);
+        for to in [dialect::fanuc::ID, dialect::czech::ID, dialect::nc31::ID] {
+            let refused = convert(&src, &options(to));
+            assert!(refused.output.is_none());
+            let first = &refused.diagnostics[0];
+            assert_eq!(first.code.id, "LG005", "{first:?}");
+            assert!(first.message.contains("o<x>, o<y>"), "{}", first.message);
+            assert_eq!(first.location.as_ref().map(|l| l.line), Some(1));
+        }
+        // A program that defines a subroutine and calls it is no library.
+        let program = format!("{text}G7 G18 G21 G95\no<y> call [5]\nM2\n");
+        let src = SourceFile::new("p.ngc", program);
+        let c = convert(&src, &options(dialect::fanuc::ID));
+        assert!(c.diagnostics.iter().all(|d| d.code.id != "LG005"));
     }
 }

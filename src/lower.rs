@@ -1230,5 +1230,6 @@ pub fn unroll(program: &crate::ir::Program) -> std::borrow::Cow<'_, crate::ir::P
     std::borrow::Cow::Owned(Program {
         items,
         dialect: program.dialect,
+        library: Vec::new(),
     })
 }

@@ -199,6 +199,7 @@ fn program(steps: &[Step], chains: bool) -> Program {
     Program {
         items,
         dialect: ncthread::dialect::iso::ID,
+        library: Vec::new(),
     }
 }
 
@@ -297,6 +298,7 @@ proptest! {
         let p = program(&steps, false);
         let p = Program {
             dialect: p.dialect,
+            library: Vec::new(),
             items: p
                 .items
                 .into_iter()

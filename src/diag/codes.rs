@@ -427,6 +427,10 @@ pub const OUTPUT_UNREADABLE: Code = error(
     "LG004",
     "the output would be refused by ncthread's own reader of the target dialect",
 );
+pub const LIBRARY: Code = error(
+    "LG005",
+    "a subroutine library (definitions only) runs nothing until a program calls it: only its own dialect keeps it",
+);
 pub const CYCLE_INVALID: Code = error(
     "LW001",
     "a thread cycle cannot be expanded into passes (depths, lead, travel)",
@@ -561,6 +565,7 @@ pub const ALL: &[Code] = &[
     FEED_SPINDLE_OFF,
     OPAQUE_MEANING,
     OUTPUT_UNREADABLE,
+    LIBRARY,
     CYCLE_INVALID,
     SIM_UNKNOWN,
     SIM_INDEX_WAIT,

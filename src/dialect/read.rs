@@ -273,6 +273,7 @@ impl<'a> Reader<'a> {
             Program {
                 items: self.items.held,
                 dialect: self.dialect,
+                library: Vec::new(),
             },
             self.diags,
         )

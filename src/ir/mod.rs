@@ -37,6 +37,11 @@ pub struct Program {
     /// that share a source block, and comment lines are that dialect's. A writer of the same
     /// dialect may keep them as they were.
     pub dialect: DialectId,
+    /// A file of subroutine definitions and nothing else (a library, as ngcgui and
+    /// LinuxCNC's lathe macros ship them): the names it defines. It runs nothing until a
+    /// program calls it, so its items are empty; empty for a program. Each with the span
+    /// of its definition's first line.
+    pub library: Vec<(String, Span)>,
 }
 
 /// One item with where it came from.

@@ -850,6 +850,7 @@ mod tests {
     fn program(kinds: Vec<ItemKind>) -> Program {
         Program {
             dialect: crate::dialect::iso::ID,
+            library: Vec::new(),
             items: kinds
                 .into_iter()
                 .enumerate()

@@ -803,6 +803,7 @@ mod tests {
     fn write(kinds: Vec<ItemKind>) -> (Option<String>, Vec<Diagnostic>) {
         let program = Program {
             dialect: crate::dialect::iso::ID,
+            library: Vec::new(),
             items: kinds
                 .into_iter()
                 .map(|k| Item::new(k, Span::default()))

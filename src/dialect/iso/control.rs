@@ -403,6 +403,39 @@ impl<'s> FileRun<'s> {
         }
     }
 
+    /// The subroutines of a file that holds definitions and nothing else (a library): every
+    /// line outside `sub` … `endsub` is blank, a `%` or comments only. `None` for a program
+    /// (or a file whose structure is broken).
+    pub fn library(&self) -> Option<Vec<(String, crate::source::Span)>> {
+        if self.structure.subs.is_empty() || !self.structure.errors.is_empty() {
+            return None;
+        }
+        let mut i = 0;
+        while i < self.lines.len() {
+            if let Some(Flow::Sub { end }) = self.structure.flow.get(&i) {
+                i = end + 1;
+                continue;
+            }
+            let only_comments = matches!(&*self.block(i), Some(Ok(b)) if b.is_empty() && b.number.is_none());
+            if !(self.blank[i] || self.percent[i] || only_comments) {
+                return None;
+            }
+            i += 1;
+        }
+        let mut subs: Vec<(usize, String)> = self
+            .structure
+            .subs
+            .iter()
+            .map(|(label, &line)| (line, label.to_string()))
+            .collect();
+        subs.sort();
+        Some(
+            subs.into_iter()
+                .map(|(line, name)| (name, self.src.line_span(self.lines[line])))
+                .collect(),
+        )
+    }
+
     /// Whether line `i` was read up front as a line that cannot be read.
     pub fn unreadable_up_front(&self, i: usize) -> bool {
         matches!(self.read.get(i), Some(Some(b)) if matches!(**b, Some(Err(_))))

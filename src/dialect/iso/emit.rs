@@ -637,6 +637,7 @@ mod tests {
                 item(ItemKind::ThreadCycle(Box::new(cycle))),
             ],
             dialect: crate::dialect::nc31::ID,
+            library: Vec::new(),
         };
         let (out, diags) = emit(&program, &src, &Profile::default());
         assert!(out.is_none());

@@ -427,7 +427,7 @@ pub(crate) fn read(src: &SourceFile, options: &Options, keep: Keep) -> (Program,
         );
     }
     // A run that an error stopped says so already.
-    if ended.is_none() && !fe.stopped && !fe.r.items.is_empty() {
+    if ended.is_none() && !fe.stopped && !fe.r.items.is_empty() && runs[0].library().is_none() {
         let last = src.lines().filter(|l| !l.text.trim().is_empty()).last();
         if let Some(line) = last {
             fe.diag(
@@ -443,7 +443,10 @@ pub(crate) fn read(src: &SourceFile, options: &Options, keep: Keep) -> (Program,
             );
         }
     }
-    fe.r.finish()
+    let library = runs[0].library();
+    let (mut program, diags) = fe.r.finish();
+    program.library = library.unwrap_or_default();
+    (program, diags)
 }
 
 /// The words of one line, sorted by what reads them.

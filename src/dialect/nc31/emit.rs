@@ -849,6 +849,7 @@ mod tests {
                 .map(|k| Item::new(k, Span::default()))
                 .collect(),
             dialect: crate::dialect::iso::ID,
+            library: Vec::new(),
         };
         // As a conversion does: legalisation for the НЦ-31, then the writer.
         let mut diags =
@@ -1081,6 +1082,7 @@ mod tests {
                 })
                 .collect(),
             dialect: crate::dialect::iso::ID,
+            library: Vec::new(),
         };
         let (out, diags) = emit(
             &program,
@@ -1220,6 +1222,7 @@ mod tests {
             .map(|k| Item::new(k, Span::default()))
             .collect(),
             dialect: crate::dialect::iso::ID,
+            library: Vec::new(),
         };
         let (out, _) = emit(
             &program,
