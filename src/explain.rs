@@ -2,7 +2,7 @@
 //! roughing or finishing cycle with its cuts.
 //!
 //! The passes come from the one expansion ([`crate::lower::expand`]) and the phases from the
-//! simulator ([`crate::sim::pass_phase`]): nothing here computes a schedule or a helix of
+//! simulator (`sim::angle_at`, the simulator's phase rule): nothing here computes a schedule or a helix of
 //! its own. A thread written as single passes (czech G33 blocks, НЦ-31 G32 frames, LinuxCNC
 //! G33 lines) is recognised as one operation: consecutive passes with one lead, spindle
 //! direction and cutting direction over overlapping Z, with only rapids, feeds and comments
@@ -65,7 +65,7 @@ pub enum CrestSource {
 
 /// The hand of a thread, from the spindle direction and the direction of the cut: M3
 /// cutting towards −Z (towards the chuck) cuts a right-hand thread; reversing either one
-/// reverses the hand. **[decided]** after common lathe practice (M3 is the spindle's
+/// reverses the hand. **\[decided\]** after common lathe practice (M3 is the spindle's
 /// forward direction).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Hand {

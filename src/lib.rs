@@ -1,17 +1,70 @@
-//! ncthread: lathe thread-cutting programs between the czech control, the НЦ-31 and ISO
-//! G-code, through one thread-operation IR. Exact or refused.
+//! ncthread: lathe thread-cutting programs between the czech control, the НЦ-31, LinuxCNC's
+//! ISO G-code and FANUC lathe G-code, through one thread-operation IR. Exact or refused.
 //!
 //! The stages are public functions: [`parse`] (text → [`ir::Program`]), [`emit`]
-//! (program → text), and [`convert`] (both). Every problem is a [`diag::Diagnostic`].
+//! (program → text), [`convert`] (both, and the output read back), [`check`] (every
+//! diagnostic without writing) and [`verify`] (both programs simulated and compared). Every
+//! problem is a [`diag::Diagnostic`] with a code, a place and a help text.
+//!
+//! Convert a program:
+//!
+//! ```
+//! use ncthread::{ConvertOptions, DialectId, convert, source::SourceFile};
+//!
+//! let text = "N10 G00 G95 S1000 M03\nN20 G00 X26.618 Z3.\nN30 G33 Z-9. I0. F1.5\nN40 G00 X29.\n";
+//! let src = SourceFile::new("part.nc", text.to_string());
+//! // Dialect names parse in any case; a name that is no dialect's is an error.
+//! let options = ConvertOptions::new("czech".parse()?, "ISO".parse()?);
+//! let conversion = convert(&src, &options);
+//! let output = conversion.output.expect("converted");
+//! assert!(output.contains("G33 X26.618 Z-9 K1.5"));
+//! assert!("FANUX".parse::<DialectId>().is_err());
+//! # Ok::<(), ncthread::dialect::UnknownDialect>(())
+//! ```
+//!
+//! A refusal names the block and why, and writes nothing:
+//!
+//! ```
+//! use ncthread::{ConvertOptions, convert, dialect, source::SourceFile};
+//!
+//! // An НЦ-31 frame with a decimal point: the НЦ-31 writes whole units.
+//! let src = SourceFile::new("p.txt", "N1 X36.5\n".to_string());
+//! let c = convert(&src, &ConvertOptions::new(dialect::nc31::ID, dialect::iso::ID));
+//! assert!(c.output.is_none());
+//! let first = c.diagnostics.iter().find(|d| d.is_error()).unwrap();
+//! assert_eq!(first.code.id, "NCR002");
+//! assert_eq!(first.location.as_ref().unwrap().line, 1);
+//! ```
+//!
+//! Prove a conversion by simulating both programs:
+//!
+//! ```
+//! use ncthread::{ConvertOptions, Outcome, dialect, source::SourceFile, verify};
+//!
+//! let text = "N10 G00 G95 S1000 M03\nN20 G00 X26.618 Z3.\nN30 G33 Z-9. I0. F1.5\nN40 G00 X29.\n";
+//! let src = SourceFile::new("part.nc", text.to_string());
+//! let v = verify(&src, &ConvertOptions::new(dialect::czech::ID, dialect::fanuc::ID), None, None);
+//! assert!(matches!(v.outcome, Outcome::Equivalent { .. }));
+//! ```
+//!
+//! The modules a user needs are [`diag`], [`dialect`] (ids and the capability tables),
+//! [`ir`], [`profile`], [`source`], [`sim`], [`explain`], [`plot`], [`batch`] and
+//! [`text`] (decoding legacy encodings). `fixed`, `files`, `legalise` and `lower` are the
+//! implementation, public only for the crate's own tests, benchmarks and binary: they are
+//! hidden from the documentation and may change without notice.
 
 pub mod batch;
 pub mod diag;
 pub mod dialect;
 pub mod explain;
+#[doc(hidden)]
 pub mod files;
+#[doc(hidden)]
 pub mod fixed;
 pub mod ir;
+#[doc(hidden)]
 pub mod legalise;
+#[doc(hidden)]
 pub mod lower;
 pub mod plot;
 pub mod profile;
@@ -38,6 +91,22 @@ pub struct ConvertOptions {
     pub round: bool,
     /// nc31 output: write comments as `(` lines instead of dropping them.
     pub nc31_comments: bool,
+}
+
+impl ConvertOptions {
+    /// Options for converting `from` → `to` with the built-in defaults: no machine profile,
+    /// undocumented constructs refused, czech/nc31 block numbers from 10 by 10, no rounding.
+    pub fn new(from: DialectId, to: DialectId) -> ConvertOptions {
+        ConvertOptions {
+            from,
+            to,
+            profile: Profile::default(),
+            unsupported: Unsupported::Error,
+            renumber: Default::default(),
+            round: false,
+            nc31_comments: false,
+        }
+    }
 }
 
 /// The result of a conversion: the program text when there was no error, and every

@@ -42,11 +42,59 @@ pub fn by_extension(ext: &str) -> Option<DialectId> {
     }
 }
 
+/// The dialect with this id, as ncthread spells it (lower case).
 pub fn by_id(id: &str) -> Option<&'static dyn Dialect> {
     ALL.iter().copied().find(|d| d.id().as_str() == id)
 }
 
-/// The dialect of an id that ncthread gave out.
+/// The ids of every dialect, in the registry's order.
+pub fn ids() -> impl Iterator<Item = DialectId> {
+    ALL.iter().map(|d| d.id())
+}
+
+/// A name that is no dialect's id: what [`DialectId`]'s `FromStr` says.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct UnknownDialect {
+    pub given: String,
+}
+
+impl std::fmt::Display for UnknownDialect {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let known: Vec<&str> = ids().map(DialectId::as_str).collect();
+        write!(
+            f,
+            "unknown dialect `{}`: the dialects are {}",
+            self.given,
+            known.join(", ")
+        )
+    }
+}
+
+impl std::error::Error for UnknownDialect {}
+
+/// A dialect's id from its name, in any case (`"FANUC"`, `"iso"`), blanks around it
+/// ignored; any other name is an [`UnknownDialect`] that lists the dialects.
+///
+/// ```
+/// use ncthread::DialectId;
+/// let id: DialectId = "FANUC".parse().unwrap();
+/// assert_eq!(id, ncthread::dialect::fanuc::ID);
+/// let err = "fanux".parse::<DialectId>().unwrap_err();
+/// assert_eq!(err.to_string(), "unknown dialect `fanux`: the dialects are czech, nc31, iso, fanuc");
+/// ```
+impl std::str::FromStr for DialectId {
+    type Err = UnknownDialect;
+
+    fn from_str(s: &str) -> Result<DialectId, UnknownDialect> {
+        let name = s.trim().to_ascii_lowercase();
+        by_id(&name).map(|d| d.id()).ok_or_else(|| UnknownDialect {
+            given: s.to_string(),
+        })
+    }
+}
+
+/// The dialect of an id. Every [`DialectId`] names a dialect (its constructor is the
+/// crate's, and parsing checks the name), so the fallback is never taken.
 pub fn get(id: DialectId) -> &'static dyn Dialect {
     by_id(id.as_str()).unwrap_or(ALL[0])
 }

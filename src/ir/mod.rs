@@ -13,8 +13,10 @@ use crate::source::Span;
 pub struct DialectId(&'static str);
 
 impl DialectId {
-    /// A dialect's id: each dialect declares its own (`crate::dialect::czech::ID`).
-    pub const fn new(id: &'static str) -> DialectId {
+    /// A dialect's id: each dialect declares its own (`crate::dialect::czech::ID`). Outside
+    /// the crate an id comes from a dialect's `ID` or from parsing a name
+    /// (`"fanuc".parse::<DialectId>()`), so that every id names a dialect.
+    pub(crate) const fn new(id: &'static str) -> DialectId {
         DialectId(id)
     }
 
@@ -125,7 +127,7 @@ impl Pos {
     }
 }
 
-/// Cutter radius compensation. **[evidence]** LinuxCNC's G40–G42.1.
+/// Cutter radius compensation. **\[evidence\]** LinuxCNC's G40–G42.1.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Compensation {
     /// G40
@@ -162,7 +164,7 @@ pub enum SpindleMode {
 }
 
 /// A coolant command. Mist and flood are separate circuits: M7 and M8 each turn one on,
-/// M9 turns both off. **[evidence]** LinuxCNC `convert_m`.
+/// M9 turns both off. **\[evidence\]** LinuxCNC `convert_m`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Coolant {
     /// M7
@@ -321,7 +323,7 @@ impl Slope {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Schedule {
     /// Passes of the first depth, a remainder pass, then four passes of 1/2, 1/4, 1/8, 1/16
-    /// of the first depth (the НЦ-31's G31). **[seed]** + **[decided]** exact law.
+    /// of the first depth (the НЦ-31's G31). **\[seed\]** + **\[decided\]** exact law.
     #[default]
     Halving,
     /// Passes of the first depth; the last pass takes what is left.
@@ -353,7 +355,7 @@ pub struct Degression {
 /// G7 (diameter mode) is in force after the line, and when the line itself changes the mode
 /// it first rescales them as it rescales X (G8 on a G7 program: ×2; G7 on a G8 program: ×½),
 /// so the factors are ½ (G7), 1 (G8), 2 (G7 then G8 on the line) and ¼ (G8 then G7 on the
-/// line). **[evidence]** LinuxCNC `convert_lathe_diameter_mode`, `convert_threading_cycle`.
+/// line). **\[evidence\]** LinuxCNC `convert_lathe_diameter_mode`, `convert_threading_cycle`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum IjkScale {
     Quarter,
@@ -496,7 +498,7 @@ pub struct TapCycle {
 
 /// A LinuxCNC lathe roughing or finishing cycle (G70, G71, G71.1, G71.2, G72, G72.1, G72.2):
 /// its words, the contour its subroutine traced, and the moves LinuxCNC makes for it.
-/// **[evidence]** LinuxCNC `interp_g7x.cc`; the moves come from the one implementation,
+/// **\[evidence\]** LinuxCNC `interp_g7x.cc`; the moves come from the one implementation,
 /// [`crate::lower::g7x`], computed once by the reader from the values as written and rounded
 /// onto the grid.
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -7,7 +7,7 @@
 //! so that its tolerances (1e-6, 1e-3, 1e-2) mean what they mean there. The moves are
 //! rounded onto ncthread's grid once, by the reader. Where the C++ has undefined behaviour
 //! (an element before the first) or can loop without end, the port refuses with a message
-//! instead. **[evidence]** LinuxCNC `src/emc/rs274ngc/interp_g7x.cc`.
+//! instead. **\[evidence\]** LinuxCNC `src/emc/rs274ngc/interp_g7x.cc`.
 
 use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
 

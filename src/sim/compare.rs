@@ -15,8 +15,8 @@ pub const PHASE_TOLERANCE: Angle = Angle(10);
 /// The axial offset of two helices that is below the grid's resolution: 0.0002 mm.
 pub const PHASE_GRID: Length = Length(2);
 
-/// The phase tolerance for a thread of `lead`: [`PHASE_TOLERANCE`] or the angle of
-/// [`PHASE_GRID`], whichever is larger.
+/// The phase tolerance for a thread of `lead`: `PHASE_TOLERANCE` or the angle of
+/// `PHASE_GRID`, whichever is larger.
 pub fn phase_tolerance(lead: Lead) -> Angle {
     phase_tolerance_on(lead, PHASE_GRID)
 }

@@ -24,9 +24,9 @@ use crate::lower;
 use crate::profile::{AngleSource, CzechArcs, CzechDwell, Profile};
 use crate::source::SourceFile;
 
-/// The largest lead the czech control takes directly in F. **[seed]**
+/// The largest lead the czech control takes directly in F. **\[seed\]**
 const MAX_DIRECT_LEAD: Length = Length(999_900);
-/// Runout and entry angles are 0…60°. **[seed]**
+/// Runout and entry angles are 0…60°. **\[seed\]**
 const MAX_ANGLE: Angle = Angle(60_000);
 
 #[derive(Default)]

@@ -32,9 +32,9 @@ pub struct Options {
     pub unsupported: Unsupported,
 }
 
-/// The largest lead `F` may give directly. **[seed]** 99.99 mm.
+/// The largest lead `F` may give directly. **\[seed\]** 99.99 mm.
 const MAX_DIRECT_LEAD: Length = Length(999_900);
-/// The largest runout/entry angle. **[seed]** 60°.
+/// The largest runout/entry angle. **\[seed\]** 60°.
 const MAX_ANGLE: Angle = Angle(60_000);
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -53,7 +53,7 @@ struct FRegister {
     is_lead: bool,
 }
 
-/// What the blocks after a J/E thread block must be. **[seed]**
+/// What the blocks after a J/E thread block must be. **\[seed\]**
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum AfterRunout {
     Nothing,
@@ -1039,7 +1039,7 @@ impl<'a> FrontEnd<'a> {
     /// An arc block in the profile's form: its end (both axes), its centre and whether it
     /// turns clockwise as LinuxCNC's G2 does (G02, or G03 on a mirrored machine). The
     /// geometry is `lower::arc`'s, as for ISO; the end must lie on the circle within
-    /// 0.002 mm, two steps of the control's 0.001 mm. **[decided]**
+    /// 0.002 mm, two steps of the control's 0.001 mm. **\[decided\]**
     fn arc(
         &mut self,
         line: Line<'_>,

@@ -10,29 +10,29 @@ use crate::source::SourceFile;
 pub struct CzechProfile {
     /// Machine constant No. 8 (runout/entry angle); `None` when the profile does not give it.
     pub constant8: Option<Constant8>,
-    /// Motion mode at program start. **[decided]** G00.
+    /// Motion mode at program start. **\[decided\]** G00.
     pub initial_motion: InitialMotion,
-    /// M codes that select a gear range. **[decided]** M41–M44 (the seed shows M42).
+    /// M codes that select a gear range. **\[decided\]** M41–M44 (the seed shows M42).
     pub gear_range_mcodes: Vec<u32>,
     /// The machine switches flood coolant with M08/M09 (key `coolant = "m08-m09"`). The
-    /// seed does not document coolant: off until the shop's manual says. **[decided]**
+    /// seed does not document coolant: off until the shop's manual says. **\[decided\]**
     pub coolant: bool,
     /// Mist coolant is M07 (key `mist = "m07"`, with `coolant`).
     pub mist: bool,
     /// How the machine writes arcs (key `arcs`): none until the shop's manual says.
     pub arcs: CzechArcs,
     /// G02 is clockwise seen as on a front-tool lathe (key `arc_direction = "mirrored"`),
-    /// the opposite letter of LinuxCNC's G2 for the same path. **[decided]** default "iso".
+    /// the opposite letter of LinuxCNC's G2 for the same path. **\[decided\]** default "iso".
     pub arcs_mirrored: bool,
     /// How the machine writes a dwell (key `dwell`): none until the shop's manual says.
     pub dwell: CzechDwell,
     /// The machine holds a constant surface speed with `G96 S…` (m/min) and returns to rpm
     /// with `G97 S…` (key `surface_speed = "g96-g97"`); its speed limit is the machine's
-    /// setting, not a word of the program. **[decided]**
+    /// setting, not a word of the program. **\[decided\]**
     pub surface_speed: bool,
 }
 
-/// The dwell forms the czech profile can declare. **[decided]** (czech.md, "Forms the machine
+/// The dwell forms the czech profile can declare. **\[decided\]** (czech.md, "Forms the machine
 /// profile declares")
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum CzechDwell {
@@ -59,7 +59,7 @@ impl CzechDwell {
     }
 }
 
-/// The arc forms the czech profile can declare. **[decided]** (czech.md, "Forms the machine
+/// The arc forms the czech profile can declare. **\[decided\]** (czech.md, "Forms the machine
 /// profile declares")
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum CzechArcs {
@@ -136,7 +136,7 @@ impl Constant8 {
             .fold(0, |n, &d| n * 10 + d as u32)
     }
 
-    /// Direct mode when decades 8 and 7 are 0, else parameter mode. **[seed]**
+    /// Direct mode when decades 8 and 7 are 0, else parameter mode. **\[seed\]**
     pub fn angle_source(&self) -> AngleSource {
         let runout = self.number(0, 2);
         if runout == 0 {

@@ -55,7 +55,7 @@ struct Emitter<'a> {
     round: bool,
 }
 
-/// Upper-case ASCII comment text without parentheses. **[decided]**
+/// Upper-case ASCII comment text without parentheses. **\[decided\]**
 pub(crate) fn comment_text(text: &str) -> String {
     let ascii: String = one_line(text)
         .chars()

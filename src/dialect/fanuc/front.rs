@@ -6,7 +6,7 @@
 //! feed or a lead. X is a diameter; U and W are incremental X (diameter) and Z.
 //!
 //! In one block, F, S, T, M03/M04 and M07/M08 take effect before the motion; M05, M09,
-//! M00/M01 and M02/M30 after it. **[decided]** (the order most machine builders give; a
+//! M00/M01 and M02/M30 after it. **\[decided\]** (the order most machine builders give; a
 //! program that depends on another order is rare, and the translation test encodes this
 //! one.)
 
@@ -42,7 +42,7 @@ const KNOWN_G: [&str; 24] = [
     "G54", "G55", "G56", "G57", "G58", "G59", "G80", "G92", "G96", "G97", "G99",
 ];
 
-/// The largest Q: just under a whole turn, in 0.001°. **[evidence]**
+/// The largest Q: just under a whole turn, in 0.001°. **\[evidence\]**
 const MAX_Q: i64 = 359_999;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -1300,7 +1300,7 @@ impl FrontEnd<'_> {
     }
 
     /// The G92 threading cycle: rapid to the cut's start X, thread to Z (with the machine's
-    /// chamfer), rapid out to the start X, rapid back to the start Z. **[evidence]**
+    /// chamfer), rapid out to the start X, rapid back to the start Z. **\[evidence\]**
     #[allow(clippy::too_many_arguments)]
     fn cycle<'w>(
         &mut self,
@@ -1489,7 +1489,7 @@ impl FrontEnd<'_> {
     }
 
     /// An arc's end and centre: I (a radius value) and K from the start, or R (up to half a
-    /// circle). The end must lie on the circle within 0.002 mm. **[decided]**
+    /// circle). The end must lie on the circle within 0.002 mm. **\[decided\]**
     fn arc<'w>(
         &mut self,
         line: Line<'_>,

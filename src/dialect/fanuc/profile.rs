@@ -16,7 +16,7 @@ use crate::diag::Diagnostic;
 use crate::profile::bad_value;
 use crate::source::SourceFile;
 
-/// How a word without a decimal point is read: FANUC parameter 3401#0 (DPI). **[evidence]**
+/// How a word without a decimal point is read: FANUC parameter 3401#0 (DPI). **\[evidence\]**
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum DecimalPoint {
     /// In least input increments: 0.001 mm for X Z U W I K R, 0.0001 mm for a lead F (the
@@ -42,13 +42,13 @@ pub enum ToolOffset {
 pub struct FanucProfile {
     pub decimal_point: DecimalPoint,
     /// G92's thread chamfer (pull-out) in 0.1 lead (FANUC parameter 5130), at 45°. `None`:
-    /// not said, so a G92 is refused. **[decided]**
+    /// not said, so a G92 is refused. **\[decided\]**
     pub thread_chamfer_0p1_lead: Option<u32>,
     pub tool_offset: ToolOffset,
     /// The `O` number of a program ncthread writes (1–9999).
     pub program_number: u32,
     /// The offset page holds the nose radius and tip direction, so `G41`/`G42` may be
-    /// written. **[decided]** off: the program cannot state them.
+    /// written. **\[decided\]** off: the program cannot state them.
     pub nose_radius_in_offsets: bool,
     /// The machine has mist coolant on `M07`.
     pub mist: bool,

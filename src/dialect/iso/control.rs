@@ -416,7 +416,8 @@ impl<'s> FileRun<'s> {
                 i = end + 1;
                 continue;
             }
-            let only_comments = matches!(&*self.block(i), Some(Ok(b)) if b.is_empty() && b.number.is_none());
+            let only_comments =
+                matches!(&*self.block(i), Some(Ok(b)) if b.is_empty() && b.number.is_none());
             if !(self.blank[i] || self.percent[i] || only_comments) {
                 return None;
             }
@@ -569,7 +570,7 @@ pub struct Params {
 }
 
 /// What M70 and M73 save of the modal state that ncthread follows (LinuxCNC's
-/// `save_settings`): modes, spindle, coolant, feed and speed. **[evidence]** rules of
+/// `save_settings`): modes, spindle, coolant, feed and speed. **\[evidence\]** rules of
 /// `interp_convert.cc` (`gen_settings`, `gen_m_codes`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModalState {

@@ -146,7 +146,7 @@ pub trait Env {
 pub const MAX_PARAMETER: usize = 5601;
 
 /// LinuxCNC's tolerance for EQ and NE (`TOLERANCE_EQUAL`); LT, LE, GT and GE are exact.
-/// **[evidence]** the rs274 ncthread is checked with (2.9.0~pre1): `[1 EQ 1.00009]` is 1,
+/// **\[evidence\]** the rs274 ncthread is checked with (2.9.0~pre1): `[1 EQ 1.00009]` is 1,
 /// `[1.0000001 LE 1]` is 0. (Later LinuxCNC sources have 1e-6 and a tolerant LE/GE.)
 const TOLERANCE_EQUAL: f64 = 0.0001;
 

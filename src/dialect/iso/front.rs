@@ -1918,7 +1918,7 @@ impl FrontEnd<'_> {
     /// centre from I and K (an offset from the start under G91.1, the centre itself under
     /// G90.1; in radius units whatever G7/G8 says, as LinuxCNC halves only X) or from R,
     /// and LinuxCNC's checks of both. The centre is rounded once onto the grid.
-    /// **[evidence]** LinuxCNC `convert_arc`, `arc_data_ijk`, `arc_data_r` (interp_arc.cc).
+    /// **\[evidence\]** LinuxCNC `convert_arc`, `arc_data_ijk`, `arc_data_r` (interp_arc.cc).
     fn arc(
         &mut self,
         line: Line<'_>,

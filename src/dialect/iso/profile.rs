@@ -13,7 +13,7 @@ pub struct IsoProfile {
     pub tool_change: ToolChange,
     /// The block delete switch the program runs with: lines that start with `/` are
     /// skipped when it is on and run when it is off. `None`: not said, so such a line is
-    /// refused (whether it runs is the operator's choice). **[decided]**
+    /// refused (whether it runs is the operator's choice). **\[decided\]**
     pub block_delete: Option<BlockDelete>,
     /// Folders that hold subroutine files (`o<name> call` reads `name.ngc` from the first
     /// that has it), LinuxCNC's `SUBROUTINE_PATH`. Relative folders are taken from the

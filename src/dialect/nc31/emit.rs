@@ -31,7 +31,7 @@ struct Emitter<'a> {
     /// Comments are written (asked for, or the source is an nc31 file with `(` lines).
     comments: bool,
     next_frame: u64,
-    /// The feed register: `None` at the start and after every thread group. **[decided]**
+    /// The feed register: `None` at the start and after every thread group. **\[decided\]**
     feed: Option<Length>,
     per_minute: bool,
     inexact: Inexact,

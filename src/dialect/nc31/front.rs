@@ -43,12 +43,12 @@ enum Feed {
     Unset,
     /// mm per revolution.
     Set(Length),
-    /// A thread group (starting on this line) left the feed undefined. **[decided]**
+    /// A thread group (starting on this line) left the feed undefined. **\[decided\]**
     AfterThread(u32),
 }
 
 /// The most frames that the G25 repeats of one program may unroll, so that a hostile
-/// program cannot make the reader build millions of items. **[decided]**
+/// program cannot make the reader build millions of items. **\[decided\]**
 pub const REPEAT_LIMIT: usize = 10_000;
 
 /// A diagnostic as a repeat compares it with those reported before: code, line and
@@ -1075,10 +1075,10 @@ impl<'a> FrontEnd<'a> {
 
     /// An arc group: `G2 *`/`G3 *` X, Z, P (the centre's radial offset from the start,
     /// unsigned, in radius units), P (its axial offset), within one quadrant; or `G12 *`/
-    /// `G13 *` X, Z, a quarter circle. **[evidence]** one shop's generator (nc31.md,
+    /// `G13 *` X, Z, a quarter circle. **\[evidence\]** one shop's generator (nc31.md,
     /// "General motion"). The signs of the offsets come from the quadrant: of the centres
     /// they allow, the one on whose circle the end lies (within one linear unit) and around
-    /// which the arc turns the profile's way within one quadrant. **[decided]**
+    /// which the arc turns the profile's way within one quadrant. **\[decided\]**
     fn arc(&mut self, frames: &[GroupFrame], span: Span) {
         let g = &frames[0];
         let code = g.word().value;
@@ -1229,7 +1229,7 @@ impl<'a> FrontEnd<'a> {
     /// `F<feed>`. The named axis goes to its end; the other moves by the same radial amount
     /// (X by twice it: X is a diameter), up for `+45` and down for `-45`: a 45° feed move.
     /// The F frame sets the feed, as every F frame outside a thread group does.
-    /// **[evidence]** one shop's generator and checker (nc31.md, "General motion").
+    /// **\[evidence\]** one shop's generator and checker (nc31.md, "General motion").
     fn chamfer(&mut self, frames: &[GroupFrame], span: Span) {
         const ABOUT: &str = "a chamfer group is `X<end>+45 *` or `X<end>-45 *` (likewise Z) closed by `F<feed>`: the other axis moves by the same radial amount, towards plus for `+45` and minus for `-45`";
         let mut ok = true;
@@ -1399,9 +1399,9 @@ impl<'a> FrontEnd<'a> {
     /// (the last three digits of the first P are <to>) are read again `count` times here,
     /// from where the tool stands, as the control runs them (incremental frames cut further
     /// each time; absolute ones go to the same place again). The range must be whole groups
-    /// before the G25 and hold no G25. **[evidence]** one shop's checker (nc31.md, "General
+    /// before the G25 and hold no G25. **\[evidence\]** one shop's checker (nc31.md, "General
     /// motion"); the count of repetitions after the frames' own run and the limits are
-    /// **[decided]**.
+    /// **\[decided\]**.
     fn g25(&mut self, frames: &[GroupFrame]) {
         const ABOUT: &str = "G25 takes P (the first frame's number followed by the last frame's number in three digits: P5009 repeats N5 to N9) and P (how many times)";
         let g = &frames[0];

@@ -22,27 +22,27 @@ pub struct Nc31Profile {
     pub infeed_p6: u32,
     /// Machine parameter 7: runout length in units of 0.1·lead; 0 is none.
     pub runout_p7: u32,
-    /// Radial clearance above the crest when a G31 pass returns. **[decided]** 0.5 mm.
+    /// Radial clearance above the crest when a G31 pass returns. **\[decided\]** 0.5 mm.
     pub retract: Length,
     pub schedule: Schedule,
-    /// M codes that select a spindle speed range. **[seed]** M38…M41.
+    /// M codes that select a spindle speed range. **\[seed\]** M38…M41.
     pub gear_range_mcodes: Vec<u32>,
-    /// The machine switches coolant with M8/M9 (key `coolant = "m8-m9"`). **[evidence]**
-    /// one shop's program checker only, so off unless the profile says. **[decided]**
+    /// The machine switches coolant with M8/M9 (key `coolant = "m8-m9"`). **\[evidence\]**
+    /// one shop's program checker only, so off unless the profile says. **\[decided\]**
     pub coolant: bool,
     /// Arcs as `G2`/`G3` groups with two unsigned P offsets, and `G12`/`G13` quarter arcs
-    /// (key `arcs = "g2-g3-p"`). **[evidence]** one shop's generator; off by default.
+    /// (key `arcs = "g2-g3-p"`). **\[evidence\]** one shop's generator; off by default.
     pub arcs: bool,
     /// Which way G2 turns (key `arc_direction`); no default: a profile that enables arcs
-    /// must say, and arcs are refused until it does. **[decided]**
+    /// must say, and arcs are refused until it does. **\[decided\]**
     pub arc_direction: Option<Nc31ArcDirection>,
     /// The machine takes 45° chamfers `X<end>±45 *` + `F<feed>` (key `chamfer45`): the
-    /// writer writes a 45° feed move so. **[evidence]** one shop's generator; the reader
+    /// writer writes a 45° feed move so. **\[evidence\]** one shop's generator; the reader
     /// reads them whatever the key says (nc31.md: "Read it; write it only when the profile
     /// says the machine takes it").
     pub chamfer45: bool,
     /// The machine repeats frames with `G25 *`, `P<from><to> *`, `P<count>` (key
-    /// `repeat_g25`): the reader unrolls it; no writer writes it. **[evidence]** one shop's
+    /// `repeat_g25`): the reader unrolls it; no writer writes it. **\[evidence\]** one shop's
     /// checker; off by default (refused by name).
     pub repeat_g25: bool,
 }
@@ -78,7 +78,7 @@ impl Default for Nc31Profile {
 }
 
 impl Nc31Profile {
-    /// The denominator of parameter 6. **[seed]** P = 4096·tan α.
+    /// The denominator of parameter 6. **\[seed\]** P = 4096·tan α.
     pub const P6_RUN: i64 = 4096;
     /// The largest parameter 6 accepted: 45° (flank infeed is at most half a thread angle).
     pub const P6_MAX: u32 = 4096;

@@ -34,7 +34,7 @@ pub enum Modifier {
     /// `@`: the coordinate is incremental (on G33: move to X afterwards).
     Incremental,
     /// `+45` / `-45` (`up`: `+45`): a 45° chamfer to this X or Z, the other axis moving
-    /// the same radial amount in the sign's direction. **[evidence]** nc31.md, "General
+    /// the same radial amount in the sign's direction. **\[evidence\]** nc31.md, "General
     /// motion".
     Chamfer { up: bool },
 }

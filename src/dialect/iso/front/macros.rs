@@ -15,7 +15,7 @@ use crate::source::Line;
 
 /// The most loop iterations (back jumps of `endwhile`, `do … while`, `endrepeat` and
 /// `continue`) ncthread follows in one program: an endless loop ends with an error well
-/// within a second. **[decided]**
+/// within a second. **\[decided\]**
 pub(super) const LOOP_LIMIT: u64 = 200_000;
 
 /// LinuxCNC's deepest subroutine nesting below the main program (`INTERP_SUB_ROUTINE_LEVELS`
@@ -199,10 +199,7 @@ impl FrontEnd<'_> {
                 let (x, z) = c.current(self.axis_offset);
                 (Some(x), Some(z))
             }
-            None => (
-                x.map(|x| (x - dx) / 2.0 / unit),
-                z.map(|z| (z - dz) / unit),
-            ),
+            None => (x.map(|x| (x - dx) / 2.0 / unit), z.map(|z| (z - dz) / unit)),
         };
         Scope {
             params,
@@ -826,7 +823,21 @@ impl FrontEnd<'_> {
                     skip(params)?
                 }
             }
-            (Keyword::Break | Keyword::Continue, Some(Flow::Break { start, repeat: true, .. } | Flow::Continue { start, repeat: true, .. })) => {
+            (
+                Keyword::Break | Keyword::Continue,
+                Some(
+                    Flow::Break {
+                        start,
+                        repeat: true,
+                        ..
+                    }
+                    | Flow::Continue {
+                        start,
+                        repeat: true,
+                        ..
+                    },
+                ),
+            ) => {
                 return Err(not_a_loop(*start));
             }
             (Keyword::Break, Some(Flow::Break { .. })) => {

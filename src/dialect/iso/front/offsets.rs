@@ -1,6 +1,6 @@
 //! G52 and the G92 family as LinuxCNC keeps them: an offset of the program's coordinates
 //! that the reader resolves, so that the IR holds where the tool goes and every target moves
-//! the same without saying the offset. **[evidence]** LinuxCNC `convert_axis_offsets`
+//! the same without saying the offset. **\[evidence\]** LinuxCNC `convert_axis_offsets`
 //! (`interp_convert.cc`), parameters #5210 (applied), #5211 (X, a radius) and #5213 (Z) in
 //! the program's units.
 

@@ -1,7 +1,7 @@
 //! LinuxCNC's lathe roughing and finishing cycles in the front end: the G70–G72 line, the
 //! run of its contour subroutine (only the contour's words count there), and the moves
 //! [`crate::lower::g7x`] makes of it, as one [`ItemKind::Roughing`].
-//! **[evidence]** LinuxCNC `Interp::convert_g7x` (`interp_g7x.cc`, 2.9.0~pre1).
+//! **\[evidence\]** LinuxCNC `Interp::convert_g7x` (`interp_g7x.cc`, 2.9.0~pre1).
 
 use std::ops::Range;
 
