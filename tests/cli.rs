@@ -654,7 +654,7 @@ fn a_mill_program_is_refused_in_every_mode() {
         let err = text(&out.stderr);
         assert!(
             err.contains(
-                "error[ISOR021]: `G17`: another plane than ZX (G18): this is not a lathe program"
+                "error[ISOR021]: `Y0`: an axis other than X and Z: this is not a lathe program"
             ),
             "--unsupported {mode}: {err}"
         );

@@ -30,13 +30,17 @@ fn shown(src: &SourceFile, from: &str, to: &str) -> String {
 #[test]
 fn the_seed_taper_thread_to_fanuc() {
     let src = program("corpus/czech/ex3-taper.nc");
-    insta::assert_snapshot!(shown(&src, "czech", "FANUC"));
+    insta::with_settings!({ snapshot_path => "downstream_snapshots" }, {
+        insta::assert_snapshot!(shown(&src, "czech", "FANUC"));
+    });
 }
 
 #[test]
 fn a_refusal_names_its_block() {
     let src = program("corpus/bad/iso/spindle-off-g33.ngc");
-    insta::assert_snapshot!(shown(&src, "iso", "czech"));
+    insta::with_settings!({ snapshot_path => "downstream_snapshots" }, {
+        insta::assert_snapshot!(shown(&src, "iso", "czech"));
+    });
 }
 
 /// A typo in a dialect's name is an error that lists the dialects, never another dialect

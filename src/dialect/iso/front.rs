@@ -114,6 +114,9 @@ struct FrontEnd<'a> {
     work_offset: u8,
     /// `#<_ccomp>`: 400, 410 or 420.
     ccomp: f64,
+    /// G17 in force (the XY plane): lines along X and Z mean what they mean in G18, but an
+    /// arc, a G7x cycle and cutter compensation would work in XY.
+    plane_xy: bool,
     /// A line was refused as not a lathe program (ISOR021): the later ones are skipped
     /// unreported, since the program is refused whole.
     not_lathe_reported: bool,
@@ -177,6 +180,7 @@ pub(crate) fn read(src: &SourceFile, options: &Options, keep: Keep) -> (Program,
         ccomp: 400.0,
         not_lathe_reported: false,
         contour: None,
+        plane_xy: false,
         cycle_call: None,
         axis_offset: (0.0, 0.0),
         offset_params: [0.0; 3],
@@ -516,17 +520,16 @@ const KNOWN_G: &[&str] = &[
 
 fn g_meaning(code: GCode) -> Meaning {
     match code {
-        G0 | G1 | G2 | G3 | G33 | G33_1 | G76 | G4 | G7 | G8 | G18 | G20 | G21 | G43 | G90
-        | G91 | G90_1 | G91_1 | G94 | G95 | G96 | G97 | G40 | G41 | G42 | G41_1 | G42_1 | G54
-        | G55 | G56 | G57 | G58 | G59 | G59_1 | G59_2 | G59_3 | G28 | G28_1 | G30 | G30_1 | G53
-        | G52 | G92 | G92_1 | G92_2 | G92_3 | G70 | G71 | G71_1 | G71_2 | G72 | G72_1 | G72_2 => {
-            Meaning::Known
-        }
+        G0 | G1 | G2 | G3 | G33 | G33_1 | G76 | G4 | G7 | G8 | G17 | G18 | G20 | G21 | G43
+        | G90 | G91 | G90_1 | G91_1 | G94 | G95 | G96 | G97 | G40 | G41 | G42 | G41_1 | G42_1
+        | G54 | G55 | G56 | G57 | G58 | G59 | G59_1 | G59_2 | G59_3 | G28 | G28_1 | G30 | G30_1
+        | G53 | G52 | G92 | G92_1 | G92_2 | G92_3 | G70 | G71 | G71_1 | G71_2 | G72 | G72_1
+        | G72_2 => Meaning::Known,
         // Tool length offset off, exact path / blending, canned cycle off.
         G49 | G61 | G61_1 | G64 | G80 => Meaning::Kept,
         // Refused in every mode by `not_a_lathe_program`.
-        G17 | G19 | G17_1 | G18_1 | G19_1 => {
-            Meaning::Unsupported("another plane than ZX (G18): not a lathe program")
+        G19 | G17_1 | G18_1 | G19_1 => {
+            Meaning::Unsupported("another plane than ZX (G18) or XY (G17): not a lathe program")
         }
         G10 => Meaning::Unsupported("changes of the coordinate systems (G10)"),
         G93 => Meaning::Unsupported("inverse-time feed (G93)"),
@@ -830,9 +833,9 @@ impl FrontEnd<'_> {
                 'G' if w
                     .value
                     .to_scaled(1)
-                    .is_ok_and(|g| matches!(g, G17 | G19 | G17_1 | G18_1 | G19_1)) =>
+                    .is_ok_and(|g| matches!(g, G19 | G17_1 | G18_1 | G19_1)) =>
                 {
-                    Some("another plane than ZX (G18)")
+                    Some("another plane than ZX (G18) or XY (G17)")
                 }
                 'Y' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W' => Some("an axis other than X and Z"),
                 _ => None,
@@ -1389,6 +1392,21 @@ impl FrontEnd<'_> {
                 self.kept(line, w, &extra);
             }
         }
+        // The plane (LinuxCNC selects it before compensation and motion). A lathe program
+        // may select G17 to drill or tap along Z: its X and Z moves are the same in either.
+        if let Some(g17) = words.has_g(G17) {
+            if self.compensation {
+                self.comp_refusal(
+                    line,
+                    g17,
+                    "Cannot change planes with cutter radius compensation on",
+                );
+            }
+            self.plane_xy = true;
+        }
+        if words.has_g(G18).is_some() {
+            self.plane_xy = false;
+        }
         // Cutter compensation, then the work offset (LinuxCNC's order).
         if let Some(&(code, w)) = words
             .g
@@ -1431,6 +1449,17 @@ impl FrontEnd<'_> {
                     }
                 },
             };
+            if self.plane_xy && code != G40 {
+                let text = line.text[w.range.clone()].to_string();
+                self.diag(
+                    codes::ISOR_COMPENSATION,
+                    line,
+                    w.range.clone(),
+                    format!("`{text}` while G17 is in force: LinuxCNC would compensate in the XY plane, which a lathe has not"),
+                    "select G18 before cutter compensation",
+                );
+                return;
+            }
             if let Some(comp) = comp {
                 let on = comp != Compensation::Off;
                 if on && self.compensation {
@@ -1848,7 +1877,29 @@ impl FrontEnd<'_> {
                 self.r.pos = ItemKind::Feed { to, feed }.end_position(self.r.pos);
                 self.exact_after_move(start);
             }
+            Motion::Arc { clockwise } if self.plane_xy => {
+                let g = if clockwise { "G2" } else { "G3" };
+                self.arc_error(
+                    line,
+                    code_word,
+                    format!("{g} while G17 is in force: LinuxCNC cuts the arc in the XY plane, which a lathe has not"),
+                    "select G18 before the arc (a lathe's arcs are in ZX)",
+                );
+            }
             Motion::Arc { clockwise } => self.arc(line, words, code_word, span, clockwise),
+            Motion::Roughing(code) if self.plane_xy => {
+                let name = crate::ir::g_code_name(code);
+                let at = code_word.or(words.other.get(&'Q').copied());
+                if let Some(at) = at {
+                    self.diag(
+                        codes::ISOR_ROUGHING,
+                        line,
+                        at.range.clone(),
+                        format!("{name} while G17 is in force (LinuxCNC: \"G{}.{} can only be used in XZ plane (G18)\")", code / 10, code % 10),
+                        "select G18 before the cycle",
+                    );
+                }
+            }
             Motion::Thread => self.thread(line, words, code_word, span),
             Motion::Tap => self.tap(line, words, code_word, span),
             Motion::Cycle if self.compensation => {
@@ -2878,7 +2929,22 @@ mod tests {
     #[test]
     fn refusals_name_the_word() {
         let cases: &[(&str, Code, &str)] = &[
-            ("G7 G0 X1\nG17 G1 X2 Z0 F1\n", codes::ISOR_NOT_LATHE, "G17"),
+            ("G7 G0 X1\nG19 G1 X2 Z0 F1\n", codes::ISOR_NOT_LATHE, "G19"),
+            (
+                "G7 G17 G21 G95\nS400 M3\nG0 X20 Z2\nG2 X24 Z-2 K-2 F0.1\n",
+                codes::ISOR_ARC,
+                "G2",
+            ),
+            (
+                "G7 G17 G21 G95\nG0 X20 Z2\nG71 Q100 X1 Z1 D0.5 I1 R0.3\n",
+                codes::ISOR_ROUGHING,
+                "G71",
+            ),
+            (
+                "G7 G17 G21 G95\nG0 X20 Z2\nG41 D1\n",
+                codes::ISOR_COMPENSATION,
+                "G41",
+            ),
             ("G7 G0 X1 Z0\nG2 X2 Z-1 R1\n", codes::ISOR_WORD, "G2"),
             ("G7 G0 X1 Z0\nG2 X2 Z-1 R1 I1 F1\n", codes::ISOR_ARC, "R1"),
             ("G7 G0 X1 Z0\nG2 X2 Z-1 F1\n", codes::ISOR_ARC, "G2"),
@@ -2965,7 +3031,7 @@ mod tests {
                 codes::ISOR_COMPENSATION,
                 "G76",
             ),
-            ("G7 G0 X1 Z0\nG17\n", codes::ISOR_NOT_LATHE, "G17"),
+            ("G7 G0 X1 Z0\nG19\n", codes::ISOR_NOT_LATHE, "G19"),
             ("G0 Y1\n", codes::ISOR_NOT_LATHE, "Y1"),
             ("G0 X[1/0]\n", codes::ISOR_EVAL, "1/0"),
             ("G0 X#<nope>\n", codes::ISOR_EVAL, "#<nope>"),

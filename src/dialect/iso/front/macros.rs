@@ -47,6 +47,7 @@ pub(super) enum Jump {
 /// The machine state a line's expressions may read, as LinuxCNC's system parameters
 /// give it: lengths in the program's units, X a radius (LinuxCNC keeps radii inside).
 struct System {
+    plane_xy: bool,
     x: Option<f64>,
     z: Option<f64>,
     inch: bool,
@@ -101,7 +102,7 @@ impl Scope<'_> {
             "_rpm" => Ok(s.rpm.unwrap_or(0.0)),
             "_current_tool" => Ok(s.tool),
             "_motion_mode" => s.motion.ok_or_else(|| unknown("the motion mode", range)),
-            "_plane" => Ok(180.0),
+            "_plane" => Ok(if s.plane_xy { 170.0 } else { 180.0 }),
             // The LinuxCNC ncthread follows (and checks with): 2.9.0.
             "_vmajor" => Ok(2.9),
             "_vminor" => Ok(0.0),
@@ -204,6 +205,7 @@ impl FrontEnd<'_> {
         Scope {
             params,
             system: System {
+                plane_xy: self.plane_xy,
                 x,
                 z,
                 inch: self.inch,
