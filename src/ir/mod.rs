@@ -159,8 +159,9 @@ pub enum MachineMove {
 pub enum SpindleMode {
     /// G97: S is in rpm.
     Rpm,
-    /// G96: S is a surface speed in m/min; `limit` the highest rpm (G96's D), if any.
-    SurfaceSpeed { limit: Option<Decimal> },
+    /// G96: S is a surface speed in m/min, or in ft/min when `feet` (G96 under G20, as
+    /// LinuxCNC and FANUC read it); `limit` the highest rpm (G96's D), if any.
+    SurfaceSpeed { limit: Option<Decimal>, feet: bool },
 }
 
 /// A coolant command. Mist and flood are separate circuits: M7 and M8 each turn one on,

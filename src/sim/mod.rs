@@ -87,6 +87,8 @@ pub struct MachineState {
     pub speed: Option<u32>,
     /// A surface speed (G96) is in force, with its rpm limit in 0.001 rpm (`None`: none).
     pub surface_speed: Option<Option<i64>>,
+    /// The surface speed's S is in feet per minute (G96 under G20), else m/min.
+    pub surface_feet: bool,
     /// The work offset in force: 0 for the default (G54), 1 … 8 for G55 … G59.3.
     pub work_offset: u8,
     /// Cutter radius compensation in force. The path compared stays the programmed one
@@ -115,8 +117,9 @@ impl MachineState {
             (None, None) => String::new(),
             (Some(s), None) => format!(" at S{s} rpm"),
             (s, Some(limit)) => format!(
-                " at a surface speed of {} m/min{}",
+                " at a surface speed of {} {}{}",
                 s.map_or("?".into(), |s| s.to_string()),
+                if self.surface_feet { "ft/min" } else { "m/min" },
                 limit.map_or(String::new(), |l| format!(
                     " up to {} rpm",
                     Length(l * 10).mm()
@@ -582,14 +585,16 @@ impl Machine {
                 self.sync_end = None;
             }
             ItemKind::SpindleMode(mode) => {
-                let surface_speed = match mode {
-                    crate::ir::SpindleMode::Rpm => None,
-                    crate::ir::SpindleMode::SurfaceSpeed { limit } => {
-                        Some(limit.map(|d| (d.to_f64() * 1000.0).round() as i64))
-                    }
+                let (surface_speed, surface_feet) = match mode {
+                    crate::ir::SpindleMode::Rpm => (None, false),
+                    crate::ir::SpindleMode::SurfaceSpeed { limit, feet } => (
+                        Some(limit.map(|d| (d.to_f64() * 1000.0).round() as i64)),
+                        *feet,
+                    ),
                 };
                 let state = MachineState {
                     surface_speed,
+                    surface_feet,
                     ..self.state
                 };
                 self.change(state, span);

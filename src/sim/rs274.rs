@@ -529,10 +529,16 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
                         direction = Some(SpindleDirection::CounterClockwise);
                     }
                     Canon::SpindleStop => direction = None,
-                    Canon::SpindleSpeed(v) => next.speed = Some(v.round() as u32),
+                    // Under a surface speed, LinuxCNC's task canon takes S in ft/min or
+                    // m/min by the units in force when S is set.
+                    Canon::SpindleSpeed(v) => {
+                        next.speed = Some(v.round() as u32);
+                        next.surface_feet = next.surface_speed.is_some() && scale != 1.0;
+                    }
                     Canon::SpindleMode(v) => {
                         next.surface_speed =
                             (v != 0.0).then(|| (v < 1e29).then(|| (v * 1000.0).round() as i64));
+                        next.surface_feet = next.surface_speed.is_some() && scale != 1.0;
                     }
                     Canon::WorkOffset(n) => next.work_offset = n.saturating_sub(1),
                     Canon::Mist(on) => next.mist = on,

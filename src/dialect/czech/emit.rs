@@ -442,7 +442,18 @@ impl Emitter<'_> {
             // G96/G97 where the profile declares them (legalisation refuses them elsewhere;
             // without the key, rpm is this control's only mode). The machine's speed limit
             // is its own setting: a limit in the source has no word here.
-            ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit })
+            ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { feet: true, .. })
+                if self.profile.czech.surface_speed =>
+            {
+                self.diag(
+                    codes::CZW_NO_EQUIVALENT,
+                    item,
+                    "a surface speed in feet per minute (G96 under G20): the czech control's G96 takes m/min".to_string(),
+                    "program the surface speed in m/min (G21) in the source",
+                );
+                return;
+            }
+            ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit, .. })
                 if self.profile.czech.surface_speed =>
             {
                 if let Some(d) = limit {

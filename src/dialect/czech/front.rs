@@ -769,7 +769,10 @@ impl<'a> FrontEnd<'a> {
         if let Some((g96, w)) = words.speed_mode {
             let span = word_span(self, w);
             let mode = if g96 {
-                SpindleMode::SurfaceSpeed { limit: None }
+                SpindleMode::SurfaceSpeed {
+                    limit: None,
+                    feet: false,
+                }
             } else {
                 SpindleMode::Rpm
             };
@@ -1502,7 +1505,9 @@ mod tests {
             Some(("CZR011", Some(5)))
         );
         // G96 S is a surface speed; G97 S rpm; refused without the key.
-        let surface = |limit| ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit });
+        let surface = |limit| {
+            ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit, feet: false })
+        };
         assert_eq!(
             read(CzechDwell::None, true, "G96 S180").0[..2],
             [

@@ -384,7 +384,16 @@ impl Emitter<'_> {
                 block.words.push("G97".into());
                 self.speed_word = Some(item.clone());
             }
-            ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit }) => {
+            ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { feet: true, .. }) => {
+                self.diag(
+                    codes::FANW_NO_EQUIVALENT,
+                    item,
+                    "a surface speed in feet per minute (G96 under G20): the FANUC program is written in millimetres (G21), where G96's S is m/min, and the unit cannot change after its start".to_string(),
+                    "program the surface speed in m/min (G21) in the source, or cut at a speed in rpm (G97)",
+                );
+                return;
+            }
+            ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit, .. }) => {
                 let limit = match limit {
                     Some(d) => match d.to_whole() {
                         Ok(n) if n > 0 => Some(n),

@@ -788,7 +788,10 @@ impl FrontEnd<'_> {
             });
             if self.surface_speed {
                 self.push(
-                    ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit: self.limit }),
+                    ItemKind::SpindleMode(SpindleMode::SurfaceSpeed {
+                        limit: self.limit,
+                        feet: self.inch,
+                    }),
                     code_span,
                 );
             }
@@ -824,7 +827,10 @@ impl FrontEnd<'_> {
             self.surface_speed = surface;
             self.push(
                 ItemKind::SpindleMode(if surface {
-                    SpindleMode::SurfaceSpeed { limit: self.limit }
+                    SpindleMode::SurfaceSpeed {
+                        limit: self.limit,
+                        feet: self.inch,
+                    }
                 } else {
                     SpindleMode::Rpm
                 }),
@@ -1877,8 +1883,14 @@ mod tests {
         assert_eq!(
             modes,
             [
-                &ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit: limit(2500) }),
-                &ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit: limit(3000) }),
+                &ItemKind::SpindleMode(SpindleMode::SurfaceSpeed {
+                    limit: limit(2500),
+                    feet: false
+                }),
+                &ItemKind::SpindleMode(SpindleMode::SurfaceSpeed {
+                    limit: limit(3000),
+                    feet: false
+                }),
                 &ItemKind::SpindleMode(SpindleMode::Rpm),
             ]
         );

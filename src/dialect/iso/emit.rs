@@ -36,6 +36,9 @@ struct Emitter<'a> {
     turning: Option<SpindleDirection>,
     /// The spindle item after a G96 went on the G96 line.
     spindle_on_g96: bool,
+    /// A surface speed in feet per minute is in force: a line with S is written under G20
+    /// (LinuxCNC takes G96's S in the units in force when S is set), then G21 again.
+    surface_feet: bool,
 }
 
 /// Writes `program` (read from `src`) as ISO G-code. `None` when any
@@ -56,6 +59,7 @@ pub fn emit(
         speed: None,
         turning: None,
         spindle_on_g96: false,
+        surface_feet: false,
     };
     e.w.out.push_str("%\n");
     // A program ncthread wrote keeps its header (where it came from), so that converting
@@ -187,6 +191,20 @@ fn axes(to: Pos) -> String {
 }
 
 impl Emitter<'_> {
+    /// A line that may set S: under a surface speed in feet per minute it stands between
+    /// `G20` and `G21`, so that LinuxCNC takes its S in ft/min while every length of the
+    /// program stays in millimetres.
+    fn speed_line(&mut self, text: &str, sets_speed: bool) {
+        let feet = self.surface_feet && sets_speed;
+        if feet {
+            self.line("G20 (the surface speed is in feet per minute)");
+        }
+        self.line(text);
+        if feet {
+            self.line("G21");
+        }
+    }
+
     fn diag(
         &mut self,
         code: Code,
@@ -237,10 +255,14 @@ impl Emitter<'_> {
                 if direction.is_some() {
                     self.turning = *direction;
                 }
-                self.line(&spindle_words(*speed, *direction));
+                let text = spindle_words(*speed, *direction);
+                self.speed_line(&text, speed.is_some());
             }
             ItemKind::FeedRate(f) => self.line(&format!("F{}", f.mm())),
-            ItemKind::SpindleMode(SpindleMode::Rpm) => self.line("G97"),
+            ItemKind::SpindleMode(SpindleMode::Rpm) => {
+                self.surface_feet = false;
+                self.line("G97");
+            }
             ItemKind::Compensation(c) => {
                 let text = match c {
                     Compensation::Off => "G40".to_string(),
@@ -288,7 +310,8 @@ impl Emitter<'_> {
                 // The motion mode after G53 is the line's G0/G1, as in the source.
             }
             // LinuxCNC wants S on the G96 line: the speed item that follows goes there.
-            ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit }) => {
+            ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit, feet }) => {
+                self.surface_feet = *feet;
                 let mut text = "G96".to_string();
                 if let Some(d) = limit {
                     let _ = write!(text, " D{d}");
@@ -320,7 +343,7 @@ impl Emitter<'_> {
                         }
                     },
                 }
-                self.line(&text);
+                self.speed_line(&text, true);
             }
             // LinuxCNC's M6 has just stopped the spindle (the iso reader notes that stop).
             ItemKind::SpindleStop if m6_stopped => {}
@@ -352,7 +375,8 @@ impl Emitter<'_> {
                 }
                 if m6 && self.turning.is_some() && !stops {
                     let restart = spindle_words(self.speed, self.turning);
-                    self.line(&format!("{restart} (restart the spindle after M6)"));
+                    let text = format!("{restart} (restart the spindle after M6)");
+                    self.speed_line(&text, self.speed.is_some());
                 }
             }
             ItemKind::GearRange { code: m, .. } => match self.profile.iso.mcodes.get(m) {

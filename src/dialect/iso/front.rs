@@ -77,6 +77,8 @@ struct FrontEnd<'a> {
     incremental: bool,
     /// G96 in force (S is a surface speed).
     surface_speed: bool,
+    /// The surface speed's limit (G96's D) and whether its S is in ft/min.
+    surface: (Option<Decimal>, bool),
     /// Cutter radius compensation is on (G41/G42 and their `.1`, until G40).
     compensation: bool,
     /// The position as written (mm, X a diameter), before it was rounded onto the grid:
@@ -158,6 +160,7 @@ pub(crate) fn read(src: &SourceFile, options: &Options, keep: Keep) -> (Program,
         inch: false,
         incremental: false,
         surface_speed: false,
+        surface: (None, false),
         compensation: false,
         exact: (None, None),
         exact_target: (None, None),
@@ -1210,6 +1213,10 @@ impl FrontEnd<'_> {
             self.feed = None;
             self.push(ItemKind::FeedMode(FeedMode::PerRev), span);
         }
+        // A surface speed's S is taken in the units in force before the line's G20/G21:
+        // LinuxCNC sets the speed (and its task canon the ft/min or m/min factor) before it
+        // changes the units.
+        let inch_before = self.inch;
         // Units first: F, K and every length on the line are in the new units.
         if words.has_g(G20).is_some() {
             self.inch = true;
@@ -1229,8 +1236,8 @@ impl FrontEnd<'_> {
                 f_word = Some(feed);
             }
         }
-        // The spindle mode comes before S in LinuxCNC's order; G96 needs S on its line and
-        // is read in millimetres only (its S is ft/min under G20).
+        // The spindle mode comes before S in LinuxCNC's order; G96 needs S on its line. Under
+        // G20 its S is in feet per minute (LinuxCNC's task canon: rpm = 12·S/(2π·r in)).
         if let Some(g96) = words.has_g(G96) {
             if !words.other.contains_key(&'S') {
                 self.missing(
@@ -1238,17 +1245,6 @@ impl FrontEnd<'_> {
                     g96,
                     "G96 without S (LinuxCNC: \"S word missing with G96\")".into(),
                     "give the surface speed on the G96 line: `G96 D2500 S200` (m/min, D the rpm limit)",
-                );
-                return;
-            }
-            if self.inch {
-                let text = &line.text[g96.range.clone()];
-                self.diag(
-                    codes::ISOR_UNSUPPORTED,
-                    line,
-                    g96.range.clone(),
-                    format!("`{text}` under G20: a surface speed in feet per minute is not read by ncthread"),
-                    "program the part in millimetres (G21), or pass --unsupported warn to keep the line opaque",
                 );
                 return;
             }
@@ -1263,8 +1259,26 @@ impl FrontEnd<'_> {
                 return;
             }
             self.surface_speed = true;
+            self.surface = (limit, inch_before);
             self.push(
-                ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit }),
+                ItemKind::SpindleMode(SpindleMode::SurfaceSpeed {
+                    limit,
+                    feet: inch_before,
+                }),
+                span,
+            );
+        } else if self.surface_speed
+            && self.surface.1 != inch_before
+            && words.other.contains_key(&'S')
+        {
+            // A new S under the surface speed, in other units than its G96's: the mode again,
+            // in the S's units (the limit stands).
+            self.surface.1 = inch_before;
+            self.push(
+                ItemKind::SpindleMode(SpindleMode::SurfaceSpeed {
+                    limit: self.surface.0,
+                    feet: inch_before,
+                }),
                 span,
             );
         }
