@@ -266,37 +266,50 @@ struct Stroke<'a> {
 
 /// The SVG path of one segment (`None` when an end is unknown or it does not move).
 fn segment_path(v: &View, s: &Segment) -> Option<String> {
-    let (from, to) = (s.from.known()?, s.to.known()?);
-    let (x0, y0) = v.at(from);
-    let (x1, y1) = v.at(to);
-    match s.motion {
+    let arc = match s.motion {
         Motion::Arc {
             centre, clockwise, ..
-        } => {
-            let c = centre.known()?;
-            let (cx, cy) = v.at(c);
-            let rad = (x0 - cx).hypot(y0 - cy);
-            // With X up, LinuxCNC's clockwise G2 turns counter-clockwise on the screen.
-            let sweep = if clockwise { 0 } else { 1 };
-            if from == to {
-                // A full circle: two halves.
-                let (ox, oy) = (2.0 * cx - x0, 2.0 * cy - y0);
-                return Some(format!(
-                    "M{x0:.2},{y0:.2} A{rad:.2},{rad:.2} 0 0 {sweep} {ox:.2},{oy:.2} A{rad:.2},{rad:.2} 0 0 {sweep} {x0:.2},{y0:.2}"
-                ));
-            }
-            // The sweep's size decides the large-arc flag: the cross product of the ends
-            // around the centre, in the motion's sense.
-            let cross = (x0 - cx) * (y1 - cy) - (y0 - cy) * (x1 - cx);
-            let screen_ccw = cross < 0.0;
-            let large = if (sweep == 0) == screen_ccw { 0 } else { 1 };
-            Some(format!(
-                "M{x0:.2},{y0:.2} A{rad:.2},{rad:.2} 0 {large} {sweep} {x1:.2},{y1:.2}"
-            ))
+        } => Some((centre, clockwise)),
+        _ => None,
+    };
+    path_of(v, s.from, s.to, arc)
+}
+
+/// The SVG path of a move from `from` to `to`: a line, or an arc around a centre (X a
+/// diameter) when `arc` gives it and whether it turns clockwise (G2).
+fn path_of(v: &View, from: Pos, to: Pos, arc: Option<(Pos, bool)>) -> Option<String> {
+    let (from, to) = (from.known()?, to.known()?);
+    let (x0, y0) = v.at(from);
+    let (x1, y1) = v.at(to);
+    let Some((centre, clockwise)) = arc else {
+        if from == to {
+            return None;
         }
-        _ if from == to => None,
-        _ => Some(format!("M{x0:.2},{y0:.2} L{x1:.2},{y1:.2}")),
+        return Some(format!("M{x0:.2},{y0:.2} L{x1:.2},{y1:.2}"));
+    };
+    // In mm, X as a radius: Z to the right, X up, as drawn.
+    let mm = |(x, z): (Length, Length)| (z.to_mm_f64(), x.to_mm_f64() / 2.0);
+    let ((z0, r0), (z1, r1), (cz, cr)) = (mm(from), mm(to), mm(centre.known()?));
+    let rad = (z0 - cz).hypot(r0 - cr);
+    // The circle as drawn: an ellipse when X is magnified.
+    let (rx, ry) = (rad * v.sz, rad * v.sr);
+    // G18: G2 turns clockwise seen from +Y. With Z to the right and X up, +Y points at the
+    // viewer, so G2 is clockwise on the screen too: SVG's positive-angle sweep (y down).
+    let sweep = u8::from(clockwise);
+    if from == to {
+        // A full circle: two halves.
+        let (ox, oy) = v.px(2.0 * cz - z0, 2.0 * cr - r0);
+        return Some(format!(
+            "M{x0:.2},{y0:.2} A{rx:.2},{ry:.2} 0 0 {sweep} {ox:.2},{oy:.2} A{rx:.2},{ry:.2} 0 0 {sweep} {x0:.2},{y0:.2}"
+        ));
     }
+    // The angle it turns, in the motion's sense: over half a turn is SVG's large arc.
+    let (a0, a1) = ((r0 - cr).atan2(z0 - cz), (r1 - cr).atan2(z1 - cz));
+    let turned = if clockwise { a0 - a1 } else { a1 - a0 }.rem_euclid(std::f64::consts::TAU);
+    let large = u8::from(turned > std::f64::consts::PI);
+    Some(format!(
+        "M{x0:.2},{y0:.2} A{rx:.2},{ry:.2} 0 {large} {sweep} {x1:.2},{y1:.2}"
+    ))
 }
 
 fn stroke_path(out: &mut String, d: &str, s: &Stroke<'_>, title: Option<&str>) {
