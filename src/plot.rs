@@ -728,8 +728,9 @@ fn legend(out: &mut String, op: &Operation, (x, y): (f64, f64)) {
     );
 }
 
-/// `verify --plot`: both programs' normalised motions overlaid, and the first difference
-/// marked and labelled.
+/// `verify --plot`: both programs' motions overlaid (as simulated: `left` and `right` are not
+/// normalised, so that rapids are drawn as the machine moves), and the first difference (of
+/// the normalised motions) marked and labelled.
 pub fn verify_plot(
     title: &str,
     left_name: &str,
@@ -738,10 +739,15 @@ pub fn verify_plot(
     right: &[Segment],
     difference: Option<&Difference>,
 ) -> String {
-    let near: Vec<Segment> = difference
-        .map(|d| [d.left, d.right].into_iter().flatten().collect())
+    // The difference's segments as the machine moves them.
+    let marked: Vec<Segment> = difference
+        .map(|d| {
+            let mut m = d.left.map_or(Vec::new(), |s| as_moved(left, &s));
+            m.extend(d.right.map_or(Vec::new(), |s| as_moved(right, &s)));
+            m
+        })
         .unwrap_or_default();
-    let detail = bounds(near.iter());
+    let detail = bounds(marked.iter());
     let height = if detail.is_some() { 1000.0 } else { 640.0 };
     let mut out = svg_open(height, title);
     let Some(b) = bounds(left.iter().chain(right)) else {
@@ -757,24 +763,32 @@ pub fn verify_plot(
         out.push_str("</svg>\n");
         return out;
     };
-    let key = |out: &mut String, y: f64, colour: &str, dash: &str, name: &str| {
+    // The key: each program's line as it is drawn, and their rapids.
+    let line = |out: &mut String, (x, y): (f64, f64), colour: &str, width: f64, dash: &str| {
         let _ = writeln!(
             out,
-            "<line x1=\"70\" y1=\"{y}\" x2=\"100\" y2=\"{y}\" stroke=\"{colour}\" stroke-width=\"2.5\"{dash}/>"
+            "<line x1=\"{x}\" y1=\"{y}\" x2=\"{}\" y2=\"{y}\" stroke=\"{colour}\" stroke-width=\"{width}\" stroke-dasharray=\"{dash}\"/>",
+            x + 30.0
         );
-        text(out, 106.0, y + 4.0, 12.0, "start", "#222222", name);
     };
-    key(&mut out, 50.0, LEFT, "", left_name);
-    key(
+    line(&mut out, (70.0, 50.0), LEFT, 2.5, "none");
+    text(&mut out, 106.0, 54.0, 12.0, "start", "#222222", left_name);
+    line(&mut out, (70.0, 66.0), RIGHT, 1.2, "6,3");
+    text(&mut out, 106.0, 70.0, 12.0, "start", "#222222", right_name);
+    line(&mut out, (WIDTH - 380.0, 50.0), LEFT, 2.5, "2,4");
+    line(&mut out, (WIDTH - 380.0, 66.0), RIGHT, 1.2, "2,4");
+    text(
         &mut out,
-        66.0,
-        RIGHT,
-        " stroke-dasharray=\"6,3\"",
-        right_name,
+        WIDTH - 344.0,
+        62.0,
+        12.0,
+        "start",
+        "#222222",
+        "rapids (dotted, each in its program's colour)",
     );
     let whole = View::fit((70.0, 80.0, WIDTH - 110.0, 440.0), b, true);
     axes(&mut out, &whole, "Z (mm)", "X (diameter, mm)", true);
-    overlay(&mut out, &whole, left, right, difference);
+    overlay(&mut out, &whole, left, right, &marked, difference);
     let Some(d) = difference else {
         text(
             &mut out,
@@ -802,8 +816,11 @@ pub fn verify_plot(
     }
     if let Some((z0, z1, r0, r1)) = detail {
         // Around the difference, X magnified: a small step is seen.
+        // (Twice the step around a small one; a large one, such as a rapid to another
+        // place, is not magnified past the whole view.)
         let (dz, dr) = ((z1 - z0).max(1.0), (r1 - r0).max(0.05));
-        let bounds = (z0 - dz * 0.1, z1 + dz * 0.1, r0 - dr * 2.0, r1 + dr * 2.0);
+        let pad = (dr * 2.0).min(dr * 0.1 + 0.1);
+        let bounds = (z0 - dz * 0.1, z1 + dz * 0.1, r0 - pad, r1 + pad);
         let rect = (70.0, 640.0, WIDTH - 110.0, 300.0);
         text(
             &mut out,
@@ -821,26 +838,27 @@ pub fn verify_plot(
             "<clipPath id=\"detail\"><rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"/></clipPath>\n<g clip-path=\"url(#detail)\">",
             v.left, v.top, v.width, v.height
         );
-        overlay(&mut out, &v, left, right, difference);
+        overlay(&mut out, &v, left, right, &marked, difference);
         out.push_str("</g>\n");
     }
     out.push_str("</svg>\n");
     out
 }
 
-/// Both motions in `v`, the difference's segments in red and circled.
+/// Both motions in `v`, the difference's segments (`marked`, as moved) in red and circled.
 fn overlay(
     out: &mut String,
     v: &View,
     left: &[Segment],
     right: &[Segment],
+    marked: &[Segment],
     difference: Option<&Difference>,
 ) {
     draw_overlay(out, v, left, LEFT, 2.5, None);
     draw_overlay(out, v, right, RIGHT, 1.2, Some("6,3"));
     let Some(d) = difference else { return };
     let label = format!("first difference: {d}");
-    for s in [d.left, d.right].iter().flatten() {
+    for s in marked {
         if let Some(path) = segment_path(v, s) {
             stroke_path(
                 out,
@@ -866,6 +884,34 @@ fn overlay(
             esc(&label)
         );
     }
+}
+
+/// A segment of a normalised motion as the machine moves it: normalising merges consecutive
+/// rapids into one from the first's start to the last's end (it takes the last's line and
+/// pass); that rapid is those rapids of `moves` (the motion as simulated) again. Anything else
+/// is drawn as it is: merged feeds are collinear, merged arcs one arc.
+fn as_moved(moves: &[Segment], s: &Segment) -> Vec<Segment> {
+    if !matches!(s.motion, Motion::Rapid) {
+        return vec![*s];
+    }
+    let rapid = |m: &Segment| matches!(m.motion, Motion::Rapid);
+    for (i, last) in moves.iter().enumerate() {
+        if !(rapid(last) && last.to == s.to && last.line == s.line && last.pass == s.pass) {
+            continue;
+        }
+        // The run of rapids that ends here (events where the tool stands do not break it),
+        // from the first that starts where the merged one does.
+        let mut first = i;
+        while first > 0
+            && (rapid(&moves[first - 1]) || moves[first - 1].from == moves[first - 1].to)
+        {
+            first -= 1;
+        }
+        if let Some(k) = (first..=i).find(|&k| rapid(&moves[k]) && moves[k].from == s.from) {
+            return moves[k..=i].iter().filter(|m| rapid(m)).copied().collect();
+        }
+    }
+    vec![*s]
 }
 
 fn draw_overlay(
