@@ -480,79 +480,244 @@ fn thread_detail(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
         add(p.start);
         add(p.end);
     }
-    if let (Some(c), Some(z)) = (op.crest, op.passes.first().and_then(|p| p.start.z)) {
-        add(Pos::new(c, z));
+    // The crest line, parallel to the root (the deepest pass's line).
+    if let (Some(c), Some(((x0, z0), (x1, z1)))) = (op.crest, root_line(op)) {
+        let offset = c.to_mm_f64() - op.root.map_or(x0, |r| r.to_mm_f64());
+        for (x, z) in [(x0, z0), (x1, z1)] {
+            b = b.map(|(a, c, d, e)| {
+                let r = (x + offset) / 2.0;
+                (a.min(z), c.max(z), d.min(r), e.max(r))
+            });
+        }
     }
-    let Some(b) = b else { return };
+    let Some(mut b) = b else { return };
+    // Room for the pass numbers past the passes' starts.
+    let room = (b.1 - b.0).max(1.0) * 0.08;
+    if labels_right(op) {
+        b.1 += room;
+    } else {
+        b.0 -= room;
+    }
     let v = View::fit(rect, b, false);
     axes(out, &v, "Z (mm)", "X (diameter, mm)", true);
-    let (z0, z1) = v.z_range();
     let n = op.passes.len();
-    if let Some(crest) = op.crest {
-        line_across(
-            out,
-            &v,
-            crest,
-            z0,
-            z1,
-            "#555555",
-            &format!("crest Ø{}", crest.mm()),
-        );
-    }
-    if let Some(root) = op.root {
-        line_across(
-            out,
-            &v,
-            root,
-            z0,
-            z1,
-            "#555555",
-            &format!("root Ø{}", root.mm()),
-        );
-    }
-    // Pass numbers where they do not overlap the one labelled before.
-    let mut labelled: Option<f64> = None;
+    // Lines along a taper leave the frame: they are cut at it.
+    let _ = writeln!(
+        out,
+        "<clipPath id=\"passes\"><rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"/></clipPath>\n<g clip-path=\"url(#passes)\">",
+        v.left, v.top, v.width, v.height
+    );
+    guide_lines(out, &v, op);
     for (i, p) in op.passes.iter().enumerate() {
         let (Some(start), Some(end)) = (p.start.known(), p.end.known()) else {
             continue;
         };
         let (a, c) = (v.at(start), v.at(end));
-        let colour = pass_colour(i, n);
         let _ = writeln!(
             out,
-            "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"{colour}\" stroke-width=\"2\"><title>pass {}: {} to {}</title></line>",
+            "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"{}\" stroke-width=\"2\"><title>pass {}: {} to {}</title></line>",
             a.0,
             a.1,
             c.0,
             c.1,
+            pass_colour(i, n),
             p.number,
             crate::sim::show_pos(p.start),
             crate::sim::show_pos(p.end)
         );
-        if labelled.is_none_or(|y| (y - c.1).abs() >= 10.0) || i + 1 == n {
-            text(
-                out,
-                c.0 + 4.0,
-                c.1 + 3.5,
-                9.0,
-                "start",
-                &colour,
-                &p.number.to_string(),
-            );
-            labelled = Some(c.1);
+    }
+    out.push_str("</g>\n");
+    pass_labels(out, &v, op);
+}
+
+/// Each pass's (or cut's) number beside its start, past the end of its line, in its colour
+/// on a white halo. Passes that start at one point (a spring pass) share a label (`10, 11`);
+/// a label that would overlap one already placed is left out (the first and the last pass
+/// are placed first, then the others in order).
+fn pass_labels(out: &mut String, v: &View, op: &Operation) {
+    // The labels: the start (px), which side of it, the numbers, the colour of the first.
+    let mut labels: Vec<((f64, f64), bool, Vec<usize>, usize)> = Vec::new();
+    let n = op.passes.len();
+    for (i, p) in op.passes.iter().enumerate() {
+        let (Some(start), Some(end)) = (p.start.known(), p.end.known()) else {
+            continue;
+        };
+        let (a, c) = (v.at(start), v.at(end));
+        let right = if (a.0 - c.0).abs() < 1.0 {
+            labels_right(op)
+        } else {
+            a.0 > c.0
+        };
+        match labels
+            .iter_mut()
+            .find(|l| (l.0.0 - a.0).abs() < 1.0 && (l.0.1 - a.1).abs() < 1.0)
+        {
+            Some(l) => l.2.push(p.number),
+            None => labels.push((a, right, vec![p.number], i)),
         }
+    }
+    let last = labels.len().saturating_sub(1);
+    let order = (0..labels.len())
+        .filter(|&i| i == 0 || i == last)
+        .chain(1..last);
+    // Placed labels: left, right, baseline (px).
+    let mut placed: Vec<(f64, f64, f64)> = Vec::new();
+    for i in order {
+        let ((x, y), right, numbers, first) = &labels[i];
+        let label = numbers
+            .iter()
+            .map(usize::to_string)
+            .collect::<Vec<_>>()
+            .join(", ");
+        // 10 px digits are about 6.4 px wide, a comma and space 5.
+        let width = 6.5 * label.len() as f64;
+        let left = if *right { x + 4.0 } else { x - 4.0 - width };
+        let y = y + 3.5;
+        let overlaps = placed
+            .iter()
+            .any(|&(l, r, b)| (b - y).abs() < 10.0 && left < r + 2.0 && l < left + width + 2.0);
+        if overlaps {
+            continue;
+        }
+        placed.push((left, left + width, y));
+        halo_text(
+            out,
+            if *right { x + 4.0 } else { x - 4.0 },
+            y,
+            10.0,
+            if *right { "start" } else { "end" },
+            &pass_colour(*first, n),
+            &label,
+        );
     }
 }
 
-fn line_across(out: &mut String, v: &View, x: Length, z0: f64, z1: f64, colour: &str, label: &str) {
-    let r = x.to_mm_f64() / 2.0;
-    let (a, y) = v.px(z0, r);
-    let (b, _) = v.px(z1, r);
+/// Whether the passes start on the right of their lines (towards +Z), so that their numbers
+/// go on the right (the first pass's way; true when not known).
+fn labels_right(op: &Operation) -> bool {
+    op.passes
+        .iter()
+        .find_map(|p| Some(p.start.z? >= p.end.z?))
+        .unwrap_or(true)
+}
+
+/// [`text`] on a white ground (the text's width estimated), legible over the lines it
+/// crosses.
+fn halo_text(out: &mut String, x: f64, y: f64, size: f64, anchor: &str, fill: &str, s: &str) {
+    // DejaVu Sans is about 0.6 em a character.
+    let width = 0.6 * size * s.chars().count() as f64 + 2.0;
+    let left = match anchor {
+        "end" => x - width + 1.0,
+        "middle" => x - width / 2.0,
+        _ => x - 1.0,
+    };
     let _ = writeln!(
         out,
-        "<line x1=\"{a:.1}\" y1=\"{y:.1}\" x2=\"{b:.1}\" y2=\"{y:.1}\" stroke=\"{colour}\" stroke-width=\"1\" stroke-dasharray=\"2,3\"/>"
+        "<rect x=\"{left:.1}\" y=\"{:.1}\" width=\"{width:.1}\" height=\"{:.1}\" fill=\"#ffffff\" fill-opacity=\"0.85\"/>",
+        y - size * 0.9,
+        size * 1.15
     );
-    text(out, a + 4.0, y - 3.0, 10.0, "start", colour, label);
+    text(out, x, y, size, anchor, fill, s);
+}
+
+/// The crest and root lines along the passes: the root is the deepest pass's line (along a
+/// taper, the taper) and the crest parallel to it, `crest − root` apart on the diameter. They
+/// run from the view's far edge to where the passes start, so that the pass numbers past the
+/// starts stand clear, and are labelled where the passes start (where their diameters are
+/// measured: a taper's label says the Z), each on its side away from the other.
+fn guide_lines(out: &mut String, v: &View, op: &Operation) {
+    let Some(((x0, z0), (x1, z1))) = root_line(op) else {
+        return;
+    };
+    let slope = if (z1 - z0).abs() > 1e-9 {
+        (x1 - x0) / (z1 - z0)
+    } else {
+        0.0
+    };
+    let right = labels_right(op);
+    let (e0, e1) = v.z_range();
+    let starts = op
+        .passes
+        .iter()
+        .filter_map(|p| p.start.z)
+        .map(|z| z.to_mm_f64());
+    let (from, to) = if right {
+        (e0, starts.fold(f64::MIN, f64::max))
+    } else {
+        (starts.fold(f64::MAX, f64::min), e1)
+    };
+    let near = if right { to } else { from };
+    // A taper's diameters are those where the deepest pass starts.
+    let at = if slope == 0.0 {
+        String::new()
+    } else {
+        format!(" at Z{}", number(z0))
+    };
+    // Diameters: the root line's at z, and the crest's offset from it.
+    let root_at = |z: f64| x0 + slope * (z - z0);
+    let offset = match (op.crest, op.root) {
+        (Some(c), Some(r)) => Some(c.to_mm_f64() - r.to_mm_f64()),
+        (Some(c), None) => Some(c.to_mm_f64() - x0),
+        _ => None,
+    };
+    // The crest (or, not known, the first pass) is above the root on the screen when the
+    // thread is external.
+    let outward = match (offset, op.passes.first().and_then(|p| p.start.x)) {
+        (Some(o), _) => o >= 0.0,
+        (None, Some(x)) => x.to_mm_f64() >= x0,
+        _ => true,
+    };
+    let mut draw = |diameter_at: &dyn Fn(f64) -> f64, above: bool, label: String| {
+        let (a, b) = (
+            v.px(from, diameter_at(from) / 2.0),
+            v.px(to, diameter_at(to) / 2.0),
+        );
+        let _ = writeln!(
+            out,
+            "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"#555555\" stroke-width=\"1\" stroke-dasharray=\"2,3\"/>",
+            a.0, a.1, b.0, b.1
+        );
+        // Clear of the line over the label's width (about 6 px a character at 10 px).
+        let width = 6.0 * label.chars().count() as f64 / v.sz;
+        let other = if right { near - width } else { near + width };
+        let (x, ya) = v.px(near, diameter_at(near) / 2.0);
+        let yb = v.px(other, diameter_at(other) / 2.0).1;
+        let y = if above {
+            ya.min(yb) - 4.0
+        } else {
+            ya.max(yb) + 12.0
+        };
+        let y = y.clamp(v.top + 12.0, v.top + v.height - 4.0);
+        let (x, anchor) = if right {
+            (x - 4.0, "end")
+        } else {
+            (x + 4.0, "start")
+        };
+        halo_text(out, x, y, 10.0, anchor, "#555555", &label);
+    };
+    if let (Some(offset), Some(crest)) = (offset, op.crest) {
+        draw(
+            &|z| root_at(z) + offset,
+            outward,
+            format!("crest Ø{}{at}", crest.mm()),
+        );
+    }
+    let root = op.root.map_or("deepest pass".to_string(), |r| {
+        format!("root Ø{}{at}", r.mm())
+    });
+    draw(&root_at, !outward, root);
+}
+
+/// The deepest pass's line, (X diameter, Z) at its start and end in mm: the thread's root.
+fn root_line(op: &Operation) -> Option<((f64, f64), (f64, f64))> {
+    let depth = |p: &crate::explain::Pass| p.cumulative_depth.unwrap_or(p.below_first);
+    let deepest = op
+        .passes
+        .iter()
+        .filter(|p| p.start.known().is_some() && p.end.known().is_some())
+        .max_by_key(|p| depth(p))?;
+    let mm = |p: Pos| p.known().map(|(x, z)| (x.to_mm_f64(), z.to_mm_f64()));
+    Some((mm(deepest.start)?, mm(deepest.end)?))
 }
 
 /// The thread's cross-section: the form (60° flanks from the crest to the deepest pass) and
