@@ -762,31 +762,14 @@ fn cross_section(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
         v.left,
         v.left + v.width
     );
-    let crest = match op.crest {
-        Some(c) => format!("crest Ø{}", c.mm()),
-        None => "pass 1 (the crest is not in the program)".into(),
-    };
-    text(
+    // The root, the deepest pass's depth, drawn as the crest is.
+    let root_y = v.px(0.0, -deepest).1;
+    let _ = writeln!(
         out,
-        v.left + 4.0,
-        crest_y - 4.0,
-        10.0,
-        "start",
-        "#555555",
-        &crest,
+        "<line x1=\"{:.1}\" y1=\"{root_y:.1}\" x2=\"{:.1}\" y2=\"{root_y:.1}\" stroke=\"#555555\" stroke-dasharray=\"2,3\"/>",
+        v.left,
+        v.left + v.width
     );
-    if let Some(root) = op.root {
-        let y = v.px(0.0, -deepest).1;
-        text(
-            out,
-            v.left + 4.0,
-            y + 12.0,
-            10.0,
-            "start",
-            "#555555",
-            &format!("root Ø{}", root.mm()),
-        );
-    }
     // The tools reach above the crest: they are cut at the frame.
     let _ = writeln!(
         out,
@@ -820,6 +803,17 @@ fn cross_section(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
         dot(out, points[1], 2.5, &colour, &format!("pass {}", p.number));
     }
     out.push_str("</g>\n");
+    // The lines' labels over the tools: the crest above its line, the root below.
+    let crest = match op.crest {
+        Some(c) => format!("crest Ø{}", c.mm()),
+        None => "pass 1 (the crest is not in the program)".into(),
+    };
+    let root = op
+        .root
+        .map_or("deepest pass".to_string(), |r| format!("root Ø{}", r.mm()));
+    for (y, label) in [(crest_y - 4.0, crest), (root_y + 12.0, root)] {
+        halo_text(out, v.left + 4.0, y, 10.0, "start", "#555555", &label);
+    }
     // A scale bar of one tick step.
     let step = tick_step(z1 - z0, 4.0);
     let (a, y) = (v.left + 10.0, v.top + v.height - 10.0);
