@@ -7,7 +7,7 @@
 
 use std::fmt::Write as _;
 
-use crate::explain::Operation;
+use crate::explain::{CycleMove, Kind, Operation};
 use crate::fixed::Length;
 use crate::ir::Pos;
 use crate::sim::{Difference, Motion, Segment};
@@ -228,9 +228,23 @@ fn pass_colour(i: usize, n: usize) -> String {
 
 /// The mm bounds (z min, z max, r min, r max) of segments with known ends.
 fn bounds<'a>(segments: impl Iterator<Item = &'a Segment>) -> Option<(f64, f64, f64, f64)> {
+    moves_bounds(segments.map(|s| {
+        let centre = match s.motion {
+            Motion::Arc { centre, .. } => Some(centre),
+            _ => None,
+        };
+        (s.from, s.to, centre)
+    }))
+}
+
+/// The mm bounds of moves (from, to, an arc's centre) with known ends: an arc's whole circle,
+/// since it may bulge past its ends.
+fn moves_bounds(
+    moves: impl Iterator<Item = (Pos, Pos, Option<Pos>)>,
+) -> Option<(f64, f64, f64, f64)> {
     let mut b: Option<(f64, f64, f64, f64)> = None;
-    for s in segments {
-        for p in [s.from, s.to] {
+    for (from, to, centre) in moves {
+        for p in [from, to] {
             let Some((x, z)) = p.known() else { continue };
             let (z, r) = (z.to_mm_f64(), x.to_mm_f64() / 2.0);
             b = Some(match b {
@@ -238,10 +252,7 @@ fn bounds<'a>(segments: impl Iterator<Item = &'a Segment>) -> Option<(f64, f64, 
                 Some((a, bz, c, d)) => (a.min(z), bz.max(z), c.min(r), d.max(r)),
             });
         }
-        // An arc may bulge past its ends.
-        if let Motion::Arc { centre, .. } = s.motion
-            && let (Some((cx, cz)), Some((fx, fz))) = (centre.known(), s.from.known())
-        {
+        if let (Some((cx, cz)), Some((fx, fz))) = (centre.and_then(Pos::known), from.known()) {
             let (cz, cr) = (cz.to_mm_f64(), cx.to_mm_f64() / 2.0);
             let rad = (fz.to_mm_f64() - cz).hypot(fx.to_mm_f64() / 2.0 - cr);
             if let Some((a, bz, c, d)) = b {
@@ -456,17 +467,18 @@ fn heading(out: &mut String, rect: (f64, f64, f64, f64), title: &str) {
     text(out, rect.0, rect.1 - 8.0, 13.0, "start", "#222222", title);
 }
 
-/// The operation's passes along Z, X magnified so that each pass is apart.
+/// The operation's passes along Z, X magnified so that each pass is apart; a roughing or
+/// finishing cycle's cuts as it moves them, rapids dashed.
 fn thread_detail(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
-    heading(
-        out,
-        rect,
-        &format!(
-            "operation {}: {} along Z (X magnified)",
-            op.number,
-            if op.is_thread() { "passes" } else { "cuts" }
-        ),
-    );
+    // A cycle's moves from its first cut to its last (the approach and the way back are in
+    // the toolpath).
+    let cuts: &[CycleMove] = match (
+        op.moves.iter().position(|m| m.cut.is_some()),
+        op.moves.iter().rposition(|m| m.cut.is_some()),
+    ) {
+        (Some(a), Some(b)) => &op.moves[a..=b],
+        _ => &[],
+    };
     let mut b: Option<(f64, f64, f64, f64)> = None;
     let mut add = |p: Pos| {
         let Some((x, z)) = p.known() else { return };
@@ -479,6 +491,18 @@ fn thread_detail(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
     for p in &op.passes {
         add(p.start);
         add(p.end);
+    }
+    if let Some((z0, z1, r0, r1)) =
+        moves_bounds(cuts.iter().map(|m| (m.from, m.to, m.arc.map(|a| a.0))))
+    {
+        add(Pos::new(
+            Length::from_mm_f64(r0 * 2.0),
+            Length::from_mm_f64(z0),
+        ));
+        add(Pos::new(
+            Length::from_mm_f64(r1 * 2.0),
+            Length::from_mm_f64(z1),
+        ));
     }
     // The crest line, parallel to the root (the deepest pass's line).
     if let (Some(c), Some(((x0, z0), (x1, z1)))) = (op.crest, root_line(op)) {
@@ -499,6 +523,33 @@ fn thread_detail(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
         b.0 -= room;
     }
     let v = View::fit(rect, b, false);
+    let scale = if v.sr > v.sz * 1.05 {
+        format!(
+            "X magnified ×{}",
+            number((v.sr / v.sz * 10.0).round() / 10.0)
+        )
+    } else if v.sz > v.sr * 1.05 {
+        format!(
+            "Z magnified ×{}",
+            number((v.sz / v.sr * 10.0).round() / 10.0)
+        )
+    } else {
+        "to scale".into()
+    };
+    heading(
+        out,
+        rect,
+        &match &op.kind {
+            Kind::Roughing(code) if cuts.iter().any(|m| m.cut.is_none()) => {
+                format!(
+                    "operation {}: {code}'s cuts ({scale}; rapids dashed)",
+                    op.number
+                )
+            }
+            Kind::Roughing(code) => format!("operation {}: {code}'s cuts ({scale})", op.number),
+            _ => format!("operation {}: passes along Z ({scale})", op.number),
+        },
+    );
     axes(out, &v, "Z (mm)", "X (diameter, mm)", true);
     let n = op.passes.len();
     // Lines along a taper leave the frame: they are cut at it.
@@ -507,8 +558,45 @@ fn thread_detail(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
         "<clipPath id=\"passes\"><rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"/></clipPath>\n<g clip-path=\"url(#passes)\">",
         v.left, v.top, v.width, v.height
     );
-    guide_lines(out, &v, op);
+    if op.is_thread() {
+        guide_lines(out, &v, op);
+    }
+    for m in cuts {
+        let Some(d) = path_of(&v, m.from, m.to, m.arc) else {
+            continue;
+        };
+        let (from, to) = (crate::sim::show_pos(m.from), crate::sim::show_pos(m.to));
+        let (stroke, title) = match (m.cut, m.arc) {
+            (None, _) => (
+                Stroke {
+                    colour: RAPID.to_string(),
+                    width: 1.0,
+                    dash: Some("5,4"),
+                },
+                format!("rapid  {from} → {to}"),
+            ),
+            (Some(c), arc) => (
+                Stroke {
+                    colour: pass_colour(c - 1, n),
+                    width: 2.0,
+                    dash: None,
+                },
+                match arc {
+                    Some((centre, clockwise)) => format!(
+                        "cut {c}  arc {}  {from} → {to}  centre {}",
+                        if clockwise { "G2" } else { "G3" },
+                        crate::sim::show_pos(centre)
+                    ),
+                    None => format!("cut {c}  feed  {from} → {to}"),
+                },
+            ),
+        };
+        stroke_path(out, &d, &stroke, Some(&title));
+    }
     for (i, p) in op.passes.iter().enumerate() {
+        if !cuts.is_empty() {
+            break;
+        }
         let (Some(start), Some(end)) = (p.start.known(), p.end.known()) else {
             continue;
         };
