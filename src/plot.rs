@@ -936,7 +936,8 @@ fn legend(out: &mut String, op: &Operation, (x, y): (f64, f64)) {
         Some(d) => lines.push(format!("depth {} mm", d.mm())),
         None => lines.push("depth: crest not known".into()),
     }
-    lines.push(format!("{} passes", op.passes.len()));
+    let n = op.passes.len();
+    lines.push(format!("{n} pass{}", if n == 1 { "" } else { "es" }));
     if op.spring_passes > 0 {
         lines.push(format!("({} spring)", op.spring_passes));
     }
@@ -953,7 +954,6 @@ fn legend(out: &mut String, op: &Operation, (x, y): (f64, f64)) {
         text(out, x, y + 14.0 * i as f64, 12.0, "start", "#222222", l);
     }
     // The colour ramp of the passes.
-    let n = op.passes.len();
     let top = y + 14.0 * lines.len() as f64 + 6.0;
     for i in 0..n.min(40) {
         let _ = writeln!(
