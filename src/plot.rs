@@ -452,10 +452,13 @@ pub fn plot(title: &str, segments: &[Segment], operation: Option<&Operation>) ->
         ),
     }
     if let Some(op) = operation {
-        thread_detail(&mut out, op, (70.0, 520.0, 470.0, 320.0));
         if op.is_thread() {
+            thread_detail(&mut out, op, (70.0, 520.0, 470.0, 320.0));
             cross_section(&mut out, op, (600.0, 520.0, 300.0, 320.0));
             legend(&mut out, op, (920.0, 520.0));
+        } else {
+            // A roughing cycle's cuts: the whole width.
+            thread_detail(&mut out, op, (70.0, 520.0, WIDTH - 110.0, 320.0));
         }
     }
     out.push_str("</svg>\n");
@@ -618,30 +621,40 @@ fn thread_detail(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
     pass_labels(out, &v, op);
 }
 
-/// Each pass's (or cut's) number beside its start, past the end of its line, in its colour
-/// on a white halo. Passes that start at one point (a spring pass) share a label (`10, 11`);
-/// a label that would overlap one already placed is left out (the first and the last pass
-/// are placed first, then the others in order).
+/// Each pass's (or cut's) number beside its start, past the end of its line (beside it, or
+/// above or below a cut along X), in its colour on a white ground. Passes that start at one
+/// point (a spring pass) share a label (`10, 11`); a label that would overlap one already
+/// placed is left out (the first and the last pass are placed first, then the others in
+/// order).
 fn pass_labels(out: &mut String, v: &View, op: &Operation) {
-    // The labels: the start (px), which side of it, the numbers, the colour of the first.
-    let mut labels: Vec<((f64, f64), bool, Vec<usize>, usize)> = Vec::new();
+    // The labels: where (x, baseline, anchor), the start (px), the numbers, the colour of
+    // the first.
+    let mut labels: Vec<((f64, f64, &str), (f64, f64), Vec<usize>, usize)> = Vec::new();
     let n = op.passes.len();
     for (i, p) in op.passes.iter().enumerate() {
         let (Some(start), Some(end)) = (p.start.known(), p.end.known()) else {
             continue;
         };
         let (a, c) = (v.at(start), v.at(end));
-        let right = if (a.0 - c.0).abs() < 1.0 {
-            labels_right(op)
+        let (dx, dy) = (a.0 - c.0, a.1 - c.1);
+        let place = if dy.abs() > dx.abs() && dy.abs() >= 1.0 {
+            // Along X: above a start above its end, else below.
+            if dy < 0.0 {
+                (a.0, a.1 - 5.0, "middle")
+            } else {
+                (a.0, a.1 + 13.0, "middle")
+            }
+        } else if dx.abs() >= 1.0 && dx > 0.0 || dx.abs() < 1.0 && labels_right(op) {
+            (a.0 + 4.0, a.1 + 3.5, "start")
         } else {
-            a.0 > c.0
+            (a.0 - 4.0, a.1 + 3.5, "end")
         };
         match labels
             .iter_mut()
-            .find(|l| (l.0.0 - a.0).abs() < 1.0 && (l.0.1 - a.1).abs() < 1.0)
+            .find(|l| (l.1.0 - a.0).abs() < 1.0 && (l.1.1 - a.1).abs() < 1.0)
         {
             Some(l) => l.2.push(p.number),
-            None => labels.push((a, right, vec![p.number], i)),
+            None => labels.push((place, a, vec![p.number], i)),
         }
     }
     let last = labels.len().saturating_sub(1);
@@ -651,7 +664,7 @@ fn pass_labels(out: &mut String, v: &View, op: &Operation) {
     // Placed labels: left, right, baseline (px).
     let mut placed: Vec<(f64, f64, f64)> = Vec::new();
     for i in order {
-        let ((x, y), right, numbers, first) = &labels[i];
+        let ((x, y, anchor), _, numbers, first) = &labels[i];
         let label = numbers
             .iter()
             .map(usize::to_string)
@@ -659,24 +672,19 @@ fn pass_labels(out: &mut String, v: &View, op: &Operation) {
             .join(", ");
         // 10 px digits are about 6.4 px wide, a comma and space 5.
         let width = 6.5 * label.len() as f64;
-        let left = if *right { x + 4.0 } else { x - 4.0 - width };
-        let y = y + 3.5;
+        let left = match *anchor {
+            "start" => *x,
+            "end" => x - width,
+            _ => x - width / 2.0,
+        };
         let overlaps = placed
             .iter()
             .any(|&(l, r, b)| (b - y).abs() < 10.0 && left < r + 2.0 && l < left + width + 2.0);
         if overlaps {
             continue;
         }
-        placed.push((left, left + width, y));
-        halo_text(
-            out,
-            if *right { x + 4.0 } else { x - 4.0 },
-            y,
-            10.0,
-            if *right { "start" } else { "end" },
-            &pass_colour(*first, n),
-            &label,
-        );
+        placed.push((left, left + width, *y));
+        halo_text(out, *x, *y, 10.0, anchor, &pass_colour(*first, n), &label);
     }
 }
 
