@@ -691,3 +691,57 @@ fn a_roughing_cut_is_drawn_along_its_moves() {
     let ((mz, mr), _) = arc_points(arc);
     assert!(ink(&pixmap, map.px(mz, mr), 1.5), "the arc's middle");
 }
+
+/// README's pictures of a whole part and of a roughing cycle: their commands, as printed,
+/// write the SVGs kept in docs/, and the PNGs beside them are those SVGs at 1.5 times their
+/// size (`rsvg-convert -z 1.5`, as README says).
+#[test]
+fn readme_pictures_are_current() {
+    let readme = std::fs::read_to_string(common::root().join("README.md")).unwrap();
+    for (command, svg, png) in [
+        (
+            "ncthread plot corpus/iso/part-shaft-m20.ngc --from iso -o shaft.svg",
+            "docs/plot-part-shaft-m20.svg",
+            "docs/plot-part-shaft-m20.png",
+        ),
+        (
+            "ncthread plot corpus/iso/roughing-g71-g70-shaft.ngc --from iso --operation 1 -o g71.svg",
+            "docs/plot-roughing-g71-g70-shaft.svg",
+            "docs/plot-roughing-g71-g70-shaft.png",
+        ),
+    ] {
+        assert!(
+            readme.contains(&format!("\n{command}\n")),
+            "README lacks `{command}`"
+        );
+        assert!(readme.contains(&format!("]({png})")), "README shows {png}");
+        let dir = tempfile::tempdir().unwrap();
+        let written = dir.path().join("out.svg");
+        let mut args: Vec<&str> = command.split(' ').skip(1).collect();
+        let o = args.iter().position(|a| *a == "-o").unwrap();
+        args[o + 1] = written.to_str().unwrap();
+        let out = common::ncthread(&args, None);
+        assert_eq!(out.status.code(), Some(0), "{}", common::text(&out.stderr));
+        let kept = std::fs::read_to_string(common::root().join(svg)).unwrap();
+        assert!(
+            std::fs::read_to_string(&written).unwrap() == kept,
+            "{svg} is stale: ncthread {} -o {svg}, then rsvg-convert -z 1.5 -b white {svg} -o {png}",
+            args[..o].join(" ")
+        );
+        // The PNG's size (its IHDR) is the SVG's × 1.5.
+        let size = |attr: &str| -> f64 {
+            let at = kept.find(&format!(" {attr}=\"")).unwrap() + attr.len() + 3;
+            kept[at..at + kept[at..].find('"').unwrap()]
+                .parse()
+                .unwrap()
+        };
+        let bytes = std::fs::read(common::root().join(png)).unwrap();
+        assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{png} is a PNG");
+        let be = |i: usize| u32::from_be_bytes(bytes[i..i + 4].try_into().unwrap()) as f64;
+        assert_eq!(
+            (be(16), be(20)),
+            (size("width") * 1.5, size("height") * 1.5),
+            "{png}: rsvg-convert -z 1.5 -b white {svg} -o {png}"
+        );
+    }
+}
