@@ -627,9 +627,15 @@ fn thread_detail(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
 /// placed is left out (the first and the last pass are placed first, then the others in
 /// order).
 fn pass_labels(out: &mut String, v: &View, op: &Operation) {
-    // The labels: where (x, baseline, anchor), the start (px), the numbers, the colour of
-    // the first.
-    let mut labels: Vec<((f64, f64, &str), (f64, f64), Vec<usize>, usize)> = Vec::new();
+    /// A label: where (x, baseline, anchor), the start it labels (px), its pass numbers, and
+    /// the first's index (its colour).
+    struct Label {
+        at: (f64, f64, &'static str),
+        start: (f64, f64),
+        numbers: Vec<usize>,
+        first: usize,
+    }
+    let mut labels: Vec<Label> = Vec::new();
     let n = op.passes.len();
     for (i, p) in op.passes.iter().enumerate() {
         let (Some(start), Some(end)) = (p.start.known(), p.end.known()) else {
@@ -651,10 +657,15 @@ fn pass_labels(out: &mut String, v: &View, op: &Operation) {
         };
         match labels
             .iter_mut()
-            .find(|l| (l.1.0 - a.0).abs() < 1.0 && (l.1.1 - a.1).abs() < 1.0)
+            .find(|l| (l.start.0 - a.0).abs() < 1.0 && (l.start.1 - a.1).abs() < 1.0)
         {
-            Some(l) => l.2.push(p.number),
-            None => labels.push((place, a, vec![p.number], i)),
+            Some(l) => l.numbers.push(p.number),
+            None => labels.push(Label {
+                at: place,
+                start: a,
+                numbers: vec![p.number],
+                first: i,
+            }),
         }
     }
     let last = labels.len().saturating_sub(1);
@@ -664,7 +675,12 @@ fn pass_labels(out: &mut String, v: &View, op: &Operation) {
     // Placed labels: left, right, baseline (px).
     let mut placed: Vec<(f64, f64, f64)> = Vec::new();
     for i in order {
-        let ((x, y, anchor), _, numbers, first) = &labels[i];
+        let Label {
+            at: (x, y, anchor),
+            numbers,
+            first,
+            ..
+        } = &labels[i];
         let label = numbers
             .iter()
             .map(usize::to_string)

@@ -183,11 +183,14 @@ struct Mapping {
     ky: f64,
 }
 
+/// A program point in mm (Z, X as a radius) and where a view draws it (px).
+type Pair = ((f64, f64), (f64, f64));
+
 impl Mapping {
     /// From pairs of (program point in mm, pixel point): the two furthest apart along each
     /// axis fix it; every pair must then agree to the SVG's two decimals.
-    fn fit(pairs: &[((f64, f64), (f64, f64))], here: &str) -> Option<Mapping> {
-        let axis = |get: fn(&((f64, f64), (f64, f64))) -> (f64, f64)| {
+    fn fit(pairs: &[Pair], here: &str) -> Option<Mapping> {
+        let axis = |get: fn(&Pair) -> (f64, f64)| {
             let lo = pairs.iter().map(get).min_by(|a, b| a.0.total_cmp(&b.0))?;
             let hi = pairs.iter().map(get).max_by(|a, b| a.0.total_cmp(&b.0))?;
             if hi.0 - lo.0 < 1e-3 {
