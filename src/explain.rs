@@ -124,6 +124,18 @@ pub struct Pass {
     pub spring: bool,
 }
 
+/// One move of a roughing or finishing cycle as `lower::g7x` expanded it, for a picture of
+/// its cuts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CycleMove {
+    pub from: Pos,
+    pub to: Pos,
+    /// The cut (a pass row's number) it belongs to; `None` for a rapid.
+    pub cut: Option<usize>,
+    /// An arc's centre (X a diameter) and whether it turns clockwise (G2); `None` for a line.
+    pub arc: Option<(Pos, bool)>,
+}
+
 /// One operation of the program.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Operation {
@@ -163,6 +175,8 @@ pub struct Operation {
     pub passes: Vec<Pass>,
     /// A tap's travel along Z (from, to).
     pub z_range: Option<(Length, Length)>,
+    /// A roughing or finishing cycle's moves, rapids and cuts (empty for other operations).
+    pub moves: Vec<CycleMove>,
 }
 
 impl Operation {
@@ -299,6 +313,7 @@ fn blank(
         schedule: None,
         passes: Vec::new(),
         z_range: None,
+        moves: Vec::new(),
     }
 }
 
@@ -782,6 +797,12 @@ fn roughing_operation(cycle: &RoughingCycle, at: (u32, Option<u32>), from: Pos) 
     let mut cutting = false;
     for m in &cycle.moves {
         let next = m.end_position(pos);
+        let arc = match m {
+            ItemKind::Arc {
+                centre, clockwise, ..
+            } => Some((**centre, *clockwise)),
+            _ => None,
+        };
         match m {
             ItemKind::Rapid { .. } => cutting = false,
             _ => {
@@ -806,6 +827,12 @@ fn roughing_operation(cycle: &RoughingCycle, at: (u32, Option<u32>), from: Pos) 
                 }
             }
         }
+        op.moves.push(CycleMove {
+            from: pos,
+            to: next,
+            cut: cutting.then_some(rows.len()),
+            arc,
+        });
         pos = next;
     }
     // The step of each roughing cut from the one before, per side (along Z for facing). (A

@@ -350,6 +350,11 @@ pub struct Verification {
     /// The source's normalised motion and the other program's.
     pub left: Vec<sim::Segment>,
     pub right: Vec<sim::Segment>,
+    /// The same motions as simulated, before normalising: what `verify --plot` draws
+    /// (normalising merges consecutive rapids into one straight move, which is not the path
+    /// the machine takes).
+    pub left_moves: Vec<sim::Segment>,
+    pub right_moves: Vec<sim::Segment>,
     /// The second judge's findings (`verify --rs274`): LinuxCNC's own run of each ISO
     /// program held against ncthread's simulation of the other side.
     pub oracle: Vec<OracleCheck>,
@@ -451,6 +456,8 @@ pub fn verify_within(
             diagnostics,
             left: Vec::new(),
             right: Vec::new(),
+            left_moves: Vec::new(),
+            right_moves: Vec::new(),
             oracle: Vec::new(),
         }
     };
@@ -495,8 +502,9 @@ pub fn verify_within(
     diagnostics.extend(left.problems.iter().map(|p| p.diagnostic(src)));
     diagnostics.extend(right.problems.iter().map(|p| p.diagnostic(other)));
     diag::sort(&mut diagnostics);
-    let left = sim::normalise(&left.segments);
-    let right = sim::normalise(&right.segments);
+    let (left_moves, right_moves) = (left.segments, right.segments);
+    let left = sim::normalise(&left_moves);
+    let right = sim::normalise(&right_moves);
     // The rounding a `--round` conversion reported (half a step of the target's grid, or a
     // lead's drift over its thread) is allowed, and the tolerance asked for.
     let rounded = diagnostics
@@ -552,6 +560,8 @@ pub fn verify_within(
         diagnostics,
         left,
         right,
+        left_moves,
+        right_moves,
         oracle,
     }
 }

@@ -992,9 +992,9 @@ fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
         let svg = ncthread::plot::verify_plot(
             &format!("verify: {} ({from}) against {other} ({to})", src.name),
             &format!("{} ({from})", src.name),
-            &v.left,
+            &v.left_moves,
             &format!("{other} ({to})"),
-            &v.right,
+            &v.right_moves,
             difference,
         );
         plot = Some((path, svg));

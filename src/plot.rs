@@ -7,7 +7,7 @@
 
 use std::fmt::Write as _;
 
-use crate::explain::Operation;
+use crate::explain::{CycleMove, Kind, Operation};
 use crate::fixed::Length;
 use crate::ir::Pos;
 use crate::sim::{Difference, Motion, Segment};
@@ -228,9 +228,23 @@ fn pass_colour(i: usize, n: usize) -> String {
 
 /// The mm bounds (z min, z max, r min, r max) of segments with known ends.
 fn bounds<'a>(segments: impl Iterator<Item = &'a Segment>) -> Option<(f64, f64, f64, f64)> {
+    moves_bounds(segments.map(|s| {
+        let centre = match s.motion {
+            Motion::Arc { centre, .. } => Some(centre),
+            _ => None,
+        };
+        (s.from, s.to, centre)
+    }))
+}
+
+/// The mm bounds of moves (from, to, an arc's centre) with known ends: an arc's whole circle,
+/// since it may bulge past its ends.
+fn moves_bounds(
+    moves: impl Iterator<Item = (Pos, Pos, Option<Pos>)>,
+) -> Option<(f64, f64, f64, f64)> {
     let mut b: Option<(f64, f64, f64, f64)> = None;
-    for s in segments {
-        for p in [s.from, s.to] {
+    for (from, to, centre) in moves {
+        for p in [from, to] {
             let Some((x, z)) = p.known() else { continue };
             let (z, r) = (z.to_mm_f64(), x.to_mm_f64() / 2.0);
             b = Some(match b {
@@ -238,10 +252,7 @@ fn bounds<'a>(segments: impl Iterator<Item = &'a Segment>) -> Option<(f64, f64, 
                 Some((a, bz, c, d)) => (a.min(z), bz.max(z), c.min(r), d.max(r)),
             });
         }
-        // An arc may bulge past its ends.
-        if let Motion::Arc { centre, .. } = s.motion
-            && let (Some((cx, cz)), Some((fx, fz))) = (centre.known(), s.from.known())
-        {
+        if let (Some((cx, cz)), Some((fx, fz))) = (centre.and_then(Pos::known), from.known()) {
             let (cz, cr) = (cz.to_mm_f64(), cx.to_mm_f64() / 2.0);
             let rad = (fz.to_mm_f64() - cz).hypot(fx.to_mm_f64() / 2.0 - cr);
             if let Some((a, bz, c, d)) = b {
@@ -266,37 +277,50 @@ struct Stroke<'a> {
 
 /// The SVG path of one segment (`None` when an end is unknown or it does not move).
 fn segment_path(v: &View, s: &Segment) -> Option<String> {
-    let (from, to) = (s.from.known()?, s.to.known()?);
-    let (x0, y0) = v.at(from);
-    let (x1, y1) = v.at(to);
-    match s.motion {
+    let arc = match s.motion {
         Motion::Arc {
             centre, clockwise, ..
-        } => {
-            let c = centre.known()?;
-            let (cx, cy) = v.at(c);
-            let rad = (x0 - cx).hypot(y0 - cy);
-            // With X up, LinuxCNC's clockwise G2 turns counter-clockwise on the screen.
-            let sweep = if clockwise { 0 } else { 1 };
-            if from == to {
-                // A full circle: two halves.
-                let (ox, oy) = (2.0 * cx - x0, 2.0 * cy - y0);
-                return Some(format!(
-                    "M{x0:.2},{y0:.2} A{rad:.2},{rad:.2} 0 0 {sweep} {ox:.2},{oy:.2} A{rad:.2},{rad:.2} 0 0 {sweep} {x0:.2},{y0:.2}"
-                ));
-            }
-            // The sweep's size decides the large-arc flag: the cross product of the ends
-            // around the centre, in the motion's sense.
-            let cross = (x0 - cx) * (y1 - cy) - (y0 - cy) * (x1 - cx);
-            let screen_ccw = cross < 0.0;
-            let large = if (sweep == 0) == screen_ccw { 0 } else { 1 };
-            Some(format!(
-                "M{x0:.2},{y0:.2} A{rad:.2},{rad:.2} 0 {large} {sweep} {x1:.2},{y1:.2}"
-            ))
+        } => Some((centre, clockwise)),
+        _ => None,
+    };
+    path_of(v, s.from, s.to, arc)
+}
+
+/// The SVG path of a move from `from` to `to`: a line, or an arc around a centre (X a
+/// diameter) when `arc` gives it and whether it turns clockwise (G2).
+fn path_of(v: &View, from: Pos, to: Pos, arc: Option<(Pos, bool)>) -> Option<String> {
+    let (from, to) = (from.known()?, to.known()?);
+    let (x0, y0) = v.at(from);
+    let (x1, y1) = v.at(to);
+    let Some((centre, clockwise)) = arc else {
+        if from == to {
+            return None;
         }
-        _ if from == to => None,
-        _ => Some(format!("M{x0:.2},{y0:.2} L{x1:.2},{y1:.2}")),
+        return Some(format!("M{x0:.2},{y0:.2} L{x1:.2},{y1:.2}"));
+    };
+    // In mm, X as a radius: Z to the right, X up, as drawn.
+    let mm = |(x, z): (Length, Length)| (z.to_mm_f64(), x.to_mm_f64() / 2.0);
+    let ((z0, r0), (z1, r1), (cz, cr)) = (mm(from), mm(to), mm(centre.known()?));
+    let rad = (z0 - cz).hypot(r0 - cr);
+    // The circle as drawn: an ellipse when X is magnified.
+    let (rx, ry) = (rad * v.sz, rad * v.sr);
+    // G18: G2 turns clockwise seen from +Y. With Z to the right and X up, +Y points at the
+    // viewer, so G2 is clockwise on the screen too: SVG's positive-angle sweep (y down).
+    let sweep = u8::from(clockwise);
+    if from == to {
+        // A full circle: two halves.
+        let (ox, oy) = v.px(2.0 * cz - z0, 2.0 * cr - r0);
+        return Some(format!(
+            "M{x0:.2},{y0:.2} A{rx:.2},{ry:.2} 0 0 {sweep} {ox:.2},{oy:.2} A{rx:.2},{ry:.2} 0 0 {sweep} {x0:.2},{y0:.2}"
+        ));
     }
+    // The angle it turns, in the motion's sense: over half a turn is SVG's large arc.
+    let (a0, a1) = ((r0 - cr).atan2(z0 - cz), (r1 - cr).atan2(z1 - cz));
+    let turned = if clockwise { a0 - a1 } else { a1 - a0 }.rem_euclid(std::f64::consts::TAU);
+    let large = u8::from(turned > std::f64::consts::PI);
+    Some(format!(
+        "M{x0:.2},{y0:.2} A{rx:.2},{ry:.2} 0 {large} {sweep} {x1:.2},{y1:.2}"
+    ))
 }
 
 fn stroke_path(out: &mut String, d: &str, s: &Stroke<'_>, title: Option<&str>) {
@@ -428,10 +452,13 @@ pub fn plot(title: &str, segments: &[Segment], operation: Option<&Operation>) ->
         ),
     }
     if let Some(op) = operation {
-        thread_detail(&mut out, op, (70.0, 520.0, 470.0, 320.0));
         if op.is_thread() {
+            thread_detail(&mut out, op, (70.0, 520.0, 470.0, 320.0));
             cross_section(&mut out, op, (600.0, 520.0, 300.0, 320.0));
             legend(&mut out, op, (920.0, 520.0));
+        } else {
+            // A roughing cycle's cuts: the whole width.
+            thread_detail(&mut out, op, (70.0, 520.0, WIDTH - 110.0, 320.0));
         }
     }
     out.push_str("</svg>\n");
@@ -443,17 +470,18 @@ fn heading(out: &mut String, rect: (f64, f64, f64, f64), title: &str) {
     text(out, rect.0, rect.1 - 8.0, 13.0, "start", "#222222", title);
 }
 
-/// The operation's passes along Z, X magnified so that each pass is apart.
+/// The operation's passes along Z, X magnified so that each pass is apart; a roughing or
+/// finishing cycle's cuts as it moves them, rapids dashed.
 fn thread_detail(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
-    heading(
-        out,
-        rect,
-        &format!(
-            "operation {}: {} along Z (X magnified)",
-            op.number,
-            if op.is_thread() { "passes" } else { "cuts" }
-        ),
-    );
+    // A cycle's moves from its first cut to its last (the approach and the way back are in
+    // the toolpath).
+    let cuts: &[CycleMove] = match (
+        op.moves.iter().position(|m| m.cut.is_some()),
+        op.moves.iter().rposition(|m| m.cut.is_some()),
+    ) {
+        (Some(a), Some(b)) => &op.moves[a..=b],
+        _ => &[],
+    };
     let mut b: Option<(f64, f64, f64, f64)> = None;
     let mut add = |p: Pos| {
         let Some((x, z)) = p.known() else { return };
@@ -467,79 +495,341 @@ fn thread_detail(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
         add(p.start);
         add(p.end);
     }
-    if let (Some(c), Some(z)) = (op.crest, op.passes.first().and_then(|p| p.start.z)) {
-        add(Pos::new(c, z));
+    if let Some((z0, z1, r0, r1)) =
+        moves_bounds(cuts.iter().map(|m| (m.from, m.to, m.arc.map(|a| a.0))))
+    {
+        add(Pos::new(
+            Length::from_mm_f64(r0 * 2.0),
+            Length::from_mm_f64(z0),
+        ));
+        add(Pos::new(
+            Length::from_mm_f64(r1 * 2.0),
+            Length::from_mm_f64(z1),
+        ));
     }
-    let Some(b) = b else { return };
+    // The crest line, parallel to the root (the deepest pass's line).
+    if let (Some(c), Some(((x0, z0), (x1, z1)))) = (op.crest, root_line(op)) {
+        let offset = c.to_mm_f64() - op.root.map_or(x0, |r| r.to_mm_f64());
+        for (x, z) in [(x0, z0), (x1, z1)] {
+            b = b.map(|(a, c, d, e)| {
+                let r = (x + offset) / 2.0;
+                (a.min(z), c.max(z), d.min(r), e.max(r))
+            });
+        }
+    }
+    let Some(mut b) = b else { return };
+    // Room for the pass numbers past the passes' starts.
+    let room = (b.1 - b.0).max(1.0) * 0.08;
+    if labels_right(op) {
+        b.1 += room;
+    } else {
+        b.0 -= room;
+    }
     let v = View::fit(rect, b, false);
+    let scale = if v.sr > v.sz * 1.05 {
+        format!(
+            "X magnified ×{}",
+            number((v.sr / v.sz * 10.0).round() / 10.0)
+        )
+    } else if v.sz > v.sr * 1.05 {
+        format!(
+            "Z magnified ×{}",
+            number((v.sz / v.sr * 10.0).round() / 10.0)
+        )
+    } else {
+        "to scale".into()
+    };
+    heading(
+        out,
+        rect,
+        &match &op.kind {
+            Kind::Roughing(code) if cuts.iter().any(|m| m.cut.is_none()) => {
+                format!(
+                    "operation {}: {code}'s cuts ({scale}; rapids dashed)",
+                    op.number
+                )
+            }
+            Kind::Roughing(code) => format!("operation {}: {code}'s cuts ({scale})", op.number),
+            _ => format!("operation {}: passes along Z ({scale})", op.number),
+        },
+    );
     axes(out, &v, "Z (mm)", "X (diameter, mm)", true);
-    let (z0, z1) = v.z_range();
     let n = op.passes.len();
-    if let Some(crest) = op.crest {
-        line_across(
+    // Lines along a taper leave the frame: they are cut at it.
+    let _ = writeln!(
+        out,
+        "<clipPath id=\"passes\"><rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"/></clipPath>\n<g clip-path=\"url(#passes)\">",
+        v.left, v.top, v.width, v.height
+    );
+    if op.is_thread() {
+        guide_lines(out, &v, op);
+    }
+    for m in cuts {
+        let Some(d) = path_of(&v, m.from, m.to, m.arc) else {
+            continue;
+        };
+        let (from, to) = (crate::sim::show_pos(m.from), crate::sim::show_pos(m.to));
+        let (stroke, title) = match (m.cut, m.arc) {
+            (None, _) => (
+                Stroke {
+                    colour: RAPID.to_string(),
+                    width: 1.0,
+                    dash: Some("5,4"),
+                },
+                format!("rapid  {from} → {to}"),
+            ),
+            (Some(c), arc) => (
+                Stroke {
+                    colour: pass_colour(c - 1, n),
+                    width: 2.0,
+                    dash: None,
+                },
+                match arc {
+                    Some((centre, clockwise)) => format!(
+                        "cut {c}  arc {}  {from} → {to}  centre {}",
+                        if clockwise { "G2" } else { "G3" },
+                        crate::sim::show_pos(centre)
+                    ),
+                    None => format!("cut {c}  feed  {from} → {to}"),
+                },
+            ),
+        };
+        stroke_path(out, &d, &stroke, Some(&title));
+    }
+    for (i, p) in op.passes.iter().enumerate() {
+        if !cuts.is_empty() {
+            break;
+        }
+        let (Some(start), Some(end)) = (p.start.known(), p.end.known()) else {
+            continue;
+        };
+        let (a, c) = (v.at(start), v.at(end));
+        let _ = writeln!(
             out,
-            &v,
-            crest,
-            z0,
-            z1,
-            "#555555",
-            &format!("crest Ø{}", crest.mm()),
+            "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"{}\" stroke-width=\"2\"><title>pass {}: {} to {}</title></line>",
+            a.0,
+            a.1,
+            c.0,
+            c.1,
+            pass_colour(i, n),
+            p.number,
+            crate::sim::show_pos(p.start),
+            crate::sim::show_pos(p.end)
         );
     }
-    if let Some(root) = op.root {
-        line_across(
-            out,
-            &v,
-            root,
-            z0,
-            z1,
-            "#555555",
-            &format!("root Ø{}", root.mm()),
-        );
+    out.push_str("</g>\n");
+    pass_labels(out, &v, op);
+}
+
+/// Each pass's (or cut's) number beside its start, past the end of its line (beside it, or
+/// above or below a cut along X), in its colour on a white ground. Passes that start at one
+/// point (a spring pass) share a label (`10, 11`); a label that would overlap one already
+/// placed is left out (the first and the last pass are placed first, then the others in
+/// order).
+fn pass_labels(out: &mut String, v: &View, op: &Operation) {
+    /// A label: where (x, baseline, anchor), the start it labels (px), its pass numbers, and
+    /// the first's index (its colour).
+    struct Label {
+        at: (f64, f64, &'static str),
+        start: (f64, f64),
+        numbers: Vec<usize>,
+        first: usize,
     }
-    // Pass numbers where they do not overlap the one labelled before.
-    let mut labelled: Option<f64> = None;
+    let mut labels: Vec<Label> = Vec::new();
+    let n = op.passes.len();
     for (i, p) in op.passes.iter().enumerate() {
         let (Some(start), Some(end)) = (p.start.known(), p.end.known()) else {
             continue;
         };
         let (a, c) = (v.at(start), v.at(end));
-        let colour = pass_colour(i, n);
-        let _ = writeln!(
-            out,
-            "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"{colour}\" stroke-width=\"2\"><title>pass {}: {} to {}</title></line>",
-            a.0,
-            a.1,
-            c.0,
-            c.1,
-            p.number,
-            crate::sim::show_pos(p.start),
-            crate::sim::show_pos(p.end)
-        );
-        if labelled.is_none_or(|y| (y - c.1).abs() >= 10.0) || i + 1 == n {
-            text(
-                out,
-                c.0 + 4.0,
-                c.1 + 3.5,
-                9.0,
-                "start",
-                &colour,
-                &p.number.to_string(),
-            );
-            labelled = Some(c.1);
+        let (dx, dy) = (a.0 - c.0, a.1 - c.1);
+        let place = if dy.abs() > dx.abs() && dy.abs() >= 1.0 {
+            // Along X: above a start above its end, else below.
+            if dy < 0.0 {
+                (a.0, a.1 - 5.0, "middle")
+            } else {
+                (a.0, a.1 + 13.0, "middle")
+            }
+        } else if dx.abs() >= 1.0 && dx > 0.0 || dx.abs() < 1.0 && labels_right(op) {
+            (a.0 + 4.0, a.1 + 3.5, "start")
+        } else {
+            (a.0 - 4.0, a.1 + 3.5, "end")
+        };
+        match labels
+            .iter_mut()
+            .find(|l| (l.start.0 - a.0).abs() < 1.0 && (l.start.1 - a.1).abs() < 1.0)
+        {
+            Some(l) => l.numbers.push(p.number),
+            None => labels.push(Label {
+                at: place,
+                start: a,
+                numbers: vec![p.number],
+                first: i,
+            }),
         }
+    }
+    let last = labels.len().saturating_sub(1);
+    let order = (0..labels.len())
+        .filter(|&i| i == 0 || i == last)
+        .chain(1..last);
+    // Placed labels: left, right, baseline (px).
+    let mut placed: Vec<(f64, f64, f64)> = Vec::new();
+    for i in order {
+        let Label {
+            at: (x, y, anchor),
+            numbers,
+            first,
+            ..
+        } = &labels[i];
+        let label = numbers
+            .iter()
+            .map(usize::to_string)
+            .collect::<Vec<_>>()
+            .join(", ");
+        // 10 px digits are about 6.4 px wide, a comma and space 5.
+        let width = 6.5 * label.len() as f64;
+        let left = match *anchor {
+            "start" => *x,
+            "end" => x - width,
+            _ => x - width / 2.0,
+        };
+        let overlaps = placed
+            .iter()
+            .any(|&(l, r, b)| (b - y).abs() < 10.0 && left < r + 2.0 && l < left + width + 2.0);
+        if overlaps {
+            continue;
+        }
+        placed.push((left, left + width, *y));
+        halo_text(out, *x, *y, 10.0, anchor, &pass_colour(*first, n), &label);
     }
 }
 
-fn line_across(out: &mut String, v: &View, x: Length, z0: f64, z1: f64, colour: &str, label: &str) {
-    let r = x.to_mm_f64() / 2.0;
-    let (a, y) = v.px(z0, r);
-    let (b, _) = v.px(z1, r);
+/// Whether the passes start on the right of their lines (towards +Z), so that their numbers
+/// go on the right (the first pass's way; true when not known).
+fn labels_right(op: &Operation) -> bool {
+    op.passes
+        .iter()
+        .find_map(|p| Some(p.start.z? >= p.end.z?))
+        .unwrap_or(true)
+}
+
+/// [`text`] on a white ground (the text's width estimated), legible over the lines it
+/// crosses.
+fn halo_text(out: &mut String, x: f64, y: f64, size: f64, anchor: &str, fill: &str, s: &str) {
+    // DejaVu Sans is about 0.6 em a character.
+    let width = 0.6 * size * s.chars().count() as f64 + 2.0;
+    let left = match anchor {
+        "end" => x - width + 1.0,
+        "middle" => x - width / 2.0,
+        _ => x - 1.0,
+    };
     let _ = writeln!(
         out,
-        "<line x1=\"{a:.1}\" y1=\"{y:.1}\" x2=\"{b:.1}\" y2=\"{y:.1}\" stroke=\"{colour}\" stroke-width=\"1\" stroke-dasharray=\"2,3\"/>"
+        "<rect x=\"{left:.1}\" y=\"{:.1}\" width=\"{width:.1}\" height=\"{:.1}\" fill=\"#ffffff\" fill-opacity=\"0.85\"/>",
+        y - size * 0.9,
+        size * 1.15
     );
-    text(out, a + 4.0, y - 3.0, 10.0, "start", colour, label);
+    text(out, x, y, size, anchor, fill, s);
+}
+
+/// The crest and root lines along the passes: the root is the deepest pass's line (along a
+/// taper, the taper) and the crest parallel to it, `crest − root` apart on the diameter. They
+/// run from the view's far edge to where the passes start, so that the pass numbers past the
+/// starts stand clear, and are labelled where the passes start (where their diameters are
+/// measured: a taper's label says the Z), each on its side away from the other.
+fn guide_lines(out: &mut String, v: &View, op: &Operation) {
+    let Some(((x0, z0), (x1, z1))) = root_line(op) else {
+        return;
+    };
+    let slope = if (z1 - z0).abs() > 1e-9 {
+        (x1 - x0) / (z1 - z0)
+    } else {
+        0.0
+    };
+    let right = labels_right(op);
+    let (e0, e1) = v.z_range();
+    let starts = op
+        .passes
+        .iter()
+        .filter_map(|p| p.start.z)
+        .map(|z| z.to_mm_f64());
+    let (from, to) = if right {
+        (e0, starts.fold(f64::MIN, f64::max))
+    } else {
+        (starts.fold(f64::MAX, f64::min), e1)
+    };
+    let near = if right { to } else { from };
+    // A taper's diameters are those where the deepest pass starts.
+    let at = if slope == 0.0 {
+        String::new()
+    } else {
+        format!(" at Z{}", number(z0))
+    };
+    // Diameters: the root line's at z, and the crest's offset from it.
+    let root_at = |z: f64| x0 + slope * (z - z0);
+    let offset = match (op.crest, op.root) {
+        (Some(c), Some(r)) => Some(c.to_mm_f64() - r.to_mm_f64()),
+        (Some(c), None) => Some(c.to_mm_f64() - x0),
+        _ => None,
+    };
+    // The crest (or, not known, the first pass) is above the root on the screen when the
+    // thread is external.
+    let outward = match (offset, op.passes.first().and_then(|p| p.start.x)) {
+        (Some(o), _) => o >= 0.0,
+        (None, Some(x)) => x.to_mm_f64() >= x0,
+        _ => true,
+    };
+    let mut draw = |diameter_at: &dyn Fn(f64) -> f64, above: bool, label: String| {
+        let (a, b) = (
+            v.px(from, diameter_at(from) / 2.0),
+            v.px(to, diameter_at(to) / 2.0),
+        );
+        let _ = writeln!(
+            out,
+            "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"#555555\" stroke-width=\"1\" stroke-dasharray=\"2,3\"/>",
+            a.0, a.1, b.0, b.1
+        );
+        // Clear of the line over the label's width (about 6 px a character at 10 px).
+        let width = 6.0 * label.chars().count() as f64 / v.sz;
+        let other = if right { near - width } else { near + width };
+        let (x, ya) = v.px(near, diameter_at(near) / 2.0);
+        let yb = v.px(other, diameter_at(other) / 2.0).1;
+        let y = if above {
+            ya.min(yb) - 4.0
+        } else {
+            ya.max(yb) + 12.0
+        };
+        let y = y.clamp(v.top + 12.0, v.top + v.height - 4.0);
+        let (x, anchor) = if right {
+            (x - 4.0, "end")
+        } else {
+            (x + 4.0, "start")
+        };
+        halo_text(out, x, y, 10.0, anchor, "#555555", &label);
+    };
+    if let (Some(offset), Some(crest)) = (offset, op.crest) {
+        draw(
+            &|z| root_at(z) + offset,
+            outward,
+            format!("crest Ø{}{at}", crest.mm()),
+        );
+    }
+    let root = op.root.map_or("deepest pass".to_string(), |r| {
+        format!("root Ø{}{at}", r.mm())
+    });
+    draw(&root_at, !outward, root);
+}
+
+/// The deepest pass's line, (X diameter, Z) at its start and end in mm: the thread's root.
+fn root_line(op: &Operation) -> Option<((f64, f64), (f64, f64))> {
+    let depth = |p: &crate::explain::Pass| p.cumulative_depth.unwrap_or(p.below_first);
+    let deepest = op
+        .passes
+        .iter()
+        .filter(|p| p.start.known().is_some() && p.end.known().is_some())
+        .max_by_key(|p| depth(p))?;
+    let mm = |p: Pos| p.known().map(|(x, z)| (x.to_mm_f64(), z.to_mm_f64()));
+    Some((mm(deepest.start)?, mm(deepest.end)?))
 }
 
 /// The thread's cross-section: the form (60° flanks from the crest to the deepest pass) and
@@ -584,31 +874,14 @@ fn cross_section(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
         v.left,
         v.left + v.width
     );
-    let crest = match op.crest {
-        Some(c) => format!("crest Ø{}", c.mm()),
-        None => "pass 1 (the crest is not in the program)".into(),
-    };
-    text(
+    // The root, the deepest pass's depth, drawn as the crest is.
+    let root_y = v.px(0.0, -deepest).1;
+    let _ = writeln!(
         out,
-        v.left + 4.0,
-        crest_y - 4.0,
-        10.0,
-        "start",
-        "#555555",
-        &crest,
+        "<line x1=\"{:.1}\" y1=\"{root_y:.1}\" x2=\"{:.1}\" y2=\"{root_y:.1}\" stroke=\"#555555\" stroke-dasharray=\"2,3\"/>",
+        v.left,
+        v.left + v.width
     );
-    if let Some(root) = op.root {
-        let y = v.px(0.0, -deepest).1;
-        text(
-            out,
-            v.left + 4.0,
-            y + 12.0,
-            10.0,
-            "start",
-            "#555555",
-            &format!("root Ø{}", root.mm()),
-        );
-    }
     // The tools reach above the crest: they are cut at the frame.
     let _ = writeln!(
         out,
@@ -642,6 +915,17 @@ fn cross_section(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
         dot(out, points[1], 2.5, &colour, &format!("pass {}", p.number));
     }
     out.push_str("</g>\n");
+    // The lines' labels over the tools: the crest above its line, the root below.
+    let crest = match op.crest {
+        Some(c) => format!("crest Ø{}", c.mm()),
+        None => "pass 1 (the crest is not in the program)".into(),
+    };
+    let root = op
+        .root
+        .map_or("deepest pass".to_string(), |r| format!("root Ø{}", r.mm()));
+    for (y, label) in [(crest_y - 4.0, crest), (root_y + 12.0, root)] {
+        halo_text(out, v.left + 4.0, y, 10.0, "start", "#555555", &label);
+    }
     // A scale bar of one tick step.
     let step = tick_step(z1 - z0, 4.0);
     let (a, y) = (v.left + 10.0, v.top + v.height - 10.0);
@@ -676,7 +960,8 @@ fn legend(out: &mut String, op: &Operation, (x, y): (f64, f64)) {
         Some(d) => lines.push(format!("depth {} mm", d.mm())),
         None => lines.push("depth: crest not known".into()),
     }
-    lines.push(format!("{} passes", op.passes.len()));
+    let n = op.passes.len();
+    lines.push(format!("{n} pass{}", if n == 1 { "" } else { "es" }));
     if op.spring_passes > 0 {
         lines.push(format!("({} spring)", op.spring_passes));
     }
@@ -693,7 +978,6 @@ fn legend(out: &mut String, op: &Operation, (x, y): (f64, f64)) {
         text(out, x, y + 14.0 * i as f64, 12.0, "start", "#222222", l);
     }
     // The colour ramp of the passes.
-    let n = op.passes.len();
     let top = y + 14.0 * lines.len() as f64 + 6.0;
     for i in 0..n.min(40) {
         let _ = writeln!(
@@ -715,8 +999,9 @@ fn legend(out: &mut String, op: &Operation, (x, y): (f64, f64)) {
     );
 }
 
-/// `verify --plot`: both programs' normalised motions overlaid, and the first difference
-/// marked and labelled.
+/// `verify --plot`: both programs' motions overlaid (as simulated: `left` and `right` are not
+/// normalised, so that rapids are drawn as the machine moves), and the first difference (of
+/// the normalised motions) marked and labelled.
 pub fn verify_plot(
     title: &str,
     left_name: &str,
@@ -725,10 +1010,15 @@ pub fn verify_plot(
     right: &[Segment],
     difference: Option<&Difference>,
 ) -> String {
-    let near: Vec<Segment> = difference
-        .map(|d| [d.left, d.right].into_iter().flatten().collect())
+    // The difference's segments as the machine moves them.
+    let marked: Vec<Segment> = difference
+        .map(|d| {
+            let mut m = d.left.map_or(Vec::new(), |s| as_moved(left, &s));
+            m.extend(d.right.map_or(Vec::new(), |s| as_moved(right, &s)));
+            m
+        })
         .unwrap_or_default();
-    let detail = bounds(near.iter());
+    let detail = bounds(marked.iter());
     let height = if detail.is_some() { 1000.0 } else { 640.0 };
     let mut out = svg_open(height, title);
     let Some(b) = bounds(left.iter().chain(right)) else {
@@ -744,24 +1034,32 @@ pub fn verify_plot(
         out.push_str("</svg>\n");
         return out;
     };
-    let key = |out: &mut String, y: f64, colour: &str, dash: &str, name: &str| {
+    // The key: each program's line as it is drawn, and their rapids.
+    let line = |out: &mut String, (x, y): (f64, f64), colour: &str, width: f64, dash: &str| {
         let _ = writeln!(
             out,
-            "<line x1=\"70\" y1=\"{y}\" x2=\"100\" y2=\"{y}\" stroke=\"{colour}\" stroke-width=\"2.5\"{dash}/>"
+            "<line x1=\"{x}\" y1=\"{y}\" x2=\"{}\" y2=\"{y}\" stroke=\"{colour}\" stroke-width=\"{width}\" stroke-dasharray=\"{dash}\"/>",
+            x + 30.0
         );
-        text(out, 106.0, y + 4.0, 12.0, "start", "#222222", name);
     };
-    key(&mut out, 50.0, LEFT, "", left_name);
-    key(
+    line(&mut out, (70.0, 50.0), LEFT, 2.5, "none");
+    text(&mut out, 106.0, 54.0, 12.0, "start", "#222222", left_name);
+    line(&mut out, (70.0, 66.0), RIGHT, 1.2, "6,3");
+    text(&mut out, 106.0, 70.0, 12.0, "start", "#222222", right_name);
+    line(&mut out, (WIDTH - 380.0, 50.0), LEFT, 2.5, "2,4");
+    line(&mut out, (WIDTH - 380.0, 66.0), RIGHT, 1.2, "2,4");
+    text(
         &mut out,
-        66.0,
-        RIGHT,
-        " stroke-dasharray=\"6,3\"",
-        right_name,
+        WIDTH - 344.0,
+        62.0,
+        12.0,
+        "start",
+        "#222222",
+        "rapids (dotted, each in its program's colour)",
     );
     let whole = View::fit((70.0, 80.0, WIDTH - 110.0, 440.0), b, true);
     axes(&mut out, &whole, "Z (mm)", "X (diameter, mm)", true);
-    overlay(&mut out, &whole, left, right, difference);
+    overlay(&mut out, &whole, left, right, &marked, difference);
     let Some(d) = difference else {
         text(
             &mut out,
@@ -789,8 +1087,11 @@ pub fn verify_plot(
     }
     if let Some((z0, z1, r0, r1)) = detail {
         // Around the difference, X magnified: a small step is seen.
+        // (Twice the step around a small one; a large one, such as a rapid to another
+        // place, is not magnified past the whole view.)
         let (dz, dr) = ((z1 - z0).max(1.0), (r1 - r0).max(0.05));
-        let bounds = (z0 - dz * 0.1, z1 + dz * 0.1, r0 - dr * 2.0, r1 + dr * 2.0);
+        let pad = (dr * 2.0).min(dr * 0.1 + 0.1);
+        let bounds = (z0 - dz * 0.1, z1 + dz * 0.1, r0 - pad, r1 + pad);
         let rect = (70.0, 640.0, WIDTH - 110.0, 300.0);
         text(
             &mut out,
@@ -808,26 +1109,27 @@ pub fn verify_plot(
             "<clipPath id=\"detail\"><rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"/></clipPath>\n<g clip-path=\"url(#detail)\">",
             v.left, v.top, v.width, v.height
         );
-        overlay(&mut out, &v, left, right, difference);
+        overlay(&mut out, &v, left, right, &marked, difference);
         out.push_str("</g>\n");
     }
     out.push_str("</svg>\n");
     out
 }
 
-/// Both motions in `v`, the difference's segments in red and circled.
+/// Both motions in `v`, the difference's segments (`marked`, as moved) in red and circled.
 fn overlay(
     out: &mut String,
     v: &View,
     left: &[Segment],
     right: &[Segment],
+    marked: &[Segment],
     difference: Option<&Difference>,
 ) {
     draw_overlay(out, v, left, LEFT, 2.5, None);
     draw_overlay(out, v, right, RIGHT, 1.2, Some("6,3"));
     let Some(d) = difference else { return };
     let label = format!("first difference: {d}");
-    for s in [d.left, d.right].iter().flatten() {
+    for s in marked {
         if let Some(path) = segment_path(v, s) {
             stroke_path(
                 out,
@@ -853,6 +1155,34 @@ fn overlay(
             esc(&label)
         );
     }
+}
+
+/// A segment of a normalised motion as the machine moves it: normalising merges consecutive
+/// rapids into one from the first's start to the last's end (it takes the last's line and
+/// pass); that rapid is those rapids of `moves` (the motion as simulated) again. Anything else
+/// is drawn as it is: merged feeds are collinear, merged arcs one arc.
+fn as_moved(moves: &[Segment], s: &Segment) -> Vec<Segment> {
+    if !matches!(s.motion, Motion::Rapid) {
+        return vec![*s];
+    }
+    let rapid = |m: &Segment| matches!(m.motion, Motion::Rapid);
+    for (i, last) in moves.iter().enumerate() {
+        if !(rapid(last) && last.to == s.to && last.line == s.line && last.pass == s.pass) {
+            continue;
+        }
+        // The run of rapids that ends here (events where the tool stands do not break it),
+        // from the first that starts where the merged one does.
+        let mut first = i;
+        while first > 0
+            && (rapid(&moves[first - 1]) || moves[first - 1].from == moves[first - 1].to)
+        {
+            first -= 1;
+        }
+        if let Some(k) = (first..=i).find(|&k| rapid(&moves[k]) && moves[k].from == s.from) {
+            return moves[k..=i].iter().filter(|m| rapid(m)).copied().collect();
+        }
+    }
+    vec![*s]
 }
 
 fn draw_overlay(

@@ -529,7 +529,7 @@ fn plot_draws_threads_as_threads_only() {
         None,
     );
     let svg = text(&out.stdout);
-    assert!(svg.contains("operation 1: cuts along Z") && !svg.contains("cross-section"));
+    assert!(svg.contains("operation 1: G71's cuts") && !svg.contains("cross-section"));
     let out = ncthread(
         &[
             "verify",

@@ -593,8 +593,10 @@ pub enum ItemKind {
     },
     /// A circular feed move in the ZX plane from the current position to `to` (both axes
     /// known) around `centre` (X as a diameter, like every X in the IR), at `feed`.
-    /// `clockwise` is LinuxCNC's G2 in G18: clockwise seen from +Y, the side from which a
-    /// lathe with the tool in front of the spindle axis shows Z to the right and X down.
+    /// `clockwise` is LinuxCNC's G2 in G18: clockwise seen from +Y. Z × X = Y, so from +Y
+    /// Z is to the right and X up (a lathe with the tool behind the spindle axis seen from
+    /// above, and ncthread's pictures); a lathe with the tool in front, Z to the right and X
+    /// down, is seen from −Y, where G2 looks counter-clockwise.
     Arc {
         to: Pos,
         centre: Box<Pos>,
