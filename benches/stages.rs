@@ -31,15 +31,7 @@ fn sizes() -> Vec<usize> {
 }
 
 fn options(from: DialectId, to: DialectId) -> ConvertOptions {
-    ConvertOptions {
-        from,
-        to,
-        profile: Profile::default(),
-        unsupported: Unsupported::Error,
-        renumber: Default::default(),
-        round: false,
-        nc31_comments: false,
-    }
+    ConvertOptions::new(from, to)
 }
 
 fn stages(c: &mut Criterion) {

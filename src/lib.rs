@@ -571,15 +571,7 @@ mod tests {
     use super::*;
 
     fn options(to: DialectId) -> ConvertOptions {
-        ConvertOptions {
-            from: dialect::iso::ID,
-            to,
-            profile: Profile::default(),
-            unsupported: Unsupported::Error,
-            renumber: Default::default(),
-            round: false,
-            nc31_comments: false,
-        }
+        ConvertOptions::new(dialect::iso::ID, to)
     }
 
     #[test]
@@ -595,23 +587,6 @@ mod tests {
         assert_eq!((at.file.as_str(), at.line), ("(czech output)", 3));
         let text = "N10 S500 M03\nN20 M02\n".to_string();
         assert!(read_back(text, &options(dialect::czech::ID)).1.is_none());
-    }
-}
-
-#[cfg(test)]
-mod library_tests {
-    use super::*;
-
-    fn options(to: DialectId) -> ConvertOptions {
-        ConvertOptions {
-            from: dialect::iso::ID,
-            to,
-            profile: Profile::default(),
-            unsupported: Unsupported::Error,
-            renumber: Default::default(),
-            round: false,
-            nc31_comments: false,
-        }
     }
 
     /// A library whose first line is its first definition (no comment, no `%`): iso → iso

@@ -2,7 +2,7 @@
 //! seeds and the spec), and the SVGs rendered with resvg and looked at pixel by pixel.
 mod common;
 
-use common::{ncthread, text};
+use common::{ncthread, render_svg as render, text};
 
 /// `ncthread explain FILE --from D --format json`, parsed.
 fn explain_json(file: &str, from: &str, more: &[&str]) -> serde_json::Value {
@@ -152,16 +152,6 @@ fn a_program_with_errors_explains_nothing() {
     assert_eq!(out.status.code(), Some(1));
     assert!(text(&out.stdout).is_empty());
     assert!(text(&out.stderr).contains("error[CZR003]"));
-}
-
-/// Renders an SVG with resvg (the test's renderer; ncthread itself writes SVG text only).
-fn render(svg: &str) -> resvg::tiny_skia::Pixmap {
-    let tree = resvg::usvg::Tree::from_str(svg, &resvg::usvg::Options::default())
-        .unwrap_or_else(|e| panic!("not a valid SVG: {e}\n{svg}"));
-    let size = tree.size().to_int_size();
-    let mut pixmap = resvg::tiny_skia::Pixmap::new(size.width(), size.height()).unwrap();
-    resvg::render(&tree, Default::default(), &mut pixmap.as_mut());
-    pixmap
 }
 
 /// The pixels of `rect` (x, y, width, height) that are strongly coloured (not grey, not

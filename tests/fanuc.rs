@@ -146,7 +146,9 @@ fn every_corpus_program_converts_to_fanuc_or_is_refused_as_the_table_says() {
             .collect();
         // INP001: a program that reads as nothing is refused for every target; LG005: a
         // subroutine library, which only its own dialect keeps.
-        allowed.extend(["FANW001", "LG001", "LG002", "LG003", "LW001", "INP001", "LG005"]);
+        allowed.extend([
+            "FANW001", "LG001", "LG002", "LG003", "LW001", "INP001", "LG005",
+        ]);
         let conversion = convert_case(&case, ncthread::dialect::fanuc::ID);
         if conversion.output.is_some() {
             converted += 1;

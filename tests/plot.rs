@@ -3,6 +3,7 @@
 //! and held against the simulated arc; and the pictures, rendered with resvg, have ink where
 //! the program moves and none where it does not.
 mod common;
+use common::render_svg as render;
 
 use ncthread::explain::CycleMove;
 use ncthread::ir::Pos;
@@ -455,16 +456,6 @@ fn the_endpoint_to_centre_conversion_is_the_specification_s() {
     // Radii too small are scaled up (F.6.6): a half circle.
     let h = endpoint_to_centre((-2.0, 0.0), (2.0, 0.0), 1.0, 1.0, 0.0, false, true);
     assert!((h.rx - 2.0).abs() < 1e-9 && h.cx.abs() < 1e-9 && (h.sweep.abs() - 180.0).abs() < 1e-9);
-}
-
-/// Renders an SVG with resvg (the tests' renderer: no text, which is not looked at here).
-fn render(svg: &str) -> resvg::tiny_skia::Pixmap {
-    let tree = resvg::usvg::Tree::from_str(svg, &resvg::usvg::Options::default())
-        .unwrap_or_else(|e| panic!("not a valid SVG: {e}\n{svg}"));
-    let size = tree.size().to_int_size();
-    let mut pixmap = resvg::tiny_skia::Pixmap::new(size.width(), size.height()).unwrap();
-    resvg::render(&tree, Default::default(), &mut pixmap.as_mut());
-    pixmap
 }
 
 /// Whether anything darker than the grid (#e6e6e6) is drawn within `r` px of `(x, y)`.

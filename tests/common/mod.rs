@@ -358,3 +358,14 @@ pub fn assert_rs274_agrees(v: &ncthread::Verification, with_rs274: bool, here: &
         );
     }
 }
+
+/// Renders an SVG with resvg (the tests' renderer; ncthread itself writes SVG text only, and
+/// the tests look at its pixels, not its text, which resvg without fonts does not draw).
+pub fn render_svg(svg: &str) -> resvg::tiny_skia::Pixmap {
+    let tree = resvg::usvg::Tree::from_str(svg, &resvg::usvg::Options::default())
+        .unwrap_or_else(|e| panic!("not a valid SVG: {e}\n{svg}"));
+    let size = tree.size().to_int_size();
+    let mut pixmap = resvg::tiny_skia::Pixmap::new(size.width(), size.height()).unwrap();
+    resvg::render(&tree, Default::default(), &mut pixmap.as_mut());
+    pixmap
+}

@@ -1505,9 +1505,8 @@ mod tests {
             Some(("CZR011", Some(5)))
         );
         // G96 S is a surface speed; G97 S rpm; refused without the key.
-        let surface = |limit| {
-            ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit, feet: false })
-        };
+        let surface =
+            |limit| ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit, feet: false });
         assert_eq!(
             read(CzechDwell::None, true, "G96 S180").0[..2],
             [
