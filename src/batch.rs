@@ -287,13 +287,13 @@ impl Plan {
 /// outside it and can be written. `Err` is a usage or I/O problem with the trees themselves.
 pub fn plan(options: &BatchOptions) -> Result<Plan, String> {
     let src_root = std::fs::canonicalize(&options.src_dir)
-        .map_err(|e| format!("cannot read {}: {e}", options.src_dir.display()))?;
+        .map_err(|e| files::io_error("read", options.src_dir.display(), &e))?;
     if !src_root.is_dir() {
         return Err(format!("{} is not a folder", options.src_dir.display()));
     }
     let inside = |dir: &Path, what: &str| -> Result<(), String> {
         let resolved =
-            files::resolve(dir).map_err(|e| format!("cannot read {}: {e}", dir.display()))?;
+            files::resolve(dir).map_err(|e| files::io_error("read", dir.display(), &e))?;
         if resolved.starts_with(&src_root) {
             return Err(format!(
                 "the {what} {} is inside the source folder {}; ncthread never writes into the source tree",
@@ -305,7 +305,7 @@ pub fn plan(options: &BatchOptions) -> Result<Plan, String> {
     };
     inside(&options.out_dir, "output folder")?;
     let out_root = files::resolve(&options.out_dir)
-        .map_err(|e| format!("cannot read {}: {e}", options.out_dir.display()))?;
+        .map_err(|e| files::io_error("read", options.out_dir.display(), &e))?;
     if src_root.starts_with(&out_root) {
         return Err(format!(
             "the output folder {} holds the source folder {}: outputs could land in the source tree",
@@ -368,15 +368,15 @@ pub fn run(
     let started = Instant::now();
     if !options.dry_run {
         std::fs::create_dir_all(&options.out_dir)
-            .map_err(|e| format!("cannot create {}: {e}", options.out_dir.display()))?;
+            .map_err(|e| files::io_error("create", options.out_dir.display(), &e))?;
         // A folder that cannot be written is the user's problem, named as they wrote it.
         tempfile::Builder::new()
             .prefix(".ncthread-")
             .tempfile_in(&options.out_dir)
-            .map_err(|e| format!("cannot write into {}: {e}", options.out_dir.display()))?;
+            .map_err(|e| files::io_error("write into", options.out_dir.display(), &e))?;
         if let Some(dir) = &options.html {
             std::fs::create_dir_all(dir.join("plots"))
-                .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+                .map_err(|e| files::io_error("create", dir.display(), &e))?;
         }
     }
     let pool = rayon::ThreadPoolBuilder::new()
@@ -497,7 +497,7 @@ fn one(
     let bytes = match std::fs::read(&input) {
         Ok(b) => b,
         Err(e) => {
-            report.reason = Some(format!("cannot read: {e}"));
+            report.reason = Some(files::io_error("read", input.display(), &e));
             return report;
         }
     };
@@ -706,8 +706,8 @@ impl BatchReport {
             page.push_str("</section>\n");
         }
         page.push_str("</body>\n</html>\n");
-        std::fs::write(dir.join("index.html"), page)
-            .map_err(|e| format!("cannot write {}: {e}", dir.join("index.html").display()))
+        let path = dir.join("index.html");
+        std::fs::write(&path, page).map_err(|e| files::io_error("write", path.display(), &e))
     }
 }
 

@@ -13,6 +13,30 @@
 
 use std::path::{Path, PathBuf};
 
+/// An I/O error in the one wording every command uses: `cannot ACTION PATH: reason`, the
+/// reason as the system says it without the `(os error N)` tail (`cannot read P1.NC: no such
+/// file or directory`).
+pub fn io_error(action: &str, path: impl std::fmt::Display, e: &std::io::Error) -> String {
+    format!("cannot {action} {path}: {}", io_reason(e))
+}
+
+/// What went wrong, as the system says it, without `(os error N)` and starting in lower case.
+pub fn io_reason(e: &std::io::Error) -> String {
+    let text = e.to_string();
+    let text = match text.rfind(" (os error ") {
+        Some(at) if text.ends_with(')') => &text[..at],
+        _ => &text,
+    };
+    let mut chars = text.chars();
+    match chars.next() {
+        // Lower-case only a word's capital (`No such file`), not an acronym (`UTF-8`).
+        Some(c) if chars.clone().next().is_some_and(char::is_lowercase) => {
+            c.to_lowercase().chain(chars).collect()
+        }
+        _ => text.to_string(),
+    }
+}
+
 /// What a walk takes.
 #[derive(Clone, Debug, Default)]
 pub struct Selection {
@@ -97,7 +121,10 @@ pub fn walk(root: &Path, selection: &Selection) -> Result<Walk, String> {
         .sort_by_file_name(|a, b| a.cmp(b));
     let mut files = Vec::new();
     for entry in builder.build() {
-        let entry = entry.map_err(|e| format!("cannot walk {}: {e}", root.display()))?;
+        let entry = entry.map_err(|e| match e.io_error() {
+            Some(io) => io_error("read", root.display(), io),
+            None => format!("cannot read {}: {e}", root.display()),
+        })?;
         let path = entry.path();
         // A link to a file is followed; a link to a folder is not (no cycles), and is said.
         let is_file = entry.file_type().is_some_and(|t| t.is_file())
@@ -178,7 +205,7 @@ fn by_content(path: &Path) -> Verdict {
     let mut head = Vec::with_capacity(8192);
     let read = std::fs::File::open(path).and_then(|f| f.take(8192).read_to_end(&mut head));
     if let Err(e) = read {
-        return Verdict::Skip(format!("cannot read: {e}"));
+        return Verdict::Skip(io_error("read", path.display(), &e));
     }
     content_verdict(&head)
 }
@@ -277,17 +304,13 @@ pub fn write_atomically(
             }
             Ok(_) => {}
             Err(e) => {
-                return Err(WriteError::Failed(format!(
-                    "cannot read {}: {e}",
-                    parent.display()
-                )));
+                return Err(WriteError::Failed(io_error("read", parent.display(), &e)));
             }
         }
     }
     std::fs::create_dir_all(parent)
-        .map_err(|e| WriteError::Failed(format!("cannot create {}: {e}", parent.display())))?;
-    let failed =
-        |e: std::io::Error| WriteError::Failed(format!("cannot write {}: {e}", path.display()));
+        .map_err(|e| WriteError::Failed(io_error("create", parent.display(), &e)))?;
+    let failed = |e: std::io::Error| WriteError::Failed(io_error("write", path.display(), &e));
     let mut builder = tempfile::Builder::new();
     builder.prefix(".ncthread-");
     #[cfg(unix)]
@@ -326,6 +349,17 @@ mod tests {
         );
         // Legacy encodings' high bytes are text.
         assert_eq!(content_verdict(b"\"ROZTO\xC8EN\xCD\n"), Verdict::Program);
+    }
+
+    #[test]
+    fn io_errors_read_as_one_sentence() {
+        let e = std::io::Error::from_raw_os_error(2);
+        assert_eq!(
+            io_error("read", "P1.NC", &e),
+            "cannot read P1.NC: no such file or directory"
+        );
+        let e = std::io::Error::other("UTF-8 expected");
+        assert_eq!(io_reason(&e), "UTF-8 expected");
     }
 
     #[test]

@@ -9,6 +9,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 
 use clap::builder::TypedValueParser as _;
 use ncthread::diag::{self, Format};
+use ncthread::files::io_error;
 use ncthread::profile::{BlockDelete, Profile};
 use ncthread::source::SourceFile;
 use ncthread::text::{Eol, OutputOptions, TextEncoding};
@@ -570,7 +571,7 @@ fn main() -> ExitCode {
     match result {
         Ok(code) => code,
         Err(Fatal::Usage(message)) => {
-            note(format!("ncthread: {message}"));
+            note(format!("error: {message}"));
             ExitCode::from(2)
         }
         Err(Fatal::Refused) => ExitCode::from(1),
@@ -658,7 +659,7 @@ fn man(subcommand: Option<String>, dir: Option<PathBuf>) -> Result<ExitCode, Fat
         }
         (None, Some(dir)) => {
             std::fs::create_dir_all(&dir)
-                .map_err(|e| Fatal::Usage(format!("cannot create {}: {e}", dir.display())))?;
+                .map_err(|e| Fatal::Usage(io_error("create", dir.display(), &e)))?;
             for (name, c) in pages {
                 write_output(&Some(dir.join(format!("{name}.1"))), &page(c)?)?;
             }
@@ -684,12 +685,12 @@ fn read_input(path: &Option<PathBuf>) -> Result<(String, Vec<u8>), Fatal> {
         let mut bytes = Vec::new();
         io::stdin()
             .read_to_end(&mut bytes)
-            .map_err(|e| Fatal::Usage(format!("cannot read stdin: {e}")))?;
+            .map_err(|e| Fatal::Usage(io_error("read", "stdin", &e)))?;
         return Ok(("<stdin>".into(), bytes));
     }
     let path = path.as_ref().expect("not stdio");
-    let bytes = std::fs::read(path)
-        .map_err(|e| Fatal::Usage(format!("cannot read {}: {e}", path.display())))?;
+    let bytes =
+        std::fs::read(path).map_err(|e| Fatal::Usage(io_error("read", path.display(), &e)))?;
     Ok((path.display().to_string(), bytes))
 }
 
@@ -918,7 +919,7 @@ fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
     let against = match &args.against {
         Some(path) => {
             let bytes = std::fs::read(path)
-                .map_err(|e| Fatal::Usage(format!("cannot read {}: {e}", path.display())))?;
+                .map_err(|e| Fatal::Usage(io_error("read", path.display(), &e)))?;
             let text = ncthread::text::decode_as(&bytes, args.common.encoding, to).0;
             Some(SourceFile::new(path.display().to_string(), text))
         }
@@ -1048,7 +1049,7 @@ fn write_output(path: &Option<PathBuf>, bytes: &[u8]) -> Result<(), Fatal> {
         return match out.write_all(bytes).and_then(|()| out.flush()) {
             // The reader (e.g. `head`) has what it wanted.
             Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
-            Err(e) => Err(Fatal::Usage(format!("cannot write stdout: {e}"))),
+            Err(e) => Err(Fatal::Usage(io_error("write", "stdout", &e))),
             Ok(()) => Ok(()),
         };
     }
@@ -1102,14 +1103,14 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
             }
             programs.extend(walk.programs().map(|rel| Some(file.join(rel))));
             unmatched.extend(walk.unmatched);
-        } else if file.exists() {
-            programs.push(Some(file.clone()));
         } else {
-            note(format!(
-                "ncthread: cannot read {}: no such file or folder",
-                file.display()
-            ));
-            unreadable += 1;
+            match std::fs::metadata(file) {
+                Ok(_) => programs.push(Some(file.clone())),
+                Err(e) => {
+                    note(format!("error: {}", io_error("read", file.display(), &e)));
+                    unreadable += 1;
+                }
+            }
         }
     }
     // A file named twice (or inside a folder named too) is checked once.
@@ -1127,7 +1128,7 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
             Ok(input) => input,
             Err(e) => {
                 if let Fatal::Usage(message) = e {
-                    note(format!("ncthread: {message}"));
+                    note(format!("error: {message}"));
                 }
                 unreadable += 1;
                 continue;
@@ -1143,7 +1144,7 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
             Ok(p) => p,
             Err(e) => {
                 if let Fatal::Usage(message) = e {
-                    note(format!("ncthread: {message}"));
+                    note(format!("error: {message}"));
                 }
                 unreadable += 1;
                 continue;
@@ -1280,9 +1281,7 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
             .create(true)
             .append(true)
             .open(path)
-            .map_err(|e| {
-                Fatal::Usage(format!("cannot write the report {}: {e}", path.display()))
-            })?;
+            .map_err(|e| Fatal::Usage(io_error("write", path.display(), &e)))?;
         if !existed {
             let _ = std::fs::remove_file(path);
         }
@@ -1341,7 +1340,7 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
         let json = serde_json::to_string_pretty(&report.to_json(&options))
             .map_err(|e| Fatal::Usage(format!("cannot write the report: {e}")))?;
         std::fs::write(path, json + "\n")
-            .map_err(|e| Fatal::Usage(format!("cannot write {}: {e}", path.display())))?;
+            .map_err(|e| Fatal::Usage(io_error("write", path.display(), &e)))?;
     }
     if !dry_run {
         report.write_html(&options).map_err(Fatal::Usage)?;

@@ -418,7 +418,7 @@ fn a_report_or_an_output_folder_that_cannot_be_written_stops_before_any_work() {
         None,
     );
     assert_eq!(run.status.code(), Some(2));
-    assert!(text(&run.stderr).contains(&format!("cannot write the report {}", report.display())));
+    assert!(text(&run.stderr).contains(&format!("cannot write {}", report.display())));
     assert!(
         !out.exists(),
         "nothing was written before the report was found unwritable"

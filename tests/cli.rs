@@ -662,3 +662,109 @@ fn a_mill_program_is_refused_in_every_mode() {
         assert_eq!(err.matches("ISOR021").count(), 1, "{err}");
     }
 }
+
+/// Every subcommand says an I/O error in one form, `error: cannot ACTION PATH: reason`, the
+/// reason without Rust's `(os error N)`.
+#[test]
+fn io_errors_are_worded_alike_in_every_subcommand() {
+    let missing = "error: cannot read no/such/file.nc: no such file or directory\n";
+    for args in [
+        &[
+            "convert",
+            "no/such/file.nc",
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+        ][..],
+        &["simulate", "no/such/file.nc", "--from", "czech"],
+        &["explain", "no/such/file.nc", "--from", "czech"],
+        &["plot", "no/such/file.nc", "--from", "czech"],
+        &[
+            "verify",
+            "no/such/file.nc",
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+        ],
+        &["check", "no/such/file.nc", "--from", "czech", "--quiet"],
+    ] {
+        let out = ncthread(args, None);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert_eq!(text(&out.stderr), missing, "{args:?}");
+    }
+    let out = ncthread(
+        &[
+            "verify",
+            "corpus/czech/ex3-taper.nc",
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+            "--against",
+            "no/such/file.nc",
+        ],
+        None,
+    );
+    assert_eq!(text(&out.stderr), missing);
+    let out = czech_to_iso(
+        &["corpus/czech/ex3-taper.nc", "--profile", "no/such/file.nc"],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(text(&out.stderr), missing);
+    let dir = tempfile::tempdir().unwrap();
+    let out = ncthread(
+        &[
+            "batch",
+            "no/such/file.nc",
+            dir.path().to_str().unwrap(),
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(text(&out.stderr), missing);
+    let report = dir.path().join("no/report.json");
+    let out = ncthread(
+        &[
+            "batch",
+            "corpus/czech",
+            dir.path().join("out").to_str().unwrap(),
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+            "--report",
+            report.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        text(&out.stderr),
+        format!(
+            "error: cannot write {}: no such file or directory\n",
+            report.display()
+        )
+    );
+    let output = dir.path().join("no/p.ngc");
+    let out = czech_to_iso(
+        &["corpus/czech/ex3-taper.nc", "-o", output.to_str().unwrap()],
+        None,
+    );
+    // After the conversion's warnings.
+    assert!(
+        text(&out.stderr).ends_with(&format!(
+            "\n\nerror: cannot write {}: the folder {} does not exist\n",
+            output.display(),
+            dir.path().join("no").display()
+        )),
+        "{}",
+        text(&out.stderr)
+    );
+}
