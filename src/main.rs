@@ -80,13 +80,33 @@ struct CheckArgs {
     /// Print the diagnostics only: no summary line, no notes.
     #[arg(long, short = 'q')]
     quiet: bool,
-    /// The name of the program read from stdin: for its diagnostics and to find its profile.
-    #[arg(long, value_name = "NAME")]
-    stdin_filename: Option<PathBuf>,
+    #[command(flatten)]
+    stdin: StdinArgs,
     #[command(flatten)]
     selection: SelectionArgs,
     #[command(flatten)]
     common: CommonArgs,
+}
+
+/// The name of a program that comes on stdin.
+#[derive(clap::Args)]
+struct StdinArgs {
+    /// The name of the program read from stdin (as ruff's): the file its diagnostics name,
+    /// where its sidecar profile or `ncthread.toml` is looked for, and its extension for
+    /// `--from auto`. Ignored for a program read from a file.
+    #[arg(long, value_name = "NAME")]
+    stdin_filename: Option<PathBuf>,
+}
+
+impl StdinArgs {
+    /// The path the program `input` goes by: the file, or the name given to stdin.
+    fn named(&self, input: &Option<PathBuf>) -> Option<PathBuf> {
+        if is_stdio(input) {
+            self.stdin_filename.clone()
+        } else {
+            input.clone()
+        }
+    }
 }
 
 /// Which files of a folder are programs.
@@ -235,6 +255,8 @@ struct VerifyArgs {
     #[command(flatten)]
     target: TargetArgs,
     #[command(flatten)]
+    stdin: StdinArgs,
+    #[command(flatten)]
     common: CommonArgs,
 }
 
@@ -258,6 +280,8 @@ struct ExplainArgs {
     #[arg(long, value_name = "MM", value_parser = parse_length)]
     crest: Option<ncthread::fixed::Length>,
     #[command(flatten)]
+    stdin: StdinArgs,
+    #[command(flatten)]
     common: CommonArgs,
 }
 
@@ -277,6 +301,8 @@ struct PlotArgs {
     /// The crest diameter of a thread written as single passes (see `explain --crest`).
     #[arg(long, value_name = "MM", value_parser = parse_length)]
     crest: Option<ncthread::fixed::Length>,
+    #[command(flatten)]
+    stdin: StdinArgs,
     #[command(flatten)]
     common: CommonArgs,
 }
@@ -312,6 +338,8 @@ struct SimulateArgs {
     /// `text`: one segment per line; `json`: one JSON object per segment.
     #[arg(long, value_enum, default_value_t = OutputFormat::Text)]
     format: OutputFormat,
+    #[command(flatten)]
+    stdin: StdinArgs,
     #[command(flatten)]
     common: CommonArgs,
 }
@@ -385,10 +413,10 @@ impl CommonArgs {
         }
     }
 
-    /// The profile of the program `input` (stdin: `None`): `--profile`, else (unless
-    /// `--no-profile`) its sidecar `STEM.profile.toml` or the nearest `ncthread.toml`, else
-    /// the built-in defaults; with the command line's settings on top. Loaded before the
-    /// program is read, so that a bad profile stops early.
+    /// The profile of the program `input` (stdin without `--stdin-filename`: `None`):
+    /// `--profile`, else (unless `--no-profile`) its sidecar `STEM.profile.toml` or the
+    /// nearest `ncthread.toml`, else the built-in defaults; with the command line's settings
+    /// on top. Loaded before the program is read, so that a bad profile stops early.
     fn profile_for(&self, input: &Option<PathBuf>) -> Result<Profile, Fatal> {
         let path = match (&self.profile, input) {
             (Some(p), _) => Some(p.clone()),
@@ -451,6 +479,8 @@ struct ConvertArgs {
     target: TargetArgs,
     #[command(flatten)]
     output_format: OutputArgs,
+    #[command(flatten)]
+    stdin: StdinArgs,
     #[command(flatten)]
     common: CommonArgs,
 }
@@ -677,7 +707,12 @@ fn is_stdio(path: &Option<PathBuf>) -> bool {
     path.as_ref().is_none_or(|p| p.as_os_str() == "-")
 }
 
-fn read_input(path: &Option<PathBuf>) -> Result<(String, Vec<u8>), Fatal> {
+/// The bytes of the program `path` (stdin: `None` or `-`) and the name it goes by
+/// (`stdin_name`, else `<stdin>`, for a program read from stdin).
+fn read_input(
+    path: &Option<PathBuf>,
+    stdin_name: Option<&std::path::Path>,
+) -> Result<(String, Vec<u8>), Fatal> {
     if is_stdio(path) {
         if io::stdin().is_terminal() {
             note("ncthread: reading the program from the terminal: type it and end with Ctrl-D, or give a FILE".into());
@@ -686,7 +721,8 @@ fn read_input(path: &Option<PathBuf>) -> Result<(String, Vec<u8>), Fatal> {
         io::stdin()
             .read_to_end(&mut bytes)
             .map_err(|e| Fatal::Usage(io_error("read", "stdin", &e)))?;
-        return Ok(("<stdin>".into(), bytes));
+        let name = stdin_name.map_or("<stdin>".into(), |n| n.display().to_string());
+        return Ok((name, bytes));
     }
     let path = path.as_ref().expect("not stdio");
     let bytes =
@@ -722,10 +758,11 @@ fn load_profile(path: &Option<PathBuf>, format: DiagnosticsFormat) -> Result<Pro
 /// Reads the input and decodes it in the given dialect, or chooses the dialect (`auto`).
 fn read_source(
     input: &Option<PathBuf>,
+    stdin: &StdinArgs,
     from: SourceDialect,
     common: &CommonArgs,
 ) -> Result<(SourceFile, DialectId), Fatal> {
-    let (name, bytes) = read_input(input)?;
+    let (name, bytes) = read_input(input, stdin.stdin_filename.as_deref())?;
     let (src, from, decoded) = decode_source(name, &bytes, from, common.encoding);
     encoding_checked(&src, &decoded, common.diagnostics)?;
     Ok((src, from))
@@ -734,11 +771,12 @@ fn read_source(
 /// [`read_source`], with what the output keeps of the input for a conversion to `to`.
 fn read_source_for(
     input: &Option<PathBuf>,
+    stdin: &StdinArgs,
     from: SourceDialect,
     common: &CommonArgs,
     to: DialectId,
 ) -> Result<(SourceFile, DialectId, ncthread::text::Input), Fatal> {
-    let (name, bytes) = read_input(input)?;
+    let (name, bytes) = read_input(input, stdin.stdin_filename.as_deref())?;
     let (src, from, decoded) = decode_source(name, &bytes, from, common.encoding);
     encoding_checked(&src, &decoded, common.diagnostics)?;
     let kept =
@@ -792,8 +830,14 @@ fn unsupported(arg: UnsupportedArg) -> Unsupported {
 }
 
 fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
-    let profile = args.common.profile_for(&args.input)?;
-    let (src, from, input) = read_source_for(&args.input, args.from, &args.common, args.to.into())?;
+    let profile = args.common.profile_for(&args.stdin.named(&args.input))?;
+    let (src, from, input) = read_source_for(
+        &args.input,
+        &args.stdin,
+        args.from,
+        &args.common,
+        args.to.into(),
+    )?;
     let options = args
         .common
         .options(from, args.to.into(), profile, &args.target);
@@ -823,8 +867,8 @@ fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
 }
 
 fn simulate(args: SimulateArgs) -> Result<ExitCode, Fatal> {
-    let profile = args.common.profile_for(&args.input)?;
-    let (src, from) = read_source(&args.input, args.from, &args.common)?;
+    let profile = args.common.profile_for(&args.stdin.named(&args.input))?;
+    let (src, from) = read_source(&args.input, &args.stdin, args.from, &args.common)?;
     let (program, mut diags) =
         ncthread::parse(&src, from, &profile, unsupported(args.common.unsupported));
     if diag::has_errors(&diags) {
@@ -852,11 +896,12 @@ fn simulate(args: SimulateArgs) -> Result<ExitCode, Fatal> {
 /// printed, and `None` when it has errors.
 fn read_program(
     input: &Option<PathBuf>,
+    stdin: &StdinArgs,
     from: SourceDialect,
     common: &CommonArgs,
 ) -> Result<Option<(SourceFile, ncthread::ir::Program)>, Fatal> {
-    let profile = common.profile_for(input)?;
-    let (src, from) = read_source(input, from, common)?;
+    let profile = common.profile_for(&stdin.named(input))?;
+    let (src, from) = read_source(input, stdin, from, common)?;
     let (program, mut diags) =
         ncthread::parse(&src, from, &profile, unsupported(common.unsupported));
     diag::sort(&mut diags);
@@ -865,7 +910,8 @@ fn read_program(
 }
 
 fn explain(args: ExplainArgs) -> Result<ExitCode, Fatal> {
-    let Some((_, program)) = read_program(&args.input, args.from, &args.common)? else {
+    let Some((_, program)) = read_program(&args.input, &args.stdin, args.from, &args.common)?
+    else {
         return Ok(ExitCode::from(1));
     };
     let options = ncthread::explain::Options { crest: args.crest };
@@ -892,7 +938,8 @@ fn explain(args: ExplainArgs) -> Result<ExitCode, Fatal> {
 }
 
 fn plot(args: PlotArgs) -> Result<ExitCode, Fatal> {
-    let Some((src, program)) = read_program(&args.input, args.from, &args.common)? else {
+    let Some((src, program)) = read_program(&args.input, &args.stdin, args.from, &args.common)?
+    else {
         return Ok(ExitCode::from(1));
     };
     let ops =
@@ -913,8 +960,8 @@ fn plot(args: PlotArgs) -> Result<ExitCode, Fatal> {
 }
 
 fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
-    let profile = args.common.profile_for(&args.input)?;
-    let (src, from) = read_source(&args.input, args.from, &args.common)?;
+    let profile = args.common.profile_for(&args.stdin.named(&args.input))?;
+    let (src, from) = read_source(&args.input, &args.stdin, args.from, &args.common)?;
     let to: DialectId = args.to.into();
     let against = match &args.against {
         Some(path) => {
@@ -1124,7 +1171,7 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
     let mut out = String::new();
     for file in &programs {
         // An unreadable file is reported and the others are still checked.
-        let (name, bytes) = match read_input(file) {
+        let (name, bytes) = match read_input(file, args.stdin.stdin_filename.as_deref()) {
             Ok(input) => input,
             Err(e) => {
                 if let Fatal::Usage(message) = e {
@@ -1134,11 +1181,7 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
                 continue;
             }
         };
-        let named = match file {
-            Some(_) => file.clone(),
-            None => args.stdin_filename.clone(),
-        };
-        let name = named.as_ref().map_or(name, |n| n.display().to_string());
+        let named = args.stdin.named(file);
         // A profile with errors fails its program, not the run.
         let profile = match args.common.profile_for(&named) {
             Ok(p) => p,

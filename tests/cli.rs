@@ -768,3 +768,47 @@ fn io_errors_are_worded_alike_in_every_subcommand() {
         text(&out.stderr)
     );
 }
+
+/// `--stdin-filename NAME` names a program that comes on stdin in every subcommand that reads
+/// one: its diagnostics say NAME, and its sidecar profile is found beside NAME (ex4's runout
+/// needs the machine's constant 8 from it).
+#[test]
+fn stdin_filename_names_the_program_and_finds_its_profile() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::copy(
+        "corpus/czech/ex4-runout-constant.profile.toml",
+        dir.path().join("P4.profile.toml"),
+    )
+    .unwrap();
+    let name = dir.path().join("P4.nc");
+    let name = name.to_str().unwrap();
+    let program = std::fs::read("corpus/czech/ex4-runout-constant.nc").unwrap();
+    let bad = b"N10 M03 S500\nN20 G00 X30. Z\n";
+    for args in [
+        &["convert", "--from", "czech", "--to", "iso"][..],
+        &["simulate", "--from", "czech"],
+        &["explain", "--from", "czech"],
+        &["plot", "--from", "czech"],
+        &["verify", "--from", "czech", "--to", "iso"],
+        &["check", "--from", "czech"],
+    ] {
+        let named: Vec<&str> = args
+            .iter()
+            .copied()
+            .chain(["--stdin-filename", name])
+            .collect();
+        let out = ncthread(&named, Some(&program));
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{args:?}: {}",
+            text(&out.stderr)
+        );
+        let unnamed = ncthread(args, Some(&program));
+        assert_eq!(unnamed.status.code(), Some(1), "{args:?}: no profile");
+        let out = ncthread(&named, Some(bad));
+        assert_eq!(out.status.code(), Some(1), "{args:?}");
+        let said = text(&out.stderr) + &text(&out.stdout);
+        assert!(said.contains(&format!("--> {name}:2:")), "{args:?}: {said}");
+    }
+}
