@@ -24,6 +24,81 @@ use ncthread::{ConvertOptions, DialectId, Unsupported};
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// When to colour diagnostics: `auto` on a terminal unless NO_COLOR is set (CLICOLOR_FORCE
+    /// colours a pipe too), `always`, or `never`.
+    #[arg(long, value_enum, global = true, default_value_t = ColorArg::Auto, value_name = "WHEN")]
+    color: ColorArg,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum ColorArg {
+    Auto,
+    Always,
+    Never,
+}
+
+/// The `--color` of this run, set once in `main`.
+static COLOR: std::sync::OnceLock<ColorArg> = std::sync::OnceLock::new();
+
+/// Whether to colour what goes to a stream that is (`terminal`) a terminal: `--color always`
+/// or `never` as said; `auto` as <https://no-color.org> and <https://bixense.com/clicolors/>
+/// say, in anstream's order: NO_COLOR (set, not empty) never, CLICOLOR_FORCE (set, not `0`)
+/// always, CLICOLOR=0 or TERM=dumb never, else a terminal.
+fn colour_wanted(
+    choice: ColorArg,
+    terminal: bool,
+    env: impl Fn(&str) -> Option<std::ffi::OsString>,
+) -> bool {
+    let set = |name: &str| env(name).filter(|v| !v.is_empty());
+    match choice {
+        ColorArg::Always => true,
+        ColorArg::Never => false,
+        ColorArg::Auto => {
+            if set("NO_COLOR").is_some() {
+                false
+            } else if set("CLICOLOR_FORCE").is_some_and(|v| v != "0") {
+                true
+            } else if env("CLICOLOR").is_some_and(|v| v == "0")
+                || env("TERM").is_some_and(|v| v == "dumb")
+            {
+                false
+            } else {
+                terminal
+            }
+        }
+    }
+}
+
+/// Whether to colour stderr (`false`: stdout).
+fn colour(stderr: bool) -> bool {
+    let terminal = if stderr {
+        io::stderr().is_terminal()
+    } else {
+        io::stdout().is_terminal()
+    };
+    colour_wanted(
+        COLOR.get().copied().unwrap_or(ColorArg::Auto),
+        terminal,
+        |name| std::env::var_os(name),
+    )
+}
+
+/// `--color WHEN` from the raw arguments, for clap's own help and errors (printed before
+/// the arguments are parsed).
+fn colour_argument(args: &[std::ffi::OsString]) -> Option<ColorArg> {
+    let mut args = args.iter().map(|a| a.to_string_lossy());
+    while let Some(arg) = args.next() {
+        if arg == "--" {
+            break;
+        }
+        let value = match arg.strip_prefix("--color") {
+            Some("") => args.next().map(|v| v.into_owned()),
+            Some(rest) => rest.strip_prefix('=').map(str::to_string),
+            None => continue,
+        };
+        return value.and_then(|v| ColorArg::from_str(&v, true).ok());
+    }
+    None
 }
 
 #[derive(Subcommand)]
@@ -573,7 +648,18 @@ enum Fatal {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    let mut command = <Cli as clap::CommandFactory>::command();
+    command = match colour_argument(&args) {
+        Some(ColorArg::Always) => command.color(clap::ColorChoice::Always),
+        Some(ColorArg::Never) => command.color(clap::ColorChoice::Never),
+        _ => command,
+    };
+    let cli = command
+        .try_get_matches_from(&args)
+        .and_then(|m| <Cli as clap::FromArgMatches>::from_arg_matches(&m))
+        .unwrap_or_else(|e| e.exit());
+    let _ = COLOR.set(cli.color);
     let result = match cli.command {
         Command::Convert(args) => convert(args),
         Command::Simulate(args) => simulate(args),
@@ -735,9 +821,7 @@ fn print_diagnostics(diags: &[diag::Diagnostic], format: DiagnosticsFormat) {
         DiagnosticsFormat::Human => Format::Human,
         DiagnosticsFormat::Json => Format::Json,
     };
-    let color = format == Format::Human
-        && io::stderr().is_terminal()
-        && std::env::var_os("NO_COLOR").is_none();
+    let color = format == Format::Human && colour(true);
     let text = diag::render_all(diags, format, color);
     let _ = io::stderr().write_all(text.as_bytes());
 }
@@ -1232,9 +1316,7 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
             DiagnosticsFormat::Human => Format::Human,
             DiagnosticsFormat::Json => Format::Json,
         };
-        let color = format == Format::Human
-            && io::stdout().is_terminal()
-            && std::env::var_os("NO_COLOR").is_none();
+        let color = format == Format::Human && colour(false);
         out.push_str(&diag::render_all(&diags, format, color));
     }
     write_output(&None, out.as_bytes())?;
@@ -1353,6 +1435,7 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
     let format = args.common.diagnostics;
     let verbose = args.common.verbose;
     let dry_run = args.dry_run;
+    let color = colour(true);
     let progress = |f: &ncthread::batch::FileReport| {
         use ncthread::batch::Status;
         let mut text = String::new();
@@ -1366,7 +1449,7 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
             f.status,
             Status::Converted | Status::LeftOut | Status::NotDone
         ) {
-            text.push_str(&file_problem(f, format));
+            text.push_str(&file_problem(f, format, color));
         }
         if !text.is_empty() {
             bar.suspend(|| {
@@ -1428,8 +1511,9 @@ fn file_line(f: &ncthread::batch::FileReport, dry_run: bool) -> String {
 }
 
 /// What went wrong with one batch file: its errors (human: `path:line:col: error[CODE]
-/// message`; JSON: one object per line), or the reason it failed or was skipped.
-fn file_problem(f: &ncthread::batch::FileReport, format: DiagnosticsFormat) -> String {
+/// message`, the level coloured as the full diagnostics colour it with `color`; JSON: one
+/// object per line), or the reason it failed or was skipped.
+fn file_problem(f: &ncthread::batch::FileReport, format: DiagnosticsFormat, color: bool) -> String {
     let mut text = String::new();
     let path = f.input.display();
     if let Some(reason) = &f.reason {
@@ -1451,10 +1535,71 @@ fn file_problem(f: &ncthread::batch::FileReport, format: DiagnosticsFormat) -> S
                 let at = d.location.as_ref().map_or(format!("{path}"), |l| {
                     format!("{}:{}:{}", l.file, l.line, l.column)
                 });
-                let level = if d.is_error() { "error" } else { "warning" };
-                text.push_str(&format!("{at}: {level}[{}]: {}\n", d.code.id, d.message));
+                let (level, style) = if d.is_error() {
+                    ("error", "\x1b[1m\x1b[91m")
+                } else {
+                    ("warning", "\x1b[1m\x1b[93m")
+                };
+                let level = format!("{level}[{}]", d.code.id);
+                let level = if color {
+                    format!("{style}{level}\x1b[0m")
+                } else {
+                    level
+                };
+                text.push_str(&format!("{at}: {level}: {}\n", d.message));
             }
         }
     }
     text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn colour_follows_the_flag_then_no_color_then_clicolor_force_then_the_terminal() {
+        let env = |vars: &'static [(&'static str, &'static str)]| {
+            move |name: &str| {
+                vars.iter()
+                    .find(|(n, _)| *n == name)
+                    .map(|(_, v)| std::ffi::OsString::from(v))
+            }
+        };
+        use ColorArg::{Always, Auto, Never};
+        assert!(colour_wanted(Auto, true, env(&[])));
+        assert!(!colour_wanted(Auto, false, env(&[])));
+        assert!(!colour_wanted(Auto, true, env(&[("NO_COLOR", "1")])));
+        // An empty NO_COLOR is no request.
+        assert!(colour_wanted(Auto, true, env(&[("NO_COLOR", "")])));
+        assert!(colour_wanted(Auto, false, env(&[("CLICOLOR_FORCE", "1")])));
+        assert!(!colour_wanted(Auto, false, env(&[("CLICOLOR_FORCE", "0")])));
+        assert!(!colour_wanted(
+            Auto,
+            false,
+            env(&[("CLICOLOR_FORCE", "1"), ("NO_COLOR", "1")])
+        ));
+        assert!(!colour_wanted(Auto, true, env(&[("CLICOLOR", "0")])));
+        assert!(!colour_wanted(Auto, true, env(&[("TERM", "dumb")])));
+        assert!(colour_wanted(Always, false, env(&[("NO_COLOR", "1")])));
+        assert!(!colour_wanted(Never, true, env(&[("CLICOLOR_FORCE", "1")])));
+    }
+
+    #[test]
+    fn colour_is_found_in_the_raw_arguments() {
+        let args = |a: &[&str]| a.iter().map(std::ffi::OsString::from).collect::<Vec<_>>();
+        assert_eq!(
+            colour_argument(&args(&["ncthread", "--color", "never", "-h"])),
+            Some(ColorArg::Never)
+        );
+        assert_eq!(
+            colour_argument(&args(&["ncthread", "check", "--color=ALWAYS"])),
+            Some(ColorArg::Always)
+        );
+        assert_eq!(
+            colour_argument(&args(&["ncthread", "--", "--color=always"])),
+            None
+        );
+        assert_eq!(colour_argument(&args(&["ncthread", "-h"])), None);
+    }
 }

@@ -812,3 +812,70 @@ fn stdin_filename_names_the_program_and_finds_its_profile() {
         assert!(said.contains(&format!("--> {name}:2:")), "{args:?}: {said}");
     }
 }
+
+/// `--color auto|always|never` colours the diagnostics (ANSI escapes); `auto` colours a pipe
+/// only under CLICOLOR_FORCE, and never under NO_COLOR. Batch's one-line errors too.
+#[test]
+fn color_is_asked_for_or_follows_no_color_and_clicolor_force() {
+    let bad: &[u8] = b"N10 M03 S500\nN20 G00 X30. Z\n";
+    let run = |args: &[&str], env: &[(&str, &str)]| {
+        use std::io::Write as _;
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_ncthread"));
+        command
+            .args(["convert", "--from", "czech", "--to", "iso"])
+            .args(args)
+            .env_remove("NO_COLOR")
+            .env_remove("CLICOLOR_FORCE")
+            .env_remove("CLICOLOR")
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped());
+        for (k, v) in env {
+            command.env(k, v);
+        }
+        let mut child = command.spawn().unwrap();
+        child.stdin.take().unwrap().write_all(bad).unwrap();
+        let out = child.wait_with_output().unwrap();
+        assert_eq!(out.status.code(), Some(1));
+        text(&out.stderr).contains("\x1b[")
+    };
+    assert!(!run(&[], &[]), "a pipe: no colour");
+    assert!(run(&["--color", "always"], &[]));
+    assert!(
+        run(&["--color=always"], &[("NO_COLOR", "1")]),
+        "the flag wins"
+    );
+    assert!(!run(&["--color", "never"], &[("CLICOLOR_FORCE", "1")]));
+    assert!(run(&[], &[("CLICOLOR_FORCE", "1")]));
+    assert!(!run(&[], &[("CLICOLOR_FORCE", "1"), ("NO_COLOR", "1")]));
+    // Before the subcommand too.
+    let out = ncthread(
+        &["--color", "always", "check", "--from", "czech", "-"],
+        Some(bad),
+    );
+    assert!(text(&out.stdout).contains("\x1b["), "{}", text(&out.stdout));
+    // batch's one-line errors.
+    let dir = tempfile::tempdir().unwrap();
+    let src = dir.path().join("src");
+    std::fs::create_dir(&src).unwrap();
+    std::fs::write(src.join("bad.nc"), bad).unwrap();
+    let out = ncthread(
+        &[
+            "batch",
+            src.to_str().unwrap(),
+            dir.path().join("out").to_str().unwrap(),
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+            "--color",
+            "always",
+        ],
+        None,
+    );
+    assert!(
+        text(&out.stderr).contains("\x1b[1m\x1b[91merror[CZR001]\x1b[0m"),
+        "{}",
+        text(&out.stderr)
+    );
+}
