@@ -15,11 +15,239 @@ use ncthread::source::SourceFile;
 use ncthread::text::{Eol, OutputOptions, TextEncoding};
 use ncthread::{ConvertOptions, DialectId, Unsupported};
 
+/// The first line of `ncthread -h`, and (lower case) of the manual page's NAME.
+const ABOUT: &str = "Convert lathe thread-cutting programs between the czech control, the НЦ-31, FANUC and ISO G-code (LinuxCNC): exact or refused";
+
+const LONG_ABOUT: &str = "Convert lathe thread-cutting programs between the czech control, the НЦ-31, FANUC and ISO G-code (LinuxCNC): exact or refused.
+
+Every conversion is exactly equivalent or refused with a diagnostic that names the block, the construct and why. `verify` proves a conversion by simulating both programs; `check`, `explain` and `plot` look at one; `batch` converts a whole archive. README.md is the manual: every option, every profile key and every diagnostic code.";
+
+/// An example of a command line, for `-h` (the `short` ones), `--help` and the manual page.
+struct Example {
+    command: &'static str,
+    what: &'static str,
+    short: bool,
+}
+
+const fn ex(command: &'static str, what: &'static str, short: bool) -> Example {
+    Example {
+        command,
+        what,
+        short,
+    }
+}
+
+const TOP_EXAMPLES: &[Example] = &[
+    ex(
+        "ncthread convert P0001.NC --from czech --to iso -o P0001.ngc",
+        "one program",
+        true,
+    ),
+    ex(
+        "ncthread verify P0001.NC --from czech --to fanuc",
+        "prove the conversion: both programs make the same motion",
+        true,
+    ),
+    ex(
+        "ncthread batch archive/ converted/ --from auto --to fanuc --html report/",
+        "a whole archive, with a report to read in a browser",
+        true,
+    ),
+    ex(
+        "ncthread check programs/",
+        "lint a folder of programs",
+        false,
+    ),
+    ex(
+        "ncthread explain O1002 --from fanuc",
+        "the passes of every thread",
+        false,
+    ),
+    ex(
+        "ncthread man --dir ~/.local/share/man/man1",
+        "install the manual pages",
+        false,
+    ),
+];
+
+const CONVERT_EXAMPLES: &[Example] = &[
+    ex(
+        "ncthread convert P0001.NC --from czech --to iso -o P0001.ngc",
+        "write a file",
+        true,
+    ),
+    ex(
+        "ncthread convert --from auto --to fanuc < P0001.NC > O0001.nc",
+        "a pipe filter: stdin to stdout",
+        true,
+    ),
+    ex(
+        "ncthread convert P0001.NC --from czech --to nc31 --round",
+        "round what the НЦ-31's 0.01 mm cannot hold, with one warning",
+        false,
+    ),
+    ex(
+        "ncthread convert P0001.NC --from czech --to czech --output-encoding cp852 --eol crlf",
+        "for a DOS PC",
+        false,
+    ),
+    ex(
+        "ncthread convert --from auto --to iso --stdin-filename lathe2/P0001.NC",
+        "a program on stdin, named to find its profile beside it",
+        false,
+    ),
+];
+
+const SIMULATE_EXAMPLES: &[Example] = &[
+    ex(
+        "ncthread simulate G31.NC --from nc31",
+        "every rapid, feed, thread and tap segment",
+        true,
+    ),
+    ex(
+        "ncthread simulate P0001.NC --from auto --format json",
+        "one JSON object per segment",
+        false,
+    ),
+];
+
+const VERIFY_EXAMPLES: &[Example] = &[
+    ex(
+        "ncthread verify P0001.NC --from czech --to iso",
+        "prove ncthread's conversion",
+        true,
+    ),
+    ex(
+        "ncthread verify P0001.NC --from czech --to iso --against P0001.ngc",
+        "check the shop's hand conversion",
+        true,
+    ),
+    ex(
+        "ncthread verify P0001.NC --from czech --to iso --against P0001.ngc --plot diff.svg",
+        "draw the first difference",
+        false,
+    ),
+    ex(
+        "ncthread verify P0001.NC --from czech --to iso --rs274",
+        "LinuxCNC's interpreter as a second judge",
+        false,
+    ),
+];
+
+const CHECK_EXAMPLES: &[Example] = &[
+    ex(
+        "ncthread check programs/",
+        "every program of a folder",
+        true,
+    ),
+    ex(
+        "ncthread check P0001.NC --from czech --diagnostics json",
+        "one JSON object per diagnostic, for an editor or CI",
+        true,
+    ),
+    ex(
+        "ncthread check --glob '**/O*' archive/",
+        "the files a glob chooses",
+        false,
+    ),
+];
+
+const EXPLAIN_EXAMPLES: &[Example] = &[
+    ex(
+        "ncthread explain G31.NC --from nc31",
+        "the pass table of every thread",
+        true,
+    ),
+    ex(
+        "ncthread explain P0001.NC --from czech --crest 36",
+        "depths from the crest of an M36 thread written as passes",
+        true,
+    ),
+    ex(
+        "ncthread explain P0001.NC --from czech --format csv",
+        "one row per pass",
+        false,
+    ),
+];
+
+const PLOT_EXAMPLES: &[Example] = &[
+    ex(
+        "ncthread plot G31.NC --from nc31 -o g31.svg",
+        "the toolpath, the passes and their cross-section",
+        true,
+    ),
+    ex(
+        "ncthread plot P0001.NC --from czech --operation 2 -o p2.svg",
+        "the second operation in detail",
+        false,
+    ),
+];
+
+const BATCH_EXAMPLES: &[Example] = &[
+    ex(
+        "ncthread batch archive/ converted/ --from auto --to iso",
+        "every program of a tree, in parallel",
+        true,
+    ),
+    ex(
+        "ncthread batch archive/ converted/ --from czech --to fanuc --report report.json --html report/",
+        "with a JSON and an HTML report",
+        true,
+    ),
+    ex(
+        "ncthread batch archive/ converted/ --from auto --to iso --dry-run --verbose",
+        "say what would be written, and write nothing",
+        false,
+    ),
+    ex(
+        "ncthread batch archive/ converted/ --from fanuc --to iso --glob 'O*'",
+        "take the files a glob chooses",
+        false,
+    ),
+];
+
+/// The examples as `-h` (`long`: `--help`) prints them after the options.
+fn examples(list: &[Example], long: bool) -> String {
+    let chosen: Vec<&Example> = list.iter().filter(|e| long || e.short).collect();
+    let mut text = String::from("\x1b[1m\x1b[4mExamples:\x1b[0m\n");
+    for e in chosen {
+        if long {
+            text.push_str(&format!("  {}\n          {}\n", e.command, e.what));
+        } else {
+            text.push_str(&format!("  {}\n", e.command));
+        }
+    }
+    if !long {
+        text.push_str(
+            "\n--help for every option's details and more examples; README.md is the manual.",
+        );
+    }
+    text.trim_end().to_string()
+}
+
+/// The examples of a command, by its name (`ncthread` for the top).
+fn examples_of(name: &str) -> &'static [Example] {
+    match name {
+        "convert" => CONVERT_EXAMPLES,
+        "simulate" => SIMULATE_EXAMPLES,
+        "verify" => VERIFY_EXAMPLES,
+        "check" => CHECK_EXAMPLES,
+        "explain" => EXPLAIN_EXAMPLES,
+        "plot" => PLOT_EXAMPLES,
+        "batch" => BATCH_EXAMPLES,
+        "ncthread" => TOP_EXAMPLES,
+        _ => &[],
+    }
+}
+
 #[derive(Parser)]
 #[command(
     name = "ncthread",
     version,
-    about = "Lathe thread-cutting programs between the czech control, the НЦ-31 and ISO G-code: exact or refused."
+    about = ABOUT,
+    long_about = LONG_ABOUT,
+    after_help = examples(TOP_EXAMPLES, false),
+    after_long_help = examples(TOP_EXAMPLES, true),
 )]
 struct Cli {
     #[command(subcommand)]
@@ -104,22 +332,29 @@ fn colour_argument(args: &[std::ffi::OsString]) -> Option<ColorArg> {
 #[derive(Subcommand)]
 enum Command {
     /// Convert one program (stdin to stdout by default).
+    #[command(after_help = examples(CONVERT_EXAMPLES, false), after_long_help = examples(CONVERT_EXAMPLES, true))]
     Convert(ConvertArgs),
     /// Print the machine motion of a program: every rapid, feed, thread and tap segment.
+    #[command(after_help = examples(SIMULATE_EXAMPLES, false), after_long_help = examples(SIMULATE_EXAMPLES, true))]
     Simulate(SimulateArgs),
     /// Prove a conversion (or check a hand conversion with --against): the two programs'
     /// simulated motions must agree within 0.001 mm and 0.01°.
+    #[command(after_help = examples(VERIFY_EXAMPLES, false), after_long_help = examples(VERIFY_EXAMPLES, true))]
     Verify(VerifyArgs),
     /// Lint programs and folders of programs: every diagnostic of each file on stdout (the
     /// count on stderr), no output program.
+    #[command(after_help = examples(CHECK_EXAMPLES, false), after_long_help = examples(CHECK_EXAMPLES, true))]
     Check(CheckArgs),
     /// Print every thread operation (a cycle, a tap, a thread written as single passes) with
     /// its pass table, and every roughing cycle with its cuts.
+    #[command(after_help = examples(EXPLAIN_EXAMPLES, false), after_long_help = examples(EXPLAIN_EXAMPLES, true))]
     Explain(ExplainArgs),
     /// Draw a program as an SVG: the toolpath, and a thread operation's passes in XZ and in
     /// cross-section with a legend.
+    #[command(after_help = examples(PLOT_EXAMPLES, false), after_long_help = examples(PLOT_EXAMPLES, true))]
     Plot(PlotArgs),
     /// Convert a whole tree of programs into a mirrored tree, in parallel.
+    #[command(after_help = examples(BATCH_EXAMPLES, false), after_long_help = examples(BATCH_EXAMPLES, true))]
     Batch(BatchArgs),
     /// Print what each dialect reads and writes (the capability table, Markdown): what a
     /// target refuses, and under which code.
@@ -227,8 +462,7 @@ struct BatchArgs {
     /// Overwrite outputs that exist.
     #[arg(long)]
     force: bool,
-    /// The outputs' extension (default: ngc for iso, ncp for czech, nc31 for nc31).
-    #[arg(long)]
+    #[arg(long, value_name = "EXT", help = ext_help())]
     ext: Option<String>,
     /// Convert, but write nothing: list what would be written.
     #[arg(long)]
@@ -422,10 +656,19 @@ struct SimulateArgs {
 /// Options every subcommand takes.
 #[derive(clap::Args)]
 struct CommonArgs {
-    /// Machine profile (TOML) with the machine's constants: czech constant 8, nc31 units
-    /// and parameters 6/7, ISO M code mappings. Without it, a program's sidecar
-    /// `STEM.profile.toml`, else the nearest `ncthread.toml` in its folder or above.
-    #[arg(long)]
+    /// Machine profile (TOML): what differs per machine, in [czech], [nc31], [iso] and
+    /// [fanuc] sections. Without it, a program's sidecar `STEM.profile.toml`, else the
+    /// nearest `ncthread.toml` in its folder or above, else the built-in defaults.
+    ///
+    /// [czech]: machine constant 8 (runout and entry angles), the first motion mode, gear
+    /// range M codes, and the machine's forms of coolant, arcs, dwell and surface speed.
+    /// [nc31]: the units of X Z P and F, machine parameters 6 and 7 (infeed angle, runout),
+    /// the G31 retract and pass schedule, gear range M codes, coolant, arcs, 45° chamfers,
+    /// G25 repeats. [iso]: M code mappings, the tool change, the block delete switch,
+    /// subroutine folders. [fanuc]: words without a decimal point, G92's thread chamfer, the
+    /// tool offset number, the program number, nose radius compensation, mist coolant.
+    /// Without a key, what needs it is refused by name. README.md lists every key.
+    #[arg(long, value_name = "FILE")]
     profile: Option<PathBuf>,
     /// Use the built-in defaults: no sidecar or `ncthread.toml` is looked for.
     #[arg(long, conflicts_with = "profile")]
@@ -439,9 +682,7 @@ struct CommonArgs {
     /// Undocumented constructs: refuse the program, or warn and keep them as opaque items.
     #[arg(long, value_enum, default_value_t = UnsupportedArg::Error)]
     unsupported: UnsupportedArg,
-    /// The input's encoding (an encoding_rs/WHATWG label, or IBM852); default: UTF-8 when the
-    /// bytes are valid UTF-8, else the dialect's legacy one (czech windows-1250, nc31 IBM866).
-    #[arg(long, value_parser = parse_encoding)]
+    #[arg(long, value_name = "LABEL", value_parser = parse_encoding, help = encoding_help())]
     encoding: Option<TextEncoding>,
     /// ISO input: the block delete switch the program runs with. Lines that start with `/`
     /// run when it is off and are skipped when it is on; without it (or the profile's
@@ -466,8 +707,15 @@ struct TargetArgs {
     /// Block numbers for czech output from another dialect: START,STEP (default 10,10).
     #[arg(long, value_parser = parse_renumber)]
     renumber: Option<ncthread::dialect::Renumber>,
-    /// Round values the target cannot hold (czech: 0.001 mm; nc31: its units) with a
-    /// warning instead of refusing.
+    /// Round values the target cannot hold onto its grid, with one warning giving the
+    /// largest deviation, instead of refusing them.
+    ///
+    /// czech and fanuc: lengths to 0.001 mm, leads and feeds to 0.0001 mm; nc31: whole units
+    /// of the profile (0.01 mm, leads 0.0001 mm); iso holds every value and never rounds. A
+    /// rounded lead's deviation is its drift at the thread's end; a czech thread start moved
+    /// onto the grid changes its start angle I so that the pass cuts the same helix; an arc
+    /// whose written R would move its centre is rounded too. `verify --round` allows the
+    /// deviation the rounding reported.
     #[arg(long)]
     round: bool,
     /// nc31 output: write comments as `(` lines (for PC-side archives) instead of dropping
@@ -567,6 +815,30 @@ struct SourceDialect(Option<DialectId>);
 /// A target dialect (`--to`).
 #[derive(Clone, Copy, PartialEq, Eq)]
 struct TargetDialect(DialectId);
+
+/// `--ext`'s help: each target's own extension, from the registry.
+fn ext_help() -> String {
+    let each: Vec<String> = ncthread::dialect::ALL
+        .iter()
+        .map(|d| format!("{} for {}", d.extension(), d.id()))
+        .collect();
+    format!(
+        "The outputs' extension (default: the target's, {})",
+        each.join(", ")
+    )
+}
+
+/// `--encoding`'s help: each dialect's legacy encoding, from the registry.
+fn encoding_help() -> String {
+    let each: Vec<String> = ncthread::dialect::ALL
+        .iter()
+        .map(|d| format!("{} {}", d.id(), d.legacy_encoding()))
+        .collect();
+    format!(
+        "The input's encoding (an encoding_rs/WHATWG label, or IBM852); default: UTF-8 when the bytes are valid UTF-8, else the dialect's legacy one ({})",
+        each.join(", ")
+    )
+}
 
 /// The ids of every dialect in the registry, for clap.
 fn dialect_ids() -> Vec<&'static str> {
@@ -742,42 +1014,98 @@ fn man_sections() -> String {
     roff.render()
 }
 
+/// A manual page: clap_mangen's title, NAME ("ncthread \\- convert …", "ncthread\\-convert \\-
+/// convert one program …"), SYNOPSIS (`ncthread convert …`, as it is typed), DESCRIPTION,
+/// OPTIONS and SUBCOMMANDS, then the examples as EXAMPLES, and [`man_sections`].
+fn man_page(cmd: clap::Command, examples: &[Example]) -> Result<Vec<u8>, Fatal> {
+    use clap_mangen::roff::{Roff, bold, roman};
+    let failed = |e: io::Error| Fatal::Usage(format!("cannot render the manual page: {e}"));
+    // NAME is a phrase in lower case without a full stop ("ls - list directory contents").
+    let about = cmd.get_about().map(|a| a.to_string()).unwrap_or_default();
+    let mut chars = about.trim_end_matches('.').chars();
+    let name_line: String = match chars.next() {
+        Some(c) if !chars.clone().next().is_some_and(char::is_uppercase) => {
+            c.to_lowercase().chain(chars).collect()
+        }
+        Some(c) => std::iter::once(c).chain(chars).collect(),
+        None => String::new(),
+    };
+    let long = cmd
+        .get_long_about()
+        .map(|a| a.to_string())
+        .unwrap_or_else(|| about.clone());
+    let cmd = cmd.about(name_line).long_about(long);
+    let man = clap_mangen::Man::new(cmd.clone())
+        .source(format!("ncthread {}", env!("CARGO_PKG_VERSION")));
+    let mut out = Vec::new();
+    man.render_title(&mut out).map_err(failed)?;
+    man.render_name_section(&mut out).map_err(failed)?;
+    man.render_synopsis_section(&mut out).map_err(failed)?;
+    man.render_description_section(&mut out).map_err(failed)?;
+    if cmd.get_arguments().any(|a| !a.is_hide_set()) {
+        man.render_options_section(&mut out).map_err(failed)?;
+    }
+    if cmd.has_subcommands() {
+        man.render_subcommands_section(&mut out).map_err(failed)?;
+    }
+    if !examples.is_empty() {
+        let mut roff = Roff::new();
+        roff.control("SH", ["EXAMPLES"]);
+        for e in examples {
+            roff.control("TP", [])
+                .text([bold(e.command)])
+                .text([roman(e.what)]);
+        }
+        out.extend_from_slice(roff.render().as_bytes());
+    }
+    out.extend_from_slice(man_sections().as_bytes());
+    Ok(out)
+}
+
 /// `ncthread man`: ncthread(1) or a subcommand's page on stdout, or every page into a folder.
 fn man(subcommand: Option<String>, dir: Option<PathBuf>) -> Result<ExitCode, Fatal> {
     let cmd = <Cli as clap::CommandFactory>::command();
-    let page = |cmd: clap::Command| -> Result<Vec<u8>, Fatal> {
-        let mut out = Vec::new();
-        clap_mangen::Man::new(cmd)
-            .render(&mut out)
-            .map_err(|e| Fatal::Usage(format!("cannot render the manual page: {e}")))?;
-        out.extend_from_slice(man_sections().as_bytes());
-        Ok(out)
+    // A subcommand's page is ncthread-NAME(1); its synopsis is typed `ncthread NAME`.
+    let sub = |c: &clap::Command| {
+        c.clone()
+            .display_name(format!("ncthread-{}", c.get_name()))
+            .bin_name(format!("ncthread {}", c.get_name()))
     };
-    // A subcommand's page is named ncthread-NAME(1).
-    let sub = |c: &clap::Command| c.clone().name(format!("ncthread-{}", c.get_name()));
-    let pages: Vec<(String, clap::Command)> =
-        std::iter::once(("ncthread".to_string(), cmd.clone()))
+    let pages: Vec<(String, clap::Command, &[Example])> =
+        std::iter::once(("ncthread".to_string(), cmd.clone(), TOP_EXAMPLES))
             .chain(
                 cmd.get_subcommands()
                     .filter(|c| c.get_name() != "help")
-                    .map(|c| (format!("ncthread-{}", c.get_name()), sub(c))),
+                    .map(|c| {
+                        (
+                            format!("ncthread-{}", c.get_name()),
+                            sub(c),
+                            examples_of(c.get_name()),
+                        )
+                    }),
             )
             .collect();
     match (subcommand, dir) {
-        (None, None) => write_output(&None, &page(cmd)?)?,
+        (None, None) => write_output(&None, &man_page(cmd, TOP_EXAMPLES)?)?,
         (Some(name), _) => {
-            let Some((_, c)) = pages.iter().find(|(n, _)| *n == format!("ncthread-{name}")) else {
+            let Some((_, c, examples)) = pages
+                .iter()
+                .find(|(n, _, _)| *n == format!("ncthread-{name}"))
+            else {
                 return Err(Fatal::Usage(format!(
                     "`{name}` is not a subcommand of ncthread"
                 )));
             };
-            write_output(&None, &page(c.clone())?)?;
+            write_output(&None, &man_page(c.clone(), examples)?)?;
         }
         (None, Some(dir)) => {
             std::fs::create_dir_all(&dir)
                 .map_err(|e| Fatal::Usage(io_error("create", dir.display(), &e)))?;
-            for (name, c) in pages {
-                write_output(&Some(dir.join(format!("{name}.1"))), &page(c)?)?;
+            for (name, c, examples) in pages {
+                write_output(
+                    &Some(dir.join(format!("{name}.1"))),
+                    &man_page(c, examples)?,
+                )?;
             }
         }
     }
@@ -1583,6 +1911,36 @@ mod tests {
         assert!(!colour_wanted(Auto, true, env(&[("TERM", "dumb")])));
         assert!(colour_wanted(Always, false, env(&[("NO_COLOR", "1")])));
         assert!(!colour_wanted(Never, true, env(&[("CLICOLOR_FORCE", "1")])));
+    }
+
+    /// Every example `-h`, `--help` and the manual pages print is a command line ncthread
+    /// takes.
+    #[test]
+    fn every_example_parses() {
+        let cmd = <Cli as clap::CommandFactory>::command();
+        let names = std::iter::once("ncthread")
+            .chain(cmd.get_subcommands().map(|c| c.get_name()))
+            .collect::<Vec<_>>();
+        let mut seen = 0;
+        for name in names {
+            for e in examples_of(name) {
+                // The ncthread command of a line that may feed it (`<`) or pipe it on.
+                let line = e.command.split(['<', '>', '|']).next().unwrap_or_default();
+                let words: Vec<String> = line
+                    .split_whitespace()
+                    .map(|w| w.trim_matches('\'').to_string())
+                    .collect();
+                assert_eq!(words[0], "ncthread", "{}", e.command);
+                if name != "ncthread" {
+                    assert_eq!(words[1], name, "{}", e.command);
+                }
+                if let Err(err) = Cli::try_parse_from(&words) {
+                    panic!("{}: {err}", e.command);
+                }
+                seen += 1;
+            }
+        }
+        assert!(seen > 20, "{seen}");
     }
 
     #[test]

@@ -879,3 +879,69 @@ fn color_is_asked_for_or_follows_no_color_and_clicolor_force() {
         text(&out.stderr)
     );
 }
+
+/// `-h` is the short help with a few examples, `--help` the long one with more; the first
+/// line names every dialect; `--round`, `--profile`, `--ext` say what they do for each target;
+/// the manual pages' NAME reads "ncthread - convert …", a subcommand's synopsis is typed as
+/// `ncthread convert`, and its examples are an EXAMPLES section.
+#[test]
+fn help_is_short_or_long_with_examples_and_the_man_pages_read_as_man_pages() {
+    let short = text(&ncthread(&["-h"], None).stdout);
+    let long = text(&ncthread(&["--help"], None).stdout);
+    let first = short.lines().next().unwrap();
+    for dialect in ["czech", "НЦ-31", "FANUC", "ISO"] {
+        assert!(first.contains(dialect), "{first}");
+    }
+    assert!(
+        short.contains("\nExamples:\n  ncthread convert "),
+        "{short}"
+    );
+    assert!(long.contains("\nExamples:\n"), "{long}");
+    assert!(long.lines().count() > short.lines().count());
+    assert!(long.contains("ncthread man --dir") && !short.contains("ncthread man --dir"));
+    for sub in [
+        "convert", "simulate", "verify", "check", "explain", "plot", "batch",
+    ] {
+        let short = text(&ncthread(&[sub, "-h"], None).stdout);
+        assert!(
+            short.contains(&format!("\nExamples:\n  ncthread {sub} ")),
+            "{sub}: {short}"
+        );
+    }
+    let convert = text(&ncthread(&["convert", "--help"], None).stdout);
+    let round = convert.split("--round").nth(1).unwrap();
+    assert!(
+        round.contains("czech and fanuc: lengths to 0.001 mm")
+            && round.contains("nc31: whole units"),
+        "{round}"
+    );
+    let profile = convert.split("--profile <FILE>").nth(1).unwrap();
+    for section in ["[czech]", "[nc31]", "[iso]", "[fanuc]"] {
+        assert!(profile.contains(section), "{section}: {profile}");
+    }
+    let batch = text(&ncthread(&["batch", "--help"], None).stdout);
+    assert!(
+        batch.contains("ngc for iso") && batch.contains("nc for fanuc"),
+        "{batch}"
+    );
+    let page = text(&ncthread(&["man"], None).stdout);
+    assert!(
+        page.contains(".SH NAME\nncthread \\- convert lathe thread\\-cutting programs between the czech control, the НЦ\\-31, FANUC and ISO G\\-code"),
+        "{page}"
+    );
+    let page = text(&ncthread(&["man", "convert"], None).stdout);
+    assert!(
+        page.contains(".TH ncthread-convert 1  \"ncthread "),
+        "{page}"
+    );
+    assert!(
+        page.contains(".SH NAME\nncthread\\-convert \\- convert one program"),
+        "{page}"
+    );
+    assert!(page.contains("\\fBncthread convert\\fR ["), "{page}");
+    assert!(
+        page.contains(".SH EXAMPLES\n.TP\n\\fBncthread convert "),
+        "{page}"
+    );
+    assert!(!page.contains(".SH EXTRA"), "{page}");
+}
