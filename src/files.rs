@@ -216,11 +216,7 @@ pub fn content_verdict(head: &[u8]) -> Verdict {
     if body.iter().all(|b| b.is_ascii_whitespace()) {
         return Verdict::Skip("empty".into());
     }
-    let control = body
-        .iter()
-        .filter(|&&b| b == 0 || (b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\r' | 0x0C)))
-        .count();
-    if body.contains(&0) || control * 100 > body.len() {
+    if crate::text::binary_evidence(body).is_some() {
         return Verdict::Skip("binary (NUL or control bytes): not a program".into());
     }
     Verdict::Program

@@ -945,3 +945,29 @@ fn help_is_short_or_long_with_examples_and_the_man_pages_read_as_man_pages() {
     );
     assert!(!page.contains(".SH EXTRA"), "{page}");
 }
+
+/// Random bytes are refused as binary (INP003) whatever `--from` says, in one short error:
+/// not ENC003's "give --encoding", not a syntax error per line.
+#[test]
+fn binary_input_is_refused_as_binary() {
+    let random: Vec<u8> = (0u64..200_000)
+        .map(|i| (i.wrapping_mul(6_364_136_223_846_793_005) >> 29) as u8)
+        .collect();
+    for from in ["auto", "czech", "nc31", "iso", "fanuc"] {
+        for command in ["convert", "check"] {
+            let mut args = vec![command, "--from", from];
+            if command == "convert" {
+                args.extend(["--to", "iso"]);
+            }
+            let out = ncthread(&args, Some(&random));
+            assert_eq!(out.status.code(), Some(1), "{args:?}");
+            let said = text(&out.stderr) + &text(&out.stdout);
+            assert!(
+                said.contains("error[INP003]: <stdin> is binary"),
+                "{args:?}: {said}"
+            );
+            assert!(!said.contains("ENC003"), "{args:?}: {said}");
+            assert!(said.len() < 1000, "{args:?}: {} bytes", said.len());
+        }
+    }
+}
