@@ -679,6 +679,10 @@ struct CommonArgs {
     /// How to print diagnostics on stderr.
     #[arg(long, value_enum, default_value_t = DiagnosticsFormat::Human)]
     diagnostics: DiagnosticsFormat,
+    /// Print at most N errors of each file, then how many more there are (0: every one).
+    /// Warnings and `--diagnostics json` are not limited.
+    #[arg(long, value_name = "N", default_value_t = 50)]
+    max_errors: usize,
     /// Undocumented constructs: refuse the program, or warn and keep them as opaque items.
     #[arg(long, value_enum, default_value_t = UnsupportedArg::Error)]
     unsupported: UnsupportedArg,
@@ -1144,13 +1148,33 @@ fn read_input(
     Ok((path.display().to_string(), bytes))
 }
 
-fn print_diagnostics(diags: &[diag::Diagnostic], format: DiagnosticsFormat) {
-    let format = match format {
-        DiagnosticsFormat::Human => Format::Human,
-        DiagnosticsFormat::Json => Format::Json,
-    };
-    let color = format == Format::Human && colour(true);
-    let text = diag::render_all(diags, format, color);
+/// Diagnostics as text: JSON every one; human at most `max_errors` errors per file (0: every
+/// one), then how many more there are.
+fn render(
+    diags: &[diag::Diagnostic],
+    format: DiagnosticsFormat,
+    max_errors: usize,
+    color: bool,
+) -> String {
+    if format == DiagnosticsFormat::Json {
+        return diag::render_all(diags, Format::Json, false);
+    }
+    let (kept, hidden) = diag::cap(diags, max_errors);
+    let mut text = String::new();
+    for d in kept {
+        text.push_str(&d.render(color));
+        text.push_str("\n\n");
+    }
+    for (file, count) in hidden {
+        text.push_str(&diag::more_errors(&file, count));
+        text.push('\n');
+    }
+    text
+}
+
+/// Diagnostics on stderr (see [`render`]).
+fn print_diagnostics(diags: &[diag::Diagnostic], format: DiagnosticsFormat, max_errors: usize) {
+    let text = render(diags, format, max_errors, colour(true));
     let _ = io::stderr().write_all(text.as_bytes());
 }
 
@@ -1161,7 +1185,7 @@ fn load_profile(path: &Option<PathBuf>, format: DiagnosticsFormat) -> Result<Pro
     Profile::load(path).map_err(|e| match e {
         ncthread::profile::LoadError::Io(why) => Fatal::Usage(why),
         ncthread::profile::LoadError::Invalid(diags) => {
-            print_diagnostics(&diags, format);
+            print_diagnostics(&diags, format, 0);
             Fatal::Usage(format!("the profile {} has errors", path.display()))
         }
     })
@@ -1230,7 +1254,7 @@ fn encoding_checked(
         return Ok(());
     };
     let refused = d.is_error();
-    print_diagnostics(&[d], format);
+    print_diagnostics(&[d], format, 0);
     if refused { Err(Fatal::Refused) } else { Ok(()) }
 }
 
@@ -1270,7 +1294,11 @@ fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
         }
         None => None,
     };
-    print_diagnostics(&conversion.diagnostics, args.common.diagnostics);
+    print_diagnostics(
+        &conversion.diagnostics,
+        args.common.diagnostics,
+        args.common.max_errors,
+    );
     let Some(bytes) = bytes else {
         return Ok(ExitCode::from(1));
     };
@@ -1285,13 +1313,13 @@ fn simulate(args: SimulateArgs) -> Result<ExitCode, Fatal> {
         ncthread::parse(&src, from, &profile, unsupported(args.common.unsupported));
     if diag::has_errors(&diags) {
         diag::sort(&mut diags);
-        print_diagnostics(&diags, args.common.diagnostics);
+        print_diagnostics(&diags, args.common.diagnostics, args.common.max_errors);
         return Ok(ExitCode::from(1));
     }
     let simulation = ncthread::sim::simulate(&program);
     diags.extend(simulation.problems.iter().map(|p| p.diagnostic(&src)));
     diag::sort(&mut diags);
-    print_diagnostics(&diags, args.common.diagnostics);
+    print_diagnostics(&diags, args.common.diagnostics, args.common.max_errors);
     let mut out = String::new();
     for segment in &simulation.segments {
         match args.format {
@@ -1317,7 +1345,7 @@ fn read_program(
     let (program, mut diags) =
         ncthread::parse(&src, from, &profile, unsupported(common.unsupported));
     diag::sort(&mut diags);
-    print_diagnostics(&diags, common.diagnostics);
+    print_diagnostics(&diags, common.diagnostics, common.max_errors);
     Ok((!diag::has_errors(&diags)).then_some((src, program)))
 }
 
@@ -1404,7 +1432,11 @@ fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
         interpreter.as_ref(),
         args.tolerance.unwrap_or(ncthread::sim::TOLERANCE),
     );
-    print_diagnostics(&v.diagnostics, args.common.diagnostics);
+    print_diagnostics(
+        &v.diagnostics,
+        args.common.diagnostics,
+        args.common.max_errors,
+    );
     let other = against
         .as_ref()
         .map_or(format!("ncthread's {to} conversion"), |a| a.name.clone());
@@ -1640,12 +1672,12 @@ fn check(args: CheckArgs) -> Result<ExitCode, Fatal> {
         errors += e;
         warnings += diags.len() - e;
         failed_files += usize::from(e > 0);
-        let format = match args.common.diagnostics {
-            DiagnosticsFormat::Human => Format::Human,
-            DiagnosticsFormat::Json => Format::Json,
-        };
-        let color = format == Format::Human && colour(false);
-        out.push_str(&diag::render_all(&diags, format, color));
+        out.push_str(&render(
+            &diags,
+            args.common.diagnostics,
+            args.common.max_errors,
+            colour(false),
+        ));
     }
     write_output(&None, out.as_bytes())?;
     let human = args.common.diagnostics == DiagnosticsFormat::Human && !args.quiet;
@@ -1764,6 +1796,7 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
     let verbose = args.common.verbose;
     let dry_run = args.dry_run;
     let color = colour(true);
+    let max_errors = args.common.max_errors;
     let progress = |f: &ncthread::batch::FileReport| {
         use ncthread::batch::Status;
         let mut text = String::new();
@@ -1777,7 +1810,7 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
             f.status,
             Status::Converted | Status::LeftOut | Status::NotDone
         ) {
-            text.push_str(&file_problem(f, format, color));
+            text.push_str(&file_problem(f, format, max_errors, color));
         }
         if !text.is_empty() {
             bar.suspend(|| {
@@ -1839,9 +1872,15 @@ fn file_line(f: &ncthread::batch::FileReport, dry_run: bool) -> String {
 }
 
 /// What went wrong with one batch file: its errors (human: `path:line:col: error[CODE]
-/// message`, the level coloured as the full diagnostics colour it with `color`; JSON: one
-/// object per line), or the reason it failed or was skipped.
-fn file_problem(f: &ncthread::batch::FileReport, format: DiagnosticsFormat, color: bool) -> String {
+/// message`, the level coloured as the full diagnostics colour it with `color`, at most
+/// `max_errors` of them (0: every one) and then how many more; JSON: one object per line),
+/// or the reason it failed or was skipped.
+fn file_problem(
+    f: &ncthread::batch::FileReport,
+    format: DiagnosticsFormat,
+    max_errors: usize,
+    color: bool,
+) -> String {
     let mut text = String::new();
     let path = f.input.display();
     if let Some(reason) = &f.reason {
@@ -1853,7 +1892,12 @@ fn file_problem(f: &ncthread::batch::FileReport, format: DiagnosticsFormat, colo
             || d.code == diag::codes::OTHER_DIALECT
             || d.code == diag::codes::ENCODING_GUESSED
     };
+    let mut errors = 0;
     for d in f.diagnostics.iter().filter(why) {
+        errors += usize::from(d.is_error());
+        if format == DiagnosticsFormat::Human && max_errors > 0 && errors > max_errors {
+            continue;
+        }
         match format {
             DiagnosticsFormat::Json => {
                 text.push_str(&d.to_json());
@@ -1877,6 +1921,10 @@ fn file_problem(f: &ncthread::batch::FileReport, format: DiagnosticsFormat, colo
                 text.push_str(&format!("{at}: {level}: {}\n", d.message));
             }
         }
+    }
+    if format == DiagnosticsFormat::Human && max_errors > 0 && errors > max_errors {
+        text.push_str(&diag::more_errors(&path.to_string(), errors - max_errors));
+        text.push('\n');
     }
     text
 }

@@ -971,3 +971,74 @@ fn binary_input_is_refused_as_binary() {
         }
     }
 }
+
+/// Text that is no program has an error on nearly every line: at most `--max-errors N` (50 by
+/// default, 0 every one) are printed per file, then how many more there are; JSON prints
+/// every one.
+#[test]
+fn errors_stop_at_a_cap_with_a_count() {
+    // 500 lines of letters and digits: one НЦ-31 error each.
+    let mut seed = 7u64;
+    let mut junk = String::new();
+    for _ in 0..500 {
+        for _ in 0..30 {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            junk.push(b"ABCXYZ0123456789.;#%"[(seed >> 33) as usize % 20] as char);
+        }
+        junk.push('\n');
+    }
+    let errors = |s: &str| s.matches("error[").count();
+    let convert = |extra: &[&str]| {
+        let mut args = vec!["convert", "--from", "nc31", "--to", "iso"];
+        args.extend(extra);
+        let out = ncthread(&args, Some(junk.as_bytes()));
+        assert_eq!(out.status.code(), Some(1));
+        text(&out.stderr)
+    };
+    let all = errors(&convert(&["--max-errors", "0"]));
+    assert!(all >= 400, "{all}");
+    let capped = convert(&[]);
+    assert_eq!(errors(&capped), 50, "{capped}");
+    assert!(
+        capped.ends_with(&format!(
+            "note: {} more errors in <stdin> not shown (--max-errors 0 shows every one)\n",
+            all - 50
+        )),
+        "{capped}"
+    );
+    assert_eq!(errors(&convert(&["--max-errors", "3"])), 3);
+    let json = convert(&["--diagnostics", "json"]);
+    assert_eq!(json.lines().count(), all, "JSON is not capped");
+    let out = ncthread(&["check", "--from", "nc31"], Some(junk.as_bytes()));
+    assert_eq!(errors(&text(&out.stdout)), 50);
+    assert!(text(&out.stdout).contains("more errors in <stdin> not shown"));
+    // batch's one-line errors.
+    let dir = tempfile::tempdir().unwrap();
+    let src = dir.path().join("src");
+    std::fs::create_dir(&src).unwrap();
+    std::fs::write(src.join("junk.nc31"), &junk).unwrap();
+    let out = ncthread(
+        &[
+            "batch",
+            src.to_str().unwrap(),
+            dir.path().join("out").to_str().unwrap(),
+            "--from",
+            "nc31",
+            "--to",
+            "iso",
+            "--max-errors",
+            "10",
+        ],
+        None,
+    );
+    let err = text(&out.stderr);
+    assert_eq!(errors(&err), 10, "{err}");
+    assert!(
+        err.contains(&format!(
+            "note: {} more errors in {} not shown",
+            all - 10,
+            src.join("junk.nc31").display()
+        )),
+        "{err}"
+    );
+}
