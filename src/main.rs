@@ -467,6 +467,10 @@ struct BatchArgs {
     /// Convert, but write nothing: list what would be written.
     #[arg(long)]
     dry_run: bool,
+    /// Print only what failed (each failed file's errors or reason): no progress bar, no
+    /// notes, no summary. The exit code says the rest.
+    #[arg(long, short = 'q', conflicts_with = "verbose")]
+    quiet: bool,
     #[command(flatten)]
     selection: SelectionArgs,
     /// Also write a static HTML report into this folder (`index.html` and the plots): each
@@ -1775,7 +1779,8 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
     for glob in plan.unmatched_globs() {
         note(format!("ncthread: warning: --glob {glob} matched no file"));
     }
-    let bar = if io::stderr().is_terminal() {
+    let quiet = args.quiet;
+    let bar = if io::stderr().is_terminal() && !quiet {
         let bar = indicatif::ProgressBar::new(plan.programs() as u64);
         bar.set_style(
             indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {wide_msg}")
@@ -1800,16 +1805,14 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
     let progress = |f: &ncthread::batch::FileReport| {
         use ncthread::batch::Status;
         let mut text = String::new();
-        if verbose || (dry_run && f.status == Status::Converted) {
+        if verbose || (dry_run && !quiet && f.status == Status::Converted) {
             text.push_str(&file_line(f, dry_run));
         }
-        if let Some(note) = &f.dialect_note {
+        if let Some(note) = f.dialect_note.as_ref().filter(|_| !quiet) {
             text.push_str(&format!("{}: {note}\n", f.input.display()));
         }
-        if !matches!(
-            f.status,
-            Status::Converted | Status::LeftOut | Status::NotDone
-        ) {
+        // What failed; why an output was skipped only when asked (--verbose).
+        if f.status == Status::Failed || (verbose && f.status == Status::Skipped) {
             text.push_str(&file_problem(f, format, max_errors, color));
         }
         if !text.is_empty() {
@@ -1832,7 +1835,9 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
     if !dry_run {
         report.write_html(&options).map_err(Fatal::Usage)?;
     }
-    note(format!("ncthread: {}", report.summary()));
+    if !quiet {
+        note(format!("ncthread: {}", report.summary()));
+    }
     Ok(if report.interrupted {
         ExitCode::from(130)
     } else if !plan.unmatched_globs().is_empty() {

@@ -147,7 +147,24 @@ fn batch_converts_a_tree_keeps_going_and_reports_every_file() {
         "{}",
         text(&again.stderr)
     );
-    assert!(text(&again.stderr).contains("skipped: the output exists (--force overwrites it)"));
+    // The skipped files are counted, not listed, unless --verbose.
+    assert!(!text(&again.stderr).contains("skipped: the output exists"));
+    let verbose = run(&["--verbose"]);
+    assert!(
+        text(&verbose.stderr).contains("skipped: the output exists (--force overwrites it)"),
+        "{}",
+        text(&verbose.stderr)
+    );
+    // --quiet: what failed, and nothing else.
+    let quiet = run(&["--quiet"]);
+    assert_eq!(quiet.status.code(), Some(1));
+    let said = text(&quiet.stderr);
+    assert!(said.contains("bad/syntax.nc:2:14: error[CZR001]"), "{said}");
+    assert!(
+        said.lines()
+            .all(|l| l.contains("/bad/") && l.contains("error[")),
+        "{said}"
+    );
     assert_eq!(snapshot(&out), outputs);
 
     // With --force it converts again (new files, same content).
