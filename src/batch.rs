@@ -201,17 +201,71 @@ impl BatchReport {
         self.files.iter().filter(|f| f.status == status).count()
     }
 
-    /// `converted 151, failed 3, skipped 2 (exist; --force to overwrite), left out 4 (not
-    /// programs) in 0.4 s`
+    /// The files this run converted whose conversion has warnings (values rounded, blocks
+    /// written as comments, an encoding guessed…).
+    pub fn with_warnings(&self) -> usize {
+        self.files
+            .iter()
+            .filter(|f| f.status == Status::Converted && !f.diagnostics.is_empty())
+            .count()
+    }
+
+    /// The codes of the diagnostics of the files this run read (converted or failed), each
+    /// with the number of files it appears in: the commonest first, then by code.
+    pub fn codes(&self) -> Vec<(&'static str, usize)> {
+        let mut files: HashMap<&'static str, usize> = HashMap::new();
+        for f in &self.files {
+            if !matches!(f.status, Status::Converted | Status::Failed) {
+                continue;
+            }
+            let mut codes: Vec<&'static str> = f.diagnostics.iter().map(|d| d.code.id).collect();
+            codes.sort_unstable();
+            codes.dedup();
+            for code in codes {
+                *files.entry(code).or_default() += 1;
+            }
+        }
+        let mut codes: Vec<(&'static str, usize)> = files.into_iter().collect();
+        codes.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
+        codes
+    }
+
+    /// `commonest codes: NCW005 in 10 files, NCW007 in 4 files, CZR001 in 1 file`: the five
+    /// commonest ([`BatchReport::codes`]), or `None` when no file has a diagnostic.
+    pub fn codes_summary(&self) -> Option<String> {
+        let codes = self.codes();
+        if codes.is_empty() {
+            return None;
+        }
+        let each: Vec<String> = codes
+            .iter()
+            .take(5)
+            .map(|(code, n)| format!("{code} in {n} file{}", if *n == 1 { "" } else { "s" }))
+            .collect();
+        Some(format!(
+            "commonest codes: {}{}",
+            each.join(", "),
+            if codes.len() > 5 { ", …" } else { "" }
+        ))
+    }
+
+    /// `converted 151 (12 with warnings), failed 3, skipped 2 (exist; --force to overwrite),
+    /// left out 4 (not programs) in 0.4 s`
     pub fn summary(&self) -> String {
+        let warned = self.with_warnings();
         let mut text = format!(
-            "{} {}, failed {}",
+            "{} {}{}, failed {}",
             if self.dry_run {
                 "would convert"
             } else {
                 "converted"
             },
             self.count(Status::Converted),
+            if warned > 0 {
+                format!(" ({warned} with warnings)")
+            } else {
+                String::new()
+            },
             self.count(Status::Failed),
         );
         let skipped = self.count(Status::Skipped);
@@ -249,11 +303,17 @@ impl BatchReport {
             "dry_run": self.dry_run,
             "interrupted": self.interrupted,
             "converted": self.count(Status::Converted),
+            "with_warnings": self.with_warnings(),
             "failed": self.count(Status::Failed),
             "skipped": self.count(Status::Skipped),
             "left_out": self.count(Status::LeftOut),
             "not_done": self.count(Status::NotDone),
             "seconds": self.elapsed.as_secs_f64(),
+            "codes": self
+                .codes()
+                .into_iter()
+                .map(|(code, n)| (code.to_string(), json!(n)))
+                .collect::<serde_json::Map<String, serde_json::Value>>(),
             "files": self.files.iter().map(FileReport::to_json).collect::<Vec<_>>(),
         })
     }
@@ -642,8 +702,10 @@ impl BatchReport {
             esc(&title)
         ));
         page.push_str(&format!(
-            "<p class=\"summary\">{} · from {} to {} · profile: {}</p>\n",
+            "<p class=\"summary\">{}{} · from {} to {} · profile: {}</p>\n",
             esc(&self.summary()),
+            self.codes_summary()
+                .map_or(String::new(), |c| format!("<br>{}", esc(&c))),
             options.from.map_or("auto".to_string(), |d| d.to_string()),
             options.conversion.to,
             esc(&match &options.profile {

@@ -1837,6 +1837,9 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
     }
     if !quiet {
         note(format!("ncthread: {}", report.summary()));
+        if let Some(codes) = report.codes_summary() {
+            note(format!("ncthread: {codes}"));
+        }
     }
     Ok(if report.interrupted {
         ExitCode::from(130)

@@ -220,7 +220,8 @@ fn batch_never_writes_into_the_source_tree_and_checks_its_arguments() {
         None,
     );
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
-    assert!(text(&out.stderr).contains("converted 30, failed 0, skipped 0"));
+    // Every one with a comment the НЦ-31 drops (NCW007).
+    assert!(text(&out.stderr).contains("converted 30 (30 with warnings), failed 0, skipped 0"));
     assert!(out_dir.join("shop1/machine0/p006.nc").exists());
 }
 
@@ -431,7 +432,10 @@ fn html_report_shows_every_file() {
     assert_eq!(run.status.code(), Some(1), "{}", text(&run.stderr));
     let page = std::fs::read_to_string(html.join("index.html")).unwrap();
     assert!(page.starts_with("<!DOCTYPE html>"));
-    assert!(page.contains("converted 2, failed 1, skipped 0"), "{page}");
+    assert!(
+        page.contains("converted 2 (2 with warnings), failed 1, skipped 0"),
+        "{page}"
+    );
     assert!(page.contains("profile: built-in defaults"));
     // The failed file: its error with the source line and the caret.
     assert!(page.contains("error[NCR002]"), "{page}");
@@ -479,4 +483,66 @@ fn html_report_shows_every_file() {
     assert_eq!(inside.status.code(), Some(2));
     assert!(text(&inside.stderr).contains("never writes into the source tree"));
     assert!(!src.join("report").exists());
+}
+
+/// The summary counts the converted files with warnings and names the commonest codes (by
+/// the number of files they appear in); the report has both.
+#[test]
+fn the_summary_counts_warnings_and_names_the_commonest_codes() {
+    let dir = tempfile::tempdir().unwrap();
+    let (src, out) = (dir.path().join("src"), dir.path().join("out"));
+    std::fs::create_dir_all(&src).unwrap();
+    let body = "N30 G33 Z-20. F1.5\nN40 G00 X40.\nN50 Z5.\nN60 M30\n";
+    // A value the НЦ-31 rounds (NCW005) and a comment it drops (NCW007); a comment; nothing;
+    // an error.
+    std::fs::write(
+        src.join("a.nc"),
+        format!("N10 G95 M03 S500 \"A\nN20 G00 X30.005 Z5.\n{body}"),
+    )
+    .unwrap();
+    std::fs::write(
+        src.join("b.nc"),
+        format!("N10 G95 M03 S500 \"B\nN20 G00 X30. Z5.\n{body}"),
+    )
+    .unwrap();
+    std::fs::write(
+        src.join("c.nc"),
+        format!("N10 G95 M03 S500\nN20 G00 X30. Z5.\n{body}"),
+    )
+    .unwrap();
+    std::fs::write(src.join("bad.nc"), "N10 M03 S500\nN20 G00 X30. Z\n").unwrap();
+    let report = dir.path().join("report.json");
+    let run = ncthread(
+        &[
+            "batch",
+            src.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--from",
+            "czech",
+            "--to",
+            "nc31",
+            "--round",
+            "--report",
+            report.to_str().unwrap(),
+        ],
+        None,
+    );
+    let err = text(&run.stderr);
+    assert!(
+        err.contains("ncthread: converted 3 (2 with warnings), failed 1, skipped 0 in "),
+        "{err}"
+    );
+    assert!(
+        err.contains(
+            "ncthread: commonest codes: NCW007 in 2 files, CZR001 in 1 file, NCW005 in 1 file\n"
+        ),
+        "{err}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(json["with_warnings"], 2);
+    assert_eq!(
+        json["codes"],
+        serde_json::json!({"NCW007": 2, "CZR001": 1, "NCW005": 1})
+    );
 }
