@@ -117,7 +117,7 @@ pub struct FileReport {
     /// The input, as `src_dir` joined with its path below it.
     pub input: PathBuf,
     pub status: Status,
-    /// Where the output is (or would have been) written.
+    /// Where the output goes (whether or not it was written: see [`FileReport::written`]).
     pub output: PathBuf,
     /// The dialect the file was read as.
     pub dialect: Option<DialectId>,
@@ -153,6 +153,16 @@ impl FileReport {
         }
     }
 
+    /// The output, when there is one: written by this run (not `dry_run`), or kept from
+    /// before (skipped because it exists). A file that failed or was left out has none.
+    pub fn written(&self, dry_run: bool) -> Option<&Path> {
+        match self.status {
+            Status::Converted if !dry_run => Some(&self.output),
+            Status::Skipped => Some(&self.output),
+            _ => None,
+        }
+    }
+
     /// The profile used, for people.
     pub fn profile_name(&self) -> String {
         self.profile
@@ -160,11 +170,16 @@ impl FileReport {
             .map_or("built-in defaults".into(), |p| p.display().to_string())
     }
 
-    pub fn to_json(&self) -> serde_json::Value {
+    /// The report's object of this file: `output` only when there is one
+    /// ([`FileReport::written`]); under `--dry-run`, `would_write` where it would be.
+    pub fn to_json(&self, dry_run: bool) -> serde_json::Value {
+        let would_write = (dry_run && self.status == Status::Converted)
+            .then(|| self.output.display().to_string());
         json!({
             "path": self.input.display().to_string(),
             "status": self.status.name(),
-            "output": self.output.display().to_string(),
+            "output": self.written(dry_run).map(|p| p.display().to_string()),
+            "would_write": would_write,
             "dialect": self.dialect.map(|d| d.to_string()),
             "encoding": self.encoding.map(|e| e.name()),
             "output_encoding": self.output_encoding.map(|e| e.name()),
@@ -314,7 +329,7 @@ impl BatchReport {
                 .into_iter()
                 .map(|(code, n)| (code.to_string(), json!(n)))
                 .collect::<serde_json::Map<String, serde_json::Value>>(),
-            "files": self.files.iter().map(FileReport::to_json).collect::<Vec<_>>(),
+            "files": self.files.iter().map(|f| f.to_json(self.dry_run)).collect::<Vec<_>>(),
         })
     }
 }
@@ -725,20 +740,24 @@ impl BatchReport {
                 f.dialect.map_or("—".to_string(), |d| d.to_string()),
                 f.encoding.map_or("—", |e| e.name()),
                 f.diagnostics.len() - errors,
-                esc(&f.output.display().to_string()),
+                f.written(self.dry_run)
+                    .map_or("—".to_string(), |p| esc(&p.display().to_string())),
             ));
         }
         page.push_str("</table>\n");
         for (i, f) in self.files.iter().enumerate() {
             page.push_str(&format!(
-                "<section id=\"f{i}\">\n<h2>{} <span class=\"{}\">{}</span></h2>\n<p>read as {} in {}; profile: {}; output {}</p>\n",
+                "<section id=\"f{i}\">\n<h2>{} <span class=\"{}\">{}</span></h2>\n<p>read as {} in {}; profile: {}; {}</p>\n",
                 esc(&f.input.display().to_string()),
                 f.status.name(),
                 f.status.name(),
                 f.dialect.map_or("—".to_string(), |d| d.to_string()),
                 f.encoding.map_or("—", |e| e.name()),
                 esc(&f.profile_name()),
-                esc(&f.output.display().to_string()),
+                f.written(self.dry_run).map_or("no output".to_string(), |p| format!(
+                    "output {}",
+                    esc(&p.display().to_string())
+                )),
             ));
             if let Some(reason) = &f.reason {
                 page.push_str(&format!("<p class=\"reason\">{}</p>\n", esc(reason)));

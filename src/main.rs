@@ -1863,7 +1863,7 @@ fn file_line(f: &ncthread::batch::FileReport, dry_run: bool) -> String {
             f.reason.as_deref().unwrap_or("not a program")
         ),
         _ => format!(
-            "{path}: {} as {} in {}, profile {} → {}{}\n",
+            "{path}: {} as {} in {}, profile {}{}\n",
             if dry_run && f.status == Status::Converted {
                 "would convert"
             } else {
@@ -1872,9 +1872,16 @@ fn file_line(f: &ncthread::batch::FileReport, dry_run: bool) -> String {
             f.dialect.map_or("?".to_string(), |d| d.to_string()),
             f.encoding.map_or("?", |e| e.name()),
             f.profile_name(),
-            f.output.display(),
-            f.output_encoding
-                .map_or(String::new(), |e| format!(" in {e}")),
+            // Where the output is, or would be: none for a file that failed.
+            match f.status {
+                Status::Failed | Status::NotDone => String::new(),
+                _ => format!(
+                    " → {}{}",
+                    f.output.display(),
+                    f.output_encoding
+                        .map_or(String::new(), |e| format!(" in {e}"))
+                ),
+            },
         ),
     }
 }

@@ -546,3 +546,81 @@ fn the_summary_counts_warnings_and_names_the_commonest_codes() {
         serde_json::json!({"NCW007": 2, "CZR001": 1, "NCW005": 1})
     );
 }
+
+/// The reports name an output only where one was written (or kept from before): none for a
+/// file that failed or was left out, and under `--dry-run` only where it would be.
+#[test]
+fn the_report_names_an_output_only_where_one_was_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let (src, out) = (dir.path().join("src"), dir.path().join("out"));
+    std::fs::create_dir_all(&src).unwrap();
+    std::fs::write(src.join("good.nc"), program(1)).unwrap();
+    std::fs::write(src.join("bad.nc"), "N10 M03 S500\nN20 G00 X30. Z\n").unwrap();
+    std::fs::write(src.join("notes.txt"), "not a program\n").unwrap();
+    let report = dir.path().join("report.json");
+    let html = dir.path().join("html");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "batch",
+            src.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+            "--report",
+            report.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        let run = ncthread(&args, None);
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+        let file = |name: &str| {
+            json["files"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|f| f["path"].as_str().unwrap().ends_with(name))
+                .unwrap()
+                .clone()
+        };
+        (
+            text(&run.stderr),
+            file("good.nc"),
+            file("bad.nc"),
+            file("notes.txt"),
+        )
+    };
+    let (said, _, _, _) = run(&["--dry-run", "--verbose"]);
+    let (_, good, bad, notes) = run(&["--dry-run"]);
+    assert_eq!(good["output"], serde_json::Value::Null, "{good}");
+    assert!(
+        good["would_write"].as_str().unwrap().ends_with("good.ngc"),
+        "{good}"
+    );
+    assert_eq!(bad["would_write"], serde_json::Value::Null, "{bad}");
+    assert!(
+        said.contains("good.nc: would convert as czech in UTF-8, profile built-in defaults → ")
+    );
+    assert!(
+        said.lines()
+            .any(|l| l.contains("bad.nc: failed as czech") && !l.contains('→')),
+        "{said}"
+    );
+    let (_, good, bad, notes2) = run(&["--html", html.to_str().unwrap()]);
+    assert!(
+        good["output"].as_str().unwrap().ends_with("good.ngc"),
+        "{good}"
+    );
+    assert_eq!(bad["output"], serde_json::Value::Null, "{bad}");
+    for n in [&notes, &notes2] {
+        assert_eq!(n["output"], serde_json::Value::Null, "{n}");
+    }
+    let page = std::fs::read_to_string(html.join("index.html")).unwrap();
+    let row = page
+        .lines()
+        .find(|l| l.starts_with("<tr>") && l.contains("bad.nc"))
+        .unwrap();
+    assert!(row.ends_with("<td>—</td></tr>"), "{row}");
+    assert!(!page.contains("bad.ngc"), "{page}");
+}
