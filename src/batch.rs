@@ -458,9 +458,11 @@ pub fn run(
         .num_threads(options.jobs)
         .build()
         .map_err(|e| format!("cannot start the worker threads: {e}"))?;
-    // Two inputs that differ only in their extension would write one output.
-    let mut first_of: HashMap<PathBuf, &Path> = Default::default();
-    let clashes: Vec<Option<&Path>> = plan
+    // Two inputs that differ only in their extension would write one output; two whose
+    // outputs differ only in case would on a case-insensitive file system (Windows, macOS,
+    // the FAT of a USB stick that takes the programs to the machine).
+    let mut first_of: HashMap<String, &Path> = Default::default();
+    let clashes: Vec<Option<Clash>> = plan
         .walk
         .files
         .iter()
@@ -469,10 +471,14 @@ pub fn run(
                 return None;
             }
             let out = f.rel.with_extension(&options.extension);
-            match first_of.get(&out) {
-                Some(first) => Some(*first),
+            let key = out.to_string_lossy().to_lowercase();
+            match first_of.get(&key) {
+                Some(first) if first.with_extension(&options.extension) == out => {
+                    Some(Clash::Same(first))
+                }
+                Some(first) => Some(Clash::Case(first)),
                 None => {
-                    first_of.insert(out, &f.rel);
+                    first_of.insert(key, &f.rel);
                     None
                 }
             }
@@ -518,6 +524,15 @@ pub fn run(
     })
 }
 
+/// An input whose output would land on an earlier input's.
+#[derive(Clone, Copy, Debug)]
+enum Clash<'a> {
+    /// The same output (the names differ only in their extension).
+    Same(&'a Path),
+    /// Outputs whose names differ only in case.
+    Case(&'a Path),
+}
+
 /// Why an output that exists is not written.
 const OUTPUT_EXISTS: &str = "the output exists (--force overwrites it)";
 
@@ -532,18 +547,30 @@ fn one(
     options: &BatchOptions,
     plan: &Plan,
     rel: &Path,
-    clash: Option<&Path>,
+    clash: Option<Clash>,
     profile: Option<(PathBuf, Option<Result<Profile, String>>)>,
 ) -> FileReport {
     let input = options.src_dir.join(rel);
     let output = output_path(options, rel);
     let mut report = FileReport::new(input.clone(), output.clone(), Status::Failed);
-    if let Some(first) = clash {
-        report.reason = Some(format!(
-            "{} is written to the same output; give the files different names",
-            options.src_dir.join(first).display()
-        ));
-        return report;
+    match clash {
+        Some(Clash::Same(first)) => {
+            report.reason = Some(format!(
+                "{} is written to the same output; give the files different names",
+                options.src_dir.join(first).display()
+            ));
+            return report;
+        }
+        Some(Clash::Case(first)) => {
+            report.reason = Some(format!(
+                "its output {} and the output {} of {} differ only in case: on a case-insensitive file system (Windows, macOS, a USB stick) one would replace the other; rename one of the programs",
+                output.display(),
+                output_path(options, first).display(),
+                options.src_dir.join(first).display()
+            ));
+            return report;
+        }
+        None => {}
     }
     let defaults = || {
         let mut p = Profile::default();

@@ -624,3 +624,46 @@ fn the_report_names_an_output_only_where_one_was_written() {
     assert!(row.ends_with("<td>—</td></tr>"), "{row}");
     assert!(!page.contains("bad.ngc"), "{page}");
 }
+
+/// Two programs whose outputs differ only in case would overwrite each other on a
+/// case-insensitive file system (Windows, macOS, a USB stick): the second fails, named.
+#[test]
+fn outputs_that_differ_only_in_case_are_flagged() {
+    let dir = tempfile::tempdir().unwrap();
+    let (src, out) = (dir.path().join("src"), dir.path().join("out"));
+    for rel in ["P1.nc", "p1.NC", "Lathe/x.nc", "lathe/X.nc", "P2.nc"] {
+        let path = src.join(rel);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, program(2)).unwrap();
+    }
+    let report = dir.path().join("report.json");
+    let run = ncthread(
+        &[
+            "batch",
+            src.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+            "--report",
+            report.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(run.status.code(), Some(1), "{}", text(&run.stderr));
+    let err = text(&run.stderr);
+    assert!(err.contains("converted 3, failed 2"), "{err}");
+    for (second, first) in [("p1.NC", "P1.nc"), ("lathe/X.nc", "Lathe/x.nc")] {
+        let line = err
+            .lines()
+            .find(|l| l.starts_with(&format!("{}: failed: ", src.join(second).display())))
+            .unwrap_or_else(|| panic!("{second}: {err}"));
+        assert!(line.contains("differ only in case"), "{line}");
+        assert!(
+            line.contains(&src.join(first).display().to_string()),
+            "{line}"
+        );
+    }
+    assert!(out.join("P1.ngc").is_file() && !out.join("p1.ngc").exists());
+}
