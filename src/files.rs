@@ -150,7 +150,16 @@ pub fn walk(root: &Path, selection: &Selection) -> Result<Walk, String> {
             Verdict::Program
         };
         let verdict = match verdict {
-            Verdict::Program => by_content(path),
+            Verdict::Program => by_content(path, false),
+            // A FANUC control names its programs `O1002`: a file without an extension is taken
+            // when its text is a program.
+            Verdict::Skip(why) if by_extension && rel.extension().is_none() => {
+                match by_content(path, true) {
+                    Verdict::Program => Verdict::Program,
+                    Verdict::Skip(not) if not == NOT_PROGRAM_TEXT => Verdict::Skip(why),
+                    skip => skip,
+                }
+            }
             skip => skip,
         };
         files.push(Found { rel, verdict });
@@ -185,7 +194,7 @@ fn by_name(rel: &Path, extensions: &[&str]) -> Verdict {
             list(extensions)
         )),
         None => Verdict::Skip(format!(
-            "not a program file (no extension; programs are {}; --glob takes others)",
+            "not a program file (no extension, and its text is not a program; programs are {}; --glob takes others)",
             list(extensions)
         )),
     }
@@ -199,15 +208,73 @@ fn list(extensions: &[&str]) -> String {
         .join(", ")
 }
 
-/// Whether a file's bytes are a program's: not empty, not binary.
-fn by_content(path: &Path) -> Verdict {
+/// Why [`by_content`] did not take a file's text as a program.
+const NOT_PROGRAM_TEXT: &str = "its text is not a program";
+
+/// Whether a file's bytes are a program's: not empty, not binary; and with `as_text` (a file
+/// whose name does not say it), text whose lines are a program's ([`looks_like_program`]).
+fn by_content(path: &Path, as_text: bool) -> Verdict {
     use std::io::Read as _;
     let mut head = Vec::with_capacity(8192);
     let read = std::fs::File::open(path).and_then(|f| f.take(8192).read_to_end(&mut head));
     if let Err(e) = read {
         return Verdict::Skip(io_error("read", path.display(), &e));
     }
-    content_verdict(&head)
+    match content_verdict(&head) {
+        Verdict::Program if as_text => {
+            // The ASCII of it: every dialect's words and marks are ASCII.
+            let text: String = head
+                .iter()
+                .map(|&b| if b.is_ascii() { b as char } else { '?' })
+                .collect();
+            if looks_like_program(&text) {
+                Verdict::Program
+            } else {
+                Verdict::Skip(NOT_PROGRAM_TEXT.into())
+            }
+        }
+        verdict => verdict,
+    }
+}
+
+/// Whether a text (a file's first 8 KB) is a program: at least three of its lines are blocks
+/// (a word's letter and its number first: `N10`, `G0`, `X1.`, `O1002`, `#1=`, `o<sub>`), no
+/// more than one line in ten is something else (comment lines, `%` and blank lines aside),
+/// and a line carries a dialect's mark (what `--from auto` tells dialects by). Prose, a
+/// list of numbers or a script is none.
+pub fn looks_like_program(text: &str) -> bool {
+    let (mut blocks, mut other) = (0usize, 0usize);
+    let lines: Vec<&str> = text.lines().collect();
+    // The last line of a head cut at 8 KB may be cut short.
+    let whole = if text.len() >= 8192 {
+        &lines[..lines.len().saturating_sub(1)]
+    } else {
+        &lines[..]
+    };
+    for line in whole {
+        let line = line.trim();
+        let line = line.strip_prefix('/').unwrap_or(line).trim_start();
+        if line.is_empty() || line.starts_with(['%', '(', ';', '"']) {
+            continue;
+        }
+        let bytes = line.as_bytes();
+        let mut rest = bytes.iter().skip(1).skip_while(|b| **b == b' ');
+        let block = match bytes[0] {
+            b'#' => matches!(bytes.get(1), Some(b'0'..=b'9' | b'<' | b'[')),
+            b'o' | b'O' if bytes.get(1) == Some(&b'<') => true,
+            c if c.is_ascii_alphabetic() => matches!(
+                rest.next(),
+                Some(b'0'..=b'9' | b'.' | b'-' | b'+' | b'#' | b'[')
+            ),
+            _ => false,
+        };
+        if block {
+            blocks += 1;
+        } else {
+            other += 1;
+        }
+    }
+    blocks >= 3 && other * 10 <= blocks + other && crate::dialect::detect::has_marks(text)
 }
 
 /// The verdict on a file's first bytes (at most 8 KB).
@@ -356,6 +423,28 @@ mod tests {
         );
         let e = std::io::Error::other("UTF-8 expected");
         assert_eq!(io_reason(&e), "UTF-8 expected");
+    }
+
+    #[test]
+    fn a_text_without_an_extension_is_a_program_when_its_lines_are() {
+        let fanuc = "%\nO1002 (THREAD M20X1.5)\nG21 G99\nG97 S500 M03\nG00 X22. Z5.\nG32 Z-20. F1.5\nG00 X30.\nM30\n%\n";
+        assert!(looks_like_program(fanuc));
+        let nc31 = "N0 M40\nN4 X10000 ~ *\nN5 Z5000 ~\nN11 Z-5200 ~ *\n";
+        assert!(looks_like_program(nc31));
+        let czech = "N10 G00 X26.618 Z3. \"ROZTOCENI\nN20 R04=120.0\nN30 G33 Z-9. FR10\nN40 M30\n";
+        assert!(looks_like_program(czech));
+        let iso = "o<thread> sub\n#1 = 5\nG33 Z-10 K1.5\no<thread> endsub\nM2\n";
+        assert!(looks_like_program(iso));
+        // Prose, even about G-code and with ( ) in it; a script; numbers; too little.
+        let readme = "Programs of lathe 2 (the old one)\nG33 cuts a thread (see the manual)\nX is a diameter.\nAsk Jan before you run P0001.\n";
+        assert!(!looks_like_program(readme));
+        assert!(!looks_like_program(
+            "#!/bin/sh\nrm -rf out\nncthread batch a b\n"
+        ));
+        assert!(!looks_like_program("1,2,3\n4,5,6\n7,8,9\n"));
+        assert!(!looks_like_program("G0 X1 (A)\nM30\n"));
+        // Blocks without any dialect's mark: no telling it from a list of codes.
+        assert!(!looks_like_program("G0 X1\nG1 Z2\nG0 X3\n"));
     }
 
     #[test]

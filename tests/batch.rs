@@ -667,3 +667,74 @@ fn outputs_that_differ_only_in_case_are_flagged() {
     }
     assert!(out.join("P1.ngc").is_file() && !out.join("p1.ngc").exists());
 }
+
+/// A FANUC control names its programs `O1002`, without an extension: such a file is taken
+/// when its text is a program; a README, a script or a binary file without one is not.
+#[test]
+fn programs_without_an_extension_are_taken_by_their_text() {
+    let dir = tempfile::tempdir().unwrap();
+    let (src, out) = (dir.path().join("src"), dir.path().join("out"));
+    std::fs::create_dir_all(src.join("lathe")).unwrap();
+    let fanuc = std::fs::read("corpus/fanuc/g32-m20x1.5-multipass.nc").unwrap();
+    std::fs::write(src.join("lathe/O1002"), &fanuc).unwrap();
+    std::fs::write(
+        src.join("README"),
+        "Programs of lathe 2 (the old one)\nG32 cuts a thread (see the manual)\nAsk Jan first.\n",
+    )
+    .unwrap();
+    std::fs::write(src.join("run"), "#!/bin/sh\nncthread batch a b\n").unwrap();
+    std::fs::write(src.join("DATA"), b"\0\x01\x02O1002\nG32\0").unwrap();
+    let report = dir.path().join("report.json");
+    for from in ["auto", "fanuc"] {
+        let run = ncthread(
+            &[
+                "batch",
+                src.to_str().unwrap(),
+                out.to_str().unwrap(),
+                "--from",
+                from,
+                "--to",
+                "iso",
+                "--force",
+                "--report",
+                report.to_str().unwrap(),
+            ],
+            None,
+        );
+        assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+        assert!(
+            text(&run.stderr).contains("converted 1, failed 0, skipped 0, left out 3"),
+            "{}",
+            text(&run.stderr)
+        );
+        assert!(out.join("lathe/O1002.ngc").is_file());
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+        let reason = |name: &str| {
+            json["files"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|f| f["path"].as_str().unwrap().ends_with(name))
+                .unwrap()["reason"]
+                .as_str()
+                .unwrap()
+                .to_string()
+        };
+        for name in ["README", "run"] {
+            assert!(
+                reason(name).contains("no extension, and its text is not a program"),
+                "{name}: {}",
+                reason(name)
+            );
+        }
+        assert!(reason("DATA").starts_with("binary"), "{}", reason("DATA"));
+    }
+    // check walks folders alike.
+    let check = ncthread(&["check", src.to_str().unwrap(), "--from", "fanuc"], None);
+    assert!(
+        text(&check.stderr).contains("checked 1 file(s)"),
+        "{}",
+        text(&check.stderr)
+    );
+}
