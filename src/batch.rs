@@ -209,6 +209,9 @@ pub struct BatchReport {
     pub dry_run: bool,
     /// The run was interrupted.
     pub interrupted: bool,
+    /// Why the run stopped before its end: a write that no later write would survive (a
+    /// full disk), in [`files::io_error`]'s words.
+    pub fatal: Option<String>,
 }
 
 impl BatchReport {
@@ -298,6 +301,8 @@ impl BatchReport {
         let not_done = self.count(Status::NotDone);
         if self.interrupted {
             text.push_str(&format!(", interrupted: {not_done} not done"));
+        } else if self.fatal.is_some() {
+            text.push_str(&format!(", stopped: {not_done} not done"));
         }
         text.push_str(&format!(" in {:.1} s", self.elapsed.as_secs_f64()));
         text
@@ -306,7 +311,7 @@ impl BatchReport {
     /// Whether the run succeeded: nothing failed and nothing was left undone (skipped
     /// outputs and files that are not programs are no failure).
     pub fn succeeded(&self) -> bool {
-        !self.interrupted && self.count(Status::Failed) == 0
+        !self.interrupted && self.fatal.is_none() && self.count(Status::Failed) == 0
     }
 
     pub fn to_json(&self, options: &BatchOptions) -> serde_json::Value {
@@ -317,6 +322,7 @@ impl BatchReport {
             "to": options.conversion.to.to_string(),
             "dry_run": self.dry_run,
             "interrupted": self.interrupted,
+            "stopped": self.fatal,
             "converted": self.count(Status::Converted),
             "with_warnings": self.with_warnings(),
             "failed": self.count(Status::Failed),
@@ -431,16 +437,37 @@ fn read_profile(path: &Path) -> Result<Profile, String> {
     Profile::load(path).map_err(|e| e.summary(path))
 }
 
+/// How an output is written: [`files::write_atomically`]'s arguments and result (path,
+/// bytes, force, the source tree's guard).
+pub type Writer<'a> =
+    dyn Fn(&Path, &[u8], bool, Option<&Path>) -> Result<(), files::WriteError> + Sync + 'a;
+
 /// Runs a batch as planned. `progress` is called once per file as it finishes (from worker
-/// threads); `stop` ends the run between files (an interrupt). `Err` is a usage or I/O
-/// problem with the trees themselves (nothing was converted).
+/// threads); `stop` ends the run between files (an interrupt). A write that no later write
+/// would survive (a full disk: [`files::WriteError::Fatal`]) stops the run too, and the
+/// report says why. `Err` is a usage or I/O problem with the trees themselves (nothing was
+/// converted).
 pub fn run(
     options: &BatchOptions,
     plan: &Plan,
     progress: &(dyn Fn(&FileReport) + Sync),
     stop: &AtomicBool,
 ) -> Result<BatchReport, String> {
+    run_with(options, plan, progress, stop, &files::write_atomically)
+}
+
+/// [`run`], writing each output with `write` (the tests' seam for a disk that fills up).
+pub fn run_with(
+    options: &BatchOptions,
+    plan: &Plan,
+    progress: &(dyn Fn(&FileReport) + Sync),
+    stop: &AtomicBool,
+    write: &Writer<'_>,
+) -> Result<BatchReport, String> {
     let started = Instant::now();
+    // The first write that stops every write, and the flag the workers read.
+    let fatal: std::sync::Mutex<Option<String>> = Default::default();
+    let halted = AtomicBool::new(false);
     if !options.dry_run {
         std::fs::create_dir_all(&options.out_dir)
             .map_err(|e| files::io_error("create", options.out_dir.display(), &e))?;
@@ -504,11 +531,24 @@ pub fn run(
                         r.reason = Some("interrupted before its turn".into());
                         r
                     }
+                    Verdict::Program if halted.load(Ordering::Relaxed) => {
+                        let mut r = FileReport::new(input, output, Status::NotDone);
+                        r.reason = Some("the run stopped before its turn".into());
+                        r
+                    }
                     Verdict::Program => {
                         let profile = profile
                             .as_ref()
                             .map(|p| (p.clone(), plan.loaded.get(p).cloned()));
-                        one(options, plan, &found.rel, *clash, profile)
+                        let (report, stops) =
+                            one(options, plan, &found.rel, *clash, profile, write);
+                        if let Some(why) = stops {
+                            halted.store(true, Ordering::Relaxed);
+                            if let Ok(mut first) = fatal.lock() {
+                                first.get_or_insert(why);
+                            }
+                        }
+                        report
                     }
                 };
                 progress(&report);
@@ -521,6 +561,7 @@ pub fn run(
         elapsed: started.elapsed(),
         dry_run: options.dry_run,
         interrupted: stop.load(Ordering::Relaxed),
+        fatal: fatal.into_inner().unwrap_or_else(|e| e.into_inner()),
     })
 }
 
@@ -542,14 +583,43 @@ fn output_path(options: &BatchOptions, rel: &Path) -> PathBuf {
 }
 
 /// Converts one program with its profile (`None`: the built-in defaults; else its path and
-/// the profile read, or why it could not be).
+/// the profile read, or why it could not be), and writes its output with `write`. Also
+/// returns why the run must stop when the write failed so that no later one would succeed.
 fn one(
     options: &BatchOptions,
     plan: &Plan,
     rel: &Path,
     clash: Option<Clash>,
     profile: Option<(PathBuf, Option<Result<Profile, String>>)>,
-) -> FileReport {
+    write: &Writer<'_>,
+) -> (FileReport, Option<String>) {
+    let (mut report, bytes) = convert_one(options, rel, clash, profile);
+    let Some(bytes) = bytes else {
+        return (report, None);
+    };
+    match write(&report.output, &bytes, options.force, Some(&plan.src_root)) {
+        Ok(()) => report.status = Status::Converted,
+        Err(files::WriteError::Exists) => {
+            report.status = Status::Skipped;
+            report.reason = Some(OUTPUT_EXISTS.into());
+        }
+        Err(files::WriteError::Failed(e)) => report.reason = Some(e),
+        Err(files::WriteError::Fatal(e)) => {
+            report.reason = Some(e.clone());
+            return (report, Some(e));
+        }
+    }
+    (report, None)
+}
+
+/// Converts one program: its report and the output's bytes to write, or no bytes when the
+/// report is final (failed, skipped, or converted under `--dry-run`).
+fn convert_one(
+    options: &BatchOptions,
+    rel: &Path,
+    clash: Option<Clash>,
+    profile: Option<(PathBuf, Option<Result<Profile, String>>)>,
+) -> (FileReport, Option<Vec<u8>>) {
     let input = options.src_dir.join(rel);
     let output = output_path(options, rel);
     let mut report = FileReport::new(input.clone(), output.clone(), Status::Failed);
@@ -559,7 +629,7 @@ fn one(
                 "{} is written to the same output; give the files different names",
                 options.src_dir.join(first).display()
             ));
-            return report;
+            return (report, None);
         }
         Some(Clash::Case(first)) => {
             report.reason = Some(format!(
@@ -568,7 +638,7 @@ fn one(
                 output_path(options, first).display(),
                 options.src_dir.join(first).display()
             ));
-            return report;
+            return (report, None);
         }
         None => {}
     }
@@ -585,7 +655,7 @@ fn one(
                 Some(Ok(p)) => p,
                 Some(Err(why)) => {
                     report.reason = Some(why);
-                    return report;
+                    return (report, None);
                 }
                 None => defaults(),
             }
@@ -594,13 +664,13 @@ fn one(
     if !options.force && output.exists() {
         report.status = Status::Skipped;
         report.reason = Some(OUTPUT_EXISTS.into());
-        return report;
+        return (report, None);
     }
     let bytes = match std::fs::read(&input) {
         Ok(b) => b,
         Err(e) => {
             report.reason = Some(files::io_error("read", input.display(), &e));
-            return report;
+            return (report, None);
         }
     };
     let decoded = text::decode_program(&bytes, options.from, options.input_encoding, Some(rel));
@@ -624,7 +694,7 @@ fn one(
         let refused = d.is_error();
         report.diagnostics.push(d);
         if refused {
-            return report;
+            return (report, None);
         }
     }
     let kept = text::Input::of(&text, encoding, &eof_mark, from == options.conversion.to);
@@ -637,7 +707,7 @@ fn one(
     let converted = convert(&src, &conversion);
     report.diagnostics.extend(converted.diagnostics);
     let Some(program) = converted.output else {
-        return report;
+        return (report, None);
     };
     report.output_encoding = Some(options.output.encoding_for(&kept));
     let bytes = match text::encode_output(
@@ -649,7 +719,7 @@ fn one(
         Ok(b) => b,
         Err(d) => {
             report.diagnostics.push(*d);
-            return report;
+            return (report, None);
         }
     };
     if let Some(dir) = options.html.as_ref().filter(|_| !options.dry_run) {
@@ -657,17 +727,9 @@ fn one(
     }
     if options.dry_run {
         report.status = Status::Converted;
-        return report;
+        return (report, None);
     }
-    match files::write_atomically(&output, &bytes, options.force, Some(&plan.src_root)) {
-        Ok(()) => report.status = Status::Converted,
-        Err(files::WriteError::Exists) => {
-            report.status = Status::Skipped;
-            report.reason = Some(OUTPUT_EXISTS.into());
-        }
-        Err(files::WriteError::Failed(e)) => report.reason = Some(e),
-    }
-    report
+    (report, Some(bytes))
 }
 
 /// The converted program as the target reads it: its `explain` text, and its plot written
@@ -826,3 +888,113 @@ pre { background: #f6f6f6; padding: 0.6em; overflow-x: auto; font-family: DejaVu
 .converted { color: #1b6b1b; } .failed { color: #c00000; } .skipped { color: #806000; }
 section { border-top: 1px solid #ccc; margin-top: 2em; }
 .summary { font-size: 1.1em; }";
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A tree of `n` czech programs and the options of a czech → iso run into `out`.
+    fn tree(dir: &Path, n: usize) -> BatchOptions {
+        let src = dir.join("src");
+        std::fs::create_dir_all(&src).unwrap();
+        for i in 0..n {
+            std::fs::write(
+                src.join(format!("p{i:02}.nc")),
+                format!(
+                    "N10 G95 M03 S500\nN20 G00 X{}. Z5.\nN30 G33 Z-20. F1.5\nN40 G00 X40.\nN50 M30\n",
+                    30 + i
+                ),
+            )
+            .unwrap();
+        }
+        BatchOptions {
+            src_dir: src,
+            out_dir: dir.join("out"),
+            from: Some(dialect::czech::ID),
+            conversion: ConvertOptions {
+                from: dialect::czech::ID,
+                to: dialect::iso::ID,
+                profile: Profile::default(),
+                unsupported: crate::Unsupported::Error,
+                renumber: Default::default(),
+                round: false,
+                nc31_comments: false,
+            },
+            profile: ProfileChoice::Defaults,
+            overrides: Default::default(),
+            jobs: 1,
+            force: false,
+            dry_run: false,
+            extension: "ngc".into(),
+            selection: Selection {
+                extensions: program_extensions(Some(dialect::czech::ID)),
+                ..Default::default()
+            },
+            input_encoding: None,
+            output: Default::default(),
+            html: None,
+        }
+    }
+
+    /// A disk that fills up after two outputs: the third write fails with ENOSPC, the run
+    /// stops there (no file after it is tried), and the report names the path.
+    #[test]
+    fn a_full_disk_stops_the_run() {
+        let dir = tempfile::tempdir().unwrap();
+        let options = tree(dir.path(), 12);
+        let planned = super::plan(&options).unwrap();
+        let writes = std::sync::atomic::AtomicUsize::new(0);
+        let full = |path: &Path, bytes: &[u8], force: bool, guard: Option<&Path>| {
+            if writes.fetch_add(1, Ordering::SeqCst) < 2 {
+                return files::write_atomically(path, bytes, force, guard);
+            }
+            let enospc = std::io::Error::from(std::io::ErrorKind::StorageFull);
+            Err(files::WriteError::of("write", path.display(), &enospc))
+        };
+        let report = run_with(&options, &planned, &|_| {}, &AtomicBool::new(false), &full).unwrap();
+        assert_eq!(
+            writes.load(Ordering::SeqCst),
+            3,
+            "no write after the full one"
+        );
+        assert_eq!(report.count(Status::Converted), 2);
+        assert_eq!(report.count(Status::Failed), 1);
+        assert_eq!(report.count(Status::NotDone), 9);
+        let failed = report
+            .files
+            .iter()
+            .find(|f| f.status == Status::Failed)
+            .unwrap();
+        let why = format!(
+            "cannot write {}: {}",
+            failed.output.display(),
+            files::io_reason(&std::io::Error::from(std::io::ErrorKind::StorageFull))
+        );
+        assert_eq!(report.fatal.as_deref(), Some(why.as_str()));
+        assert_eq!(failed.reason.as_deref(), Some(why.as_str()));
+        assert!(!report.succeeded());
+        assert!(
+            report.summary().contains("stopped: 9 not done"),
+            "{}",
+            report.summary()
+        );
+        // Another write error fails its file only.
+        let dir = tempfile::tempdir().unwrap();
+        let options = tree(dir.path(), 4);
+        let planned = super::plan(&options).unwrap();
+        let denied = |path: &Path, _: &[u8], _: bool, _: Option<&Path>| {
+            let e = std::io::Error::from(std::io::ErrorKind::PermissionDenied);
+            Err(files::WriteError::of("write", path.display(), &e))
+        };
+        let report = run_with(
+            &options,
+            &planned,
+            &|_| {},
+            &AtomicBool::new(false),
+            &denied,
+        )
+        .unwrap();
+        assert_eq!(report.count(Status::Failed), 4);
+        assert_eq!(report.fatal, None);
+    }
+}

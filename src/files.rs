@@ -338,7 +338,33 @@ pub fn resolve(path: &Path) -> std::io::Result<PathBuf> {
 pub enum WriteError {
     /// The file exists and `force` was not given.
     Exists,
+    /// This file could not be written (why, in [`io_error`]'s words).
     Failed(String),
+    /// Nothing more can be written there: the disk is full, the quota used up, the file
+    /// system read-only ([`stops_every_write`]). A batch stops rather than fail every file.
+    Fatal(String),
+}
+
+impl WriteError {
+    /// The error of `action` on `path`: [`WriteError::Fatal`] when it stops every write.
+    pub fn of(action: &str, path: impl std::fmt::Display, e: &std::io::Error) -> WriteError {
+        let why = io_error(action, path, e);
+        if stops_every_write(e) {
+            WriteError::Fatal(why)
+        } else {
+            WriteError::Failed(why)
+        }
+    }
+}
+
+/// Whether an I/O error will recur for every file written to the same place: no space left
+/// on the device (ENOSPC), the disk quota exceeded (EDQUOT), a read-only file system (EROFS).
+pub fn stops_every_write(e: &std::io::Error) -> bool {
+    use std::io::ErrorKind;
+    matches!(
+        e.kind(),
+        ErrorKind::StorageFull | ErrorKind::QuotaExceeded | ErrorKind::ReadOnlyFilesystem
+    )
 }
 
 /// Writes `bytes` to a temporary file beside `path` and renames it into place, so that no
@@ -371,9 +397,8 @@ pub fn write_atomically(
             }
         }
     }
-    std::fs::create_dir_all(parent)
-        .map_err(|e| WriteError::Failed(io_error("create", parent.display(), &e)))?;
-    let failed = |e: std::io::Error| WriteError::Failed(io_error("write", path.display(), &e));
+    std::fs::create_dir_all(parent).map_err(|e| WriteError::of("create", parent.display(), &e))?;
+    let failed = |e: std::io::Error| WriteError::of("write", path.display(), &e);
     let mut builder = tempfile::Builder::new();
     builder.prefix(".ncthread-");
     #[cfg(unix)]
@@ -412,6 +437,40 @@ mod tests {
         );
         // Legacy encodings' high bytes are text.
         assert_eq!(content_verdict(b"\"ROZTO\xC8EN\xCD\n"), Verdict::Program);
+    }
+
+    #[test]
+    fn a_full_disk_stops_every_write() {
+        use std::io::ErrorKind;
+        for kind in [
+            ErrorKind::StorageFull,
+            ErrorKind::QuotaExceeded,
+            ErrorKind::ReadOnlyFilesystem,
+        ] {
+            assert!(stops_every_write(&std::io::Error::from(kind)), "{kind:?}");
+        }
+        for kind in [ErrorKind::PermissionDenied, ErrorKind::NotFound] {
+            assert!(!stops_every_write(&std::io::Error::from(kind)), "{kind:?}");
+        }
+        #[cfg(target_os = "linux")]
+        {
+            // ENOSPC, EDQUOT and EROFS as the kernel gives them.
+            for errno in [28, 122, 30] {
+                let e = std::io::Error::from_raw_os_error(errno);
+                assert!(stops_every_write(&e), "{errno}: {e}");
+            }
+            // A real write to a full device.
+            use std::io::Write as _;
+            let e = std::fs::OpenOptions::new()
+                .write(true)
+                .open("/dev/full")
+                .and_then(|mut f| f.write_all(b"N10 G00 X1.\n").and_then(|()| f.flush()))
+                .expect_err("/dev/full is full");
+            assert_eq!(
+                WriteError::of("write", "out/P1.ngc", &e),
+                WriteError::Fatal("cannot write out/P1.ngc: no space left on device".to_string())
+            );
+        }
     }
 
     #[test]

@@ -1560,7 +1560,9 @@ fn write_output(path: &Option<PathBuf>, bytes: &[u8]) -> Result<(), Fatal> {
         )));
     }
     ncthread::files::write_atomically(path, bytes, true, None).map_err(|e| match e {
-        ncthread::files::WriteError::Failed(why) => Fatal::Usage(why),
+        ncthread::files::WriteError::Failed(why) | ncthread::files::WriteError::Fatal(why) => {
+            Fatal::Usage(why)
+        }
         ncthread::files::WriteError::Exists => Fatal::Usage(format!("{} exists", path.display())),
     })
 }
@@ -1826,14 +1828,18 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
     };
     let report = ncthread::batch::run(&options, &plan, &progress, &stop).map_err(Fatal::Usage)?;
     bar.finish_and_clear();
+    // The reports are written even when the run stopped; what cannot be written is said.
+    let mut unwritten = Vec::new();
     if let Some(path) = &args.report {
-        let json = serde_json::to_string_pretty(&report.to_json(&options))
-            .map_err(|e| Fatal::Usage(format!("cannot write the report: {e}")))?;
-        std::fs::write(path, json + "\n")
-            .map_err(|e| Fatal::Usage(io_error("write", path.display(), &e)))?;
+        let written = serde_json::to_string_pretty(&report.to_json(&options))
+            .map_err(|e| format!("cannot write the report: {e}"))
+            .and_then(|json| {
+                std::fs::write(path, json + "\n").map_err(|e| io_error("write", path.display(), &e))
+            });
+        unwritten.extend(written.err());
     }
     if !dry_run {
-        report.write_html(&options).map_err(Fatal::Usage)?;
+        unwritten.extend(report.write_html(&options).err());
     }
     if !quiet {
         note(format!("ncthread: {}", report.summary()));
@@ -1841,9 +1847,16 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
             note(format!("ncthread: {codes}"));
         }
     }
+    for why in &unwritten {
+        note(format!("error: {why}"));
+    }
+    // A full disk stopped the run: exit 2, naming the path.
+    if let Some(why) = &report.fatal {
+        return Err(Fatal::Usage(format!("the run stopped: {why}")));
+    }
     Ok(if report.interrupted {
         ExitCode::from(130)
-    } else if !plan.unmatched_globs().is_empty() {
+    } else if !plan.unmatched_globs().is_empty() || !unwritten.is_empty() {
         ExitCode::from(2)
     } else if report.succeeded() {
         ExitCode::SUCCESS

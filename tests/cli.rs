@@ -1042,3 +1042,32 @@ fn errors_stop_at_a_cap_with_a_count() {
         "{err}"
     );
 }
+
+/// A full disk on stdout (Linux's /dev/full): exit 2, in the one wording.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_stdout_is_exit_2() {
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ncthread"))
+        .args([
+            "convert",
+            "corpus/czech/ex3-taper.nc",
+            "--from",
+            "czech",
+            "--to",
+            "czech",
+        ])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(full)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        text(&out.stderr).ends_with("error: cannot write stdout: no space left on device\n"),
+        "{}",
+        text(&out.stderr)
+    );
+}
