@@ -62,9 +62,18 @@ pub struct BatchOptions {
     /// The input encoding, or `None` for UTF-8 when valid, else the dialect's legacy one.
     pub input_encoding: Option<TextEncoding>,
     pub output: OutputOptions,
-    /// Write a static HTML report into this folder: `index.html` and the plots.
+    /// Write a static HTML report into this folder: `index.html`, the plots, and the data
+    /// of the page (`report.json`, [`STATE_FILE`]), which the next run reads back.
     pub html: Option<PathBuf>,
+    /// The JSON report the caller writes. A previous run's report there (or the HTML
+    /// report's data, which wins) tells which skipped outputs are up to date, and gives
+    /// their rows back.
+    pub report: Option<PathBuf>,
 }
+
+/// The data of the HTML report, beside `index.html`: the JSON report with each converted
+/// file's `explain` table and plot, read back by the next run.
+pub const STATE_FILE: &str = "report.json";
 
 /// The default extension of a target's files.
 pub fn default_extension(to: DialectId) -> &'static str {
@@ -134,6 +143,14 @@ pub struct FileReport {
     /// With an HTML report: the converted program's `explain` text and its plot's file
     /// (relative to the report's folder).
     pub explained: Option<(String, Option<PathBuf>)>,
+    /// What the output was made from: the input's bytes and the profile
+    /// ([`fingerprint`]); and the output's bytes as written.
+    pub input_hash: Option<u64>,
+    pub output_hash: Option<u64>,
+    /// For a skipped file whose output a previous run's report knows: whether it is what
+    /// this run would write (`true`: the row is that run's), or older than its program or
+    /// the settings (`false`).
+    pub up_to_date: Option<bool>,
 }
 
 impl FileReport {
@@ -150,6 +167,9 @@ impl FileReport {
             diagnostics: Vec::new(),
             reason: None,
             explained: None,
+            input_hash: None,
+            output_hash: None,
+            up_to_date: None,
         }
     }
 
@@ -171,11 +191,14 @@ impl FileReport {
     }
 
     /// The report's object of this file: `output` only when there is one
-    /// ([`FileReport::written`]); under `--dry-run`, `would_write` where it would be.
-    pub fn to_json(&self, dry_run: bool) -> serde_json::Value {
+    /// ([`FileReport::written`]); under `--dry-run`, `would_write` where it would be; with
+    /// `explain`, the `explain` table and the plot of a converted file (the HTML report's
+    /// data).
+    pub fn to_json(&self, dry_run: bool, explain: bool) -> serde_json::Value {
         let would_write = (dry_run && self.status == Status::Converted)
             .then(|| self.output.display().to_string());
-        json!({
+        let hex = |h: Option<u64>| h.map(|h| format!("{h:016x}"));
+        let mut value = json!({
             "path": self.input.display().to_string(),
             "status": self.status.name(),
             "output": self.written(dry_run).map(|p| p.display().to_string()),
@@ -186,16 +209,132 @@ impl FileReport {
             "profile": self.profile.as_ref().map(|p| p.display().to_string()),
             "dialect_note": self.dialect_note,
             "reason": self.reason,
-            "diagnostics": self.diagnostics.iter().map(|d| {
-                let loc = d.location.as_ref();
-                json!({
-                    "code": d.code.id,
-                    "severity": d.severity,
-                    "line": loc.map(|l| l.line),
-                    "column": loc.map(|l| l.column),
-                    "message": d.message,
-                })
-            }).collect::<Vec<_>>(),
+            "up_to_date": self.up_to_date,
+            "input_hash": hex(self.input_hash),
+            "output_hash": hex(self.output_hash),
+            "diagnostics": self.diagnostics.iter().map(Diagnostic::to_json_value).collect::<Vec<_>>(),
+        });
+        if explain && let Some((table, plot)) = &self.explained {
+            value["explain"] = json!(table);
+            value["plot"] = json!(plot.as_ref().map(|p| p.display().to_string()));
+        }
+        value
+    }
+
+    /// The row a previous run's report (`v`) holds for the input `input`, with `output`:
+    /// what that run found (read as, in, with, its diagnostics, its `explain`), or `None`
+    /// when `v` is not such a row.
+    fn from_json(v: &serde_json::Value, input: PathBuf, output: PathBuf) -> Option<FileReport> {
+        let text = |key: &str| v.get(key).and_then(|t| t.as_str());
+        let hash = |key: &str| text(key).and_then(|h| u64::from_str_radix(h, 16).ok());
+        let status = match text("status")? {
+            "converted" => Status::Converted,
+            "skipped" => Status::Skipped,
+            _ => return None,
+        };
+        let mut f = FileReport::new(input, output, status);
+        f.dialect = text("dialect").and_then(dialect::by_id).map(|d| d.id());
+        f.encoding = text("encoding").and_then(TextEncoding::for_label);
+        f.output_encoding = text("output_encoding").and_then(TextEncoding::for_label);
+        f.profile = text("profile").map(PathBuf::from);
+        f.dialect_note = text("dialect_note").map(str::to_string);
+        f.diagnostics = v
+            .get("diagnostics")?
+            .as_array()?
+            .iter()
+            .map(Diagnostic::from_json_value)
+            .collect::<Option<Vec<_>>>()?;
+        f.explained = text("explain").map(|t| (t.to_string(), text("plot").map(PathBuf::from)));
+        f.input_hash = hash("input_hash");
+        f.output_hash = hash("output_hash");
+        Some(f)
+    }
+}
+
+/// FNV-1a over `parts` (each ended by a 0xFF byte, which no part's UTF-8 holds): a stable
+/// fingerprint of what an output is made from (the same in every build, unlike std's
+/// hasher), for telling an output that is up to date.
+pub fn fingerprint(parts: &[&[u8]]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for part in parts {
+        for &b in part.iter().chain([0xFF].iter()) {
+            h ^= u64::from(b);
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    h
+}
+
+/// The fingerprint of the settings an output depends on besides its program and profile:
+/// the dialects, the conversion's options, the encodings and line endings, the extension,
+/// the profile choice, and ncthread's version.
+fn settings_fingerprint(options: &BatchOptions) -> u64 {
+    let c = &options.conversion;
+    let profile = match &options.profile {
+        ProfileChoice::Given(path, _) => format!("given {}", path.display()),
+        ProfileChoice::Discover => "discover".into(),
+        ProfileChoice::Defaults => "defaults".into(),
+    };
+    let text = format!(
+        "{} {:?} {} {:?} {:?} {} {} {:?} {:?} {:?} {} {profile}",
+        env!("CARGO_PKG_VERSION"),
+        options.from.map(|d| d.to_string()),
+        c.to,
+        c.unsupported,
+        c.renumber,
+        c.round,
+        c.nc31_comments,
+        options.input_encoding.map(TextEncoding::name),
+        options.output,
+        options.overrides,
+        options.extension,
+    );
+    fingerprint(&[text.as_bytes()])
+}
+
+/// The input fingerprint of a program's `bytes` read with `profile`.
+fn input_fingerprint(bytes: &[u8], profile: &Profile) -> u64 {
+    fingerprint(&[bytes, format!("{profile:?}").as_bytes()])
+}
+
+/// What a previous run's report says of the outputs it wrote.
+#[derive(Clone, Debug, Default)]
+struct Previous {
+    /// That run's settings were this run's.
+    same_settings: bool,
+    /// Its rows of converted (or, in turn, restored) files, by their path below the source.
+    files: HashMap<PathBuf, FileReport>,
+}
+
+impl Previous {
+    /// The previous report at `path` (the HTML report's data, or the JSON report), when it
+    /// is one ncthread wrote; a missing or unreadable one is no previous run.
+    fn load(path: &Path, options: &BatchOptions) -> Option<Previous> {
+        let text = std::fs::read_to_string(path).ok()?;
+        let json: serde_json::Value = serde_json::from_str(&text).ok()?;
+        let source = PathBuf::from(json.get("source")?.as_str()?);
+        let settings = json
+            .get("settings")
+            .and_then(|s| s.as_str())
+            .and_then(|h| u64::from_str_radix(h, 16).ok());
+        let mut files = HashMap::new();
+        for f in json.get("files")?.as_array()? {
+            let Some(rel) = f
+                .get("path")
+                .and_then(|p| p.as_str())
+                .and_then(|p| Path::new(p).strip_prefix(&source).ok())
+            else {
+                continue;
+            };
+            let input = options.src_dir.join(rel);
+            let output = output_path(options, rel);
+            if let Some(row) = FileReport::from_json(f, input, output) {
+                files.insert(rel.to_path_buf(), row);
+            }
+        }
+        Some(Previous {
+            same_settings: settings == Some(settings_fingerprint(options)),
+            files,
         })
     }
 }
@@ -217,6 +356,15 @@ pub struct BatchReport {
 impl BatchReport {
     pub fn count(&self, status: Status) -> usize {
         self.files.iter().filter(|f| f.status == status).count()
+    }
+
+    /// The skipped files whose output is older than its program or the settings (a previous
+    /// run's report tells).
+    pub fn out_of_date(&self) -> usize {
+        self.files
+            .iter()
+            .filter(|f| f.up_to_date == Some(false))
+            .count()
     }
 
     /// The files this run converted whose conversion has warnings (values rounded, blocks
@@ -287,7 +435,12 @@ impl BatchReport {
             self.count(Status::Failed),
         );
         let skipped = self.count(Status::Skipped);
-        if skipped > 0 {
+        let stale = self.out_of_date();
+        if skipped > 0 && stale > 0 {
+            text.push_str(&format!(
+                ", skipped {skipped} (exist, {stale} of them out of date; --force to convert again)"
+            ));
+        } else if skipped > 0 {
             text.push_str(&format!(
                 ", skipped {skipped} (exist; --force to overwrite)"
             ));
@@ -314,8 +467,17 @@ impl BatchReport {
         !self.interrupted && self.fatal.is_none() && self.count(Status::Failed) == 0
     }
 
+    /// The JSON report.
     pub fn to_json(&self, options: &BatchOptions) -> serde_json::Value {
+        self.json(options, false)
+    }
+
+    /// The JSON report; with `explain`, each converted file's `explain` table and plot too
+    /// (the HTML report's data).
+    fn json(&self, options: &BatchOptions, explain: bool) -> serde_json::Value {
         json!({
+            "ncthread": env!("CARGO_PKG_VERSION"),
+            "settings": format!("{:016x}", settings_fingerprint(options)),
             "source": options.src_dir.display().to_string(),
             "output": options.out_dir.display().to_string(),
             "from": options.from.map_or("auto".to_string(), |d| d.to_string()),
@@ -327,6 +489,7 @@ impl BatchReport {
             "with_warnings": self.with_warnings(),
             "failed": self.count(Status::Failed),
             "skipped": self.count(Status::Skipped),
+            "out_of_date": self.out_of_date(),
             "left_out": self.count(Status::LeftOut),
             "not_done": self.count(Status::NotDone),
             "seconds": self.elapsed.as_secs_f64(),
@@ -335,7 +498,7 @@ impl BatchReport {
                 .into_iter()
                 .map(|(code, n)| (code.to_string(), json!(n)))
                 .collect::<serde_json::Map<String, serde_json::Value>>(),
-            "files": self.files.iter().map(|f| f.to_json(self.dry_run)).collect::<Vec<_>>(),
+            "files": self.files.iter().map(|f| f.to_json(self.dry_run, explain)).collect::<Vec<_>>(),
         })
     }
 }
@@ -350,6 +513,8 @@ pub struct Plan {
     profiles: Vec<Option<PathBuf>>,
     /// Each profile read once: its path → the profile, or why it cannot be used.
     loaded: HashMap<PathBuf, Result<Profile, String>>,
+    /// What the previous run's report says of the outputs it wrote.
+    previous: Previous,
 }
 
 impl Plan {
@@ -424,11 +589,21 @@ pub fn plan(options: &BatchOptions) -> Result<Plan, String> {
         };
         loaded.insert(path.clone(), profile);
     }
+    // The HTML report's data, else the JSON report: what a previous run wrote.
+    let previous = options
+        .html
+        .as_ref()
+        .map(|dir| dir.join(STATE_FILE))
+        .iter()
+        .chain(options.report.iter())
+        .find_map(|path| Previous::load(path, options))
+        .unwrap_or_default();
     Ok(Plan {
         src_root,
         walk,
         profiles,
         loaded,
+        previous,
     })
 }
 
@@ -593,12 +768,15 @@ fn one(
     profile: Option<(PathBuf, Option<Result<Profile, String>>)>,
     write: &Writer<'_>,
 ) -> (FileReport, Option<String>) {
-    let (mut report, bytes) = convert_one(options, rel, clash, profile);
+    let (mut report, bytes) = convert_one(options, plan, rel, clash, profile);
     let Some(bytes) = bytes else {
         return (report, None);
     };
     match write(&report.output, &bytes, options.force, Some(&plan.src_root)) {
-        Ok(()) => report.status = Status::Converted,
+        Ok(()) => {
+            report.status = Status::Converted;
+            report.output_hash = Some(fingerprint(&[&bytes]));
+        }
         Err(files::WriteError::Exists) => {
             report.status = Status::Skipped;
             report.reason = Some(OUTPUT_EXISTS.into());
@@ -616,6 +794,7 @@ fn one(
 /// report is final (failed, skipped, or converted under `--dry-run`).
 fn convert_one(
     options: &BatchOptions,
+    plan: &Plan,
     rel: &Path,
     clash: Option<Clash>,
     profile: Option<(PathBuf, Option<Result<Profile, String>>)>,
@@ -664,6 +843,9 @@ fn convert_one(
     if !options.force && output.exists() {
         report.status = Status::Skipped;
         report.reason = Some(OUTPUT_EXISTS.into());
+        if let Some(before) = plan.previous.files.get(rel) {
+            report = kept(report, before, &profile, plan.previous.same_settings);
+        }
         return (report, None);
     }
     let bytes = match std::fs::read(&input) {
@@ -673,6 +855,7 @@ fn convert_one(
             return (report, None);
         }
     };
+    report.input_hash = Some(input_fingerprint(&bytes, &profile));
     let decoded = text::decode_program(&bytes, options.from, options.input_encoding, Some(rel));
     report.dialect_note = decoded.detection.as_ref().filter(|d| !d.certain).map(|d| {
         format!(
@@ -731,6 +914,49 @@ fn convert_one(
     }
     (report, Some(bytes))
 }
+
+/// A file skipped because its output exists, which a previous run's report (`before`)
+/// knows: that run's row when the output is what this run would write (its program,
+/// profile and settings as then, the output as that run wrote it), else the skip with why it
+/// is not. The fingerprints stay, so that a later run still tells.
+fn kept(
+    mut report: FileReport,
+    before: &FileReport,
+    profile: &Profile,
+    same_settings: bool,
+) -> FileReport {
+    let input = std::fs::read(&report.input)
+        .ok()
+        .map(|b| input_fingerprint(&b, profile));
+    let output = std::fs::read(&report.output)
+        .ok()
+        .map(|b| fingerprint(&[&b]));
+    report.input_hash = before.input_hash;
+    report.output_hash = before.output_hash;
+    let why = if output.is_none() || output != before.output_hash {
+        "the output exists and was changed after ncthread wrote it (--force overwrites it)"
+    } else if input.is_none() || input != before.input_hash {
+        report.up_to_date = Some(false);
+        "the output exists, but its program has changed since it was converted (--force converts it again)"
+    } else if !same_settings {
+        report.up_to_date = Some(false);
+        "the output exists, but it was converted with other settings (--force converts it again)"
+    } else {
+        return FileReport {
+            input: report.input,
+            output: report.output,
+            status: Status::Skipped,
+            reason: Some(UP_TO_DATE.into()),
+            up_to_date: Some(true),
+            ..before.clone()
+        };
+    };
+    report.reason = Some(why.into());
+    report
+}
+
+/// Why an output that is what this run would write is not written again.
+const UP_TO_DATE: &str = "up to date: converted by an earlier run (--force converts it again)";
 
 /// The converted program as the target reads it: its `explain` text, and its plot written
 /// into the report's `plots/` folder (`None` when it could not be written).
@@ -877,7 +1103,12 @@ impl BatchReport {
         }
         page.push_str("</body>\n</html>\n");
         let path = dir.join("index.html");
-        std::fs::write(&path, page).map_err(|e| files::io_error("write", path.display(), &e))
+        std::fs::write(&path, page).map_err(|e| files::io_error("write", path.display(), &e))?;
+        // The page's data, which the next run reads back.
+        let path = dir.join(STATE_FILE);
+        let json = serde_json::to_string_pretty(&self.json(options, true))
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        std::fs::write(&path, json + "\n").map_err(|e| files::io_error("write", path.display(), &e))
     }
 }
 
@@ -933,6 +1164,7 @@ mod tests {
             input_encoding: None,
             output: Default::default(),
             html: None,
+            report: None,
         }
     }
 

@@ -1754,6 +1754,7 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
         input_encoding: args.common.encoding,
         output: args.output.options(),
         html: args.html.clone(),
+        report: args.report.clone(),
     };
     // The report must be writable, and outside the source tree, before any work is done.
     if let Some(path) = &args.report {
@@ -1813,8 +1814,12 @@ fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
         if let Some(note) = f.dialect_note.as_ref().filter(|_| !quiet) {
             text.push_str(&format!("{}: {note}\n", f.input.display()));
         }
-        // What failed; why an output was skipped only when asked (--verbose).
-        if f.status == Status::Failed || (verbose && f.status == Status::Skipped) {
+        // What failed, and an output older than its program; why any other output was
+        // skipped only when asked (--verbose).
+        if f.status == Status::Failed
+            || (verbose && f.status == Status::Skipped)
+            || (!quiet && f.up_to_date == Some(false))
+        {
             text.push_str(&file_problem(f, format, max_errors, color));
         }
         if !text.is_empty() {

@@ -147,11 +147,14 @@ fn batch_converts_a_tree_keeps_going_and_reports_every_file() {
         "{}",
         text(&again.stderr)
     );
-    // The skipped files are counted, not listed, unless --verbose.
-    assert!(!text(&again.stderr).contains("skipped: the output exists"));
+    // The skipped files are counted, not listed, unless --verbose (the report of the first
+    // run says they are up to date).
+    assert!(!text(&again.stderr).contains("skipped: "));
     let verbose = run(&["--verbose"]);
     assert!(
-        text(&verbose.stderr).contains("skipped: the output exists (--force overwrites it)"),
+        text(&verbose.stderr).contains(
+            "skipped: up to date: converted by an earlier run (--force converts it again)"
+        ),
         "{}",
         text(&verbose.stderr)
     );
@@ -737,4 +740,143 @@ fn programs_without_an_extension_are_taken_by_their_text() {
         "{}",
         text(&check.stderr)
     );
+}
+
+/// A re-run skips the outputs that exist, and keeps what the previous run found for them:
+/// the HTML report's rows (read back from its `report.json`), or the JSON report's, when the
+/// program, its profile, the settings and the output are as they were; an output older than
+/// its program is said on every run until `--force`.
+#[test]
+fn a_rerun_keeps_the_rows_of_the_outputs_it_skips() {
+    let dir = tempfile::tempdir().unwrap();
+    let (src, out, html) = (
+        dir.path().join("src"),
+        dir.path().join("out"),
+        dir.path().join("html"),
+    );
+    std::fs::create_dir_all(&src).unwrap();
+    std::fs::write(src.join("a.nc"), program(1)).unwrap();
+    // M42: a gear range ISO has no word for, written as a comment (ISOW002).
+    std::fs::write(
+        src.join("b.nc"),
+        program(2).replace("M03 S500", "M03 S500 M42"),
+    )
+    .unwrap();
+    std::fs::write(src.join("bad.nc"), "N10 M03 S500\nN20 G00 X30. Z\n").unwrap();
+    let report = dir.path().join("report.json");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "batch",
+            src.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+            "--report",
+            report.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        let run = ncthread(&args, None);
+        assert_eq!(run.status.code(), Some(1), "{}", text(&run.stderr));
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+        (text(&run.stderr), json)
+    };
+    let row = |json: &serde_json::Value, name: &str| {
+        json["files"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|f| f["path"].as_str().unwrap().ends_with(name))
+            .unwrap()
+            .clone()
+    };
+    let page = || std::fs::read_to_string(html.join("index.html")).unwrap();
+    let h = html.to_str().unwrap();
+    let (_, first) = run(&["--html", h]);
+    let first_page = page();
+    assert_eq!(
+        first_page
+            .matches("<h3>explain (the iso output)</h3>")
+            .count(),
+        2
+    );
+    assert!(first_page.contains("warning[ISOW002]"), "{first_page}");
+
+    // Again: nothing is converted, and the report is the first one's.
+    let (said, again) = run(&["--html", h]);
+    assert!(
+        said.contains("converted 0, failed 1, skipped 2 (exist; --force to overwrite)"),
+        "{said}"
+    );
+    assert!(!said.contains("skipped:"), "{said}");
+    let again_page = page();
+    assert_eq!(
+        again_page
+            .matches("<h3>explain (the iso output)</h3>")
+            .count(),
+        2
+    );
+    assert!(again_page.contains("warning[ISOW002]"), "{again_page}");
+    assert!(again_page.contains("up to date: converted by an earlier run"));
+    for name in ["a.nc", "b.nc"] {
+        let (was, is) = (row(&first, name), row(&again, name));
+        assert_eq!(is["status"], "skipped");
+        assert_eq!(is["up_to_date"], true);
+        for key in [
+            "dialect",
+            "encoding",
+            "output_encoding",
+            "output",
+            "diagnostics",
+        ] {
+            assert_eq!(is[key], was[key], "{name}: {key}");
+        }
+    }
+    assert_eq!(row(&again, "b.nc")["diagnostics"][0]["code"], "ISOW002");
+
+    // A program changed since: out of date, said on every run (without --verbose).
+    std::fs::write(src.join("a.nc"), program(3)).unwrap();
+    for _ in 0..2 {
+        let (said, json) = run(&["--html", h]);
+        assert!(
+            said.contains("skipped 2 (exist, 1 of them out of date; --force to convert again)"),
+            "{said}"
+        );
+        assert!(
+            said.contains(&format!(
+                "{}: skipped: the output exists, but its program has changed since it was converted",
+                src.join("a.nc").display()
+            )),
+            "{said}"
+        );
+        assert_eq!(row(&json, "a.nc")["up_to_date"], false);
+        assert_eq!(row(&json, "b.nc")["up_to_date"], true);
+        assert_eq!(
+            page().matches("<h3>explain (the iso output)</h3>").count(),
+            1
+        );
+    }
+    // An output changed by hand is kept, and said to be.
+    std::fs::write(out.join("b.ngc"), "M2\n").unwrap();
+    let (_, json) = run(&["--html", h, "--verbose"]);
+    assert!(
+        row(&json, "b.nc")["reason"]
+            .as_str()
+            .unwrap()
+            .starts_with("the output exists and was changed after ncthread wrote it"),
+        "{}",
+        row(&json, "b.nc")
+    );
+    // --force converts them again; then the JSON report alone keeps the rows.
+    let (said, _) = run(&["--force"]);
+    assert!(
+        said.contains("converted 2 (1 with warnings), failed 1"),
+        "{said}"
+    );
+    let (_, json) = run(&[]);
+    assert_eq!(row(&json, "b.nc")["up_to_date"], true);
+    assert_eq!(row(&json, "b.nc")["diagnostics"][0]["code"], "ISOW002");
+    assert_eq!(row(&json, "a.nc")["dialect"], "czech");
 }

@@ -192,6 +192,59 @@ impl Diagnostic {
     }
 }
 
+impl Diagnostic {
+    /// The diagnostic [`Diagnostic::to_json_value`] wrote (a report read back by a later
+    /// run), or `None` when it is not one: an unknown code, a location that does not fit its
+    /// line. The range is found from the columns (characters) in the line.
+    pub fn from_json_value(v: &serde_json::Value) -> Option<Diagnostic> {
+        let id = v.get("code")?.as_str()?;
+        let code = *codes::ALL.iter().find(|c| c.id == id)?;
+        let severity = match v.get("severity")?.as_str()? {
+            "error" => Severity::Error,
+            "warning" => Severity::Warning,
+            _ => return None,
+        };
+        let text = |key: &str| v.get(key).and_then(|t| t.as_str()).map(str::to_string);
+        let number = |key: &str| {
+            v.get(key)
+                .and_then(|n| n.as_u64())
+                .and_then(|n| u32::try_from(n).ok())
+        };
+        let location = match (text("file"), number("line"), number("column")) {
+            (Some(file), Some(line), Some(column)) => {
+                let source_line = text("source_line")?;
+                let byte = |column: u32| {
+                    let chars = (column as usize).checked_sub(1)?;
+                    match source_line.char_indices().nth(chars) {
+                        Some((at, _)) => Some(at),
+                        None if source_line.chars().count() == chars => Some(source_line.len()),
+                        None => None,
+                    }
+                };
+                let start = byte(column)?;
+                let end = byte(number("end_column").unwrap_or(column))?.max(start);
+                Some(Location {
+                    file,
+                    line,
+                    column,
+                    source_line,
+                    range: start..end,
+                })
+            }
+            _ => None,
+        };
+        Some(Diagnostic {
+            code,
+            severity,
+            message: text("message")?,
+            location,
+            label: text("label"),
+            help: text("help"),
+            deviation: None,
+        })
+    }
+}
+
 /// How diagnostics are printed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Format {
@@ -323,6 +376,27 @@ mod tests {
         );
         let (kept, hidden) = cap(&diags, 0);
         assert_eq!((kept.len(), hidden.len()), (5, 0));
+    }
+
+    #[test]
+    fn json_reads_back_as_it_was_written() {
+        let src = SourceFile::new("č.nc", "N10 \"Č\" F120.\n");
+        let span = src.span_in_line(src.line(1), 10..15);
+        let d = Diagnostic::new(codes::CZR_LEAD_TOO_LARGE, "lead too large")
+            .at(&src, span)
+            .label("here")
+            .help("write FR")
+            .as_warning();
+        let back = Diagnostic::from_json_value(&d.to_json_value()).unwrap();
+        assert_eq!(back, d);
+        assert_eq!(back.render(false), d.render(false));
+        let plain = Diagnostic::new(codes::EMPTY_INPUT, "empty");
+        assert_eq!(
+            Diagnostic::from_json_value(&plain.to_json_value()),
+            Some(plain)
+        );
+        let unknown = serde_json::json!({"code": "XX999", "severity": "error", "message": "?"});
+        assert_eq!(Diagnostic::from_json_value(&unknown), None);
     }
 
     #[test]
