@@ -456,8 +456,9 @@ struct BatchArgs {
     /// Worker threads (default: one per core).
     #[arg(long, short = 'j')]
     jobs: Option<usize>,
-    /// Write a JSON report of every file here.
-    #[arg(long)]
+    /// Write a JSON report of every file here. A re-run reads it back: a skipped file whose
+    /// output is up to date keeps its row.
+    #[arg(long, value_name = "FILE")]
     report: Option<PathBuf>,
     /// Overwrite outputs that exist.
     #[arg(long)]
@@ -473,9 +474,10 @@ struct BatchArgs {
     quiet: bool,
     #[command(flatten)]
     selection: SelectionArgs,
-    /// Also write a static HTML report into this folder (`index.html` and the plots): each
-    /// file's status, encoding, profile and diagnostics, and each converted program's
-    /// `explain` table and plot.
+    /// Also write a static HTML report into this folder (`index.html`, the plots and the
+    /// page's data `report.json`): each file's status, encoding, profile and diagnostics, and
+    /// each converted program's `explain` table and plot. A re-run reads the data back: a
+    /// skipped file whose output is up to date keeps its row.
     #[arg(long, value_name = "DIR")]
     html: Option<PathBuf>,
     #[command(flatten)]
@@ -677,10 +679,11 @@ struct CommonArgs {
     /// Use the built-in defaults: no sidecar or `ncthread.toml` is looked for.
     #[arg(long, conflicts_with = "profile")]
     no_profile: bool,
-    /// Say which profile (and, in batch and check, which encoding) each program used.
+    /// Say which profile (and, in batch and check, which encoding) each program used; batch
+    /// lists every file, with its output or why it was skipped or left out.
     #[arg(long, short = 'v')]
     verbose: bool,
-    /// How to print diagnostics on stderr.
+    /// How to print diagnostics (on stderr; `check` prints them on stdout).
     #[arg(long, value_enum, default_value_t = DiagnosticsFormat::Human)]
     diagnostics: DiagnosticsFormat,
     /// Print at most N errors of each file, then how many more there are (0: every one).
