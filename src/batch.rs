@@ -313,6 +313,16 @@ impl Previous {
         let text = std::fs::read_to_string(path).ok()?;
         let json: serde_json::Value = serde_json::from_str(&text).ok()?;
         let source = PathBuf::from(json.get("source")?.as_str()?);
+        // A report of another tree (the same --report file given to another run) says
+        // nothing of these outputs.
+        let same = |a: &Path, b: &Path| match (files::resolve(a), files::resolve(b)) {
+            (Ok(a), Ok(b)) => a == b,
+            _ => a == b,
+        };
+        let output = PathBuf::from(json.get("output")?.as_str()?);
+        if !same(&source, &options.src_dir) || !same(&output, &options.out_dir) {
+            return None;
+        }
         let settings = json
             .get("settings")
             .and_then(|s| s.as_str())

@@ -879,4 +879,28 @@ fn a_rerun_keeps_the_rows_of_the_outputs_it_skips() {
     assert_eq!(row(&json, "b.nc")["up_to_date"], true);
     assert_eq!(row(&json, "b.nc")["diagnostics"][0]["code"], "ISOW002");
     assert_eq!(row(&json, "a.nc")["dialect"], "czech");
+    // The same report given to a run into another tree says nothing of its outputs.
+    let other = dir.path().join("other");
+    std::fs::create_dir_all(&other).unwrap();
+    std::fs::write(other.join("b.ngc"), "M2\n").unwrap();
+    let run = ncthread(
+        &[
+            "batch",
+            src.to_str().unwrap(),
+            other.to_str().unwrap(),
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+            "--report",
+            report.to_str().unwrap(),
+            "--verbose",
+        ],
+        None,
+    );
+    assert!(
+        text(&run.stderr).contains("b.nc: skipped: the output exists (--force overwrites it)"),
+        "{}",
+        text(&run.stderr)
+    );
 }
