@@ -79,5 +79,6 @@ fn options(src: &Path, out: &Path, jobs: usize) -> BatchOptions {
         input_encoding: None,
         output: Default::default(),
         html: None,
+        report: None,
     }
 }

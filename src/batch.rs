@@ -62,9 +62,18 @@ pub struct BatchOptions {
     /// The input encoding, or `None` for UTF-8 when valid, else the dialect's legacy one.
     pub input_encoding: Option<TextEncoding>,
     pub output: OutputOptions,
-    /// Write a static HTML report into this folder: `index.html` and the plots.
+    /// Write a static HTML report into this folder: `index.html`, the plots, and the data
+    /// of the page (`report.json`, [`STATE_FILE`]), which the next run reads back.
     pub html: Option<PathBuf>,
+    /// The JSON report the caller writes. A previous run's report there (or the HTML
+    /// report's data, which wins) tells which skipped outputs are up to date, and gives
+    /// their rows back.
+    pub report: Option<PathBuf>,
 }
+
+/// The data of the HTML report, beside `index.html`: the JSON report with each converted
+/// file's `explain` table and plot, read back by the next run.
+pub const STATE_FILE: &str = "report.json";
 
 /// The default extension of a target's files.
 pub fn default_extension(to: DialectId) -> &'static str {
@@ -117,7 +126,7 @@ pub struct FileReport {
     /// The input, as `src_dir` joined with its path below it.
     pub input: PathBuf,
     pub status: Status,
-    /// Where the output is (or would have been) written.
+    /// Where the output goes (whether or not it was written: see [`FileReport::written`]).
     pub output: PathBuf,
     /// The dialect the file was read as.
     pub dialect: Option<DialectId>,
@@ -134,6 +143,14 @@ pub struct FileReport {
     /// With an HTML report: the converted program's `explain` text and its plot's file
     /// (relative to the report's folder).
     pub explained: Option<(String, Option<PathBuf>)>,
+    /// What the output was made from: the input's bytes and the profile
+    /// ([`fingerprint`]); and the output's bytes as written.
+    pub input_hash: Option<u64>,
+    pub output_hash: Option<u64>,
+    /// For a skipped file whose output a previous run's report knows: whether it is what
+    /// this run would write (`true`: the row is that run's), or older than its program or
+    /// the settings (`false`).
+    pub up_to_date: Option<bool>,
 }
 
 impl FileReport {
@@ -150,6 +167,19 @@ impl FileReport {
             diagnostics: Vec::new(),
             reason: None,
             explained: None,
+            input_hash: None,
+            output_hash: None,
+            up_to_date: None,
+        }
+    }
+
+    /// The output, when there is one: written by this run (not `dry_run`), or kept from
+    /// before (skipped because it exists). A file that failed or was left out has none.
+    pub fn written(&self, dry_run: bool) -> Option<&Path> {
+        match self.status {
+            Status::Converted if !dry_run => Some(&self.output),
+            Status::Skipped => Some(&self.output),
+            _ => None,
         }
     }
 
@@ -160,27 +190,161 @@ impl FileReport {
             .map_or("built-in defaults".into(), |p| p.display().to_string())
     }
 
-    pub fn to_json(&self) -> serde_json::Value {
-        json!({
+    /// The report's object of this file: `output` only when there is one
+    /// ([`FileReport::written`]); under `--dry-run`, `would_write` where it would be; with
+    /// `explain`, the `explain` table and the plot of a converted file (the HTML report's
+    /// data).
+    pub fn to_json(&self, dry_run: bool, explain: bool) -> serde_json::Value {
+        let would_write = (dry_run && self.status == Status::Converted)
+            .then(|| self.output.display().to_string());
+        let hex = |h: Option<u64>| h.map(|h| format!("{h:016x}"));
+        let mut value = json!({
             "path": self.input.display().to_string(),
             "status": self.status.name(),
-            "output": self.output.display().to_string(),
+            "output": self.written(dry_run).map(|p| p.display().to_string()),
+            "would_write": would_write,
             "dialect": self.dialect.map(|d| d.to_string()),
             "encoding": self.encoding.map(|e| e.name()),
             "output_encoding": self.output_encoding.map(|e| e.name()),
             "profile": self.profile.as_ref().map(|p| p.display().to_string()),
             "dialect_note": self.dialect_note,
             "reason": self.reason,
-            "diagnostics": self.diagnostics.iter().map(|d| {
-                let loc = d.location.as_ref();
-                json!({
-                    "code": d.code.id,
-                    "severity": d.severity,
-                    "line": loc.map(|l| l.line),
-                    "column": loc.map(|l| l.column),
-                    "message": d.message,
-                })
-            }).collect::<Vec<_>>(),
+            "up_to_date": self.up_to_date,
+            "input_hash": hex(self.input_hash),
+            "output_hash": hex(self.output_hash),
+            "diagnostics": self.diagnostics.iter().map(Diagnostic::to_json_value).collect::<Vec<_>>(),
+        });
+        if explain && let Some((table, plot)) = &self.explained {
+            value["explain"] = json!(table);
+            value["plot"] = json!(plot.as_ref().map(|p| p.display().to_string()));
+        }
+        value
+    }
+
+    /// The row a previous run's report (`v`) holds for the input `input`, with `output`:
+    /// what that run found (read as, in, with, its diagnostics, its `explain`), or `None`
+    /// when `v` is not such a row.
+    fn from_json(v: &serde_json::Value, input: PathBuf, output: PathBuf) -> Option<FileReport> {
+        let text = |key: &str| v.get(key).and_then(|t| t.as_str());
+        let hash = |key: &str| text(key).and_then(|h| u64::from_str_radix(h, 16).ok());
+        let status = match text("status")? {
+            "converted" => Status::Converted,
+            "skipped" => Status::Skipped,
+            _ => return None,
+        };
+        let mut f = FileReport::new(input, output, status);
+        f.dialect = text("dialect").and_then(dialect::by_id).map(|d| d.id());
+        f.encoding = text("encoding").and_then(TextEncoding::for_label);
+        f.output_encoding = text("output_encoding").and_then(TextEncoding::for_label);
+        f.profile = text("profile").map(PathBuf::from);
+        f.dialect_note = text("dialect_note").map(str::to_string);
+        f.diagnostics = v
+            .get("diagnostics")?
+            .as_array()?
+            .iter()
+            .map(Diagnostic::from_json_value)
+            .collect::<Option<Vec<_>>>()?;
+        f.explained = text("explain").map(|t| (t.to_string(), text("plot").map(PathBuf::from)));
+        f.input_hash = hash("input_hash");
+        f.output_hash = hash("output_hash");
+        Some(f)
+    }
+}
+
+/// FNV-1a over `parts` (each ended by a 0xFF byte, which no part's UTF-8 holds): a stable
+/// fingerprint of what an output is made from (the same in every build, unlike std's
+/// hasher), for telling an output that is up to date.
+pub fn fingerprint(parts: &[&[u8]]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for part in parts {
+        for &b in part.iter().chain([0xFF].iter()) {
+            h ^= u64::from(b);
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    h
+}
+
+/// The fingerprint of the settings an output depends on besides its program and profile:
+/// the dialects, the conversion's options, the encodings and line endings, the extension,
+/// the profile choice, and ncthread's version.
+fn settings_fingerprint(options: &BatchOptions) -> u64 {
+    let c = &options.conversion;
+    let profile = match &options.profile {
+        ProfileChoice::Given(path, _) => format!("given {}", path.display()),
+        ProfileChoice::Discover => "discover".into(),
+        ProfileChoice::Defaults => "defaults".into(),
+    };
+    let text = format!(
+        "{} {:?} {} {:?} {:?} {} {} {:?} {:?} {:?} {} {profile}",
+        env!("CARGO_PKG_VERSION"),
+        options.from.map(|d| d.to_string()),
+        c.to,
+        c.unsupported,
+        c.renumber,
+        c.round,
+        c.nc31_comments,
+        options.input_encoding.map(TextEncoding::name),
+        options.output,
+        options.overrides,
+        options.extension,
+    );
+    fingerprint(&[text.as_bytes()])
+}
+
+/// The input fingerprint of a program's `bytes` read with `profile`.
+fn input_fingerprint(bytes: &[u8], profile: &Profile) -> u64 {
+    fingerprint(&[bytes, format!("{profile:?}").as_bytes()])
+}
+
+/// What a previous run's report says of the outputs it wrote.
+#[derive(Clone, Debug, Default)]
+struct Previous {
+    /// That run's settings were this run's.
+    same_settings: bool,
+    /// Its rows of converted (or, in turn, restored) files, by their path below the source.
+    files: HashMap<PathBuf, FileReport>,
+}
+
+impl Previous {
+    /// The previous report at `path` (the HTML report's data, or the JSON report), when it
+    /// is one ncthread wrote; a missing or unreadable one is no previous run.
+    fn load(path: &Path, options: &BatchOptions) -> Option<Previous> {
+        let text = std::fs::read_to_string(path).ok()?;
+        let json: serde_json::Value = serde_json::from_str(&text).ok()?;
+        let source = PathBuf::from(json.get("source")?.as_str()?);
+        // A report of another tree (the same --report file given to another run) says
+        // nothing of these outputs.
+        let same = |a: &Path, b: &Path| match (files::resolve(a), files::resolve(b)) {
+            (Ok(a), Ok(b)) => a == b,
+            _ => a == b,
+        };
+        let output = PathBuf::from(json.get("output")?.as_str()?);
+        if !same(&source, &options.src_dir) || !same(&output, &options.out_dir) {
+            return None;
+        }
+        let settings = json
+            .get("settings")
+            .and_then(|s| s.as_str())
+            .and_then(|h| u64::from_str_radix(h, 16).ok());
+        let mut files = HashMap::new();
+        for f in json.get("files")?.as_array()? {
+            let Some(rel) = f
+                .get("path")
+                .and_then(|p| p.as_str())
+                .and_then(|p| Path::new(p).strip_prefix(&source).ok())
+            else {
+                continue;
+            };
+            let input = options.src_dir.join(rel);
+            let output = output_path(options, rel);
+            if let Some(row) = FileReport::from_json(f, input, output) {
+                files.insert(rel.to_path_buf(), row);
+            }
+        }
+        Some(Previous {
+            same_settings: settings == Some(settings_fingerprint(options)),
+            files,
         })
     }
 }
@@ -194,6 +358,9 @@ pub struct BatchReport {
     pub dry_run: bool,
     /// The run was interrupted.
     pub interrupted: bool,
+    /// Why the run stopped before its end: a write that no later write would survive (a
+    /// full disk), in [`files::io_error`]'s words.
+    pub fatal: Option<String>,
 }
 
 impl BatchReport {
@@ -201,21 +368,89 @@ impl BatchReport {
         self.files.iter().filter(|f| f.status == status).count()
     }
 
-    /// `converted 151, failed 3, skipped 2 (exist; --force to overwrite), left out 4 (not
-    /// programs) in 0.4 s`
+    /// The skipped files whose output is older than its program or the settings (a previous
+    /// run's report tells).
+    pub fn out_of_date(&self) -> usize {
+        self.files
+            .iter()
+            .filter(|f| f.up_to_date == Some(false))
+            .count()
+    }
+
+    /// The files this run converted whose conversion has warnings (values rounded, blocks
+    /// written as comments, an encoding guessed…).
+    pub fn with_warnings(&self) -> usize {
+        self.files
+            .iter()
+            .filter(|f| f.status == Status::Converted && !f.diagnostics.is_empty())
+            .count()
+    }
+
+    /// The codes of the diagnostics of the files this run read (converted or failed), each
+    /// with the number of files it appears in: the commonest first, then by code.
+    pub fn codes(&self) -> Vec<(&'static str, usize)> {
+        let mut files: HashMap<&'static str, usize> = HashMap::new();
+        for f in &self.files {
+            if !matches!(f.status, Status::Converted | Status::Failed) {
+                continue;
+            }
+            let mut codes: Vec<&'static str> = f.diagnostics.iter().map(|d| d.code.id).collect();
+            codes.sort_unstable();
+            codes.dedup();
+            for code in codes {
+                *files.entry(code).or_default() += 1;
+            }
+        }
+        let mut codes: Vec<(&'static str, usize)> = files.into_iter().collect();
+        codes.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
+        codes
+    }
+
+    /// `commonest codes: NCW005 in 10 files, NCW007 in 4 files, CZR001 in 1 file`: the five
+    /// commonest ([`BatchReport::codes`]), or `None` when no file has a diagnostic.
+    pub fn codes_summary(&self) -> Option<String> {
+        let codes = self.codes();
+        if codes.is_empty() {
+            return None;
+        }
+        let each: Vec<String> = codes
+            .iter()
+            .take(5)
+            .map(|(code, n)| format!("{code} in {n} file{}", if *n == 1 { "" } else { "s" }))
+            .collect();
+        Some(format!(
+            "commonest codes: {}{}",
+            each.join(", "),
+            if codes.len() > 5 { ", …" } else { "" }
+        ))
+    }
+
+    /// `converted 151 (12 with warnings), failed 3, skipped 2 (exist; --force to overwrite),
+    /// left out 4 (not programs) in 0.4 s`
     pub fn summary(&self) -> String {
+        let warned = self.with_warnings();
         let mut text = format!(
-            "{} {}, failed {}",
+            "{} {}{}, failed {}",
             if self.dry_run {
                 "would convert"
             } else {
                 "converted"
             },
             self.count(Status::Converted),
+            if warned > 0 {
+                format!(" ({warned} with warnings)")
+            } else {
+                String::new()
+            },
             self.count(Status::Failed),
         );
         let skipped = self.count(Status::Skipped);
-        if skipped > 0 {
+        let stale = self.out_of_date();
+        if skipped > 0 && stale > 0 {
+            text.push_str(&format!(
+                ", skipped {skipped} (exist, {stale} of them out of date; --force to convert again)"
+            ));
+        } else if skipped > 0 {
             text.push_str(&format!(
                 ", skipped {skipped} (exist; --force to overwrite)"
             ));
@@ -229,6 +464,8 @@ impl BatchReport {
         let not_done = self.count(Status::NotDone);
         if self.interrupted {
             text.push_str(&format!(", interrupted: {not_done} not done"));
+        } else if self.fatal.is_some() {
+            text.push_str(&format!(", stopped: {not_done} not done"));
         }
         text.push_str(&format!(" in {:.1} s", self.elapsed.as_secs_f64()));
         text
@@ -237,24 +474,41 @@ impl BatchReport {
     /// Whether the run succeeded: nothing failed and nothing was left undone (skipped
     /// outputs and files that are not programs are no failure).
     pub fn succeeded(&self) -> bool {
-        !self.interrupted && self.count(Status::Failed) == 0
+        !self.interrupted && self.fatal.is_none() && self.count(Status::Failed) == 0
     }
 
+    /// The JSON report.
     pub fn to_json(&self, options: &BatchOptions) -> serde_json::Value {
+        self.json(options, false)
+    }
+
+    /// The JSON report; with `explain`, each converted file's `explain` table and plot too
+    /// (the HTML report's data).
+    fn json(&self, options: &BatchOptions, explain: bool) -> serde_json::Value {
         json!({
+            "ncthread": env!("CARGO_PKG_VERSION"),
+            "settings": format!("{:016x}", settings_fingerprint(options)),
             "source": options.src_dir.display().to_string(),
             "output": options.out_dir.display().to_string(),
             "from": options.from.map_or("auto".to_string(), |d| d.to_string()),
             "to": options.conversion.to.to_string(),
             "dry_run": self.dry_run,
             "interrupted": self.interrupted,
+            "stopped": self.fatal,
             "converted": self.count(Status::Converted),
+            "with_warnings": self.with_warnings(),
             "failed": self.count(Status::Failed),
             "skipped": self.count(Status::Skipped),
+            "out_of_date": self.out_of_date(),
             "left_out": self.count(Status::LeftOut),
             "not_done": self.count(Status::NotDone),
             "seconds": self.elapsed.as_secs_f64(),
-            "files": self.files.iter().map(FileReport::to_json).collect::<Vec<_>>(),
+            "codes": self
+                .codes()
+                .into_iter()
+                .map(|(code, n)| (code.to_string(), json!(n)))
+                .collect::<serde_json::Map<String, serde_json::Value>>(),
+            "files": self.files.iter().map(|f| f.to_json(self.dry_run, explain)).collect::<Vec<_>>(),
         })
     }
 }
@@ -269,6 +523,8 @@ pub struct Plan {
     profiles: Vec<Option<PathBuf>>,
     /// Each profile read once: its path → the profile, or why it cannot be used.
     loaded: HashMap<PathBuf, Result<Profile, String>>,
+    /// What the previous run's report says of the outputs it wrote.
+    previous: Previous,
 }
 
 impl Plan {
@@ -287,13 +543,13 @@ impl Plan {
 /// outside it and can be written. `Err` is a usage or I/O problem with the trees themselves.
 pub fn plan(options: &BatchOptions) -> Result<Plan, String> {
     let src_root = std::fs::canonicalize(&options.src_dir)
-        .map_err(|e| format!("cannot read {}: {e}", options.src_dir.display()))?;
+        .map_err(|e| files::io_error("read", options.src_dir.display(), &e))?;
     if !src_root.is_dir() {
         return Err(format!("{} is not a folder", options.src_dir.display()));
     }
     let inside = |dir: &Path, what: &str| -> Result<(), String> {
         let resolved =
-            files::resolve(dir).map_err(|e| format!("cannot read {}: {e}", dir.display()))?;
+            files::resolve(dir).map_err(|e| files::io_error("read", dir.display(), &e))?;
         if resolved.starts_with(&src_root) {
             return Err(format!(
                 "the {what} {} is inside the source folder {}; ncthread never writes into the source tree",
@@ -305,7 +561,7 @@ pub fn plan(options: &BatchOptions) -> Result<Plan, String> {
     };
     inside(&options.out_dir, "output folder")?;
     let out_root = files::resolve(&options.out_dir)
-        .map_err(|e| format!("cannot read {}: {e}", options.out_dir.display()))?;
+        .map_err(|e| files::io_error("read", options.out_dir.display(), &e))?;
     if src_root.starts_with(&out_root) {
         return Err(format!(
             "the output folder {} holds the source folder {}: outputs could land in the source tree",
@@ -343,11 +599,21 @@ pub fn plan(options: &BatchOptions) -> Result<Plan, String> {
         };
         loaded.insert(path.clone(), profile);
     }
+    // The HTML report's data, else the JSON report: what a previous run wrote.
+    let previous = options
+        .html
+        .as_ref()
+        .map(|dir| dir.join(STATE_FILE))
+        .iter()
+        .chain(options.report.iter())
+        .find_map(|path| Previous::load(path, options))
+        .unwrap_or_default();
     Ok(Plan {
         src_root,
         walk,
         profiles,
         loaded,
+        previous,
     })
 }
 
@@ -356,36 +622,59 @@ fn read_profile(path: &Path) -> Result<Profile, String> {
     Profile::load(path).map_err(|e| e.summary(path))
 }
 
+/// How an output is written: [`files::write_atomically`]'s arguments and result (path,
+/// bytes, force, the source tree's guard).
+pub type Writer<'a> =
+    dyn Fn(&Path, &[u8], bool, Option<&Path>) -> Result<(), files::WriteError> + Sync + 'a;
+
 /// Runs a batch as planned. `progress` is called once per file as it finishes (from worker
-/// threads); `stop` ends the run between files (an interrupt). `Err` is a usage or I/O
-/// problem with the trees themselves (nothing was converted).
+/// threads); `stop` ends the run between files (an interrupt). A write that no later write
+/// would survive (a full disk: [`files::WriteError::Fatal`]) stops the run too, and the
+/// report says why. `Err` is a usage or I/O problem with the trees themselves (nothing was
+/// converted).
 pub fn run(
     options: &BatchOptions,
     plan: &Plan,
     progress: &(dyn Fn(&FileReport) + Sync),
     stop: &AtomicBool,
 ) -> Result<BatchReport, String> {
+    run_with(options, plan, progress, stop, &files::write_atomically)
+}
+
+/// [`run`], writing each output with `write` (the tests' seam for a disk that fills up).
+pub fn run_with(
+    options: &BatchOptions,
+    plan: &Plan,
+    progress: &(dyn Fn(&FileReport) + Sync),
+    stop: &AtomicBool,
+    write: &Writer<'_>,
+) -> Result<BatchReport, String> {
     let started = Instant::now();
+    // The first write that stops every write, and the flag the workers read.
+    let fatal: std::sync::Mutex<Option<String>> = Default::default();
+    let halted = AtomicBool::new(false);
     if !options.dry_run {
         std::fs::create_dir_all(&options.out_dir)
-            .map_err(|e| format!("cannot create {}: {e}", options.out_dir.display()))?;
+            .map_err(|e| files::io_error("create", options.out_dir.display(), &e))?;
         // A folder that cannot be written is the user's problem, named as they wrote it.
         tempfile::Builder::new()
             .prefix(".ncthread-")
             .tempfile_in(&options.out_dir)
-            .map_err(|e| format!("cannot write into {}: {e}", options.out_dir.display()))?;
+            .map_err(|e| files::io_error("write into", options.out_dir.display(), &e))?;
         if let Some(dir) = &options.html {
             std::fs::create_dir_all(dir.join("plots"))
-                .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+                .map_err(|e| files::io_error("create", dir.display(), &e))?;
         }
     }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.jobs)
         .build()
         .map_err(|e| format!("cannot start the worker threads: {e}"))?;
-    // Two inputs that differ only in their extension would write one output.
-    let mut first_of: HashMap<PathBuf, &Path> = Default::default();
-    let clashes: Vec<Option<&Path>> = plan
+    // Two inputs that differ only in their extension would write one output; two whose
+    // outputs differ only in case would on a case-insensitive file system (Windows, macOS,
+    // the FAT of a USB stick that takes the programs to the machine).
+    let mut first_of: HashMap<String, &Path> = Default::default();
+    let clashes: Vec<Option<Clash>> = plan
         .walk
         .files
         .iter()
@@ -394,10 +683,14 @@ pub fn run(
                 return None;
             }
             let out = f.rel.with_extension(&options.extension);
-            match first_of.get(&out) {
-                Some(first) => Some(*first),
+            let key = out.to_string_lossy().to_lowercase();
+            match first_of.get(&key) {
+                Some(first) if first.with_extension(&options.extension) == out => {
+                    Some(Clash::Same(first))
+                }
+                Some(first) => Some(Clash::Case(first)),
                 None => {
-                    first_of.insert(out, &f.rel);
+                    first_of.insert(key, &f.rel);
                     None
                 }
             }
@@ -423,11 +716,24 @@ pub fn run(
                         r.reason = Some("interrupted before its turn".into());
                         r
                     }
+                    Verdict::Program if halted.load(Ordering::Relaxed) => {
+                        let mut r = FileReport::new(input, output, Status::NotDone);
+                        r.reason = Some("the run stopped before its turn".into());
+                        r
+                    }
                     Verdict::Program => {
                         let profile = profile
                             .as_ref()
                             .map(|p| (p.clone(), plan.loaded.get(p).cloned()));
-                        one(options, plan, &found.rel, *clash, profile)
+                        let (report, stops) =
+                            one(options, plan, &found.rel, *clash, profile, write);
+                        if let Some(why) = stops {
+                            halted.store(true, Ordering::Relaxed);
+                            if let Ok(mut first) = fatal.lock() {
+                                first.get_or_insert(why);
+                            }
+                        }
+                        report
                     }
                 };
                 progress(&report);
@@ -440,7 +746,17 @@ pub fn run(
         elapsed: started.elapsed(),
         dry_run: options.dry_run,
         interrupted: stop.load(Ordering::Relaxed),
+        fatal: fatal.into_inner().unwrap_or_else(|e| e.into_inner()),
     })
+}
+
+/// An input whose output would land on an earlier input's.
+#[derive(Clone, Copy, Debug)]
+enum Clash<'a> {
+    /// The same output (the names differ only in their extension).
+    Same(&'a Path),
+    /// Outputs whose names differ only in case.
+    Case(&'a Path),
 }
 
 /// Why an output that exists is not written.
@@ -452,23 +768,68 @@ fn output_path(options: &BatchOptions, rel: &Path) -> PathBuf {
 }
 
 /// Converts one program with its profile (`None`: the built-in defaults; else its path and
-/// the profile read, or why it could not be).
+/// the profile read, or why it could not be), and writes its output with `write`. Also
+/// returns why the run must stop when the write failed so that no later one would succeed.
 fn one(
     options: &BatchOptions,
     plan: &Plan,
     rel: &Path,
-    clash: Option<&Path>,
+    clash: Option<Clash>,
     profile: Option<(PathBuf, Option<Result<Profile, String>>)>,
-) -> FileReport {
+    write: &Writer<'_>,
+) -> (FileReport, Option<String>) {
+    let (mut report, bytes) = convert_one(options, plan, rel, clash, profile);
+    let Some(bytes) = bytes else {
+        return (report, None);
+    };
+    match write(&report.output, &bytes, options.force, Some(&plan.src_root)) {
+        Ok(()) => {
+            report.status = Status::Converted;
+            report.output_hash = Some(fingerprint(&[&bytes]));
+        }
+        Err(files::WriteError::Exists) => {
+            report.status = Status::Skipped;
+            report.reason = Some(OUTPUT_EXISTS.into());
+        }
+        Err(files::WriteError::Failed(e)) => report.reason = Some(e),
+        Err(files::WriteError::Fatal(e)) => {
+            report.reason = Some(e.clone());
+            return (report, Some(e));
+        }
+    }
+    (report, None)
+}
+
+/// Converts one program: its report and the output's bytes to write, or no bytes when the
+/// report is final (failed, skipped, or converted under `--dry-run`).
+fn convert_one(
+    options: &BatchOptions,
+    plan: &Plan,
+    rel: &Path,
+    clash: Option<Clash>,
+    profile: Option<(PathBuf, Option<Result<Profile, String>>)>,
+) -> (FileReport, Option<Vec<u8>>) {
     let input = options.src_dir.join(rel);
     let output = output_path(options, rel);
     let mut report = FileReport::new(input.clone(), output.clone(), Status::Failed);
-    if let Some(first) = clash {
-        report.reason = Some(format!(
-            "{} is written to the same output; give the files different names",
-            options.src_dir.join(first).display()
-        ));
-        return report;
+    match clash {
+        Some(Clash::Same(first)) => {
+            report.reason = Some(format!(
+                "{} is written to the same output; give the files different names",
+                options.src_dir.join(first).display()
+            ));
+            return (report, None);
+        }
+        Some(Clash::Case(first)) => {
+            report.reason = Some(format!(
+                "its output {} and the output {} of {} differ only in case: on a case-insensitive file system (Windows, macOS, a USB stick) one would replace the other; rename one of the programs",
+                output.display(),
+                output_path(options, first).display(),
+                options.src_dir.join(first).display()
+            ));
+            return (report, None);
+        }
+        None => {}
     }
     let defaults = || {
         let mut p = Profile::default();
@@ -483,7 +844,7 @@ fn one(
                 Some(Ok(p)) => p,
                 Some(Err(why)) => {
                     report.reason = Some(why);
-                    return report;
+                    return (report, None);
                 }
                 None => defaults(),
             }
@@ -492,15 +853,19 @@ fn one(
     if !options.force && output.exists() {
         report.status = Status::Skipped;
         report.reason = Some(OUTPUT_EXISTS.into());
-        return report;
+        if let Some(before) = plan.previous.files.get(rel) {
+            report = kept(report, before, &profile, plan.previous.same_settings);
+        }
+        return (report, None);
     }
     let bytes = match std::fs::read(&input) {
         Ok(b) => b,
         Err(e) => {
-            report.reason = Some(format!("cannot read: {e}"));
-            return report;
+            report.reason = Some(files::io_error("read", input.display(), &e));
+            return (report, None);
         }
     };
+    report.input_hash = Some(input_fingerprint(&bytes, &profile));
     let decoded = text::decode_program(&bytes, options.from, options.input_encoding, Some(rel));
     report.dialect_note = decoded.detection.as_ref().filter(|d| !d.certain).map(|d| {
         format!(
@@ -522,7 +887,7 @@ fn one(
         let refused = d.is_error();
         report.diagnostics.push(d);
         if refused {
-            return report;
+            return (report, None);
         }
     }
     let kept = text::Input::of(&text, encoding, &eof_mark, from == options.conversion.to);
@@ -535,7 +900,7 @@ fn one(
     let converted = convert(&src, &conversion);
     report.diagnostics.extend(converted.diagnostics);
     let Some(program) = converted.output else {
-        return report;
+        return (report, None);
     };
     report.output_encoding = Some(options.output.encoding_for(&kept));
     let bytes = match text::encode_output(
@@ -547,7 +912,7 @@ fn one(
         Ok(b) => b,
         Err(d) => {
             report.diagnostics.push(*d);
-            return report;
+            return (report, None);
         }
     };
     if let Some(dir) = options.html.as_ref().filter(|_| !options.dry_run) {
@@ -555,18 +920,53 @@ fn one(
     }
     if options.dry_run {
         report.status = Status::Converted;
-        return report;
+        return (report, None);
     }
-    match files::write_atomically(&output, &bytes, options.force, Some(&plan.src_root)) {
-        Ok(()) => report.status = Status::Converted,
-        Err(files::WriteError::Exists) => {
-            report.status = Status::Skipped;
-            report.reason = Some(OUTPUT_EXISTS.into());
-        }
-        Err(files::WriteError::Failed(e)) => report.reason = Some(e),
-    }
+    (report, Some(bytes))
+}
+
+/// A file skipped because its output exists, which a previous run's report (`before`)
+/// knows: that run's row when the output is what this run would write (its program,
+/// profile and settings as then, the output as that run wrote it), else the skip with why it
+/// is not. The fingerprints stay, so that a later run still tells.
+fn kept(
+    mut report: FileReport,
+    before: &FileReport,
+    profile: &Profile,
+    same_settings: bool,
+) -> FileReport {
+    let input = std::fs::read(&report.input)
+        .ok()
+        .map(|b| input_fingerprint(&b, profile));
+    let output = std::fs::read(&report.output)
+        .ok()
+        .map(|b| fingerprint(&[&b]));
+    report.input_hash = before.input_hash;
+    report.output_hash = before.output_hash;
+    let why = if output.is_none() || output != before.output_hash {
+        "the output exists and was changed after ncthread wrote it (--force overwrites it)"
+    } else if input.is_none() || input != before.input_hash {
+        report.up_to_date = Some(false);
+        "the output exists, but its program has changed since it was converted (--force converts it again)"
+    } else if !same_settings {
+        report.up_to_date = Some(false);
+        "the output exists, but it was converted with other settings (--force converts it again)"
+    } else {
+        return FileReport {
+            input: report.input,
+            output: report.output,
+            status: Status::Skipped,
+            reason: Some(UP_TO_DATE.into()),
+            up_to_date: Some(true),
+            ..before.clone()
+        };
+    };
+    report.reason = Some(why.into());
     report
 }
+
+/// Why an output that is what this run would write is not written again.
+const UP_TO_DATE: &str = "up to date: converted by an earlier run (--force converts it again)";
 
 /// The converted program as the target reads it: its `explain` text, and its plot written
 /// into the report's `plots/` folder (`None` when it could not be written).
@@ -642,8 +1042,10 @@ impl BatchReport {
             esc(&title)
         ));
         page.push_str(&format!(
-            "<p class=\"summary\">{} · from {} to {} · profile: {}</p>\n",
+            "<p class=\"summary\">{}{} · from {} to {} · profile: {}</p>\n",
             esc(&self.summary()),
+            self.codes_summary()
+                .map_or(String::new(), |c| format!("<br>{}", esc(&c))),
             options.from.map_or("auto".to_string(), |d| d.to_string()),
             options.conversion.to,
             esc(&match &options.profile {
@@ -663,20 +1065,24 @@ impl BatchReport {
                 f.dialect.map_or("—".to_string(), |d| d.to_string()),
                 f.encoding.map_or("—", |e| e.name()),
                 f.diagnostics.len() - errors,
-                esc(&f.output.display().to_string()),
+                f.written(self.dry_run)
+                    .map_or("—".to_string(), |p| esc(&p.display().to_string())),
             ));
         }
         page.push_str("</table>\n");
         for (i, f) in self.files.iter().enumerate() {
             page.push_str(&format!(
-                "<section id=\"f{i}\">\n<h2>{} <span class=\"{}\">{}</span></h2>\n<p>read as {} in {}; profile: {}; output {}</p>\n",
+                "<section id=\"f{i}\">\n<h2>{} <span class=\"{}\">{}</span></h2>\n<p>read as {} in {}; profile: {}; {}</p>\n",
                 esc(&f.input.display().to_string()),
                 f.status.name(),
                 f.status.name(),
                 f.dialect.map_or("—".to_string(), |d| d.to_string()),
                 f.encoding.map_or("—", |e| e.name()),
                 esc(&f.profile_name()),
-                esc(&f.output.display().to_string()),
+                f.written(self.dry_run).map_or("no output".to_string(), |p| format!(
+                    "output {}",
+                    esc(&p.display().to_string())
+                )),
             ));
             if let Some(reason) = &f.reason {
                 page.push_str(&format!("<p class=\"reason\">{}</p>\n", esc(reason)));
@@ -706,8 +1112,13 @@ impl BatchReport {
             page.push_str("</section>\n");
         }
         page.push_str("</body>\n</html>\n");
-        std::fs::write(dir.join("index.html"), page)
-            .map_err(|e| format!("cannot write {}: {e}", dir.join("index.html").display()))
+        let path = dir.join("index.html");
+        std::fs::write(&path, page).map_err(|e| files::io_error("write", path.display(), &e))?;
+        // The page's data, which the next run reads back.
+        let path = dir.join(STATE_FILE);
+        let json = serde_json::to_string_pretty(&self.json(options, true))
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        std::fs::write(&path, json + "\n").map_err(|e| files::io_error("write", path.display(), &e))
     }
 }
 
@@ -718,3 +1129,114 @@ pre { background: #f6f6f6; padding: 0.6em; overflow-x: auto; font-family: DejaVu
 .converted { color: #1b6b1b; } .failed { color: #c00000; } .skipped { color: #806000; }
 section { border-top: 1px solid #ccc; margin-top: 2em; }
 .summary { font-size: 1.1em; }";
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A tree of `n` czech programs and the options of a czech → iso run into `out`.
+    fn tree(dir: &Path, n: usize) -> BatchOptions {
+        let src = dir.join("src");
+        std::fs::create_dir_all(&src).unwrap();
+        for i in 0..n {
+            std::fs::write(
+                src.join(format!("p{i:02}.nc")),
+                format!(
+                    "N10 G95 M03 S500\nN20 G00 X{}. Z5.\nN30 G33 Z-20. F1.5\nN40 G00 X40.\nN50 M30\n",
+                    30 + i
+                ),
+            )
+            .unwrap();
+        }
+        BatchOptions {
+            src_dir: src,
+            out_dir: dir.join("out"),
+            from: Some(dialect::czech::ID),
+            conversion: ConvertOptions {
+                from: dialect::czech::ID,
+                to: dialect::iso::ID,
+                profile: Profile::default(),
+                unsupported: crate::Unsupported::Error,
+                renumber: Default::default(),
+                round: false,
+                nc31_comments: false,
+            },
+            profile: ProfileChoice::Defaults,
+            overrides: Default::default(),
+            jobs: 1,
+            force: false,
+            dry_run: false,
+            extension: "ngc".into(),
+            selection: Selection {
+                extensions: program_extensions(Some(dialect::czech::ID)),
+                ..Default::default()
+            },
+            input_encoding: None,
+            output: Default::default(),
+            html: None,
+            report: None,
+        }
+    }
+
+    /// A disk that fills up after two outputs: the third write fails with ENOSPC, the run
+    /// stops there (no file after it is tried), and the report names the path.
+    #[test]
+    fn a_full_disk_stops_the_run() {
+        let dir = tempfile::tempdir().unwrap();
+        let options = tree(dir.path(), 12);
+        let planned = super::plan(&options).unwrap();
+        let writes = std::sync::atomic::AtomicUsize::new(0);
+        let full = |path: &Path, bytes: &[u8], force: bool, guard: Option<&Path>| {
+            if writes.fetch_add(1, Ordering::SeqCst) < 2 {
+                return files::write_atomically(path, bytes, force, guard);
+            }
+            let enospc = std::io::Error::from(std::io::ErrorKind::StorageFull);
+            Err(files::WriteError::of("write", path.display(), &enospc))
+        };
+        let report = run_with(&options, &planned, &|_| {}, &AtomicBool::new(false), &full).unwrap();
+        assert_eq!(
+            writes.load(Ordering::SeqCst),
+            3,
+            "no write after the full one"
+        );
+        assert_eq!(report.count(Status::Converted), 2);
+        assert_eq!(report.count(Status::Failed), 1);
+        assert_eq!(report.count(Status::NotDone), 9);
+        let failed = report
+            .files
+            .iter()
+            .find(|f| f.status == Status::Failed)
+            .unwrap();
+        let why = format!(
+            "cannot write {}: {}",
+            failed.output.display(),
+            files::io_reason(&std::io::Error::from(std::io::ErrorKind::StorageFull))
+        );
+        assert_eq!(report.fatal.as_deref(), Some(why.as_str()));
+        assert_eq!(failed.reason.as_deref(), Some(why.as_str()));
+        assert!(!report.succeeded());
+        assert!(
+            report.summary().contains("stopped: 9 not done"),
+            "{}",
+            report.summary()
+        );
+        // Another write error fails its file only.
+        let dir = tempfile::tempdir().unwrap();
+        let options = tree(dir.path(), 4);
+        let planned = super::plan(&options).unwrap();
+        let denied = |path: &Path, _: &[u8], _: bool, _: Option<&Path>| {
+            let e = std::io::Error::from(std::io::ErrorKind::PermissionDenied);
+            Err(files::WriteError::of("write", path.display(), &e))
+        };
+        let report = run_with(
+            &options,
+            &planned,
+            &|_| {},
+            &AtomicBool::new(false),
+            &denied,
+        )
+        .unwrap();
+        assert_eq!(report.count(Status::Failed), 4);
+        assert_eq!(report.fatal, None);
+    }
+}

@@ -13,6 +13,30 @@
 
 use std::path::{Path, PathBuf};
 
+/// An I/O error in the one wording every command uses: `cannot ACTION PATH: reason`, the
+/// reason as the system says it without the `(os error N)` tail (`cannot read P1.NC: no such
+/// file or directory`).
+pub fn io_error(action: &str, path: impl std::fmt::Display, e: &std::io::Error) -> String {
+    format!("cannot {action} {path}: {}", io_reason(e))
+}
+
+/// What went wrong, as the system says it, without `(os error N)` and starting in lower case.
+pub fn io_reason(e: &std::io::Error) -> String {
+    let text = e.to_string();
+    let text = match text.rfind(" (os error ") {
+        Some(at) if text.ends_with(')') => &text[..at],
+        _ => &text,
+    };
+    let mut chars = text.chars();
+    match chars.next() {
+        // Lower-case only a word's capital (`No such file`), not an acronym (`UTF-8`).
+        Some(c) if chars.clone().next().is_some_and(char::is_lowercase) => {
+            c.to_lowercase().chain(chars).collect()
+        }
+        _ => text.to_string(),
+    }
+}
+
 /// What a walk takes.
 #[derive(Clone, Debug, Default)]
 pub struct Selection {
@@ -97,7 +121,10 @@ pub fn walk(root: &Path, selection: &Selection) -> Result<Walk, String> {
         .sort_by_file_name(|a, b| a.cmp(b));
     let mut files = Vec::new();
     for entry in builder.build() {
-        let entry = entry.map_err(|e| format!("cannot walk {}: {e}", root.display()))?;
+        let entry = entry.map_err(|e| match e.io_error() {
+            Some(io) => io_error("read", root.display(), io),
+            None => format!("cannot read {}: {e}", root.display()),
+        })?;
         let path = entry.path();
         // A link to a file is followed; a link to a folder is not (no cycles), and is said.
         let is_file = entry.file_type().is_some_and(|t| t.is_file())
@@ -123,7 +150,16 @@ pub fn walk(root: &Path, selection: &Selection) -> Result<Walk, String> {
             Verdict::Program
         };
         let verdict = match verdict {
-            Verdict::Program => by_content(path),
+            Verdict::Program => by_content(path, false),
+            // A FANUC control names its programs `O1002`: a file without an extension is taken
+            // when its text is a program.
+            Verdict::Skip(why) if by_extension && rel.extension().is_none() => {
+                match by_content(path, true) {
+                    Verdict::Program => Verdict::Program,
+                    Verdict::Skip(not) if not == NOT_PROGRAM_TEXT => Verdict::Skip(why),
+                    skip => skip,
+                }
+            }
             skip => skip,
         };
         files.push(Found { rel, verdict });
@@ -158,7 +194,7 @@ fn by_name(rel: &Path, extensions: &[&str]) -> Verdict {
             list(extensions)
         )),
         None => Verdict::Skip(format!(
-            "not a program file (no extension; programs are {}; --glob takes others)",
+            "not a program file (no extension, and its text is not a program; programs are {}; --glob takes others)",
             list(extensions)
         )),
     }
@@ -172,15 +208,73 @@ fn list(extensions: &[&str]) -> String {
         .join(", ")
 }
 
-/// Whether a file's bytes are a program's: not empty, not binary.
-fn by_content(path: &Path) -> Verdict {
+/// Why [`by_content`] did not take a file's text as a program.
+const NOT_PROGRAM_TEXT: &str = "its text is not a program";
+
+/// Whether a file's bytes are a program's: not empty, not binary; and with `as_text` (a file
+/// whose name does not say it), text whose lines are a program's ([`looks_like_program`]).
+fn by_content(path: &Path, as_text: bool) -> Verdict {
     use std::io::Read as _;
     let mut head = Vec::with_capacity(8192);
     let read = std::fs::File::open(path).and_then(|f| f.take(8192).read_to_end(&mut head));
     if let Err(e) = read {
-        return Verdict::Skip(format!("cannot read: {e}"));
+        return Verdict::Skip(io_error("read", path.display(), &e));
     }
-    content_verdict(&head)
+    match content_verdict(&head) {
+        Verdict::Program if as_text => {
+            // The ASCII of it: every dialect's words and marks are ASCII.
+            let text: String = head
+                .iter()
+                .map(|&b| if b.is_ascii() { b as char } else { '?' })
+                .collect();
+            if looks_like_program(&text) {
+                Verdict::Program
+            } else {
+                Verdict::Skip(NOT_PROGRAM_TEXT.into())
+            }
+        }
+        verdict => verdict,
+    }
+}
+
+/// Whether a text (a file's first 8 KB) is a program: at least three of its lines are blocks
+/// (a word's letter and its number first: `N10`, `G0`, `X1.`, `O1002`, `#1=`, `o<sub>`), no
+/// more than one line in ten is something else (comment lines, `%` and blank lines aside),
+/// and a line carries a dialect's mark (what `--from auto` tells dialects by). Prose, a
+/// list of numbers or a script is none.
+pub fn looks_like_program(text: &str) -> bool {
+    let (mut blocks, mut other) = (0usize, 0usize);
+    let lines: Vec<&str> = text.lines().collect();
+    // The last line of a head cut at 8 KB may be cut short.
+    let whole = if text.len() >= 8192 {
+        &lines[..lines.len().saturating_sub(1)]
+    } else {
+        &lines[..]
+    };
+    for line in whole {
+        let line = line.trim();
+        let line = line.strip_prefix('/').unwrap_or(line).trim_start();
+        if line.is_empty() || line.starts_with(['%', '(', ';', '"']) {
+            continue;
+        }
+        let bytes = line.as_bytes();
+        let mut rest = bytes.iter().skip(1).skip_while(|b| **b == b' ');
+        let block = match bytes[0] {
+            b'#' => matches!(bytes.get(1), Some(b'0'..=b'9' | b'<' | b'[')),
+            b'o' | b'O' if bytes.get(1) == Some(&b'<') => true,
+            c if c.is_ascii_alphabetic() => matches!(
+                rest.next(),
+                Some(b'0'..=b'9' | b'.' | b'-' | b'+' | b'#' | b'[')
+            ),
+            _ => false,
+        };
+        if block {
+            blocks += 1;
+        } else {
+            other += 1;
+        }
+    }
+    blocks >= 3 && other * 10 <= blocks + other && crate::dialect::detect::has_marks(text)
 }
 
 /// The verdict on a file's first bytes (at most 8 KB).
@@ -189,11 +283,7 @@ pub fn content_verdict(head: &[u8]) -> Verdict {
     if body.iter().all(|b| b.is_ascii_whitespace()) {
         return Verdict::Skip("empty".into());
     }
-    let control = body
-        .iter()
-        .filter(|&&b| b == 0 || (b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\r' | 0x0C)))
-        .count();
-    if body.contains(&0) || control * 100 > body.len() {
+    if crate::text::binary_evidence(body).is_some() {
         return Verdict::Skip("binary (NUL or control bytes): not a program".into());
     }
     Verdict::Program
@@ -248,7 +338,33 @@ pub fn resolve(path: &Path) -> std::io::Result<PathBuf> {
 pub enum WriteError {
     /// The file exists and `force` was not given.
     Exists,
+    /// This file could not be written (why, in [`io_error`]'s words).
     Failed(String),
+    /// Nothing more can be written there: the disk is full, the quota used up, the file
+    /// system read-only ([`stops_every_write`]). A batch stops rather than fail every file.
+    Fatal(String),
+}
+
+impl WriteError {
+    /// The error of `action` on `path`: [`WriteError::Fatal`] when it stops every write.
+    pub fn of(action: &str, path: impl std::fmt::Display, e: &std::io::Error) -> WriteError {
+        let why = io_error(action, path, e);
+        if stops_every_write(e) {
+            WriteError::Fatal(why)
+        } else {
+            WriteError::Failed(why)
+        }
+    }
+}
+
+/// Whether an I/O error will recur for every file written to the same place: no space left
+/// on the device (ENOSPC), the disk quota exceeded (EDQUOT), a read-only file system (EROFS).
+pub fn stops_every_write(e: &std::io::Error) -> bool {
+    use std::io::ErrorKind;
+    matches!(
+        e.kind(),
+        ErrorKind::StorageFull | ErrorKind::QuotaExceeded | ErrorKind::ReadOnlyFilesystem
+    )
 }
 
 /// Writes `bytes` to a temporary file beside `path` and renames it into place, so that no
@@ -277,17 +393,12 @@ pub fn write_atomically(
             }
             Ok(_) => {}
             Err(e) => {
-                return Err(WriteError::Failed(format!(
-                    "cannot read {}: {e}",
-                    parent.display()
-                )));
+                return Err(WriteError::Failed(io_error("read", parent.display(), &e)));
             }
         }
     }
-    std::fs::create_dir_all(parent)
-        .map_err(|e| WriteError::Failed(format!("cannot create {}: {e}", parent.display())))?;
-    let failed =
-        |e: std::io::Error| WriteError::Failed(format!("cannot write {}: {e}", path.display()));
+    std::fs::create_dir_all(parent).map_err(|e| WriteError::of("create", parent.display(), &e))?;
+    let failed = |e: std::io::Error| WriteError::of("write", path.display(), &e);
     let mut builder = tempfile::Builder::new();
     builder.prefix(".ncthread-");
     #[cfg(unix)]
@@ -326,6 +437,73 @@ mod tests {
         );
         // Legacy encodings' high bytes are text.
         assert_eq!(content_verdict(b"\"ROZTO\xC8EN\xCD\n"), Verdict::Program);
+    }
+
+    #[test]
+    fn a_full_disk_stops_every_write() {
+        use std::io::ErrorKind;
+        for kind in [
+            ErrorKind::StorageFull,
+            ErrorKind::QuotaExceeded,
+            ErrorKind::ReadOnlyFilesystem,
+        ] {
+            assert!(stops_every_write(&std::io::Error::from(kind)), "{kind:?}");
+        }
+        for kind in [ErrorKind::PermissionDenied, ErrorKind::NotFound] {
+            assert!(!stops_every_write(&std::io::Error::from(kind)), "{kind:?}");
+        }
+        #[cfg(target_os = "linux")]
+        {
+            // ENOSPC, EDQUOT and EROFS as the kernel gives them.
+            for errno in [28, 122, 30] {
+                let e = std::io::Error::from_raw_os_error(errno);
+                assert!(stops_every_write(&e), "{errno}: {e}");
+            }
+            // A real write to a full device.
+            use std::io::Write as _;
+            let e = std::fs::OpenOptions::new()
+                .write(true)
+                .open("/dev/full")
+                .and_then(|mut f| f.write_all(b"N10 G00 X1.\n").and_then(|()| f.flush()))
+                .expect_err("/dev/full is full");
+            assert_eq!(
+                WriteError::of("write", "out/P1.ngc", &e),
+                WriteError::Fatal("cannot write out/P1.ngc: no space left on device".to_string())
+            );
+        }
+    }
+
+    #[test]
+    fn io_errors_read_as_one_sentence() {
+        let e = std::io::Error::from_raw_os_error(2);
+        assert_eq!(
+            io_error("read", "P1.NC", &e),
+            "cannot read P1.NC: no such file or directory"
+        );
+        let e = std::io::Error::other("UTF-8 expected");
+        assert_eq!(io_reason(&e), "UTF-8 expected");
+    }
+
+    #[test]
+    fn a_text_without_an_extension_is_a_program_when_its_lines_are() {
+        let fanuc = "%\nO1002 (THREAD M20X1.5)\nG21 G99\nG97 S500 M03\nG00 X22. Z5.\nG32 Z-20. F1.5\nG00 X30.\nM30\n%\n";
+        assert!(looks_like_program(fanuc));
+        let nc31 = "N0 M40\nN4 X10000 ~ *\nN5 Z5000 ~\nN11 Z-5200 ~ *\n";
+        assert!(looks_like_program(nc31));
+        let czech = "N10 G00 X26.618 Z3. \"ROZTOCENI\nN20 R04=120.0\nN30 G33 Z-9. FR10\nN40 M30\n";
+        assert!(looks_like_program(czech));
+        let iso = "o<thread> sub\n#1 = 5\nG33 Z-10 K1.5\no<thread> endsub\nM2\n";
+        assert!(looks_like_program(iso));
+        // Prose, even about G-code and with ( ) in it; a script; numbers; too little.
+        let readme = "Programs of lathe 2 (the old one)\nG33 cuts a thread (see the manual)\nX is a diameter.\nAsk Jan before you run P0001.\n";
+        assert!(!looks_like_program(readme));
+        assert!(!looks_like_program(
+            "#!/bin/sh\nrm -rf out\nncthread batch a b\n"
+        ));
+        assert!(!looks_like_program("1,2,3\n4,5,6\n7,8,9\n"));
+        assert!(!looks_like_program("G0 X1 (A)\nM30\n"));
+        // Blocks without any dialect's mark: no telling it from a list of codes.
+        assert!(!looks_like_program("G0 X1\nG1 Z2\nG0 X3\n"));
     }
 
     #[test]

@@ -143,9 +143,8 @@ impl Profile {
     /// Reads the profile file at `path`: an I/O error as text, or the profile's diagnostics
     /// (each with its file, line and key).
     pub fn load(path: &std::path::Path) -> Result<Profile, LoadError> {
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            LoadError::Io(format!("cannot read the profile {}: {e}", path.display()))
-        })?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| LoadError::Io(crate::files::io_error("read", path.display(), &e)))?;
         Profile::from_toml(&SourceFile::new(path.display().to_string(), text))
             .map_err(LoadError::Invalid)
     }

@@ -222,14 +222,46 @@ pub struct Decoded {
     /// Whether the legacy encoding was chosen from the bytes ([`legacy_choice`]): certain, or
     /// not (the file must be refused).
     pub guessed: Option<bool>,
+    /// Why the bytes are binary, not a program's text ([`binary_evidence`]): then `text` is
+    /// empty and the file must be refused.
+    pub binary: Option<String>,
 }
 
 impl Decoded {
-    /// The note (or refusal) of a legacy encoding chosen from the bytes, for a file `name`.
+    /// The refusal of a binary file (INP003), or the note (or refusal) of a legacy encoding
+    /// chosen from the bytes, for a file `name`.
     pub fn encoding_diagnostic(&self, name: &str) -> Option<Diagnostic> {
+        if let Some(why) = &self.binary {
+            return Some(
+                Diagnostic::new(
+                    codes::BINARY_INPUT,
+                    format!("{name} is binary, not a program's text: {why}"),
+                )
+                .help("give the program's text (as the control's or the PC's software saves it); if it is text in UTF-16, say so with --encoding utf-16le or utf-16be"),
+            );
+        }
         self.guessed
             .map(|certain| legacy_diagnostic(name, self.encoding, certain))
     }
+}
+
+/// Why `body` (a file without its end-of-file mark) is binary rather than a program's text,
+/// as git and ripgrep tell: a NUL byte, or more than 1 % control bytes other than tab, line
+/// ends and form feed. `None`: it may be text (in any single-byte encoding or UTF-8).
+pub fn binary_evidence(body: &[u8]) -> Option<String> {
+    if let Some(at) = body.iter().position(|&b| b == 0) {
+        return Some(format!("it holds NUL bytes (the first at byte {at})"));
+    }
+    let control = body
+        .iter()
+        .filter(|&&b| b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\r' | 0x0C))
+        .count();
+    (control * 100 > body.len()).then(|| {
+        format!(
+            "{control} of its {} bytes are control characters",
+            body.len()
+        )
+    })
 }
 
 /// Splits a file's trailing end-of-file mark off: a DOS `^Z` (0x1A) and the NUL padding of a
@@ -260,6 +292,18 @@ pub fn decode_program(
         split_eof_mark(bytes)
     };
     let eof_mark = eof_mark.to_vec();
+    // Binary bytes are not decoded (nor their dialect guessed): the file is refused.
+    if let Some(why) = binary_evidence(bytes).filter(|_| !utf16) {
+        return Decoded {
+            text: String::new(),
+            encoding: encoding.unwrap_or(TextEncoding::UTF_8),
+            dialect: from.unwrap_or(dialect::ALL[0].id()),
+            detection: None,
+            eof_mark,
+            guessed: None,
+            binary: Some(why),
+        };
+    }
     let mut decoded = match from {
         Some(dialect) => {
             let (text, encoding) = decode_as(bytes, encoding, dialect);
@@ -270,6 +314,7 @@ pub fn decode_program(
                 detection: None,
                 eof_mark,
                 guessed: None,
+                binary: None,
             }
         }
         None => {
@@ -297,6 +342,7 @@ pub fn decode_program(
                 detection: Some(detection),
                 eof_mark,
                 guessed: None,
+                binary: None,
             }
         }
     };
@@ -481,6 +527,38 @@ mod tests {
         assert_eq!(d.dialect, dialect::nc31::ID);
         assert_eq!(enc, TextEncoding::Standard(encoding_rs::IBM866));
         assert!(text.starts_with("(Резьба"), "{text}");
+    }
+
+    #[test]
+    fn binary_bytes_are_refused_before_any_decoding() {
+        let random: Vec<u8> = (0u32..4096)
+            .map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8)
+            .collect();
+        for from in [None, Some(dialect::nc31::ID), Some(dialect::czech::ID)] {
+            let d = decode_program(&random, from, None, None);
+            let refusal = d.encoding_diagnostic("r.bin").expect("refused");
+            assert_eq!(refusal.code, codes::BINARY_INPUT, "{from:?}");
+            assert!(
+                refusal
+                    .message
+                    .starts_with("r.bin is binary, not a program's text: it holds NUL bytes"),
+                "{}",
+                refusal.message
+            );
+            assert!(d.text.is_empty() && d.detection.is_none());
+        }
+        // Control bytes without a NUL; a text with one escape is text.
+        assert!(binary_evidence(b"\x01\x02\x03N10 G0 X1\n").is_some());
+        assert_eq!(
+            binary_evidence("N10 G00 X1.\r\n\x0c\tZ2.\n".as_bytes()),
+            None
+        );
+        // A DOS file's ^Z and NUL padding end it; UTF-16 given is not binary.
+        let d = decode_program(b"N10 G00 X1.\r\n\x1a\0\0", None, None, None);
+        assert!(d.encoding_diagnostic("p").is_none());
+        let utf16 = TextEncoding::for_label("utf-16le");
+        let d = decode_program(b"N\x001\x000\x00\n\x00", None, utf16, None);
+        assert!(d.binary.is_none());
     }
 
     #[test]

@@ -147,7 +147,27 @@ fn batch_converts_a_tree_keeps_going_and_reports_every_file() {
         "{}",
         text(&again.stderr)
     );
-    assert!(text(&again.stderr).contains("skipped: the output exists (--force overwrites it)"));
+    // The skipped files are counted, not listed, unless --verbose (the report of the first
+    // run says they are up to date).
+    assert!(!text(&again.stderr).contains("skipped: "));
+    let verbose = run(&["--verbose"]);
+    assert!(
+        text(&verbose.stderr).contains(
+            "skipped: up to date: converted by an earlier run (--force converts it again)"
+        ),
+        "{}",
+        text(&verbose.stderr)
+    );
+    // --quiet: what failed, and nothing else.
+    let quiet = run(&["--quiet"]);
+    assert_eq!(quiet.status.code(), Some(1));
+    let said = text(&quiet.stderr);
+    assert!(said.contains("bad/syntax.nc:2:14: error[CZR001]"), "{said}");
+    assert!(
+        said.lines()
+            .all(|l| l.contains("/bad/") && l.contains("error[")),
+        "{said}"
+    );
     assert_eq!(snapshot(&out), outputs);
 
     // With --force it converts again (new files, same content).
@@ -203,7 +223,8 @@ fn batch_never_writes_into_the_source_tree_and_checks_its_arguments() {
         None,
     );
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
-    assert!(text(&out.stderr).contains("converted 30, failed 0, skipped 0"));
+    // Every one with a comment the НЦ-31 drops (NCW007).
+    assert!(text(&out.stderr).contains("converted 30 (30 with warnings), failed 0, skipped 0"));
     assert!(out_dir.join("shop1/machine0/p006.nc").exists());
 }
 
@@ -414,7 +435,10 @@ fn html_report_shows_every_file() {
     assert_eq!(run.status.code(), Some(1), "{}", text(&run.stderr));
     let page = std::fs::read_to_string(html.join("index.html")).unwrap();
     assert!(page.starts_with("<!DOCTYPE html>"));
-    assert!(page.contains("converted 2, failed 1, skipped 0"), "{page}");
+    assert!(
+        page.contains("converted 2 (2 with warnings), failed 1, skipped 0"),
+        "{page}"
+    );
     assert!(page.contains("profile: built-in defaults"));
     // The failed file: its error with the source line and the caret.
     assert!(page.contains("error[NCR002]"), "{page}");
@@ -462,4 +486,421 @@ fn html_report_shows_every_file() {
     assert_eq!(inside.status.code(), Some(2));
     assert!(text(&inside.stderr).contains("never writes into the source tree"));
     assert!(!src.join("report").exists());
+}
+
+/// The summary counts the converted files with warnings and names the commonest codes (by
+/// the number of files they appear in); the report has both.
+#[test]
+fn the_summary_counts_warnings_and_names_the_commonest_codes() {
+    let dir = tempfile::tempdir().unwrap();
+    let (src, out) = (dir.path().join("src"), dir.path().join("out"));
+    std::fs::create_dir_all(&src).unwrap();
+    let body = "N30 G33 Z-20. F1.5\nN40 G00 X40.\nN50 Z5.\nN60 M30\n";
+    // A value the НЦ-31 rounds (NCW005) and a comment it drops (NCW007); a comment; nothing;
+    // an error.
+    std::fs::write(
+        src.join("a.nc"),
+        format!("N10 G95 M03 S500 \"A\nN20 G00 X30.005 Z5.\n{body}"),
+    )
+    .unwrap();
+    std::fs::write(
+        src.join("b.nc"),
+        format!("N10 G95 M03 S500 \"B\nN20 G00 X30. Z5.\n{body}"),
+    )
+    .unwrap();
+    std::fs::write(
+        src.join("c.nc"),
+        format!("N10 G95 M03 S500\nN20 G00 X30. Z5.\n{body}"),
+    )
+    .unwrap();
+    std::fs::write(src.join("bad.nc"), "N10 M03 S500\nN20 G00 X30. Z\n").unwrap();
+    let report = dir.path().join("report.json");
+    let run = ncthread(
+        &[
+            "batch",
+            src.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--from",
+            "czech",
+            "--to",
+            "nc31",
+            "--round",
+            "--report",
+            report.to_str().unwrap(),
+        ],
+        None,
+    );
+    let err = text(&run.stderr);
+    assert!(
+        err.contains("ncthread: converted 3 (2 with warnings), failed 1, skipped 0 in "),
+        "{err}"
+    );
+    assert!(
+        err.contains(
+            "ncthread: commonest codes: NCW007 in 2 files, CZR001 in 1 file, NCW005 in 1 file\n"
+        ),
+        "{err}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(json["with_warnings"], 2);
+    assert_eq!(
+        json["codes"],
+        serde_json::json!({"NCW007": 2, "CZR001": 1, "NCW005": 1})
+    );
+}
+
+/// The reports name an output only where one was written (or kept from before): none for a
+/// file that failed or was left out, and under `--dry-run` only where it would be.
+#[test]
+fn the_report_names_an_output_only_where_one_was_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let (src, out) = (dir.path().join("src"), dir.path().join("out"));
+    std::fs::create_dir_all(&src).unwrap();
+    std::fs::write(src.join("good.nc"), program(1)).unwrap();
+    std::fs::write(src.join("bad.nc"), "N10 M03 S500\nN20 G00 X30. Z\n").unwrap();
+    std::fs::write(src.join("notes.txt"), "not a program\n").unwrap();
+    let report = dir.path().join("report.json");
+    let html = dir.path().join("html");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "batch",
+            src.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+            "--report",
+            report.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        let run = ncthread(&args, None);
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+        let file = |name: &str| {
+            json["files"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|f| f["path"].as_str().unwrap().ends_with(name))
+                .unwrap()
+                .clone()
+        };
+        (
+            text(&run.stderr),
+            file("good.nc"),
+            file("bad.nc"),
+            file("notes.txt"),
+        )
+    };
+    let (said, _, _, _) = run(&["--dry-run", "--verbose"]);
+    let (_, good, bad, notes) = run(&["--dry-run"]);
+    assert_eq!(good["output"], serde_json::Value::Null, "{good}");
+    assert!(
+        good["would_write"].as_str().unwrap().ends_with("good.ngc"),
+        "{good}"
+    );
+    assert_eq!(bad["would_write"], serde_json::Value::Null, "{bad}");
+    assert!(
+        said.contains("good.nc: would convert as czech in UTF-8, profile built-in defaults → ")
+    );
+    assert!(
+        said.lines()
+            .any(|l| l.contains("bad.nc: failed as czech") && !l.contains('→')),
+        "{said}"
+    );
+    let (_, good, bad, notes2) = run(&["--html", html.to_str().unwrap()]);
+    assert!(
+        good["output"].as_str().unwrap().ends_with("good.ngc"),
+        "{good}"
+    );
+    assert_eq!(bad["output"], serde_json::Value::Null, "{bad}");
+    for n in [&notes, &notes2] {
+        assert_eq!(n["output"], serde_json::Value::Null, "{n}");
+    }
+    let page = std::fs::read_to_string(html.join("index.html")).unwrap();
+    let row = page
+        .lines()
+        .find(|l| l.starts_with("<tr>") && l.contains("bad.nc"))
+        .unwrap();
+    assert!(row.ends_with("<td>—</td></tr>"), "{row}");
+    assert!(!page.contains("bad.ngc"), "{page}");
+}
+
+/// Two programs whose outputs differ only in case would overwrite each other on a
+/// case-insensitive file system (Windows, macOS, a USB stick): the second fails, named.
+#[test]
+fn outputs_that_differ_only_in_case_are_flagged() {
+    let dir = tempfile::tempdir().unwrap();
+    let (src, out) = (dir.path().join("src"), dir.path().join("out"));
+    for rel in ["P1.nc", "p1.NC", "Lathe/x.nc", "lathe/X.nc", "P2.nc"] {
+        let path = src.join(rel);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, program(2)).unwrap();
+    }
+    let report = dir.path().join("report.json");
+    let run = ncthread(
+        &[
+            "batch",
+            src.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+            "--report",
+            report.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(run.status.code(), Some(1), "{}", text(&run.stderr));
+    let err = text(&run.stderr);
+    assert!(err.contains("converted 3, failed 2"), "{err}");
+    for (second, first) in [("p1.NC", "P1.nc"), ("lathe/X.nc", "Lathe/x.nc")] {
+        let line = err
+            .lines()
+            .find(|l| l.starts_with(&format!("{}: failed: ", src.join(second).display())))
+            .unwrap_or_else(|| panic!("{second}: {err}"));
+        assert!(line.contains("differ only in case"), "{line}");
+        assert!(
+            line.contains(&src.join(first).display().to_string()),
+            "{line}"
+        );
+    }
+    assert!(out.join("P1.ngc").is_file() && !out.join("p1.ngc").exists());
+}
+
+/// A FANUC control names its programs `O1002`, without an extension: such a file is taken
+/// when its text is a program; a README, a script or a binary file without one is not.
+#[test]
+fn programs_without_an_extension_are_taken_by_their_text() {
+    let dir = tempfile::tempdir().unwrap();
+    let (src, out) = (dir.path().join("src"), dir.path().join("out"));
+    std::fs::create_dir_all(src.join("lathe")).unwrap();
+    let fanuc = std::fs::read("corpus/fanuc/g32-m20x1.5-multipass.nc").unwrap();
+    std::fs::write(src.join("lathe/O1002"), &fanuc).unwrap();
+    std::fs::write(
+        src.join("README"),
+        "Programs of lathe 2 (the old one)\nG32 cuts a thread (see the manual)\nAsk Jan first.\n",
+    )
+    .unwrap();
+    std::fs::write(src.join("run"), "#!/bin/sh\nncthread batch a b\n").unwrap();
+    std::fs::write(src.join("DATA"), b"\0\x01\x02O1002\nG32\0").unwrap();
+    let report = dir.path().join("report.json");
+    for from in ["auto", "fanuc"] {
+        let run = ncthread(
+            &[
+                "batch",
+                src.to_str().unwrap(),
+                out.to_str().unwrap(),
+                "--from",
+                from,
+                "--to",
+                "iso",
+                "--force",
+                "--report",
+                report.to_str().unwrap(),
+            ],
+            None,
+        );
+        assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+        assert!(
+            text(&run.stderr).contains("converted 1, failed 0, skipped 0, left out 3"),
+            "{}",
+            text(&run.stderr)
+        );
+        assert!(out.join("lathe/O1002.ngc").is_file());
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+        let reason = |name: &str| {
+            json["files"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|f| f["path"].as_str().unwrap().ends_with(name))
+                .unwrap()["reason"]
+                .as_str()
+                .unwrap()
+                .to_string()
+        };
+        for name in ["README", "run"] {
+            assert!(
+                reason(name).contains("no extension, and its text is not a program"),
+                "{name}: {}",
+                reason(name)
+            );
+        }
+        assert!(reason("DATA").starts_with("binary"), "{}", reason("DATA"));
+    }
+    // check walks folders alike.
+    let check = ncthread(&["check", src.to_str().unwrap(), "--from", "fanuc"], None);
+    assert!(
+        text(&check.stderr).contains("checked 1 file(s)"),
+        "{}",
+        text(&check.stderr)
+    );
+}
+
+/// A re-run skips the outputs that exist, and keeps what the previous run found for them:
+/// the HTML report's rows (read back from its `report.json`), or the JSON report's, when the
+/// program, its profile, the settings and the output are as they were; an output older than
+/// its program is said on every run until `--force`.
+#[test]
+fn a_rerun_keeps_the_rows_of_the_outputs_it_skips() {
+    let dir = tempfile::tempdir().unwrap();
+    let (src, out, html) = (
+        dir.path().join("src"),
+        dir.path().join("out"),
+        dir.path().join("html"),
+    );
+    std::fs::create_dir_all(&src).unwrap();
+    std::fs::write(src.join("a.nc"), program(1)).unwrap();
+    // M42: a gear range ISO has no word for, written as a comment (ISOW002).
+    std::fs::write(
+        src.join("b.nc"),
+        program(2).replace("M03 S500", "M03 S500 M42"),
+    )
+    .unwrap();
+    std::fs::write(src.join("bad.nc"), "N10 M03 S500\nN20 G00 X30. Z\n").unwrap();
+    let report = dir.path().join("report.json");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "batch",
+            src.to_str().unwrap(),
+            out.to_str().unwrap(),
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+            "--report",
+            report.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        let run = ncthread(&args, None);
+        assert_eq!(run.status.code(), Some(1), "{}", text(&run.stderr));
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+        (text(&run.stderr), json)
+    };
+    let row = |json: &serde_json::Value, name: &str| {
+        json["files"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|f| f["path"].as_str().unwrap().ends_with(name))
+            .unwrap()
+            .clone()
+    };
+    let page = || std::fs::read_to_string(html.join("index.html")).unwrap();
+    let h = html.to_str().unwrap();
+    let (_, first) = run(&["--html", h]);
+    let first_page = page();
+    assert_eq!(
+        first_page
+            .matches("<h3>explain (the iso output)</h3>")
+            .count(),
+        2
+    );
+    assert!(first_page.contains("warning[ISOW002]"), "{first_page}");
+
+    // Again: nothing is converted, and the report is the first one's.
+    let (said, again) = run(&["--html", h]);
+    assert!(
+        said.contains("converted 0, failed 1, skipped 2 (exist; --force to overwrite)"),
+        "{said}"
+    );
+    assert!(!said.contains("skipped:"), "{said}");
+    let again_page = page();
+    assert_eq!(
+        again_page
+            .matches("<h3>explain (the iso output)</h3>")
+            .count(),
+        2
+    );
+    assert!(again_page.contains("warning[ISOW002]"), "{again_page}");
+    assert!(again_page.contains("up to date: converted by an earlier run"));
+    for name in ["a.nc", "b.nc"] {
+        let (was, is) = (row(&first, name), row(&again, name));
+        assert_eq!(is["status"], "skipped");
+        assert_eq!(is["up_to_date"], true);
+        for key in [
+            "dialect",
+            "encoding",
+            "output_encoding",
+            "output",
+            "diagnostics",
+        ] {
+            assert_eq!(is[key], was[key], "{name}: {key}");
+        }
+    }
+    assert_eq!(row(&again, "b.nc")["diagnostics"][0]["code"], "ISOW002");
+
+    // A program changed since: out of date, said on every run (without --verbose).
+    std::fs::write(src.join("a.nc"), program(3)).unwrap();
+    for _ in 0..2 {
+        let (said, json) = run(&["--html", h]);
+        assert!(
+            said.contains("skipped 2 (exist, 1 of them out of date; --force to convert again)"),
+            "{said}"
+        );
+        assert!(
+            said.contains(&format!(
+                "{}: skipped: the output exists, but its program has changed since it was converted",
+                src.join("a.nc").display()
+            )),
+            "{said}"
+        );
+        assert_eq!(row(&json, "a.nc")["up_to_date"], false);
+        assert_eq!(row(&json, "b.nc")["up_to_date"], true);
+        assert_eq!(
+            page().matches("<h3>explain (the iso output)</h3>").count(),
+            1
+        );
+    }
+    // An output changed by hand is kept, and said to be.
+    std::fs::write(out.join("b.ngc"), "M2\n").unwrap();
+    let (_, json) = run(&["--html", h, "--verbose"]);
+    assert!(
+        row(&json, "b.nc")["reason"]
+            .as_str()
+            .unwrap()
+            .starts_with("the output exists and was changed after ncthread wrote it"),
+        "{}",
+        row(&json, "b.nc")
+    );
+    // --force converts them again; then the JSON report alone keeps the rows.
+    let (said, _) = run(&["--force"]);
+    assert!(
+        said.contains("converted 2 (1 with warnings), failed 1"),
+        "{said}"
+    );
+    let (_, json) = run(&[]);
+    assert_eq!(row(&json, "b.nc")["up_to_date"], true);
+    assert_eq!(row(&json, "b.nc")["diagnostics"][0]["code"], "ISOW002");
+    assert_eq!(row(&json, "a.nc")["dialect"], "czech");
+    // The same report given to a run into another tree says nothing of its outputs.
+    let other = dir.path().join("other");
+    std::fs::create_dir_all(&other).unwrap();
+    std::fs::write(other.join("b.ngc"), "M2\n").unwrap();
+    let run = ncthread(
+        &[
+            "batch",
+            src.to_str().unwrap(),
+            other.to_str().unwrap(),
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+            "--report",
+            report.to_str().unwrap(),
+            "--verbose",
+        ],
+        None,
+    );
+    assert!(
+        text(&run.stderr).contains("b.nc: skipped: the output exists (--force overwrites it)"),
+        "{}",
+        text(&run.stderr)
+    );
 }

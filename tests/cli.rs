@@ -662,3 +662,412 @@ fn a_mill_program_is_refused_in_every_mode() {
         assert_eq!(err.matches("ISOR021").count(), 1, "{err}");
     }
 }
+
+/// Every subcommand says an I/O error in one form, `error: cannot ACTION PATH: reason`, the
+/// reason without Rust's `(os error N)`.
+#[test]
+fn io_errors_are_worded_alike_in_every_subcommand() {
+    let missing = "error: cannot read no/such/file.nc: no such file or directory\n";
+    for args in [
+        &[
+            "convert",
+            "no/such/file.nc",
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+        ][..],
+        &["simulate", "no/such/file.nc", "--from", "czech"],
+        &["explain", "no/such/file.nc", "--from", "czech"],
+        &["plot", "no/such/file.nc", "--from", "czech"],
+        &[
+            "verify",
+            "no/such/file.nc",
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+        ],
+        &["check", "no/such/file.nc", "--from", "czech", "--quiet"],
+    ] {
+        let out = ncthread(args, None);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert_eq!(text(&out.stderr), missing, "{args:?}");
+    }
+    let out = ncthread(
+        &[
+            "verify",
+            "corpus/czech/ex3-taper.nc",
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+            "--against",
+            "no/such/file.nc",
+        ],
+        None,
+    );
+    assert_eq!(text(&out.stderr), missing);
+    let out = czech_to_iso(
+        &["corpus/czech/ex3-taper.nc", "--profile", "no/such/file.nc"],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(text(&out.stderr), missing);
+    let dir = tempfile::tempdir().unwrap();
+    let out = ncthread(
+        &[
+            "batch",
+            "no/such/file.nc",
+            dir.path().to_str().unwrap(),
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(text(&out.stderr), missing);
+    let report = dir.path().join("no/report.json");
+    let out = ncthread(
+        &[
+            "batch",
+            "corpus/czech",
+            dir.path().join("out").to_str().unwrap(),
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+            "--report",
+            report.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        text(&out.stderr),
+        format!(
+            "error: cannot write {}: no such file or directory\n",
+            report.display()
+        )
+    );
+    let output = dir.path().join("no/p.ngc");
+    let out = czech_to_iso(
+        &["corpus/czech/ex3-taper.nc", "-o", output.to_str().unwrap()],
+        None,
+    );
+    // After the conversion's warnings.
+    assert!(
+        text(&out.stderr).ends_with(&format!(
+            "\n\nerror: cannot write {}: the folder {} does not exist\n",
+            output.display(),
+            dir.path().join("no").display()
+        )),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+/// `--stdin-filename NAME` names a program that comes on stdin in every subcommand that reads
+/// one: its diagnostics say NAME, and its sidecar profile is found beside NAME (ex4's runout
+/// needs the machine's constant 8 from it).
+#[test]
+fn stdin_filename_names_the_program_and_finds_its_profile() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::copy(
+        "corpus/czech/ex4-runout-constant.profile.toml",
+        dir.path().join("P4.profile.toml"),
+    )
+    .unwrap();
+    let name = dir.path().join("P4.nc");
+    let name = name.to_str().unwrap();
+    let program = std::fs::read("corpus/czech/ex4-runout-constant.nc").unwrap();
+    let bad = b"N10 M03 S500\nN20 G00 X30. Z\n";
+    for args in [
+        &["convert", "--from", "czech", "--to", "iso"][..],
+        &["simulate", "--from", "czech"],
+        &["explain", "--from", "czech"],
+        &["plot", "--from", "czech"],
+        &["verify", "--from", "czech", "--to", "iso"],
+        &["check", "--from", "czech"],
+    ] {
+        let named: Vec<&str> = args
+            .iter()
+            .copied()
+            .chain(["--stdin-filename", name])
+            .collect();
+        let out = ncthread(&named, Some(&program));
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{args:?}: {}",
+            text(&out.stderr)
+        );
+        let unnamed = ncthread(args, Some(&program));
+        assert_eq!(unnamed.status.code(), Some(1), "{args:?}: no profile");
+        let out = ncthread(&named, Some(bad));
+        assert_eq!(out.status.code(), Some(1), "{args:?}");
+        let said = text(&out.stderr) + &text(&out.stdout);
+        assert!(said.contains(&format!("--> {name}:2:")), "{args:?}: {said}");
+    }
+}
+
+/// `--color auto|always|never` colours the diagnostics (ANSI escapes); `auto` colours a pipe
+/// only under CLICOLOR_FORCE, and never under NO_COLOR. Batch's one-line errors too.
+#[test]
+fn color_is_asked_for_or_follows_no_color_and_clicolor_force() {
+    let bad: &[u8] = b"N10 M03 S500\nN20 G00 X30. Z\n";
+    let run = |args: &[&str], env: &[(&str, &str)]| {
+        use std::io::Write as _;
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_ncthread"));
+        command
+            .args(["convert", "--from", "czech", "--to", "iso"])
+            .args(args)
+            .env_remove("NO_COLOR")
+            .env_remove("CLICOLOR_FORCE")
+            .env_remove("CLICOLOR")
+            .stdin(std::process::Stdio::piped())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped());
+        for (k, v) in env {
+            command.env(k, v);
+        }
+        let mut child = command.spawn().unwrap();
+        child.stdin.take().unwrap().write_all(bad).unwrap();
+        let out = child.wait_with_output().unwrap();
+        assert_eq!(out.status.code(), Some(1));
+        text(&out.stderr).contains("\x1b[")
+    };
+    assert!(!run(&[], &[]), "a pipe: no colour");
+    assert!(run(&["--color", "always"], &[]));
+    assert!(
+        run(&["--color=always"], &[("NO_COLOR", "1")]),
+        "the flag wins"
+    );
+    assert!(!run(&["--color", "never"], &[("CLICOLOR_FORCE", "1")]));
+    assert!(run(&[], &[("CLICOLOR_FORCE", "1")]));
+    assert!(!run(&[], &[("CLICOLOR_FORCE", "1"), ("NO_COLOR", "1")]));
+    // Before the subcommand too.
+    let out = ncthread(
+        &["--color", "always", "check", "--from", "czech", "-"],
+        Some(bad),
+    );
+    assert!(text(&out.stdout).contains("\x1b["), "{}", text(&out.stdout));
+    // batch's one-line errors.
+    let dir = tempfile::tempdir().unwrap();
+    let src = dir.path().join("src");
+    std::fs::create_dir(&src).unwrap();
+    std::fs::write(src.join("bad.nc"), bad).unwrap();
+    let out = ncthread(
+        &[
+            "batch",
+            src.to_str().unwrap(),
+            dir.path().join("out").to_str().unwrap(),
+            "--from",
+            "czech",
+            "--to",
+            "iso",
+            "--color",
+            "always",
+        ],
+        None,
+    );
+    assert!(
+        text(&out.stderr).contains("\x1b[1m\x1b[91merror[CZR001]\x1b[0m"),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+/// `-h` is the short help with a few examples, `--help` the long one with more; the first
+/// line names every dialect; `--round`, `--profile`, `--ext` say what they do for each target;
+/// the manual pages' NAME reads "ncthread - convert …", a subcommand's synopsis is typed as
+/// `ncthread convert`, and its examples are an EXAMPLES section.
+#[test]
+fn help_is_short_or_long_with_examples_and_the_man_pages_read_as_man_pages() {
+    let short = text(&ncthread(&["-h"], None).stdout);
+    let long = text(&ncthread(&["--help"], None).stdout);
+    let first = short.lines().next().unwrap();
+    for dialect in ["czech", "НЦ-31", "FANUC", "ISO"] {
+        assert!(first.contains(dialect), "{first}");
+    }
+    assert!(
+        short.contains("\nExamples:\n  ncthread convert "),
+        "{short}"
+    );
+    assert!(long.contains("\nExamples:\n"), "{long}");
+    assert!(long.lines().count() > short.lines().count());
+    assert!(long.contains("ncthread man --dir") && !short.contains("ncthread man --dir"));
+    for sub in [
+        "convert", "simulate", "verify", "check", "explain", "plot", "batch",
+    ] {
+        let short = text(&ncthread(&[sub, "-h"], None).stdout);
+        assert!(
+            short.contains(&format!("\nExamples:\n  ncthread {sub} ")),
+            "{sub}: {short}"
+        );
+    }
+    let convert = text(&ncthread(&["convert", "--help"], None).stdout);
+    let round = convert.split("--round").nth(1).unwrap();
+    assert!(
+        round.contains("czech and fanuc: lengths to 0.001 mm")
+            && round.contains("nc31: whole units"),
+        "{round}"
+    );
+    let profile = convert.split("--profile <FILE>").nth(1).unwrap();
+    for section in ["[czech]", "[nc31]", "[iso]", "[fanuc]"] {
+        assert!(profile.contains(section), "{section}: {profile}");
+    }
+    let batch = text(&ncthread(&["batch", "--help"], None).stdout);
+    assert!(
+        batch.contains("ngc for iso") && batch.contains("nc for fanuc"),
+        "{batch}"
+    );
+    let page = text(&ncthread(&["man"], None).stdout);
+    assert!(
+        page.contains(".SH NAME\nncthread \\- convert lathe thread\\-cutting programs between the czech control, the НЦ\\-31, FANUC and ISO G\\-code"),
+        "{page}"
+    );
+    let page = text(&ncthread(&["man", "convert"], None).stdout);
+    assert!(
+        page.contains(".TH ncthread-convert 1  \"ncthread "),
+        "{page}"
+    );
+    assert!(
+        page.contains(".SH NAME\nncthread\\-convert \\- convert one program"),
+        "{page}"
+    );
+    assert!(page.contains("\\fBncthread convert\\fR ["), "{page}");
+    assert!(
+        page.contains(".SH EXAMPLES\n.TP\n\\fBncthread convert "),
+        "{page}"
+    );
+    assert!(!page.contains(".SH EXTRA"), "{page}");
+}
+
+/// Random bytes are refused as binary (INP003) whatever `--from` says, in one short error:
+/// not ENC003's "give --encoding", not a syntax error per line.
+#[test]
+fn binary_input_is_refused_as_binary() {
+    let random: Vec<u8> = (0u64..200_000)
+        .map(|i| (i.wrapping_mul(6_364_136_223_846_793_005) >> 29) as u8)
+        .collect();
+    for from in ["auto", "czech", "nc31", "iso", "fanuc"] {
+        for command in ["convert", "check"] {
+            let mut args = vec![command, "--from", from];
+            if command == "convert" {
+                args.extend(["--to", "iso"]);
+            }
+            let out = ncthread(&args, Some(&random));
+            assert_eq!(out.status.code(), Some(1), "{args:?}");
+            let said = text(&out.stderr) + &text(&out.stdout);
+            assert!(
+                said.contains("error[INP003]: <stdin> is binary"),
+                "{args:?}: {said}"
+            );
+            assert!(!said.contains("ENC003"), "{args:?}: {said}");
+            assert!(said.len() < 1000, "{args:?}: {} bytes", said.len());
+        }
+    }
+}
+
+/// Text that is no program has an error on nearly every line: at most `--max-errors N` (50 by
+/// default, 0 every one) are printed per file, then how many more there are; JSON prints
+/// every one.
+#[test]
+fn errors_stop_at_a_cap_with_a_count() {
+    // 500 lines of letters and digits: one НЦ-31 error each.
+    let mut seed = 7u64;
+    let mut junk = String::new();
+    for _ in 0..500 {
+        for _ in 0..30 {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            junk.push(b"ABCXYZ0123456789.;#%"[(seed >> 33) as usize % 20] as char);
+        }
+        junk.push('\n');
+    }
+    let errors = |s: &str| s.matches("error[").count();
+    let convert = |extra: &[&str]| {
+        let mut args = vec!["convert", "--from", "nc31", "--to", "iso"];
+        args.extend(extra);
+        let out = ncthread(&args, Some(junk.as_bytes()));
+        assert_eq!(out.status.code(), Some(1));
+        text(&out.stderr)
+    };
+    let all = errors(&convert(&["--max-errors", "0"]));
+    assert!(all >= 400, "{all}");
+    let capped = convert(&[]);
+    assert_eq!(errors(&capped), 50, "{capped}");
+    assert!(
+        capped.ends_with(&format!(
+            "note: {} more errors in <stdin> not shown (--max-errors 0 shows every one)\n",
+            all - 50
+        )),
+        "{capped}"
+    );
+    assert_eq!(errors(&convert(&["--max-errors", "3"])), 3);
+    let json = convert(&["--diagnostics", "json"]);
+    assert_eq!(json.lines().count(), all, "JSON is not capped");
+    let out = ncthread(&["check", "--from", "nc31"], Some(junk.as_bytes()));
+    assert_eq!(errors(&text(&out.stdout)), 50);
+    assert!(text(&out.stdout).contains("more errors in <stdin> not shown"));
+    // batch's one-line errors.
+    let dir = tempfile::tempdir().unwrap();
+    let src = dir.path().join("src");
+    std::fs::create_dir(&src).unwrap();
+    std::fs::write(src.join("junk.nc31"), &junk).unwrap();
+    let out = ncthread(
+        &[
+            "batch",
+            src.to_str().unwrap(),
+            dir.path().join("out").to_str().unwrap(),
+            "--from",
+            "nc31",
+            "--to",
+            "iso",
+            "--max-errors",
+            "10",
+        ],
+        None,
+    );
+    let err = text(&out.stderr);
+    assert_eq!(errors(&err), 10, "{err}");
+    assert!(
+        err.contains(&format!(
+            "note: {} more errors in {} not shown",
+            all - 10,
+            src.join("junk.nc31").display()
+        )),
+        "{err}"
+    );
+}
+
+/// A full disk on stdout (Linux's /dev/full): exit 2, in the one wording.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_stdout_is_exit_2() {
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ncthread"))
+        .args([
+            "convert",
+            "corpus/czech/ex3-taper.nc",
+            "--from",
+            "czech",
+            "--to",
+            "czech",
+        ])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(full)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        text(&out.stderr).ends_with("error: cannot write stdout: no space left on device\n"),
+        "{}",
+        text(&out.stderr)
+    );
+}

@@ -412,6 +412,10 @@ pub const EMPTY_INPUT: Code = error(
     "INP001",
     "the input holds no program (it is empty, or only blank lines): nothing to convert; a warning in `check`",
 );
+pub const BINARY_INPUT: Code = error(
+    "INP003",
+    "the input is binary (a NUL byte, or more than 1 % control bytes), not a program's text",
+);
 
 // shared by every target (legalise, lower)
 pub const SPINDLE_OFF: Code = error("LG001", "thread cut while the spindle is not turning");
@@ -560,6 +564,7 @@ pub const ALL: &[Code] = &[
     ENCODING_GUESSED,
     ENCODING_UNKNOWN,
     EMPTY_INPUT,
+    BINARY_INPUT,
     OTHER_DIALECT,
     SPINDLE_OFF,
     FEED_SPINDLE_OFF,

@@ -192,6 +192,59 @@ impl Diagnostic {
     }
 }
 
+impl Diagnostic {
+    /// The diagnostic [`Diagnostic::to_json_value`] wrote (a report read back by a later
+    /// run), or `None` when it is not one: an unknown code, a location that does not fit its
+    /// line. The range is found from the columns (characters) in the line.
+    pub fn from_json_value(v: &serde_json::Value) -> Option<Diagnostic> {
+        let id = v.get("code")?.as_str()?;
+        let code = *codes::ALL.iter().find(|c| c.id == id)?;
+        let severity = match v.get("severity")?.as_str()? {
+            "error" => Severity::Error,
+            "warning" => Severity::Warning,
+            _ => return None,
+        };
+        let text = |key: &str| v.get(key).and_then(|t| t.as_str()).map(str::to_string);
+        let number = |key: &str| {
+            v.get(key)
+                .and_then(|n| n.as_u64())
+                .and_then(|n| u32::try_from(n).ok())
+        };
+        let location = match (text("file"), number("line"), number("column")) {
+            (Some(file), Some(line), Some(column)) => {
+                let source_line = text("source_line")?;
+                let byte = |column: u32| {
+                    let chars = (column as usize).checked_sub(1)?;
+                    match source_line.char_indices().nth(chars) {
+                        Some((at, _)) => Some(at),
+                        None if source_line.chars().count() == chars => Some(source_line.len()),
+                        None => None,
+                    }
+                };
+                let start = byte(column)?;
+                let end = byte(number("end_column").unwrap_or(column))?.max(start);
+                Some(Location {
+                    file,
+                    line,
+                    column,
+                    source_line,
+                    range: start..end,
+                })
+            }
+            _ => None,
+        };
+        Some(Diagnostic {
+            code,
+            severity,
+            message: text("message")?,
+            location,
+            label: text("label"),
+            help: text("help"),
+            deviation: None,
+        })
+    }
+}
+
 /// How diagnostics are printed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Format {
@@ -216,6 +269,44 @@ pub fn render_all(diags: &[Diagnostic], format: Format, color: bool) -> String {
         }
     }
     out
+}
+
+/// The diagnostics to print when at most `max_errors` errors of each file are printed (0:
+/// every one), as clang's `-ferror-limit`: every warning and the first `max_errors` errors of
+/// each file, in their order; and per file (in order of appearance) how many errors were left
+/// out.
+pub fn cap(diags: &[Diagnostic], max_errors: usize) -> (Vec<&Diagnostic>, Vec<(String, usize)>) {
+    fn file(d: &Diagnostic) -> &str {
+        d.location.as_ref().map_or("", |l| l.file.as_str())
+    }
+    let mut shown: std::collections::HashMap<&str, usize> = Default::default();
+    let mut hidden: Vec<(String, usize)> = Vec::new();
+    let mut kept = Vec::new();
+    for d in diags {
+        if !d.is_error() || max_errors == 0 {
+            kept.push(d);
+            continue;
+        }
+        let count = shown.entry(file(d)).or_default();
+        *count += 1;
+        if *count <= max_errors {
+            kept.push(d);
+        } else if let Some((_, n)) = hidden.iter_mut().find(|(f, _)| f == file(d)) {
+            *n += 1;
+        } else {
+            hidden.push((file(d).to_string(), 1));
+        }
+    }
+    (kept, hidden)
+}
+
+/// The line that says how many errors of `file` [`cap`] left out.
+pub fn more_errors(file: &str, count: usize) -> String {
+    let file = if file.is_empty() { "the input" } else { file };
+    format!(
+        "note: {count} more error{} in {file} not shown (--max-errors 0 shows every one)",
+        if count == 1 { "" } else { "s" }
+    )
 }
 
 /// Orders diagnostics by file position (those without one first); stable otherwise.
@@ -252,6 +343,60 @@ mod tests {
         assert!(text.contains("2 | N30 Z3 F6.0 E12 G33"), "{text}");
         assert!(text.contains("^^^ needs a decimal point"), "{text}");
         assert!(text.contains("help: write `E12.`"), "{text}");
+    }
+
+    #[test]
+    fn errors_are_capped_per_file_and_counted() {
+        let at = |file: &str, line: u32, code| {
+            let src = SourceFile::new(file, "N10\nN20\nN30\nN40\n");
+            let span = src.span_in_line(src.line(line), 0..3);
+            Diagnostic::new(code, "x").at(&src, span)
+        };
+        let diags = vec![
+            at("a.nc", 1, codes::CZR_SYNTAX),
+            at("a.nc", 2, codes::CZR_AFTER_END),
+            at("a.nc", 3, codes::CZR_SYNTAX),
+            at("b.nc", 1, codes::CZR_SYNTAX),
+            at("a.nc", 4, codes::CZR_SYNTAX),
+        ];
+        let (kept, hidden) = cap(&diags, 1);
+        let lines: Vec<(&str, u32)> = kept
+            .iter()
+            .map(|d| {
+                let l = d.location.as_ref().unwrap();
+                (l.file.as_str(), l.line)
+            })
+            .collect();
+        // The warning stays; one error per file.
+        assert_eq!(lines, [("a.nc", 1), ("a.nc", 2), ("b.nc", 1)]);
+        assert_eq!(hidden, [("a.nc".to_string(), 2)]);
+        assert_eq!(
+            more_errors("a.nc", 2),
+            "note: 2 more errors in a.nc not shown (--max-errors 0 shows every one)"
+        );
+        let (kept, hidden) = cap(&diags, 0);
+        assert_eq!((kept.len(), hidden.len()), (5, 0));
+    }
+
+    #[test]
+    fn json_reads_back_as_it_was_written() {
+        let src = SourceFile::new("č.nc", "N10 \"Č\" F120.\n");
+        let span = src.span_in_line(src.line(1), 10..15);
+        let d = Diagnostic::new(codes::CZR_LEAD_TOO_LARGE, "lead too large")
+            .at(&src, span)
+            .label("here")
+            .help("write FR")
+            .as_warning();
+        let back = Diagnostic::from_json_value(&d.to_json_value()).unwrap();
+        assert_eq!(back, d);
+        assert_eq!(back.render(false), d.render(false));
+        let plain = Diagnostic::new(codes::EMPTY_INPUT, "empty");
+        assert_eq!(
+            Diagnostic::from_json_value(&plain.to_json_value()),
+            Some(plain)
+        );
+        let unknown = serde_json::json!({"code": "XX999", "severity": "error", "message": "?"});
+        assert_eq!(Diagnostic::from_json_value(&unknown), None);
     }
 
     #[test]

@@ -58,6 +58,18 @@ pub(crate) fn code_words(line: &str) -> Vec<String> {
         .collect()
 }
 
+/// Whether a line of `text` carries a dialect's mark (one that only it writes, or that two
+/// share, such as a `( )` comment after code): the text is written in some dialect.
+pub fn has_marks(text: &str) -> bool {
+    text.lines().map(str::trim).any(|line| {
+        !line.is_empty()
+            && line != "%"
+            && ALL
+                .iter()
+                .any(|d| d.claim_line(line).is_some_and(|c| c.mark == LineMark::Mark))
+    })
+}
+
 /// Chooses the dialect of `text`.
 pub fn detect(text: &str) -> Detection {
     let n = ALL.len();
