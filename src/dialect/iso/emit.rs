@@ -197,7 +197,7 @@ impl Emitter<'_> {
     fn speed_line(&mut self, text: &str, sets_speed: bool) {
         let feet = self.surface_feet && sets_speed;
         if feet {
-            self.line("G20 (the surface speed is in feet per minute)");
+            self.line("G20");
         }
         self.line(text);
         if feet {
