@@ -263,7 +263,8 @@ pub enum Interpreter {
     /// `scripts/rs274`, or `$NCTHREAD_RS274`).
     Wrapper(PathBuf),
     /// LinuxCNC's `rs274` itself, run as `rs274 -t TOOLS -g FILE` with a tool table of
-    /// tools 1–999 at zero offsets (rs274 refuses tools it does not know).
+    /// tools 1–999 at zero offsets (rs274 refuses tools it does not know), in a HOME of its
+    /// own (a temporary folder).
     Binary(PathBuf),
 }
 
@@ -332,6 +333,9 @@ impl Interpreter {
                 std::fs::write(&tools, table)
                     .map_err(|e| format!("cannot write {}: {e}", tools.display()))?;
                 let mut c = Command::new(bin);
+                // rs274 maps its tool table from `$HOME/.tool.mmap` and truncates the file at
+                // every start: a run sharing a HOME with another rs274 dies of SIGBUS.
+                c.env("HOME", dir.path());
                 c.arg("-t").arg(&tools).arg("-g").args(&switch).arg(&file);
                 Ok::<_, String>(c)
             }
@@ -729,6 +733,38 @@ fn without_rapid_to_rs274_start(mut segments: Vec<Segment>) -> Vec<Segment> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A stand-in for rs274 in `dir`: a shell script, copied into place by another process so
+    /// that no file this process has open for writing is executed ("text file busy").
+    #[cfg(unix)]
+    fn fake_rs274(dir: &Path, script: &str) -> PathBuf {
+        let text = dir.join("fake.sh");
+        std::fs::write(&text, script).unwrap();
+        let bin = dir.join("rs274");
+        let status = Command::new("sh")
+            .arg("-c")
+            .arg("cp \"$0\" \"$1\" && chmod +x \"$1\"")
+            .arg(&text)
+            .arg(&bin)
+            .status()
+            .unwrap();
+        assert!(status.success());
+        bin
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn the_binary_runs_in_a_home_of_its_own() {
+        let dir = tempfile::tempdir().unwrap();
+        // Called as `rs274 -t TOOLS -g FILE`: HOME must be the run's own folder, FILE's.
+        let bin = fake_rs274(
+            dir.path(),
+            "#!/bin/sh\n\
+             [ \"$HOME\" = \"$(dirname \"$4\")\" ] || { echo \"HOME is $HOME\" >&2; exit 1; }\n\
+             echo '    1 N..... PROGRAM_END()'\n",
+        );
+        assert_eq!(Interpreter::Binary(bin).run("M2\n"), Ok(Vec::new()));
+    }
 
     #[test]
     fn reads_rs274_lines() {

@@ -199,10 +199,7 @@ impl FrontEnd<'_> {
                 let (x, z) = c.current(self.axis_offset);
                 (Some(x), Some(z))
             }
-            None => (
-                x.map(|x| (x - dx) / 2.0 / unit),
-                z.map(|z| (z - dz) / unit),
-            ),
+            None => (x.map(|x| (x - dx) / 2.0 / unit), z.map(|z| (z - dz) / unit)),
         };
         Scope {
             params,
@@ -826,7 +823,21 @@ impl FrontEnd<'_> {
                     skip(params)?
                 }
             }
-            (Keyword::Break | Keyword::Continue, Some(Flow::Break { start, repeat: true, .. } | Flow::Continue { start, repeat: true, .. })) => {
+            (
+                Keyword::Break | Keyword::Continue,
+                Some(
+                    Flow::Break {
+                        start,
+                        repeat: true,
+                        ..
+                    }
+                    | Flow::Continue {
+                        start,
+                        repeat: true,
+                        ..
+                    },
+                ),
+            ) => {
                 return Err(not_a_loop(*start));
             }
             (Keyword::Break, Some(Flow::Break { .. })) => {
