@@ -55,6 +55,10 @@ struct Emitter<'a> {
     round: bool,
 }
 
+/// The diameter signs a comment may use (`Ø20`, `⌀20`, `∅20`): written `D`, as ncthread's own
+/// comments in ASCII say a diameter (`D20`), not `O` (which reads as a zero).
+const DIAMETER_SIGNS: [char; 4] = ['Ø', 'ø', '⌀', '∅'];
+
 /// Upper-case ASCII comment text without parentheses. **[decided]**
 pub(crate) fn comment_text(text: &str) -> String {
     let ascii: String = one_line(text)
@@ -62,6 +66,8 @@ pub(crate) fn comment_text(text: &str) -> String {
         .map(|c| {
             if c.is_ascii() {
                 c.to_string()
+            } else if DIAMETER_SIGNS.contains(&c) {
+                "D".to_string()
             } else {
                 deunicode::deunicode_char(c)
                     .filter(|t| t.is_ascii())
@@ -838,7 +844,8 @@ mod tests {
 
     #[test]
     fn comments_are_upper_case_ascii_without_parentheses() {
-        assert_eq!(comment_text("závit (Ø20) ok"), "ZAVIT [O20] OK");
+        assert_eq!(comment_text("závit (Ø20) ok"), "ZAVIT [D20] OK");
+        assert_eq!(comment_text("ø10 ⌀12 ∅14"), "D10 D12 D14");
         assert_eq!(comment_text("50% ; x"), "50 PCT , X");
     }
 
