@@ -140,6 +140,9 @@ fn transliterate(text: &str) -> (String, Transliteration) {
     (ascii, how)
 }
 
+/// How much of a transliterated comment its warning shows, in characters.
+const EXAMPLE_CHARS: usize = 80;
+
 /// The comments of one kind of [`Transliteration`] in a program: how many, and the first
 /// (where, as written, as the FANUC program has it).
 #[derive(Default)]
@@ -169,10 +172,15 @@ impl Transliterated {
             1 => String::new(),
             n => format!(" ({n} comments, the first shown)"),
         };
+        // A long comment is shown by its start (the marked line holds all of it).
+        let short = |s: &str| match s.char_indices().nth(EXAMPLE_CHARS) {
+            Some((end, _)) => format!("{}…", &s[..end]),
+            None => s.to_string(),
+        };
         Some(
             Diagnostic::new(
                 codes::FANW_TRANSLITERATED,
-                format!("{what}: `{text}` → `{ascii}`{many}"),
+                format!("{what}: `{}` → `{}`{many}", short(text), short(ascii)),
             )
             .at(src, at)
             .help(help),
@@ -1044,6 +1052,24 @@ mod tests {
                     2
                 ),
             ]
+        );
+        // A long comment is shown by its start.
+        let long = "Závit ".repeat(EXAMPLE_CHARS / 6 + 1);
+        let src = SourceFile::new("t.ngc", format!("({long})\nM2\n"));
+        let (program, _) = crate::parse(
+            &src,
+            crate::dialect::iso::ID,
+            &Profile::default(),
+            crate::dialect::Unsupported::Error,
+        );
+        let (_, diags) = emit(&program, &src, &Profile::default(), false);
+        assert_eq!(
+            diags[0].message,
+            format!(
+                "comment text transliterated to ASCII: `{}…` → `{}…`",
+                &long[..long.char_indices().nth(EXAMPLE_CHARS).unwrap().0],
+                &"ZAVIT ".repeat(EXAMPLE_CHARS / 6 + 1)[..EXAMPLE_CHARS]
+            )
         );
         assert_eq!(
             codes::FANW_TRANSLITERATED.severity,
