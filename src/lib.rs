@@ -377,8 +377,9 @@ pub enum OracleOutcome {
         partial: bool,
     },
     Different(Box<sim::Difference>),
-    /// rs274 refused the program or could not be run.
-    Failed(String),
+    /// rs274 refused the program, could not be run, or crashed on every try
+    /// ([`sim::rs274::RunError::is_crash`]).
+    Failed(sim::rs274::RunError),
     /// The comparison cannot decide (why).
     CannotJudge(String),
 }

@@ -700,6 +700,9 @@ struct Tally {
     conversions: usize,
     proved: usize,
     rs274: usize,
+    /// Runs of rs274 killed by a signal on every try: a crash of the interpreter, never a
+    /// finding (it says nothing of ncthread's program).
+    crashes: usize,
 }
 
 fn options(from: DialectId, to: DialectId, profile: &Profile, round: bool) -> ConvertOptions {
@@ -749,7 +752,13 @@ fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, Strin
                                 .message
                                 .contains("takes the contour's end for the tool's position")
                     })
-                    && rs274.run(&src.text).is_ok()
+                    && match rs274.run(&src.text) {
+                        Ok(_) => true,
+                        Err(e) => {
+                            tally.crashes += usize::from(e.is_crash());
+                            false
+                        }
+                    }
                 {
                     return Err(format!(
                         "ncthread refuses a roughing cycle that LinuxCNC runs: {:?}",
@@ -791,6 +800,7 @@ fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, Strin
                 match &check.outcome {
                     OracleOutcome::Equivalent { .. } => tally.rs274 += 1,
                     OracleOutcome::CannotJudge(_) => {}
+                    OracleOutcome::Failed(e) if e.is_crash() => tally.crashes += 1,
                     other => {
                         return Err(format!("{route}: {}: {other:?}\n{output}", check.what));
                     }
@@ -802,19 +812,31 @@ fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, Strin
                 && let Some(rs274) = rs274
                 && let Ok(ngc) = common::fanuc::translate(&output, false)
             {
-                let canon = rs274.run(&ngc).map_err(|e| {
-                    format!("{route}: rs274 refuses the translation of the output: {e}\n{ngc}")
-                })?;
-                let (program, _) = ncthread::parse(&src, input.from, &profile, Unsupported::Error);
-                let sim = ncthread::sim::simulate(&program);
-                match ncthread::sim::rs274::judge(&sim.segments, &canon) {
-                    ncthread::sim::rs274::Judgement::Differs(d) => {
+                let canon = match rs274.run(&ngc) {
+                    Ok(canon) => Some(canon),
+                    Err(e) if e.is_crash() => {
+                        tally.crashes += 1;
+                        None
+                    }
+                    Err(e) => {
                         return Err(format!(
-                            "{route}: rs274 cuts the output's translation otherwise: {d:?}\n{output}\n{ngc}"
+                            "{route}: rs274 refuses the translation of the output: {e}\n{ngc}"
                         ));
                     }
-                    ncthread::sim::rs274::Judgement::Agrees { .. } => tally.rs274 += 1,
-                    ncthread::sim::rs274::Judgement::CannotJudge(_) => {}
+                };
+                if let Some(canon) = canon {
+                    let (program, _) =
+                        ncthread::parse(&src, input.from, &profile, Unsupported::Error);
+                    let sim = ncthread::sim::simulate(&program);
+                    match ncthread::sim::rs274::judge(&sim.segments, &canon) {
+                        ncthread::sim::rs274::Judgement::Differs(d) => {
+                            return Err(format!(
+                                "{route}: rs274 cuts the output's translation otherwise: {d:?}\n{output}\n{ngc}"
+                            ));
+                        }
+                        ncthread::sim::rs274::Judgement::Agrees { .. } => tally.rs274 += 1,
+                        ncthread::sim::rs274::Judgement::CannotJudge(_) => {}
+                    }
                 }
             }
             let again = ncthread::convert(
@@ -929,6 +951,7 @@ fn run(name: &str, strategy: impl Strategy<Value = Input>, rs274: Option<Interpr
                     totals.tally.conversions += t.conversions;
                     totals.tally.proved += t.proved;
                     totals.tally.rs274 += t.rs274;
+                    totals.tally.crashes += t.crashes;
                     Ok(())
                 }
                 Err(why) => Err(TestCaseError::fail(why)),
@@ -963,11 +986,12 @@ fn run(name: &str, strategy: impl Strategy<Value = Input>, rs274: Option<Interpr
     }
     let totals = totals.into_inner();
     eprintln!(
-        "fuzz {name}: {} inputs, {} conversions, {} proved (verify + idempotent), {} judged by rs274, {} findings, {:.1} s",
+        "fuzz {name}: {} inputs, {} conversions, {} proved (verify + idempotent), {} judged by rs274, {} rs274 crashes (not findings), {} findings, {:.1} s",
         totals.inputs,
         totals.tally.conversions,
         totals.tally.proved,
         totals.tally.rs274,
+        totals.tally.crashes,
         findings.len(),
         started.elapsed().as_secs_f64()
     );
@@ -1035,6 +1059,37 @@ fn mutated_corpus_files() {
 #[test]
 fn arbitrary_bytes() {
     run("bytes", arbitrary(), None);
+}
+
+/// An interpreter that crashes (rs274 killed by a signal on every try, as when another rs274
+/// truncated the tool table file it maps) judges nothing: the harness keeps no finding.
+#[cfg(unix)]
+#[test]
+fn an_oracle_crash_is_no_finding() {
+    let dir = tempfile::tempdir().unwrap();
+    let script = dir.path().join("crash.sh");
+    std::fs::write(&script, "#!/bin/sh\nulimit -c 0\nkill -s BUS $$\n").unwrap();
+    // Copied into place by another process, so that no file this one holds open for writing
+    // is executed ("text file busy").
+    let bin = dir.path().join("rs274");
+    let copied = std::process::Command::new("sh")
+        .arg("-c")
+        .arg("cp \"$0\" \"$1\" && chmod +x \"$1\"")
+        .arg(&script)
+        .arg(&bin)
+        .status()
+        .unwrap();
+    assert!(copied.success());
+    let input = Input {
+        from: ncthread::dialect::iso::ID,
+        bytes: b"G21 G18 G90 G95\nM3 S500\nG0 X22 Z5\nG33 Z-20 K1.5\nG0 X25\nZ5\nM5\nM2\n".to_vec(),
+        profile: None,
+    };
+    let tally = guarded(&input, Some(Interpreter::Wrapper(bin))).unwrap();
+    // The source runs in rs274 for every ISO route, and the FANUC output's translation too.
+    assert!(tally.crashes >= 4, "{tally:?}");
+    assert_eq!(tally.rs274, 0, "{tally:?}");
+    assert!(tally.proved >= 4, "{tally:?}");
 }
 
 /// The harness's own findings (`corpus/fuzz/`, see its README) stay fixed.

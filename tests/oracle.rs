@@ -584,3 +584,97 @@ fn rs274_runs_the_iso_output_as_it_runs_the_iso_source() {
         "{programs} programs, {compensated} compensated"
     );
 }
+
+/// `scripts/rs274` runs beside any other rs274 on the machine. LinuxCNC's rs274 maps its tool
+/// table from `$HOME/.tool.mmap` and truncates that file at every start, so two runs that share
+/// a HOME kill each other with SIGBUS (issue 30: `cargo test` failed while another rs274 ran);
+/// the script gives each run a HOME of its own. The script and the other rs274 here share a
+/// HOME made for the test, so that the other rs274 crashes no one else's run on the machine.
+#[cfg(unix)]
+#[test]
+fn scripts_rs274_runs_beside_another_rs274() {
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::{Command, Stdio};
+    use std::sync::atomic::{AtomicBool, Ordering};
+    if rs274().is_none() {
+        return;
+    }
+    let script = common::root().join("scripts/rs274");
+    let install = Command::new(&script).arg("--install").output().unwrap();
+    if !install.status.success() && std::env::var_os("NCTHREAD_RS274").is_some() {
+        eprintln!("scripts/rs274 cannot install an interpreter here: not checked");
+        return;
+    }
+    assert!(install.status.success(), "{install:?}");
+    let bin = std::path::PathBuf::from(String::from_utf8(install.stdout).unwrap().trim());
+    let program = common::root().join("corpus/iso/part-shaft-m20.ngc");
+    let dir = tempfile::tempdir().unwrap();
+    let home = dir.path().join("home");
+    std::fs::create_dir(&home).unwrap();
+    // The script's cache (HOME would move it): the one that holds `root/usr/bin/rs274`, else
+    // (an rs274 on the PATH) one for the tool table alone.
+    let cache = match bin.ancestors().nth(4) {
+        Some(cache) if bin.ends_with("root/usr/bin/rs274") => cache.to_path_buf(),
+        _ => dir.path().join("cache"),
+    };
+    let tools = dir.path().join("tools.tbl");
+    std::fs::write(
+        &tools,
+        (1..=999)
+            .map(|i| format!("T{i} P{i} X0 Z0 D0 ;\n"))
+            .collect::<String>(),
+    )
+    .unwrap();
+    // The other rs274 runs as LinuxCNC's users run it: in its HOME, which the script shares.
+    let usr = bin.parent().and_then(|p| p.parent()).unwrap().to_path_buf();
+    let stop = AtomicBool::new(false);
+    let failures = std::thread::scope(|s| {
+        s.spawn(|| {
+            while !stop.load(Ordering::Relaxed) {
+                let _ = Command::new(&bin)
+                    .env("HOME", &home)
+                    .env(
+                        "LD_LIBRARY_PATH",
+                        format!(
+                            "{}:{}",
+                            usr.join("lib").display(),
+                            usr.join("lib/x86_64-linux-gnu").display()
+                        ),
+                    )
+                    .arg("-t")
+                    .arg(&tools)
+                    .arg("-g")
+                    .arg(&program)
+                    .stdout(Stdio::null())
+                    .stderr(Stdio::null())
+                    .status();
+            }
+        });
+        let failures: Vec<String> = (0..100)
+            .filter_map(|_| {
+                let out = Command::new(&script)
+                    .env("HOME", &home)
+                    .env("NCTHREAD_RS274_CACHE", &cache)
+                    .arg(&program)
+                    .output()
+                    .unwrap();
+                (!out.status.success()).then(|| {
+                    format!(
+                        "exit {:?}, signal {:?}: {}",
+                        out.status.code(),
+                        out.status.signal(),
+                        String::from_utf8_lossy(&out.stderr)
+                    )
+                })
+            })
+            .collect();
+        stop.store(true, Ordering::Relaxed);
+        failures
+    });
+    assert!(
+        failures.is_empty(),
+        "{} of 100 runs failed beside another rs274:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}

@@ -363,6 +363,10 @@ pub const FANW_INDEX_WAIT: Code = error(
     "FANW007",
     "a pass that waits for the index pulse where another thread move ended (consecutive G32 blocks continue)",
 );
+pub const FANW_TRANSLITERATED: Code = warning(
+    "FANW008",
+    "comment text transliterated to ASCII (a FANUC comment is upper-case ASCII): accents dropped, other scripts romanised",
+);
 
 // nc31 target
 pub const NCW_PRECISION: Code = error(
@@ -559,6 +563,7 @@ pub const ALL: &[Code] = &[
     FANW_ROUNDED,
     FANW_TOOL,
     FANW_INDEX_WAIT,
+    FANW_TRANSLITERATED,
     NCW_NOTHING,
     ENCODING,
     ENCODING_GUESSED,

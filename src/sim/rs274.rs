@@ -247,6 +247,88 @@ fn run_bounded(
     })
 }
 
+/// How many runs [`Interpreter::run_with`] makes of a program while rs274 is killed by a
+/// signal. A crash says nothing of the program: LinuxCNC's rs274 dies of SIGBUS when another
+/// rs274 in the same HOME truncates the tool table file they both map (`$HOME/.tool.mmap`).
+pub const TRIES: u32 = 3;
+
+/// Why a run of LinuxCNC's interpreter gave no canonical calls.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum RunError {
+    /// rs274 refused the program (its exit code and complaint), or stopped before its end.
+    Refused(String),
+    /// rs274 was killed by `signal` on each of `tries` runs: the interpreter crashed, which
+    /// says nothing of the program.
+    Killed { signal: i32, tries: u32 },
+    /// The interpreter could not be run, or did not finish in time.
+    CannotRun(String),
+}
+
+impl RunError {
+    /// The interpreter crashed: no judgement of the program.
+    pub fn is_crash(&self) -> bool {
+        matches!(self, RunError::Killed { .. })
+    }
+}
+
+impl std::fmt::Display for RunError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RunError::Refused(why) | RunError::CannotRun(why) => f.write_str(why),
+            RunError::Killed { signal, tries } => {
+                write!(f, "rs274 was killed by signal {signal}")?;
+                if let Some(name) = signal_name(*signal) {
+                    write!(f, " ({name})")?;
+                }
+                if *tries > 1 {
+                    write!(f, " on each of {tries} runs")?;
+                }
+                f.write_str(": LinuxCNC's interpreter crashed, which says nothing of the program")
+            }
+        }
+    }
+}
+
+/// The signal that killed a process, if one did.
+#[cfg(unix)]
+fn killed_by(status: &std::process::ExitStatus) -> Option<i32> {
+    std::os::unix::process::ExitStatusExt::signal(status)
+}
+
+#[cfg(not(unix))]
+fn killed_by(_: &std::process::ExitStatus) -> Option<i32> {
+    None
+}
+
+/// A signal's name (`SIGBUS`), for the signals a crashed or stopped process dies of.
+#[cfg(unix)]
+fn signal_name(signal: i32) -> Option<&'static str> {
+    Some(match signal {
+        libc::SIGHUP => "SIGHUP",
+        libc::SIGINT => "SIGINT",
+        libc::SIGQUIT => "SIGQUIT",
+        libc::SIGILL => "SIGILL",
+        libc::SIGTRAP => "SIGTRAP",
+        libc::SIGABRT => "SIGABRT",
+        libc::SIGBUS => "SIGBUS",
+        libc::SIGFPE => "SIGFPE",
+        libc::SIGKILL => "SIGKILL",
+        libc::SIGSEGV => "SIGSEGV",
+        libc::SIGPIPE => "SIGPIPE",
+        libc::SIGALRM => "SIGALRM",
+        libc::SIGTERM => "SIGTERM",
+        libc::SIGXCPU => "SIGXCPU",
+        libc::SIGXFSZ => "SIGXFSZ",
+        libc::SIGSYS => "SIGSYS",
+        _ => return None,
+    })
+}
+
+#[cfg(not(unix))]
+fn signal_name(_: i32) -> Option<&'static str> {
+    None
+}
+
 /// The machine's settings a run of LinuxCNC's interpreter follows.
 #[derive(Clone, Debug, Default)]
 pub struct Settings {
@@ -263,7 +345,8 @@ pub enum Interpreter {
     /// `scripts/rs274`, or `$NCTHREAD_RS274`).
     Wrapper(PathBuf),
     /// LinuxCNC's `rs274` itself, run as `rs274 -t TOOLS -g FILE` with a tool table of
-    /// tools 1–999 at zero offsets (rs274 refuses tools it does not know).
+    /// tools 1–999 at zero offsets (rs274 refuses tools it does not know), in a HOME of its
+    /// own (a temporary folder).
     Binary(PathBuf),
 }
 
@@ -282,15 +365,17 @@ impl Interpreter {
 
     /// Runs the interpreter on `program`: its canonical calls, or its complaint when it
     /// refuses the program (or cannot be run).
-    pub fn run(&self, program: &str) -> Result<Vec<Canon>, String> {
+    pub fn run(&self, program: &str) -> Result<Vec<Canon>, RunError> {
         self.run_with(program, &Settings::default())
     }
 
     /// [`Interpreter::run`] with the machine's settings: the block delete switch (`rs274
-    /// -b`) and the folders of subroutine files (an INI file's `SUBROUTINE_PATH`).
-    pub fn run_with(&self, program: &str, settings: &Settings) -> Result<Vec<Canon>, String> {
-        let dir =
-            tempfile::tempdir().map_err(|e| format!("cannot make a temporary folder: {e}"))?;
+    /// -b`) and the folders of subroutine files (an INI file's `SUBROUTINE_PATH`). A run
+    /// killed by a signal is tried again, up to [`TRIES`] runs in all.
+    pub fn run_with(&self, program: &str, settings: &Settings) -> Result<Vec<Canon>, RunError> {
+        let cannot = RunError::CannotRun;
+        let dir = tempfile::tempdir()
+            .map_err(|e| cannot(format!("cannot make a temporary folder: {e}")))?;
         let mut switch: Vec<std::ffi::OsString> = Vec::new();
         if settings.block_delete {
             switch.push("-b".into());
@@ -311,33 +396,48 @@ impl Interpreter {
                 &ini,
                 format!("[RS274NGC]\nSUBROUTINE_PATH = {}\n", folders.join(":")),
             )
-            .map_err(|e| format!("cannot write {}: {e}", ini.display()))?;
+            .map_err(|e| cannot(format!("cannot write {}: {e}", ini.display())))?;
             switch.push("-i".into());
             switch.push(ini.into_os_string());
         }
         let file = dir.path().join("program.ngc");
         std::fs::write(&file, program)
-            .map_err(|e| format!("cannot write {}: {e}", file.display()))?;
-        let command = match self {
+            .map_err(|e| cannot(format!("cannot write {}: {e}", file.display())))?;
+        let tools = dir.path().join("tools.tbl");
+        if let Interpreter::Binary(_) = self {
+            let table: String = (1..=999)
+                .map(|i| format!("T{i} P{i} X0 Z0 D0 ;\n"))
+                .collect();
+            std::fs::write(&tools, table)
+                .map_err(|e| cannot(format!("cannot write {}: {e}", tools.display())))?;
+        }
+        let command = || match self {
             Interpreter::Wrapper(cmd) => {
                 let mut c = Command::new(cmd);
                 c.args(&switch).arg(&file);
-                Ok(c)
+                c
             }
             Interpreter::Binary(bin) => {
-                let tools = dir.path().join("tools.tbl");
-                let table: String = (1..=999)
-                    .map(|i| format!("T{i} P{i} X0 Z0 D0 ;\n"))
-                    .collect();
-                std::fs::write(&tools, table)
-                    .map_err(|e| format!("cannot write {}: {e}", tools.display()))?;
                 let mut c = Command::new(bin);
+                // rs274 maps its tool table from `$HOME/.tool.mmap` and truncates the file at
+                // every start: a run sharing a HOME with another rs274 dies of SIGBUS.
+                c.env("HOME", dir.path());
                 c.arg("-t").arg(&tools).arg("-g").args(&switch).arg(&file);
-                Ok::<_, String>(c)
+                c
             }
-        }?;
-        let out = run_bounded(command, RUN_LIMIT)
-            .map_err(|e| format!("cannot run {}: {e}", self.path().display()))?;
+        };
+        let mut tries = 0;
+        let out = loop {
+            tries += 1;
+            let out = run_bounded(command(), RUN_LIMIT)
+                .map_err(|e| cannot(format!("cannot run {}: {e}", self.path().display())))?;
+            match killed_by(&out.status) {
+                // A crash of the interpreter, not a judgement of the program: once more.
+                Some(_) if tries < TRIES => {}
+                Some(signal) => return Err(RunError::Killed { signal, tries }),
+                None => break out,
+            }
+        };
         let stderr = String::from_utf8_lossy(&out.stderr);
         let stdout = String::from_utf8_lossy(&out.stdout);
         let complaint: Vec<&str> = stderr
@@ -349,14 +449,16 @@ impl Interpreter {
             .first()
             .is_some_and(|c| c.starts_with("File ended with no percent sign"));
         if (!out.status.success() || !complaint.is_empty()) && !ran_to_the_end {
-            return Err(format!(
+            return Err(RunError::Refused(format!(
                 "rs274 exit {:?}: {}",
                 out.status.code(),
                 complaint.join("\n")
-            ));
+            )));
         }
         if !ran_to_the_end && !stdout.contains("FINISH()") && !stdout.contains("PROGRAM_END()") {
-            return Err("rs274 did not reach the end of the program".into());
+            return Err(RunError::Refused(
+                "rs274 did not reach the end of the program".into(),
+            ));
         }
         Ok(without_axis_offsets(stdout.lines().filter_map(parse_canon)))
     }
@@ -735,6 +837,107 @@ fn without_rapid_to_rs274_start(mut segments: Vec<Segment>) -> Vec<Segment> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A stand-in for rs274 in `dir`: a shell script, copied into place by another process so
+    /// that no file this process has open for writing is executed ("text file busy").
+    #[cfg(unix)]
+    fn fake_rs274(dir: &Path, script: &str) -> PathBuf {
+        let text = dir.join("fake.sh");
+        std::fs::write(&text, script).unwrap();
+        let bin = dir.join("rs274");
+        let status = Command::new("sh")
+            .arg("-c")
+            .arg("cp \"$0\" \"$1\" && chmod +x \"$1\"")
+            .arg(&text)
+            .arg(&bin)
+            .status()
+            .unwrap();
+        assert!(status.success());
+        bin
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn the_binary_runs_in_a_home_of_its_own() {
+        let dir = tempfile::tempdir().unwrap();
+        // Called as `rs274 -t TOOLS -g FILE`: HOME must be the run's own folder, FILE's.
+        let bin = fake_rs274(
+            dir.path(),
+            "#!/bin/sh\n\
+             [ \"$HOME\" = \"$(dirname \"$4\")\" ] || { echo \"HOME is $HOME\" >&2; exit 1; }\n\
+             echo '    1 N..... PROGRAM_END()'\n",
+        );
+        assert_eq!(Interpreter::Binary(bin).run("M2\n"), Ok(Vec::new()));
+    }
+
+    /// A stand-in that dies of SIGBUS on its first `crashes` runs (counted in a file beside it).
+    #[cfg(unix)]
+    fn crashing_rs274(dir: &Path, crashes: u32) -> PathBuf {
+        fake_rs274(
+            dir,
+            &format!(
+                "#!/bin/sh\n\
+                 n=$(cat \"$0.runs\" 2>/dev/null || echo 0); n=$((n + 1)); echo $n >\"$0.runs\"\n\
+                 if [ $n -le {crashes} ]; then ulimit -c 0; kill -s BUS $$; fi\n\
+                 echo '    1 N..... STRAIGHT_TRAVERSE(9.0000, 0.0000, 4.5000, 0.0000, 0.0000, 0.0000)'\n\
+                 echo '    2 N..... PROGRAM_END()'\n"
+            ),
+        )
+    }
+
+    #[cfg(unix)]
+    fn runs(bin: &Path) -> String {
+        std::fs::read_to_string(bin.with_extension("runs")).unwrap_or_default()
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_run_killed_by_a_signal_is_run_again() {
+        let dir = tempfile::tempdir().unwrap();
+        let bin = crashing_rs274(dir.path(), TRIES - 1);
+        assert_eq!(
+            Interpreter::Wrapper(bin.clone()).run("M2\n"),
+            Ok(vec![Canon::Traverse { x: 18.0, z: 4.5 }])
+        );
+        assert_eq!(runs(&bin).trim(), TRIES.to_string());
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_run_killed_every_time_names_the_signal() {
+        let dir = tempfile::tempdir().unwrap();
+        let bin = crashing_rs274(dir.path(), u32::MAX);
+        let e = Interpreter::Wrapper(bin.clone()).run("M2\n").unwrap_err();
+        assert_eq!(
+            e,
+            RunError::Killed {
+                signal: libc::SIGBUS,
+                tries: TRIES
+            }
+        );
+        assert!(e.is_crash());
+        assert!(
+            e.to_string().starts_with(&format!(
+                "rs274 was killed by signal {} (SIGBUS) on each of 3 runs",
+                libc::SIGBUS
+            )),
+            "{e}"
+        );
+        assert_eq!(runs(&bin).trim(), TRIES.to_string());
+        // A refusal is no crash, and is not run again.
+        let dir = tempfile::tempdir().unwrap();
+        let bin = fake_rs274(
+            dir.path(),
+            "#!/bin/sh\necho run >>\"$0.runs\"\necho 'Unknown g code' >&2\nexit 1\n",
+        );
+        let e = Interpreter::Wrapper(bin.clone()).run("G999\n").unwrap_err();
+        assert_eq!(
+            e,
+            RunError::Refused("rs274 exit Some(1): Unknown g code".into())
+        );
+        assert!(!e.is_crash());
+        assert_eq!(runs(&bin), "run\n");
+    }
 
     #[test]
     fn reads_rs274_lines() {

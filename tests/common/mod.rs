@@ -204,7 +204,7 @@ pub fn rs274() -> Option<&'static Path> {
 }
 
 /// Runs rs274 on `ngc`; Err with rs274's complaint when it refuses the program.
-pub fn run_rs274(cmd: &Path, ngc: &str) -> Result<Vec<Canon>, String> {
+pub fn run_rs274(cmd: &Path, ngc: &str) -> Result<Vec<Canon>, ncthread::sim::rs274::RunError> {
     ncthread::sim::rs274::Interpreter::Wrapper(cmd.to_path_buf()).run(ngc)
 }
 

@@ -19,7 +19,7 @@ use crate::ir::{
 };
 use crate::lower;
 use crate::profile::{Profile, ToolOffset};
-use crate::source::SourceFile;
+use crate::source::{SourceFile, Span};
 
 /// How the header comment of a program ncthread wrote ends.
 pub(crate) const HEADER_END: &str = ", CONVERTED BY NCTHREAD";
@@ -31,6 +31,9 @@ struct Block {
     comment: Option<String>,
     /// The block holds a motion word (a second motion starts a new block).
     moves: bool,
+    /// The comment is ncthread's own text (a cycle's summary and pass headings), not the
+    /// program's: its transliteration (`°` → `DEG`) is not reported.
+    own_comment: bool,
 }
 
 struct Emitter<'a> {
@@ -49,30 +52,81 @@ struct Emitter<'a> {
     /// The last S written, and a G96/G97 of this block that still needs its S.
     speed: Option<u32>,
     speed_word: Option<Item>,
-    /// Comments met inside a G32 chain, written after it.
-    deferred: Vec<String>,
+    /// Comments met inside a G32 chain (with the span of their item), written after it.
+    deferred: Vec<(String, Span)>,
+    /// The span of the item being written: where a comment's transliteration is reported.
+    at: Span,
+    /// Comments whose Latin letters lost their accents (or symbols were spelled), and
+    /// comments in another script, romanised.
+    latin: Transliterated,
+    script: Transliterated,
     inexact: Inexact,
     round: bool,
 }
 
+/// The diameter signs a comment may use (`Ø20`, `⌀20`, `∅20`): written `D`, as ncthread's own
+/// comments in ASCII say a diameter (`D20`), not `O` (which reads as a zero).
+const DIAMETER_SIGNS: [char; 4] = ['Ø', 'ø', '⌀', '∅'];
+
+/// What writing a comment in ASCII changed, beyond the diameter sign, the letter case and the
+/// characters a FANUC comment cannot hold.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Transliteration {
+    /// A Latin letter lost its accent (`Č` → `C`), or a symbol was spelled in ASCII (`°` →
+    /// `deg`) or became `?`.
+    latin: bool,
+    /// A letter of another script (Cyrillic, Greek, Chinese…) was romanised (`Резьба` →
+    /// `Rez'ba`).
+    script: bool,
+}
+
+/// A letter of the Latin script (ASCII, the Latin-1 letters, Latin Extended, fullwidth
+/// Latin): one whose ASCII form is the same letter without its accent.
+fn latin(c: char) -> bool {
+    matches!(c,
+        '\0'..='\u{24F}'
+        | '\u{250}'..='\u{2AF}'
+        | '\u{1D00}'..='\u{1DBF}'
+        | '\u{1E00}'..='\u{1EFF}'
+        | '\u{2C60}'..='\u{2C7F}'
+        | '\u{A720}'..='\u{A7FF}'
+        | '\u{AB30}'..='\u{AB6F}'
+        | '\u{FB00}'..='\u{FB06}'
+        | '\u{FF21}'..='\u{FF3A}'
+        | '\u{FF41}'..='\u{FF5A}')
+}
+
 /// Upper-case ASCII comment text without parentheses. **\[decided\]**
 pub(crate) fn comment_text(text: &str) -> String {
-    let ascii: String = one_line(text)
-        .chars()
-        .map(|c| {
-            if c.is_ascii() {
-                c.to_string()
+    transliterate(text).0
+}
+
+/// [`comment_text`], and what became ASCII on the way: a diameter sign is `D`; any other
+/// character outside ASCII is deunicode's transliteration (`?` where it has none).
+fn transliterate(text: &str) -> (String, Transliteration) {
+    let mut how = Transliteration::default();
+    let mut ascii = String::new();
+    for c in one_line(text).chars() {
+        if c.is_ascii() {
+            ascii.push(c);
+        } else if DIAMETER_SIGNS.contains(&c) {
+            ascii.push('D');
+        } else {
+            if c.is_alphabetic() && !latin(c) {
+                how.script = true;
             } else {
+                how.latin = true;
+            }
+            ascii.push_str(
                 deunicode::deunicode_char(c)
                     .filter(|t| t.is_ascii())
-                    .unwrap_or("?")
-                    .to_string()
-            }
-        })
-        .collect();
+                    .unwrap_or("?"),
+            );
+        }
+    }
     // `%` ends the tape (a control stops reading there, inside a comment too), `;` is the
     // end of block as the control shows it.
-    ascii
+    let ascii = ascii
         .to_ascii_uppercase()
         .replace('(', "[")
         .replace(')', "]")
@@ -82,7 +136,56 @@ pub(crate) fn comment_text(text: &str) -> String {
         .map(|c| if c.is_ascii_control() { ' ' } else { c })
         .collect::<String>()
         .trim()
-        .to_string()
+        .to_string();
+    (ascii, how)
+}
+
+/// How much of a transliterated comment its warning shows, in characters.
+const EXAMPLE_CHARS: usize = 80;
+
+/// The comments of one kind of [`Transliteration`] in a program: how many, and the first
+/// (where, as written, as the FANUC program has it).
+#[derive(Default)]
+struct Transliterated {
+    count: usize,
+    first: Option<(Span, String, String)>,
+}
+
+impl Transliterated {
+    fn note(&mut self, at: Span, text: &str, ascii: &str) {
+        self.count += 1;
+        if self.first.is_none() {
+            self.first = Some((at, one_line(text), ascii.to_string()));
+        }
+    }
+
+    /// The one warning of a program: the count and the first example.
+    fn diagnostic(&self, src: &SourceFile, what: &str, help: &str) -> Option<Diagnostic> {
+        let (at, text, ascii) = self.first.as_ref()?;
+        // The comment itself where its line holds it as written, else its item.
+        let line = src.line(at.line);
+        let at = match line.text.find(text.as_str()) {
+            Some(i) if at.line > 0 && !text.is_empty() => src.span_in_line(line, i..i + text.len()),
+            _ => *at,
+        };
+        let many = match self.count {
+            1 => String::new(),
+            n => format!(" ({n} comments, the first shown)"),
+        };
+        // A long comment is shown by its start (the marked line holds all of it).
+        let short = |s: &str| match s.char_indices().nth(EXAMPLE_CHARS) {
+            Some((end, _)) => format!("{}…", &s[..end]),
+            None => s.to_string(),
+        };
+        Some(
+            Diagnostic::new(
+                codes::FANW_TRANSLITERATED,
+                format!("{what}: `{}` → `{}`{many}", short(text), short(ascii)),
+            )
+            .at(src, at)
+            .help(help),
+        )
+    }
 }
 
 /// Writes `program` (read from `src`) as a FANUC program. `None` when any item cannot be
@@ -107,6 +210,9 @@ pub fn emit(
         speed: None,
         speed_word: None,
         deferred: Vec::new(),
+        at: Span::default(),
+        latin: Transliterated::default(),
+        script: Transliterated::default(),
         inexact: Inexact::default(),
         round,
     };
@@ -186,7 +292,8 @@ pub fn emit(
         e.group(group);
         i += 1;
     }
-    for text in std::mem::take(&mut e.deferred) {
+    for (text, at) in std::mem::take(&mut e.deferred) {
+        e.at = at;
         e.write(Block {
             comment: Some(text),
             ..Block::default()
@@ -212,6 +319,17 @@ pub fn emit(
         },
     );
     e.w.diags.extend(summary);
+    let latin = e.latin.diagnostic(
+        src,
+        "comment text transliterated to ASCII",
+        "a FANUC comment is upper-case ASCII: a letter loses its accent (`Č` → `C`), a symbol is spelled out (`°` → `DEG`) or becomes `?`; the diameter sign is `D`",
+    );
+    let script = e.script.diagnostic(
+        src,
+        "comment text in another script romanised to ASCII",
+        "a FANUC comment is upper-case ASCII: letters of other scripts are romanised (Cyrillic letter by letter, Chinese characters as pinyin, each as deunicode spells it); read them on the control, or write the comments in Latin letters in the source",
+    );
+    e.w.diags.extend(latin.into_iter().chain(script));
     e.w.finish()
 }
 
@@ -233,7 +351,13 @@ impl Emitter<'_> {
         }
         if let Some(c) = block
             .comment
-            .map(|c| comment_text(&c))
+            .map(|c| {
+                if block.own_comment {
+                    comment_text(&c)
+                } else {
+                    self.comment(&c)
+                }
+            })
             .filter(|c| !c.is_empty())
         {
             if !line.is_empty() {
@@ -247,6 +371,18 @@ impl Emitter<'_> {
         }
     }
 
+    /// A comment's text as the FANUC program has it, its transliteration counted.
+    fn comment(&mut self, text: &str) -> String {
+        let (ascii, how) = transliterate(text);
+        if how.latin {
+            self.latin.note(self.at, text, &ascii);
+        }
+        if how.script {
+            self.script.note(self.at, text, &ascii);
+        }
+        ascii
+    }
+
     fn flush(&mut self, block: &mut Block) {
         if !block.words.is_empty() || block.comment.is_some() {
             let b = std::mem::take(block);
@@ -255,6 +391,7 @@ impl Emitter<'_> {
     }
 
     fn group(&mut self, items: &[Item]) {
+        self.at = items[0].span;
         let mut block = Block {
             number: items[0].block_number,
             comment: items[0].comment.as_deref().map(str::to_string),
@@ -329,13 +466,15 @@ impl Emitter<'_> {
             matches!(&item.kind, ItemKind::ThreadPass(p) if p.start == SyncStart::Continue);
         if !continues && !matches!(item.kind, ItemKind::Comment(_)) && !self.deferred.is_empty() {
             self.flush(block);
-            for text in std::mem::take(&mut self.deferred) {
+            for (text, at) in std::mem::take(&mut self.deferred) {
+                self.at = at;
                 self.write(Block {
                     comment: Some(text),
                     ..Block::default()
                 });
             }
         }
+        self.at = item.span;
         match &item.kind {
             ItemKind::Rapid { to } => {
                 self.sync_end = None;
@@ -471,7 +610,7 @@ impl Emitter<'_> {
             ItemKind::Comment(text)
                 if self.sync_end.is_some() && self.sync_end == Some(self.w.pos) =>
             {
-                self.deferred.push(text.clone());
+                self.deferred.push((text.clone(), item.span));
             }
             ItemKind::Comment(text) => {
                 if block.words.is_empty() && block.comment.is_none() {
@@ -532,6 +671,7 @@ impl Emitter<'_> {
                     ],
                     comment,
                     moves: false,
+                    own_comment: false,
                 });
             }
             ItemKind::Compensation(Compensation::Off) => block.words.push("G40".into()),
@@ -786,6 +926,7 @@ impl Emitter<'_> {
             match step {
                 write::CycleStep::Comment(comment) => self.write(Block {
                     comment: Some(comment),
+                    own_comment: true,
                     ..Block::default()
                 }),
                 write::CycleStep::Move(moved) => {
@@ -803,7 +944,6 @@ impl Emitter<'_> {
 mod tests {
     use super::*;
     use crate::ir::{SpindleDirection, ThreadPass};
-    use crate::source::Span;
 
     fn mm(v: i64) -> Length {
         Length::from_mm(v)
@@ -848,8 +988,103 @@ mod tests {
 
     #[test]
     fn comments_are_upper_case_ascii_without_parentheses() {
-        assert_eq!(comment_text("závit (Ø20) ok"), "ZAVIT [O20] OK");
+        assert_eq!(comment_text("závit (Ø20) ok"), "ZAVIT [D20] OK");
+        assert_eq!(comment_text("ø10 ⌀12 ∅14"), "D10 D12 D14");
         assert_eq!(comment_text("50% ; x"), "50 PCT , X");
+    }
+
+    #[test]
+    fn a_transliteration_says_whether_accents_went_or_a_script_was_romanised() {
+        let t = |latin, script| Transliteration { latin, script };
+        assert_eq!(
+            transliterate("(Ø20 TURN)"),
+            ("[D20 TURN]".into(), t(false, false))
+        );
+        assert_eq!(transliterate("Závit"), ("ZAVIT".into(), t(true, false)));
+        assert_eq!(transliterate("60°"), ("60DEG".into(), t(true, false)));
+        assert_eq!(
+            transliterate("Резьба M20"),
+            ("REZ'BA M20".into(), t(false, true))
+        );
+        assert_eq!(transliterate("螺纹"), ("LUO WEN".into(), t(false, true)));
+        assert_eq!(
+            transliterate("Závit Резьба"),
+            ("ZAVIT REZ'BA".into(), t(true, true))
+        );
+    }
+
+    /// Accents dropped and other scripts romanised: one warning each per program, with the
+    /// count and the first comment; a diameter sign alone is no warning.
+    #[test]
+    fn transliterated_comments_are_reported_once_per_program_and_kind() {
+        let src = SourceFile::new(
+            "t.ngc",
+            "(Ø20 TURN)\n(Závit M20)\nG7 G0 X20 Z5 (Čep)\n(Резьба M20)\n(螺纹)\nM2\n",
+        );
+        let (program, diags) = crate::parse(
+            &src,
+            crate::dialect::iso::ID,
+            &Profile::default(),
+            crate::dialect::Unsupported::Error,
+        );
+        assert!(diags.is_empty(), "{diags:?}");
+        let (out, diags) = emit(&program, &src, &Profile::default(), false);
+        let out = out.unwrap();
+        for line in [
+            "(D20 TURN)",
+            "(ZAVIT M20)",
+            "G00 X20. Z5. (CEP)",
+            "(REZ'BA M20)",
+            "(LUO WEN)",
+        ] {
+            assert!(out.contains(&format!("{line}\n")), "{line}: {out}");
+        }
+        let messages: Vec<(&str, &str, u32, u32)> = diags
+            .iter()
+            .map(|d| {
+                let at = d.location.as_ref().unwrap();
+                (d.code.id, d.message.as_str(), at.line, at.column)
+            })
+            .collect();
+        assert_eq!(
+            messages,
+            [
+                (
+                    "FANW008",
+                    "comment text transliterated to ASCII: `Závit M20` → `ZAVIT M20` (2 comments, the first shown)",
+                    2,
+                    2
+                ),
+                (
+                    "FANW008",
+                    "comment text in another script romanised to ASCII: `Резьба M20` → `REZ'BA M20` (2 comments, the first shown)",
+                    4,
+                    2
+                ),
+            ]
+        );
+        // A long comment is shown by its start.
+        let long = "Závit ".repeat(EXAMPLE_CHARS / 6 + 1);
+        let src = SourceFile::new("t.ngc", format!("({long})\nM2\n"));
+        let (program, _) = crate::parse(
+            &src,
+            crate::dialect::iso::ID,
+            &Profile::default(),
+            crate::dialect::Unsupported::Error,
+        );
+        let (_, diags) = emit(&program, &src, &Profile::default(), false);
+        assert_eq!(
+            diags[0].message,
+            format!(
+                "comment text transliterated to ASCII: `{}…` → `{}…`",
+                &long[..long.char_indices().nth(EXAMPLE_CHARS).unwrap().0],
+                &"ZAVIT ".repeat(EXAMPLE_CHARS / 6 + 1)[..EXAMPLE_CHARS]
+            )
+        );
+        assert_eq!(
+            codes::FANW_TRANSLITERATED.severity,
+            crate::diag::Severity::Warning
+        );
     }
 
     #[test]
