@@ -1732,10 +1732,20 @@ impl FrontEnd<'_> {
     }
 
     fn kept(&mut self, line: Line<'_>, w: &Word, extra: &[&Word]) {
-        let mut text = line.text[w.range.clone()].to_string();
+        // A word whose value is an expression or a parameter is kept with its value: the
+        // output holds no parameters (ngcgui's `g64 p#<tol>` after `#<tol> = 0.001`).
+        let word = |w: &Word| {
+            let text = &line.text[w.range.clone()];
+            if text.contains(['#', '[']) {
+                format!("{}{}", w.letter.to_ascii_uppercase(), w.value)
+            } else {
+                text.to_string()
+            }
+        };
+        let mut text = word(w);
         for e in extra {
             text.push(' ');
-            text.push_str(&line.text[e.range.clone()]);
+            text.push_str(&word(e));
         }
         let span = self.r.src.span_in_line(line, w.range.clone());
         self.push(
