@@ -584,3 +584,70 @@ fn rs274_runs_the_iso_output_as_it_runs_the_iso_source() {
         "{programs} programs, {compensated} compensated"
     );
 }
+
+/// The drilling cycles move for move: the comparisons above normalise the motion (a run of
+/// rapids compares by its end), which would not see a G83 that leaves out its rapid back to
+/// R, or a retract to the wrong level before the next rapid. Here every rapid, feed and dwell
+/// rs274 makes of the corpus's drilling programs must be ncthread's, in order (zero-length
+/// moves left out on both sides).
+#[test]
+fn drilling_cycles_move_as_rs274_moves_one_by_one() {
+    use ncthread::sim::Motion;
+    let Some(cmd) = rs274() else { return };
+    let mut checked = 0;
+    for case in corpus_cases() {
+        if !case.path.starts_with("corpus/iso/drill-") {
+            continue;
+        }
+        let text = std::fs::read_to_string(common::root().join(&case.path)).unwrap();
+        let canon = run_rs274(cmd, &text).unwrap_or_else(|e| panic!("{}: {e}", case.name));
+        let inch = canon
+            .iter()
+            .any(|c| matches!(c, common::Canon::Inches(true)));
+        // rs274 prints four decimals: of an inch under G20.
+        let tolerance = if inch { 0.0026 } else { 0.001 };
+        let keep = |s: &ncthread::sim::Segment| {
+            matches!(
+                s.motion,
+                Motion::Rapid | Motion::Feed { .. } | Motion::Dwell { .. }
+            )
+        };
+        let theirs: Vec<_> = common::rs274_segments(&canon)
+            .into_iter()
+            .filter(keep)
+            .collect();
+        let ours: Vec<_> = common::simulate_iso(&case.path, &text)
+            .segments
+            .into_iter()
+            .filter(keep)
+            .collect();
+        let describe = |s: &ncthread::sim::Segment| format!("{:?} to {:?}", s.motion, s.to);
+        for (i, (a, b)) in ours.iter().zip(&theirs).enumerate() {
+            let same_kind = std::mem::discriminant(&a.motion) == std::mem::discriminant(&b.motion)
+                && (!matches!(a.motion, Motion::Dwell { .. }) || a.motion == b.motion);
+            let near =
+                |p: Option<ncthread::fixed::Length>, q: Option<ncthread::fixed::Length>| match (
+                    p, q,
+                ) {
+                    (Some(p), Some(q)) => (p.to_mm_f64() - q.to_mm_f64()).abs() <= tolerance,
+                    (p, q) => p == q,
+                };
+            assert!(
+                same_kind && near(a.to.x, b.to.x) && near(a.to.z, b.to.z),
+                "{}: move {i} (line {}): ncthread {} but rs274 {}",
+                case.name,
+                a.line,
+                describe(a),
+                describe(b)
+            );
+        }
+        assert_eq!(
+            ours.len(),
+            theirs.len(),
+            "{}: the number of moves",
+            case.name
+        );
+        checked += 1;
+    }
+    assert!(checked >= 5, "{checked} drilling programs");
+}
