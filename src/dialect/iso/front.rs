@@ -67,6 +67,16 @@ enum Motion {
     CycleOff,
 }
 
+/// A Z in the program's units and coordinates as LinuxCNC computed it, recorded with the
+/// exact position in mm it stands for and the units and Z offset it was in.
+#[derive(Clone, Copy, Debug)]
+struct ProgramZ {
+    mm: f64,
+    value: f64,
+    inch: bool,
+    offset: f64,
+}
+
 /// The denominator of the slope that stands for tan(Q) of a G76.
 const SLOPE_RUN: i64 = 1_000_000_000;
 
@@ -129,6 +139,8 @@ struct FrontEnd<'a> {
     drill: drilling::DrillState,
     /// The motion mode before the current line's motion code.
     motion_before_line: Option<Motion>,
+    /// The last Z recorded as LinuxCNC holds it.
+    z_program: Option<ProgramZ>,
     /// A line was refused as not a lathe program (ISOR021): the later ones are skipped
     /// unreported, since the program is refused whole.
     not_lathe_reported: bool,
@@ -197,6 +209,7 @@ pub(crate) fn read(src: &SourceFile, options: &Options, keep: Keep) -> (Program,
         retract_old_z: false,
         drill: drilling::DrillState::default(),
         motion_before_line: None,
+        z_program: None,
         cycle_call: None,
         axis_offset: (0.0, 0.0),
         offset_params: [0.0; 3],
@@ -1840,8 +1853,36 @@ impl FrontEnd<'_> {
             };
             to.z = Some(z);
             self.exact_target.1 = Some(exact);
+            // The Z as LinuxCNC holds it, for the drilling cycles' comparisons.
+            let value = if self.incremental {
+                start.1.map_or(0.0, |s| self.program_z(s)) + w.value.to_f64()
+            } else {
+                w.value.to_f64()
+            };
+            self.record_program_z(exact, value);
         }
         Some(to)
+    }
+
+    /// The Z at `mm` (exact, where the tool goes) as LinuxCNC holds it: in the program's
+    /// units and coordinates, the very double it computed where ncthread saw it computed
+    /// (`(mm − offset) / 25.4` need not give that double back, and the drilling cycles
+    /// compare it with R).
+    pub(super) fn program_z(&self, mm: f64) -> f64 {
+        let offset = self.axis_offset.1;
+        match self.z_program {
+            Some(p) if p.mm == mm && p.inch == self.inch && p.offset == offset => p.value,
+            _ => (mm - offset) / if self.inch { 25.4 } else { 1.0 },
+        }
+    }
+
+    pub(super) fn record_program_z(&mut self, mm: f64, value: f64) {
+        self.z_program = Some(ProgramZ {
+            mm,
+            value,
+            inch: self.inch,
+            offset: self.axis_offset.1,
+        });
     }
 
     /// An X word as written, before any increment or offset: its value on the grid and its

@@ -319,7 +319,7 @@ impl FrontEnd<'_> {
         let unit = if self.inch { 25.4 } else { 1.0 };
         let off_z = self.axis_offset.1;
         // LinuxCNC's numbers: the program's units and coordinates.
-        let current = (start_z - off_z) / unit;
+        let current = self.program_z(start_z);
         let initial = self.drill.initial.unwrap_or(current);
         let (r, bottom, x) = if self.incremental {
             // R from the initial level, Z from R, X added before every hole.
@@ -471,7 +471,9 @@ impl FrontEnd<'_> {
             self.r.pos = end;
             self.push(kind, span);
         }
-        self.exact = (expanded.x.or(start_x), Some(expanded.z * unit + off_z));
+        let end_z = expanded.z * unit + off_z;
+        self.exact = (expanded.x.or(start_x), Some(end_z));
+        self.record_program_z(end_z, expanded.z);
         self.drill = DrillState {
             initial: Some(initial),
             r: r_value,
@@ -811,6 +813,19 @@ mod tests {
             m[8..12],
             [t(None, 2.54), f(-2.54), t(None, 2.54), t(None, -2.286)]
         );
+    }
+
+    /// The tool left at R by a G99 block, in inches: rs274 holds Z0.68 as the double 0.68,
+    /// while 0.68 × 25.4 / 25.4 is above it. The next block (G98) is then not above R, and
+    /// its first hole is reached at the initial level, diagonally, as rs274 moves.
+    #[test]
+    fn the_tool_at_r_is_at_r_in_inches_too() {
+        let (p, d) =
+            read("G8 G17 G20 G90 G94 F100\nG0 X0 Z1.03\nG85 X1.86 R0.68 Z-0.21\nG98 X3.51\n");
+        assert!(d.is_empty(), "{d:?}");
+        let m = moves(&p);
+        assert_eq!(m[m.len() - 5], ('T', Some(178.308), Some(26.162)));
+        assert_eq!(m[m.len() - 4], ('T', None, Some(17.272)));
     }
 
     /// A G80 beside another motion code gives way to it (rs274's `read_g`).
