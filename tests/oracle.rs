@@ -678,3 +678,259 @@ fn scripts_rs274_runs_beside_another_rs274() {
         failures.join("\n")
     );
 }
+
+/// How ncthread's reading of an ISO program compares with rs274's run of it.
+enum Agreement {
+    /// The same rapids, feeds and dwells, in order.
+    Moves,
+    /// Both refuse it, ncthread quoting rs274's reason.
+    Refused,
+}
+
+/// Whether ncthread's reading of an ISO program moves as rs274 runs it, move for move: every
+/// rapid, feed and dwell in order (zero-length moves left out on both sides), or both refuse
+/// it for rs274's reason; `Err` says how they differ.
+fn moves_differ(cmd: &std::path::Path, name: &str, text: &str) -> Result<Agreement, String> {
+    use ncthread::sim::Motion;
+    let theirs = run_rs274(cmd, text);
+    let src = ncthread::source::SourceFile::new(name, text);
+    let (program, diags) = ncthread::parse(
+        &src,
+        ncthread::dialect::iso::ID,
+        &Default::default(),
+        ncthread::Unsupported::Error,
+    );
+    let ours_error = diags.iter().find(|d| d.is_error());
+    let canon = match (theirs, ours_error) {
+        (Ok(canon), None) => canon,
+        (Err(ncthread::sim::rs274::RunError::Refused(theirs)), Some(ours)) => {
+            // `rs274 exit Some(1): <its message>`, then the line it stopped at.
+            let first = theirs.lines().next().unwrap_or("");
+            let reason = first.split_once("): ").map_or(first, |(_, r)| r).trim();
+            let quoted =
+                !reason.is_empty() && ours.message.to_lowercase().contains(&reason.to_lowercase());
+            return if quoted {
+                Ok(Agreement::Refused)
+            } else {
+                Err(format!(
+                    "{name}: rs274 says {reason:?}, ncthread {:?}",
+                    ours.message
+                ))
+            };
+        }
+        (Ok(_), Some(ours)) => {
+            return Err(format!(
+                "{name}: ncthread refuses it ({}), rs274 runs it",
+                ours.message
+            ));
+        }
+        (Err(theirs), None) => {
+            return Err(format!(
+                "{name}: rs274 refuses it ({theirs}), ncthread reads it"
+            ));
+        }
+        // The interpreter crashed or could not run: no judgement.
+        (Err(theirs), Some(_)) => return Err(format!("{name}: {theirs}")),
+    };
+    let inch = canon
+        .iter()
+        .any(|c| matches!(c, common::Canon::Inches(true)));
+    // rs274 prints four decimals: of an inch under G20 (X a radius).
+    let tolerance = if inch { 0.0052 } else { 0.001 };
+    let keep = |s: &ncthread::sim::Segment| {
+        matches!(
+            s.motion,
+            Motion::Rapid | Motion::Feed { .. } | Motion::Dwell { .. }
+        )
+    };
+    let near = |p: Option<ncthread::fixed::Length>, q: Option<ncthread::fixed::Length>| match (p, q)
+    {
+        (Some(p), Some(q)) => (p.to_mm_f64() - q.to_mm_f64()).abs() <= tolerance,
+        (p, q) => p == q,
+    };
+    // Zero-length moves (after rs274's rounding to four decimals) left out.
+    let moving = |segments: Vec<ncthread::sim::Segment>| -> Vec<ncthread::sim::Segment> {
+        segments
+            .into_iter()
+            .filter(|s| {
+                keep(s) && !(s.motion.moves() && near(s.from.x, s.to.x) && near(s.from.z, s.to.z))
+            })
+            .collect()
+    };
+    let theirs = moving(common::rs274_segments(&canon));
+    let ours = moving(ncthread::sim::simulate(&program).segments);
+    let describe = |s: &ncthread::sim::Segment| format!("{:?} to {:?}", s.motion, s.to);
+    for (i, (a, b)) in ours.iter().zip(&theirs).enumerate() {
+        let same_kind = std::mem::discriminant(&a.motion) == std::mem::discriminant(&b.motion)
+            && (!matches!(a.motion, Motion::Dwell { .. }) || a.motion == b.motion);
+        if !(same_kind && near(a.to.x, b.to.x) && near(a.to.z, b.to.z)) {
+            return Err(format!(
+                "{name}: move {i} (line {}): ncthread {} but rs274 {}",
+                a.line,
+                describe(a),
+                describe(b)
+            ));
+        }
+    }
+    if ours.len() != theirs.len() {
+        return Err(format!(
+            "{name}: ncthread makes {} moves, rs274 {}",
+            ours.len(),
+            theirs.len()
+        ));
+    }
+    Ok(Agreement::Moves)
+}
+
+/// The drilling cycles move for move: the comparisons above normalise the motion (a run of
+/// rapids compares by its end), which would not see a G83 that leaves out its rapid back to
+/// R, or a retract to the wrong level before the next rapid. Here every rapid, feed and dwell
+/// rs274 makes of the corpus's drilling programs must be ncthread's, in order.
+#[test]
+fn drilling_cycles_move_as_rs274_moves_one_by_one() {
+    let Some(cmd) = rs274() else { return };
+    let mut checked = 0;
+    for case in corpus_cases() {
+        if !case.path.starts_with("corpus/iso/drill-") {
+            continue;
+        }
+        let text = std::fs::read_to_string(common::root().join(&case.path)).unwrap();
+        match moves_differ(cmd, &case.path, &text) {
+            Ok(Agreement::Moves) => checked += 1,
+            Ok(Agreement::Refused) => panic!("{}: refused", case.path),
+            Err(e) => panic!("{e}"),
+        }
+    }
+    assert!(checked >= 5, "{checked} drilling programs");
+}
+
+/// Drilling programs made up from the cycles' words (G73, G81–G83, G85, G89 with R, Z, Q, P,
+/// L; modal repeats with X or Z alone; G90/G91, G98/G99, G7/G8, G20/G21 switched between
+/// blocks; G52/G92 offsets; G80 and G0/G1 between them): rs274 and ncthread move alike, or
+/// refuse alike with rs274's words.
+#[test]
+fn made_up_drilling_programs_move_as_rs274_moves() {
+    let Some(cmd) = rs274() else { return };
+    /// A small deterministic generator (xorshift): the same programs on every run.
+    struct Rng(u64, bool);
+    impl Rng {
+        fn next(&mut self, n: u64) -> u64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            self.0 % n
+        }
+        /// A value from lo to hi mm in steps of 0.5, or under G20 from lo/5 to hi/5 inch in
+        /// steps of 0.01.
+        fn v(&mut self, lo: i64, hi: i64) -> String {
+            if self.1 {
+                let hundredths = lo * 20 + self.next((hi - lo) as u64 * 20 + 1) as i64;
+                format!("{}", hundredths as f64 / 100.0)
+            } else {
+                let halves = lo * 2 + self.next((hi - lo) as u64 * 2 + 1) as i64;
+                format!("{}", halves as f64 / 2.0)
+            }
+        }
+        fn pick<'a>(&mut self, of: &[&'a str]) -> &'a str {
+            of[self.next(of.len() as u64) as usize]
+        }
+    }
+    let mut g = Rng(0x9E37_79B9_7F4A_7C15, false);
+    let (mut compared, mut refused) = (0, 0);
+    for k in 0..150 {
+        g.1 = g.next(5) == 0;
+        let inch = g.1;
+        let mut lines = vec![
+            format!(
+                "{} G17 {} G90 G94 F100",
+                if g.next(2) == 0 { "G7" } else { "G8" },
+                if inch { "G20" } else { "G21" }
+            ),
+            format!("G0 X0 Z{}", g.v(2, 10)),
+        ];
+        let codes = ["G81", "G82", "G83", "G73", "G85", "G89"];
+        let mut in_cycle = false;
+        for _ in 0..1 + g.next(8) {
+            let r = g.next(100);
+            if r < 35 || !in_cycle {
+                let code = codes[g.next(6) as usize];
+                let mut words = Vec::new();
+                if g.next(10) < 3 {
+                    words.push(g.pick(&["G98", "G99"]).to_string());
+                }
+                let incremental = g.next(10) < 2;
+                if incremental {
+                    words.push("G91".into());
+                } else if g.next(10) < 2 {
+                    words.push("G90".into());
+                }
+                words.push(code.into());
+                if g.next(10) < 7 {
+                    words.push(format!(
+                        "X{}",
+                        if incremental { g.v(-4, 4) } else { g.v(0, 20) }
+                    ));
+                }
+                if incremental {
+                    words.push(format!("R{}", g.v(-6, 2)));
+                } else {
+                    words.push(format!("R{}", g.v(-3, 4)));
+                }
+                words.push(format!("Z{}", g.v(-15, -1)));
+                if matches!(code, "G83" | "G73") {
+                    words.push(format!("Q{}", g.v(1, 6)));
+                }
+                if matches!(code, "G82" | "G89") {
+                    words.push(g.pick(&["P0.5", "P1", "P0.25"]).into());
+                }
+                if g.next(10) < 2 {
+                    words.push(format!("L{}", 1 + g.next(3)));
+                }
+                lines.push(words.join(" "));
+                in_cycle = true;
+            } else if r < 60 {
+                let mut words = Vec::new();
+                if g.next(10) < 3 {
+                    words.push(g.pick(&["G98", "G99"]).to_string());
+                }
+                if g.next(10) < 2 {
+                    words.push(g.pick(&["G90", "G91"]).to_string());
+                }
+                if g.next(2) == 0 {
+                    words.push(format!("X{}", g.v(-4, 20)));
+                } else {
+                    words.push(format!("Z{}", g.v(-15, -1)));
+                }
+                if g.next(10) < 2 {
+                    words.push(format!("L{}", 1 + g.next(3)));
+                }
+                lines.push(words.join(" "));
+            } else if r < 85 {
+                lines.push("G80".into());
+                lines.push(format!("G90 {} Z{}", g.pick(&["G0", "G1"]), g.v(-3, 10)));
+                in_cycle = false;
+            } else if r < 92 {
+                lines.push(g.pick(&["G98", "G99", "G91", "G90"]).into());
+            } else if r < 96 {
+                lines.push(match g.next(4) {
+                    0 => format!("G92 Z{}", g.v(-2, 2)),
+                    1 => format!("G52 Z{}", g.v(-2, 2)),
+                    2 => format!("G52 X{}", g.v(-2, 2)),
+                    _ => "G92.1".into(),
+                });
+            } else {
+                lines.push(g.pick(&["G20", "G21"]).into());
+            }
+        }
+        lines.push("G90 G80".into());
+        lines.push("M2".into());
+        let text = lines.join("\n") + "\n";
+        match moves_differ(cmd, &format!("made-up program {k}"), &text) {
+            Ok(Agreement::Moves) => compared += 1,
+            Ok(Agreement::Refused) => refused += 1,
+            Err(e) => panic!("{e}\n{text}"),
+        }
+    }
+    eprintln!("made-up drilling programs: {compared} move as rs274 moves, {refused} refused alike");
+    assert!(compared >= 100, "{compared} programs compared");
+}

@@ -231,7 +231,12 @@ pub const ISOR_CONTOUR_IGNORED: Code = warning(
 );
 pub const ISOR_NOT_LATHE: Code = error(
     "ISOR021",
-    "not a lathe program: a plane other than ZX (G17, G19…) or an axis other than X and Z (Y, A, B, C, U, V, W), refused in every mode",
+    "not a lathe program: the YZ plane (G19, G17.1…) or an axis other than X and Z (Y, A, B, C, U, V, W), refused in every mode",
+);
+
+pub const ISOR_DRILLING: Code = error(
+    "ISOR022",
+    "a drilling cycle (G73, G81, G82, G83, G85, G89) LinuxCNC refuses (no R or Z on its first block, no P or Q, Q of 0 or less, R below the bottom, L0, no feed), or one in G18, where LinuxCNC drills along Y",
 );
 
 // fanuc front end
@@ -523,6 +528,7 @@ pub const ALL: &[Code] = &[
     ISOR_ROUGHING,
     ISOR_CONTOUR_IGNORED,
     ISOR_NOT_LATHE,
+    ISOR_DRILLING,
     FANR_SYNTAX,
     FANR_UNSUPPORTED,
     FANR_G76,

@@ -204,6 +204,18 @@ mod tests {
         assert_eq!((d.dialect.as_str(), d.certain), ("iso", true), "{d:?}");
     }
 
+    /// LinuxCNC's G98/G99 before a drilling cycle is no FANUC feed mode mark.
+    #[test]
+    fn a_linuxcnc_drilling_program_is_iso() {
+        let text = "G7 G17 G20 G90 G95\nG0 X0 Z0.5\nF0.003\nG98 G83 X0 R0.1 Z-0.5 Q0.2\nG80\nG99 G73 X0 R0.1 Z-0.5 Q0.2\nM2\n";
+        let d = detect(text);
+        assert_eq!(d.dialect.as_str(), "iso", "{d:?}");
+        let text =
+            "G7 G17 G21 G90 G94\nG0 X10 Z5\nG91 G98 G81 X10 R-4 Z-3 L3\nG99 X-5 L2\nG90 G80\nM2\n";
+        let d = detect(text);
+        assert_eq!(d.dialect.as_str(), "iso", "{d:?}");
+    }
+
     #[test]
     fn a_mark_two_dialects_share_leaves_a_doubt() {
         // A `( )` comment after code: LinuxCNC's and FANUC's.

@@ -590,6 +590,8 @@ pub struct ModalState {
     pub speed: f64,
     pub work_offset: u8,
     pub compensation: bool,
+    /// G98 (true) or G99.
+    pub retract_old_z: bool,
 }
 
 impl Default for Params {

@@ -2,7 +2,8 @@
 //!
 //! It reads what ncthread writes and what a programmer writes by hand for a LinuxCNC lathe:
 //! G0/G1/G33/G33.1/G76, G4, G7/G8, G18, G20/G21, G90/G91, G94/G95, S/M3/M4/M5, T/M6, G43,
-//! M2/M30, comments and `%` lines. Words that change nothing ncthread models (coolant,
+//! M2/M30, comments and `%` lines; the drilling cycles G73, G81–G83, G85, G89 (with G80,
+//! G98/G99) in G17 as their moves (`front/drilling.rs`). Words that change nothing ncthread models (coolant,
 //! path control, the default work offset…) are kept as opaque words for ISO output.
 //! Everything else — arcs, other planes and axes, work offsets, parameters, subroutines —
 //! is named as unsupported. Within a line the commands run in LinuxCNC's order.
@@ -60,6 +61,20 @@ enum Motion {
     Cycle,
     /// G70–G72 (the code).
     Roughing(GCode),
+    /// A drilling cycle: G73, G81, G82, G83, G85 or G89 (the code).
+    Drill(GCode),
+    /// G80: no motion mode (axis words are refused until a motion code).
+    CycleOff,
+}
+
+/// A Z in the program's units and coordinates as LinuxCNC computed it, recorded with the
+/// exact position in mm it stands for and the units and Z offset it was in.
+#[derive(Clone, Copy, Debug)]
+struct ProgramZ {
+    mm: f64,
+    value: f64,
+    inch: bool,
+    offset: f64,
 }
 
 /// The denominator of the slope that stands for tan(Q) of a G76.
@@ -119,6 +134,15 @@ struct FrontEnd<'a> {
     /// G17 in force (the XY plane): lines along X and Z mean what they mean in G18, but an
     /// arc, a G7x cycle and cutter compensation would work in XY.
     plane_xy: bool,
+    /// G98 (true: canned cycles retract to the initial level) or G99 (to R, LinuxCNC's
+    /// start-up mode).
+    retract_old_z: bool,
+    /// The drilling cycles' modal values.
+    drill: drilling::DrillState,
+    /// The motion mode before the current line's motion code.
+    motion_before_line: Option<Motion>,
+    /// The last Z recorded as LinuxCNC holds it.
+    z_program: Option<ProgramZ>,
     /// A line was refused as not a lathe program (ISOR021): the later ones are skipped
     /// unreported, since the program is refused whole.
     not_lathe_reported: bool,
@@ -138,6 +162,7 @@ struct FrontEnd<'a> {
     offsets_set: bool,
 }
 
+mod drilling;
 mod macros;
 mod offsets;
 mod roughing;
@@ -184,6 +209,10 @@ pub(crate) fn read(src: &SourceFile, options: &Options, keep: Keep) -> (Program,
         not_lathe_reported: false,
         contour: None,
         plane_xy: false,
+        retract_old_z: false,
+        drill: drilling::DrillState::default(),
+        motion_before_line: None,
+        z_program: None,
         cycle_call: None,
         axis_offset: (0.0, 0.0),
         offset_params: [0.0; 3],
@@ -499,9 +528,11 @@ impl<'b> Words<'b> {
     }
 }
 
-/// The motion codes ncthread reads (LinuxCNC's modal group 1, less the canned cycles).
-const MOTION: [GCode; 14] = [
-    G0, G1, G2, G3, G33, G33_1, G76, G70, G71, G71_1, G71_2, G72, G72_1, G72_2,
+/// The motion codes ncthread reads (LinuxCNC's modal group 1, less the tapping and boring
+/// cycles, and G80: LinuxCNC lets G80 share a line with another of them, which wins).
+const MOTION: [GCode; 20] = [
+    G0, G1, G2, G3, G33, G33_1, G76, G70, G71, G71_1, G71_2, G72, G72_1, G72_2, G73, G81, G82, G83,
+    G85, G89,
 ];
 
 /// What a G or M code is to ncthread.
@@ -518,7 +549,8 @@ enum Meaning {
 const KNOWN_G: &[&str] = &[
     "G0", "G1", "G2", "G3", "G4", "G7", "G8", "G18", "G20", "G21", "G28", "G30", "G33", "G33.1",
     "G40", "G41", "G42", "G41.1", "G42.1", "G43", "G52", "G53", "G54", "G55", "G56", "G57", "G58",
-    "G59", "G70", "G71", "G72", "G76", "G90", "G91", "G92", "G94", "G95", "G96", "G97",
+    "G59", "G70", "G71", "G72", "G73", "G76", "G80", "G81", "G82", "G83", "G85", "G89", "G90",
+    "G91", "G92", "G94", "G95", "G96", "G97", "G98", "G99",
 ];
 
 fn g_meaning(code: GCode) -> Meaning {
@@ -527,16 +559,18 @@ fn g_meaning(code: GCode) -> Meaning {
         | G90 | G91 | G90_1 | G91_1 | G94 | G95 | G96 | G97 | G40 | G41 | G42 | G41_1 | G42_1
         | G54 | G55 | G56 | G57 | G58 | G59 | G59_1 | G59_2 | G59_3 | G28 | G28_1 | G30 | G30_1
         | G53 | G52 | G92 | G92_1 | G92_2 | G92_3 | G70 | G71 | G71_1 | G71_2 | G72 | G72_1
-        | G72_2 => Meaning::Known,
-        // Tool length offset off, exact path / blending, canned cycle off.
-        G49 | G61 | G61_1 | G64 | G80 => Meaning::Kept,
+        | G72_2 | G73 | G80 | G81 | G82 | G83 | G85 | G89 | G98 | G99 => Meaning::Known,
+        // Tool length offset off, exact path / blending.
+        G49 | G61 | G61_1 | G64 => Meaning::Kept,
         // Refused in every mode by `not_a_lathe_program`.
         G19 | G17_1 | G18_1 | G19_1 => {
             Meaning::Unsupported("another plane than ZX (G18) or XY (G17): not a lathe program")
         }
         G10 => Meaning::Unsupported("changes of the coordinate systems (G10)"),
         G93 => Meaning::Unsupported("inverse-time feed (G93)"),
-        G81..=G89 | G73 | G74 => Meaning::Unsupported("drilling and boring cycles"),
+        G74 | G84 | G86 | G87 | G88 => Meaning::Unsupported(
+            "tapping and boring cycles that stop or reverse the spindle (G74, G84, G86, G87, G88)",
+        ),
         _ => Meaning::Unsupported("this G code"),
     }
 }
@@ -570,6 +604,8 @@ fn changes_followed_state(w: &Word) -> bool {
                     | G53
                     | G52
                     | G92..=G92_3
+                    | G98
+                    | G99
             )
         }),
         'M' => w
@@ -623,6 +659,8 @@ fn may_move(line: Line<'_>, block: &Block) -> bool {
                     | G95
                     | G96
                     | G97
+                    | G98
+                    | G99
             )
         }),
         'M' => w
@@ -1015,7 +1053,7 @@ impl FrontEnd<'_> {
         }
         // One code of each modal group per line (LinuxCNC's read_g and read_m), even the same
         // code twice.
-        let g_groups: [(&str, &[GCode], &str); 12] = [
+        let g_groups: [(&str, &[GCode], &str); 13] = [
             ("motion", &MOTION, "one motion code per line"),
             ("units", &[G20, G21], "one of G20, G21 per line"),
             ("distance", &[G90, G91], "one of G90, G91 per line"),
@@ -1044,6 +1082,7 @@ impl FrontEnd<'_> {
             ("diameter mode", &[G7, G8], "one of G7, G8 per line"),
             ("dwell", &[G4], "one G4 per line"),
             ("tool length", &[G43, G49], "one of G43, G49 per line"),
+            ("retract mode", &[G98, G99], "one of G98, G99 per line"),
         ];
         let m_groups: [(&str, &[i64], &str); 4] = [
             (
@@ -1525,6 +1564,17 @@ impl FrontEnd<'_> {
         if words.has_g(G91_1).is_some() {
             self.absolute_centres = false;
         }
+        // The retract mode of the canned cycles (after the distance modes, before the motion).
+        if let Some(&(code, w)) = words.g.iter().find(|(c, _)| matches!(*c, G98 | G99)) {
+            if self.compensation {
+                self.comp_refusal(
+                    line,
+                    w,
+                    "Cannot change retract mode with cutter radius compensation on",
+                );
+            }
+            self.retract_old_z = code == G98;
+        }
         let motion_code = words.g.iter().find_map(|&(c, _)| match c {
             G0 => Some(Motion::Rapid),
             G1 => Some(Motion::Feed),
@@ -1534,10 +1584,19 @@ impl FrontEnd<'_> {
             G33_1 => Some(Motion::Tap),
             G76 => Some(Motion::Cycle),
             G70 | G71 | G71_1 | G71_2 | G72 | G72_1 | G72_2 => Some(Motion::Roughing(c)),
+            G73 | G81 | G82 | G83 | G85 | G89 => Some(Motion::Drill(c)),
             _ => None,
         });
+        // G80 with another motion code on its line is ignored. **[evidence]** `read_g`.
+        let motion_code = motion_code.or(words.has_g(G80).map(|_| Motion::CycleOff));
+        self.motion_before_line = self.motion;
         if let Some(m) = motion_code {
             self.motion = Some(m);
+            // Any motion but a canned cycle (G80 too) forgets the cycles' initial level.
+            // **[evidence]** `convert_motion`: `if (!is_a_cycle(motion)) cycle_il_flag = false`.
+            if !matches!(m, Motion::Drill(_)) {
+                self.drill.forget_initial_level();
+            }
         }
         // G52 and G92 (the line's axes are theirs), G92.1, G92.2, G92.3.
         if let Some(&(code, w)) = words
@@ -1618,7 +1677,13 @@ impl FrontEnd<'_> {
         if axes
             || matches!(
                 motion_code,
-                Some(Motion::Tap | Motion::Cycle | Motion::Arc { .. } | Motion::Roughing(_))
+                Some(
+                    Motion::Tap
+                        | Motion::Cycle
+                        | Motion::Arc { .. }
+                        | Motion::Roughing(_)
+                        | Motion::Drill(_)
+                )
             )
         {
             match self.motion {
@@ -1786,25 +1851,7 @@ impl FrontEnd<'_> {
         let unit = if self.inch { 25.4 } else { 1.0 };
         self.exact_target = (None, None);
         if let Some(w) = words.take('X') {
-            let v = self.length(line, w)?;
-            let diameter = match self.diameter {
-                Some(d) => d,
-                None => {
-                    if !self.warned_radius {
-                        self.warned_radius = true;
-                        self.diag(
-                            codes::ISOR_RADIUS_MODE,
-                            line,
-                            w.range.clone(),
-                            "X is read as a radius: the program has not chosen G7 (diameter) or G8 (radius), and LinuxCNC starts in G8".into(),
-                            "write G7 or G8 at the start so that the program does not depend on the machine's start-up codes",
-                        );
-                    }
-                    false
-                }
-            };
-            let v = if diameter { v } else { v + v };
-            let exact = w.value.to_f64() * unit * if diameter { 1.0 } else { 2.0 };
+            let (v, exact) = self.x_word(line, w)?;
             // An increment is added to the exact position, then rounded: once.
             let (x, exact) = if self.incremental {
                 match start.0 {
@@ -1830,8 +1877,63 @@ impl FrontEnd<'_> {
             };
             to.z = Some(z);
             self.exact_target.1 = Some(exact);
+            // The Z as LinuxCNC holds it, for the drilling cycles' comparisons.
+            let value = if self.incremental {
+                start.1.map_or(0.0, |s| self.program_z(s)) + w.value.to_f64()
+            } else {
+                w.value.to_f64()
+            };
+            self.record_program_z(exact, value);
         }
         Some(to)
+    }
+
+    /// The Z at `mm` (exact, where the tool goes) as LinuxCNC holds it: in the program's
+    /// units and coordinates, the very double it computed where ncthread saw it computed
+    /// (`(mm − offset) / 25.4` need not give that double back, and the drilling cycles
+    /// compare it with R).
+    pub(super) fn program_z(&self, mm: f64) -> f64 {
+        let offset = self.axis_offset.1;
+        match self.z_program {
+            Some(p) if p.mm == mm && p.inch == self.inch && p.offset == offset => p.value,
+            _ => (mm - offset) / if self.inch { 25.4 } else { 1.0 },
+        }
+    }
+
+    pub(super) fn record_program_z(&mut self, mm: f64, value: f64) {
+        self.z_program = Some(ProgramZ {
+            mm,
+            value,
+            inch: self.inch,
+            offset: self.axis_offset.1,
+        });
+    }
+
+    /// An X word as written, before any increment or offset: its value on the grid and its
+    /// exact value in mm, both diameters. X is a radius until the program says G7 (with a
+    /// warning, once).
+    fn x_word(&mut self, line: Line<'_>, w: &Word) -> Option<(Length, f64)> {
+        let unit = if self.inch { 25.4 } else { 1.0 };
+        let v = self.length(line, w)?;
+        let diameter = match self.diameter {
+            Some(d) => d,
+            None => {
+                if !self.warned_radius {
+                    self.warned_radius = true;
+                    self.diag(
+                        codes::ISOR_RADIUS_MODE,
+                        line,
+                        w.range.clone(),
+                        "X is read as a radius: the program has not chosen G7 (diameter) or G8 (radius), and LinuxCNC starts in G8".into(),
+                        "write G7 or G8 at the start so that the program does not depend on the machine's start-up codes",
+                    );
+                }
+                false
+            }
+        };
+        let v = if diameter { v } else { v + v };
+        let exact = w.value.to_f64() * unit * if diameter { 1.0 } else { 2.0 };
+        Some((v, exact))
     }
 
     fn unknown(&mut self, line: Line<'_>, w: &Word) -> Option<Pos> {
@@ -1938,6 +2040,27 @@ impl FrontEnd<'_> {
             }
             Motion::Cycle => self.cycle(line, words, code_word, span),
             Motion::Roughing(code) => self.roughing(line, words, code_word, span, code),
+            Motion::Drill(code) => self.drill(line, words, code_word, span, code),
+            Motion::CycleOff => {
+                // Axis words after G80, or on its line. **[evidence]** `enhance_block`.
+                let w = words.other.get(&'X').or(words.other.get(&'Z')).copied();
+                words.take('X');
+                words.take('Z');
+                if let Some(w) = w {
+                    let (message, help) = if words.has_g(G80).is_some() {
+                        (
+                            "an axis word on a G80 line (LinuxCNC: \"Cannot use axis values with g80\")",
+                            "put the move on a line of its own, with its motion code",
+                        )
+                    } else {
+                        (
+                            "an axis word after G80, which leaves no motion mode in force (LinuxCNC: \"Cannot use axis values without a g code that uses them\")",
+                            "write the motion code: `G0 X20 Z5`",
+                        )
+                    };
+                    self.missing(line, w, message.into(), help);
+                }
+            }
         }
     }
 

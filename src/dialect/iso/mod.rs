@@ -96,13 +96,35 @@ impl Dialect for Iso {
             });
         }
         let words = detect::code_words(line);
+        // A drilling cycle with G98/G99: LinuxCNC's retract mode, or FANUC's feed mode before
+        // its face drilling cycles (G83, G85, G89). A shared mark: FANUC's claim on G98/G99
+        // alone does not decide the line.
+        let drilling = words
+            .iter()
+            .any(|w| matches!(w.as_str(), "G73" | "G81" | "G82" | "G83" | "G85" | "G89"));
+        if drilling && words.iter().any(|w| w == "G98" || w == "G99") {
+            return Some(LineClaim {
+                priority: 96,
+                mark: LineMark::Mark,
+            });
+        }
         let g33_with_k =
             words.iter().any(|w| w == "G33") && words.iter().any(|w| w.starts_with('K'));
         let iso_word = g33_with_k
             || words.iter().any(|w| {
                 matches!(
                     w.as_str(),
-                    "G7" | "G8" | "G18" | "G21" | "G20" | "G33.1" | "G76" | "G64" | "M6" | "G43"
+                    "G7" | "G8"
+                        | "G18"
+                        | "G21"
+                        | "G20"
+                        | "G33.1"
+                        | "G76"
+                        | "G64"
+                        | "M6"
+                        | "G43"
+                        | "G81"
+                        | "G82"
                 )
             });
         iso_word.then_some(LineClaim {
@@ -112,7 +134,7 @@ impl Dialect for Iso {
     }
 
     fn mark_description(&self) -> &'static str {
-        "an ISO mark (a `( )` or `;` comment after code, a parameter, an expression or an O-word, G33 with K, or a G7/G18/G21/G33.1/G76 word)"
+        "an ISO mark (a `( )` or `;` comment after code, a parameter, an expression or an O-word, G33 with K, or a G7/G18/G21/G33.1/G76/G81/G82 word)"
     }
 
     fn tie_rank(&self) -> u8 {

@@ -48,6 +48,8 @@ pub(super) enum Jump {
 /// give it: lengths in the program's units, X a radius (LinuxCNC keeps radii inside).
 struct System {
     plane_xy: bool,
+    /// G98 in force (G99 is LinuxCNC's start-up mode).
+    retract_old_z: bool,
     x: Option<f64>,
     z: Option<f64>,
     inch: bool,
@@ -106,9 +108,10 @@ impl Scope<'_> {
             // The LinuxCNC ncthread follows (and checks with): 2.9.0.
             "_vmajor" => Ok(2.9),
             "_vminor" => Ok(0.0),
-            // G98/G99 are not read (no canned cycle is): LinuxCNC's start-up G99 stands.
-            "_retract_old_z" => Ok(0.0),
-            "_retract_r_plane" => Ok(1.0),
+            // 1 under G98 and G99 respectively (LinuxCNC's comments swap them; its values
+            // do not). **[evidence]** `interp_namedparams.cc`, NP_RETRACT_OLD_Z/R_PLANE.
+            "_retract_old_z" => flag(s.retract_old_z),
+            "_retract_r_plane" => flag(!s.retract_old_z),
             "_coord_system" => Ok(match self.system.work_offset {
                 n @ 1..=6 => 530.0 + 10.0 * f64::from(n),
                 n => 584.0 + f64::from(n),
@@ -206,6 +209,7 @@ impl FrontEnd<'_> {
             params,
             system: System {
                 plane_xy: self.plane_xy,
+                retract_old_z: self.retract_old_z,
                 x,
                 z,
                 inch: self.inch,
@@ -221,7 +225,8 @@ impl FrontEnd<'_> {
                     Motion::Thread => 330.0,
                     Motion::Tap => 331.0,
                     Motion::Cycle => 760.0,
-                    Motion::Roughing(code) => code as f64,
+                    Motion::Roughing(code) | Motion::Drill(code) => code as f64,
+                    Motion::CycleOff => 800.0,
                 }),
                 spindle: self.turning,
                 diameter: self.diameter == Some(true),
@@ -413,6 +418,7 @@ impl FrontEnd<'_> {
             speed: self.speed.map_or(0.0, f64::from),
             work_offset: self.work_offset,
             compensation: self.compensation,
+            retract_old_z: self.retract_old_z,
         }
     }
 
@@ -527,6 +533,10 @@ impl FrontEnd<'_> {
             } else {
                 "G91.1"
             },
+        );
+        g(
+            saved.retract_old_z != now.retract_old_z,
+            if saved.retract_old_z { "G98" } else { "G99" },
         );
         if let Some(d) = saved.diameter {
             g(Some(d) != now.diameter, if d { "G7" } else { "G8" });
