@@ -552,6 +552,42 @@ fn the_summary_counts_warnings_and_names_the_commonest_codes() {
 
 /// The reports name an output only where one was written (or kept from before): none for a
 /// file that failed or was left out, and under `--dry-run` only where it would be.
+/// `ncthread batch SRC OUT --from czech --to iso --report REPORT` with `extra`: the run and
+/// the report it wrote.
+fn batch_czech_to_iso(
+    src: &std::path::Path,
+    out: &std::path::Path,
+    report: &std::path::Path,
+    extra: &[&str],
+) -> (std::process::Output, serde_json::Value) {
+    let mut args = vec![
+        "batch",
+        src.to_str().unwrap(),
+        out.to_str().unwrap(),
+        "--from",
+        "czech",
+        "--to",
+        "iso",
+        "--report",
+        report.to_str().unwrap(),
+    ];
+    args.extend(extra);
+    let run = ncthread(&args, None);
+    let json = serde_json::from_str(&std::fs::read_to_string(report).unwrap()).unwrap();
+    (run, json)
+}
+
+/// The report's row of the file whose path ends with `name`.
+fn report_row(json: &serde_json::Value, name: &str) -> serde_json::Value {
+    json["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["path"].as_str().unwrap().ends_with(name))
+        .unwrap()
+        .clone()
+}
+
 #[test]
 fn the_report_names_an_output_only_where_one_was_written() {
     let dir = tempfile::tempdir().unwrap();
@@ -563,35 +599,12 @@ fn the_report_names_an_output_only_where_one_was_written() {
     let report = dir.path().join("report.json");
     let html = dir.path().join("html");
     let run = |extra: &[&str]| {
-        let mut args = vec![
-            "batch",
-            src.to_str().unwrap(),
-            out.to_str().unwrap(),
-            "--from",
-            "czech",
-            "--to",
-            "iso",
-            "--report",
-            report.to_str().unwrap(),
-        ];
-        args.extend(extra);
-        let run = ncthread(&args, None);
-        let json: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
-        let file = |name: &str| {
-            json["files"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .find(|f| f["path"].as_str().unwrap().ends_with(name))
-                .unwrap()
-                .clone()
-        };
+        let (run, json) = batch_czech_to_iso(&src, &out, &report, extra);
         (
             text(&run.stderr),
-            file("good.nc"),
-            file("bad.nc"),
-            file("notes.txt"),
+            report_row(&json, "good.nc"),
+            report_row(&json, "bad.nc"),
+            report_row(&json, "notes.txt"),
         )
     };
     let (said, _, _, _) = run(&["--dry-run", "--verbose"]);
@@ -765,33 +778,11 @@ fn a_rerun_keeps_the_rows_of_the_outputs_it_skips() {
     std::fs::write(src.join("bad.nc"), "N10 M03 S500\nN20 G00 X30. Z\n").unwrap();
     let report = dir.path().join("report.json");
     let run = |extra: &[&str]| {
-        let mut args = vec![
-            "batch",
-            src.to_str().unwrap(),
-            out.to_str().unwrap(),
-            "--from",
-            "czech",
-            "--to",
-            "iso",
-            "--report",
-            report.to_str().unwrap(),
-        ];
-        args.extend(extra);
-        let run = ncthread(&args, None);
+        let (run, json) = batch_czech_to_iso(&src, &out, &report, extra);
         assert_eq!(run.status.code(), Some(1), "{}", text(&run.stderr));
-        let json: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
         (text(&run.stderr), json)
     };
-    let row = |json: &serde_json::Value, name: &str| {
-        json["files"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|f| f["path"].as_str().unwrap().ends_with(name))
-            .unwrap()
-            .clone()
-    };
+    let row = report_row;
     let page = || std::fs::read_to_string(html.join("index.html")).unwrap();
     let h = html.to_str().unwrap();
     let (_, first) = run(&["--html", h]);

@@ -2831,12 +2831,12 @@ impl FrontEnd<'_> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::diag::Severity;
 
     /// Reads a fragment: without its program end (ISOR013, tested on its own).
-    fn run(text: &str) -> (Program, Vec<Diagnostic>) {
+    pub(super) fn run(text: &str) -> (Program, Vec<Diagnostic>) {
         let (p, d) = parse(&SourceFile::new("t.ngc", text), &Options::default());
         (
             p,

@@ -498,21 +498,11 @@ impl FrontEnd<'_> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{Options, parse};
     use super::*;
-    use crate::diag::{Code, Diagnostic, Severity};
+    use crate::diag::{Code, Severity};
     use crate::ir::Program;
-    use crate::source::SourceFile;
 
-    fn read(text: &str) -> (Program, Vec<Diagnostic>) {
-        let (p, d) = parse(&SourceFile::new("t.ngc", text), &Options::default());
-        (
-            p,
-            d.into_iter()
-                .filter(|d| d.code != codes::ISOR_NO_END)
-                .collect(),
-        )
-    }
+    use super::super::tests::run as read;
 
     const HEAD: &str = "G7 G17 G21 G90 F100\nG0 X0 Z5\n";
 
