@@ -592,6 +592,8 @@ pub struct ModalState {
     pub compensation: bool,
     /// G98 (true) or G99.
     pub retract_old_z: bool,
+    /// G17 (true) or G18: LinuxCNC's `gen_settings` restores the plane (slot 3).
+    pub plane_xy: bool,
 }
 
 impl Default for Params {

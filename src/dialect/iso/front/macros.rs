@@ -419,6 +419,7 @@ impl FrontEnd<'_> {
             work_offset: self.work_offset,
             compensation: self.compensation,
             retract_old_z: self.retract_old_z,
+            plane_xy: self.plane_xy,
         }
     }
 
@@ -537,6 +538,10 @@ impl FrontEnd<'_> {
         g(
             saved.retract_old_z != now.retract_old_z,
             if saved.retract_old_z { "G98" } else { "G99" },
+        );
+        g(
+            saved.plane_xy != now.plane_xy,
+            if saved.plane_xy { "G17" } else { "G18" },
         );
         if let Some(d) = saved.diameter {
             g(Some(d) != now.diameter, if d { "G7" } else { "G8" });
