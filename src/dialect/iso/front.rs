@@ -462,8 +462,10 @@ pub(crate) fn read(src: &SourceFile, options: &Options, keep: Keep) -> (Program,
             .help("end the contour's subroutine with `endsub` (or `return`)"),
         );
     }
+    // A file of definitions only runs nothing, and is not refused for lacking an end.
+    let library = runs[0].library().unwrap_or_default();
     // A run that an error stopped says so already.
-    if ended.is_none() && !fe.stopped && !fe.r.items.is_empty() && runs[0].library().is_none() {
+    if ended.is_none() && !fe.stopped && !fe.r.items.is_empty() && library.is_empty() {
         let last = src.lines().filter(|l| !l.text.trim().is_empty()).last();
         if let Some(line) = last {
             fe.diag(
@@ -479,9 +481,8 @@ pub(crate) fn read(src: &SourceFile, options: &Options, keep: Keep) -> (Program,
             );
         }
     }
-    let library = runs[0].library();
     let (mut program, diags) = fe.r.finish();
-    program.library = library.unwrap_or_default();
+    program.library = library;
     (program, diags)
 }
 
@@ -2835,6 +2836,23 @@ pub(super) mod tests {
     use super::*;
     use crate::diag::Severity;
 
+    /// The first error of `d` (read from `text`), held to its code and the text it marks.
+    pub(super) fn first_error<'d>(
+        d: &'d [Diagnostic],
+        text: &str,
+        code: Code,
+        marked: &str,
+    ) -> &'d Diagnostic {
+        let e = d
+            .iter()
+            .find(|d| d.severity == Severity::Error)
+            .unwrap_or_else(|| panic!("{text:?}: no error in {d:?}"));
+        assert_eq!(e.code, code, "{text:?}: {e:?}");
+        let loc = e.location.as_ref().unwrap();
+        assert_eq!(&loc.source_line[loc.range.clone()], marked, "{text:?}");
+        e
+    }
+
     /// Reads a fragment: without its program end (ISOR013, tested on its own).
     pub(super) fn run(text: &str) -> (Program, Vec<Diagnostic>) {
         let (p, d) = parse(&SourceFile::new("t.ngc", text), &Options::default());
@@ -3239,13 +3257,7 @@ pub(super) mod tests {
         for (text, code, marked) in cases {
             let src = SourceFile::new("t.ngc", *text);
             let (_, d) = parse(&src, &Options::default());
-            let e = d
-                .iter()
-                .find(|d| d.severity == Severity::Error)
-                .unwrap_or_else(|| panic!("{text:?}: no error in {d:?}"));
-            assert_eq!(e.code, *code, "{text:?}: {e:?}");
-            let loc = e.location.as_ref().unwrap();
-            assert_eq!(&loc.source_line[loc.range.clone()], *marked, "{text:?}");
+            first_error(&d, text, *code, marked);
         }
     }
 

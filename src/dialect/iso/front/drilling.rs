@@ -178,6 +178,31 @@ impl FrontEnd<'_> {
         self.diag(codes::ISOR_DRILLING, line, at.range.clone(), message, help);
     }
 
+    /// A cycle word's value in the program's units: as written (read as a length), else
+    /// `carried` (the block before's, when the same cycle runs again), else refused at `at`
+    /// with `missing`'s message and help. `None` once a diagnostic is reported.
+    fn cycle_length(
+        &mut self,
+        line: Line<'_>,
+        word: Option<&Word>,
+        carried: Option<f64>,
+        at: &Word,
+        missing: impl FnOnce() -> (String, &'static str),
+    ) -> Option<f64> {
+        match (word, carried) {
+            (Some(w), _) => {
+                self.length(line, w)?;
+                Some(w.value.to_f64())
+            }
+            (None, Some(v)) => Some(v),
+            (None, None) => {
+                let (message, help) = missing();
+                self.drill_error(line, at, message, help);
+                None
+            }
+        }
+    }
+
     /// A block of a drilling cycle (`code`), written on the line (`at`) or modal.
     pub(super) fn drill(
         &mut self,
@@ -250,24 +275,17 @@ impl FrontEnd<'_> {
         }
         // R, Z, P and Q may be left out when the same cycle ran on the block before.
         let same = self.motion_before_line == Some(Motion::Drill(code));
-        let r_value = match r_word {
-            Some(w) => {
-                if self.length(line, w).is_none() {
-                    return;
-                }
-                w.value.to_f64()
-            }
-            None if same => self.drill.r,
-            None => {
-                return self.drill_error(
-                    line,
-                    at,
+        let Some(r_value) =
+            self.cycle_length(line, r_word, same.then_some(self.drill.r), at, || {
+                (
                     format!(
                         "{name} without R (LinuxCNC: \"R clearance plane unspecified in cycle\")"
                     ),
                     "give R, the level the cycle feeds from, on the cycle's first block",
-                );
-            }
+                )
+            })
+        else {
+            return;
         };
         if repeats == 0.0 {
             let l = l_word.unwrap_or(at);
@@ -296,22 +314,13 @@ impl FrontEnd<'_> {
             };
             return self.drill_error(line, at, message, help);
         }
-        let z_value = match z_word {
-            Some(w) => {
-                if self.length(line, w).is_none() {
-                    return;
-                }
-                w.value.to_f64()
-            }
-            None if same => self.drill.z,
-            None => {
-                return self.drill_error(
-                    line,
-                    at,
-                    format!("{name} without Z (LinuxCNC: \"Z value unspecified in xy plane canned cycle\")"),
-                    "give Z, the bottom of the hole, on the cycle's first block",
-                );
-            }
+        let Some(z_value) = self.cycle_length(line, z_word, same.then_some(self.drill.z), at, || {
+            (
+                format!("{name} without Z (LinuxCNC: \"Z value unspecified in xy plane canned cycle\")"),
+                "give Z, the bottom of the hole, on the cycle's first block",
+            )
+        }) else {
+            return;
         };
         let (start_x, Some(start_z)) = self.exact_start() else {
             return self.drill_error_unknown(line, at, &name);
@@ -391,23 +400,16 @@ impl FrontEnd<'_> {
         }
         let mut q = self.drill.q;
         if pecks {
-            q = match q_word.filter(|w| w.value.to_f64() != -1.0) {
-                Some(w) => {
-                    if self.length(line, w).is_none() {
-                        return;
-                    }
-                    w.value.to_f64()
-                }
-                None if same => self.drill.q,
-                None => {
-                    return self.drill_error(
-                        line,
-                        at,
-                        format!("{name} without Q (LinuxCNC: \"Q word missing with {lower}\")"),
-                        "give Q, the depth of each peck",
-                    );
-                }
+            let written = q_word.filter(|w| w.value.to_f64() != -1.0);
+            let Some(value) = self.cycle_length(line, written, same.then_some(q), at, || {
+                (
+                    format!("{name} without Q (LinuxCNC: \"Q word missing with {lower}\")"),
+                    "give Q, the depth of each peck",
+                )
+            }) else {
+                return;
             };
+            q = value;
             if q <= 0.0 {
                 let w = q_word.unwrap_or(at);
                 return self.drill_error(
@@ -499,10 +501,10 @@ impl FrontEnd<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::diag::{Code, Severity};
+    use crate::diag::Code;
     use crate::ir::Program;
 
-    use super::super::tests::run as read;
+    use super::super::tests::{first_error, run as read};
 
     const HEAD: &str = "G7 G17 G21 G90 F100\nG0 X0 Z5\n";
 
@@ -699,13 +701,7 @@ mod tests {
         for (body, code, marked, words) in cases {
             let text = format!("{HEAD}{body}");
             let (_, d) = read(&text);
-            let e = d
-                .iter()
-                .find(|d| d.severity == Severity::Error)
-                .unwrap_or_else(|| panic!("{text:?}: no error in {d:?}"));
-            assert_eq!(e.code, *code, "{text:?}: {e:?}");
-            let loc = e.location.as_ref().unwrap();
-            assert_eq!(&loc.source_line[loc.range.clone()], *marked, "{text:?}");
+            let e = first_error(&d, &text, *code, marked);
             assert!(e.message.contains(words), "{text:?}: {}", e.message);
         }
         // A cycle from an unknown Z.
