@@ -533,8 +533,6 @@ pub struct Frame {
     pub saved: [f64; 30],
     /// Named local parameters.
     pub locals: HashMap<String, f64>,
-    /// The count left of each `repeat` running in this frame, by its line.
-    pub repeats: HashMap<usize, i64>,
 }
 
 /// Every parameter a program has set.
@@ -546,8 +544,11 @@ pub struct Params {
     /// Global named parameters (`#<_name>`).
     pub globals: HashMap<String, f64>,
     pub frames: Vec<Frame>,
-    /// The count left of each `repeat` running at the top level.
-    pub repeats: HashMap<usize, i64>,
+    /// The count left of each `repeat` that has started and not run out, by its file and
+    /// line. One table for the whole run, as LinuxCNC's `offset_map` holds one count per
+    /// label: a subroutine that returns from inside a `repeat` leaves its count, and the
+    /// next call of it goes on from there.
+    pub repeats: HashMap<(usize, usize), i64>,
     /// `#<_value>` and whether the last subroutine returned one.
     pub value: f64,
     pub value_returned: bool,
@@ -628,12 +629,6 @@ impl Params {
         }
     }
 
-    pub fn repeats_mut(&mut self) -> &mut HashMap<usize, i64> {
-        match self.frames.last_mut() {
-            Some(f) => &mut f.repeats,
-            None => &mut self.repeats,
-        }
-    }
 
     /// A named parameter the program set (global or local), if any.
     pub fn named(&self, name: &str) -> Option<f64> {

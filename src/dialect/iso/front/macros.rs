@@ -752,7 +752,6 @@ impl FrontEnd<'_> {
                     sub_file,
                     saved,
                     locals: Default::default(),
-                    repeats: Default::default(),
                 });
                 Jump::To(sub_file, start + 1)
             }
@@ -828,15 +827,15 @@ impl FrontEnd<'_> {
                         "write the count in brackets: `o100 repeat [3]`",
                     )
                 })?;
-                let left = match params.repeats_mut().get(&at) {
+                let left = match params.repeats.get(&(file, at)) {
                     Some(&left) => left,
                     None => count.round() as i64,
                 };
                 if left > 0 {
-                    params.repeats_mut().insert(at, left - 1);
+                    params.repeats.insert((file, at), left - 1);
                     Jump::Next
                 } else {
-                    params.repeats_mut().remove(&at);
+                    params.repeats.remove(&(file, at));
                     skip(params)?
                 }
             }
