@@ -629,7 +629,6 @@ impl Params {
         }
     }
 
-
     /// A named parameter the program set (global or local), if any.
     pub fn named(&self, name: &str) -> Option<f64> {
         if name.starts_with('_') {
