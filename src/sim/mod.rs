@@ -527,6 +527,7 @@ impl Machine {
                     flood: false,
                     direction: None,
                     surface_speed: None,
+                    surface_feet: false,
                     work_offset: 0,
                     compensation: None,
                     ..self.state
