@@ -271,6 +271,8 @@ pub(crate) fn read(src: &SourceFile, options: &Options, keep: Keep) -> (Program,
     let mut f = 0;
     let mut pc = 0;
     let mut iterations: u64 = 0;
+    // An error has been reported (the program is refused).
+    let mut errored = fe.r.diags.iter().any(|d| d.is_error());
     loop {
         let run = &runs[f];
         if pc >= run.lines.len() {
@@ -353,6 +355,15 @@ pub(crate) fn read(src: &SourceFile, options: &Options, keep: Keep) -> (Program,
                 Ok(Jump::Next) => {}
                 Ok(Jump::Here(target)) => pc = target,
                 Ok(Jump::To(file, target)) => (f, pc) = (file, target),
+                // LinuxCNC stops at an error. ncthread reads on to report the file's other
+                // problems, but not round a loop: it would only repeat its reports, or spin
+                // to the loop limit on a body an error cut short (the program is refused).
+                Ok(Jump::Loop(_))
+                    if errored || fe.r.diags[diags_before..].iter().any(|d| d.is_error()) =>
+                {
+                    fe.stopped = true;
+                    break;
+                }
                 Ok(Jump::Loop(target)) => {
                     pc = target;
                     iterations += 1;
@@ -427,6 +438,7 @@ pub(crate) fn read(src: &SourceFile, options: &Options, keep: Keep) -> (Program,
             continue;
         }
         fe.name_call_chain(diags_before, &params, &runs);
+        errored |= fe.r.diags[diags_before..].iter().any(|d| d.is_error());
         if f != 0 {
             // The items of a subroutine in another file stand at the call in the program.
             let call = params
@@ -2851,6 +2863,21 @@ pub(super) mod tests {
         let loc = e.location.as_ref().unwrap();
         assert_eq!(&loc.source_line[loc.range.clone()], marked, "{text:?}");
         e
+    }
+
+    /// An error in a loop's body is reported once, and the run stops there rather than go
+    /// round to the loop limit (it reported the error 200,000 times); so does a loop whose
+    /// body an earlier error cut short.
+    #[test]
+    fn a_loop_does_not_go_round_after_an_error() {
+        let endless = "G7 G18 G21 G95 F0.1\nS500 M3\nG0 X30 Z2\no1 while [1]\n  G1 X30 Z-20 X32\no1 endwhile\nM30\n";
+        let (_, d) = run(endless);
+        assert_eq!(d.iter().filter(|d| d.is_error()).count(), 1, "{d:?}");
+        let cut_short = "G7 G18 G21 G95 F0.1\nS500 M3\n#1 = 38\no1 do\n  G0 X#1 Z2\n  #1 = [#1 - 2] =\no1 while [#1 GE 34]\nM30\n";
+        let (_, d) = run(cut_short);
+        let errors: Vec<_> = d.iter().filter(|d| d.is_error()).collect();
+        assert_eq!(errors.len(), 1, "{d:?}");
+        assert_ne!(errors[0].code, codes::ISOR_CONTROL, "{d:?}");
     }
 
     /// Reads a fragment: without its program end (ISOR013, tested on its own).
