@@ -8,6 +8,7 @@ pub mod detect;
 pub mod fanuc;
 pub mod iso;
 pub(crate) mod lex;
+pub(crate) mod machine;
 pub mod nc31;
 pub(crate) mod read;
 pub(crate) mod write;
