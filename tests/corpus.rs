@@ -1,6 +1,7 @@
-//! One test per corpus case (each file, and each file with its profile): its conversions to
-//! every target as insta snapshots (diagnostics and output), and what `explain` says of it. A program the reader refuses is
-//! snapshotted once (`…__read`), since no target sees it. Every test runs and reports on its
+//! One snapshot per corpus file, holding every route of it: what `explain` says of it and its
+//! conversion to every target (diagnostics and output); a program the reader refuses is shown
+//! once, since no target sees it; a file with a profile beside it then shows what the profile
+//! changes. Every test runs and reports on its
 //! own, so the first failing file does not hide the rest: `cargo test --test corpus czech/ex4`
 //! runs the cases whose name contains `czech/ex4`.
 mod common;
@@ -21,11 +22,12 @@ fn main() {
             }
         }
     })];
-    let with_profile: Vec<String> = cases
+    let profiled: Vec<Case> = cases
         .iter()
         .filter(|c| c.profile.is_some())
-        .map(|c| c.path.clone())
+        .cloned()
         .collect();
+    let with_profile: Vec<String> = profiled.iter().map(|c| c.path.clone()).collect();
     trials.push(Trial::test("no_stale_snapshots", {
         let cases = cases.clone();
         move || no_stale_snapshots(&cases)
@@ -39,10 +41,13 @@ fn main() {
             && !case.path.starts_with("corpus/fuzz/")
             && case.profile.is_none();
         let name = case.name.clone();
-        trials.push(Trial::test(format!("snapshot::{name}"), {
-            let case = case.clone();
-            move || snapshots(&case)
-        }));
+        if case.profile.is_none() {
+            let plain = case.clone();
+            let profiled = profiled.iter().find(|c| c.path == case.path).cloned();
+            trials.push(Trial::test(format!("snapshot::{name}"), move || {
+                snapshot(&plain, profiled.as_ref())
+            }));
+        }
         if judged_bad {
             trials.push(Trial::test(format!("refused::{name}"), {
                 let case = case.clone();
@@ -58,20 +63,20 @@ fn main() {
     libtest_mimic::run(&args, trials).exit();
 }
 
-/// The case converted to every target, each conversion a snapshot; or, when the reader
-/// refuses it, one snapshot of the refusal (after checking that every target says the same).
-fn snapshots(case: &Case) -> Result<(), Failed> {
-    let base = case.name.replace('/', "__");
+/// Every route of one corpus file, as one text a person can read in one go: what `explain`
+/// says of it and its conversion to every target; or, when the reader refuses it, the refusal
+/// once (after checking that every target says the same). A file with a profile beside it
+/// shows the profile's effect after that: each route again, or that it is the same.
+fn routes(case: &Case) -> Result<String, Failed> {
     let conversions: Vec<_> = common::TARGETS
         .iter()
         .map(|&to| (to, common::convert_case(case, to)))
         .collect();
-    let mut snaps = Vec::new();
+    let mut text = String::new();
     if common::reader_refuses(case) {
-        let label = "every (the reader refuses the program)";
-        let first = common::render(case, label, &conversions[0].1);
+        let first = common::render_body(&conversions[0].1);
         for (to, c) in &conversions[1..] {
-            if common::render(case, label, c) != first {
+            if common::render_body(c) != first {
                 return Err(format!(
                     "{}: the reader refuses it, yet --to {to} differs",
                     case.name
@@ -79,22 +84,58 @@ fn snapshots(case: &Case) -> Result<(), Failed> {
                 .into());
             }
         }
-        snaps.push((format!("{base}__read"), first));
+        text.push_str("=== every target (the reader refuses the program)\n");
+        text.push_str(&first);
     } else {
-        snaps.push((format!("{base}__explain"), explain(case)));
+        text.push_str("=== explain\n");
+        text.push_str(&explain(case));
         for (to, c) in &conversions {
-            snaps.push((
-                format!("{base}__to_{to}"),
-                common::render(case, &to.to_string(), c),
-            ));
+            text.push_str(&format!("=== --to {to}\n"));
+            text.push_str(&common::render_body(c));
         }
     }
-    for (name, text) in snaps {
-        insta::with_settings!({ prepend_module_to_snapshot => false, omit_expression => true }, {
-            insta::assert_snapshot!(name, text);
-        });
+    Ok(text)
+}
+
+/// The one snapshot of a corpus file: its routes, then (with a profile beside it) the
+/// routes with the profile, each section that the profile leaves alone said to be the same.
+fn snapshot(plain: &Case, with_profile: Option<&Case>) -> Result<(), Failed> {
+    let base = plain.name.replace('/', "__");
+    let without = routes(plain)?;
+    let mut text = format!("source: {}\n{without}", plain.path);
+    if let Some(case) = with_profile {
+        let profile = case.profile.as_deref().unwrap_or_default();
+        text.push_str(&format!(
+            "\n##### with the profile {profile}: each route the profile changes\n"
+        ));
+        let before = sections(&without);
+        for (head, body) in sections(&routes(case)?) {
+            match before.iter().find(|(h, _)| *h == head) {
+                Some((_, b)) if *b == body => text.push_str(&format!("{head} (as without)\n")),
+                _ => text.push_str(&format!("{head}\n{body}")),
+            }
+        }
     }
+    insta::with_settings!({ prepend_module_to_snapshot => false, omit_expression => true }, {
+        insta::assert_snapshot!(base, text);
+    });
     Ok(())
+}
+
+/// A routes text cut at its `=== ` headings: (heading, body) in order.
+fn sections(text: &str) -> Vec<(&str, String)> {
+    let mut out: Vec<(&str, String)> = Vec::new();
+    for line in text.split_inclusive('\n') {
+        match line.strip_prefix("=== ") {
+            Some(_) => out.push((line.trim_end(), String::new())),
+            None => {
+                if let Some(last) = out.last_mut() {
+                    last.1.push_str(line)
+                }
+            }
+        }
+    }
+    out
 }
 
 /// A file in corpus/bad/ is refused, each error with a location and a help text.
@@ -132,19 +173,10 @@ fn detected_as_its_folder(case: &Case) -> Result<(), Failed> {
 /// Every snapshot file belongs to a case of today's corpus (a renamed or deleted corpus file
 /// takes its snapshots with it).
 fn no_stale_snapshots(cases: &[Case]) -> Result<(), Failed> {
-    let mut expected = std::collections::HashSet::new();
-    for case in cases {
-        // A program the reader refuses has one snapshot; any other one per target.
-        let base = case.name.replace('/', "__");
-        if common::reader_refuses(case) {
-            expected.insert(format!("{base}__read.snap"));
-        } else {
-            expected.insert(format!("{base}__explain.snap"));
-            for to in common::TARGETS {
-                expected.insert(format!("{base}__to_{to}.snap"));
-            }
-        }
-    }
+    let expected: std::collections::HashSet<String> = cases
+        .iter()
+        .map(|case| format!("{}.snap", case.name.replace('/', "__").replace("+profile", "")))
+        .collect();
     let dir = common::root().join("tests/snapshots");
     let stale: Vec<String> = std::fs::read_dir(&dir)?
         .filter_map(|e| e.ok())
@@ -163,11 +195,7 @@ fn explain(case: &Case) -> String {
     let program = common::parse_case(case);
     let ops = ncthread::explain::explain(&program, &Default::default());
     format!(
-        "source: {}\nprofile: {}\n--- text\n{}--- json\n{}\n",
-        case.path,
-        case.profile
-            .as_deref()
-            .unwrap_or("none (built-in defaults)"),
+        "--- text\n{}--- json\n{}\n",
         ncthread::explain::to_text(&ops, ncthread::explain::Table::Box),
         serde_json::to_string_pretty(&ncthread::explain::to_json(&ops)).unwrap()
     )

@@ -144,18 +144,14 @@ pub fn reader_refuses(case: &Case) -> bool {
 }
 
 /// A conversion as one text: diagnostics, then the program (or that it was refused).
-pub fn render(case: &Case, to: &str, conversion: &Conversion) -> String {
+pub fn render_body(conversion: &Conversion) -> String {
     let diags = ncthread::diag::render_all(
         &conversion.diagnostics,
         ncthread::diag::Format::Human,
         false,
     );
     format!(
-        "source: {}\nprofile: {}\ntarget: {to}\n--- diagnostics\n{}--- output\n{}",
-        case.path,
-        case.profile
-            .as_deref()
-            .unwrap_or("none (built-in defaults)"),
+        "--- diagnostics\n{}--- output\n{}",
         diags,
         conversion
             .output
