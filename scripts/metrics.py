@@ -132,8 +132,9 @@ def use_paths(text):
     """Every path used: `use` trees expanded, and `crate::`/`super::`/`self::` paths inline."""
     paths = []
     for m in re.finditer(r"\buse\s+([^;]+);", text):
-        paths.extend(expand(m.group(1).replace("\n", " ").replace(" ", "")))
-    for m in re.finditer(r"\b((?:crate|super|self)(?:::\w+)+)", text):
+        tree = re.sub(r"\s+as\s+\w+", "", m.group(1))
+        paths.extend(expand(re.sub(r"\s+", "", tree)))
+    for m in re.finditer(r"(?<![\w:])((?:crate|super|self|\w+)(?:::\w+)+)", text):
         paths.append(m.group(1))
     return paths
 
@@ -142,7 +143,7 @@ def expand(tree):
     """`a::{b,c::{d,e}}` → [a::b, a::c::d, a::c::e]."""
     i = tree.find("{")
     if i < 0:
-        return [re.sub(r"\bas\w+$", "", tree)]
+        return [tree]
     head, body = tree[:i], tree[i + 1 : tree.rfind("}")]
     parts, depth, cur = [], 0, ""
     for ch in body:
@@ -183,6 +184,8 @@ def graph():
                 segs = base + segs
             elif segs[0] == "ncthread":
                 segs = segs[1:]
+            elif mod + (segs[0],) in mods:
+                segs = list(mod) + segs  # a child module's path, relative
             else:
                 continue
             target = resolve(mods, segs)

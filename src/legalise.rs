@@ -11,9 +11,9 @@
 //!   would change, so it is refused in every mode.
 
 use crate::diag::{Diagnostic, codes};
-use crate::dialect::capabilities::Construct;
+use crate::dialect::capabilities::occurrences;
 use crate::dialect::{self, DialectId};
-use crate::ir::{FeedMode, ItemKind, Program, SyncStart};
+use crate::ir::{FeedMode, ItemKind, Program};
 use crate::source::SourceFile;
 
 /// The diagnostics of the shared rules (errors). `to` is the target, when the program is to
@@ -112,101 +112,6 @@ pub fn check(program: &Program, src: &SourceFile, to: Option<DialectId>) -> Vec<
         }
     }
     diags
-}
-
-/// A use of a construct in a program: what, where, and for a pass the start angle it waits
-/// for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Occurrence {
-    pub construct: Construct,
-    pub span: crate::source::Span,
-    pub angle: Option<crate::fixed::Angle>,
-}
-
-/// Every use of a construct that a capability table may refuse, in program order: arcs,
-/// coolant, stops, taps, dwells, feeds per minute, synchronised moves along X, continued chains and passes that
-/// wait for the index pulse in the cut (a cycle's passes count as the cycle's).
-pub fn occurrences(program: &Program) -> Vec<Occurrence> {
-    let mut out = Vec::new();
-    let mut per_minute = false;
-    let mut pos = crate::ir::Pos::UNKNOWN;
-    let mut in_cut: Option<crate::ir::Pos> = None;
-    for item in &program.items {
-        let at = |construct, angle| Occurrence {
-            construct,
-            span: item.span,
-            angle,
-        };
-        match &item.kind {
-            ItemKind::TapCycle(_) => out.push(at(Construct::Tapping, None)),
-            ItemKind::Arc { .. } => {
-                out.push(at(Construct::Arc, None));
-                if per_minute {
-                    out.push(at(Construct::PerMinuteFeed, None));
-                }
-            }
-            ItemKind::Coolant(c) => out.push(at(Construct::of_coolant(*c), None)),
-            ItemKind::Stop { .. } => out.push(at(Construct::Stop, None)),
-            ItemKind::SpindleMode(crate::ir::SpindleMode::SurfaceSpeed { .. }) => {
-                out.push(at(Construct::SurfaceSpeed, None))
-            }
-            ItemKind::Compensation(c) if *c != crate::ir::Compensation::Off => {
-                out.push(at(Construct::CutterCompensation, None))
-            }
-            ItemKind::WorkOffset(n) if *n != 1 => out.push(at(Construct::WorkOffset, None)),
-            ItemKind::MachineMove(_) => out.push(at(Construct::MachineCoordinates, None)),
-            ItemKind::Dwell { .. } => out.push(at(Construct::Dwell, None)),
-            ItemKind::FeedMode(mode) => per_minute = *mode == FeedMode::PerMin,
-            ItemKind::Feed { .. } | ItemKind::FeedRate(_) if per_minute => {
-                out.push(at(Construct::PerMinuteFeed, None))
-            }
-            ItemKind::ThreadCycle(c) => {
-                if c.entry_infeed && c.entry.is_some() {
-                    out.push(at(Construct::SyncInfeed, None))
-                }
-                if let Ok(e) = crate::lower::expand(c) {
-                    let mut p = pos;
-                    let mut steep = false;
-                    for m in &e.moves {
-                        if let crate::lower::Move::Pass(pass) = &m.kind {
-                            steep |= crate::dialect::capabilities::steep_sync(p, pass);
-                        }
-                        p = m.kind.end_position(p);
-                    }
-                    if steep {
-                        out.push(at(Construct::SteepSync, None));
-                    }
-                }
-            }
-            ItemKind::ThreadPass(pass) => {
-                if pass.infeed.is_some() {
-                    out.push(at(Construct::SyncInfeed, None));
-                }
-                if crate::dialect::capabilities::steep_sync(pos, pass) {
-                    out.push(at(Construct::SteepSync, None));
-                }
-                match pass.start {
-                    SyncStart::Continue => out.push(at(Construct::ContinuedChain, None)),
-                    SyncStart::Index(angle) if in_cut.is_some() && in_cut == Some(pos) => {
-                        out.push(at(Construct::IndexWaitInCut, Some(angle)))
-                    }
-                    SyncStart::Index(_) => {}
-                }
-            }
-            _ => {}
-        }
-        let moved = item.kind.end_position(pos);
-        in_cut = match &item.kind {
-            ItemKind::ThreadPass(_) => Some(moved),
-            ItemKind::ThreadCycle(_)
-            | ItemKind::TapCycle(_)
-            | ItemKind::Opaque { block: Some(_), .. } => None,
-            _ if moved != pos => None,
-            _ => in_cut,
-        };
-        pos = moved;
-    }
-    out
 }
 
 /// The one legalisation of a program for a target: every construct that the target's table

@@ -56,6 +56,7 @@
 pub mod batch;
 pub mod diag;
 pub mod dialect;
+pub mod encoding;
 pub mod explain;
 #[doc(hidden)]
 pub mod files;

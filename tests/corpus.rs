@@ -175,7 +175,12 @@ fn detected_as_its_folder(case: &Case) -> Result<(), Failed> {
 fn no_stale_snapshots(cases: &[Case]) -> Result<(), Failed> {
     let expected: std::collections::HashSet<String> = cases
         .iter()
-        .map(|case| format!("{}.snap", case.name.replace('/', "__").replace("+profile", "")))
+        .map(|case| {
+            format!(
+                "{}.snap",
+                case.name.replace('/', "__").replace("+profile", "")
+            )
+        })
         .collect();
     let dir = common::root().join("tests/snapshots");
     let stale: Vec<String> = std::fs::read_dir(&dir)?

@@ -2,6 +2,7 @@
 //! help text. Rendered like rustc's (`error[CZR003]: …`) or as one JSON object per line.
 
 pub mod codes;
+pub mod io;
 
 use std::ops::Range;
 
@@ -9,6 +10,7 @@ use annotate_snippets::{AnnotationKind, Group, Level, Renderer, Snippet};
 use serde::Serialize;
 
 pub use codes::Code;
+pub use io::io_error;
 
 use crate::source::{SourceFile, Span};
 

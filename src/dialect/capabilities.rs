@@ -133,96 +133,171 @@ impl Construct {
         }
     }
 
-    /// Whether `program` holds this construct (cycles count with their passes).
+    /// Whether `program` holds this construct (cycles count with their passes): one of
+    /// its [`occurrences`].
     pub fn appears_in(self, program: &Program) -> bool {
-        if self == Construct::IndexWaitInCut {
-            return crate::sim::simulate(program)
-                .segments
-                .iter()
-                .any(|s| s.motion == crate::sim::Motion::IndexWait);
-        }
-        let mut pos = Pos::UNKNOWN;
-        let mut per_minute = false;
-        for item in &program.items {
-            let mut passes: Vec<(Pos, crate::ir::ThreadPass)> = Vec::new();
-            let found = match &item.kind {
-                ItemKind::ThreadCycle(c) => {
-                    if let Ok(e) = lower::expand(c) {
-                        let mut p = pos;
-                        for m in &e.moves {
-                            if let lower::Move::Pass(pass) = m.kind {
-                                passes.push((p, pass));
-                            }
-                            p = m.kind.end_position(p);
-                        }
-                    }
-                    self == Construct::ThreadCycle
-                }
-                ItemKind::ThreadPass(pass) => {
-                    passes.push((pos, **pass));
-                    false
-                }
-                ItemKind::TapCycle(_) => self == Construct::Tapping,
-                ItemKind::Arc { .. } => {
-                    self == Construct::Arc || (self == Construct::PerMinuteFeed && per_minute)
-                }
-                ItemKind::Coolant(c) => self == Construct::of_coolant(*c),
-                ItemKind::Stop { .. } => self == Construct::Stop,
-                ItemKind::SpindleMode(crate::ir::SpindleMode::SurfaceSpeed { .. }) => {
-                    self == Construct::SurfaceSpeed
-                }
-                ItemKind::Compensation(c) => {
-                    self == Construct::CutterCompensation && *c != crate::ir::Compensation::Off
-                }
-                ItemKind::WorkOffset(n) => self == Construct::WorkOffset && *n != 1,
-                ItemKind::MachineMove(_) => self == Construct::MachineCoordinates,
-                ItemKind::Dwell { .. } => self == Construct::Dwell,
-                ItemKind::FeedMode(mode) => {
-                    per_minute = *mode == FeedMode::PerMin;
-                    false
-                }
-                ItemKind::Feed { to, .. } => {
-                    (self == Construct::PerMinuteFeed && per_minute)
-                        || (self == Construct::Chamfer45 && at_45_degrees(pos, *to))
-                }
-                ItemKind::FeedRate(_) => self == Construct::PerMinuteFeed && per_minute,
-                ItemKind::Tool {
-                    offset: Some(_), ..
-                } => self == Construct::ToolOffset,
-                ItemKind::ParamAssign { .. } => self == Construct::Parameters,
-                ItemKind::Comment(_) => self == Construct::Comments,
-                _ => false,
-            };
-            if found || (self == Construct::Comments && item.comment.is_some()) {
-                return true;
-            }
-            for (start, pass) in &passes {
-                let line_start_x = pass
-                    .infeed
-                    .map(|i| i.x)
-                    .or(start.x)
-                    .map(|x| x - pass.entry.map_or(crate::fixed::Length::ZERO, |e| e.offset));
-                let hit = match self {
-                    Construct::StartAngle => {
-                        matches!(pass.start, SyncStart::Index(a) if a != crate::fixed::Angle::ZERO)
-                    }
-                    Construct::Entry => pass.entry.is_some(),
-                    Construct::Runout => pass.exit.is_some(),
-                    Construct::TaperPass => {
-                        matches!((line_start_x, pass.to.x), (Some(a), Some(b)) if a != b)
-                    }
-                    Construct::ContinuedChain => pass.start == SyncStart::Continue,
-                    Construct::SyncInfeed => pass.infeed.is_some(),
-                    Construct::SteepSync => steep_sync(*start, pass),
-                    _ => false,
-                };
-                if hit {
-                    return true;
+        occurrences(program).iter().any(|o| o.construct == self)
+    }
+}
+
+/// A use of a construct in a program: what, where, and for a pass the start angle it waits
+/// for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Occurrence {
+    pub construct: Construct,
+    pub span: crate::source::Span,
+    pub angle: Option<crate::fixed::Angle>,
+}
+
+/// Every use of a construct in program order, the one rule of where a construct occurs: what
+/// the legalisation refuses ([`crate::legalise::for_target`]) and what `dialects` and the
+/// tests say a program holds. A cycle's passes count as the cycle's; a pass that waits for
+/// the index pulse where the pass before it ended (the tool still in the cut) is an
+/// [`Construct::IndexWaitInCut`].
+pub fn occurrences(program: &Program) -> Vec<Occurrence> {
+    let mut out = Vec::new();
+    let mut per_minute = false;
+    let mut pos = Pos::UNKNOWN;
+    let mut in_cut: Option<Pos> = None;
+    for item in &program.items {
+        let mut found: Vec<(Construct, Option<crate::fixed::Angle>)> = Vec::new();
+        match &item.kind {
+            ItemKind::TapCycle(_) => found.push((Construct::Tapping, None)),
+            ItemKind::Arc { .. } => {
+                found.push((Construct::Arc, None));
+                if per_minute {
+                    found.push((Construct::PerMinuteFeed, None));
                 }
             }
-            pos = item.kind.end_position(pos);
+            ItemKind::Coolant(c) => found.push((Construct::of_coolant(*c), None)),
+            ItemKind::Stop { .. } => found.push((Construct::Stop, None)),
+            ItemKind::SpindleMode(crate::ir::SpindleMode::SurfaceSpeed { .. }) => {
+                found.push((Construct::SurfaceSpeed, None))
+            }
+            ItemKind::Compensation(c) if *c != crate::ir::Compensation::Off => {
+                found.push((Construct::CutterCompensation, None))
+            }
+            ItemKind::WorkOffset(n) if *n != 1 => found.push((Construct::WorkOffset, None)),
+            ItemKind::MachineMove(_) => found.push((Construct::MachineCoordinates, None)),
+            ItemKind::Dwell { .. } => found.push((Construct::Dwell, None)),
+            ItemKind::FeedMode(mode) => per_minute = *mode == FeedMode::PerMin,
+            ItemKind::Feed { to, .. } => {
+                if per_minute {
+                    found.push((Construct::PerMinuteFeed, None));
+                }
+                if at_45_degrees(pos, *to) {
+                    found.push((Construct::Chamfer45, None));
+                }
+            }
+            ItemKind::FeedRate(_) if per_minute => found.push((Construct::PerMinuteFeed, None)),
+            ItemKind::ThreadCycle(c) => cycle_occurrences(c, pos, &mut found),
+            ItemKind::ThreadPass(pass) => {
+                if pass.infeed.is_some() {
+                    found.push((Construct::SyncInfeed, None));
+                }
+                if steep_sync(pos, pass) {
+                    found.push((Construct::SteepSync, None));
+                }
+                match pass.start {
+                    SyncStart::Continue => found.push((Construct::ContinuedChain, None)),
+                    SyncStart::Index(angle) if in_cut.is_some() && in_cut == Some(pos) => {
+                        found.push((Construct::IndexWaitInCut, Some(angle)))
+                    }
+                    SyncStart::Index(_) => {}
+                }
+                pass_shape(pos, pass, &mut found);
+            }
+            ItemKind::Tool {
+                offset: Some(_), ..
+            } => found.push((Construct::ToolOffset, None)),
+            ItemKind::ParamAssign { .. } => found.push((Construct::Parameters, None)),
+            ItemKind::Comment(_) => found.push((Construct::Comments, None)),
+            _ => {}
         }
-        false
+        if item.comment.is_some() && !matches!(item.kind, ItemKind::Comment(_)) {
+            found.push((Construct::Comments, None));
+        }
+        out.extend(found.into_iter().map(|(construct, angle)| Occurrence {
+            construct,
+            span: item.span,
+            angle,
+        }));
+        let moved = item.kind.end_position(pos);
+        in_cut = match &item.kind {
+            ItemKind::ThreadPass(_) => Some(moved),
+            ItemKind::ThreadCycle(_)
+            | ItemKind::TapCycle(_)
+            | ItemKind::Opaque { block: Some(_), .. } => None,
+            _ if moved != pos => None,
+            _ => in_cut,
+        };
+        pos = moved;
+    }
+    out
+}
+
+/// What a thread cycle from `pos` holds: itself, a synchronised infeed along its entry, a
+/// pass steeper than 45°, and the shapes of its passes (each construct once).
+fn cycle_occurrences(
+    c: &crate::ir::ThreadCycle,
+    pos: Pos,
+    found: &mut Vec<(Construct, Option<crate::fixed::Angle>)>,
+) {
+    found.push((Construct::ThreadCycle, None));
+    if c.entry_infeed && c.entry.is_some() {
+        found.push((Construct::SyncInfeed, None))
+    }
+    let Ok(e) = lower::expand(c) else {
+        return;
+    };
+    let mut p = pos;
+    let mut steep = false;
+    let mut shapes = Vec::new();
+    for m in &e.moves {
+        if let lower::Move::Pass(pass) = &m.kind {
+            steep |= steep_sync(p, pass);
+            pass_shape(p, pass, &mut shapes);
+        }
+        p = m.kind.end_position(p);
+    }
+    if steep {
+        found.push((Construct::SteepSync, None));
+    }
+    for s in shapes {
+        if !found.contains(&s) {
+            found.push(s);
+        }
+    }
+}
+
+/// The shape of a pass from `start`, as the writers refuse it: a start angle, an entry, a
+/// runout, a taper (each construct once in `found`).
+fn pass_shape(
+    start: Pos,
+    pass: &crate::ir::ThreadPass,
+    found: &mut Vec<(Construct, Option<crate::fixed::Angle>)>,
+) {
+    let line_start_x = pass
+        .infeed
+        .map(|i| i.x)
+        .or(start.x)
+        .map(|x| x - pass.entry.map_or(crate::fixed::Length::ZERO, |e| e.offset));
+    let shapes = [
+        (
+            Construct::StartAngle,
+            matches!(pass.start, SyncStart::Index(a) if a != crate::fixed::Angle::ZERO),
+        ),
+        (Construct::Entry, pass.entry.is_some()),
+        (Construct::Runout, pass.exit.is_some()),
+        (
+            Construct::TaperPass,
+            matches!((line_start_x, pass.to.x), (Some(a), Some(b)) if a != b),
+        ),
+    ];
+    for (construct, holds) in shapes {
+        if holds && !found.contains(&(construct, None)) {
+            found.push((construct, None));
+        }
     }
 }
 

@@ -20,11 +20,11 @@ pub(crate) use read::{
 pub(crate) use write::Inexact;
 
 use crate::diag::Diagnostic;
+use crate::encoding::TextEncoding;
 pub use crate::ir::DialectId;
 use crate::ir::Program;
 use crate::profile::Profile;
 use crate::source::SourceFile;
-use crate::text::TextEncoding;
 
 /// Every dialect, in the order ncthread lists them.
 pub static ALL: [&'static dyn Dialect; 4] = [&czech::Czech, &nc31::Nc31, &iso::Iso, &fanuc::Fanuc];
@@ -221,7 +221,7 @@ pub trait Dialect: Sync {
     fn capabilities(&self, profile: &Profile) -> capabilities::Capabilities;
     /// The diagnostic that refuses a use of a construct its table says it does not write: its
     /// code, in its words. `None` when it refuses that construct itself while writing.
-    fn refusal(&self, at: crate::legalise::Occurrence, src: &SourceFile) -> Option<Diagnostic>;
+    fn refusal(&self, at: capabilities::Occurrence, src: &SourceFile) -> Option<Diagnostic>;
     /// Writes `program` (read from `src`, whose lines the diagnostics point at). `None` when
     /// an item cannot be written; the diagnostics say why.
     fn write(

@@ -3,7 +3,7 @@
 use serde::Deserialize;
 
 use crate::diag::{Diagnostic, codes};
-use crate::profile::bad_value;
+use crate::profile::value::bad_value;
 use crate::source::SourceFile;
 
 #[derive(Clone, Debug, PartialEq, Eq)]

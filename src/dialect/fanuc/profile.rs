@@ -13,7 +13,7 @@
 use serde::Deserialize;
 
 use crate::diag::Diagnostic;
-use crate::profile::bad_value;
+use crate::profile::value::bad_value;
 use crate::source::SourceFile;
 
 /// How a word without a decimal point is read: FANUC parameter 3401#0 (DPI). **\[evidence\]**

@@ -500,7 +500,8 @@ pub fn load_externals(
             };
             match std::fs::read(&candidate) {
                 Ok(bytes) => {
-                    let (text, _) = crate::text::decode(&bytes, super::ID);
+                    let legacy = crate::dialect::Dialect::legacy_encoding(&super::Iso);
+                    let (text, _) = crate::encoding::decode_or(&bytes, legacy);
                     found.push(SourceFile::new(candidate.display().to_string(), text));
                 }
                 Err(e) if k == 0 => {

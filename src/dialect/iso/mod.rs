@@ -14,11 +14,11 @@ pub use front::Options;
 use super::capabilities::{Capabilities, Construct, Read, Write, row};
 use super::{Dialect, DialectId, Keep, LineClaim, LineMark, Unsupported, WriteOptions, detect};
 use crate::diag::{Diagnostic, codes};
+use crate::dialect::capabilities::Occurrence;
+use crate::encoding::TextEncoding;
 use crate::ir::Program;
-use crate::legalise::Occurrence;
 use crate::profile::Profile;
 use crate::source::SourceFile;
-use crate::text::TextEncoding;
 
 /// ISO G-code's id.
 pub const ID: DialectId = DialectId::new("iso");

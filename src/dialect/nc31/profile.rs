@@ -5,7 +5,7 @@ use serde::Deserialize;
 use crate::diag::Diagnostic;
 use crate::fixed::{Lead, Length};
 use crate::ir::{Schedule, Slope};
-use crate::profile::{RawNumber, bad_value};
+use crate::profile::value::{RawNumber, bad_value};
 use crate::source::SourceFile;
 
 /// The НЦ-31's units and machine parameters. Defaults: the seed's units, radial infeed, no

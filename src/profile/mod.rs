@@ -34,9 +34,13 @@
 use serde::Deserialize;
 
 use crate::diag::{Diagnostic, codes};
-use crate::dialect::{czech, fanuc, iso, nc31};
-use crate::fixed::Length;
+use crate::dialect::czech::profile as czech;
+use crate::dialect::fanuc::profile as fanuc;
+use crate::dialect::iso::profile as iso;
+use crate::dialect::nc31::profile as nc31;
 use crate::source::{SourceFile, Span};
+
+pub(crate) mod value;
 
 pub use crate::dialect::czech::profile::{
     AngleSource, Constant8, CzechArcs, CzechDwell, CzechProfile, InitialMotion,
@@ -109,34 +113,13 @@ impl Overrides {
 #[serde(deny_unknown_fields)]
 struct RawProfile {
     #[serde(default)]
-    czech: czech::profile::Raw,
+    czech: czech::Raw,
     #[serde(default)]
-    nc31: nc31::profile::Raw,
+    nc31: nc31::Raw,
     #[serde(default)]
-    iso: iso::profile::Raw,
+    iso: iso::Raw,
     #[serde(default)]
-    fanuc: fanuc::profile::Raw,
-}
-
-#[derive(Deserialize, Clone, Copy)]
-#[serde(untagged)]
-pub(crate) enum RawNumber {
-    Int(i64),
-    Float(f64),
-}
-
-impl RawNumber {
-    /// The value as a length on the 0.0001 mm grid, if it lies on it.
-    pub(crate) fn length(self) -> Option<Length> {
-        match self {
-            RawNumber::Int(i) => i.checked_mul(10_000).map(Length),
-            RawNumber::Float(f) => {
-                let units = f * 10_000.0;
-                (units.is_finite() && units.abs() < 1e15 && (units - units.round()).abs() < 1e-6)
-                    .then(|| Length(units.round() as i64))
-            }
-        }
-    }
+    fanuc: fanuc::Raw,
 }
 
 impl Profile {
@@ -144,7 +127,7 @@ impl Profile {
     /// (each with its file, line and key).
     pub fn load(path: &std::path::Path) -> Result<Profile, LoadError> {
         let text = std::fs::read_to_string(path)
-            .map_err(|e| LoadError::Io(crate::files::io_error("read", path.display(), &e)))?;
+            .map_err(|e| LoadError::Io(crate::diag::io_error("read", path.display(), &e)))?;
         Profile::from_toml(&SourceFile::new(path.display().to_string(), text))
             .map_err(LoadError::Invalid)
     }
@@ -173,10 +156,10 @@ impl Profile {
             name: Some(src.name.clone()),
             ..Profile::default()
         };
-        czech::profile::read(src, raw.czech, &mut profile.czech, &mut diags);
-        nc31::profile::read(src, raw.nc31, &mut profile.nc31, &mut diags);
-        iso::profile::read(src, raw.iso, &mut profile.iso, &mut diags);
-        fanuc::profile::read(src, raw.fanuc, &mut profile.fanuc, &mut diags);
+        czech::read(src, raw.czech, &mut profile.czech, &mut diags);
+        nc31::read(src, raw.nc31, &mut profile.nc31, &mut diags);
+        iso::read(src, raw.iso, &mut profile.iso, &mut diags);
+        fanuc::read(src, raw.fanuc, &mut profile.fanuc, &mut diags);
         if diags.is_empty() {
             Ok(profile)
         } else {
@@ -194,22 +177,10 @@ fn key_on_line(src: &SourceFile, span: Span) -> Option<String> {
         .then(|| key.to_string())
 }
 
-pub(crate) fn bad_value(
-    src: &SourceFile,
-    span: Span,
-    key: &str,
-    message: String,
-    help: &str,
-) -> Diagnostic {
-    Diagnostic::new(codes::PF_VALUE, format!("profile key `{key}`: {message}"))
-        .at(src, span)
-        .help(help.to_string())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fixed::Lead;
+    use crate::fixed::{Lead, Length};
     use crate::ir::Schedule;
 
     fn load(text: &str) -> Result<Profile, Vec<Diagnostic>> {
