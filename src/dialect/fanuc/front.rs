@@ -18,7 +18,7 @@ use super::syntax::{self, Block, Word};
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::Unsupported;
 use crate::dialect::read::{Keep, Reader, UnsupportedWording};
-use crate::fixed::{Decimal, Length, Lead};
+use crate::fixed::{Decimal, Lead, Length};
 use crate::ir::{ItemKind, ModalContext, Pos, Program};
 use crate::profile::{DecimalPoint, Profile};
 use crate::source::{Line, SourceFile, Span};
@@ -344,13 +344,13 @@ impl FrontEnd<'_> {
         self.sync_end = None;
         self.moved = true;
     }
-
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ir::{Item, ItemKind};
+    use crate::fixed::Angle;
+    use crate::ir::{Chamfer, Item, ItemKind, SpindleDirection, SpindleMode, SyncStart};
 
     fn read(text: &str, profile: &str) -> (Vec<Item>, Vec<Diagnostic>) {
         let profile = if profile.is_empty() {

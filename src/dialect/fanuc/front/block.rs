@@ -125,11 +125,16 @@ fn unsupported_g(g: i64, text: &str) -> String {
         90 => "the G90 turning cycle (system A) is not read yet".to_string(),
         94 => "the G94 facing cycle (system A) is not read yet".to_string(),
         70..=75 => format!("the G{g} multiple repetitive cycle is not read"),
-        28 | 30 => format!("G{g} (return to the machine's reference point) is not read: the reference point is the machine's, not the program's, and LinuxCNC's G{g} goes to another place"),
+        28 | 30 => format!(
+            "G{g} (return to the machine's reference point) is not read: the reference point is the machine's, not the program's, and LinuxCNC's G{g} goes to another place"
+        ),
         53 => "G53 (machine coordinates) is not read".to_string(),
         83..=89 => format!("the G{g} drilling or tapping cycle is not read"),
         17 | 19 => format!("G{g} selects a plane other than ZX: not a lathe program"),
-        _ => format!("`{text}` is not supported{}", crate::dialect::read::did_you_mean(&format!("G{g:02}"), &KNOWN_G)),
+        _ => format!(
+            "`{text}` is not supported{}",
+            crate::dialect::read::did_you_mean(&format!("G{g:02}"), &KNOWN_G)
+        ),
     }
 }
 
@@ -199,8 +204,14 @@ impl FrontEnd<'_> {
                     }
                     words.letters.push(w);
                 }
-                'E' => words.unsupported.push((self.span(line, w.range.clone()), format!("`{text}`: E (a lead in threads per inch) is not read"))),
-                c => words.unsupported.push((self.span(line, w.range.clone()), format!("`{text}`: address {c} is not supported"))),
+                'E' => words.unsupported.push((
+                    self.span(line, w.range.clone()),
+                    format!("`{text}`: E (a lead in threads per inch) is not read"),
+                )),
+                c => words.unsupported.push((
+                    self.span(line, w.range.clone()),
+                    format!("`{text}`: address {c} is not supported"),
+                )),
             }
         }
         Some(words)
@@ -210,11 +221,17 @@ impl FrontEnd<'_> {
     fn sort_g<'w>(&mut self, line: Line<'_>, w: &'w Word, words: &mut Words<'w>) {
         let text = &line.text[w.range.clone()];
         let Ok(g) = w.value.to_scaled(1) else {
-            words.unsupported.push((self.span(line, w.range.clone()), format!("`{text}` is not a G code")));
+            words.unsupported.push((
+                self.span(line, w.range.clone()),
+                format!("`{text}` is not a G code"),
+            ));
             return;
         };
         if g % 10 != 0 {
-            words.unsupported.push((self.span(line, w.range.clone()), format!("`{text}` is not a G code ncthread reads")));
+            words.unsupported.push((
+                self.span(line, w.range.clone()),
+                format!("`{text}` is not a G code ncthread reads"),
+            ));
             return;
         }
         let g = g / 10;
@@ -264,7 +281,10 @@ impl FrontEnd<'_> {
                     words.modal_unsupported.get_or_insert(w);
                 }
                 let what = unsupported_g(g, text);
-                words.unsupported.push((self.span(line, w.range.clone()), format!("`{text}`: {what}")));
+                words.unsupported.push((
+                    self.span(line, w.range.clone()),
+                    format!("`{text}`: {what}"),
+                ));
             }
         }
     }
@@ -282,11 +302,17 @@ impl FrontEnd<'_> {
                 words.m_codes.push((7, w));
                 return Some(());
             }
-            7 => format!("`{text}`: mist coolant is not supported (set `mist = true` in the profile's [fanuc] section if the machine has it)"),
+            7 => format!(
+                "`{text}`: mist coolant is not supported (set `mist = true` in the profile's [fanuc] section if the machine has it)"
+            ),
             29 => format!("`{text}`: rigid tapping (M29) is not read"),
-            _ => format!("`{text}` is not supported: M codes other than M00–M05, M08, M09 and M30 are the machine builder's"),
+            _ => format!(
+                "`{text}` is not supported: M codes other than M00–M05, M08, M09 and M30 are the machine builder's"
+            ),
         };
-        words.unsupported.push((self.span(line, w.range.clone()), why));
+        words
+            .unsupported
+            .push((self.span(line, w.range.clone()), why));
         Some(())
     }
 }
@@ -361,10 +387,19 @@ impl FrontEnd<'_> {
 
     /// A block with words ncthread does not read: refused, or kept as written with
     /// `--unsupported warn` (unless it changes state the reader follows).
-    fn refuse_unsupported(&mut self, line: Line<'_>, block: &Block, words: Words<'_>, thread: bool) {
+    fn refuse_unsupported(
+        &mut self,
+        line: Line<'_>,
+        block: &Block,
+        words: Words<'_>,
+        thread: bool,
+    ) {
         let keep = self.unsupported == Unsupported::Warn;
         let state = words.state();
-        if self.r.unsupported(&UNSUPPORTED, words.unsupported, keep, thread) {
+        if self
+            .r
+            .unsupported(&UNSUPPORTED, words.unsupported, keep, thread)
+        {
             self.keep(line, block, &state);
         }
     }

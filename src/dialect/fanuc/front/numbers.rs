@@ -52,7 +52,7 @@ impl FrontEnd<'_> {
     }
 
     /// Notes the first word read without a decimal point.
-    pub(super) fn note_no_point(&mut self, line: Line<'_>, word: &Word) {
+    fn note_no_point(&mut self, line: Line<'_>, word: &Word) {
         if self.no_point.is_none() {
             let span = self.span(line, word.range.clone());
             self.no_point = Some((span, line.text[word.range.clone()].to_string()));
