@@ -1,0 +1,760 @@
+//! The block interpreter: a block's words sorted by modal group into [`Words`] (what the
+//! block asks), then one short step per group, in one order, as LinuxCNC's
+//! `interp_convert.cc` reads a block (`read_…` into `block_struct`, then `execute_block`).
+//!
+//! The steps, LinuxCNC's order adapted to what a FANUC lathe program holds:
+//!
+//! | step | group | words |
+//! |------|-------|-------|
+//! | [`FrontEnd::sort_words`] | (every word) | G, M and the address letters; G76 refused by name |
+//! | [`FrontEnd::check_words`] | (the block) | a group or a letter twice, M codes that contradict, X with U, Z with W |
+//! | [`FrontEnd::refuse_unsupported`] | (the block) | what ncthread does not read: refused, or the block kept as written |
+//! | [`FrontEnd::program_number`] | program number | O |
+//! | [`FrontEnd::units`] | units | G20 / G21 (first: they decide what every other number means) |
+//! | [`FrontEnd::feed_mode`] | feed mode | G98 / G99 |
+//! | [`FrontEnd::feed`] | feed | F (a lead in a G32 / G92 block) |
+//! | [`FrontEnd::spindle_mode`] | speed mode | G50 S (the limit), G96 / G97 — [`Switches::spindle_mode`] |
+//! | [`FrontEnd::tool`] | tool | T |
+//! | [`FrontEnd::speed`] | spindle | S, M03 / M04 — [`Switches::spindle`] |
+//! | (coolant) | coolant | M07 / M08 — [`Switches::coolant_on`] |
+//! | [`FrontEnd::coordinate_system`] | coordinate system | G54 – G59 |
+//! | [`FrontEnd::compensation`] | compensation | G40 / G41 / G42 |
+//! | [`FrontEnd::dwell_step`] or [`FrontEnd::motion_step`] | dwell or motion | G04; G00 G01 G02 G03 G32 G92 |
+//! | [`FrontEnd::stops`] | stop | M05, M09, M00, M01 |
+//! | [`FrontEnd::program_end`] | end | M02 / M30 |
+//!
+//! G18 (the ZX plane, a lathe's only one) and G80 (cancelling drilling cycles ncthread
+//! never reads) are read and do nothing. A step that refuses the block says why and returns
+//! `None`: the steps after it do not run.
+//!
+//! The stop step is not [`Switches::after_motion`]: M05, M09, M00 and M01 act in the
+//! block's order (`M05 M09` stops the spindle first), and each M code written acts (`M05
+//! M05` stops twice, `M02 M30` ends twice), where `Switches` holds one of each.
+
+use super::{FRegister, FrontEnd, KNOWN_G, Motion, UNSUPPORTED, Unit};
+use crate::diag::codes;
+use crate::dialect::Unsupported;
+use crate::dialect::fanuc::syntax::{Block, Word};
+use crate::dialect::machine::Switches;
+use crate::fixed::{Decimal, Lead, Length};
+use crate::ir::{
+    Compensation, Coolant, EndCode, FeedMode, ItemKind, SpindleDirection, SpindleMode,
+};
+use crate::source::{Line, Span};
+
+/// What one block asks, its words sorted by modal group (LinuxCNC's `block_struct`).
+#[derive(Default)]
+struct Words<'w> {
+    /// What ncthread does not read, each with what to say about it, in the block's order.
+    unsupported: Vec<(Span, String)>,
+    /// The first modal code ncthread does not read (a cycle: the blocks after it repeat it).
+    modal_unsupported: Option<&'w Word>,
+    /// A code refused by name (G76), its diagnostic said.
+    refused_by_name: bool,
+    /// The first word that repeats a letter or a code of its group.
+    conflict: Option<&'w Word>,
+    /// G00 G01 G02 G03 G32 G92.
+    motion: Option<(Motion, &'w Word)>,
+    /// G04 (one-shot).
+    dwell: Option<&'w Word>,
+    /// G50: the spindle's limit, its S.
+    limit: Option<&'w Word>,
+    /// G20 (true) or G21.
+    units: Option<(bool, &'w Word)>,
+    /// G98 (true: per minute) or G99.
+    feed_mode: Option<(bool, &'w Word)>,
+    /// G96 (true: a surface speed) or G97.
+    speed_mode: Option<(bool, &'w Word)>,
+    /// G40 G41 G42.
+    comp: Option<(Compensation, &'w Word)>,
+    /// G54 – G59, as 1 – 6.
+    offset: Option<(u8, &'w Word)>,
+    /// The M codes read, in the block's order.
+    m_codes: Vec<(i64, &'w Word)>,
+    /// X Z U W I K R F S T P Q O, in the block's order.
+    letters: Vec<&'w Word>,
+}
+
+impl<'w> Words<'w> {
+    /// The word of this letter.
+    fn get(&self, c: char) -> Option<&'w Word> {
+        self.letters.iter().copied().find(|w| w.letter == c)
+    }
+
+    /// The first M code `m`.
+    fn m(&self, m: i64) -> Option<&'w Word> {
+        self.m_codes.iter().find(|(c, _)| *c == m).map(|(_, w)| *w)
+    }
+
+    /// Whether the block has X, Z, U or W.
+    fn moves(&self) -> bool {
+        ['X', 'Z', 'U', 'W'].iter().any(|&c| self.get(c).is_some())
+    }
+
+    /// The words that change state the reader follows, for a block kept as written.
+    fn state(&self) -> Vec<&'w Word> {
+        let mut state: Vec<&'w Word> = Vec::new();
+        state.extend(self.modal_unsupported);
+        state.extend(self.motion.map(|(_, w)| w));
+        state.extend(self.units.map(|(_, w)| w));
+        state.extend(self.feed_mode.map(|(_, w)| w));
+        state.extend(self.speed_mode.map(|(_, w)| w));
+        state.extend(self.limit);
+        state.extend(self.m_codes.iter().map(|(_, w)| *w));
+        state.extend(['F', 'S', 'T'].iter().filter_map(|&c| self.get(c)));
+        state
+    }
+}
+
+/// Puts `v` (from `w`) in its group's slot, noting a second code of the group.
+fn set<'w, T>(
+    w: &'w Word,
+    slot: &mut Option<(T, &'w Word)>,
+    v: T,
+    conflict: &mut Option<&'w Word>,
+) {
+    if slot.is_some() {
+        conflict.get_or_insert(w);
+    }
+    *slot = Some((v, w));
+}
+
+/// What to say about a G code ncthread does not read (`text` as written).
+fn unsupported_g(g: i64, text: &str) -> String {
+    match g {
+        90 => "the G90 turning cycle (system A) is not read yet".to_string(),
+        94 => "the G94 facing cycle (system A) is not read yet".to_string(),
+        70..=75 => format!("the G{g} multiple repetitive cycle is not read"),
+        28 | 30 => format!(
+            "G{g} (return to the machine's reference point) is not read: the reference point is the machine's, not the program's, and LinuxCNC's G{g} goes to another place"
+        ),
+        53 => "G53 (machine coordinates) is not read".to_string(),
+        83..=89 => format!("the G{g} drilling or tapping cycle is not read"),
+        17 | 19 => format!("G{g} selects a plane other than ZX: not a lathe program"),
+        _ => format!(
+            "`{text}` is not supported{}",
+            crate::dialect::read::did_you_mean(&format!("G{g:02}"), &KNOWN_G)
+        ),
+    }
+}
+
+impl FrontEnd<'_> {
+    /// One block with words: its words sorted, then the steps in the module's order. `None`
+    /// once a step has refused the block (its diagnostic said).
+    pub(super) fn read_block(
+        &mut self,
+        line: Line<'_>,
+        block: &Block,
+        code_span: Span,
+    ) -> Option<()> {
+        let words = self.sort_words(line, block)?;
+        if words.refused_by_name {
+            return None;
+        }
+        self.check_words(line, &words)?;
+        let motion = words.motion.map_or(self.motion, |(m, _)| m);
+        // F is a lead, and X / U the thread's, in a G32 or G92 block (not beside G04).
+        let threads = matches!(motion, Motion::Thread | Motion::Cycle) && words.dwell.is_none();
+        if !words.unsupported.is_empty() {
+            let thread = threads && words.moves();
+            self.refuse_unsupported(line, block, words, thread);
+            return None;
+        }
+        if let Some(w) = words.get('O') {
+            self.program_number(line, block, w);
+            return None;
+        }
+        self.units(line, &words)?;
+        self.feed_mode(&words, code_span);
+        let (lead, feed) = self.feed(line, &words, threads)?;
+        let mut sw = Switches {
+            spindle_mode: self.spindle_mode(line, &words)?.map(|m| (m, code_span)),
+            ..Switches::default()
+        };
+        sw.spindle_mode(&mut self.r, None);
+        self.tool(line, &words, code_span)?;
+        sw.spindle = Some((self.speed(line, &words)?, words.direction(), code_span));
+        sw.spindle(&mut self.r, None);
+        sw.coolant = words.coolant_on(code_span);
+        sw.coolant_on(&mut self.r, None);
+        self.coordinate_system(&words, code_span);
+        self.compensation(&words, code_span);
+        match words.dwell {
+            Some(g04) => self.dwell_step(line, &words, g04, code_span)?,
+            None => self.motion_step(line, &words, lead, feed, code_span)?,
+        }
+        self.stops(&words, code_span);
+        self.program_end(&words, code_span);
+        Some(())
+    }
+
+    /// Sorts the block's words by group: G and M codes into their groups (or among the
+    /// unsupported), the address letters kept in order. G76 is refused here, by name. `None`
+    /// when an M code is not a whole number (said).
+    fn sort_words<'w>(&mut self, line: Line<'_>, block: &'w Block) -> Option<Words<'w>> {
+        let mut words = Words::default();
+        for w in &block.words {
+            let text = &line.text[w.range.clone()];
+            match w.letter {
+                'G' => self.sort_g(line, w, &mut words),
+                'M' => self.sort_m(line, w, &mut words)?,
+                'X' | 'Z' | 'U' | 'W' | 'I' | 'K' | 'R' | 'F' | 'S' | 'T' | 'P' | 'Q' | 'O' => {
+                    if words.letters.iter().any(|o| o.letter == w.letter) {
+                        words.conflict.get_or_insert(w);
+                    }
+                    words.letters.push(w);
+                }
+                'E' => words.unsupported.push((
+                    self.span(line, w.range.clone()),
+                    format!("`{text}`: E (a lead in threads per inch) is not read"),
+                )),
+                c => words.unsupported.push((
+                    self.span(line, w.range.clone()),
+                    format!("`{text}`: address {c} is not supported"),
+                )),
+            }
+        }
+        Some(words)
+    }
+
+    /// A G word into its modal group, or among the unsupported; G76 refused by name.
+    fn sort_g<'w>(&mut self, line: Line<'_>, w: &'w Word, words: &mut Words<'w>) {
+        let text = &line.text[w.range.clone()];
+        let Ok(g) = w.value.to_scaled(1) else {
+            words.unsupported.push((
+                self.span(line, w.range.clone()),
+                format!("`{text}` is not a G code"),
+            ));
+            return;
+        };
+        if g % 10 != 0 {
+            words.unsupported.push((
+                self.span(line, w.range.clone()),
+                format!("`{text}` is not a G code ncthread reads"),
+            ));
+            return;
+        }
+        let g = g / 10;
+        let conflict = &mut words.conflict;
+        match g {
+            0 => set(w, &mut words.motion, Motion::Rapid, conflict),
+            1 => set(w, &mut words.motion, Motion::Feed, conflict),
+            2 => set(w, &mut words.motion, Motion::Arc(true), conflict),
+            3 => set(w, &mut words.motion, Motion::Arc(false), conflict),
+            32 => set(w, &mut words.motion, Motion::Thread, conflict),
+            92 => set(w, &mut words.motion, Motion::Cycle, conflict),
+            4 => words.dwell = Some(w),
+            50 => words.limit = Some(w),
+            20 => set(w, &mut words.units, true, conflict),
+            21 => set(w, &mut words.units, false, conflict),
+            98 => set(w, &mut words.feed_mode, true, conflict),
+            99 => set(w, &mut words.feed_mode, false, conflict),
+            96 => set(w, &mut words.speed_mode, true, conflict),
+            97 => set(w, &mut words.speed_mode, false, conflict),
+            40 => set(w, &mut words.comp, Compensation::Off, conflict),
+            41 | 42 => set(
+                w,
+                &mut words.comp,
+                Compensation::FromTool {
+                    right: g == 42,
+                    tool: None,
+                },
+                conflict,
+            ),
+            54..=59 => set(w, &mut words.offset, (g - 53) as u8, conflict),
+            // The ZX plane is a lathe's only one; G80 cancels drilling cycles, which
+            // ncthread never reads.
+            18 | 80 => {}
+            76 => {
+                words.refused_by_name = true;
+                self.error(
+                    codes::FANR_G76,
+                    line,
+                    w.range.clone(),
+                    format!("`{text}`: the G76 threading cycle is not read"),
+                    "its pass placement (and the two-block form's P, Q, R words) is not documented in any source ncthread holds, and its chamfer is a machine parameter: write the passes as G32 blocks (ncthread writes every thread that way)",
+                );
+            }
+            _ => {
+                // A cycle code is modal: the blocks after it would repeat it.
+                if matches!(g, 90 | 94 | 83..=89) {
+                    words.modal_unsupported.get_or_insert(w);
+                }
+                let what = unsupported_g(g, text);
+                words.unsupported.push((
+                    self.span(line, w.range.clone()),
+                    format!("`{text}`: {what}"),
+                ));
+            }
+        }
+    }
+
+    /// An M word among the block's M codes, or among the unsupported. `None` when it is not
+    /// a whole number (said).
+    fn sort_m<'w>(&mut self, line: Line<'_>, w: &'w Word, words: &mut Words<'w>) -> Option<()> {
+        let text = &line.text[w.range.clone()];
+        let why = match self.whole(line, w)? {
+            m @ (0 | 1 | 2 | 30 | 3 | 4 | 5 | 8 | 9) => {
+                words.m_codes.push((m, w));
+                return Some(());
+            }
+            7 if self.profile.fanuc.mist => {
+                words.m_codes.push((7, w));
+                return Some(());
+            }
+            7 => format!(
+                "`{text}`: mist coolant is not supported (set `mist = true` in the profile's [fanuc] section if the machine has it)"
+            ),
+            29 => format!("`{text}`: rigid tapping (M29) is not read"),
+            _ => format!(
+                "`{text}` is not supported: M codes other than M00–M05, M08, M09 and M30 are the machine builder's"
+            ),
+        };
+        words
+            .unsupported
+            .push((self.span(line, w.range.clone()), why));
+        Some(())
+    }
+}
+
+impl<'w> Words<'w> {
+    /// M03 or M04: the direction the block starts the spindle in.
+    fn direction(&self) -> Option<SpindleDirection> {
+        self.m_codes.iter().find_map(|(m, _)| match m {
+            3 => Some(SpindleDirection::Clockwise),
+            4 => Some(SpindleDirection::CounterClockwise),
+            _ => None,
+        })
+    }
+
+    /// M07 and M08, in the block's order.
+    fn coolant_on(&self, span: Span) -> Vec<(Coolant, Span)> {
+        self.m_codes
+            .iter()
+            .filter_map(|(m, _)| match m {
+                7 => Some((Coolant::Mist, span)),
+                8 => Some((Coolant::Flood, span)),
+                _ => None,
+            })
+            .collect()
+    }
+}
+
+impl FrontEnd<'_> {
+    /// The block as a whole: a letter or a group written twice, M codes of one function
+    /// that contradict each other (which wins is the machine builder's ladder), an axis
+    /// written both absolute and incremental.
+    fn check_words(&mut self, line: Line<'_>, words: &Words<'_>) -> Option<()> {
+        if let Some(w) = words.conflict {
+            let text = &line.text[w.range.clone()];
+            self.error(
+                codes::FANR_CONFLICT,
+                line,
+                w.range.clone(),
+                format!("`{text}` repeats a word or a code of the same group in this block"),
+                "write each word once, and one code of each group (motion, units, feed mode…)",
+            );
+            return None;
+        }
+        for (a, b) in [(3, 4), (3, 5), (4, 5), (8, 9), (7, 9)] {
+            if let (Some(_), Some(w)) = (words.m(a), words.m(b)) {
+                let text = &line.text[w.range.clone()];
+                self.error(
+                    codes::FANR_CONFLICT,
+                    line,
+                    w.range.clone(),
+                    format!("`{text}` contradicts M{a:02} in the same block"),
+                    "write each spindle or coolant command in a block of its own",
+                );
+                return None;
+            }
+        }
+        for (a, b) in [('X', 'U'), ('Z', 'W')] {
+            if let (Some(_), Some(w)) = (words.get(a), words.get(b)) {
+                let text = &line.text[w.range.clone()];
+                self.error(
+                    codes::FANR_CONFLICT,
+                    line,
+                    w.range.clone(),
+                    format!("`{text}`: {a} and {b} both set the same axis in this block"),
+                    "write the axis once, absolute or incremental",
+                );
+                return None;
+            }
+        }
+        Some(())
+    }
+
+    /// A block with words ncthread does not read: refused, or kept as written with
+    /// `--unsupported warn` (unless it changes state the reader follows).
+    fn refuse_unsupported(
+        &mut self,
+        line: Line<'_>,
+        block: &Block,
+        words: Words<'_>,
+        thread: bool,
+    ) {
+        let keep = self.unsupported == Unsupported::Warn;
+        let state = words.state();
+        if self
+            .r
+            .unsupported(&UNSUPPORTED, words.unsupported, keep, thread)
+        {
+            self.keep(line, block, &state);
+        }
+    }
+
+    /// Program number: `O0001`, on a line of its own.
+    fn program_number(&mut self, line: Line<'_>, block: &Block, w: &Word) {
+        if block.words.len() > 1 {
+            let text = &line.text[w.range.clone()];
+            self.error(
+                codes::FANR_SYNTAX,
+                line,
+                w.range.clone(),
+                format!("`{text}`: a program number stands on a line of its own"),
+                "write `O0001 (NAME)` as the program's first line",
+            );
+        } else if let Some(n) = self.whole(line, w)
+            && !(1..=9999).contains(&n)
+        {
+            let text = &line.text[w.range.clone()];
+            self.error(
+                codes::FANR_NUMBER,
+                line,
+                w.range.clone(),
+                format!("`{text}` is not a program number"),
+                "program numbers are O1 to O9999",
+            );
+        }
+    }
+
+    /// Units: G20 / G21, first, as they decide what every other number means; only before
+    /// the first move.
+    fn units(&mut self, line: Line<'_>, words: &Words<'_>) -> Option<()> {
+        if let Some((inch, w)) = words.units {
+            if self.moved && inch != self.inch {
+                let text = &line.text[w.range.clone()];
+                self.error(
+                    codes::FANR_INCH,
+                    line,
+                    w.range.clone(),
+                    format!(
+                        "`{text}` after the first move: the unit must be set at the program's start"
+                    ),
+                    "put G20 or G21 in the program's first blocks, before any move",
+                );
+                return None;
+            }
+            self.inch = inch;
+        }
+        Some(())
+    }
+
+    /// Feed mode: G98 (per minute) / G99 (per revolution).
+    fn feed_mode(&mut self, words: &Words<'_>, code_span: Span) {
+        if let Some((per_minute, _)) = words.feed_mode {
+            // A feed set in the other mode is not carried over: which number F then holds
+            // (mm/min or mm/rev) no source settles.
+            if per_minute != self.per_minute && matches!(self.f, Some(FRegister::Feed(_))) {
+                self.f = None;
+            }
+            self.per_minute = per_minute;
+            self.push(
+                ItemKind::FeedMode(if per_minute {
+                    FeedMode::PerMin
+                } else {
+                    FeedMode::PerRev
+                }),
+                code_span,
+            );
+        }
+    }
+
+    /// Feed: F, a lead in a G32 / G92 block (`threads`), else a feed; kept in the one F
+    /// register. The block's lead and feed.
+    fn feed(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        threads: bool,
+    ) -> Option<(Option<Lead>, Option<Length>)> {
+        let mut lead: Option<Lead> = None;
+        let mut feed: Option<Length> = None;
+        if let Some(w) = words.get('F') {
+            if threads {
+                lead = Some(self.lead(line, w)?);
+                self.f = Some(FRegister::Lead(lead?));
+            } else {
+                let f = self.length(line, w, Unit::Feed)?;
+                if f.0 <= 0 {
+                    let text = &line.text[w.range.clone()];
+                    self.error(
+                        codes::FANR_NUMBER,
+                        line,
+                        w.range.clone(),
+                        format!("`{text}`: a feed must be positive"),
+                        "write the feed",
+                    );
+                    return None;
+                }
+                feed = Some(f);
+                self.f = Some(FRegister::Feed(f));
+            }
+        }
+        Some((lead, feed))
+    }
+
+    /// Speed mode: G50 S (the spindle's limit, never a coordinate setting) or G96 / G97
+    /// (the two never share a block). The mode to switch to, if any.
+    fn spindle_mode(&mut self, line: Line<'_>, words: &Words<'_>) -> Option<Option<SpindleMode>> {
+        match words.limit {
+            Some(w50) => self.spindle_limit(line, words, w50),
+            None => self.speed_mode(line, words),
+        }
+    }
+
+    /// `G50 S<rpm>`: the limit, and under G96 the surface speed again with it.
+    fn spindle_limit(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        w50: &Word,
+    ) -> Option<Option<SpindleMode>> {
+        if let Some((_, w)) = words.speed_mode {
+            let text = &line.text[w.range.clone()];
+            self.error(
+                codes::FANR_CONFLICT,
+                line,
+                w.range.clone(),
+                format!("`{text}` in a G50 block: its S would be the limit, not the speed"),
+                "write `G50 S<limit>` and `G96 S<speed>` in blocks of their own",
+            );
+            return None;
+        }
+        if words.moves() {
+            let text = &line.text[w50.range.clone()];
+            self.error(
+                codes::FANR_UNSUPPORTED,
+                line,
+                w50.range.clone(),
+                format!("`{text}` with X or Z sets the coordinate system from where the tool stands, which ncthread cannot know"),
+                "set the work offset on the machine (G54) and remove G50 X Z from the program; `G50 S…` alone (the spindle's limit) is read",
+            );
+            return None;
+        }
+        let Some(s) = words.get('S') else {
+            let text = &line.text[w50.range.clone()];
+            self.error(
+                codes::FANR_UNSUPPORTED,
+                line,
+                w50.range.clone(),
+                format!("`{text}` without S"),
+                "write `G50 S<rpm>`, the spindle's limit under G96",
+            );
+            return None;
+        };
+        let limit = self.whole(line, s)?;
+        self.limit = Some(Decimal {
+            mantissa: limit as i128,
+            scale: 0,
+            has_point: false,
+        });
+        Some(self.surface_speed.then_some(SpindleMode::SurfaceSpeed {
+            limit: self.limit,
+            feet: self.inch,
+        }))
+    }
+
+    /// G96 (a surface speed, with the limit G50 set) or G97 (rpm), each with its S.
+    fn speed_mode(&mut self, line: Line<'_>, words: &Words<'_>) -> Option<Option<SpindleMode>> {
+        let Some((surface, w)) = words.speed_mode else {
+            return Some(None);
+        };
+        if words.get('S').is_none() && (surface || self.surface_speed) {
+            // What G96 or G97 keeps without S (the last G96 S? the rpm the surface speed ran
+            // at?) no source ncthread holds settles.
+            let text = &line.text[w.range.clone()];
+            self.error(
+                codes::FANR_UNSUPPORTED,
+                line,
+                w.range.clone(),
+                format!("`{text}` without S: which speed the control keeps when the mode changes is not settled by any source ncthread holds"),
+                "write the speed in the same block: `G96 S200 M03`, `G97 S800`",
+            );
+            return None;
+        }
+        if surface && self.inch {
+            let text = &line.text[w.range.clone()];
+            self.error(
+                codes::FANR_UNSUPPORTED,
+                line,
+                w.range.clone(),
+                format!("`{text}` in inches: a surface speed in feet per minute is not read"),
+                "program the speed in rpm (G97 S…)",
+            );
+            return None;
+        }
+        self.surface_speed = surface;
+        Some(Some(if surface {
+            SpindleMode::SurfaceSpeed {
+                limit: self.limit,
+                feet: self.inch,
+            }
+        } else {
+            SpindleMode::Rpm
+        }))
+    }
+
+    /// Tool: T, the tool and its offset, two digits each.
+    fn tool(&mut self, line: Line<'_>, words: &Words<'_>, code_span: Span) -> Option<()> {
+        if let Some(w) = words.get('T') {
+            let n = self.whole(line, w)?;
+            let (tool, off) = (n / 100, n % 100);
+            if !(100..=9999).contains(&n) {
+                let text = &line.text[w.range.clone()];
+                self.error(
+                    codes::FANR_TOOL,
+                    line,
+                    w.range.clone(),
+                    format!("`{text}` is not a tool and offset of two digits each (tool {tool}, offset {off})"),
+                    "write T followed by the tool number and the offset number, two digits each: T0101 (tool 1, offset 1), T0100 (tool 1, no offset); tools over 99 are not read",
+                );
+                return None;
+            }
+            self.push(
+                ItemKind::Tool {
+                    number: Some(tool as u32),
+                    offset: Some(off as u32),
+                },
+                code_span,
+            );
+        }
+        Some(())
+    }
+
+    /// Spindle: the speed S (not G50's, which is the limit). The block's speed, if any.
+    fn speed(&mut self, line: Line<'_>, words: &Words<'_>) -> Option<Option<u32>> {
+        let Some(w) = words.get('S').filter(|_| words.limit.is_none()) else {
+            return Some(None);
+        };
+        let s = self.whole(line, w)?;
+        let Ok(s) = u32::try_from(s) else {
+            let text = &line.text[w.range.clone()];
+            let why = if s < 0 {
+                "a speed is not negative"
+            } else {
+                "too large for a speed"
+            };
+            self.error(
+                codes::FANR_NUMBER,
+                line,
+                w.range.clone(),
+                format!("`{text}`: {why}"),
+                "write the speed in rpm or m/min",
+            );
+            return None;
+        };
+        Some(Some(s))
+    }
+
+    /// Coordinate system: G54 – G59.
+    fn coordinate_system(&mut self, words: &Words<'_>, code_span: Span) {
+        if let Some((n, _)) = words.offset {
+            self.push(ItemKind::WorkOffset(n), code_span);
+        }
+    }
+
+    /// Compensation: G40, G41, G42.
+    fn compensation(&mut self, words: &Words<'_>, code_span: Span) {
+        if let Some((c, _)) = words.comp {
+            self.push(ItemKind::Compensation(c), code_span);
+        }
+    }
+
+    /// Dwell: G04 is one-shot; a motion code beside it is modal and takes effect for the
+    /// blocks after it (a thread or a cycle there would need the axes G04 takes).
+    fn dwell_step(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        g04: &Word,
+        code_span: Span,
+    ) -> Option<()> {
+        if let Some((m, w)) = words.motion {
+            if matches!(m, Motion::Thread | Motion::Cycle) {
+                let text = &line.text[w.range.clone()];
+                self.error(
+                    codes::FANR_CONFLICT,
+                    line,
+                    w.range.clone(),
+                    format!("`{text}` in a G04 block: X and U are the dwell's time there"),
+                    "write the dwell and the thread in blocks of their own",
+                );
+                return None;
+            }
+            self.motion = m;
+            self.cycle = None;
+        }
+        self.dwell(line, g04, &|c| words.get(c), code_span)
+    }
+
+    /// Motion: the modal motion set, then the block's move (a G92 block moves without X or
+    /// Z: it repeats the cycle); a feed F of its own is for the moves after it.
+    fn motion_step(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        lead: Option<Lead>,
+        feed: Option<Length>,
+        code_span: Span,
+    ) -> Option<()> {
+        if let Some((m, _)) = words.motion {
+            self.motion = m;
+            if m != Motion::Cycle {
+                self.cycle = None;
+            }
+        }
+        if words.moves() || words.motion.is_some_and(|(m, _)| m == Motion::Cycle) {
+            let g = words.motion.map(|(_, w)| w);
+            self.motion_block(line, &|c| words.get(c), lead, feed, g, code_span)?;
+        } else if let Some(f) = feed {
+            self.push(ItemKind::FeedRate(f), code_span);
+        } else if let Some(w) = ['I', 'K', 'R', 'Q', 'P'].iter().find_map(|&c| words.get(c)) {
+            let text = &line.text[w.range.clone()];
+            self.error(
+                codes::FANR_UNSUPPORTED,
+                line,
+                w.range.clone(),
+                format!("`{text}` in a block that does not move"),
+                "I, K, R and Q belong to a move (an arc, a thread); P to a dwell",
+            );
+            return None;
+        }
+        Some(())
+    }
+
+    /// Stop: M05, M09, M00 and M01, after the motion, in the block's order.
+    fn stops(&mut self, words: &Words<'_>, code_span: Span) {
+        for (m, _) in &words.m_codes {
+            match m {
+                5 => self.push(ItemKind::SpindleStop, code_span),
+                9 => self.push(ItemKind::Coolant(Coolant::Off), code_span),
+                0 => self.push(ItemKind::Stop { optional: false }, code_span),
+                1 => self.push(ItemKind::Stop { optional: true }, code_span),
+                _ => {}
+            }
+        }
+    }
+
+    /// End: M02 and M30, last.
+    fn program_end(&mut self, words: &Words<'_>, code_span: Span) {
+        for (m, _) in &words.m_codes {
+            match m {
+                2 => self.push(ItemKind::ProgramEnd(EndCode::M2), code_span),
+                30 => self.push(ItemKind::ProgramEnd(EndCode::M30), code_span),
+                _ => {}
+            }
+        }
+    }
+}
