@@ -153,8 +153,7 @@ impl Structure {
     }
 
     /// The O-word line `o` at line `i`, against the blocks open before it (`stack`): one
-    /// step per keyword, as LinuxCNC's `control_save_offset`/`control_find_oword` pair
-    /// them.
+    /// step per keyword, each pairing the line with the open block it closes or belongs to.
     fn line(&mut self, blocks: &[Option<&Block>], stack: &mut Vec<Open>, i: usize, o: &OWord) {
         let label = &o.label;
         match o.keyword {
