@@ -7,7 +7,7 @@ use std::collections::HashMap;
 use std::ops::Range;
 
 use super::expr::{EvalError, MAX_PARAMETER};
-use super::syntax::{self, Block, Keyword, Label, SyntaxError};
+use super::syntax::{self, Block, Keyword, Label, OWord, SyntaxError};
 use crate::source::{Line, SourceFile, Span};
 
 /// Where an O-word line sends control.
@@ -105,6 +105,26 @@ struct Open {
     exits: Vec<(usize, bool)>,
 }
 
+impl Open {
+    fn new(i: usize, o: &OWord, keyword: Keyword) -> Open {
+        Open {
+            label: o.label.clone(),
+            keyword,
+            line: i,
+            range: o.range.clone(),
+            branches: Vec::new(),
+            exits: Vec::new(),
+        }
+    }
+}
+
+/// Whether the innermost open block is a `k` of this label.
+fn top_is(stack: &[Open], k: Keyword, label: &Label) -> bool {
+    stack
+        .last()
+        .is_some_and(|t| t.keyword == k && t.label == *label)
+}
+
 impl Structure {
     /// The structure of `blocks` (one per line; `None` for a line that is not read).
     pub fn of(blocks: &[Option<&Block>]) -> Structure {
@@ -115,167 +135,10 @@ impl Structure {
             let Some(o) = block.and_then(|b| b.oword.as_ref()) else {
                 continue;
             };
-            let label = o.label.clone();
-            if let Some(before) = last.insert(label.clone(), i) {
+            if let Some(before) = last.insert(o.label.clone(), i) {
                 s.next_same.insert(before, i);
             }
-            let open = |keyword| Open {
-                label: label.clone(),
-                keyword,
-                line: i,
-                range: o.range.clone(),
-                branches: Vec::new(),
-                exits: Vec::new(),
-            };
-            let mut error = |message: String, help: &'static str| {
-                s.errors.push(StructureError {
-                    line: i,
-                    range: o.range.clone(),
-                    message,
-                    help,
-                })
-            };
-            let top_is = |stack: &[Open], k: Keyword| {
-                stack
-                    .last()
-                    .is_some_and(|t| t.keyword == k && t.label == label)
-            };
-            match o.keyword {
-                Keyword::Sub => {
-                    if stack.iter().any(|t| t.keyword == Keyword::Sub) {
-                        error(
-                            format!("{label} sub inside another subroutine's definition"),
-                            "define each subroutine on its own, outside every other",
-                        );
-                    }
-                    if s.subs.insert(label.clone(), i).is_some() {
-                        error(
-                            format!("{label} is defined twice"),
-                            "give each subroutine its own name",
-                        );
-                    }
-                    stack.push(open(Keyword::Sub));
-                }
-                Keyword::EndSub => {
-                    if top_is(&stack, Keyword::Sub) {
-                        let t = stack.pop().expect("top");
-                        s.flow.insert(t.line, Flow::Sub { end: i });
-                        s.flow.insert(i, Flow::EndSub { start: t.line });
-                    } else {
-                        error(
-                            format!("{label} endsub does not close a {label} sub"),
-                            "every `endsub` closes the `sub` of the same label, after every block inside it is closed",
-                        );
-                    }
-                }
-                // LinuxCNC returns from the subroutine running, whatever the label (real
-                // programs write the label of the `if` around it).
-                Keyword::Return => match stack.iter().find(|t| t.keyword == Keyword::Sub) {
-                    Some(t) => {
-                        s.flow.insert(i, Flow::Return { start: t.line });
-                    }
-                    None => error(
-                        format!("{label} return is not inside a subroutine"),
-                        "`return` ends the subroutine it stands in",
-                    ),
-                },
-                Keyword::Call => {
-                    s.flow.insert(i, Flow::Call);
-                }
-                Keyword::If | Keyword::Do | Keyword::Repeat => stack.push(open(o.keyword)),
-                Keyword::While if !top_is(&stack, Keyword::Do) => stack.push(open(o.keyword)),
-                Keyword::ElseIf | Keyword::Else => {
-                    if top_is(&stack, Keyword::If) {
-                        let t = stack.last_mut().expect("top");
-                        if t.branches.last().is_some_and(|&b| {
-                            blocks[b]
-                                .and_then(|b| b.oword.as_ref())
-                                .is_some_and(|o| o.keyword == Keyword::Else)
-                        }) {
-                            error(
-                                format!("{label} {} after {label} else", o.keyword.name()),
-                                "`else` is the last branch of an `if`",
-                            );
-                        }
-                        t.branches.push(i);
-                    } else {
-                        error(
-                            format!("{label} {} without an open {label} if", o.keyword.name()),
-                            "`elseif` and `else` belong to the `if` of the same label",
-                        );
-                    }
-                }
-                Keyword::EndIf => {
-                    if top_is(&stack, Keyword::If) {
-                        let t = stack.pop().expect("top");
-                        for (k, &b) in t.branches.iter().enumerate() {
-                            let next = t.branches.get(k + 1).copied();
-                            s.flow.insert(b, Flow::Branch { next, end: i });
-                        }
-                        s.flow.insert(
-                            t.line,
-                            Flow::If {
-                                branches: t.branches,
-                                end: i,
-                            },
-                        );
-                        s.flow.insert(i, Flow::EndIf);
-                    } else {
-                        error(
-                            format!("{label} endif without an open {label} if"),
-                            "every `endif` closes the `if` of the same label",
-                        );
-                    }
-                }
-                // The `while` that closes a `do` of the same label.
-                Keyword::While => {
-                    let t = stack.pop().expect("a do on top");
-                    s.flow.insert(t.line, Flow::Do { close: i });
-                    s.flow.insert(i, Flow::DoWhile { start: t.line });
-                    s.resolve_exits(&t, i);
-                }
-                Keyword::EndWhile | Keyword::EndRepeat => {
-                    let opener = if o.keyword == Keyword::EndWhile {
-                        Keyword::While
-                    } else {
-                        Keyword::Repeat
-                    };
-                    if top_is(&stack, opener) {
-                        let t = stack.pop().expect("top");
-                        if opener == Keyword::While {
-                            s.flow.insert(t.line, Flow::While { end: i });
-                            s.flow.insert(i, Flow::EndWhile { start: t.line });
-                        } else {
-                            s.flow.insert(t.line, Flow::Repeat { end: i });
-                            s.flow.insert(i, Flow::EndRepeat { start: t.line });
-                        }
-                        s.resolve_exits(&t, i);
-                    } else {
-                        error(
-                            format!(
-                                "{label} {} without an open {label} {}",
-                                o.keyword.name(),
-                                opener.name()
-                            ),
-                            "a loop's end closes the loop of the same label",
-                        );
-                    }
-                }
-                Keyword::Break | Keyword::Continue => {
-                    let is_loop = |k| matches!(k, Keyword::While | Keyword::Do | Keyword::Repeat);
-                    match stack
-                        .iter_mut()
-                        .rev()
-                        .find(|t| is_loop(t.keyword) && t.label == label)
-                    {
-                        Some(t) => t.exits.push((i, o.keyword == Keyword::Break)),
-                        None => error(
-                            format!("{label} {} is not inside a {label} loop", o.keyword.name()),
-                            "`break` and `continue` belong to the `while`, `do` or `repeat` of the same label",
-                        ),
-                    }
-                }
-            }
+            s.line(blocks, &mut stack, i, o);
         }
         for t in stack {
             s.errors.push(StructureError {
@@ -287,6 +150,201 @@ impl Structure {
         }
         s.errors.sort_by_key(|e| e.line);
         s
+    }
+
+    /// The O-word line `o` at line `i`, against the blocks open before it (`stack`): one
+    /// step per keyword, each pairing the line with the open block it closes or belongs to.
+    fn line(&mut self, blocks: &[Option<&Block>], stack: &mut Vec<Open>, i: usize, o: &OWord) {
+        let label = &o.label;
+        match o.keyword {
+            Keyword::Sub => self.sub(stack, i, o),
+            Keyword::EndSub => {
+                if top_is(stack, Keyword::Sub, label) {
+                    let t = stack.pop().expect("top");
+                    self.flow.insert(t.line, Flow::Sub { end: i });
+                    self.flow.insert(i, Flow::EndSub { start: t.line });
+                } else {
+                    self.error(
+                        i,
+                        o,
+                        format!("{label} endsub does not close a {label} sub"),
+                        "every `endsub` closes the `sub` of the same label, after every block inside it is closed",
+                    );
+                }
+            }
+            // LinuxCNC returns from the subroutine running, whatever the label (real
+            // programs write the label of the `if` around it).
+            Keyword::Return => match stack.iter().find(|t| t.keyword == Keyword::Sub) {
+                Some(t) => {
+                    self.flow.insert(i, Flow::Return { start: t.line });
+                }
+                None => self.error(
+                    i,
+                    o,
+                    format!("{label} return is not inside a subroutine"),
+                    "`return` ends the subroutine it stands in",
+                ),
+            },
+            Keyword::Call => {
+                self.flow.insert(i, Flow::Call);
+            }
+            Keyword::If | Keyword::Do | Keyword::Repeat => stack.push(Open::new(i, o, o.keyword)),
+            Keyword::While if !top_is(stack, Keyword::Do, label) => {
+                stack.push(Open::new(i, o, o.keyword))
+            }
+            Keyword::ElseIf | Keyword::Else => self.branch(blocks, stack, i, o),
+            Keyword::EndIf => self.endif(stack, i, o),
+            // The `while` that closes a `do` of the same label.
+            Keyword::While => {
+                let t = stack.pop().expect("a do on top");
+                self.flow.insert(t.line, Flow::Do { close: i });
+                self.flow.insert(i, Flow::DoWhile { start: t.line });
+                self.resolve_exits(&t, i);
+            }
+            Keyword::EndWhile | Keyword::EndRepeat => self.end_loop(stack, i, o),
+            Keyword::Break | Keyword::Continue => self.exit(stack, i, o),
+        }
+    }
+
+    fn error(&mut self, i: usize, o: &OWord, message: String, help: &'static str) {
+        self.errors.push(StructureError {
+            line: i,
+            range: o.range.clone(),
+            message,
+            help,
+        });
+    }
+
+    /// `sub`: a definition, not inside another, each name once.
+    fn sub(&mut self, stack: &mut Vec<Open>, i: usize, o: &OWord) {
+        let label = &o.label;
+        if stack.iter().any(|t| t.keyword == Keyword::Sub) {
+            self.error(
+                i,
+                o,
+                format!("{label} sub inside another subroutine's definition"),
+                "define each subroutine on its own, outside every other",
+            );
+        }
+        if self.subs.insert(label.clone(), i).is_some() {
+            self.error(
+                i,
+                o,
+                format!("{label} is defined twice"),
+                "give each subroutine its own name",
+            );
+        }
+        stack.push(Open::new(i, o, Keyword::Sub));
+    }
+
+    /// `elseif` and `else`: a branch of the open `if` of the same label, none after its
+    /// `else`.
+    fn branch(&mut self, blocks: &[Option<&Block>], stack: &mut [Open], i: usize, o: &OWord) {
+        let label = &o.label;
+        if top_is(stack, Keyword::If, label) {
+            let t = stack.last_mut().expect("top");
+            let after_else = t.branches.last().is_some_and(|&b| {
+                blocks[b]
+                    .and_then(|b| b.oword.as_ref())
+                    .is_some_and(|o| o.keyword == Keyword::Else)
+            });
+            if after_else {
+                self.error(
+                    i,
+                    o,
+                    format!("{label} {} after {label} else", o.keyword.name()),
+                    "`else` is the last branch of an `if`",
+                );
+            }
+            t.branches.push(i);
+        } else {
+            self.error(
+                i,
+                o,
+                format!("{label} {} without an open {label} if", o.keyword.name()),
+                "`elseif` and `else` belong to the `if` of the same label",
+            );
+        }
+    }
+
+    /// `endif`: closes the open `if` of the same label and its branches.
+    fn endif(&mut self, stack: &mut Vec<Open>, i: usize, o: &OWord) {
+        let label = &o.label;
+        if top_is(stack, Keyword::If, label) {
+            let t = stack.pop().expect("top");
+            for (k, &b) in t.branches.iter().enumerate() {
+                let next = t.branches.get(k + 1).copied();
+                self.flow.insert(b, Flow::Branch { next, end: i });
+            }
+            self.flow.insert(
+                t.line,
+                Flow::If {
+                    branches: t.branches,
+                    end: i,
+                },
+            );
+            self.flow.insert(i, Flow::EndIf);
+        } else {
+            self.error(
+                i,
+                o,
+                format!("{label} endif without an open {label} if"),
+                "every `endif` closes the `if` of the same label",
+            );
+        }
+    }
+
+    /// `endwhile` and `endrepeat`: close the open `while` or `repeat` of the same label,
+    /// and its `break`s and `continue`s.
+    fn end_loop(&mut self, stack: &mut Vec<Open>, i: usize, o: &OWord) {
+        let label = &o.label;
+        let opener = if o.keyword == Keyword::EndWhile {
+            Keyword::While
+        } else {
+            Keyword::Repeat
+        };
+        if top_is(stack, opener, label) {
+            let t = stack.pop().expect("top");
+            if opener == Keyword::While {
+                self.flow.insert(t.line, Flow::While { end: i });
+                self.flow.insert(i, Flow::EndWhile { start: t.line });
+            } else {
+                self.flow.insert(t.line, Flow::Repeat { end: i });
+                self.flow.insert(i, Flow::EndRepeat { start: t.line });
+            }
+            self.resolve_exits(&t, i);
+        } else {
+            self.error(
+                i,
+                o,
+                format!(
+                    "{label} {} without an open {label} {}",
+                    o.keyword.name(),
+                    opener.name()
+                ),
+                "a loop's end closes the loop of the same label",
+            );
+        }
+    }
+
+    /// `break` and `continue`: of the innermost open loop of the same label, resolved at
+    /// its end.
+    fn exit(&mut self, stack: &mut [Open], i: usize, o: &OWord) {
+        let label = &o.label;
+        let is_loop = |k| matches!(k, Keyword::While | Keyword::Do | Keyword::Repeat);
+        match stack
+            .iter_mut()
+            .rev()
+            .find(|t| is_loop(t.keyword) && t.label == *label)
+        {
+            Some(t) => t.exits.push((i, o.keyword == Keyword::Break)),
+            None => self.error(
+                i,
+                o,
+                format!("{label} {} is not inside a {label} loop", o.keyword.name()),
+                "`break` and `continue` belong to the `while`, `do` or `repeat` of the same label",
+            ),
+        }
     }
 
     fn resolve_exits(&mut self, t: &Open, end: usize) {

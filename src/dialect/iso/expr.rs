@@ -171,12 +171,17 @@ pub fn parameter_number(value: f64, range: &Range<usize>) -> Result<usize, EvalE
 }
 
 impl Expr {
-    pub fn eval(&self, env: &dyn Env) -> Result<f64, EvalError> {
-        let fail = |message: String, help: &'static str| EvalError {
+    fn fail(&self, message: String, help: &'static str) -> EvalError {
+        EvalError {
             message,
             help,
             range: self.range.clone(),
-        };
+        }
+    }
+
+    /// The expression's value (LinuxCNC's `read_real_expression`): operands first, left
+    /// to right, then the function or operation; a value that is not finite is refused.
+    pub fn eval(&self, env: &dyn Env) -> Result<f64, EvalError> {
         let value = match &self.kind {
             ExprKind::Number(v) => *v,
             ExprKind::Param(Param::Numbered(index)) => {
@@ -192,107 +197,118 @@ impl Expr {
             }
             ExprKind::Unary(f, e) => {
                 let v = e.eval(env)?;
-                match f {
-                    Func::Abs => v.abs(),
-                    Func::Acos | Func::Asin if !(-1.0..=1.0).contains(&v) => {
-                        let name = if *f == Func::Acos { "ACOS" } else { "ASIN" };
-                        return Err(fail(
-                            format!(
-                                "Argument to {} out of range ({v})",
-                                name.to_ascii_lowercase()
-                            ),
-                            "the argument of ACOS and ASIN is −1 … 1",
-                        ));
-                    }
-                    Func::Acos => v.acos().to_degrees(),
-                    Func::Asin => v.asin().to_degrees(),
-                    Func::Cos => v.to_radians().cos(),
-                    Func::Sin => v.to_radians().sin(),
-                    Func::Tan => v.to_radians().tan(),
-                    Func::Exp => v.exp(),
-                    Func::Fix => v.floor(),
-                    Func::Fup => v.ceil(),
-                    Func::Ln if v <= 0.0 => {
-                        return Err(fail(
-                            format!("Zero or negative argument to ln ({v})"),
-                            "LN takes a positive number",
-                        ));
-                    }
-                    Func::Ln => v.ln(),
-                    // `(double)(int)(v ± 0.5)`: half away from zero, the sum rounded first.
-                    Func::Round => {
-                        let t = if v < 0.0 { v - 0.5 } else { v + 0.5 };
-                        if t.abs() >= 2_147_483_648.0 {
-                            -2_147_483_648.0
-                        } else {
-                            t.trunc()
-                        }
-                    }
-                    Func::Sqrt if v < 0.0 => {
-                        return Err(fail(
-                            format!("Negative argument to sqrt ({v})"),
-                            "SQRT takes 0 or more",
-                        ));
-                    }
-                    Func::Sqrt => v.sqrt(),
-                }
+                self.unary(*f, v)?
             }
             ExprKind::Binary(op, a, b) => {
                 let (a, b) = (a.eval(env)?, b.eval(env)?);
-                let truth = |t: bool| f64::from(u8::from(t));
-                match op {
-                    Op::Power => {
-                        if a < 0.0 && b.floor() != b {
-                            return Err(fail(
-                                format!(
-                                    "Attempt to raise negative to non integer power ({a} ** {b})"
-                                ),
-                                "a negative base takes only a whole exponent",
-                            ));
-                        }
-                        a.powf(b)
-                    }
-                    Op::Times => a * b,
-                    Op::Modulo if b == 0.0 => {
-                        return Err(fail(
-                            "Calculation resulted in 'not a number' (MOD 0)".into(),
-                            "check the divisor's parameters: it is 0 here",
-                        ));
-                    }
-                    Op::Divide if b == 0.0 => {
-                        return Err(fail(
-                            "Attempt to divide by zero".into(),
-                            "check the divisor's parameters: it is 0 here",
-                        ));
-                    }
-                    Op::Divide => a / b,
-                    // fmod, made positive as LinuxCNC does.
-                    Op::Modulo => {
-                        let r = a % b;
-                        if r < 0.0 { r + b.abs() } else { r }
-                    }
-                    Op::Plus => a + b,
-                    Op::Minus => a - b,
-                    Op::Eq => truth((a - b).abs() < TOLERANCE_EQUAL),
-                    Op::Ne => truth((a - b).abs() >= TOLERANCE_EQUAL),
-                    Op::Gt => truth(a > b),
-                    Op::Ge => truth(a >= b),
-                    Op::Lt => truth(a < b),
-                    Op::Le => truth(a <= b),
-                    Op::And => truth(a != 0.0 && b != 0.0),
-                    Op::Or => truth(a != 0.0 || b != 0.0),
-                    Op::Xor => truth((a != 0.0) != (b != 0.0)),
-                }
+                self.binary_value(*op, a, b)?
             }
         };
         if value.is_finite() {
             Ok(value)
         } else {
-            Err(fail(
+            Err(self.fail(
                 format!("the value is not a finite number ({value})"),
                 "check the expression's operands",
             ))
         }
+    }
+
+    /// A function of one argument (LinuxCNC's `execute_unary`), refusing what it refuses:
+    /// ACOS and ASIN outside −1 … 1, LN of 0 or less, SQRT of less than 0.
+    fn unary(&self, f: Func, v: f64) -> Result<f64, EvalError> {
+        Ok(match f {
+            Func::Abs => v.abs(),
+            Func::Acos | Func::Asin if !(-1.0..=1.0).contains(&v) => {
+                let name = if f == Func::Acos { "ACOS" } else { "ASIN" };
+                return Err(self.fail(
+                    format!(
+                        "Argument to {} out of range ({v})",
+                        name.to_ascii_lowercase()
+                    ),
+                    "the argument of ACOS and ASIN is −1 … 1",
+                ));
+            }
+            Func::Acos => v.acos().to_degrees(),
+            Func::Asin => v.asin().to_degrees(),
+            Func::Cos => v.to_radians().cos(),
+            Func::Sin => v.to_radians().sin(),
+            Func::Tan => v.to_radians().tan(),
+            Func::Exp => v.exp(),
+            Func::Fix => v.floor(),
+            Func::Fup => v.ceil(),
+            Func::Ln if v <= 0.0 => {
+                return Err(self.fail(
+                    format!("Zero or negative argument to ln ({v})"),
+                    "LN takes a positive number",
+                ));
+            }
+            Func::Ln => v.ln(),
+            // `(double)(int)(v ± 0.5)`: half away from zero, the sum rounded first.
+            Func::Round => {
+                let t = if v < 0.0 { v - 0.5 } else { v + 0.5 };
+                if t.abs() >= 2_147_483_648.0 {
+                    -2_147_483_648.0
+                } else {
+                    t.trunc()
+                }
+            }
+            Func::Sqrt if v < 0.0 => {
+                return Err(self.fail(
+                    format!("Negative argument to sqrt ({v})"),
+                    "SQRT takes 0 or more",
+                ));
+            }
+            Func::Sqrt => v.sqrt(),
+        })
+    }
+
+    /// An operation of two operands (LinuxCNC's `execute_binary1` and `execute_binary2`),
+    /// refusing what it refuses: a negative base to a fractional power, a division by 0,
+    /// MOD 0.
+    fn binary_value(&self, op: Op, a: f64, b: f64) -> Result<f64, EvalError> {
+        let truth = |t: bool| f64::from(u8::from(t));
+        Ok(match op {
+            Op::Power => {
+                if a < 0.0 && b.floor() != b {
+                    return Err(self.fail(
+                        format!("Attempt to raise negative to non integer power ({a} ** {b})"),
+                        "a negative base takes only a whole exponent",
+                    ));
+                }
+                a.powf(b)
+            }
+            Op::Times => a * b,
+            Op::Modulo if b == 0.0 => {
+                return Err(self.fail(
+                    "Calculation resulted in 'not a number' (MOD 0)".into(),
+                    "check the divisor's parameters: it is 0 here",
+                ));
+            }
+            Op::Divide if b == 0.0 => {
+                return Err(self.fail(
+                    "Attempt to divide by zero".into(),
+                    "check the divisor's parameters: it is 0 here",
+                ));
+            }
+            Op::Divide => a / b,
+            // fmod, made positive as LinuxCNC does.
+            Op::Modulo => {
+                let r = a % b;
+                if r < 0.0 { r + b.abs() } else { r }
+            }
+            Op::Plus => a + b,
+            Op::Minus => a - b,
+            Op::Eq => truth((a - b).abs() < TOLERANCE_EQUAL),
+            Op::Ne => truth((a - b).abs() >= TOLERANCE_EQUAL),
+            Op::Gt => truth(a > b),
+            Op::Ge => truth(a >= b),
+            Op::Lt => truth(a < b),
+            Op::Le => truth(a <= b),
+            Op::And => truth(a != 0.0 && b != 0.0),
+            Op::Or => truth(a != 0.0 || b != 0.0),
+            Op::Xor => truth((a != 0.0) != (b != 0.0)),
+        })
     }
 
     /// Builds `operands[0] op[0] operands[1] …` by LinuxCNC's precedence, left to right.

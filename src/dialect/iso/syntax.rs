@@ -267,76 +267,8 @@ fn parse_with_grammar(line: &str) -> Result<Block, SyntaxError> {
                         range,
                     });
                 }
-                Rule::oword => {
-                    let mut inner = part.into_inner();
-                    let label = inner.next().expect("an O-word has a label");
-                    let label = match label.as_rule() {
-                        Rule::name => Label::Name(name_of(label)),
-                        _ => Label::Number(label.as_str().trim_start_matches('0').to_string()),
-                    };
-                    let keyword = inner.next().expect("an O-word has a keyword");
-                    let text: String = keyword
-                        .as_str()
-                        .chars()
-                        .filter(|c| !c.is_whitespace())
-                        .collect();
-                    let Some(keyword) = Keyword::parse(&text) else {
-                        return Err(SyntaxError {
-                            offset: keyword.as_span().start(),
-                            message: format!(
-                                "`{}` is not an O-word keyword (sub, endsub, call, return, if, elseif, else, endif, while, endwhile, do, repeat, endrepeat, break, continue)",
-                                keyword.as_str()
-                            ),
-                        });
-                    };
-                    let mut args = Vec::new();
-                    for arg in inner {
-                        match arg.as_rule() {
-                            Rule::bracket => args.push(bracket(arg)?),
-                            Rule::comment | Rule::semicolon_comment => {
-                                let text = arg.into_inner().next().map_or("", |t| t.as_str());
-                                block.comments.extend(crate::dialect::comment_text(text));
-                            }
-                            _ => {}
-                        }
-                    }
-                    block.oword = Some(OWord {
-                        label,
-                        keyword,
-                        args,
-                        range,
-                    });
-                }
-                Rule::word => {
-                    let mut inner = part.into_inner();
-                    let letter = inner.next().expect("word has an address").as_str();
-                    let letter = letter.chars().next().unwrap_or('?').to_ascii_uppercase();
-                    let value = inner.next().expect("word has a value");
-                    if value.as_rule() == Rule::real_value {
-                        block.exprs.push(real_value(value)?);
-                        block.words.push(Word {
-                            letter,
-                            value: Decimal::default(),
-                            range,
-                            expr: Some(block.exprs.len() - 1),
-                        });
-                        continue;
-                    }
-                    match Decimal::parse(value.as_str()) {
-                        Some(value) => block.words.push(Word {
-                            letter,
-                            value,
-                            range,
-                            expr: None,
-                        }),
-                        None => {
-                            return Err(SyntaxError {
-                                offset: span.start(),
-                                message: format!("`{}` has too many digits", value.as_str()),
-                            });
-                        }
-                    }
-                }
+                Rule::oword => block.oword = Some(oword_of(part, range, &mut block)?),
+                Rule::word => word_of(part, range, &mut block)?,
                 Rule::comment | Rule::semicolon_comment => {
                     let text = part.into_inner().next().map_or("", |t| t.as_str());
                     block.comments.extend(crate::dialect::comment_text(text));
@@ -346,6 +278,83 @@ fn parse_with_grammar(line: &str) -> Result<Block, SyntaxError> {
         }
     }
     Ok(block)
+}
+
+/// An O-word (`o100 while [#1 LT 5]`): its label, keyword and arguments; its comments go
+/// to the block's.
+fn oword_of(part: Pair<'_>, range: Range<usize>, block: &mut Block) -> Result<OWord, SyntaxError> {
+    let mut inner = part.into_inner();
+    let label = inner.next().expect("an O-word has a label");
+    let label = match label.as_rule() {
+        Rule::name => Label::Name(name_of(label)),
+        _ => Label::Number(label.as_str().trim_start_matches('0').to_string()),
+    };
+    let keyword = inner.next().expect("an O-word has a keyword");
+    let text: String = keyword
+        .as_str()
+        .chars()
+        .filter(|c| !c.is_whitespace())
+        .collect();
+    let Some(keyword) = Keyword::parse(&text) else {
+        return Err(SyntaxError {
+            offset: keyword.as_span().start(),
+            message: format!(
+                "`{}` is not an O-word keyword (sub, endsub, call, return, if, elseif, else, endif, while, endwhile, do, repeat, endrepeat, break, continue)",
+                keyword.as_str()
+            ),
+        });
+    };
+    let mut args = Vec::new();
+    for arg in inner {
+        match arg.as_rule() {
+            Rule::bracket => args.push(bracket(arg)?),
+            Rule::comment | Rule::semicolon_comment => {
+                let text = arg.into_inner().next().map_or("", |t| t.as_str());
+                block.comments.extend(crate::dialect::comment_text(text));
+            }
+            _ => {}
+        }
+    }
+    Ok(OWord {
+        label,
+        keyword,
+        args,
+        range,
+    })
+}
+
+/// A word (`X26.618`, `Z#1`, `X[#2 - 1]`) into the block: a number as its decimal, a
+/// computed value as its expression (in [`Block::exprs`]).
+fn word_of(part: Pair<'_>, range: Range<usize>, block: &mut Block) -> Result<(), SyntaxError> {
+    let mut inner = part.into_inner();
+    let letter = inner.next().expect("word has an address").as_str();
+    let letter = letter.chars().next().unwrap_or('?').to_ascii_uppercase();
+    let value = inner.next().expect("word has a value");
+    if value.as_rule() == Rule::real_value {
+        block.exprs.push(real_value(value)?);
+        block.words.push(Word {
+            letter,
+            value: Decimal::default(),
+            range,
+            expr: Some(block.exprs.len() - 1),
+        });
+        return Ok(());
+    }
+    match Decimal::parse(value.as_str()) {
+        Some(value) => {
+            block.words.push(Word {
+                letter,
+                value,
+                range,
+                expr: None,
+            });
+            Ok(())
+        }
+        None => Err(SyntaxError {
+            offset: range.start,
+            message: format!("`{}` has too many digits", value.as_str()),
+        }),
+    }
 }
 
 /// The deepest nesting of brackets and parameters (`[[…]]`, `##1`) a line may hold, and

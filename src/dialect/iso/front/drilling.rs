@@ -173,6 +173,61 @@ fn integer(v: f64) -> Option<f64> {
     }
 }
 
+/// The words a drilling block may use, taken as `convert_cycle` reads them: X, Z, R, L,
+/// and Q (G73, G83) or P (G82, G89).
+struct DrillWords<'w> {
+    x: Option<&'w Word>,
+    z: Option<&'w Word>,
+    r: Option<&'w Word>,
+    l: Option<&'w Word>,
+    q: Option<&'w Word>,
+    p: Option<&'w Word>,
+}
+
+impl<'w> DrillWords<'w> {
+    fn take(words: &mut Words<'w>, code: GCode) -> Self {
+        let x = words.take('X');
+        let z = words.take('Z');
+        let r = words.take('R');
+        let l = words.take('L');
+        let q = if pecks(code) { words.take('Q') } else { None };
+        let p = if dwells(code) { words.take('P') } else { None };
+        DrillWords { x, z, r, l, q, p }
+    }
+}
+
+/// G73 and G83 peck (Q).
+fn pecks(code: GCode) -> bool {
+    matches!(code, G73 | G83)
+}
+
+/// G82 and G89 dwell at the bottom (P).
+fn dwells(code: GCode) -> bool {
+    matches!(code, G82 | G89)
+}
+
+/// A cycle block's levels as written: R and Z in the program's units (carried from the
+/// block before when the same cycle runs again), and whether it does.
+struct Levels {
+    same: bool,
+    r: f64,
+    z: f64,
+}
+
+/// A cycle block's place as `convert_cycle_xy` sets it up.
+struct Place {
+    /// The tool's X (exact mm, a diameter) before the block, if known.
+    start_x: Option<f64>,
+    /// The Z where the tool is, and the initial level (program units).
+    current: f64,
+    initial: f64,
+    /// R and the bottom of the hole (program units, absolute).
+    r: f64,
+    bottom: f64,
+    /// X (mm, a diameter) before the first hole and the step added before each, or `None`.
+    x: Option<(f64, f64)>,
+}
+
 impl FrontEnd<'_> {
     fn drill_error(&mut self, line: Line<'_>, at: &Word, message: String, help: &str) {
         self.diag(codes::ISOR_DRILLING, line, at.range.clone(), message, help);
@@ -203,7 +258,9 @@ impl FrontEnd<'_> {
         }
     }
 
-    /// A block of a drilling cycle (`code`), written on the line (`at`) or modal.
+    /// A block of a drilling cycle (`code`), written on the line (`at`) or modal, in
+    /// `convert_cycle`'s order: its words and checks, its levels, the hole's X, P and Q,
+    /// then the moves `convert_cycle_g8x` makes, and the modal values kept.
     pub(super) fn drill(
         &mut self,
         line: Line<'_>,
@@ -213,20 +270,12 @@ impl FrontEnd<'_> {
         code: GCode,
     ) {
         let name = crate::ir::g_code_name(code);
-        let lower = name.to_ascii_lowercase();
-        let x_word = words.take('X');
-        let z_word = words.take('Z');
-        let r_word = words.take('R');
-        let l_word = words.take('L');
-        let pecks = matches!(code, G73 | G83);
-        let dwells = matches!(code, G82 | G89);
-        let q_word = if pecks { words.take('Q') } else { None };
-        let p_word = if dwells { words.take('P') } else { None };
+        let w = DrillWords::take(words, code);
         // The line has the code, or an axis word: there is a word to point at.
-        let Some(at) = at.or(x_word).or(z_word) else {
+        let Some(at) = at.or(w.x).or(w.z) else {
             return;
         };
-        if x_word.is_none() && z_word.is_none() {
+        if w.x.is_none() && w.z.is_none() {
             return self.missing(
                 line,
                 at,
@@ -234,200 +283,27 @@ impl FrontEnd<'_> {
                 &format!("give the hole's X or the cycle's Z: `{name} X0 R1 Z-10`"),
             );
         }
-        // L is read as an integer first (`read_l`).
-        let repeats = match l_word {
-            None => 1.0,
-            Some(l) => match integer(l.value.to_f64()) {
-                None => {
-                    return self.number_error(
-                        line,
-                        l,
-                        format!("`{}` is not a whole number (LinuxCNC: \"Non integer value for integer\")", &line.text[l.range.clone()]),
-                        "L is the number of times the cycle runs",
-                    );
-                }
-                Some(n) if n < 0.0 => {
-                    return self.number_error(
-                        line,
-                        l,
-                        "L is negative (LinuxCNC: \"Negative L word used\")".into(),
-                        "L is the number of times the cycle runs",
-                    );
-                }
-                Some(n) => n,
-            },
-        };
-        // `convert_cycle`'s checks, in its order.
-        if self.feed.is_none_or(|f| f.0 <= 0) {
-            return self.drill_error(
-                line,
-                at,
-                format!("{name} with no feed rate (F) set, or F0 (LinuxCNC: \"Cannot feed with zero feed rate\")"),
-                "set the feed with F before or on the cycle's line",
-            );
-        }
-        if self.compensation {
-            return self.comp_refusal(
-                line,
-                at,
-                "Cannot use canned cycles with cutter compensation on",
-            );
-        }
-        // R, Z, P and Q may be left out when the same cycle ran on the block before.
-        let same = self.motion_before_line == Some(Motion::Drill(code));
-        let Some(r_value) =
-            self.cycle_length(line, r_word, same.then_some(self.drill.r), at, || {
-                (
-                    format!(
-                        "{name} without R (LinuxCNC: \"R clearance plane unspecified in cycle\")"
-                    ),
-                    "give R, the level the cycle feeds from, on the cycle's first block",
-                )
-            })
-        else {
+        let Some(repeats) = self.read_l(line, w.l) else {
             return;
         };
-        if repeats == 0.0 {
-            let l = l_word.unwrap_or(at);
-            return self.drill_error(
-                line,
-                l,
-                "L0 (LinuxCNC: \"Cannot do zero repeats of cycle\")".into(),
-                "L is the number of times the cycle runs, 1 or more; leave it out for once",
-            );
-        }
-        if !self.plane_xy {
-            let (message, help) = if same {
-                (
-                    format!(
-                        "{name} repeated in G18: LinuxCNC drills along Y in the ZX plane (the cycle's Z taken for Y), and a lathe has no Y"
-                    ),
-                    "select G17 before the cycle: a lathe drills along Z in G17 (X the hole, Z the depth)",
-                )
-            } else {
-                (
-                    format!(
-                        "{name} in G18 (LinuxCNC: \"Y value unspecified in xz plane canned cycle\"): in the ZX plane LinuxCNC drills along Y, and a lathe has no Y"
-                    ),
-                    "select G17 before the cycle: a lathe drills along Z in G17 (X the hole, Z the depth)",
-                )
-            };
-            return self.drill_error(line, at, message, help);
-        }
-        let Some(z_value) = self.cycle_length(line, z_word, same.then_some(self.drill.z), at, || {
-            (
-                format!("{name} without Z (LinuxCNC: \"Z value unspecified in xy plane canned cycle\")"),
-                "give Z, the bottom of the hole, on the cycle's first block",
-            )
-        }) else {
+        let Some(levels) = self.convert_cycle(line, at, code, &w, repeats) else {
             return;
         };
-        let (start_x, Some(start_z)) = self.exact_start() else {
-            return self.drill_error_unknown(line, at, &name);
+        let Some(place) = self.cycle_xy(line, at, &name, &w, &levels) else {
+            return;
         };
-        let unit = if self.inch { 25.4 } else { 1.0 };
-        let off_z = self.axis_offset.1;
-        // LinuxCNC's numbers: the program's units and coordinates.
-        let current = self.program_z(start_z);
-        let initial = self.drill.initial.unwrap_or(current);
-        let (r, bottom, x) = if self.incremental {
-            // R from the initial level, Z from R, X added before every hole.
-            let x = match x_word {
-                Some(w) => {
-                    let Some((_, step)) = self.x_word(line, w) else {
-                        return;
-                    };
-                    match start_x {
-                        Some(s) => Some((s, step)),
-                        None => {
-                            self.unknown(line, w);
-                            return;
-                        }
-                    }
-                }
-                None => None,
-            };
-            let r = r_value + initial;
-            (r, r + z_value, x)
-        } else {
-            let x = match x_word {
-                Some(w) => {
-                    let Some((v, exact)) = self.x_word(line, w) else {
-                        return;
-                    };
-                    Some((self.shifted_x(v, exact).1, 0.0))
-                }
-                None => None,
-            };
-            (r_value, z_value, x)
+        let Some(dwell) = self.cycle_dwell(line, at, code, &w, levels.same) else {
+            return;
         };
-        if r < bottom {
-            let w = r_word.or(z_word).unwrap_or(at);
-            return self.drill_error(
-                line,
-                w,
-                format!("{name}'s R is below the bottom of the hole (LinuxCNC: \"R less than z in cycle in xy plane\")"),
-                if self.incremental {
-                    "under G91, R is measured from the initial level and Z from R: a hole's Z is negative"
-                } else {
-                    "R is the level the cycle feeds from, above Z"
-                },
-            );
-        }
-        // P and Q: a value of −1 is no word for LinuxCNC (it marks an unwritten one so).
-        let mut dwell = None;
-        if dwells {
-            dwell = match p_word.filter(|w| w.value.to_f64() != -1.0) {
-                Some(p) if p.value.is_negative() => {
-                    return self.number_error(
-                        line,
-                        p,
-                        "the dwell time is negative".into(),
-                        "P is the dwell at the bottom in seconds, 0 or more",
-                    );
-                }
-                Some(p) => Some(p.value),
-                None if same => self.drill.p,
-                None => {
-                    return self.drill_error(
-                        line,
-                        at,
-                        format!("{name} without P (LinuxCNC: \"Dwell time p word missing with {lower}\")"),
-                        "give P, the dwell at the bottom in seconds",
-                    );
-                }
-            };
-        }
-        let mut q = self.drill.q;
-        if pecks {
-            let written = q_word.filter(|w| w.value.to_f64() != -1.0);
-            let Some(value) = self.cycle_length(line, written, same.then_some(q), at, || {
-                (
-                    format!("{name} without Q (LinuxCNC: \"Q word missing with {lower}\")"),
-                    "give Q, the depth of each peck",
-                )
-            }) else {
-                return;
-            };
-            q = value;
-            if q <= 0.0 {
-                let w = q_word.unwrap_or(at);
-                return self.drill_error(
-                    line,
-                    w,
-                    format!(
-                        "{name}'s Q is not positive (LinuxCNC: \"Negative or zero q value used\")"
-                    ),
-                    "Q is the depth of each peck, more than 0",
-                );
-            }
-        }
+        let Some(q) = self.cycle_peck(line, at, code, &w, levels.same) else {
+            return;
+        };
         let plan = Plan {
             code,
-            current,
-            initial,
-            r,
-            bottom,
+            current: place.current,
+            initial: place.initial,
+            r: place.r,
+            bottom: place.bottom,
             to_r_plane: !self.retract_old_z,
             q,
             delta: if self.inch {
@@ -435,27 +311,323 @@ impl FrontEnd<'_> {
             } else {
                 RAPID_DELTA * 25.4
             },
-            x,
+            x: place.x,
             repeats: repeats.min(f64::from(u32::MAX)) as u32,
         };
-        let Ok(expanded) = expand(&plan, MAX_STEPS) else {
-            let w = if pecks { q_word } else { None };
-            let w = w.or(l_word).unwrap_or(at);
-            return self.drill_error(
-                line,
-                w,
-                format!("{name} would make more than {MAX_STEPS} moves, ncthread's limit for one cycle block"),
-                "check L (the repeats) and Q (the peck)",
-            );
+        let Some(expanded) = self.expand_cycle(line, at, &name, &w, &plan) else {
+            return;
         };
         let Some(feed) = self.feed_rate(line, Some(at), &name, span) else {
             return;
         };
+        self.cycle_steps(&expanded.steps, dwell, feed, span);
+        let unit = if self.inch { 25.4 } else { 1.0 };
+        let end_z = expanded.z * unit + self.axis_offset.1;
+        self.exact = (expanded.x.or(place.start_x), Some(end_z));
+        self.record_program_z(end_z, expanded.z);
+        self.drill = DrillState {
+            initial: Some(place.initial),
+            r: levels.r,
+            z: levels.z,
+            q,
+            p: if dwells(code) { dwell } else { self.drill.p },
+        };
+    }
+
+    /// L as `read_l` reads it: an integer, not negative; 1 when not written. `None` once
+    /// refused.
+    fn read_l(&mut self, line: Line<'_>, l_word: Option<&Word>) -> Option<f64> {
+        let Some(l) = l_word else {
+            return Some(1.0);
+        };
+        match integer(l.value.to_f64()) {
+            None => {
+                self.number_error(
+                    line,
+                    l,
+                    format!(
+                        "`{}` is not a whole number (LinuxCNC: \"Non integer value for integer\")",
+                        &line.text[l.range.clone()]
+                    ),
+                    "L is the number of times the cycle runs",
+                );
+                None
+            }
+            Some(n) if n < 0.0 => {
+                self.number_error(
+                    line,
+                    l,
+                    "L is negative (LinuxCNC: \"Negative L word used\")".into(),
+                    "L is the number of times the cycle runs",
+                );
+                None
+            }
+            Some(n) => Some(n),
+        }
+    }
+
+    /// `convert_cycle`'s checks, in its order: a feed rate, no cutter radius compensation,
+    /// R (or the block before's), L not 0, the plane G17, Z (or the block before's). R and Z
+    /// may be left out when the same cycle ran on the block before. `None` once refused.
+    fn convert_cycle(
+        &mut self,
+        line: Line<'_>,
+        at: &Word,
+        code: GCode,
+        w: &DrillWords<'_>,
+        repeats: f64,
+    ) -> Option<Levels> {
+        let name = crate::ir::g_code_name(code);
+        if self.feed.is_none_or(|f| f.0 <= 0) {
+            self.drill_error(
+                line,
+                at,
+                format!("{name} with no feed rate (F) set, or F0 (LinuxCNC: \"Cannot feed with zero feed rate\")"),
+                "set the feed with F before or on the cycle's line",
+            );
+            return None;
+        }
+        if self.compensation {
+            self.comp_refusal(
+                line,
+                at,
+                "Cannot use canned cycles with cutter compensation on",
+            );
+            return None;
+        }
+        let same = self.motion_before_line == Some(Motion::Drill(code));
+        let r = self.cycle_length(line, w.r, same.then_some(self.drill.r), at, || {
+            (
+                format!("{name} without R (LinuxCNC: \"R clearance plane unspecified in cycle\")"),
+                "give R, the level the cycle feeds from, on the cycle's first block",
+            )
+        })?;
+        if repeats == 0.0 {
+            let l = w.l.unwrap_or(at);
+            self.drill_error(
+                line,
+                l,
+                "L0 (LinuxCNC: \"Cannot do zero repeats of cycle\")".into(),
+                "L is the number of times the cycle runs, 1 or more; leave it out for once",
+            );
+            return None;
+        }
+        if !self.plane_xy {
+            self.refuse_drill_plane(line, at, &name, same);
+            return None;
+        }
+        let z = self.cycle_length(line, w.z, same.then_some(self.drill.z), at, || {
+            (
+                format!(
+                    "{name} without Z (LinuxCNC: \"Z value unspecified in xy plane canned cycle\")"
+                ),
+                "give Z, the bottom of the hole, on the cycle's first block",
+            )
+        })?;
+        Some(Levels { same, r, z })
+    }
+
+    /// A cycle in G18: LinuxCNC drills along Y there, which a lathe does not have.
+    fn refuse_drill_plane(&mut self, line: Line<'_>, at: &Word, name: &str, same: bool) {
+        let (message, help) = if same {
+            (
+                format!(
+                    "{name} repeated in G18: LinuxCNC drills along Y in the ZX plane (the cycle's Z taken for Y), and a lathe has no Y"
+                ),
+                "select G17 before the cycle: a lathe drills along Z in G17 (X the hole, Z the depth)",
+            )
+        } else {
+            (
+                format!(
+                    "{name} in G18 (LinuxCNC: \"Y value unspecified in xz plane canned cycle\"): in the ZX plane LinuxCNC drills along Y, and a lathe has no Y"
+                ),
+                "select G17 before the cycle: a lathe drills along Z in G17 (X the hole, Z the depth)",
+            )
+        };
+        self.drill_error(line, at, message, help);
+    }
+
+    /// `convert_cycle_xy`'s set-up: where the tool is (its Z must be known), the initial
+    /// level, R and the bottom (program units) and the hole's X (mm, a diameter) with its
+    /// step; R may not be below the bottom. Under G91 R is measured from the initial level,
+    /// Z from R, and X added before every hole. `None` once refused.
+    fn cycle_xy(
+        &mut self,
+        line: Line<'_>,
+        at: &Word,
+        name: &str,
+        w: &DrillWords<'_>,
+        levels: &Levels,
+    ) -> Option<Place> {
+        let (start_x, Some(start_z)) = self.exact_start() else {
+            self.drill_error_unknown(line, at, name);
+            return None;
+        };
+        // LinuxCNC's numbers: the program's units and coordinates.
+        let current = self.program_z(start_z);
+        let initial = self.drill.initial.unwrap_or(current);
+        let (r, bottom, x) = if self.incremental {
+            let x = match w.x {
+                Some(w) => {
+                    let (_, step) = self.x_word(line, w)?;
+                    match start_x {
+                        Some(s) => Some((s, step)),
+                        None => {
+                            self.unknown(line, w);
+                            return None;
+                        }
+                    }
+                }
+                None => None,
+            };
+            let r = levels.r + initial;
+            (r, r + levels.z, x)
+        } else {
+            let x = match w.x {
+                Some(w) => {
+                    let (v, exact) = self.x_word(line, w)?;
+                    Some((self.shifted_x(v, exact).1, 0.0))
+                }
+                None => None,
+            };
+            (levels.r, levels.z, x)
+        };
+        if r < bottom {
+            let at = w.r.or(w.z).unwrap_or(at);
+            self.drill_error(
+                line,
+                at,
+                format!("{name}'s R is below the bottom of the hole (LinuxCNC: \"R less than z in cycle in xy plane\")"),
+                if self.incremental {
+                    "under G91, R is measured from the initial level and Z from R: a hole's Z is negative"
+                } else {
+                    "R is the level the cycle feeds from, above Z"
+                },
+            );
+            return None;
+        }
+        Some(Place {
+            start_x,
+            current,
+            initial,
+            r,
+            bottom,
+            x,
+        })
+    }
+
+    /// G82's and G89's dwell P (the block before's when the same cycle runs again; −1 is
+    /// no word for LinuxCNC, which marks an unwritten one so); `Some(None)` for the other
+    /// cycles, `None` once refused.
+    fn cycle_dwell(
+        &mut self,
+        line: Line<'_>,
+        at: &Word,
+        code: GCode,
+        w: &DrillWords<'_>,
+        same: bool,
+    ) -> Option<Option<Decimal>> {
+        if !dwells(code) {
+            return Some(None);
+        }
+        let name = crate::ir::g_code_name(code);
+        let lower = name.to_ascii_lowercase();
+        match w.p.filter(|w| w.value.to_f64() != -1.0) {
+            Some(p) if p.value.is_negative() => {
+                self.number_error(
+                    line,
+                    p,
+                    "the dwell time is negative".into(),
+                    "P is the dwell at the bottom in seconds, 0 or more",
+                );
+                None
+            }
+            Some(p) => Some(Some(p.value)),
+            None if same => Some(self.drill.p),
+            None => {
+                self.drill_error(
+                    line,
+                    at,
+                    format!(
+                        "{name} without P (LinuxCNC: \"Dwell time p word missing with {lower}\")"
+                    ),
+                    "give P, the dwell at the bottom in seconds",
+                );
+                None
+            }
+        }
+    }
+
+    /// G73's and G83's peck Q (the block before's when the same cycle runs again; −1 is no
+    /// word), more than 0; the value kept for the other cycles. `None` once refused.
+    fn cycle_peck(
+        &mut self,
+        line: Line<'_>,
+        at: &Word,
+        code: GCode,
+        w: &DrillWords<'_>,
+        same: bool,
+    ) -> Option<f64> {
+        let q = self.drill.q;
+        if !pecks(code) {
+            return Some(q);
+        }
+        let name = crate::ir::g_code_name(code);
+        let lower = name.to_ascii_lowercase();
+        let written = w.q.filter(|w| w.value.to_f64() != -1.0);
+        let q = self.cycle_length(line, written, same.then_some(q), at, || {
+            (
+                format!("{name} without Q (LinuxCNC: \"Q word missing with {lower}\")"),
+                "give Q, the depth of each peck",
+            )
+        })?;
+        if q <= 0.0 {
+            let at = w.q.unwrap_or(at);
+            self.drill_error(
+                line,
+                at,
+                format!("{name}'s Q is not positive (LinuxCNC: \"Negative or zero q value used\")"),
+                "Q is the depth of each peck, more than 0",
+            );
+            return None;
+        }
+        Some(q)
+    }
+
+    /// The block's moves ([`expand`]), or `None` when there would be more than
+    /// [`MAX_STEPS`] (reported at Q or L).
+    fn expand_cycle(
+        &mut self,
+        line: Line<'_>,
+        at: &Word,
+        name: &str,
+        w: &DrillWords<'_>,
+        plan: &Plan,
+    ) -> Option<Expanded> {
+        let Ok(expanded) = expand(plan, MAX_STEPS) else {
+            let word = if pecks(plan.code) { w.q } else { None };
+            let word = word.or(w.l).unwrap_or(at);
+            self.drill_error(
+                line,
+                word,
+                format!("{name} would make more than {MAX_STEPS} moves, ncthread's limit for one cycle block"),
+                "check L (the repeats) and Q (the peck)",
+            );
+            return None;
+        };
+        Some(expanded)
+    }
+
+    /// The block's moves as items: Z from the program's units to mm with the G52/G92
+    /// offset, the dwell P where the cycle dwells.
+    fn cycle_steps(&mut self, steps: &[Step], dwell: Option<Decimal>, feed: Length, span: Span) {
+        let unit = if self.inch { 25.4 } else { 1.0 };
+        let off_z = self.axis_offset.1;
         let to = |x: Option<f64>, z: f64| Pos {
             x: x.map(Length::from_mm_f64),
             z: Some(Length::from_mm_f64(z * unit + off_z)),
         };
-        for step in &expanded.steps {
+        for step in steps {
             let kind = match *step {
                 Step::Rapid(x, z) => ItemKind::Rapid { to: to(x, z) },
                 Step::Feed(x, z) => ItemKind::Feed { to: to(x, z), feed },
@@ -473,16 +645,6 @@ impl FrontEnd<'_> {
             self.r.pos = end;
             self.push(kind, span);
         }
-        let end_z = expanded.z * unit + off_z;
-        self.exact = (expanded.x.or(start_x), Some(end_z));
-        self.record_program_z(end_z, expanded.z);
-        self.drill = DrillState {
-            initial: Some(initial),
-            r: r_value,
-            z: z_value,
-            q,
-            p: if dwells { dwell } else { self.drill.p },
-        };
     }
 
     fn drill_error_unknown(&mut self, line: Line<'_>, at: &Word, name: &str) {

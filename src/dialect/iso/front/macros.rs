@@ -7,7 +7,7 @@ use std::ops::Range;
 
 use super::super::control::{self, FileRun, Flow, Frame, ModalState, Params, StructureError};
 use super::super::expr::{self, Env, EvalError, Param};
-use super::super::syntax::{Block, Keyword, OWord};
+use super::super::syntax::{Block, Keyword, OWord, Setting};
 use super::{FrontEnd, Motion};
 use crate::diag::{Diagnostic, codes};
 use crate::ir::{FeedMode, SpindleDirection};
@@ -33,6 +33,144 @@ fn word_value(letter: char, v: f64) -> Option<crate::fixed::Decimal> {
     expr::to_decimal(snapped)
 }
 
+/// The parameter a setting sets, its number (`Ok`) or its name (`Err`): a numbered one
+/// #1 … #5000, or a named one, which the setting creates for the rest of its line when it
+/// is new (LinuxCNC creates it when it reads the setting's left side). A parameter of the
+/// machine, or a read-only system parameter, is refused.
+fn setting_target(scope: &Scope<'_>, s: &Setting) -> Result<Result<usize, String>, EvalError> {
+    let params = scope.params;
+    Ok(match &s.param {
+        Param::Numbered(e) => {
+            let n = expr::parameter_number(e.eval(scope)?, &s.range)?;
+            if n > 5000 {
+                return Err(EvalError {
+                    message: format!(
+                        "#{n} is a parameter of the machine, which ncthread does not follow"
+                    ),
+                    help: "the numbered parameters a program sets are #1 … #5000",
+                    range: s.range.clone(),
+                });
+            }
+            Ok(n)
+        }
+        Param::Named(name) => {
+            if scope.system(name, &s.range).is_some() && params.named(name).is_none() {
+                return Err(EvalError {
+                    message: format!("Cannot assign to read-only parameter #<{name}>"),
+                    help: "LinuxCNC's system parameters are read only",
+                    range: s.range.clone(),
+                });
+            }
+            if params.named(name).is_none() {
+                scope.created.borrow_mut().push(name.clone());
+            }
+            Err(name.clone())
+        }
+    })
+}
+
+/// The lines LinuxCNC's `restore_settings` reads to bring `saved` back from `now`: the
+/// units first (a line of their own), then one line of F (one decimal) and S (whole) where
+/// they differ, the G codes that differ and the first M code that differs, then the other
+/// M codes a line each.
+fn gen_settings(saved: &ModalState, now: &ModalState) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    if saved.inch != now.inch {
+        lines.push(if saved.inch { "G20" } else { "G21" }.into());
+    }
+    // Only what differs is said again (LinuxCNC's `gen_settings` compares the values as
+    // held): an F the subroutine left alone is not rounded to one decimal.
+    let mut text = String::new();
+    if saved.feed != now.feed {
+        text.push_str(&format!("F{:.1}", saved.feed));
+    }
+    if saved.speed != now.speed {
+        text.push_str(&format!(" S{:.0}", saved.speed));
+    }
+    gen_g_codes(saved, now, &mut text);
+    let mut m_codes = gen_m_codes(saved, now).into_iter();
+    if let Some(first) = m_codes.next() {
+        text.push(' ');
+        text.push_str(&first);
+    }
+    if !text.trim().is_empty() {
+        lines.push(text.trim_start().to_string());
+    }
+    lines.extend(m_codes);
+    lines
+}
+
+/// LinuxCNC's `gen_g_codes`: the modal G codes of `saved` that differ from `now`, each
+/// after a blank: distance, feed mode, spindle speed mode, arc centres, retract, plane,
+/// diameter mode.
+fn gen_g_codes(saved: &ModalState, now: &ModalState, text: &mut String) {
+    let mut g = |differs: bool, code: &str| {
+        if differs {
+            text.push(' ');
+            text.push_str(code);
+        }
+    };
+    g(
+        saved.incremental != now.incremental,
+        if saved.incremental { "G91" } else { "G90" },
+    );
+    if let Some(mode) = saved.feed_mode {
+        g(
+            Some(mode) != now.feed_mode,
+            if mode == 950 { "G95" } else { "G94" },
+        );
+    }
+    g(
+        saved.surface_speed != now.surface_speed,
+        if saved.surface_speed { "G96" } else { "G97" },
+    );
+    g(
+        saved.absolute_centres != now.absolute_centres,
+        if saved.absolute_centres {
+            "G90.1"
+        } else {
+            "G91.1"
+        },
+    );
+    g(
+        saved.retract_old_z != now.retract_old_z,
+        if saved.retract_old_z { "G98" } else { "G99" },
+    );
+    g(
+        saved.plane_xy != now.plane_xy,
+        if saved.plane_xy { "G17" } else { "G18" },
+    );
+    if let Some(d) = saved.diameter {
+        g(Some(d) != now.diameter, if d { "G7" } else { "G8" });
+    }
+}
+
+/// LinuxCNC's `gen_m_codes`: the M codes of `saved` that differ from `now`: the spindle,
+/// then the mist slot (M7, or M9 when no coolant was on; nothing when only flood was),
+/// then the flood slot (M8 or nothing).
+fn gen_m_codes(saved: &ModalState, now: &ModalState) -> Vec<String> {
+    // The mist slot holds M7, or M9 when no coolant was on (nothing when only flood
+    // was); the flood slot M8 or nothing.
+    let slot = |s: &ModalState| match (s.mist, s.flood) {
+        (true, _) => Some("M7"),
+        (false, false) => Some("M9"),
+        (false, true) => None,
+    };
+    let mut m_codes: Vec<String> = Vec::new();
+    if saved.spindle != now.spindle {
+        m_codes.push(format!("M{}", saved.spindle));
+    }
+    if let Some(m) = slot(saved)
+        && slot(saved) != slot(now)
+    {
+        m_codes.push(m.into());
+    }
+    if saved.flood && !now.flood {
+        m_codes.push("M8".into());
+    }
+    m_codes
+}
+
 /// Where control goes after an O-word line.
 pub(super) enum Jump {
     Next,
@@ -42,6 +180,87 @@ pub(super) enum Jump {
     To(usize, usize),
     /// Back to the start of a loop (counted against [`LOOP_LIMIT`]).
     Loop(usize),
+}
+
+/// An O-word line being run: where it stands (line `at` of file `file`) and what it says.
+struct OLine<'a, 'r> {
+    at: usize,
+    file: usize,
+    o: &'a OWord,
+    runs: &'a [FileRun<'r>],
+}
+
+impl OLine<'_, '_> {
+    fn error(&self, range: Range<usize>, message: String, help: &'static str) -> StructureError {
+        StructureError {
+            line: self.at,
+            range,
+            message,
+            help,
+        }
+    }
+
+    /// Skips on to the next line of this label (LinuxCNC's `skipping_o`).
+    fn skip(&self, params: &mut Params) -> Result<Jump, StructureError> {
+        match self.runs[self.file].structure.next_same.get(&self.at) {
+            Some(&next) => {
+                params.skipping = true;
+                Ok(Jump::Here(next))
+            }
+            None => Err(self.error(
+                self.o.range.clone(),
+                format!(
+                    "File ended with no percent sign or program end: LinuxCNC skips from {} {} to the next line of {0}, and there is none",
+                    self.o.label,
+                    self.o.keyword.name()
+                ),
+                "close the loop with its end of the same label",
+            )),
+        }
+    }
+
+    /// A `break` or `continue` of a `repeat` (the loop starting at line `start`), which
+    /// LinuxCNC refuses when it reaches it.
+    fn not_a_loop(&self, start: usize) -> StructureError {
+        let line = self.runs[self.file].lines[start].number;
+        self.error(
+            self.o.range.clone(),
+            format!(
+                "no matching while/do label: '{} {}' (found 'repeat' in line {line}): LinuxCNC has no `{1}` for a `repeat`",
+                self.o.label,
+                self.o.keyword.name()
+            ),
+            "leave a `repeat` by a `while` loop with the count in a parameter, or by an `if` around its body",
+        )
+    }
+
+    /// `sub` (LinuxCNC's `O_sub`): a definition is passed once; reaching it again (a
+    /// loop, or after a call that found it further down) is LinuxCNC's "found in illegal
+    /// location".
+    fn o_sub(&self, end: usize, params: &mut Params) -> Result<Jump, StructureError> {
+        if !params.passed.insert((self.file, self.at)) {
+            return Err(self.error(
+                self.o.range.clone(),
+                format!(
+                    "sub: {} found in illegal location (a definition reached again, or after it was called)",
+                    self.o.label
+                ),
+                "define subroutines before the program calls them, outside loops",
+            ));
+        }
+        Ok(Jump::Here(end + 1))
+    }
+}
+
+/// `endwhile` and `endrepeat` (LinuxCNC's `O_endwhile`/`O_endrepeat`): reached by
+/// skipping, the loop ends, unless a `continue` is pending (then the loop goes round, and
+/// the flag is cleared); reached in sequence, back to the loop's first line.
+fn o_endwhile(params: &mut Params, skipped: bool, start: usize) -> Jump {
+    if skipped && !std::mem::take(&mut params.doing_continue) {
+        Jump::Next
+    } else {
+        Jump::Loop(start)
+    }
 }
 
 /// The machine state a line's expressions may read, as LinuxCNC's system parameters
@@ -292,38 +511,7 @@ impl FrontEnd<'_> {
                 }
                 Part::Setting(i) => {
                     let s = &block.settings[i];
-                    let target = match &s.param {
-                        Param::Numbered(e) => {
-                            let n = expr::parameter_number(e.eval(&scope)?, &s.range)?;
-                            if n > 5000 {
-                                return Err(EvalError {
-                                    message: format!(
-                                        "#{n} is a parameter of the machine, which ncthread does not follow"
-                                    ),
-                                    help: "the numbered parameters a program sets are #1 … #5000",
-                                    range: s.range.clone(),
-                                });
-                            }
-                            Ok(n)
-                        }
-                        Param::Named(name) => {
-                            if scope.system(name, &s.range).is_some()
-                                && params.named(name).is_none()
-                            {
-                                return Err(EvalError {
-                                    message: format!(
-                                        "Cannot assign to read-only parameter #<{name}>"
-                                    ),
-                                    help: "LinuxCNC's system parameters are read only",
-                                    range: s.range.clone(),
-                                });
-                            }
-                            if params.named(name).is_none() {
-                                scope.created.borrow_mut().push(name.clone());
-                            }
-                            Err(name.clone())
-                        }
-                    };
+                    let target = setting_target(&scope, s)?;
                     settings.push((target, s.value.eval(&scope)?));
                 }
             }
@@ -494,86 +682,7 @@ impl FrontEnd<'_> {
             );
             return;
         }
-        let mut lines: Vec<String> = Vec::new();
-        if saved.inch != now.inch {
-            lines.push(if saved.inch { "G20" } else { "G21" }.into());
-        }
-        // Only what differs is said again (LinuxCNC's `gen_settings` compares the values as
-        // held): an F the subroutine left alone is not rounded to one decimal.
-        let mut text = String::new();
-        if saved.feed != now.feed {
-            text.push_str(&format!("F{:.1}", saved.feed));
-        }
-        if saved.speed != now.speed {
-            text.push_str(&format!(" S{:.0}", saved.speed));
-        }
-        let mut g = |differs: bool, code: &str| {
-            if differs {
-                text.push(' ');
-                text.push_str(code);
-            }
-        };
-        g(
-            saved.incremental != now.incremental,
-            if saved.incremental { "G91" } else { "G90" },
-        );
-        if let Some(mode) = saved.feed_mode {
-            g(
-                Some(mode) != now.feed_mode,
-                if mode == 950 { "G95" } else { "G94" },
-            );
-        }
-        g(
-            saved.surface_speed != now.surface_speed,
-            if saved.surface_speed { "G96" } else { "G97" },
-        );
-        g(
-            saved.absolute_centres != now.absolute_centres,
-            if saved.absolute_centres {
-                "G90.1"
-            } else {
-                "G91.1"
-            },
-        );
-        g(
-            saved.retract_old_z != now.retract_old_z,
-            if saved.retract_old_z { "G98" } else { "G99" },
-        );
-        g(
-            saved.plane_xy != now.plane_xy,
-            if saved.plane_xy { "G17" } else { "G18" },
-        );
-        if let Some(d) = saved.diameter {
-            g(Some(d) != now.diameter, if d { "G7" } else { "G8" });
-        }
-        // The mist slot holds M7, or M9 when no coolant was on (nothing when only flood
-        // was); the flood slot M8 or nothing.
-        let slot = |s: &ModalState| match (s.mist, s.flood) {
-            (true, _) => Some("M7"),
-            (false, false) => Some("M9"),
-            (false, true) => None,
-        };
-        let mut m_codes: Vec<String> = Vec::new();
-        if saved.spindle != now.spindle {
-            m_codes.push(format!("M{}", saved.spindle));
-        }
-        if let Some(m) = slot(saved)
-            && slot(saved) != slot(&now)
-        {
-            m_codes.push(m.into());
-        }
-        if saved.flood && !now.flood {
-            m_codes.push("M8".into());
-        }
-        let mut m_codes = m_codes.into_iter();
-        if let Some(first) = m_codes.next() {
-            text.push(' ');
-            text.push_str(&first);
-        }
-        if !text.trim().is_empty() {
-            lines.push(text.trim_start().to_string());
-        }
-        lines.extend(m_codes);
+        let lines = gen_settings(saved, &now);
         let first_item = self.r.items.len();
         for text in &lines {
             let synthetic = Line {
@@ -593,7 +702,8 @@ impl FrontEnd<'_> {
         }
     }
 
-    /// Runs an O-word line at `at`: where control goes next.
+    /// Runs an O-word line at `at`: where control goes next (LinuxCNC's
+    /// `convert_control_functions`, one step per keyword).
     pub(super) fn oword(
         &mut self,
         at: usize,
@@ -602,243 +712,42 @@ impl FrontEnd<'_> {
         runs: &[FileRun<'_>],
         params: &mut Params,
     ) -> Result<Jump, StructureError> {
-        let structure = &runs[file].structure;
-        let error = |range: Range<usize>, message: String, help: &'static str| StructureError {
-            line: at,
-            range,
-            message,
-            help,
-        };
-        let arg = |fe: &Self, params: &Params, i: usize| -> Result<Option<f64>, StructureError> {
-            match o.args.get(i) {
-                Some(e) => fe
-                    .eval(e, params)
-                    .map(Some)
-                    .map_err(|e| control::eval_error(at, e)),
-                None => Ok(None),
-            }
-        };
-        let condition = |fe: &Self, params: &Params| -> Result<bool, StructureError> {
-            match arg(fe, params, 0)? {
-                Some(v) => Ok(v != 0.0),
-                None => Err(error(
-                    o.range.clone(),
-                    format!("{} {} without its condition", o.label, o.keyword.name()),
-                    "write the condition in brackets: `o100 while [#1 LT 5]`",
-                )),
-            }
-        };
-        let flow = structure.flow.get(&at);
+        let l = OLine { at, file, o, runs };
+        let flow = runs[file].structure.flow.get(&at);
         // Reached by skipping to this label (LinuxCNC's `skipping_o`)?
         let skipped = std::mem::take(&mut params.skipping);
-        // Skip on to the next line of this label.
-        let skip = |params: &mut Params| -> Result<Jump, StructureError> {
-            match structure.next_same.get(&at) {
-                Some(&next) => {
-                    params.skipping = true;
-                    Ok(Jump::Here(next))
-                }
-                None => Err(error(
-                    o.range.clone(),
-                    format!(
-                        "File ended with no percent sign or program end: LinuxCNC skips from {} {} to the next line of {0}, and there is none",
-                        o.label,
-                        o.keyword.name()
-                    ),
-                    "close the loop with its end of the same label",
-                )),
-            }
-        };
-        let not_a_loop = |start: usize| {
-            let line = runs[file].lines[start].number;
-            error(
-                o.range.clone(),
-                format!(
-                    "no matching while/do label: '{} {}' (found 'repeat' in line {line}): LinuxCNC has no `{1}` for a `repeat`",
-                    o.label,
-                    o.keyword.name()
-                ),
-                "leave a `repeat` by a `while` loop with the count in a parameter, or by an `if` around its body",
-            )
-        };
-        Ok(match (o.keyword, flow) {
-            // A definition is passed once; reaching it again (a loop, or after a call
-            // that found it further down) is LinuxCNC's "found in illegal location".
-            (Keyword::Sub, Some(Flow::Sub { end })) => {
-                if !params.passed.insert((file, at)) {
-                    return Err(error(
-                        o.range.clone(),
-                        format!(
-                            "sub: {} found in illegal location (a definition reached again, or after it was called)",
-                            o.label
-                        ),
-                        "define subroutines before the program calls them, outside loops",
-                    ));
-                }
-                Jump::Here(end + 1)
-            }
-            (Keyword::EndSub | Keyword::Return, _) => {
-                let value = arg(self, params, 0)?;
-                let level = params.frames.len();
-                let Some(frame) = params.frames.pop() else {
-                    return Err(error(
-                        o.range.clone(),
-                        format!("{} {} outside a call of it", o.label, o.keyword.name()),
-                        "a subroutine runs only when it is called",
-                    ));
-                };
-                params.numbered[1..=30].copy_from_slice(&frame.saved);
-                // M73 in the subroutine: its saved state comes back with the return.
-                if let Some((saved, true)) = params.contexts.remove(&level) {
-                    let line = runs[file].lines[at];
-                    self.restore(line, o.range.clone(), &saved);
-                }
-                params.contexts.remove(&level);
-                match value {
-                    Some(v) => {
-                        params.value = v;
-                        params.value_returned = true;
-                    }
-                    None => params.value_returned = false,
-                }
-                Jump::To(frame.file, frame.call_line + 1)
-            }
-            (Keyword::Call, _) => {
-                // This file's definition, else the program's, else a subroutine file's.
-                let found = std::iter::once(file)
-                    .chain(0..runs.len())
-                    .find_map(|k| runs[k].structure.subs.get(&o.label).map(|&l| (k, l)));
-                let Some((sub_file, start)) = found else {
-                    return Err(error(
-                        o.range.clone(),
-                        format!("Unable to open file or find subroutine {}", o.label),
-                        "define the subroutine in the program (`o<name> sub` … `o<name> endsub`), or give the folder of name.ngc with --subroutine-path",
-                    ));
-                };
-                if params.frames.len() >= MAX_CALL_DEPTH {
-                    return Err(error(
-                        o.range.clone(),
-                        format!(
-                            "Too many nested levels of subroutines: {} would be call {} deep, LinuxCNC's limit is {MAX_CALL_DEPTH}",
-                            o.label,
-                            params.frames.len() + 1
-                        ),
-                        "a subroutine that calls itself needs a condition that ends the recursion",
-                    ));
-                }
-                let mut args = [0.0; 30];
-                for (i, slot) in args.iter_mut().enumerate() {
-                    if let Some(v) = arg(self, params, i)? {
-                        *slot = v;
-                    }
-                }
-                if o.args.len() > 30 {
-                    return Err(error(
-                        o.args[30].range.clone(),
-                        format!("{} call with more than 30 arguments", o.label),
-                        "a subroutine takes at most 30 arguments (#1 … #30)",
-                    ));
-                }
-                let mut saved = [0.0; 30];
-                saved.copy_from_slice(&params.numbered[1..=30]);
-                params.numbered[1..=30].copy_from_slice(&args);
-                params.passed.insert((sub_file, start));
-                // A call starts its level with no saved state.
-                params.contexts.remove(&(params.frames.len() + 1));
-                params.frames.push(Frame {
-                    name: o.label.clone(),
-                    file,
-                    call_line: at,
-                    sub_file,
-                    saved,
-                    locals: Default::default(),
-                });
-                Jump::To(sub_file, start + 1)
-            }
+        match (o.keyword, flow) {
+            (Keyword::Sub, Some(Flow::Sub { end })) => l.o_sub(*end, params),
+            (Keyword::EndSub | Keyword::Return, _) => self.o_endsub(&l, params),
+            (Keyword::Call, _) => self.o_call(&l, params),
             (Keyword::If, Some(Flow::If { branches, end })) => {
-                if condition(self, params)? {
-                    Jump::Next
-                } else if let Some(&b) = branches.first() {
-                    params.testing = Some(b);
-                    Jump::Here(b)
-                } else {
-                    Jump::Here(end + 1)
-                }
+                self.o_if(&l, params, branches.first().copied(), *end)
             }
-            // Reached from a failed test: an `elseif` tests, an `else` runs; reached after
-            // a branch ran: past the `endif`.
             (Keyword::ElseIf | Keyword::Else, Some(Flow::Branch { next, end })) => {
-                if params.testing == Some(at) {
-                    params.testing = None;
-                    if o.keyword == Keyword::Else || condition(self, params)? {
-                        Jump::Next
-                    } else if let Some(b) = *next {
-                        params.testing = Some(b);
-                        Jump::Here(b)
-                    } else {
-                        Jump::Here(end + 1)
-                    }
-                } else {
-                    // After a branch ran, LinuxCNC still reads an `elseif`'s condition (its
-                    // errors stand), then goes past the `endif`.
-                    if o.keyword == Keyword::ElseIf {
-                        condition(self, params)?;
-                    }
-                    Jump::Here(end + 1)
-                }
+                self.o_else(&l, params, *next, *end)
             }
-            (Keyword::EndIf, _) => Jump::Next,
+            (Keyword::EndIf, _) => Ok(Jump::Next),
             (Keyword::While, Some(Flow::While { .. })) => {
-                if condition(self, params)? {
-                    Jump::Next
+                if self.o_condition(&l, params)? {
+                    Ok(Jump::Next)
                 } else {
-                    skip(params)?
+                    l.skip(params)
                 }
             }
-            // LinuxCNC's `endwhile`/`endrepeat`: reached by skipping, it ends the loop, unless
-            // a `continue` is pending (then the loop goes round, and the flag is cleared);
-            // reached in sequence, back to the loop's first line.
             (
                 Keyword::EndWhile | Keyword::EndRepeat,
                 Some(Flow::EndWhile { start } | Flow::EndRepeat { start }),
-            ) => {
-                if skipped && !std::mem::take(&mut params.doing_continue) {
-                    Jump::Next
-                } else {
-                    Jump::Loop(*start)
-                }
-            }
-            (Keyword::Do, _) => Jump::Next,
+            ) => Ok(o_endwhile(params, skipped, *start)),
+            (Keyword::Do, _) => Ok(Jump::Next),
             (Keyword::While, Some(Flow::DoWhile { start })) => {
-                if condition(self, params)? && !params.doing_break {
-                    Jump::Loop(start + 1)
+                if self.o_condition(&l, params)? && !params.doing_break {
+                    Ok(Jump::Loop(start + 1))
                 } else {
                     params.doing_break = false;
-                    Jump::Next
+                    Ok(Jump::Next)
                 }
             }
-            // The count is taken when the loop starts (and again once it has run out), and
-            // counted down at its first line, as LinuxCNC's `repeat_count`.
-            (Keyword::Repeat, Some(Flow::Repeat { .. })) => {
-                let count = arg(self, params, 0)?.ok_or_else(|| {
-                    error(
-                        o.range.clone(),
-                        format!("{} repeat without its count", o.label),
-                        "write the count in brackets: `o100 repeat [3]`",
-                    )
-                })?;
-                let left = match params.repeats.get(&(file, at)) {
-                    Some(&left) => left,
-                    None => count.round() as i64,
-                };
-                if left > 0 {
-                    params.repeats.insert((file, at), left - 1);
-                    Jump::Next
-                } else {
-                    params.repeats.remove(&(file, at));
-                    skip(params)?
-                }
-            }
+            (Keyword::Repeat, Some(Flow::Repeat { .. })) => self.o_repeat(&l, params),
             (
                 Keyword::Break | Keyword::Continue,
                 Some(
@@ -853,28 +762,213 @@ impl FrontEnd<'_> {
                         ..
                     },
                 ),
-            ) => {
-                return Err(not_a_loop(*start));
-            }
+            ) => Err(l.not_a_loop(*start)),
             (Keyword::Break, Some(Flow::Break { .. })) => {
                 params.doing_break = true;
-                skip(params)?
+                l.skip(params)
             }
             // Already skipping to this label, a `continue` does nothing.
             (Keyword::Continue, Some(Flow::Continue { .. })) => {
                 if !skipped {
                     params.doing_continue = true;
                 }
-                skip(params)?
+                l.skip(params)
             }
-            _ => {
-                return Err(error(
-                    o.range.clone(),
-                    format!("{} {} out of place", o.label, o.keyword.name()),
-                    "check the program's O-word blocks",
-                ));
+            _ => Err(l.error(
+                o.range.clone(),
+                format!("{} {} out of place", o.label, o.keyword.name()),
+                "check the program's O-word blocks",
+            )),
+        }
+    }
+
+    /// The O-word's `i`th argument evaluated, if it has one.
+    fn o_arg(
+        &self,
+        l: &OLine<'_, '_>,
+        params: &Params,
+        i: usize,
+    ) -> Result<Option<f64>, StructureError> {
+        match l.o.args.get(i) {
+            Some(e) => self
+                .eval(e, params)
+                .map(Some)
+                .map_err(|e| control::eval_error(l.at, e)),
+            None => Ok(None),
+        }
+    }
+
+    /// The condition of an `if`, `elseif` or `while`: its first argument, not 0.
+    fn o_condition(&self, l: &OLine<'_, '_>, params: &Params) -> Result<bool, StructureError> {
+        match self.o_arg(l, params, 0)? {
+            Some(v) => Ok(v != 0.0),
+            None => Err(l.error(
+                l.o.range.clone(),
+                format!("{} {} without its condition", l.o.label, l.o.keyword.name()),
+                "write the condition in brackets: `o100 while [#1 LT 5]`",
+            )),
+        }
+    }
+
+    /// `endsub` and `return` (LinuxCNC's `O_endsub`/`O_return`): the caller's #1 … #30
+    /// back, the state an M73 saved restored, the value returned (`#<_value>`), and
+    /// control back after the call.
+    fn o_endsub(&mut self, l: &OLine<'_, '_>, params: &mut Params) -> Result<Jump, StructureError> {
+        let o = l.o;
+        let value = self.o_arg(l, params, 0)?;
+        let level = params.frames.len();
+        let Some(frame) = params.frames.pop() else {
+            return Err(l.error(
+                o.range.clone(),
+                format!("{} {} outside a call of it", o.label, o.keyword.name()),
+                "a subroutine runs only when it is called",
+            ));
+        };
+        params.numbered[1..=30].copy_from_slice(&frame.saved);
+        // M73 in the subroutine: its saved state comes back with the return.
+        if let Some((saved, true)) = params.contexts.remove(&level) {
+            let line = l.runs[l.file].lines[l.at];
+            self.restore(line, o.range.clone(), &saved);
+        }
+        params.contexts.remove(&level);
+        match value {
+            Some(v) => {
+                params.value = v;
+                params.value_returned = true;
             }
+            None => params.value_returned = false,
+        }
+        Ok(Jump::To(frame.file, frame.call_line + 1))
+    }
+
+    /// `call` (LinuxCNC's `O_call`): the subroutine found (this file's definition, else the
+    /// program's, else a subroutine file's), the nesting limit, its arguments into #1 …
+    /// #30 (the caller's saved), a new frame, and control to the definition's first line.
+    fn o_call(&mut self, l: &OLine<'_, '_>, params: &mut Params) -> Result<Jump, StructureError> {
+        let (o, runs, file) = (l.o, l.runs, l.file);
+        let found = std::iter::once(file)
+            .chain(0..runs.len())
+            .find_map(|k| runs[k].structure.subs.get(&o.label).map(|&l| (k, l)));
+        let Some((sub_file, start)) = found else {
+            return Err(l.error(
+                o.range.clone(),
+                format!("Unable to open file or find subroutine {}", o.label),
+                "define the subroutine in the program (`o<name> sub` … `o<name> endsub`), or give the folder of name.ngc with --subroutine-path",
+            ));
+        };
+        if params.frames.len() >= MAX_CALL_DEPTH {
+            return Err(l.error(
+                o.range.clone(),
+                format!(
+                    "Too many nested levels of subroutines: {} would be call {} deep, LinuxCNC's limit is {MAX_CALL_DEPTH}",
+                    o.label,
+                    params.frames.len() + 1
+                ),
+                "a subroutine that calls itself needs a condition that ends the recursion",
+            ));
+        }
+        let mut args = [0.0; 30];
+        for (i, slot) in args.iter_mut().enumerate() {
+            if let Some(v) = self.o_arg(l, params, i)? {
+                *slot = v;
+            }
+        }
+        if o.args.len() > 30 {
+            return Err(l.error(
+                o.args[30].range.clone(),
+                format!("{} call with more than 30 arguments", o.label),
+                "a subroutine takes at most 30 arguments (#1 … #30)",
+            ));
+        }
+        let mut saved = [0.0; 30];
+        saved.copy_from_slice(&params.numbered[1..=30]);
+        params.numbered[1..=30].copy_from_slice(&args);
+        params.passed.insert((sub_file, start));
+        // A call starts its level with no saved state.
+        params.contexts.remove(&(params.frames.len() + 1));
+        params.frames.push(Frame {
+            name: o.label.clone(),
+            file,
+            call_line: l.at,
+            sub_file,
+            saved,
+            locals: Default::default(),
+        });
+        Ok(Jump::To(sub_file, start + 1))
+    }
+
+    /// `if` (LinuxCNC's `O_if`): on when its condition holds, else to its first `elseif`
+    /// or `else` (which then tests), else past its `endif`.
+    fn o_if(
+        &self,
+        l: &OLine<'_, '_>,
+        params: &mut Params,
+        first_branch: Option<usize>,
+        end: usize,
+    ) -> Result<Jump, StructureError> {
+        Ok(if self.o_condition(l, params)? {
+            Jump::Next
+        } else if let Some(b) = first_branch {
+            params.testing = Some(b);
+            Jump::Here(b)
+        } else {
+            Jump::Here(end + 1)
         })
+    }
+
+    /// `elseif` and `else` (LinuxCNC's `O_elseif`/`O_else`): reached from a failed test, an
+    /// `elseif` tests and an `else` runs; reached after a branch ran, past the `endif`.
+    fn o_else(
+        &self,
+        l: &OLine<'_, '_>,
+        params: &mut Params,
+        next: Option<usize>,
+        end: usize,
+    ) -> Result<Jump, StructureError> {
+        let o = l.o;
+        Ok(if params.testing == Some(l.at) {
+            params.testing = None;
+            if o.keyword == Keyword::Else || self.o_condition(l, params)? {
+                Jump::Next
+            } else if let Some(b) = next {
+                params.testing = Some(b);
+                Jump::Here(b)
+            } else {
+                Jump::Here(end + 1)
+            }
+        } else {
+            // After a branch ran, LinuxCNC still reads an `elseif`'s condition (its
+            // errors stand), then goes past the `endif`.
+            if o.keyword == Keyword::ElseIf {
+                self.o_condition(l, params)?;
+            }
+            Jump::Here(end + 1)
+        })
+    }
+
+    /// `repeat` (LinuxCNC's `O_repeat`): the count is taken when the loop starts (and
+    /// again once it has run out), and counted down at its first line, as LinuxCNC's
+    /// `repeat_count`; when it has run out, on to the `endrepeat`.
+    fn o_repeat(&self, l: &OLine<'_, '_>, params: &mut Params) -> Result<Jump, StructureError> {
+        let (o, file, at) = (l.o, l.file, l.at);
+        let count = self.o_arg(l, params, 0)?.ok_or_else(|| {
+            l.error(
+                o.range.clone(),
+                format!("{} repeat without its count", o.label),
+                "write the count in brackets: `o100 repeat [3]`",
+            )
+        })?;
+        let left = match params.repeats.get(&(file, at)) {
+            Some(&left) => left,
+            None => count.round() as i64,
+        };
+        if left > 0 {
+            params.repeats.insert((file, at), left - 1);
+            Ok(Jump::Next)
+        } else {
+            params.repeats.remove(&(file, at));
+            l.skip(params)
+        }
     }
 
     /// Names the call chain in the diagnostics made since `from` while a subroutine runs.

@@ -3,6 +3,7 @@
 //! [`crate::lower::g7x`] makes of it, as one [`ItemKind::Roughing`].
 //! **\[evidence\]** LinuxCNC `Interp::convert_g7x` (`interp_g7x.cc`, 2.9.0~pre1).
 
+use std::collections::BTreeMap;
 use std::ops::Range;
 
 use super::super::gcode::*;
@@ -74,24 +75,24 @@ impl Contour {
     }
 }
 
-impl FrontEnd<'_> {
-    fn roughing_error(&mut self, line: Line<'_>, range: Range<usize>, message: String, help: &str) {
-        self.diag(codes::ISOR_ROUGHING, line, range, message, help);
-    }
+/// A word's value, or `default` when the line has no such word.
+fn value_or(w: Option<&Word>, default: f64) -> f64 {
+    w.map_or(default, |w| w.value.to_f64())
+}
 
-    /// A G70–G72 line: the rapid to its X and Z, then the call of its contour subroutine.
-    pub(super) fn roughing(
-        &mut self,
-        line: Line<'_>,
-        words: &mut Words<'_>,
-        at: Option<&Word>,
-        span: Span,
-        code: GCode,
-    ) {
-        let range = at.map_or(0..line.text.len(), |w| w.range.clone());
-        let name = plain(code);
-        let finish = code == G70;
-        // Words LinuxCNC lets this cycle use; the others are "not used by any command".
+/// The words a G70–G72 line may use, as `convert_g7x` reads them: Q and D, then E and P
+/// (G70) or I and R (G71, G72). The others are "not used by any command".
+struct G7xWords<'w> {
+    q: Option<&'w Word>,
+    d: Option<&'w Word>,
+    e: Option<&'w Word>,
+    p: Option<&'w Word>,
+    i: Option<&'w Word>,
+    r: Option<&'w Word>,
+}
+
+impl<'w> G7xWords<'w> {
+    fn take(words: &mut Words<'w>, finish: bool) -> Self {
         let q = words.take('Q');
         let d = words.take('D');
         let (e, p) = if finish {
@@ -104,120 +105,143 @@ impl FrontEnd<'_> {
         } else {
             (words.take('I'), words.take('R'))
         };
-        let Some(q) = q else {
-            return self.roughing_error(
-                line,
-                range,
-                format!("{name} without Q (LinuxCNC: \"G7x.x  requires a Q word\")"),
-                "name the contour's subroutine with Q: `G71 Q100 …` runs `o100 sub`",
-            );
-        };
-        if self.compensation && finish {
-            return self.roughing_error(
-                line,
-                range,
-                format!(
-                    "{name} while cutter radius compensation is on: LinuxCNC 2.9.0~pre1 takes the contour's end for the tool's position while it reads the contour, so the compensated path it cuts is not the cycle's moves (later LinuxCNC versions cut the moves; ncthread cannot write a program that both cut alike)"
-                ),
-                "write the finishing contour as G1/G2/G3 moves under G41.1/G42.1 (or G41/G42), or run G70 without compensation",
-            );
-        }
-        if self.compensation && !finish {
-            return self.roughing_error(
-                line,
-                range,
-                format!(
-                    "{name} while cutter radius compensation is on (LinuxCNC: \"{} cannot be used with cutter compensation enabled\")",
-                    dotted(code)
-                ),
-                "turn the compensation off with G40 before the roughing cycle",
-            );
-        }
-        let value = |w: Option<&Word>, default: f64| w.map_or(default, |w| w.value.to_f64());
-        let number = q.value.to_f64();
-        let whole = number.round();
-        if (number - whole).abs() > 0.0001 || whole < 0.0 {
-            let text = &line.text[q.range.clone()];
-            return self.roughing_error(
-                line,
-                q.range.clone(),
-                format!("`{text}`: Q names a numbered subroutine and must be a whole number (LinuxCNC: \"Non integer value for integer\")"),
-                "write the subroutine's number: `Q100` for `o100 sub`",
-            );
-        }
-        let depth = value(i, 1.0);
-        if depth <= 0.0 {
-            let w = i.map_or(range.clone(), |w| w.range.clone());
-            return self.roughing_error(
-                line,
-                w,
-                "the depth of cut I is 0 or less (LinuxCNC: \"G7X error: I must be greater than zero.\")".into(),
-                "give the depth of each roughing cut with I, more than 0",
-            );
-        }
-        let unit = if self.inch { 1.0 / 25.4 } else { 1.0 };
-        let mm = |v: f64| Length::from_mm_f64(v / unit);
-        let (cycle, kind) = if finish {
-            let (first, last, passes) = (value(d, 0.0), value(e, 0.0), value(p, 1.0));
-            (
-                Cycle::Finish {
-                    first,
-                    last,
-                    passes,
-                },
-                RoughingKind::Finish {
-                    first: mm(first),
-                    last: mm(last),
-                    passes: p.map_or(crate::fixed::Decimal::parse("1").unwrap_or_default(), |w| {
+        G7xWords { q, d, e, p, i, r }
+    }
+}
+
+/// The cycle as [`g7x`] runs it (program units) and as the IR records it (mm): G70's
+/// first and last depth and passes (D, E, P), or G71's/G72's allowance D, depth of cut I
+/// and retract R.
+fn g7x_cycle(code: GCode, w: &G7xWords<'_>, depth: f64, unit: f64) -> (Cycle, RoughingKind) {
+    let mm = |v: f64| Length::from_mm_f64(v / unit);
+    if code == G70 {
+        let (first, last, passes) = (value_or(w.d, 0.0), value_or(w.e, 0.0), value_or(w.p, 1.0));
+        return (
+            Cycle::Finish {
+                first,
+                last,
+                passes,
+            },
+            RoughingKind::Finish {
+                first: mm(first),
+                last: mm(last),
+                passes: w
+                    .p
+                    .map_or(crate::fixed::Decimal::parse("1").unwrap_or_default(), |w| {
                         w.value
                     }),
-                },
-            )
-        } else {
-            let (allowance, retract) = (value(d, 0.0), value(r, 0.5));
-            let facing = matches!(code, G72 | G72_1 | G72_2);
-            let variant = (code % 10) as u8;
-            (
-                Cycle::Rough {
-                    facing,
-                    variant,
-                    u: 0.0,
-                    w: 0.0,
-                    d: allowance,
-                    i: depth,
-                    r: retract,
-                },
-                RoughingKind::Rough {
-                    facing,
-                    variant,
-                    stock_x: Length(0),
-                    stock_z: Length(0),
-                    allowance: mm(allowance),
-                    depth: mm(depth),
-                    retract: mm(retract),
-                },
-            )
-        };
-        // LinuxCNC first makes a G0 to the line's X and Z (the current position if none).
-        let start_exact = self.exact_start();
-        let Some(to) = self.target(line, words) else {
+            },
+        );
+    }
+    let (allowance, retract) = (value_or(w.d, 0.0), value_or(w.r, 0.5));
+    let facing = matches!(code, G72 | G72_1 | G72_2);
+    let variant = (code % 10) as u8;
+    (
+        Cycle::Rough {
+            facing,
+            variant,
+            u: 0.0,
+            w: 0.0,
+            d: allowance,
+            i: depth,
+            r: retract,
+        },
+        RoughingKind::Rough {
+            facing,
+            variant,
+            stock_x: Length(0),
+            stock_z: Length(0),
+            allowance: mm(allowance),
+            depth: mm(depth),
+            retract: mm(retract),
+        },
+    )
+}
+
+/// The words of one contour line as `convert_g7x` takes them.
+struct ContourWords<'b> {
+    /// X, Z, U, W, I, K, R, A and C, each once.
+    words: BTreeMap<char, &'b Word>,
+    /// G0–G3 as 0–3, when the line has one.
+    motion: Option<u8>,
+}
+
+impl ContourWords<'_> {
+    fn value(&self, letter: char) -> Option<f64> {
+        self.words.get(&letter).map(|w| w.value.to_f64())
+    }
+
+    fn range(&self, letter: char) -> Option<Range<usize>> {
+        self.words.get(&letter).map(|w| w.range.clone())
+    }
+
+    /// The arc word (I, K or R) the line has, the first of them in that order.
+    fn arc_word(&self) -> Option<&&Word> {
+        self.words
+            .get(&'I')
+            .or(self.words.get(&'K'))
+            .or(self.words.get(&'R'))
+    }
+}
+
+/// The codes LinuxCNC's cycle makes no element of, which a contour line may not hold:
+/// threading, the cycles, probing.
+fn makes_no_element(g: GCode) -> bool {
+    matches!(
+        g,
+        G33 | G33_1
+            | G76
+            | G70
+            | G71
+            | G71_1
+            | G71_2
+            | G72
+            | G72_1
+            | G72_2
+            | G73
+            | G74
+            | G80..=G8X_LAST
+            | G38_1..=G38_5
+    )
+}
+
+/// A point of the cycle (program units, X a radius) as exact mm (X a diameter).
+fn exact(p: C, unit: f64) -> (f64, f64) {
+    (2.0 * p.im / unit, p.re / unit)
+}
+
+/// A point of the cycle on ncthread's grid.
+fn grid(p: C, unit: f64) -> Pos {
+    let (x, z) = exact(p, unit);
+    Pos::new(Length::from_mm_f64(x), Length::from_mm_f64(z))
+}
+
+impl FrontEnd<'_> {
+    fn roughing_error(&mut self, line: Line<'_>, range: Range<usize>, message: String, help: &str) {
+        self.diag(codes::ISOR_ROUGHING, line, range, message, help);
+    }
+
+    /// A G70–G72 line: the rapid to its X and Z, then the call of its contour subroutine
+    /// (`convert_g7x`'s start).
+    pub(super) fn roughing(
+        &mut self,
+        line: Line<'_>,
+        words: &mut Words<'_>,
+        at: Option<&Word>,
+        span: Span,
+        code: GCode,
+    ) {
+        let range = at.map_or(0..line.text.len(), |w| w.range.clone());
+        let name = plain(code);
+        let w = G7xWords::take(words, code == G70);
+        let Some((q, whole, depth)) = self.check_g7x(line, &range, code, &w) else {
             return;
         };
-        if to != Pos::UNKNOWN {
-            self.push(ItemKind::Rapid { to }, span);
-            self.r.pos = ItemKind::Rapid { to }.end_position(self.r.pos);
-            self.exact_after_move(start_exact);
-        }
-        let (Some(_), (Some(x), Some(z))) = (self.r.pos.known(), self.exact_start()) else {
-            return self.diag(
-                codes::ISOR_UNKNOWN_POSITION,
-                line,
-                range,
-                format!("{name} from a position that is not known yet: the cycle starts where the tool is"),
-                "move to an absolute X and Z before the cycle, or give them on its line",
-            );
+        let unit = if self.inch { 1.0 / 25.4 } else { 1.0 };
+        let (cycle, kind) = g7x_cycle(code, &w, depth, unit);
+        let Some(start) = self.g7x_start(line, words, range, span, &name, unit) else {
+            return;
         };
-        let start = C::new(z * unit, x / 2.0 * unit);
         let label = Label::Number(
             (whole as u64)
                 .to_string()
@@ -251,6 +275,108 @@ impl FrontEnd<'_> {
         });
     }
 
+    /// `convert_g7x`'s checks of the cycle's line, in its order: a Q, no cutter radius
+    /// compensation, Q a whole number, the depth of cut I more than 0. The Q word, the
+    /// subroutine's number and the depth of cut; `None` once refused.
+    fn check_g7x<'w>(
+        &mut self,
+        line: Line<'_>,
+        range: &Range<usize>,
+        code: GCode,
+        w: &G7xWords<'w>,
+    ) -> Option<(&'w Word, f64, f64)> {
+        let name = plain(code);
+        let finish = code == G70;
+        let Some(q) = w.q else {
+            self.roughing_error(
+                line,
+                range.clone(),
+                format!("{name} without Q (LinuxCNC: \"G7x.x  requires a Q word\")"),
+                "name the contour's subroutine with Q: `G71 Q100 …` runs `o100 sub`",
+            );
+            return None;
+        };
+        if self.compensation && finish {
+            self.roughing_error(
+                line,
+                range.clone(),
+                format!(
+                    "{name} while cutter radius compensation is on: LinuxCNC 2.9.0~pre1 takes the contour's end for the tool's position while it reads the contour, so the compensated path it cuts is not the cycle's moves (later LinuxCNC versions cut the moves; ncthread cannot write a program that both cut alike)"
+                ),
+                "write the finishing contour as G1/G2/G3 moves under G41.1/G42.1 (or G41/G42), or run G70 without compensation",
+            );
+            return None;
+        }
+        if self.compensation && !finish {
+            self.roughing_error(
+                line,
+                range.clone(),
+                format!(
+                    "{name} while cutter radius compensation is on (LinuxCNC: \"{} cannot be used with cutter compensation enabled\")",
+                    dotted(code)
+                ),
+                "turn the compensation off with G40 before the roughing cycle",
+            );
+            return None;
+        }
+        let number = q.value.to_f64();
+        let whole = number.round();
+        if (number - whole).abs() > 0.0001 || whole < 0.0 {
+            let text = &line.text[q.range.clone()];
+            self.roughing_error(
+                line,
+                q.range.clone(),
+                format!("`{text}`: Q names a numbered subroutine and must be a whole number (LinuxCNC: \"Non integer value for integer\")"),
+                "write the subroutine's number: `Q100` for `o100 sub`",
+            );
+            return None;
+        }
+        let depth = value_or(w.i, 1.0);
+        if depth <= 0.0 {
+            let at = w.i.map_or(range.clone(), |w| w.range.clone());
+            self.roughing_error(
+                line,
+                at,
+                "the depth of cut I is 0 or less (LinuxCNC: \"G7X error: I must be greater than zero.\")".into(),
+                "give the depth of each roughing cut with I, more than 0",
+            );
+            return None;
+        }
+        Some((q, whole, depth))
+    }
+
+    /// LinuxCNC's G0 to the line's X and Z (the current position if none) before the
+    /// cycle: where the cycle starts, in program units (Z, X a radius); `None` when that
+    /// is not known (reported).
+    fn g7x_start(
+        &mut self,
+        line: Line<'_>,
+        words: &mut Words<'_>,
+        range: Range<usize>,
+        span: Span,
+        name: &str,
+        unit: f64,
+    ) -> Option<C> {
+        let start_exact = self.exact_start();
+        let to = self.target(line, words)?;
+        if to != Pos::UNKNOWN {
+            self.push(ItemKind::Rapid { to }, span);
+            self.r.pos = ItemKind::Rapid { to }.end_position(self.r.pos);
+            self.exact_after_move(start_exact);
+        }
+        let (Some(_), (Some(x), Some(z))) = (self.r.pos.known(), self.exact_start()) else {
+            self.diag(
+                codes::ISOR_UNKNOWN_POSITION,
+                line,
+                range,
+                format!("{name} from a position that is not known yet: the cycle starts where the tool is"),
+                "move to an absolute X and Z before the cycle, or give them on its line",
+            );
+            return None;
+        };
+        Some(C::new(z * unit, x / 2.0 * unit))
+    }
+
     /// The block number and comment of the cycle's line, for its item.
     pub(super) fn stamp_contour(&mut self, number: Option<u32>, comment: Option<String>) {
         if let Some(c) = &mut self.contour {
@@ -260,111 +386,25 @@ impl FrontEnd<'_> {
     }
 
     /// One line of the contour subroutine, after its values and parameter settings: what
-    /// LinuxCNC's cycle takes from it.
+    /// LinuxCNC's cycle takes from it (`convert_g7x` reading the contour, in its order:
+    /// the words, the motion mode, the end point, the element, its corner).
     pub(super) fn contour_line(&mut self, line: Line<'_>, block: &Block) {
         let Some(c) = self.contour.as_deref() else {
             return;
         };
         let name = plain(c.code);
         let label = c.label.clone();
-        let mut words: std::collections::BTreeMap<char, &Word> = Default::default();
-        let mut ignored: Vec<&Word> = Vec::new();
-        let mut motion = None;
-        for w in &block.words {
-            match w.letter {
-                'G' => {
-                    let g = w.value.to_scaled(1).unwrap_or(-1);
-                    match g {
-                        G0 | G1 | G2 | G3 => {
-                            if motion.is_some() {
-                                return self.roughing_error(
-                                    line,
-                                    w.range.clone(),
-                                    "two motion codes on one line of a contour".into(),
-                                    "one motion code per line",
-                                );
-                            }
-                            motion = Some((g / 10) as u8);
-                        }
-                        G33
-                        | G33_1
-                        | G76
-                        | G70
-                        | G71
-                        | G71_1
-                        | G71_2
-                        | G72
-                        | G72_1
-                        | G72_2
-                        | G73
-                        | G74
-                        | G80..=G8X_LAST
-                        | G38_1..=G38_5 => {
-                            let text = &line.text[w.range.clone()];
-                            return self.roughing_error(
-                                line,
-                                w.range.clone(),
-                                format!("`{text}` in the contour of a {name} ({label}): LinuxCNC's cycle makes no element of it"),
-                                "a contour is made of G0, G1, G2 and G3 moves",
-                            );
-                        }
-                        _ => ignored.push(w),
-                    }
-                }
-                'M' | 'S' | 'T' | 'F' => ignored.push(w),
-                'X' | 'Z' | 'U' | 'W' | 'I' | 'K' | 'R' | 'A' | 'C' => {
-                    if let Some(first) = words.insert(w.letter, w) {
-                        let first = line.text[first.range.clone()].to_string();
-                        return self.diag(
-                            codes::ISOR_CONFLICT,
-                            line,
-                            w.range.clone(),
-                            format!(
-                                "a second {} word on the line (the first is `{first}`)",
-                                w.letter
-                            ),
-                            "LinuxCNC refuses a line with two words of one letter; split the line",
-                        );
-                    }
-                }
-                _ => {
-                    let text = &line.text[w.range.clone()];
-                    return self.roughing_error(
-                        line,
-                        w.range.clone(),
-                        format!("`{text}` in the contour of a {name} ({label}): LinuxCNC refuses it there (no command on the line uses it)"),
-                        "a contour line holds X, Z (or U, W), I, K or R for arcs, and A (a rounded corner) or C (a chamfer)",
-                    );
-                }
-            }
-        }
-        if !ignored.is_empty() {
-            let list: Vec<&str> = ignored
-                .iter()
-                .map(|w| &line.text[w.range.clone()])
-                .collect();
-            let span = self.r.span(line, ignored[0].range.clone());
-            self.r.diags.push(
-                Diagnostic::new(
-                    codes::ISOR_CONTOUR_IGNORED,
-                    format!(
-                        "`{}` in the contour of a {name} ({label}): LinuxCNC does not run it there, and neither does ncthread",
-                        list.join(" ")
-                    ),
-                )
-                .at(self.r.src, span)
-                .help("the cycle takes only the contour's shape from its subroutine: set feeds, speeds and modes before the cycle"),
-            );
-        }
+        let Some(words) = self.contour_words(line, block, &name, &label) else {
+            return;
+        };
         let Some(c) = self.contour.as_deref_mut() else {
             return;
         };
-        if let Some(m) = motion {
+        if let Some(m) = words.motion {
             c.motion = m;
         }
-        let arc_word = words.get(&'I').or(words.get(&'K')).or(words.get(&'R'));
         if c.motion < 2
-            && let Some(w) = arc_word
+            && let Some(w) = words.arc_word()
         {
             let text = line.text[w.range.clone()].to_string();
             let code = if c.motion == 0 { "G0" } else { "G1" };
@@ -375,40 +415,168 @@ impl FrontEnd<'_> {
                 "I, K and R belong to arcs (G2, G3)",
             );
         }
-        let offset = self.axis_offset;
-        let Some(c) = self.contour.as_deref_mut() else {
+        let Some((start, end, centre)) = self.contour_end(line, &words) else {
             return;
         };
+        if start == end {
+            return;
+        }
+        let Some(element) = self.contour_element(line, &words, start, end, centre) else {
+            return;
+        };
+        if let (Some(a), Some(_)) = (words.range('A'), words.range('C')) {
+            return self.roughing_error(
+                line,
+                a,
+                "A and C on one corner of a contour (LinuxCNC: \"G7X error: Both A and C parameters on a corner\")".into(),
+                "round the corner (A) or chamfer it (C), not both",
+            );
+        }
+        self.add_contour_element(line, &words, element, end);
+    }
+
+    /// The words of a contour line, sorted: its motion code (G0–G3), its axis, arc and
+    /// corner words (each once), and the words LinuxCNC does not run there (reported
+    /// together). `None` once the line is refused.
+    fn contour_words<'b>(
+        &mut self,
+        line: Line<'_>,
+        block: &'b Block,
+        name: &str,
+        label: &str,
+    ) -> Option<ContourWords<'b>> {
+        let mut words: BTreeMap<char, &Word> = Default::default();
+        let mut ignored: Vec<&Word> = Vec::new();
+        let mut motion = None;
+        for w in &block.words {
+            match w.letter {
+                'G' => {
+                    let g = w.value.to_scaled(1).unwrap_or(-1);
+                    match g {
+                        G0 | G1 | G2 | G3 => {
+                            if motion.is_some() {
+                                self.roughing_error(
+                                    line,
+                                    w.range.clone(),
+                                    "two motion codes on one line of a contour".into(),
+                                    "one motion code per line",
+                                );
+                                return None;
+                            }
+                            motion = Some((g / 10) as u8);
+                        }
+                        g if makes_no_element(g) => {
+                            let text = &line.text[w.range.clone()];
+                            self.roughing_error(
+                                line,
+                                w.range.clone(),
+                                format!("`{text}` in the contour of a {name} ({label}): LinuxCNC's cycle makes no element of it"),
+                                "a contour is made of G0, G1, G2 and G3 moves",
+                            );
+                            return None;
+                        }
+                        _ => ignored.push(w),
+                    }
+                }
+                'M' | 'S' | 'T' | 'F' => ignored.push(w),
+                'X' | 'Z' | 'U' | 'W' | 'I' | 'K' | 'R' | 'A' | 'C' => {
+                    if let Some(first) = words.insert(w.letter, w) {
+                        let first = line.text[first.range.clone()].to_string();
+                        self.diag(
+                            codes::ISOR_CONFLICT,
+                            line,
+                            w.range.clone(),
+                            format!(
+                                "a second {} word on the line (the first is `{first}`)",
+                                w.letter
+                            ),
+                            "LinuxCNC refuses a line with two words of one letter; split the line",
+                        );
+                        return None;
+                    }
+                }
+                _ => {
+                    let text = &line.text[w.range.clone()];
+                    self.roughing_error(
+                        line,
+                        w.range.clone(),
+                        format!("`{text}` in the contour of a {name} ({label}): LinuxCNC refuses it there (no command on the line uses it)"),
+                        "a contour line holds X, Z (or U, W), I, K or R for arcs, and A (a rounded corner) or C (a chamfer)",
+                    );
+                    return None;
+                }
+            }
+        }
+        self.report_ignored_contour_words(line, &ignored, name, label);
+        Some(ContourWords { words, motion })
+    }
+
+    /// The words of a contour line that LinuxCNC does not run there (M, S, T, F, G codes
+    /// of no motion), in one warning.
+    fn report_ignored_contour_words(
+        &mut self,
+        line: Line<'_>,
+        ignored: &[&Word],
+        name: &str,
+        label: &str,
+    ) {
+        if ignored.is_empty() {
+            return;
+        }
+        let list: Vec<&str> = ignored
+            .iter()
+            .map(|w| &line.text[w.range.clone()])
+            .collect();
+        let span = self.r.span(line, ignored[0].range.clone());
+        self.r.diags.push(
+            Diagnostic::new(
+                codes::ISOR_CONTOUR_IGNORED,
+                format!(
+                    "`{}` in the contour of a {name} ({label}): LinuxCNC does not run it there, and neither does ncthread",
+                    list.join(" ")
+                ),
+            )
+            .at(self.r.src, span)
+            .help("the cycle takes only the contour's shape from its subroutine: set feeds, speeds and modes before the cycle"),
+        );
+    }
+
+    /// A contour line's start (the contour's current point), end and I/K centre offset, in
+    /// program units (Z, X a radius): X and Z in G90 (less the G52/G92 offset), U and W
+    /// increments (G90 only, and not with X or Z), every axis an increment in G91.
+    fn contour_end(&mut self, line: Line<'_>, words: &ContourWords<'_>) -> Option<(C, C, C)> {
+        let offset = self.axis_offset;
+        let c = self.contour.as_deref()?;
         // The G52/G92 offset, in the contour's units (X a radius).
         let shift = if c.incremental {
             C::default()
         } else {
             C::new(offset.1 * c.unit, offset.0 / 2.0 * c.unit)
         };
-        let centre_shift = C::new(offset.1 * c.unit, offset.0 / 2.0 * c.unit);
-        let v = |l: char| words.get(&l).map(|w| w.value.to_f64());
+        let v = |l: char| words.value(l);
         let mut end = if c.incremental { C::default() } else { c.at };
         let mut centre = C::default();
         for (axis, alias) in [('U', 'X'), ('W', 'Z')] {
-            if let Some(w) = words.get(&axis) {
+            if let Some(w) = words.words.get(&axis) {
                 let text = line.text[w.range.clone()].to_string();
                 let why = if c.incremental {
                     format!(
                         "`{text}` in the contour while G91 is in force (LinuxCNC: \"G7x error: Cannot use {axis} in incremental mode (G91)\")"
                     )
-                } else if words.contains_key(&alias) {
+                } else if words.words.contains_key(&alias) {
                     format!(
                         "`{text}` with {alias} on one line (LinuxCNC: \"G7x error: Cannot use {axis} and {alias} in the same block\")"
                     )
                 } else {
                     continue;
                 };
-                return self.roughing_error(
+                self.roughing_error(
                     line,
                     w.range.clone(),
                     why,
                     "U and W are increments of X and Z in a contour written in G90",
                 );
+                return None;
             }
         }
         if let Some(u) = v('U') {
@@ -430,78 +598,105 @@ impl FrontEnd<'_> {
         if c.incremental {
             end += c.at;
         }
-        let start = c.at;
-        if start == end {
-            return;
-        }
-        let range = |l: char| words.get(&l).map(|w| w.range.clone());
-        let element = match c.motion {
-            0 | 1 => Element::Line { start, end },
-            m => {
-                let ccw = m == 3;
-                if let Some(r) = v('R') {
-                    if let Some(w) = range('I').or(range('K')) {
-                        return self.roughing_error(
-                            line,
-                            w,
-                            "R with I or K on one arc of a contour (LinuxCNC: \"G7X error: both R and I or K flag used for arc\")".into(),
-                            "give the arc either its radius R or its centre I K",
-                        );
-                    }
-                    let chord = (end - start).norm();
-                    let h = (r * r - chord / 4.0) / chord;
-                    if h.is_nan() || h < 0.0 {
-                        return self.roughing_error(
-                            line,
-                            range('R').unwrap_or(0..line.text.len()),
-                            format!("R{r} is too small for the arc of the contour: LinuxCNC's cycle would compute its centre from the square root of a negative number"),
-                            "the radius must be at least half the distance from the arc's start to its end",
-                        );
-                    }
-                    let mid = C::new((start.re + end.re) / 2.0, (start.im + end.im) / 2.0);
-                    let d = C::new(0.0, h.sqrt()) * (end - start);
-                    let centre = if ccw {
-                        C::new(mid.re + d.re, mid.im + d.im)
-                    } else {
-                        C::new(mid.re - d.re, mid.im - d.im)
-                    };
-                    Element::Arc {
-                        ccw,
-                        start,
-                        centre,
-                        end,
-                    }
-                } else {
-                    if arc_word.is_none() {
-                        return self.roughing_error(
-                            line,
-                            0..line.text.len(),
-                            "an arc of the contour without I, K or R (LinuxCNC: \"G7X error: either I or K must be present for arc\")".into(),
-                            "give the arc its centre (I for X, K for Z) or its radius R",
-                        );
-                    }
-                    if c.absolute_centres {
-                        centre += centre_shift;
-                    } else {
-                        centre += start;
-                    }
-                    Element::Arc {
-                        ccw,
-                        start,
-                        centre,
-                        end,
-                    }
-                }
-            }
+        Some((c.at, end, centre))
+    }
+
+    /// The element a contour line makes in its motion mode: a line (G0, G1), or an arc
+    /// (G2, G3) by its radius R or its centre I, K. `None` once refused.
+    fn contour_element(
+        &mut self,
+        line: Line<'_>,
+        words: &ContourWords<'_>,
+        start: C,
+        end: C,
+        mut centre: C,
+    ) -> Option<Element> {
+        let offset = self.axis_offset;
+        let c = self.contour.as_deref()?;
+        let ccw = match c.motion {
+            0 | 1 => return Some(Element::Line { start, end }),
+            m => m == 3,
         };
-        if let (Some(a), Some(_)) = (range('A'), range('C')) {
-            return self.roughing_error(
-                line,
-                a,
-                "A and C on one corner of a contour (LinuxCNC: \"G7X error: Both A and C parameters on a corner\")".into(),
-                "round the corner (A) or chamfer it (C), not both",
-            );
+        if let Some(r) = words.value('R') {
+            return self.contour_arc_by_radius(line, words, start, end, ccw, r);
         }
+        if words.arc_word().is_none() {
+            self.roughing_error(
+                line,
+                0..line.text.len(),
+                "an arc of the contour without I, K or R (LinuxCNC: \"G7X error: either I or K must be present for arc\")".into(),
+                "give the arc its centre (I for X, K for Z) or its radius R",
+            );
+            return None;
+        }
+        if c.absolute_centres {
+            centre += C::new(offset.1 * c.unit, offset.0 / 2.0 * c.unit);
+        } else {
+            centre += start;
+        }
+        Some(Element::Arc {
+            ccw,
+            start,
+            centre,
+            end,
+        })
+    }
+
+    /// An arc of the contour by its radius R: its centre as LinuxCNC's cycle computes it
+    /// (from the chord's midpoint, on the side the direction gives). `None` once refused.
+    fn contour_arc_by_radius(
+        &mut self,
+        line: Line<'_>,
+        words: &ContourWords<'_>,
+        start: C,
+        end: C,
+        ccw: bool,
+        r: f64,
+    ) -> Option<Element> {
+        if let Some(w) = words.range('I').or(words.range('K')) {
+            self.roughing_error(
+                line,
+                w,
+                "R with I or K on one arc of a contour (LinuxCNC: \"G7X error: both R and I or K flag used for arc\")".into(),
+                "give the arc either its radius R or its centre I K",
+            );
+            return None;
+        }
+        let chord = (end - start).norm();
+        let h = (r * r - chord / 4.0) / chord;
+        if h.is_nan() || h < 0.0 {
+            self.roughing_error(
+                line,
+                words.range('R').unwrap_or(0..line.text.len()),
+                format!("R{r} is too small for the arc of the contour: LinuxCNC's cycle would compute its centre from the square root of a negative number"),
+                "the radius must be at least half the distance from the arc's start to its end",
+            );
+            return None;
+        }
+        let mid = C::new((start.re + end.re) / 2.0, (start.im + end.im) / 2.0);
+        let d = C::new(0.0, h.sqrt()) * (end - start);
+        let centre = if ccw {
+            C::new(mid.re + d.re, mid.im + d.im)
+        } else {
+            C::new(mid.re - d.re, mid.im - d.im)
+        };
+        Some(Element::Arc {
+            ccw,
+            start,
+            centre,
+            end,
+        })
+    }
+
+    /// Adds the element (and its corner: A a fillet, C a chamfer) to the contour, for the
+    /// cycle and for the IR, and moves the contour's current point to its end.
+    fn add_contour_element(
+        &mut self,
+        line: Line<'_>,
+        words: &ContourWords<'_>,
+        element: Element,
+        end: C,
+    ) {
         let Some(c) = self.contour.as_deref_mut() else {
             return;
         };
@@ -522,13 +717,13 @@ impl FrontEnd<'_> {
             _ => ContourElement::Line { to: mm(end) },
         });
         c.elements.push(element);
-        if let Some(a) = v('A') {
+        if let Some(a) = words.value('A') {
             c.elements.push(Element::Fillet { radius: a, at: end });
             c.ir.push(ContourElement::Round {
                 radius: Length::from_mm_f64(a / c.unit),
             });
         }
-        if let Some(size) = v('C') {
+        if let Some(size) = words.value('C') {
             c.elements.push(Element::Chamfer { size, at: end });
             c.ir.push(ContourElement::Chamfer {
                 size: Length::from_mm_f64(size / c.unit),
@@ -548,22 +743,25 @@ impl FrontEnd<'_> {
         }
     }
 
-    /// The contour is complete (its subroutine returned): the cycle's moves.
+    /// A refusal of the whole cycle, at its line.
+    fn contour_error(&mut self, span: Span, message: String, help: &str) {
+        self.r.diags.push(
+            Diagnostic::new(codes::ISOR_ROUGHING, message)
+                .at(self.r.src, span)
+                .help(help),
+        );
+    }
+
+    /// The contour is complete (its subroutine returned): the cycle's moves
+    /// (`convert_g7x`'s end: the cycle run over the contour, its feed, its moves).
     pub(super) fn finish_contour(&mut self) {
         let Some(c) = self.contour.take() else {
             return;
         };
         let name = plain(c.code);
-        let error = |fe: &mut Self, message: String, help: &str| {
-            fe.r.diags.push(
-                Diagnostic::new(codes::ISOR_ROUGHING, message)
-                    .at(fe.r.src, c.span)
-                    .help(help),
-            );
-        };
         if c.elements.len() < 2 {
-            return error(
-                self,
+            return self.contour_error(
+                c.span,
                 format!(
                     "the contour of this {name} ({}) has {} element(s): LinuxCNC then cuts nothing and takes the contour's end as its position, where the tool is not",
                     c.label,
@@ -572,11 +770,50 @@ impl FrontEnd<'_> {
                 "give the contour at least two moves (the first from the cycle's start)",
             );
         }
-        let moves = match g7x::run(&c.cycle, c.start, &c.elements) {
-            Ok(m) => m,
+        let Some(moves) = self.g7x_moves(&c, &name) else {
+            return;
+        };
+        let feeds = moves.iter().any(|m| !matches!(m, Out::Rapid(_)));
+        let Some(feed) = self.g7x_feed(&c, &name, feeds) else {
+            return;
+        };
+        if feeds && self.feed_mode.is_none() {
+            self.feed_mode = Some(FeedMode::PerMin);
+            self.push(ItemKind::FeedMode(FeedMode::PerMin), c.span);
+        }
+        let Some((items, last, at)) = self.g7x_items(&c, &name, &moves, feed) else {
+            return;
+        };
+        let cycle = RoughingCycle {
+            code: c.code as u16,
+            subroutine: c.label.clone(),
+            kind: c.kind,
+            start: grid(c.start, c.unit),
+            contour: c.ir.clone(),
+            moves: items,
+        };
+        let kind = ItemKind::Roughing(Box::new(cycle));
+        self.push(kind.clone(), c.span);
+        if let Some(item) = self.r.items.last_mut() {
+            item.block_number = c.block_number;
+            item.comment = c.comment.as_deref().map(Box::from);
+        }
+        self.r.pos = at;
+        if let Some((motion, end)) = last {
+            self.motion = Some(motion);
+            let (x, z) = exact(end, c.unit);
+            self.exact = (Some(x), Some(z));
+        }
+    }
+
+    /// The cycle run over the contour ([`g7x::run`], LinuxCNC's own code): its moves, or
+    /// `None` once refused (LinuxCNC's errors, and its endless loops).
+    fn g7x_moves(&mut self, c: &Contour, name: &str) -> Option<Vec<Out>> {
+        match g7x::run(&c.cycle, c.start, &c.elements) {
+            Ok(m) => Some(m),
             Err(why) if why.starts_with(g7x::ENDLESS) => {
-                return error(
-                    self,
+                self.contour_error(
+                    c.span,
                     format!(
                         "{name} along {}: LinuxCNC's cycle does not end on this contour: its interpreter loops for ever (ncthread stops after {})",
                         c.label,
@@ -584,10 +821,11 @@ impl FrontEnd<'_> {
                     ),
                     "change the contour (a tiny element, or arcs that meet at a cusp, are the usual causes); LinuxCNC fixed some of these loops after 2.9.0~pre1",
                 );
+                None
             }
             Err(why) => {
-                return error(
-                    self,
+                self.contour_error(
+                    c.span,
                     format!(
                         "{name} along {}: LinuxCNC refuses the cycle (\"G7X error: {why}\")",
                         c.label
@@ -598,36 +836,46 @@ impl FrontEnd<'_> {
                         "check the contour's subroutine"
                     },
                 );
+                None
             }
-        };
-        let feeds = moves.iter().any(|m| !matches!(m, Out::Rapid(_)));
-        let feed = match self.feed {
-            Some(f) if f.0 > 0 => f,
-            _ if !feeds => Length(0),
+        }
+    }
+
+    /// The feed of the cycle's cuts: F in force, more than 0, when it has any (`feeds`).
+    fn g7x_feed(&mut self, c: &Contour, name: &str, feeds: bool) -> Option<Length> {
+        match self.feed {
+            Some(f) if f.0 > 0 => Some(f),
+            _ if !feeds => Some(Length(0)),
             _ => {
-                return error(
-                    self,
+                self.contour_error(
+                    c.span,
                     format!(
                         "{name} with no feed rate (F) set, or F0: its cuts are G1 and G2/G3 moves (LinuxCNC: \"Cannot do G1 with zero feed rate\")"
                     ),
                     "set the feed with F before or on the cycle's line",
                 );
+                None
             }
-        };
-        if feeds && self.feed_mode.is_none() {
-            self.feed_mode = Some(FeedMode::PerMin);
-            self.push(ItemKind::FeedMode(FeedMode::PerMin), c.span);
         }
+    }
+
+    /// The cycle's moves as items on ncthread's grid (moves to where the tool is left out),
+    /// the last move's motion and exact end, and where the tool ends; `None` when an arc
+    /// rounded onto the grid is one LinuxCNC refuses.
+    #[allow(clippy::type_complexity)]
+    fn g7x_items(
+        &mut self,
+        c: &Contour,
+        name: &str,
+        moves: &[Out],
+        feed: Length,
+    ) -> Option<(Vec<ItemKind>, Option<(Motion, C)>, Pos)> {
         let unit = c.unit;
-        let exact = |p: C| (2.0 * p.im / unit, p.re / unit);
-        let grid = |p: C| {
-            let (x, z) = exact(p);
-            Pos::new(Length::from_mm_f64(x), Length::from_mm_f64(z))
-        };
+        let grid = |p: C| grid(p, unit);
         let mut items = Vec::with_capacity(moves.len());
         let mut last = None;
         let mut at = self.r.pos;
-        for m in &moves {
+        for m in moves {
             let (kind, end) = match *m {
                 Out::Rapid(p) => (ItemKind::Rapid { to: grid(p) }, p),
                 Out::Feed(p) => (ItemKind::Feed { to: grid(p), feed }, p),
@@ -647,14 +895,15 @@ impl FrontEnd<'_> {
                             || r2 < 0.00127
                             || off > 2.0 * 0.01 * std::f64::consts::SQRT_2
                         {
-                            return error(
-                                self,
+                            self.contour_error(
+                                c.span,
                                 format!(
                                     "{name} along {}: an arc of its path, rounded onto ncthread's 0.0001 mm grid, is one LinuxCNC refuses (radius {r1:.5} mm at its start, {r2:.5} mm at its end)",
                                     c.label
                                 ),
                                 "check the contour's arcs and corners",
                             );
+                            return None;
                         }
                     }
                     (kind, end)
@@ -679,25 +928,6 @@ impl FrontEnd<'_> {
             ));
             items.push(kind);
         }
-        let cycle = RoughingCycle {
-            code: c.code as u16,
-            subroutine: c.label.clone(),
-            kind: c.kind,
-            start: grid(c.start),
-            contour: c.ir.clone(),
-            moves: items,
-        };
-        let kind = ItemKind::Roughing(Box::new(cycle));
-        self.push(kind.clone(), c.span);
-        if let Some(item) = self.r.items.last_mut() {
-            item.block_number = c.block_number;
-            item.comment = c.comment.as_deref().map(Box::from);
-        }
-        self.r.pos = at;
-        if let Some((motion, end)) = last {
-            self.motion = Some(motion);
-            let (x, z) = exact(end);
-            self.exact = (Some(x), Some(z));
-        }
+        Some((items, last, at))
     }
 }
