@@ -218,13 +218,13 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut CzechProfile, diags: &mut
     // The keys that choose one of a few values, in the order they are checked: each value's
     // place among its key's names, or a diagnostic and the setting left as it is.
     #[rustfmt::skip]
-    let choices: [(&str, Option<toml::Spanned<String>>, &[&str], &str); 6] = [
-        ("czech.arcs", raw.arcs, &["none", "ik-radius", "ik-diameter", "r"], "\"none\" (the default), \"ik-radius\" or \"ik-diameter\" (G02/G03 X Z I K, I a radius or a diameter value), \"r\" (G02/G03 X Z R), as the machine's manual gives it"),
-        ("czech.arc_direction", raw.arc_direction, &["iso", "mirrored"], "\"iso\" (the default: G02 as LinuxCNC's G2 for the same path) or \"mirrored\" (a front-tool machine whose manual says G02 turns the other way)"),
-        ("czech.dwell", raw.dwell, &["none", "g04-x-seconds", "g04-f-seconds", "g04-p-milliseconds"], "\"none\" (the default), \"g04-x-seconds\", \"g04-f-seconds\" or \"g04-p-milliseconds\", as the machine's manual gives it"),
-        ("czech.surface_speed", raw.surface_speed, &["none", "g96-g97"], "\"none\" (the default), or \"g96-g97\" (G96 S in m/min, G97 S in rpm) when the machine's manual says so"),
-        ("czech.coolant", raw.coolant, &["none", "m08-m09"], "\"none\" (the default), or \"m08-m09\" when the machine's manual says so"),
-        ("czech.mist", raw.mist, &["none", "m07"], "\"none\" (the default), or \"m07\" when the machine's manual says so"),
+    let choices = [
+        ("czech.arcs", raw.arcs, &["none", "ik-radius", "ik-diameter", "r"][..], "\"none\" (the default), \"ik-radius\" or \"ik-diameter\" (G02/G03 X Z I K, I a radius or a diameter value), \"r\" (G02/G03 X Z R), as the machine's manual gives it"),
+        ("czech.arc_direction", raw.arc_direction, &["iso", "mirrored"][..], "\"iso\" (the default: G02 as LinuxCNC's G2 for the same path) or \"mirrored\" (a front-tool machine whose manual says G02 turns the other way)"),
+        ("czech.dwell", raw.dwell, &["none", "g04-x-seconds", "g04-f-seconds", "g04-p-milliseconds"][..], "\"none\" (the default), \"g04-x-seconds\", \"g04-f-seconds\" or \"g04-p-milliseconds\", as the machine's manual gives it"),
+        ("czech.surface_speed", raw.surface_speed, &["none", "g96-g97"][..], "\"none\" (the default), or \"g96-g97\" (G96 S in m/min, G97 S in rpm) when the machine's manual says so"),
+        ("czech.coolant", raw.coolant, &["none", "m08-m09"][..], "\"none\" (the default), or \"m08-m09\" when the machine's manual says so"),
+        ("czech.mist", raw.mist, &["none", "m07"][..], "\"none\" (the default), or \"m07\" when the machine's manual says so"),
     ];
     let [arcs, direction, dwell, speed, coolant, mist] =
         choices.map(|(key, value, names, help)| {
