@@ -1,20 +1,30 @@
 //! The czech front end: blocks → IR items, with the dialect's rules as diagnostics.
+//!
+//! A block is read as LinuxCNC's interpreter reads one (`interp_convert.cc`): its words are
+//! first sorted by modal group into a [`Words`] (`words.rs`, which reports repeated and
+//! conflicting words), then [`FrontEnd::execute`] carries them out, one step per group in one
+//! documented order. The switching steps (spindle, coolant, program end) are the ones every
+//! front end shares ([`Switches`]); the motion steps are in `motion.rs`, the G33 thread pass
+//! in `thread.rs`.
+
+mod motion;
+mod thread;
+mod words;
 
 use std::collections::HashMap;
 use std::ops::Range;
 
-use super::syntax::{self, Block, Value, Word};
+use super::syntax::{self, Block, Value};
 use crate::diag::{Code, Diagnostic, codes};
+use crate::dialect::Unsupported;
+use crate::dialect::machine::Switches;
 use crate::dialect::read::{Keep, Reader, UnsupportedWording};
-use crate::dialect::{Letters, Unsupported, WORD_REPORTS, budget};
-use crate::fixed::{Angle, Decimal, Lead, Length, NumberError};
-use crate::ir::{
-    Chamfer, Coolant, EndCode, FeedMode, ItemKind, ModalContext, Pos, Program, SpindleDirection,
-    SpindleMode, SyncStart, ThreadPass,
-};
-use crate::lower;
-use crate::profile::{AngleSource, CzechArcs, CzechDwell, InitialMotion, Profile};
+use crate::fixed::{Decimal, Length, NumberError};
+use crate::ir::{ItemKind, ModalContext, Program, SpindleMode};
+use crate::profile::{InitialMotion, Profile};
 use crate::source::{Line, SourceFile, Span};
+use syntax::Word;
+use words::Words;
 
 /// How the czech reader words its unsupported policy.
 const UNSUPPORTED: UnsupportedWording = UnsupportedWording {
@@ -31,11 +41,6 @@ const UNSUPPORTED: UnsupportedWording = UnsupportedWording {
 pub struct Options {
     pub unsupported: Unsupported,
 }
-
-/// The largest lead `F` may give directly. **\[seed\]** 99.99 mm.
-const MAX_DIRECT_LEAD: Length = Length(999_900);
-/// The largest runout/entry angle. **\[seed\]** 60°.
-const MAX_ANGLE: Angle = Angle(60_000);
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Motion {
@@ -139,30 +144,6 @@ pub(crate) fn read(
     fe.r.finish()
 }
 
-/// The words of one block, sorted by meaning.
-#[derive(Default)]
-struct Words<'b> {
-    motion: Option<(Motion, &'b Word)>,
-    distance: Option<(bool, &'b Word)>,
-    feed_mode: Option<(FeedMode, &'b Word)>,
-    spindle: Option<(Option<SpindleDirection>, &'b Word)>,
-    end: Option<(EndCode, &'b Word)>,
-    gears: Vec<(u32, &'b Word)>,
-    coolant: Vec<(Coolant, &'b Word)>,
-    /// G04 and the word that gives its time (the profile's `dwell` form).
-    dwell: Option<(&'b Word, Option<&'b Word>)>,
-    /// G96 (true) or G97 (the profile's `surface_speed`).
-    speed_mode: Option<(bool, &'b Word)>,
-    by_letter: Letters<&'b Word>,
-    unsupported: Vec<(&'b Word, String)>,
-}
-
-impl<'b> Words<'b> {
-    fn get(&self, letter: char) -> Option<&'b Word> {
-        self.by_letter.get(&letter).copied()
-    }
-}
-
 impl<'a> FrontEnd<'a> {
     fn span(&self, line: Line<'_>, range: Range<usize>) -> Span {
         self.r.src.span_in_line(line, range)
@@ -194,7 +175,7 @@ impl<'a> FrontEnd<'a> {
             self.push(ItemKind::Delimiter, code_span, None);
         } else if let Some(words) = self.classify(line, block) {
             if words.unsupported.is_empty() {
-                self.meaning(line, block, &words, code_span);
+                self.execute(line, block, &words, code_span);
             } else {
                 self.unsupported(line, block, &words, code_span);
             }
@@ -251,300 +232,6 @@ impl<'a> FrontEnd<'a> {
                 self.after_runout = AfterRunout::Nothing;
             }
         }
-    }
-
-    /// Sorts the words by meaning; reports repeated and conflicting words.
-    fn classify<'b>(&mut self, line: Line<'_>, block: &'b Block) -> Option<Words<'b>> {
-        let mut words = Words::default();
-        let mut ok = true;
-        // Problems reported for this block: a hostile line of thousands of repeated words
-        // gets a few diagnostics and a count, not one per word.
-        let mut conflicts = 0;
-        for word in &block.words {
-            let whole = |w: &Word| match w.value {
-                Value::Number(d) => d.to_whole().ok().filter(|v| *v >= 0),
-                Value::Param(_) => None,
-            };
-            match word.letter {
-                'G' => {
-                    let Some(g) = whole(word) else {
-                        words
-                            .unsupported
-                            .push((word, "a G code that is not a whole number".into()));
-                        continue;
-                    };
-                    let conflict = match g {
-                        0 | 1 | 33 => {
-                            let m = match g {
-                                0 => Motion::Rapid,
-                                1 => Motion::Feed,
-                                _ => Motion::Thread,
-                            };
-                            words.motion.replace((m, word)).map(|(_, w)| w)
-                        }
-                        90 | 91 => words.distance.replace((g == 91, word)).map(|(_, w)| w),
-                        94 | 95 => {
-                            let mode = if g == 95 {
-                                FeedMode::PerRev
-                            } else {
-                                FeedMode::PerMin
-                            };
-                            words.feed_mode.replace((mode, word)).map(|(_, w)| w)
-                        }
-                        4 if self.profile.czech.dwell != CzechDwell::None => {
-                            words.dwell.replace((word, None)).map(|(w, _)| w)
-                        }
-                        4 => {
-                            words.unsupported.push((
-                                word,
-                                "G04 (a dwell, whose form the czech seed does not document: if the machine's manual gives it, set `dwell` in the profile's [czech] section)".into(),
-                            ));
-                            None
-                        }
-                        96 | 97 if self.profile.czech.surface_speed => {
-                            words.speed_mode.replace((g == 96, word)).map(|(_, w)| w)
-                        }
-                        96 | 97 => {
-                            words.unsupported.push((
-                                word,
-                                format!("G{g} (surface speed, whose form the czech seed does not document: if the machine's manual gives G96/G97, set `surface_speed = \"g96-g97\"` in the profile's [czech] section)"),
-                            ));
-                            None
-                        }
-                        84 => {
-                            words.unsupported.push((
-                                word,
-                                "the G84 thread cycle (its parameters are not in the manual)"
-                                    .into(),
-                            ));
-                            None
-                        }
-                        2 | 3 if self.profile.czech.arcs != CzechArcs::None => words
-                            .motion
-                            .replace((Motion::Arc(g == 2), word))
-                            .map(|(_, w)| w),
-                        2 | 3 => {
-                            words.unsupported.push((
-                                word,
-                                format!("G0{g} arcs (their form is not in the seed: if the machine's manual gives it, set `arcs` in the profile's [czech] section)"),
-                            ));
-                            None
-                        }
-                        _ => {
-                            let known = [
-                                "G00", "G01", "G02", "G03", "G33", "G90", "G91", "G94", "G95",
-                            ];
-                            let text = format!("G{g:02}");
-                            let hint = crate::dialect::read::did_you_mean(&text, &known);
-                            words.unsupported.push((word, format!("G{g}{hint}")));
-                            None
-                        }
-                    };
-                    if let Some(previous) = conflict
-                        && budget(&mut conflicts)
-                    {
-                        ok = false;
-                        let range = word.range.clone();
-                        let prev = &line.text[previous.range.clone()];
-                        self.report(self.error(codes::CZR_CONFLICT, line, range, format!("this G code conflicts with `{prev}` in the same block"))
-                            .label("same group as an earlier G code")
-                            .help("write one G code of each group (motion, G90/G91, G94/G95, G96/G97, G04) per block"));
-                    }
-                }
-                'M' => {
-                    let Some(m) = whole(word) else {
-                        words
-                            .unsupported
-                            .push((word, "an M code that is not a whole number".into()));
-                        continue;
-                    };
-                    let conflict = match m {
-                        3 => words
-                            .spindle
-                            .replace((Some(SpindleDirection::Clockwise), word)),
-                        4 => words
-                            .spindle
-                            .replace((Some(SpindleDirection::CounterClockwise), word)),
-                        5 => words.spindle.replace((None, word)),
-                        2 => words
-                            .end
-                            .replace((EndCode::M2, word))
-                            .map(|(_, w)| (None, w)),
-                        30 => words
-                            .end
-                            .replace((EndCode::M30, word))
-                            .map(|(_, w)| (None, w)),
-                        8 | 9 if self.profile.czech.coolant => {
-                            let c = if m == 8 { Coolant::Flood } else { Coolant::Off };
-                            words.coolant.push((c, word));
-                            None
-                        }
-                        7 if self.profile.czech.mist => {
-                            words.coolant.push((Coolant::Mist, word));
-                            None
-                        }
-                        7..=9 => {
-                            let key = if m == 7 {
-                                "mist = \"m07\""
-                            } else {
-                                "coolant = \"m08-m09\""
-                            };
-                            words.unsupported.push((
-                                word,
-                                format!("M{m:02} (coolant, whose form the czech seed does not document: if the machine's manual gives it, set `{key}` in the profile's [czech] section)"),
-                            ));
-                            None
-                        }
-                        _ if self.profile.czech.gear_range_mcodes.contains(&(m as u32)) => {
-                            words.gears.push((m as u32, word));
-                            None
-                        }
-                        _ => {
-                            words.unsupported.push((word, format!("M{m:02}")));
-                            None
-                        }
-                    };
-                    if let Some((_, previous)) = conflict
-                        && budget(&mut conflicts)
-                    {
-                        ok = false;
-                        let prev = &line.text[previous.range.clone()];
-                        self.report(self.error(codes::CZR_CONFLICT, line, word.range.clone(), format!("this M code conflicts with `{prev}` in the same block"))
-                            .help("write one spindle M code (M03, M04, M05) and one end code per block"));
-                    }
-                }
-                // K and R are arc words where the profile declares arcs.
-                'X' | 'Z' | 'F' | 'S' | 'T' | 'D' | 'I' | 'J' | 'E' | 'K' | 'R' | 'P'
-                    if match word.letter {
-                        'K' | 'R' => self.profile.czech.arcs != CzechArcs::None,
-                        'P' => self.profile.czech.dwell == CzechDwell::PMilliseconds,
-                        _ => true,
-                    } =>
-                {
-                    if let Some(previous) = words.by_letter.insert(word.letter, word)
-                        && budget(&mut conflicts)
-                    {
-                        ok = false;
-                        let prev = &line.text[previous.range.clone()];
-                        self.report(
-                            self.error(
-                                codes::CZR_CONFLICT,
-                                line,
-                                word.range.clone(),
-                                format!("address {} is written twice in this block", word.letter),
-                            )
-                            .label(format!("`{prev}` came earlier"))
-                            .help("write each address once per block"),
-                        );
-                    }
-                    if matches!(word.value, Value::Param(_)) && word.letter != 'F' {
-                        words.unsupported.push((
-                            word,
-                            format!(
-                                "a parameter as the value of {} (only FRnn is documented)",
-                                word.letter
-                            ),
-                        ));
-                    }
-                }
-                'N' if budget(&mut conflicts) => {
-                    ok = false;
-                    self.report(
-                        self.error(
-                            codes::CZR_CONFLICT,
-                            line,
-                            word.range.clone(),
-                            "a block number must come first in the block",
-                        )
-                        .help("write `N<number>` at the start of the block, once"),
-                    );
-                }
-                'Y' => words
-                    .unsupported
-                    .push((word, "the Y axis (ncthread models ZX lathes)".into())),
-                'R' => words.unsupported.push((
-                    word,
-                    "an R word without `=` (R-parameter arithmetic is not documented)".into(),
-                )),
-                'N' => {}
-                c => words.unsupported.push((word, format!("address {c}"))),
-            }
-        }
-        if conflicts > WORD_REPORTS {
-            ok = false;
-            let more = conflicts - WORD_REPORTS;
-            self.report(
-                self.error(
-                    codes::CZR_CONFLICT,
-                    line,
-                    block.code_range.clone(),
-                    format!("{more} more repeated or conflicting words in this block"),
-                )
-                .help("write each address once per block, and one G code of each group"),
-            );
-        }
-        // In a G04 block the profile's time word is the dwell's time, not an axis or a feed;
-        // the block moves nothing. P means something only there.
-        if let Some((g04, _)) = words.dwell {
-            let letter = self.profile.czech.dwell.letter().unwrap_or('P');
-            let time = words.by_letter.remove(&letter);
-            words.dwell = Some((g04, time));
-            for w in [words.motion.map(|(_, w)| w), words.get('X'), words.get('Z')]
-                .into_iter()
-                .flatten()
-            {
-                ok = false;
-                let g = &line.text[g04.range.clone()];
-                self.report(
-                    self.error(
-                        codes::CZR_DWELL,
-                        line,
-                        w.range.clone(),
-                        format!("`{g}` dwells: a block with a dwell moves nothing"),
-                    )
-                    .help("write the dwell in a block of its own, before or after the move"),
-                );
-            }
-        } else if let Some(p) = words.by_letter.remove(&'P') {
-            words
-                .unsupported
-                .push((p, "P outside a G04 block".to_string()));
-        }
-        // I, J and E mean something only in a G33 block; I, K and R in an arc block as the
-        // profile's arc form says.
-        let motion = words.motion.map_or(self.motion, |(m, _)| m);
-        let arc_words: &[char] = match (motion, self.profile.czech.arcs) {
-            (Motion::Arc(_), CzechArcs::IkRadius | CzechArcs::IkDiameter) => &['I', 'K'],
-            (Motion::Arc(_), CzechArcs::Radius) => &['R'],
-            _ => &[],
-        };
-        for letter in ['I', 'J', 'E', 'K', 'R'] {
-            if (motion == Motion::Thread && matches!(letter, 'I' | 'J' | 'E'))
-                || arc_words.contains(&letter)
-            {
-                continue;
-            }
-            if let Some(w) = words.get(letter) {
-                let what = match letter {
-                    'K' | 'R' if matches!(motion, Motion::Arc(_)) => format!(
-                        "{letter} in an arc block of a machine whose arcs take {}",
-                        if arc_words == ['R'] { "R" } else { "I and K" }
-                    ),
-                    'K' => "address K".to_string(),
-                    'R' => "an R word without `=` (R-parameter arithmetic is not documented)"
-                        .to_string(),
-                    _ if matches!(motion, Motion::Arc(_)) => format!(
-                        "{letter} in an arc block of a machine whose arcs take {}",
-                        if arc_words == ['R'] { "R" } else { "I and K" }
-                    ),
-                    _ => format!(
-                        "{letter} outside a G33 block (arc and cycle words are not documented)"
-                    ),
-                };
-                words.unsupported.push((w, what));
-            }
-        }
-        ok.then_some(words)
     }
 
     fn unsupported(&mut self, line: Line<'_>, block: &Block, words: &Words<'_>, code_span: Span) {
@@ -701,19 +388,52 @@ impl<'a> FrontEnd<'a> {
         }
     }
 
-    fn meaning(&mut self, line: Line<'_>, block: &Block, words: &Words<'_>, code_span: Span) {
+    /// Carries out one block whose words [`Self::classify`] sorted: one step per modal group,
+    /// in the czech control's order, which is LinuxCNC's (`interp_convert.cc`) adapted to
+    /// what the dialect has (no plane, units, compensation, tool length or coordinate system
+    /// words; F is read with the motion, as it is a lead in a G33 block):
+    ///
+    /// 1. feed mode: G94 / G95 ([`Self::feed_mode`]);
+    /// 2. R parameter assignments, as items ([`Self::assignments`]; their values take
+    ///    effect after the block);
+    /// 3. tool: T and D ([`Self::tool`]);
+    /// 4. gear range: the profile's M codes ([`Self::gear_range`]);
+    /// 5. `&` words, kept opaque ([`Self::opaque_words`]);
+    /// 6. speed mode (G96 / G97), spindle (S, M03 / M04) and coolant on (M07 / M08):
+    ///    [`Switches::before_motion`];
+    /// 7. distance mode G90 / G91 and motion mode ([`Self::modes`]);
+    /// 8. dwell (G04, [`Self::dwell`]) or motion with its F ([`Self::motion_item`]);
+    /// 9. coolant off (M09), spindle stop (M05) and program end (M02 / M30):
+    ///    [`Switches::after_motion`]. The czech control switches off after the block's own
+    ///    cut, which still has coolant and a turning spindle. **\[decided\]**
+    fn execute(&mut self, line: Line<'_>, block: &Block, words: &Words<'_>, code_span: Span) {
         let number = block.number;
-        let word_span = |fe: &Self, w: &Word| fe.span(line, w.range.clone());
-        if let Some((incremental, _)) = words.distance {
-            self.incremental = incremental;
+        self.feed_mode(line, words, number);
+        self.assignments(line, block);
+        self.tool(line, words, number);
+        self.gear_range(line, words, number);
+        self.opaque_words(line, block);
+        let switches = self.switches(line, words);
+        switches.before_motion(&mut self.r, number);
+        self.modes(words);
+        match words.dwell {
+            Some((g04, time)) => self.dwell(line, g04, time, number),
+            None => self.motion_item(line, words, code_span, number),
         }
-        if let Some((motion, _)) = words.motion {
-            self.motion = motion;
-        }
+        switches.after_motion(&mut self.r, number);
+    }
+
+    /// Step 1, feed mode: G94 (per minute) or G95 (per revolution), an item of its own.
+    fn feed_mode(&mut self, line: Line<'_>, words: &Words<'_>, number: Option<u32>) {
         if let Some((mode, w)) = words.feed_mode {
-            let span = word_span(self, w);
+            let span = self.span(line, w.range.clone());
             self.push(ItemKind::FeedMode(mode), span, number);
         }
+    }
+
+    /// Step 2, R parameter assignments: one item each, in the block's order. The reader
+    /// takes their values after the block (see [`Self::block`]).
+    fn assignments(&mut self, line: Line<'_>, block: &Block) {
         for a in &block.assignments {
             let span = self.span(line, a.range.clone());
             self.push(
@@ -722,9 +442,14 @@ impl<'a> FrontEnd<'a> {
                     value: a.value,
                 },
                 span,
-                number,
+                block.number,
             );
         }
+    }
+
+    /// Step 3, tool: T (the tool) and D (its offset), one item stamped with T's span, or D's
+    /// when T is not written.
+    fn tool(&mut self, line: Line<'_>, words: &Words<'_>, number: Option<u32>) {
         let tool = words.get('T').and_then(|w| self.whole(line, w));
         let offset = words.get('D').and_then(|w| self.whole(line, w));
         if tool.is_some() || offset.is_some() {
@@ -732,7 +457,7 @@ impl<'a> FrontEnd<'a> {
                 .get('T')
                 .or(words.get('D'))
                 .expect("T or D is present");
-            let span = word_span(self, w);
+            let span = self.span(line, w.range.clone());
             self.push(
                 ItemKind::Tool {
                     number: tool,
@@ -742,8 +467,12 @@ impl<'a> FrontEnd<'a> {
                 number,
             );
         }
+    }
+
+    /// Step 4, gear range: each of the profile's gear range M codes, in the block's order.
+    fn gear_range(&mut self, line: Line<'_>, words: &Words<'_>, number: Option<u32>) {
         for (gear, w) in &words.gears {
-            let span = word_span(self, w);
+            let span = self.span(line, w.range.clone());
             self.push(
                 ItemKind::GearRange {
                     code: *gear,
@@ -753,6 +482,10 @@ impl<'a> FrontEnd<'a> {
                 number,
             );
         }
+    }
+
+    /// Step 5, `&` words (`&1100`): kept as written, for the czech emitter only.
+    fn opaque_words(&mut self, line: Line<'_>, block: &Block) {
         for (text, range) in &block.opaque {
             let span = self.span(line, range.clone());
             self.push(
@@ -762,659 +495,53 @@ impl<'a> FrontEnd<'a> {
                     block: None,
                 },
                 span,
-                number,
+                block.number,
             );
         }
-        // The speed mode first: the block's S is then in its unit.
-        if let Some((g96, w)) = words.speed_mode {
-            let span = word_span(self, w);
-            let mode = if g96 {
-                SpindleMode::SurfaceSpeed {
-                    limit: None,
-                    feet: false,
-                }
-            } else {
-                SpindleMode::Rpm
-            };
-            self.push(ItemKind::SpindleMode(mode), span, number);
-        }
+    }
+
+    /// Step 6 and 9's words, for the steps the front ends share: G96 / G97, S with M03 /
+    /// M04 (stamped with S's span, or the M code's), M07 / M08 / M09, M05 and the end code.
+    /// S is checked here, after the tool's T and D.
+    fn switches(&mut self, line: Line<'_>, words: &Words<'_>) -> Switches {
         let speed = words.get('S').and_then(|w| self.whole(line, w));
         let direction = words.spindle.and_then(|(d, _)| d);
-        if speed.is_some() || direction.is_some() {
-            let w = words
-                .get('S')
-                .or(words.spindle.map(|(_, w)| w))
-                .expect("S or M03/M04 is present");
-            let span = word_span(self, w);
-            self.push(ItemKind::Spindle { speed, direction }, span, number);
-        }
-        // Coolant on before the block's motion, off after it, as the spindle. **[decided]**
-        for &(c, w) in words.coolant.iter().filter(|(c, _)| *c != Coolant::Off) {
-            let span = word_span(self, w);
-            self.push(ItemKind::Coolant(c), span, number);
-        }
-        match words.dwell {
-            Some((g04, time)) => self.dwell(line, g04, time, number),
-            None => self.motion_item(line, words, code_span, number),
-        }
-        for &(c, w) in words.coolant.iter().filter(|(c, _)| *c == Coolant::Off) {
-            let span = word_span(self, w);
-            self.push(ItemKind::Coolant(c), span, number);
-        }
-        if let Some((None, w)) = words.spindle {
-            let span = word_span(self, w);
-            self.push(ItemKind::SpindleStop, span, number);
-        }
-        if let Some((end, w)) = words.end {
-            let span = word_span(self, w);
-            self.push(ItemKind::ProgramEnd(end), span, number);
-        }
-    }
-
-    /// A G04 block: its time in the profile's form.
-    fn dwell(&mut self, line: Line<'_>, g04: &Word, time: Option<&Word>, number: Option<u32>) {
-        let form = self.profile.czech.dwell;
-        let letter = form.letter().unwrap_or('P');
-        let Some(time) = time else {
-            let g = &line.text[g04.range.clone()];
-            self.report(
-                self.error(
-                    codes::CZR_DWELL,
-                    line,
-                    g04.range.clone(),
-                    format!("`{g}` without its time ({letter})"),
-                )
-                .help(match form {
-                    CzechDwell::PMilliseconds => "write the time in milliseconds: `G04 P500`",
-                    CzechDwell::FSeconds => "write the time in seconds: `G04 F0.5`",
-                    _ => "write the time in seconds: `G04 X0.5`",
-                }),
-            );
-            return;
-        };
-        let seconds = match (time.value, form) {
-            (Value::Number(d), CzechDwell::PMilliseconds) => match d.to_whole() {
-                Ok(ms) if ms >= 0 => Some(Decimal {
-                    mantissa: ms as i128,
-                    scale: 3,
-                    has_point: true,
-                }),
+        let span = |fe: &Self, w: &Word| fe.span(line, w.range.clone());
+        let spindle_word = words.get('S').or(words.spindle.map(|(_, w)| w));
+        Switches {
+            spindle_mode: words.speed_mode.map(|(g96, w)| {
+                let mode = if g96 {
+                    SpindleMode::SurfaceSpeed {
+                        limit: None,
+                        feet: false,
+                    }
+                } else {
+                    SpindleMode::Rpm
+                };
+                (mode, span(self, w))
+            }),
+            spindle: spindle_word.map(|w| (speed, direction, span(self, w))),
+            coolant: words
+                .coolant
+                .iter()
+                .map(|&(c, w)| (c, span(self, w)))
+                .collect(),
+            spindle_stop: match words.spindle {
+                Some((None, w)) => Some(span(self, w)),
                 _ => None,
             },
-            (Value::Number(d), _) if !d.is_negative() && d.scale <= 4 => Some(d),
-            _ => None,
-        };
-        let Some(seconds) = seconds else {
-            self.report(
-                self.error(
-                    codes::CZR_DWELL,
-                    line,
-                    time.range.clone(),
-                    "the dwell time must be a number of 0 or more",
-                )
-                .label(if form == CzechDwell::PMilliseconds {
-                    "whole milliseconds"
-                } else {
-                    "seconds, to 0.0001 s"
-                })
-                .help("write the time as a plain number, e.g. `G04 P500` (ms) or `G04 X0.5` (s), as the profile's form says"),
-            );
-            return;
-        };
-        let span = self.span(line, g04.range.start..time.range.end.max(g04.range.end));
-        self.push(ItemKind::Dwell { seconds }, span, number);
-    }
-
-    /// The F word's value: a number, or the value of the parameter in `FRnn`.
-    fn f_value(&mut self, line: Line<'_>, word: &Word) -> Option<Length> {
-        let d = match word.value {
-            Value::Number(d) => d,
-            Value::Param(p) => match self.params.get(&p) {
-                Some(d) => *d,
-                None => {
-                    self.report(
-                        self.error(
-                            codes::CZR_PARAM_UNSET,
-                            line,
-                            word.range.clone(),
-                            format!("R{p:02} is used before it is assigned"),
-                        )
-                        .label("no earlier block assigns it")
-                        .help(format!(
-                            "assign it in an earlier block, e.g. `R{p:02}=250.0`"
-                        )),
-                    );
-                    return None;
-                }
-            },
-        };
-        self.length(line, word, d)
-    }
-
-    fn motion_item(
-        &mut self,
-        line: Line<'_>,
-        words: &Words<'_>,
-        code_span: Span,
-        number: Option<u32>,
-    ) {
-        let f_word = words.get('F');
-        let f = match f_word {
-            Some(w) => match self.f_value(line, w) {
-                Some(v) => Some((v, w)),
-                None => return,
-            },
-            None => None,
-        };
-        let thread = self.motion == Motion::Thread;
-        if let Some((value, _)) = f {
-            self.f = Some(FRegister {
-                value,
-                is_lead: thread,
-            });
-        }
-        let (x_word, z_word) = (words.get('X'), words.get('Z'));
-        let has_thread_words = ['I', 'J', 'E'].iter().any(|&c| words.get(c).is_some());
-        // A feed that no move of the block uses stays where it is written.
-        let unused_feed = match f {
-            Some((value, w)) if !thread => {
-                let moves = x_word.is_some() || z_word.is_some();
-                (!moves || self.motion == Motion::Rapid)
-                    .then(|| (value, self.span(line, w.range.clone())))
-            }
-            _ => None,
-        };
-        if let Some((value, span)) = unused_feed {
-            self.push(ItemKind::FeedRate(value), span, number);
-        }
-        if x_word.is_none() && z_word.is_none() {
-            let arc_words = ['I', 'K', 'R'].iter().any(|&c| words.get(c).is_some());
-            if let (Motion::Arc(g02), true) = (self.motion, arc_words) {
-                let code = if g02 { "G02" } else { "G03" };
-                self.arc_error(
-                    line,
-                    code_span_range(line, code_span),
-                    format!("a {code} block with a centre or radius but no end point"),
-                    "program the arc's end with X and Z (a full circle is two arcs)",
-                );
-            }
-            if thread && has_thread_words {
-                self.report(
-                    self.error(
-                        codes::CZR_THREAD_GEOMETRY,
-                        line,
-                        code_span_range(line, code_span),
-                        "a G33 block with I, J or E but no end point",
-                    )
-                    .help("program the end of the thread with Z (and X for a taper)"),
-                );
-            }
-            return;
-        }
-        let start = self.r.pos;
-        let Some(x) = self.axis(line, x_word, start.x) else {
-            return;
-        };
-        let Some(z) = self.axis(line, z_word, start.z) else {
-            return;
-        };
-        let to = Pos { x, z };
-        let kind = match self.motion {
-            Motion::Rapid => ItemKind::Rapid { to },
-            Motion::Feed => match self.feed_rate(line, code_span, "G01") {
-                Some(feed) => ItemKind::Feed { to, feed },
-                None => return,
-            },
-            Motion::Arc(g02) => {
-                let code = if g02 { "G02" } else { "G03" };
-                let Some(feed) = self.feed_rate(line, code_span, code) else {
-                    return;
-                };
-                match self.arc(line, words, start, to, g02, code_span) {
-                    Some((to, centre, clockwise)) => ItemKind::Arc {
-                        to,
-                        centre: Box::new(centre),
-                        clockwise,
-                        feed,
-                    },
-                    None => return,
-                }
-            }
-            Motion::Thread => match self.thread_pass(line, words, f, start, to, code_span) {
-                Some(pass) => ItemKind::pass(pass),
-                None => return,
-            },
-        };
-        self.r.pos = kind.end_position(self.r.pos);
-        self.push(kind, code_span, number);
-    }
-
-    /// The feed a feed move (`code`: G01, G02, G03) uses, or `None` after reporting why
-    /// there is none.
-    fn feed_rate(&mut self, line: Line<'_>, code_span: Span, code: &str) -> Option<Length> {
-        match self.f {
-            Some(FRegister {
-                value,
-                is_lead: false,
-            }) if value <= Length::ZERO => {
-                self.report(
-                    self.error(
-                        codes::CZR_NO_FEED,
-                        line,
-                        code_span_range(line, code_span),
-                        format!(
-                            "{code} move at feed F{}: the axis would not move",
-                            value.mm()
-                        ),
-                    )
-                    .help("program a feed greater than 0 with F"),
-                );
-                None
-            }
-            Some(FRegister {
-                value,
-                is_lead: false,
-            }) => Some(value),
-            other => {
-                let message = if other.is_some() {
-                    format!("{code} move whose F was last programmed as a thread lead")
-                } else {
-                    format!("{code} move without a feed")
-                };
-                self.report(
-                    self.error(
-                        codes::CZR_NO_FEED,
-                        line,
-                        code_span_range(line, code_span),
-                        message,
-                    )
-                    .help("program the feed with F in this block or an earlier G01 block"),
-                );
-                None
-            }
+            end: words.end.map(|(end, w)| (end, span(self, w))),
         }
     }
 
-    fn arc_error(&mut self, line: Line<'_>, range: Range<usize>, message: String, help: &str) {
-        self.report(self.error(codes::CZR_ARC, line, range, message).help(help));
-    }
-
-    /// An arc block in the profile's form: its end (both axes), its centre and whether it
-    /// turns clockwise as LinuxCNC's G2 does (G02, or G03 on a mirrored machine). The
-    /// geometry is `lower::arc`'s, as for ISO; the end must lie on the circle within
-    /// 0.002 mm, two steps of the control's 0.001 mm. **\[decided\]**
-    fn arc(
-        &mut self,
-        line: Line<'_>,
-        words: &Words<'_>,
-        start: Pos,
-        to: Pos,
-        g02: bool,
-        code_span: Span,
-    ) -> Option<(Pos, Pos, bool)> {
-        let code = if g02 { "G02" } else { "G03" };
-        let whole = code_span_range(line, code_span);
-        let Some((sx, sz)) = start.known() else {
-            self.report(
-                self.error(
-                    codes::CZR_UNKNOWN_POSITION,
-                    line,
-                    whole,
-                    format!("{code} from a position that is not known yet: the arc's centre cannot be placed"),
-                )
-                .help("move to an absolute X and Z before the arc"),
-            );
-            return None;
-        };
-        let (ex, ez) = (to.x.unwrap_or(sx), to.z.unwrap_or(sz));
-        let clockwise = g02 != self.profile.czech.arcs_mirrored;
-        let value = |fe: &mut Self, w: Option<&Word>| match w.map(|w| (w, w.value)) {
-            Some((w, Value::Number(d))) => fe.length(line, w, d).map(Some),
-            Some(_) => None,
-            None => Some(None),
-        };
-        let centre = if self.profile.czech.arcs == CzechArcs::Radius {
-            let Some(r) = words.get('R') else {
-                self.arc_error(
-                    line,
-                    whole,
-                    format!("{code} without R (this machine's arcs take their radius in R)"),
-                    "write the radius: `G02 X… Z… R5.`; a negative R turns more than half a circle",
-                );
-                return None;
-            };
-            let Value::Number(radius) = r.value else {
-                return None;
-            };
-            if (sx, sz) == (ex, ez) {
-                self.arc_error(
-                    line,
-                    r.range.clone(),
-                    format!("{code} R ends where it starts: a full circle has no R form"),
-                    "write the circle as two arcs",
-                );
-                return None;
-            }
-            match lower::arc::centre_from_radius(
-                (sx, sz),
-                (ex, ez),
-                radius.to_f64(),
-                clockwise,
-                0.001,
-            ) {
-                Ok(c) => c,
-                Err(chord) => {
-                    let text = &line.text[r.range.clone()];
-                    self.arc_error(line, r.range.clone(), format!("`{text}` is too small for the arc: its end is {chord} mm from its start"), "the radius must be at least half the distance from the start to the end");
-                    return None;
-                }
-            }
-        } else {
-            let (i, k) = (words.get('I'), words.get('K'));
-            if i.is_none() && k.is_none() {
-                self.arc_error(line, whole, format!("{code} without I or K (this machine's arcs take their centre's offset from the start in I and K)"), "write the centre: I for X, K for Z, from the arc's start");
-                return None;
-            }
-            let iv = value(self, i)?.unwrap_or(Length::ZERO);
-            let kv = value(self, k)?.unwrap_or(Length::ZERO);
-            let dx = if self.profile.czech.arcs == CzechArcs::IkRadius {
-                iv + iv
-            } else {
-                iv
-            };
-            Pos::new(sx + dx, sz + kv)
-        };
-        let (cx, cz) = centre.known()?;
-        let (r1, r2) = lower::arc::radii((sx, sz), (ex, ez), (cx, cz));
-        if r1 < 0.001 || r2 < 0.001 {
-            self.arc_error(
-                line,
-                whole,
-                format!("{code} with a zero radius: its centre is on its start or its end"),
-                "check I and K: the centre's offset from the arc's start",
-            );
-            return None;
+    /// Step 7, distance mode (G90 / G91) and motion mode (G00, G01, G02, G03, G33): modal
+    /// state the block's motion and the blocks after it use; no items.
+    fn modes(&mut self, words: &Words<'_>) {
+        if let Some((incremental, _)) = words.distance {
+            self.incremental = incremental;
         }
-        if (r1 - r2).abs() > 0.002 {
-            self.arc_error(
-                line,
-                whole,
-                format!(
-                    "{code}'s end is not on its circle: the radius is {} mm at the start and {} mm at the end",
-                    Length::from_mm_f64(r1).mm(),
-                    Length::from_mm_f64(r2).mm()
-                ),
-                "check I and K (and whether the profile's `arcs` reads I as a radius or a diameter)",
-            );
-            return None;
-        }
-        Some((Pos::new(ex, ez), centre, clockwise))
-    }
-
-    fn thread_pass(
-        &mut self,
-        line: Line<'_>,
-        words: &Words<'_>,
-        f: Option<(Length, &Word)>,
-        start: Pos,
-        to: Pos,
-        code_span: Span,
-    ) -> Option<ThreadPass> {
-        let block_range = code_span_range(line, code_span);
-        let lead = match (f, self.f) {
-            (Some((lead, word)), _) => {
-                if matches!(word.value, Value::Number(_)) && lead > MAX_DIRECT_LEAD {
-                    let text = line.text[word.range.clone()].to_string();
-                    self.report(self.error(codes::CZR_LEAD_TOO_LARGE, line, word.range.clone(), format!("lead `{text}` is over 99.99 mm, the most F can give directly"))
-                        .label("over 99.99")
-                        .help(format!("assign the lead to a parameter in an earlier block and use it: `R10={}` … `FR10`", lead.mm_with_point())));
-                    return None;
-                }
-                if lead <= Length::ZERO {
-                    self.report(
-                        self.error(
-                            codes::CZR_NO_LEAD,
-                            line,
-                            word.range.clone(),
-                            "the lead must be positive",
-                        )
-                        .help("F in a G33 block is the lead in mm per spindle revolution"),
-                    );
-                    return None;
-                }
-                lead
-            }
-            (
-                None,
-                Some(FRegister {
-                    value,
-                    is_lead: true,
-                }),
-            ) => value,
-            (None, other) => {
-                let message = if other.is_some() {
-                    "G33 block without F, and the last F was a feed, not a lead"
-                } else {
-                    "G33 block without a lead"
-                };
-                self.report(
-                    self.error(codes::CZR_NO_LEAD, line, block_range, message)
-                        .help("write the lead in the G33 block: F<mm per revolution> or FR<nn>"),
-                );
-                return None;
-            }
-        };
-        let start_angle = match words.get('I') {
-            Some(w) => {
-                let Value::Number(d) = w.value else {
-                    return None;
-                };
-                let angle = match d.to_angle() {
-                    Ok(a) => a,
-                    Err(e) => {
-                        self.number_error(line, w.range.clone(), e, "0.001°");
-                        return None;
-                    }
-                };
-                if !(Angle::ZERO..Angle::from_deg(360)).contains(&angle) {
-                    self.report(self.error(codes::CZR_START_ANGLE_RANGE, line, w.range.clone(), "the start angle must be at least 0° and less than 360°")
-                        .help("I is the spindle angle after the index pulse at which the thread starts"));
-                    return None;
-                }
-                angle
-            }
-            None => Angle::ZERO,
-        };
-        let (j, e) = (words.get('J'), words.get('E'));
-        let end = Pos {
-            x: to.x.or(start.x),
-            z: to.z.or(start.z),
-        };
-        let changes_x = to.x.is_some() && to.x != start.x;
-        if (changes_x || j.is_some() || e.is_some()) && start.known().is_none() {
-            let why = if changes_x {
-                "a taper thread"
-            } else {
-                "a thread with runout or entry"
-            };
-            self.report(
-                self.error(
-                    codes::CZR_UNKNOWN_POSITION,
-                    line,
-                    block_range.clone(),
-                    format!("{why} needs its start point, which is not known here"),
-                )
-                .label("start point unknown")
-                .help("move to the start of the thread with X and Z before this block"),
-            );
-            return None;
-        }
-        let travel = match (start.z, end.z) {
-            (Some(a), Some(b)) => Some((b - a).abs()),
-            _ => None,
-        };
-        if travel == Some(Length::ZERO) {
-            self.report(
-                self.error(
-                    codes::CZR_THREAD_GEOMETRY,
-                    line,
-                    block_range,
-                    "this G33 block has no Z travel",
-                )
-                .help("ncthread measures the lead along Z; face threads are not supported"),
-            );
-            return None;
-        }
-        let mut entry = None;
-        let mut exit = None;
-        if let Some(w) = e {
-            if let Value::Number(d) = w.value
-                && !d.has_point
-            {
-                let text = line.text[w.range.clone()].to_string();
-                self.report(self.error(codes::CZR_ENTRY_WITHOUT_POINT, line, w.range.clone(), format!("entry length `{text}` is written without a decimal point"))
-                    .label("E needs a decimal point")
-                    .help(format!("write `{text}.`: the manual requires E with a decimal point (E10. or E10.0)")));
-                return None;
-            }
-            entry = Some(self.chamfer(line, w, AngleUse::Entry)?);
-        }
-        if let Some(w) = j {
-            exit = Some(self.chamfer(line, w, AngleUse::Runout)?);
-        }
-        let used =
-            entry.map_or(Length::ZERO, |c| c.length) + exit.map_or(Length::ZERO, |c| c.length);
-        if let Some(travel) = travel
-            && used > travel
-        {
-            self.report(self.error(codes::CZR_THREAD_GEOMETRY, line, block_range, format!("entry and runout ({} mm) are longer than the thread's Z travel ({} mm)", used, travel))
-                .help("the programmed end point includes the runout: J and E must fit inside the travel"));
-            return None;
-        }
-        if entry.is_some() || exit.is_some() {
-            self.after_runout = AfterRunout::EmptyBlock { thread: code_span };
-        }
-        // The thread line is the programmed line shifted by −(entry offset). **[decided]**
-        // A block without X keeps the diameter: the pass says so too (X stays unwritten).
-        let line_end_x = match entry {
-            Some(c) => end.x.map(|x| x - c.offset),
-            None => to.x,
-        };
-        Some(ThreadPass {
-            to: Pos {
-                x: line_end_x,
-                z: end.z,
-            },
-            lead: Lead::from_length(lead),
-            // Every G33 block waits for the index pulse. **[seed]**
-            start: SyncStart::Index(start_angle),
-            infeed: None,
-            entry,
-            exit,
-        })
-    }
-
-    /// J or E: its length, and its offset from the angle that machine constant 8 selects.
-    fn chamfer(&mut self, line: Line<'_>, word: &Word, usage: AngleUse) -> Option<Chamfer> {
-        let Value::Number(d) = word.value else {
-            return None;
-        };
-        let length = self.length(line, word, d)?;
-        let letter = word.letter;
-        if length <= Length::ZERO {
-            self.report(self.error(codes::CZR_NEGATIVE_LENGTH, line, word.range.clone(), format!("{letter} must be a positive length"))
-                .help(format!("{letter} is a length along the thread axis, always positive whatever the direction of travel")));
-            return None;
-        }
-        let profile_name = self
-            .profile
-            .name
-            .clone()
-            .unwrap_or_else(|| "the built-in profile".into());
-        let Some(c8) = self.profile.czech.constant8 else {
-            self.report(self.error(codes::CZR_NO_CONSTANT8, line, word.range.clone(), format!("{} needs the {} angle from machine constant 8, which the profile does not give", letter, usage.name()))
-                .label("angle unknown")
-                .help("give the machine's TAB0.REK constant 8 in a profile (`--profile FILE`): [czech] constant8 = \"04000000\""));
-            return None;
-        };
-        let (angle_word, source) = match c8.angle_source() {
-            AngleSource::Direct { word } => {
-                (word, format!("machine constant 8 ({c8}, {profile_name})"))
-            }
-            AngleSource::Parameters { runout, entry } => {
-                let param = match usage {
-                    AngleUse::Runout => runout,
-                    AngleUse::Entry => entry.unwrap_or(runout),
-                };
-                if param == 0 || param == 80 {
-                    self.report(self.error(codes::CZR_FORBIDDEN_PARAM, line, word.range.clone(), format!("machine constant 8 ({c8}, {profile_name}) names R{param:02} for the {} angle; R00 and R80 may not hold angles", usage.name()))
-                        .help("choose another parameter in constant 8 (the manual recommends R04)"));
-                    return None;
-                }
-                let Some(value) = self.params.get(&param).copied() else {
-                    self.report(self.error(codes::CZR_ANGLE_PARAM_UNSET, line, word.range.clone(), format!("the {} angle parameter R{param:02} is not assigned before this block", usage.name()))
-                        .label(format!("needs R{param:02}"))
-                        .help(format!("assign it in an earlier block: `R{param:02}=120.0` is axis X, +20° (machine constant 8 = {c8})")));
-                    return None;
-                };
-                match value.to_scaled(Angle::DECIMALS) {
-                    Ok(w) => (w, format!("R{param:02}")),
-                    Err(e) => {
-                        self.number_error(line, word.range.clone(), e, "0.001°");
-                        return None;
-                    }
-                }
-            }
-        };
-        // sign · (axis·100 + angle) in 0.001°. **[seed]**
-        let magnitude = angle_word.abs();
-        let axis = magnitude / 100_000;
-        let angle = Angle(magnitude % 100_000);
-        if !(1..=3).contains(&axis) {
-            self.report(self.error(codes::CZR_BAD_AXIS, line, word.range.clone(), format!("the {} angle in {source} names axis {axis}; the axis decade must be 1 (X), 2 (Y) or 3 (Z)", usage.name()))
-                .help("write the axis in the hundreds: `R04=120.0` is axis X, 20°"));
-            return None;
-        }
-        if axis != 1 {
-            self.report(self.error(codes::CZR_RUNOUT_AXIS, line, word.range.clone(), format!("the {} angle in {source} moves axis {}; only X runout is supported on a ZX lathe", usage.name(), if axis == 2 { "Y" } else { "Z" }))
-                .help("use axis 1 (X): `R04=120.0`"));
-            return None;
-        }
-        if angle > MAX_ANGLE {
-            self.report(
-                self.error(
-                    codes::CZR_ANGLE_TOO_LARGE,
-                    line,
-                    word.range.clone(),
-                    format!(
-                        "the {} angle {}° in {source} is over 60°",
-                        usage.name(),
-                        angle
-                    ),
-                )
-                .help("runout and entry angles are 0 to 60°"),
-            );
-            return None;
-        }
-        let offset = Length::from_mm_f64(2.0 * length.to_mm_f64() * angle.tan());
-        Some(Chamfer {
-            length,
-            offset: if angle_word < 0 { -offset } else { offset },
-        })
-    }
-}
-
-#[derive(Clone, Copy)]
-enum AngleUse {
-    Runout,
-    Entry,
-}
-
-impl AngleUse {
-    fn name(self) -> &'static str {
-        match self {
-            AngleUse::Runout => "runout",
-            AngleUse::Entry => "entry",
+        if let Some((motion, _)) = words.motion {
+            self.motion = motion;
         }
     }
 }
@@ -1426,7 +553,9 @@ fn code_span_range(line: Line<'_>, span: Span) -> Range<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::profile::Constant8;
+    use crate::fixed::Lead;
+    use crate::ir::{Chamfer, Pos, ThreadPass};
+    use crate::profile::{Constant8, CzechArcs, CzechDwell};
 
     fn run(text: &str, constant8: Option<&str>) -> (Program, Vec<Diagnostic>) {
         let mut profile = Profile::default();

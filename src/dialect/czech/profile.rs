@@ -210,93 +210,45 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut CzechProfile, diags: &mut
             ),
         }
     }
-    if let Some(m) = raw.initial_motion {
-        p.initial_motion = m;
-    }
+    p.initial_motion = raw.initial_motion.unwrap_or(p.initial_motion);
     if let Some(g) = raw.gear_range_mcodes {
         p.gear_range_mcodes = g;
     }
-    if let Some(value) = raw.arcs {
-        p.arcs = match value.get_ref().as_str() {
-            "none" => CzechArcs::None,
-            "ik-radius" => CzechArcs::IkRadius,
-            "ik-diameter" => CzechArcs::IkDiameter,
-            "r" => CzechArcs::Radius,
-            other => {
-                diags.push(bad_value(
-                    src,
-                    src.span_of(value.span()),
-                    "czech.arcs",
-                    format!("unknown value \"{other}\""),
-                    "\"none\" (the default), \"ik-radius\" or \"ik-diameter\" (G02/G03 X Z I K, I a radius or a diameter value), \"r\" (G02/G03 X Z R), as the machine's manual gives it",
-                ));
-                p.arcs
-            }
-        };
-    }
-    if let Some(value) = raw.arc_direction {
-        match value.get_ref().as_str() {
-            "iso" => p.arcs_mirrored = false,
-            "mirrored" => p.arcs_mirrored = true,
-            other => diags.push(bad_value(
-                src,
-                src.span_of(value.span()),
-                "czech.arc_direction",
-                format!("unknown value \"{other}\""),
-                "\"iso\" (the default: G02 as LinuxCNC's G2 for the same path) or \"mirrored\" (a front-tool machine whose manual says G02 turns the other way)",
-            )),
-        }
-    }
-    if let Some(value) = raw.dwell {
-        p.dwell = match value.get_ref().as_str() {
-            "none" => CzechDwell::None,
-            "g04-x-seconds" => CzechDwell::XSeconds,
-            "g04-f-seconds" => CzechDwell::FSeconds,
-            "g04-p-milliseconds" => CzechDwell::PMilliseconds,
-            other => {
-                diags.push(bad_value(
-                    src,
-                    src.span_of(value.span()),
-                    "czech.dwell",
-                    format!("unknown value \"{other}\""),
-                    "\"none\" (the default), \"g04-x-seconds\", \"g04-f-seconds\" or \"g04-p-milliseconds\", as the machine's manual gives it",
-                ));
-                p.dwell
-            }
-        };
-    }
-    if let Some(value) = raw.surface_speed {
-        match value.get_ref().as_str() {
-            "none" => p.surface_speed = false,
-            "g96-g97" => p.surface_speed = true,
-            other => diags.push(bad_value(
-                src,
-                src.span_of(value.span()),
-                "czech.surface_speed",
-                format!("unknown value \"{other}\""),
-                "\"none\" (the default), or \"g96-g97\" (G96 S in m/min, G97 S in rpm) when the machine's manual says so",
-            )),
-        }
-    }
     let mist_span = raw.mist.as_ref().map(|m| src.span_of(m.span()));
+    // The keys that choose one of a few values, in the order they are checked: each value's
+    // place among its key's names, or a diagnostic and the setting left as it is.
+    #[rustfmt::skip]
     let choices = [
-        ("czech.coolant", raw.coolant, "m08-m09", &mut p.coolant),
-        ("czech.mist", raw.mist, "m07", &mut p.mist),
+        ("czech.arcs", raw.arcs, &["none", "ik-radius", "ik-diameter", "r"][..], "\"none\" (the default), \"ik-radius\" or \"ik-diameter\" (G02/G03 X Z I K, I a radius or a diameter value), \"r\" (G02/G03 X Z R), as the machine's manual gives it"),
+        ("czech.arc_direction", raw.arc_direction, &["iso", "mirrored"][..], "\"iso\" (the default: G02 as LinuxCNC's G2 for the same path) or \"mirrored\" (a front-tool machine whose manual says G02 turns the other way)"),
+        ("czech.dwell", raw.dwell, &["none", "g04-x-seconds", "g04-f-seconds", "g04-p-milliseconds"][..], "\"none\" (the default), \"g04-x-seconds\", \"g04-f-seconds\" or \"g04-p-milliseconds\", as the machine's manual gives it"),
+        ("czech.surface_speed", raw.surface_speed, &["none", "g96-g97"][..], "\"none\" (the default), or \"g96-g97\" (G96 S in m/min, G97 S in rpm) when the machine's manual says so"),
+        ("czech.coolant", raw.coolant, &["none", "m08-m09"][..], "\"none\" (the default), or \"m08-m09\" when the machine's manual says so"),
+        ("czech.mist", raw.mist, &["none", "m07"][..], "\"none\" (the default), or \"m07\" when the machine's manual says so"),
     ];
-    for (key, value, on, slot) in choices {
-        let Some(value) = value else { continue };
-        match value.get_ref().as_str() {
-            "none" => *slot = false,
-            v if v == on => *slot = true,
-            other => diags.push(bad_value(
-                src,
-                src.span_of(value.span()),
-                key,
-                format!("unknown value \"{other}\""),
-                &format!("\"none\" (the default), or \"{on}\" when the machine's manual says so"),
-            )),
-        }
-    }
+    let [arcs, direction, dwell, speed, coolant, mist] =
+        choices.map(|(key, value, names, help)| {
+            let value = value?;
+            let name = value.get_ref().as_str();
+            let found = names.iter().position(|n| *n == name);
+            if found.is_none() {
+                let message = format!("unknown value \"{name}\"");
+                let span = src.span_of(value.span());
+                diags.push(bad_value(src, span, key, message, help));
+            }
+            found
+        });
+    use {CzechArcs as A, CzechDwell as D};
+    p.arcs = arcs.map_or(p.arcs, |i| {
+        [A::None, A::IkRadius, A::IkDiameter, A::Radius][i]
+    });
+    p.arcs_mirrored = direction.map_or(p.arcs_mirrored, |i| i == 1);
+    p.dwell = dwell.map_or(p.dwell, |i| {
+        [D::None, D::XSeconds, D::FSeconds, D::PMilliseconds][i]
+    });
+    p.surface_speed = speed.map_or(p.surface_speed, |i| i == 1);
+    p.coolant = coolant.map_or(p.coolant, |i| i == 1);
+    p.mist = mist.map_or(p.mist, |i| i == 1);
     if let Some(span) = mist_span
         && p.mist
         && !p.coolant

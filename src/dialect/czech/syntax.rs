@@ -108,29 +108,11 @@ fn fast_line(line: &str) -> Option<Block> {
     let mut c = Cursor::new(line);
     c.skip(blank_or_tab);
     let first = c.pos;
+    if c.peek() == Some(b'%') {
+        return fast_delimiter(&mut c, first);
+    }
     let mut block = Block::default();
     let mut code_end = 0;
-    let comment = |c: &Cursor<'_>| -> Option<usize> {
-        let rest = c.rest();
-        if rest.starts_with('"') {
-            return Some(1);
-        }
-        QUOTES
-            .iter()
-            .find(|q| rest.starts_with(**q))
-            .map(|q| q.len())
-    };
-    if c.peek() == Some(b'%') {
-        c.pos += 1;
-        c.skip(blank_or_tab);
-        block.delimiter = true;
-        if !c.at_end() {
-            let quote = comment(&c)?;
-            block.comment = crate::dialect::comment_text(&c.rest()[quote..]);
-        }
-        block.code_range = first..first;
-        return Some(block);
-    }
     if matches!(c.peek(), Some(b'N' | b'n')) && c.peek_at(1).is_some_and(|b| b.is_ascii_digit()) {
         c.pos += 1;
         let digits = c.digits()?;
@@ -139,57 +121,95 @@ fn fast_line(line: &str) -> Option<Block> {
         c.skip(blank_or_tab);
     }
     while !c.at_end() {
-        let start = c.pos;
-        if let Some(quote) = comment(&c) {
+        if let Some(quote) = comment_quote(&c) {
             block.comment = crate::dialect::comment_text(&c.rest()[quote..]);
             break;
         }
-        let b = c.peek()?;
-        if b == b'&' {
-            c.pos += 1;
-            c.digits()?;
-            block
-                .opaque
-                .push((line[start..c.pos].to_string(), start..c.pos));
-        } else if b.is_ascii_alphabetic() {
-            c.pos += 1;
-            let assigned = if matches!(b, b'R' | b'r') {
-                assignment(&mut c, line)
-            } else {
-                None
-            };
-            if let Some((param, value)) = assigned {
-                block.assignments.push(Assignment {
-                    param,
-                    value,
-                    range: start..c.pos,
-                });
-            } else {
-                c.pos = start + 1;
-                c.skip(blank_or_tab);
-                let value = if matches!(c.peek(), Some(b'R' | b'r'))
-                    && c.peek_at(1).is_some_and(|b| b.is_ascii_digit())
-                {
-                    c.pos += 1;
-                    let digits = c.digits()?;
-                    Value::Param(line[digits].parse().ok()?)
-                } else {
-                    Value::Number(c.value(blank_or_tab)?)
-                };
-                block.words.push(Word {
-                    letter: b.to_ascii_uppercase() as char,
-                    value,
-                    range: start..c.pos,
-                });
-            }
-        } else {
-            return None;
-        }
+        fast_item(&mut c, line, &mut block)?;
         code_end = c.pos;
         c.skip(blank_or_tab);
     }
     block.code_range = first..code_end.max(first);
     Some(block)
+}
+
+/// The length of the quote that opens a comment at the cursor, if one does.
+fn comment_quote(c: &Cursor<'_>) -> Option<usize> {
+    let rest = c.rest();
+    if rest.starts_with('"') {
+        return Some(1);
+    }
+    QUOTES
+        .iter()
+        .find(|q| rest.starts_with(**q))
+        .map(|q| q.len())
+}
+
+/// A `%` line (the cursor on the `%`): a delimiter and an optional comment.
+fn fast_delimiter(c: &mut Cursor<'_>, first: usize) -> Option<Block> {
+    let mut block = Block::default();
+    c.pos += 1;
+    c.skip(blank_or_tab);
+    block.delimiter = true;
+    if !c.at_end() {
+        let quote = comment_quote(c)?;
+        block.comment = crate::dialect::comment_text(&c.rest()[quote..]);
+    }
+    block.code_range = first..first;
+    Some(block)
+}
+
+/// The `&` word, assignment or word at the cursor, into `block`; `None` when the line is not
+/// for the fast path.
+fn fast_item(c: &mut Cursor<'_>, line: &str, block: &mut Block) -> Option<()> {
+    let start = c.pos;
+    let b = c.peek()?;
+    if b == b'&' {
+        c.pos += 1;
+        c.digits()?;
+        block
+            .opaque
+            .push((line[start..c.pos].to_string(), start..c.pos));
+    } else if b.is_ascii_alphabetic() {
+        c.pos += 1;
+        let assigned = if matches!(b, b'R' | b'r') {
+            assignment(c, line)
+        } else {
+            None
+        };
+        if let Some((param, value)) = assigned {
+            block.assignments.push(Assignment {
+                param,
+                value,
+                range: start..c.pos,
+            });
+        } else {
+            c.pos = start + 1;
+            block.words.push(fast_word(c, line, start, b)?);
+        }
+    } else {
+        return None;
+    }
+    Some(())
+}
+
+/// After a word's letter `letter` (written from `start`): its value, a number or `Rnn`.
+fn fast_word(c: &mut Cursor<'_>, line: &str, start: usize, letter: u8) -> Option<Word> {
+    c.skip(blank_or_tab);
+    let value = if matches!(c.peek(), Some(b'R' | b'r'))
+        && c.peek_at(1).is_some_and(|b| b.is_ascii_digit())
+    {
+        c.pos += 1;
+        let digits = c.digits()?;
+        Value::Param(line[digits].parse().ok()?)
+    } else {
+        Value::Number(c.value(blank_or_tab)?)
+    };
+    Some(Word {
+        letter: letter.to_ascii_uppercase() as char,
+        value,
+        range: start..c.pos,
+    })
 }
 
 /// After `R`: `04 = 120.0`, when the line holds an assignment there (else the cursor is left
