@@ -6,7 +6,7 @@ dialect folder.
     python3 scripts/metrics.py          # the figures
     python3 scripts/metrics.py --long   # and every function over 80 lines
 
-Production code is everything outside `#[cfg(test)]` modules. A file imports another when a
+Production code is everything outside `#[cfg(test)]` modules (inline, or files named `tests.rs`). A file imports another when a
 `use`, a path or a `mod` names an item of it (`crate::…`, `super::…`, `self::…`); a module's
 `mod.rs` declaring its children is not an import, nor is a child using its parent's items
 (Rust's own tree), but a parent using a child's items is.
@@ -232,7 +232,11 @@ def cycles(edges):
 
 
 def main():
-    longs = sorted((f for p in files() for f in long_functions(p)), reverse=True)
+    # a module's unit tests in a file of their own (`#[cfg(test)] mod tests;`) are not production
+    longs = sorted(
+        (f for p in files() if os.path.basename(p) != "tests.rs" for f in long_functions(p)),
+        reverse=True,
+    )
     big = sorted(
         ((sum(1 for _ in open(p, encoding="utf-8")), os.path.relpath(p, ROOT)) for p in files()),
         reverse=True,
