@@ -190,10 +190,10 @@ impl FrontEnd<'_> {
             x: to_x.flatten(),
             z: to_z.flatten(),
         };
-        let motion = moves.then(|| match (rapid, self.feed) {
+        let motion = match (rapid, self.feed) {
             (false, Feed::Set(feed)) => ItemKind::Feed { to, feed },
             _ => ItemKind::Rapid { to },
-        });
+        };
         let switches = Switches {
             spindle_mode: None,
             spindle: Some((speed, words.direction.map(|(d, _)| d), span)),
@@ -205,7 +205,7 @@ impl FrontEnd<'_> {
             tool,
             gears: words.gears,
             switches,
-            motion,
+            motion: moves.then_some(motion),
             unused_feed: feed.filter(|_| !moves || rapid),
         })
     }
