@@ -118,133 +118,82 @@ pub(crate) struct Raw {
 
 /// Reads the `[nc31]` section into `p`, reporting each bad value with its key.
 pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut Nc31Profile, diags: &mut Vec<Diagnostic>) {
-    let units = [
-        (
-            "nc31.linear_unit_mm",
-            raw.linear_unit_mm,
-            &mut p.linear_unit,
-        ),
-        ("nc31.lead_unit_mm", raw.lead_unit_mm, &mut p.lead_unit),
-        ("nc31.feed_unit_mm", raw.feed_unit_mm, &mut p.feed_unit),
+    use Nc31ArcDirection::{FrontTool, Iso};
+    use Schedule::{ConstantArea, ConstantDepth, Halving};
+    const UNIT: &str = "a unit must be a positive multiple of 0.0001 mm";
+    const UNIT_HELP: &str = "e.g. 0.01 for words in hundredths of a millimetre, 0.0001 for leads";
+    const RETRACT: &str = "the retract must be zero or positive, a multiple of 0.0001 mm";
+    const RETRACT_HELP: &str = "the built-in value is 0.5";
+    const P6_HELP: &str =
+        "parameter 6 is 4096·tan(infeed angle): 0 radial, 2365 for 30°, 1491 for 20°";
+    const P7_HELP: &str = "parameter 7 is the runout in tenths of the lead (1…31), 0 for none";
+    const SCHEDULE_HELP: &str =
+        "one of \"halving\" (the control's G31), \"constant-depth\", \"constant-area\"";
+    const ARCS_HELP: &str = "\"none\" (the default), or \"g2-g3-p\" (G2/G3 groups with X, Z and two unsigned P offsets of the centre; G12/G13 quarter arcs)";
+    const DIR_HELP: &str = "\"front-tool\" (G2 clockwise seen with X pointing down, as the one public НЦ-31 source writes it) or \"iso\" (G2 as LinuxCNC's), as the machine's documentation says";
+    const COOLANT_HELP: &str = "\"none\" (the default), or \"m8-m9\" when the machine takes M8/M9";
+    let mut bad = |span, key: &str, message: String, help: &str| {
+        diags.push(bad_value(src, src.span_of(span), key, message, help));
+    };
+    let lengths = [
+        (raw.linear_unit_mm, &mut p.linear_unit, "linear_unit_mm"),
+        (raw.lead_unit_mm, &mut p.lead_unit, "lead_unit_mm"),
+        (raw.feed_unit_mm, &mut p.feed_unit, "feed_unit_mm"),
+        (raw.retract_mm, &mut p.retract, "retract_mm"),
     ];
-    for (key, value, slot) in units {
+    for (value, slot, key) in lengths {
         let Some(value) = value else { continue };
-        let span = src.span_of(value.span());
+        let (span, retract) = (value.span(), key == "retract_mm");
         match value.into_inner().length() {
-            Some(l) if l.0 > 0 => *slot = l,
-            _ => diags.push(bad_value(
-                src,
-                span,
-                key,
-                "a unit must be a positive multiple of 0.0001 mm".into(),
-                "e.g. 0.01 for words in hundredths of a millimetre, 0.0001 for leads",
-            )),
-        }
-    }
-    if let Some(value) = raw.retract_mm {
-        let span = src.span_of(value.span());
-        match value.into_inner().length() {
-            Some(l) if l.0 >= 0 => p.retract = l,
-            _ => diags.push(bad_value(
-                src,
-                span,
-                "nc31.retract_mm",
-                "the retract must be zero or positive, a multiple of 0.0001 mm".into(),
-                "the built-in value is 0.5",
-            )),
+            // The units are positive; the retract is zero or more.
+            Some(l) if l.0 > 0 || (retract && l.0 == 0) => *slot = l,
+            _ if retract => bad(span, &format!("nc31.{key}"), RETRACT.into(), RETRACT_HELP),
+            _ => bad(span, &format!("nc31.{key}"), UNIT.into(), UNIT_HELP),
         }
     }
     let parameters = [
-        (
-            "nc31.infeed_p6",
-            raw.infeed_p6,
-            Nc31Profile::P6_MAX,
-            &mut p.infeed_p6,
-            "parameter 6 is 4096·tan(infeed angle): 0 radial, 2365 for 30°, 1491 for 20°",
-        ),
-        (
-            "nc31.runout_p7",
-            raw.runout_p7,
-            Nc31Profile::P7_MAX,
-            &mut p.runout_p7,
-            "parameter 7 is the runout in tenths of the lead (1…31), 0 for none",
-        ),
+        (raw.infeed_p6, &mut p.infeed_p6, "infeed_p6", P6_HELP),
+        (raw.runout_p7, &mut p.runout_p7, "runout_p7", P7_HELP),
     ];
-    for (key, value, max, slot, help) in parameters {
+    let maxima = [Nc31Profile::P6_MAX, Nc31Profile::P7_MAX];
+    for ((value, slot, key, help), max) in parameters.into_iter().zip(maxima) {
         let Some(value) = value else { continue };
-        let span = src.span_of(value.span());
         match u32::try_from(*value.get_ref()) {
             Ok(v) if v <= max => *slot = v,
-            _ => diags.push(bad_value(
-                src,
-                span,
-                key,
-                format!("{} is outside 0…{max}", value.get_ref()),
-                help,
-            )),
-        }
-    }
-    if let Some(value) = raw.schedule {
-        let span = src.span_of(value.span());
-        match value.get_ref().as_str() {
-            "halving" => p.schedule = Schedule::Halving,
-            "constant-depth" => p.schedule = Schedule::ConstantDepth,
-            "constant-area" => p.schedule = Schedule::ConstantArea,
-            other => diags.push(bad_value(
-                src,
-                span,
-                "nc31.schedule",
-                format!("unknown schedule \"{other}\""),
-                "one of \"halving\" (the control's G31), \"constant-depth\", \"constant-area\"",
-            )),
+            _ => {
+                let message = format!("{} is outside 0…{max}", value.get_ref());
+                bad(value.span(), &format!("nc31.{key}"), message, help);
+            }
         }
     }
     if let Some(g) = raw.gear_range_mcodes {
         p.gear_range_mcodes = g;
     }
-    if let Some(on) = raw.chamfer45 {
-        p.chamfer45 = on;
-    }
-    if let Some(on) = raw.repeat_g25 {
-        p.repeat_g25 = on;
-    }
-    if let Some(value) = raw.arcs {
-        match value.get_ref().as_str() {
-            "none" => p.arcs = false,
-            "g2-g3-p" => p.arcs = true,
-            other => diags.push(bad_value(
-                src,
-                src.span_of(value.span()),
-                "nc31.arcs",
-                format!("unknown value \"{other}\""),
-                "\"none\" (the default), or \"g2-g3-p\" (G2/G3 groups with X, Z and two unsigned P offsets of the centre; G12/G13 quarter arcs)",
-            )),
+    p.chamfer45 = raw.chamfer45.unwrap_or(p.chamfer45);
+    p.repeat_g25 = raw.repeat_g25.unwrap_or(p.repeat_g25);
+    // A keyword's value: its index among `names`, or a diagnostic.
+    let mut keyword = |value: Option<toml::Spanned<String>>, key: &str, names: &[&str], help| {
+        let value = value?;
+        let found = names.iter().position(|n| value.get_ref() == n);
+        if found.is_none() {
+            let what = if key == "schedule" { key } else { "value" };
+            let message = format!("unknown {what} \"{}\"", value.get_ref());
+            bad(value.span(), &format!("nc31.{key}"), message, help);
         }
+        found
+    };
+    let schedules = ["halving", "constant-depth", "constant-area"];
+    if let Some(i) = keyword(raw.schedule, "schedule", &schedules, SCHEDULE_HELP) {
+        p.schedule = [Halving, ConstantDepth, ConstantArea][i];
     }
-    if let Some(value) = raw.arc_direction {
-        match value.get_ref().as_str() {
-            "front-tool" => p.arc_direction = Some(Nc31ArcDirection::FrontTool),
-            "iso" => p.arc_direction = Some(Nc31ArcDirection::Iso),
-            other => diags.push(bad_value(
-                src,
-                src.span_of(value.span()),
-                "nc31.arc_direction",
-                format!("unknown value \"{other}\""),
-                "\"front-tool\" (G2 clockwise seen with X pointing down, as the one public НЦ-31 source writes it) or \"iso\" (G2 as LinuxCNC's), as the machine's documentation says",
-            )),
-        }
+    if let Some(i) = keyword(raw.arcs, "arcs", &["none", "g2-g3-p"], ARCS_HELP) {
+        p.arcs = i == 1;
     }
-    if let Some(value) = raw.coolant {
-        match value.get_ref().as_str() {
-            "none" => p.coolant = false,
-            "m8-m9" => p.coolant = true,
-            other => diags.push(bad_value(
-                src,
-                src.span_of(value.span()),
-                "nc31.coolant",
-                format!("unknown value \"{other}\""),
-                "\"none\" (the default), or \"m8-m9\" when the machine takes M8/M9",
-            )),
-        }
+    let directions = ["front-tool", "iso"];
+    if let Some(i) = keyword(raw.arc_direction, "arc_direction", &directions, DIR_HELP) {
+        p.arc_direction = Some([FrontTool, Iso][i]);
+    }
+    if let Some(i) = keyword(raw.coolant, "coolant", &["none", "m8-m9"], COOLANT_HELP) {
+        p.coolant = i == 1;
     }
 }

@@ -220,6 +220,8 @@ fn parse_with_grammar(line: &str) -> Result<Line, SyntaxError> {
     }
 }
 
+/// A frame from the grammar's `frame` pair: its number, word and modifiers in order, each
+/// part checked as it comes.
 fn frame(line: &str, pair: pest::iterators::Pair<'_, Rule>) -> Result<Line, SyntaxError> {
     let mut frame = Frame::default();
     let (mut first, mut last) = (None, 0);
@@ -229,93 +231,10 @@ fn frame(line: &str, pair: pest::iterators::Pair<'_, Rule>) -> Result<Line, Synt
         first.get_or_insert(range.start);
         last = range.end;
         match part.as_rule() {
-            Rule::frame_number => {
-                let digits = &span.as_str()[1..];
-                frame.number = Some(digits.parse().map_err(|_| SyntaxError {
-                    code: codes::NCR_NUMBER,
-                    range: range.clone(),
-                    message: format!("frame number `{}` is too large", span.as_str()),
-                    help: "frame numbers are small whole numbers (N0, N1, …)".into(),
-                })?);
-            }
-            Rule::word => {
-                let text = span.as_str();
-                let letter = text.chars().next().unwrap_or('?').to_ascii_uppercase();
-                let number = &text[1..];
-                if let Some(previous) = &frame.word {
-                    return Err(SyntaxError {
-                        code: codes::NCR_TWO_WORDS,
-                        range,
-                        message: format!(
-                            "a second word `{text}` in the frame of `{}`",
-                            &line[previous.range.clone()]
-                        ),
-                        help: "the НЦ-31 takes one word per frame; put this word in a frame of its own and join the frames with `*` to make one group".into(),
-                    });
-                }
-                if !frame.modifiers.is_empty() {
-                    return Err(SyntaxError {
-                        code: codes::NCR_SYNTAX,
-                        range: frame.modifiers[0].1.clone(),
-                        message: "a modifier before the frame's word".into(),
-                        help: FRAME_HELP.into(),
-                    });
-                }
-                if let Some(dot) = number.find('.') {
-                    let at = range.start + 1 + dot;
-                    return Err(SyntaxError {
-                        code: codes::NCR_DECIMAL_POINT,
-                        range: at..at + 1,
-                        message: format!("`{text}` has a decimal point"),
-                        help: "НЦ-31 words are scaled whole numbers: X and Z in 0.01 mm (X3600 = Ø36), F in 0.0001 mm inside G31/G32/G33 (F15000 = lead 1.5) and 0.01 mm/rev elsewhere, P in 0.01 mm (the built-in units; the profile's [nc31] section can change them)".into(),
-                    });
-                }
-                let digits = number.trim_start_matches(['+', '-']);
-                let value = if digits.len() > MAX_DIGITS {
-                    None
-                } else {
-                    number.parse::<i64>().ok()
-                };
-                let Some(value) = value else {
-                    return Err(SyntaxError {
-                        code: codes::NCR_NUMBER,
-                        range,
-                        message: format!("`{text}` has too many digits"),
-                        help: format!("a word has at most {MAX_DIGITS} digits"),
-                    });
-                };
-                frame.word = Some(Word {
-                    letter,
-                    value,
-                    range,
-                });
-            }
-            Rule::rapid | Rule::group | Rule::incremental | Rule::chamfer => {
-                let m = match part.as_rule() {
-                    Rule::rapid => Modifier::Rapid,
-                    Rule::group => Modifier::Group,
-                    Rule::incremental => Modifier::Incremental,
-                    _ => Modifier::Chamfer {
-                        up: span.as_str().starts_with('+'),
-                    },
-                };
-                if let Some((previous, _)) = frame.modifiers.iter().find(|(x, _)| x.same_kind(m)) {
-                    return Err(SyntaxError {
-                        code: codes::NCR_SYNTAX,
-                        range,
-                        message: if *previous == m {
-                            format!("modifier `{}` written twice", m.ascii())
-                        } else {
-                            format!(
-                                "`{}` after `{}`: a frame has one chamfer sign",
-                                m.ascii(),
-                                previous.ascii()
-                            )
-                        },
-                        help: "write each modifier once".into(),
-                    });
-                }
-                frame.modifiers.push((m, range));
+            Rule::frame_number => frame.number = Some(frame_number(span.as_str(), range)?),
+            Rule::word => frame.word = Some(frame_word(line, &frame, span.as_str(), range)?),
+            rule @ (Rule::rapid | Rule::group | Rule::incremental | Rule::chamfer) => {
+                frame_modifier(&mut frame, rule, span.as_str(), range)?;
             }
             _ => {}
         }
@@ -335,6 +254,111 @@ fn frame(line: &str, pair: pest::iterators::Pair<'_, Rule>) -> Result<Line, Synt
     };
     frame.code_range = first..last.max(first);
     Ok(Line::Frame(frame))
+}
+
+/// `N<digits>`: the frame's number, small enough.
+fn frame_number(text: &str, range: Range<usize>) -> Result<u32, SyntaxError> {
+    let digits = &text[1..];
+    digits.parse().map_err(|_| SyntaxError {
+        code: codes::NCR_NUMBER,
+        range,
+        message: format!("frame number `{text}` is too large"),
+        help: "frame numbers are small whole numbers (N0, N1, …)".into(),
+    })
+}
+
+/// The frame's word `text`: the first of the frame, before its modifiers, a whole number
+/// without a decimal point and with at most [`MAX_DIGITS`] digits.
+fn frame_word(
+    line: &str,
+    frame: &Frame,
+    text: &str,
+    range: Range<usize>,
+) -> Result<Word, SyntaxError> {
+    let letter = text.chars().next().unwrap_or('?').to_ascii_uppercase();
+    let number = &text[1..];
+    if let Some(previous) = &frame.word {
+        return Err(SyntaxError {
+            code: codes::NCR_TWO_WORDS,
+            range,
+            message: format!(
+                "a second word `{text}` in the frame of `{}`",
+                &line[previous.range.clone()]
+            ),
+            help: "the НЦ-31 takes one word per frame; put this word in a frame of its own and join the frames with `*` to make one group".into(),
+        });
+    }
+    if !frame.modifiers.is_empty() {
+        return Err(SyntaxError {
+            code: codes::NCR_SYNTAX,
+            range: frame.modifiers[0].1.clone(),
+            message: "a modifier before the frame's word".into(),
+            help: FRAME_HELP.into(),
+        });
+    }
+    if let Some(dot) = number.find('.') {
+        let at = range.start + 1 + dot;
+        return Err(SyntaxError {
+            code: codes::NCR_DECIMAL_POINT,
+            range: at..at + 1,
+            message: format!("`{text}` has a decimal point"),
+            help: "НЦ-31 words are scaled whole numbers: X and Z in 0.01 mm (X3600 = Ø36), F in 0.0001 mm inside G31/G32/G33 (F15000 = lead 1.5) and 0.01 mm/rev elsewhere, P in 0.01 mm (the built-in units; the profile's [nc31] section can change them)".into(),
+        });
+    }
+    let digits = number.trim_start_matches(['+', '-']);
+    let value = if digits.len() > MAX_DIGITS {
+        None
+    } else {
+        number.parse::<i64>().ok()
+    };
+    let Some(value) = value else {
+        return Err(SyntaxError {
+            code: codes::NCR_NUMBER,
+            range,
+            message: format!("`{text}` has too many digits"),
+            help: format!("a word has at most {MAX_DIGITS} digits"),
+        });
+    };
+    Ok(Word {
+        letter,
+        value,
+        range,
+    })
+}
+
+/// Adds the modifier of `rule` (`text`) to the frame: each kind of mark once.
+fn frame_modifier(
+    frame: &mut Frame,
+    rule: Rule,
+    text: &str,
+    range: Range<usize>,
+) -> Result<(), SyntaxError> {
+    let m = match rule {
+        Rule::rapid => Modifier::Rapid,
+        Rule::group => Modifier::Group,
+        Rule::incremental => Modifier::Incremental,
+        _ => Modifier::Chamfer {
+            up: text.starts_with('+'),
+        },
+    };
+    if let Some((previous, _)) = frame.modifiers.iter().find(|(x, _)| x.same_kind(m)) {
+        return Err(SyntaxError {
+            code: codes::NCR_SYNTAX,
+            range,
+            message: if *previous == m {
+                format!("modifier `{}` written twice", m.ascii())
+            } else {
+                format!(
+                    "`{}` after `{}`: a frame has one chamfer sign",
+                    m.ascii(),
+                    previous.ascii()
+                )
+            },
+            help: "write each modifier once".into(),
+        });
+    }
+    frame.modifiers.push((m, range));
+    Ok(())
 }
 
 fn syntax_error(line: &str, e: &pest::error::Error<Rule>) -> SyntaxError {
