@@ -1,0 +1,218 @@
+//! G76: LinuxCNC's threading cycle.
+
+use super::super::syntax::Word;
+use super::{FrontEnd, SLOPE_RUN, Words};
+use crate::diag::codes;
+use crate::fixed::{Angle, Decimal, Length};
+use crate::ir::{
+    CycleChamfer, Degression, Finish, IjkScale, ItemKind, Pos, Retract, Rise, Schedule, Slope,
+    ThreadCycle,
+};
+use crate::lower;
+use crate::source::{Line, Span};
+
+impl FrontEnd<'_> {
+    pub(super) fn g76_error(&mut self, line: Line<'_>, w: &Word, message: String, help: &str) {
+        self.diag(codes::ISOR_G76, line, w.range.clone(), message, help);
+    }
+
+    /// LinuxCNC's G76 (`convert_threading_cycle`) as a thread cycle.
+    pub(super) fn cycle(
+        &mut self,
+        line: Line<'_>,
+        words: &mut Words<'_>,
+        at: Option<&Word>,
+        span: Span,
+    ) {
+        let Some(at) = at.or(words.other.get(&'Z').copied()) else {
+            return;
+        };
+        let mut get = |l: char| words.take(l);
+        let (p, i, j, k) = (get('P'), get('I'), get('J'), get('K'));
+        let (r, q, h, e, l) = (get('R'), get('Q'), get('H'), get('E'), get('L'));
+        let z_given = words.other.contains_key(&'Z');
+        let Some(to) = self.target(line, words) else {
+            return;
+        };
+        let (Some(p), Some(i), Some(j), Some(k), true) = (p, i, j, k, z_given) else {
+            let missing: String = [
+                ('P', p),
+                ('Z', words.other.get(&'Z').copied()),
+                ('I', i),
+                ('J', j),
+                ('K', k),
+            ]
+            .iter()
+            .filter(|(_, w)| w.is_none())
+            .map(|(c, _)| c.to_string())
+            .collect::<Vec<_>>()
+            .join(", ");
+            self.missing(
+                line,
+                at,
+                format!("G76 without {missing}"),
+                "G76 needs P (pitch), Z (end), I (crest offset from the drive line), J (first depth) and K (thread depth)",
+            );
+            return;
+        };
+        // LinuxCNC's own checks, on the numbers as written.
+        let (iv, jv, kv) = (i.value.to_f64(), j.value.to_f64(), k.value.to_f64());
+        if iv == 0.0 {
+            return self.g76_error(
+                line,
+                i,
+                "in G76, I must not be 0".into(),
+                "I is the crest's offset from the drive line: negative outside, positive in a bore",
+            );
+        }
+        if jv <= 0.0 {
+            return self.g76_error(
+                line,
+                j,
+                "in G76, J must be greater than 0".into(),
+                "J is the depth of the first pass",
+            );
+        }
+        if kv <= jv {
+            return self.g76_error(
+                line,
+                k,
+                "in G76, K must be greater than J".into(),
+                "K is the full thread depth, J the first pass's",
+            );
+        }
+        if p.value.mantissa <= 0 {
+            return self.g76_error(
+                line,
+                p,
+                "the G76 pitch P is not positive".into(),
+                "P is the advance per spindle revolution",
+            );
+        }
+        let (Some(start_x), Some(start_z)) = (self.r.pos.x, self.r.pos.z) else {
+            return self.unknown_start(line, at);
+        };
+        if !self.spindle_turning(line, Some(at), "G76") {
+            return;
+        }
+        let diameter = self.diameter.unwrap_or(false);
+        let Some(lead) = self.lead(line, p) else {
+            return;
+        };
+        let (Some(i_len), Some(j_len), Some(k_len)) = (
+            self.length(line, i),
+            self.length(line, j),
+            self.length(line, k),
+        ) else {
+            return;
+        };
+        // Per side (radius) and as a diameter, scaled as LinuxCNC scales them.
+        let scale = IjkScale::of_modes(self.diameter_before_line, diameter);
+        let side = |v: Length| scale.length(v);
+        let i_dia = side(i_len) + side(i_len);
+        let depth = side(k_len);
+        let first = side(j_len);
+        let height = side(i_len.abs() + k_len);
+        let spring_passes = match h {
+            Some(h) => match self.whole(line, h, "the number of spring passes H") {
+                Some(v) => v,
+                None => return,
+            },
+            None => 0,
+        };
+        let flags = match l {
+            Some(l) => match l.value.to_whole() {
+                Ok(v) if v >= 0 => v,
+                Ok(_) => {
+                    return self.number_error(
+                        line,
+                        l,
+                        "G76 L is negative (LinuxCNC: \"Negative l word used\")".into(),
+                        "L0 none, L1 entry taper, L2 exit taper, L3 both",
+                    );
+                }
+                Err(_) => {
+                    return self.number_error(
+                        line,
+                        l,
+                        "G76 L is not a whole number".into(),
+                        "L0 none, L1 entry taper, L2 exit taper, L3 both",
+                    );
+                }
+            },
+            None => 0,
+        };
+        let taper = match e {
+            Some(e) => match self.length(line, e) {
+                Some(v) => v.max(Length::ZERO),
+                None => return,
+            },
+            None => Length::ZERO,
+        };
+        let chamfer = |on: bool| {
+            (on && taper.0 > 0).then_some(CycleChamfer {
+                length: taper,
+                rise: Rise::ThreadDepth,
+            })
+        };
+        let entry = chamfer(flags & 1 != 0);
+        let runout = chamfer(flags & 2 != 0);
+        // Q as LinuxCNC reads it (an unwritten Q is −1 there, and −1 means 0).
+        let q_deg = q.map_or(0.0, |q| q.value.to_f64());
+        let q_deg = if q_deg == -1.0 { 0.0 } else { q_deg };
+        if q_deg.abs() >= 90.0
+            && let Some(q) = q
+        {
+            return self.g76_error(
+                line,
+                q,
+                "the compound angle Q must be less than 90°".into(),
+                "Q is the infeed angle from the radial, usually 29.5",
+            );
+        }
+        let infeed = Slope {
+            rise: (q_deg.to_radians().tan() * SLOPE_RUN as f64).round() as i64,
+            run: SLOPE_RUN,
+        };
+        let end_z = to.z.expect("Z is given");
+        let cycle = ThreadCycle {
+            start: (start_x, start_z),
+            crest: start_x + i_dia,
+            end_z,
+            lead,
+            depth,
+            first_depth: first,
+            taper: Length::ZERO,
+            infeed,
+            infeed_moves_end: true,
+            start_angle: Angle::ZERO,
+            entry,
+            // With an entry taper LinuxCNC feeds in along X, synchronised, from the retract
+            // height to the entry's start. **[evidence]** `threading_pass`.
+            entry_infeed: entry.is_some(),
+            runout,
+            retract: Retract::AboveCut(height),
+            spring_passes,
+            finish: Finish::EndAt(to.x.unwrap_or(start_x)),
+            internal: iv > 0.0,
+            schedule: Schedule::Degression(Degression {
+                r: r.map_or(Decimal::parse("1").expect("a number"), |r| r.value),
+                i: i.value,
+                j: j.value,
+                k: k.value,
+                scale,
+                inch: self.inch,
+            }),
+        };
+        if let Err(err) = lower::expand(&cycle) {
+            return self.g76_error(
+                line,
+                at,
+                err.message(&cycle),
+                "correct the G76 words; ncthread cuts a cycle only when every pass is defined",
+            );
+        }
+        self.r.pos = Pos::new(to.x.unwrap_or(start_x), end_z);
+        self.push(ItemKind::ThreadCycle(Box::new(cycle)), span);
+    }
+}
