@@ -7,6 +7,14 @@
 //! path control, the default work offset…) are kept as opaque words for ISO output.
 //! Everything else — arcs, other planes and axes, work offsets, parameters, subroutines —
 //! is named as unsupported. Within a line the commands run in LinuxCNC's order.
+//!
+//! The parts: `run` runs the lines in the order LinuxCNC runs them (O-word jumps and calls,
+//! `%`, the end); `line` reads one line (block delete, its values evaluated); `unsupported`
+//! names what is not read; `words` sorts a line's words by letter and its codes by modal
+//! group; `block` is the block interpreter, one step per modal group in LinuxCNC's order;
+//! `values` and `position` read lengths, leads and targets; `motion`, `arc`, `thread` and
+//! `g76` are the moves; `drilling`, `roughing`, `offsets` and `macros` the canned cycles, the
+//! G52/G92 offsets and the parameters, O-words and modal state.
 
 use std::ops::Range;
 

@@ -25,6 +25,9 @@ impl FrontEnd<'_> {
         false
     }
 
+    /// The line's move in the motion mode in force: the code's own reader, or LinuxCNC's
+    /// refusal of the mode here (a synchronised move or G76 with compensation on; an arc or
+    /// a roughing cycle in G17; axis words under G80).
     pub(super) fn motion(
         &mut self,
         line: Line<'_>,
@@ -48,27 +51,8 @@ impl FrontEnd<'_> {
                     );
                 }
             }
-            Motion::Rapid => {
-                let start = self.exact_start();
-                if let Some(to) = self.target(line, words) {
-                    self.push(ItemKind::Rapid { to }, span);
-                    self.r.pos = ItemKind::Rapid { to }.end_position(self.r.pos);
-                    self.exact_after_move(start);
-                }
-            }
-            Motion::Feed => {
-                let start = self.exact_start();
-                let axis = words.other.get(&'X').or(words.other.get(&'Z')).copied();
-                let Some(to) = self.target(line, words) else {
-                    return;
-                };
-                let Some(feed) = self.feed_rate(line, code_word.or(axis), "G1", span) else {
-                    return;
-                };
-                self.push(ItemKind::Feed { to, feed }, span);
-                self.r.pos = ItemKind::Feed { to, feed }.end_position(self.r.pos);
-                self.exact_after_move(start);
-            }
+            Motion::Rapid => self.rapid(line, words, span),
+            Motion::Feed => self.feed_move(line, words, code_word, span),
             Motion::Arc { clockwise } if self.plane_xy => {
                 let g = if clockwise { "G2" } else { "G3" };
                 self.arc_error(
@@ -80,17 +64,7 @@ impl FrontEnd<'_> {
             }
             Motion::Arc { clockwise } => self.arc(line, words, code_word, span, clockwise),
             Motion::Roughing(code) if self.plane_xy => {
-                let name = crate::ir::g_code_name(code);
-                let at = code_word.or(words.other.get(&'Q').copied());
-                if let Some(at) = at {
-                    self.diag(
-                        codes::ISOR_ROUGHING,
-                        line,
-                        at.range.clone(),
-                        format!("{name} while G17 is in force (LinuxCNC: \"G{}.{} can only be used in XZ plane (G18)\")", code / 10, code % 10),
-                        "select G18 before the cycle",
-                    );
-                }
+                self.roughing_in_xy(line, words, code_word, code)
             }
             Motion::Thread => self.thread(line, words, code_word, span),
             Motion::Tap => self.tap(line, words, code_word, span),
@@ -107,26 +81,80 @@ impl FrontEnd<'_> {
             Motion::Cycle => self.cycle(line, words, code_word, span),
             Motion::Roughing(code) => self.roughing(line, words, code_word, span, code),
             Motion::Drill(code) => self.drill(line, words, code_word, span, code),
-            Motion::CycleOff => {
-                // Axis words after G80, or on its line. **[evidence]** `enhance_block`.
-                let w = words.other.get(&'X').or(words.other.get(&'Z')).copied();
-                words.take('X');
-                words.take('Z');
-                if let Some(w) = w {
-                    let (message, help) = if words.has_g(G80).is_some() {
-                        (
-                            "an axis word on a G80 line (LinuxCNC: \"Cannot use axis values with g80\")",
-                            "put the move on a line of its own, with its motion code",
-                        )
-                    } else {
-                        (
-                            "an axis word after G80, which leaves no motion mode in force (LinuxCNC: \"Cannot use axis values without a g code that uses them\")",
-                            "write the motion code: `G0 X20 Z5`",
-                        )
-                    };
-                    self.missing(line, w, message.into(), help);
-                }
-            }
+            Motion::CycleOff => self.axes_after_g80(line, words),
+        }
+    }
+
+    /// G0 to the line's target.
+    fn rapid(&mut self, line: Line<'_>, words: &mut Words<'_>, span: Span) {
+        let start = self.exact_start();
+        if let Some(to) = self.target(line, words) {
+            self.push(ItemKind::Rapid { to }, span);
+            self.r.pos = ItemKind::Rapid { to }.end_position(self.r.pos);
+            self.exact_after_move(start);
+        }
+    }
+
+    /// G1 to the line's target at the feed in force.
+    fn feed_move(
+        &mut self,
+        line: Line<'_>,
+        words: &mut Words<'_>,
+        code_word: Option<&Word>,
+        span: Span,
+    ) {
+        let start = self.exact_start();
+        let axis = words.other.get(&'X').or(words.other.get(&'Z')).copied();
+        let Some(to) = self.target(line, words) else {
+            return;
+        };
+        let Some(feed) = self.feed_rate(line, code_word.or(axis), "G1", span) else {
+            return;
+        };
+        self.push(ItemKind::Feed { to, feed }, span);
+        self.r.pos = ItemKind::Feed { to, feed }.end_position(self.r.pos);
+        self.exact_after_move(start);
+    }
+
+    /// A roughing cycle in G17, which LinuxCNC refuses.
+    fn roughing_in_xy(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        code_word: Option<&Word>,
+        code: GCode,
+    ) {
+        let name = crate::ir::g_code_name(code);
+        let at = code_word.or(words.other.get(&'Q').copied());
+        if let Some(at) = at {
+            self.diag(
+                codes::ISOR_ROUGHING,
+                line,
+                at.range.clone(),
+                format!("{name} while G17 is in force (LinuxCNC: \"G{}.{} can only be used in XZ plane (G18)\")", code / 10, code % 10),
+                "select G18 before the cycle",
+            );
+        }
+    }
+
+    /// Axis words after G80, or on its line. **[evidence]** `enhance_block`.
+    fn axes_after_g80(&mut self, line: Line<'_>, words: &mut Words<'_>) {
+        let w = words.other.get(&'X').or(words.other.get(&'Z')).copied();
+        words.take('X');
+        words.take('Z');
+        if let Some(w) = w {
+            let (message, help) = if words.has_g(G80).is_some() {
+                (
+                    "an axis word on a G80 line (LinuxCNC: \"Cannot use axis values with g80\")",
+                    "put the move on a line of its own, with its motion code",
+                )
+            } else {
+                (
+                    "an axis word after G80, which leaves no motion mode in force (LinuxCNC: \"Cannot use axis values without a g code that uses them\")",
+                    "write the motion code: `G0 X20 Z5`",
+                )
+            };
+            self.missing(line, w, message.into(), help);
         }
     }
 

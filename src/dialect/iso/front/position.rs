@@ -8,7 +8,6 @@ use crate::ir::Pos;
 use crate::source::Line;
 
 impl FrontEnd<'_> {
-    /// X and Z of the line as an absolute target (diameter), or `None` after an error.
     /// The exact start of a move: [`FrontEnd::exact`] where it agrees with the known
     /// position, else the known position.
     pub(super) fn exact_start(&self) -> (Option<f64>, Option<f64>) {
@@ -30,6 +29,7 @@ impl FrontEnd<'_> {
         );
     }
 
+    /// X and Z of the line as an absolute target (diameter), or `None` after an error.
     pub(super) fn target(&mut self, line: Line<'_>, words: &mut Words<'_>) -> Option<Pos> {
         let mut to = Pos::UNKNOWN;
         let start = self.exact_start();

@@ -3,7 +3,7 @@
 use super::super::syntax::Word;
 use super::{FrontEnd, Words};
 use crate::diag::codes;
-use crate::fixed::{Angle, Length};
+use crate::fixed::{Angle, Lead, Length};
 use crate::ir::{ItemKind, Pos, SyncInfeed, SyncStart, TapCycle, ThreadPass};
 use crate::lower;
 use crate::source::{Line, Span};
@@ -46,6 +46,8 @@ impl FrontEnd<'_> {
         }
     }
 
+    /// G33: a synchronised move to the line's target, K its advance per revolution along
+    /// the path (along X for a move along X only).
     pub(super) fn thread(
         &mut self,
         line: Line<'_>,
@@ -68,21 +70,8 @@ impl FrontEnd<'_> {
         let from = self.r.pos;
         let end = ItemKind::Rapid { to }.end_position(from);
         let word = z_word.or(x_word).or(at).expect("a G33 line has X or Z");
-        // LinuxCNC continues a G33 that follows another without waiting for the index pulse;
-        // after anything else that empties its motion queue it would wait, in the cut.
-        let start = if self.sync_end.is_some() && self.sync_end == Some(from) {
-            SyncStart::Continue
-        } else if self.in_cut.is_some() && self.in_cut == Some(from) {
-            self.diag(
-                codes::ISOR_THREAD_GEOMETRY,
-                line,
-                word.range.clone(),
-                "this G33 starts where a thread move ended, after a line that is not a G33: whether LinuxCNC waits for the index pulse here (with the tool in the cut) depends on its motion queue".into(),
-                "write the thread moves on consecutive lines (comments between them are fine), or retract before the next pass",
-            );
+        let Some(start) = self.sync_start(line, from, word) else {
             return;
-        } else {
-            SyncStart::Index(Angle::ZERO)
         };
         let dz = match (from.z, end.z) {
             (Some(a), Some(b)) => Some(b - a),
@@ -101,30 +90,7 @@ impl FrontEnd<'_> {
                 );
                 return;
             }
-            let (Some(x), Some(z)) = (end.x, from.z) else {
-                self.unknown_start(line, word);
-                return;
-            };
-            if from.x.is_none() {
-                self.unknown_start(line, word);
-                return;
-            }
-            let Some(advance) = self.lead(line, k) else {
-                return;
-            };
-            let pass = ThreadPass {
-                to: Pos::new(x, z),
-                lead: advance,
-                start,
-                infeed: Some(SyncInfeed { x, advance }),
-                entry: None,
-                exit: None,
-            };
-            self.push(ItemKind::pass(pass), span);
-            self.r.pos = Pos::new(x, z);
-            self.sync_end = Some(self.r.pos);
-            self.in_cut = Some(self.r.pos);
-            return;
+            return self.thread_along_x(line, word, k, (from, end), start, span);
         }
         // K is along the path; the IR's lead is along Z.
         let lead = if moves_x {
@@ -134,22 +100,9 @@ impl FrontEnd<'_> {
                 return;
             };
             let dx = end.x.expect("X is given") - x0;
-            let k_mm = k.value.to_f64() * if self.inch { 25.4 } else { 1.0 };
-            match lower::z_lead_of_k(k_mm, dz, dx) {
+            match self.taper_lead(line, k, dz, dx) {
                 Some(l) => l,
-                None => {
-                    self.diag(
-                        codes::ISOR_NUMBER,
-                        line,
-                        k.range.clone(),
-                        format!(
-                            "`{}` gives no usable lead along Z",
-                            &line.text[k.range.clone()]
-                        ),
-                        "a lead is more than 10⁻¹² mm and at most 1,000,000 mm",
-                    );
-                    return;
-                }
+                None => return,
             }
         } else {
             match self.lead(line, k) {
@@ -169,6 +122,81 @@ impl FrontEnd<'_> {
         self.r.pos = pass.end_position(from);
         self.sync_end = Some(self.r.pos);
         self.in_cut = Some(self.r.pos);
+    }
+
+    /// How a G33 from `from` starts. LinuxCNC continues a G33 that follows another without
+    /// waiting for the index pulse; after anything else that empties its motion queue it
+    /// would wait, in the cut (reported at `word`: `None`).
+    fn sync_start(&mut self, line: Line<'_>, from: Pos, word: &Word) -> Option<SyncStart> {
+        if self.sync_end.is_some() && self.sync_end == Some(from) {
+            Some(SyncStart::Continue)
+        } else if self.in_cut.is_some() && self.in_cut == Some(from) {
+            self.diag(
+                codes::ISOR_THREAD_GEOMETRY,
+                line,
+                word.range.clone(),
+                "this G33 starts where a thread move ended, after a line that is not a G33: whether LinuxCNC waits for the index pulse here (with the tool in the cut) depends on its motion queue".into(),
+                "write the thread moves on consecutive lines (comments between them are fine), or retract before the next pass",
+            );
+            None
+        } else {
+            Some(SyncStart::Index(Angle::ZERO))
+        }
+    }
+
+    /// A G33 that moves along X only (`path`: from, to): K is the advance along X.
+    fn thread_along_x(
+        &mut self,
+        line: Line<'_>,
+        word: &Word,
+        k: &Word,
+        path: (Pos, Pos),
+        start: SyncStart,
+        span: Span,
+    ) {
+        let (from, end) = path;
+        let (Some(x), Some(z)) = (end.x, from.z) else {
+            self.unknown_start(line, word);
+            return;
+        };
+        if from.x.is_none() {
+            self.unknown_start(line, word);
+            return;
+        }
+        let Some(advance) = self.lead(line, k) else {
+            return;
+        };
+        let pass = ThreadPass {
+            to: Pos::new(x, z),
+            lead: advance,
+            start,
+            infeed: Some(SyncInfeed { x, advance }),
+            entry: None,
+            exit: None,
+        };
+        self.push(ItemKind::pass(pass), span);
+        self.r.pos = Pos::new(x, z);
+        self.sync_end = Some(self.r.pos);
+        self.in_cut = Some(self.r.pos);
+    }
+
+    /// The lead along Z of a tapered G33 whose K is along the path (`dz`, `dx` its run).
+    fn taper_lead(&mut self, line: Line<'_>, k: &Word, dz: Length, dx: Length) -> Option<Lead> {
+        let k_mm = k.value.to_f64() * if self.inch { 25.4 } else { 1.0 };
+        let lead = lower::z_lead_of_k(k_mm, dz, dx);
+        if lead.is_none() {
+            self.diag(
+                codes::ISOR_NUMBER,
+                line,
+                k.range.clone(),
+                format!(
+                    "`{}` gives no usable lead along Z",
+                    &line.text[k.range.clone()]
+                ),
+                "a lead is more than 10⁻¹² mm and at most 1,000,000 mm",
+            );
+        }
+        lead
     }
 
     pub(super) fn unknown_start(&mut self, line: Line<'_>, w: &Word) {

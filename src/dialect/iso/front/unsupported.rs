@@ -157,6 +157,56 @@ pub(super) fn m_meaning(code: i64) -> Meaning {
     }
 }
 
+/// What a line holds that ncthread does not read: its unread parts, then its G and M codes
+/// that are not read, each with its message.
+fn unread_words(line: Line<'_>, block: &Block) -> Vec<(Range<usize>, String)> {
+    let mut found: Vec<(Range<usize>, String)> = block
+        .unread
+        .iter()
+        .map(|u| {
+            (
+                u.range.clone(),
+                if u.what == BLOCK_DELETE {
+                    "block delete `/`: whether this line runs is the operator's switch; say which with --block-delete off (it runs) or on (it is skipped), or `block_delete` in the profile's [iso] section".to_string()
+                } else {
+                    format!("{} is not read by ncthread", u.what)
+                },
+            )
+        })
+        .collect();
+    for w in &block.words {
+        let text = &line.text[w.range.clone()];
+        let why = match w.letter {
+            'G' => match w.value.to_scaled(1).map(g_meaning) {
+                Ok(Meaning::Unsupported("this G code")) => {
+                    let hint = crate::dialect::read::did_you_mean(text, KNOWN_G);
+                    found.push((
+                        w.range.clone(),
+                        format!("`{text}`: this G code — not read by ncthread{hint}"),
+                    ));
+                    None
+                }
+                Ok(Meaning::Unsupported(why)) => Some(why),
+                Err(_) => Some("this G code"),
+                _ => None,
+            },
+            'M' => match w.value.to_whole().map(m_meaning) {
+                Ok(Meaning::Unsupported(why)) => Some(why),
+                Err(_) => Some("this M code"),
+                _ => None,
+            },
+            _ => None,
+        };
+        if let Some(why) = why {
+            found.push((
+                w.range.clone(),
+                format!("`{text}`: {why} — not read by ncthread"),
+            ));
+        }
+    }
+    found
+}
+
 impl FrontEnd<'_> {
     /// A plane other than ZX or an axis other than X and Z: the program is not a lathe
     /// program, and no mode may keep the line (a mill program half converted is worse than
@@ -220,50 +270,7 @@ impl FrontEnd<'_> {
         if self.not_a_lathe_program(line, block) {
             return true;
         }
-        let mut found: Vec<(Range<usize>, String)> = block
-            .unread
-            .iter()
-            .map(|u| {
-                (
-                    u.range.clone(),
-                    if u.what == BLOCK_DELETE {
-                        "block delete `/`: whether this line runs is the operator's switch; say which with --block-delete off (it runs) or on (it is skipped), or `block_delete` in the profile's [iso] section".to_string()
-                    } else {
-                        format!("{} is not read by ncthread", u.what)
-                    },
-                )
-            })
-            .collect();
-        for w in &block.words {
-            let text = &line.text[w.range.clone()];
-            let why = match w.letter {
-                'G' => match w.value.to_scaled(1).map(g_meaning) {
-                    Ok(Meaning::Unsupported("this G code")) => {
-                        let hint = crate::dialect::read::did_you_mean(text, KNOWN_G);
-                        found.push((
-                            w.range.clone(),
-                            format!("`{text}`: this G code — not read by ncthread{hint}"),
-                        ));
-                        None
-                    }
-                    Ok(Meaning::Unsupported(why)) => Some(why),
-                    Err(_) => Some("this G code"),
-                    _ => None,
-                },
-                'M' => match w.value.to_whole().map(m_meaning) {
-                    Ok(Meaning::Unsupported(why)) => Some(why),
-                    Err(_) => Some("this M code"),
-                    _ => None,
-                },
-                _ => None,
-            };
-            if let Some(why) = why {
-                found.push((
-                    w.range.clone(),
-                    format!("`{text}`: {why} — not read by ncthread"),
-                ));
-            }
-        }
+        let found = unread_words(line, block);
         if found.is_empty() {
             return false;
         }
@@ -279,34 +286,40 @@ impl FrontEnd<'_> {
                     .is_ok_and(|g| matches!(g, G33 | G33_1 | G76))
         });
         if self.r.unsupported(&UNSUPPORTED, found, keep, thread) {
-            // A kept line must not change what ncthread follows: its modes and F, S, T or
-            // spindle words would take effect in LinuxCNC and not here, and the lines after
-            // it would be read wrongly. (A motion code leaves the motion mode unknown.)
-            if let Some(w) = block.words.iter().find(|w| changes_followed_state(w)) {
-                let span = self.r.span(line, w.range.clone());
-                self.r
-                    .state_in_opaque(&UNSUPPORTED, span, &line.text[w.range.clone()]);
-                return true;
-            }
-            let context = ModalContext {
-                inch: self.inch,
-                diameter: self.diameter.unwrap_or(false),
-                incremental: self.incremental,
-                per_minute: Some(self.feed_mode != Some(FeedMode::PerRev)),
-                moves: may_move(line, block),
-            };
-            let text = line.text.trim().to_string();
-            self.r
-                .keep_opaque(text, self.r.src.line_span(line), None, context);
-            if block.words.iter().any(|w| {
-                w.letter == 'G'
-                    && w.value
-                        .to_scaled(1)
-                        .is_ok_and(|g| matches!(g, G0 | G1 | G2 | G3 | G33 | G33_1 | G38_1..=G38_5 | G73 | G74 | G76 | G80..=G8X_LAST))
-            }) {
-                self.motion = None;
-            }
+            self.keep_line_opaque(line, block);
         }
         true
+    }
+
+    /// Keeps a line with unsupported words as an opaque block (`--unsupported warn`), unless
+    /// it changes state ncthread follows (reported).
+    fn keep_line_opaque(&mut self, line: Line<'_>, block: &Block) {
+        // A kept line must not change what ncthread follows: its modes and F, S, T or
+        // spindle words would take effect in LinuxCNC and not here, and the lines after
+        // it would be read wrongly. (A motion code leaves the motion mode unknown.)
+        if let Some(w) = block.words.iter().find(|w| changes_followed_state(w)) {
+            let span = self.r.span(line, w.range.clone());
+            self.r
+                .state_in_opaque(&UNSUPPORTED, span, &line.text[w.range.clone()]);
+            return;
+        }
+        let context = ModalContext {
+            inch: self.inch,
+            diameter: self.diameter.unwrap_or(false),
+            incremental: self.incremental,
+            per_minute: Some(self.feed_mode != Some(FeedMode::PerRev)),
+            moves: may_move(line, block),
+        };
+        let text = line.text.trim().to_string();
+        self.r
+            .keep_opaque(text, self.r.src.line_span(line), None, context);
+        if block.words.iter().any(|w| {
+            w.letter == 'G'
+                && w.value
+                    .to_scaled(1)
+                    .is_ok_and(|g| matches!(g, G0 | G1 | G2 | G3 | G33 | G33_1 | G38_1..=G38_5 | G73 | G74 | G76 | G80..=G8X_LAST))
+        }) {
+            self.motion = None;
+        }
     }
 }
