@@ -1,0 +1,114 @@
+//! Word values: lengths on the grid, leads, whole numbers, and their diagnostics.
+
+use super::super::syntax::Word;
+use super::FrontEnd;
+use crate::diag::codes;
+use crate::fixed::{Lead, Length, div_round};
+use crate::source::Line;
+
+impl FrontEnd<'_> {
+    /// A length word in program units → mm on the grid; warns once when it rounds.
+    pub(super) fn length(&mut self, line: Line<'_>, w: &Word) -> Option<Length> {
+        self.length_times(line, w, 1)
+    }
+
+    /// `times` the word's length, rounded once (an arc's I, a radius, as a diameter).
+    pub(super) fn length_times(&mut self, line: Line<'_>, w: &Word, times: i128) -> Option<Length> {
+        let d = w.value;
+        let factor: i128 = if self.inch { 254_000 } else { 10_000 } * times;
+        let den = 10i128.checked_pow(d.scale);
+        let num = d.mantissa.checked_mul(factor);
+        let (Some(num), Some(den)) = (num, den) else {
+            self.too_large(line, w);
+            return None;
+        };
+        let v = div_round(num, den);
+        if v.abs() > 1 << 50 {
+            self.too_large(line, w);
+            return None;
+        }
+        if num % den != 0 && !self.warned_rounding {
+            self.warned_rounding = true;
+            let exact = num as f64 / den as f64 / 10_000.0;
+            self.diag(
+                codes::ISOR_ROUNDED,
+                line,
+                w.range.clone(),
+                format!(
+                    "`{}` is {exact} mm{}, rounded to {} mm (ncthread computes on a 0.0001 mm grid; later values that round are not reported again)",
+                    &line.text[w.range.clone()],
+                    if times == 2 { " as a diameter" } else { "" },
+                    Length(v as i64).mm()
+                ),
+                "the rounding is at most 0.00005 mm, far inside the 0.001 mm that `verify` allows",
+            );
+        }
+        Some(Length(v as i64))
+    }
+
+    /// A lead word (K, G76's P) in program units → a [`Lead`], exact to 10⁻¹² mm.
+    pub(super) fn lead(&mut self, line: Line<'_>, w: &Word) -> Option<Lead> {
+        let d = w.value;
+        // mm: value × 10¹²; inch: value × 25.4 × 10¹² = value × 254 × 10¹¹.
+        let (factor, shift) = if self.inch { (254, 11) } else { (1, 12) };
+        let num = d.mantissa.checked_mul(factor);
+        let scaled = match num {
+            Some(num) if d.scale <= shift => 10i128
+                .checked_pow(shift - d.scale)
+                .and_then(|f| num.checked_mul(f)),
+            Some(num) => 10i128
+                .checked_pow(d.scale - shift)
+                .map(|den| div_round(num, den)),
+            None => None,
+        };
+        match scaled {
+            Some(v) if v.abs() <= Lead::MAX.0 as i128 => Some(Lead(v as i64)),
+            _ => {
+                self.diag(
+                    codes::ISOR_NUMBER,
+                    line,
+                    w.range.clone(),
+                    format!("`{}` is too large for a lead", &line.text[w.range.clone()]),
+                    "a lead is at most 1,000,000 mm",
+                );
+                None
+            }
+        }
+    }
+
+    pub(super) fn too_large(&mut self, line: Line<'_>, w: &Word) {
+        self.diag(
+            codes::ISOR_NUMBER,
+            line,
+            w.range.clone(),
+            format!("`{}` is too large", &line.text[w.range.clone()]),
+            "lengths are at most about 10^11 mm",
+        );
+    }
+
+    pub(super) fn number_error(&mut self, line: Line<'_>, w: &Word, message: String, help: &str) {
+        self.diag(codes::ISOR_NUMBER, line, w.range.clone(), message, help);
+    }
+
+    pub(super) fn whole(&mut self, line: Line<'_>, w: &Word, what: &str) -> Option<u32> {
+        match w.value.to_whole().ok().and_then(|v| u32::try_from(v).ok()) {
+            Some(v) => Some(v),
+            None => {
+                self.number_error(
+                    line,
+                    w,
+                    format!(
+                        "{what} `{}` is not a whole number of 0 or more",
+                        &line.text[w.range.clone()]
+                    ),
+                    "write it as a whole number",
+                );
+                None
+            }
+        }
+    }
+
+    pub(super) fn missing(&mut self, line: Line<'_>, at: &Word, message: String, help: &str) {
+        self.diag(codes::ISOR_WORD, line, at.range.clone(), message, help);
+    }
+}

@@ -1,0 +1,338 @@
+//! A line's words sorted by what reads them: by letter, then the G and M codes by modal group
+//! into what the block asks ([`Asks`]), after LinuxCNC's one-code-per-group check.
+
+use super::super::gcode::*;
+use super::super::syntax::{Block, Word};
+use super::{FrontEnd, Motion};
+use crate::diag::codes;
+use crate::dialect::{Letters, WORD_REPORTS, budget};
+use crate::ir::{Coolant, FeedMode, SpindleDirection};
+use crate::source::Line;
+
+use super::unsupported::{Meaning, g_meaning};
+
+/// The words of one line, sorted by what reads them.
+pub(super) struct Words<'b> {
+    /// G codes ×10 (`G33.1` → 331) with their words.
+    pub(super) g: Vec<(GCode, &'b Word)>,
+    /// M codes with their words.
+    pub(super) m: Vec<(i64, &'b Word)>,
+    /// Every other word by letter (each letter once).
+    pub(super) other: Letters<&'b Word>,
+    /// Letters a command has read.
+    pub(super) used: Vec<char>,
+}
+
+impl<'b> Words<'b> {
+    pub(super) fn take(&mut self, letter: char) -> Option<&'b Word> {
+        let w = self.other.get(&letter).copied()?;
+        self.used.push(letter);
+        Some(w)
+    }
+
+    pub(super) fn has_g(&self, code: GCode) -> Option<&'b Word> {
+        self.g.iter().find(|(c, _)| *c == code).map(|(_, w)| *w)
+    }
+
+    pub(super) fn has_m(&self, code: i64) -> Option<&'b Word> {
+        self.m.iter().find(|(c, _)| *c == code).map(|(_, w)| *w)
+    }
+}
+
+/// The motion codes ncthread reads (LinuxCNC's modal group 1, less the tapping and boring
+/// cycles, and G80: LinuxCNC lets G80 share a line with another of them, which wins).
+pub(super) const MOTION: [GCode; 20] = [
+    G0, G1, G2, G3, G33, G33_1, G76, G70, G71, G71_1, G71_2, G72, G72_1, G72_2, G73, G81, G82, G83,
+    G85, G89,
+];
+
+/// LinuxCNC's G code groups (`read_g`): one code of each per line, even the same code twice.
+const G_GROUPS: [(&str, &[GCode], &str); 13] = [
+    ("motion", &MOTION, "one motion code per line"),
+    ("units", &[G20, G21], "one of G20, G21 per line"),
+    ("distance", &[G90, G91], "one of G90, G91 per line"),
+    (
+        "arc distance",
+        &[G90_1, G91_1],
+        "one of G90.1, G91.1 per line",
+    ),
+    ("spindle mode", &[G96, G97], "one of G96, G97 per line"),
+    (
+        "cutter compensation",
+        &[G40, G41, G42, G41_1, G42_1],
+        "one of G40, G41, G42, G41.1, G42.1 per line",
+    ),
+    (
+        "work offset",
+        &[G54, G55, G56, G57, G58, G59, G59_1, G59_2, G59_3],
+        "one work offset (G54 … G59.3) per line",
+    ),
+    (
+        "non-modal",
+        &[G28, G28_1, G30, G30_1, G53, G52, G92, G92_1, G92_2, G92_3],
+        "one of G28, G28.1, G30, G30.1, G52, G53, G92, G92.1, G92.2, G92.3 per line",
+    ),
+    ("feed mode", &[G94, G95], "one of G94, G95 per line"),
+    ("diameter mode", &[G7, G8], "one of G7, G8 per line"),
+    ("dwell", &[G4], "one G4 per line"),
+    ("tool length", &[G43, G49], "one of G43, G49 per line"),
+    ("retract mode", &[G98, G99], "one of G98, G99 per line"),
+];
+
+/// LinuxCNC's M code groups (`read_m`), one code of each per line.
+const M_GROUPS: [(&str, &[i64], &str); 4] = [
+    (
+        "stopping",
+        &[0, 1, 2, 30, 60],
+        "one of M0, M1, M2, M30, M60 per line",
+    ),
+    ("tool change", &[6, 61], "one of M6, M61 per line"),
+    ("spindle", &[3, 4, 5], "one of M3, M4, M5 per line"),
+    (
+        "coolant",
+        &[7, 8, 9],
+        "one of M7, M8, M9 per line (M7 and M8 on two lines)",
+    ),
+];
+
+/// What one block asks, one entry per modal group (LinuxCNC's `block_struct`): the group's
+/// code on the line, with its word where a step reports at it. [`FrontEnd::sort_words`] has
+/// refused a line with two codes of one group, so each group holds one code at most; the
+/// plane (G17 and G18 may share a line, G18 winning) and the codes kept opaque are not a
+/// group here.
+pub(super) struct Asks<'b> {
+    /// G94 / G95.
+    pub(super) feed_mode: Option<FeedMode>,
+    /// G20 (true) / G21 (false).
+    pub(super) inch: Option<bool>,
+    /// G96.
+    pub(super) surface_speed: Option<&'b Word>,
+    /// G97.
+    pub(super) rpm: bool,
+    /// M6.
+    pub(super) tool_change: Option<&'b Word>,
+    /// G43.
+    pub(super) tool_length: bool,
+    /// M3 / M4.
+    pub(super) direction: Option<SpindleDirection>,
+    /// M5.
+    pub(super) spindle_stop: bool,
+    /// M7 / M8 / M9.
+    pub(super) coolant: Option<(Coolant, &'b Word)>,
+    /// G4.
+    pub(super) dwell: Option<&'b Word>,
+    /// G7 (true) / G8 (false).
+    pub(super) diameter: Option<bool>,
+    /// The codes kept as opaque words (G49, G61, G61.1, G64), in the line's order.
+    pub(super) kept: Vec<(GCode, &'b Word)>,
+    /// G17.
+    pub(super) plane_xy: Option<&'b Word>,
+    /// G18.
+    pub(super) plane_zx: bool,
+    /// G40, G41, G42, G41.1, G42.1.
+    pub(super) compensation: Option<(GCode, &'b Word)>,
+    /// G54 … G59.3 as the work offset's number (1: G54).
+    pub(super) work_offset: Option<(u8, &'b Word)>,
+    /// G90 (false) / G91 (true).
+    pub(super) incremental: Option<bool>,
+    /// G90.1 (true) / G91.1 (false).
+    pub(super) absolute_centres: Option<bool>,
+    /// G98 / G99.
+    pub(super) retract: Option<(GCode, &'b Word)>,
+    /// The motion code, or G80 when the line has no other.
+    pub(super) motion: Option<Motion>,
+    /// G52, G92, G92.1, G92.2, G92.3.
+    pub(super) offsets: Option<(GCode, &'b Word)>,
+    /// G28, G28.1, G30, G30.1, G53.
+    pub(super) machine: Option<(GCode, &'b Word)>,
+    /// M0, M1, M2, M30.
+    pub(super) stop: Option<(i64, &'b Word)>,
+}
+
+impl<'b> Asks<'b> {
+    /// Sorts the line's G and M codes by modal group.
+    pub(super) fn of(words: &Words<'b>) -> Self {
+        let g = |codes: &[GCode]| words.g.iter().find(|(c, _)| codes.contains(c)).copied();
+        let either = |a: GCode, b: GCode| match (words.has_g(a), words.has_g(b)) {
+            (Some(_), _) => Some(true),
+            (None, Some(_)) => Some(false),
+            (None, None) => None,
+        };
+        Asks {
+            feed_mode: either(G94, G95).map(|min| {
+                if min {
+                    FeedMode::PerMin
+                } else {
+                    FeedMode::PerRev
+                }
+            }),
+            inch: either(G20, G21),
+            surface_speed: words.has_g(G96),
+            rpm: words.has_g(G97).is_some(),
+            tool_change: words.has_m(6),
+            tool_length: words.has_g(G43).is_some(),
+            direction: if words.has_m(3).is_some() {
+                Some(SpindleDirection::Clockwise)
+            } else if words.has_m(4).is_some() {
+                Some(SpindleDirection::CounterClockwise)
+            } else {
+                None
+            },
+            spindle_stop: words.has_m(5).is_some(),
+            coolant: words.m.iter().find_map(|&(code, w)| match code {
+                7 => Some((Coolant::Mist, w)),
+                8 => Some((Coolant::Flood, w)),
+                9 => Some((Coolant::Off, w)),
+                _ => None,
+            }),
+            dwell: words.has_g(G4),
+            diameter: either(G7, G8),
+            kept: words
+                .g
+                .iter()
+                .filter(|(c, _)| matches!(g_meaning(*c), Meaning::Kept))
+                .copied()
+                .collect(),
+            plane_xy: words.has_g(G17),
+            plane_zx: words.has_g(G18).is_some(),
+            compensation: g(&[G40, G41, G42, G41_1, G42_1]),
+            work_offset: g(&[G54, G55, G56, G57, G58, G59, G59_1, G59_2, G59_3])
+                .map(|(c, w)| (work_offset(c), w)),
+            incremental: either(G91, G90),
+            absolute_centres: either(G90_1, G91_1),
+            retract: g(&[G98, G99]),
+            motion: Self::motion(words),
+            offsets: g(&[G52, G92, G92_1, G92_2, G92_3]),
+            machine: g(&[G28, G28_1, G30, G30_1, G53]),
+            stop: words
+                .m
+                .iter()
+                .find(|(c, _)| matches!(c, 0 | 1 | 2 | 30))
+                .copied(),
+        }
+    }
+
+    /// The line's motion code; G80 only when the line has no other (LinuxCNC ignores a G80
+    /// beside another motion code). **[evidence]** `read_g`.
+    fn motion(words: &Words<'b>) -> Option<Motion> {
+        let code = words.g.iter().find_map(|&(c, _)| match c {
+            G0 => Some(Motion::Rapid),
+            G1 => Some(Motion::Feed),
+            G2 => Some(Motion::Arc { clockwise: true }),
+            G3 => Some(Motion::Arc { clockwise: false }),
+            G33 => Some(Motion::Thread),
+            G33_1 => Some(Motion::Tap),
+            G76 => Some(Motion::Cycle),
+            G70 | G71 | G71_1 | G71_2 | G72 | G72_1 | G72_2 => Some(Motion::Roughing(c)),
+            G73 | G81 | G82 | G83 | G85 | G89 => Some(Motion::Drill(c)),
+            _ => None,
+        });
+        code.or(words.has_g(G80).map(|_| Motion::CycleOff))
+    }
+}
+
+/// The number of a work offset code (1: G54 … 9: G59.3).
+fn work_offset(code: GCode) -> u8 {
+    match code {
+        G54 => 1,
+        G55 => 2,
+        G56 => 3,
+        G57 => 4,
+        G58 => 5,
+        G59 => 6,
+        G59_1 => 7,
+        G59_2 => 8,
+        _ => 9,
+    }
+}
+
+impl FrontEnd<'_> {
+    /// Sorts the line's words: the G and M codes in the line's order, every other word by
+    /// its letter. Reports a letter given twice and two codes of one modal group; `None`
+    /// when the line has either (LinuxCNC refuses it).
+    pub(super) fn sort_words<'b>(&mut self, line: Line<'_>, block: &'b Block) -> Option<Words<'b>> {
+        let mut words = Words {
+            g: Vec::new(),
+            m: Vec::new(),
+            other: Letters::default(),
+            used: Vec::new(),
+        };
+        let mut ok = self.sort_letters(line, block, &mut words);
+        ok &= self.one_code_per_group(line, &words);
+        ok.then_some(words)
+    }
+
+    /// Each word into `words` by its letter; false when a letter is given twice.
+    fn sort_letters<'b>(
+        &mut self,
+        line: Line<'_>,
+        block: &'b Block,
+        words: &mut Words<'b>,
+    ) -> bool {
+        let mut ok = true;
+        let mut repeats = 0;
+        for w in &block.words {
+            match w.letter {
+                // Checked by `unsupported` already.
+                'G' => words.g.push((w.value.to_scaled(1).unwrap_or_default(), w)),
+                'M' => words.m.push((w.value.to_whole().unwrap_or_default(), w)),
+                letter => {
+                    if words.other.contains_key(&letter) && !budget(&mut repeats) {
+                        ok = false;
+                    } else if let Some(first) = words.other.get(&letter) {
+                        let first = line.text[first.range.clone()].to_string();
+                        self.diag(
+                            codes::ISOR_CONFLICT,
+                            line,
+                            w.range.clone(),
+                            format!("a second {letter} word on the line (the first is `{first}`)"),
+                            "LinuxCNC refuses a line with two words of one letter; split the line",
+                        );
+                        ok = false;
+                    } else {
+                        words.other.insert(letter, w);
+                    }
+                }
+            }
+        }
+        if repeats > WORD_REPORTS {
+            self.diag(
+                codes::ISOR_CONFLICT,
+                line,
+                0..line.text.len(),
+                format!("{} more repeated words on the line", repeats - WORD_REPORTS),
+                "LinuxCNC refuses a line with two words of one letter; split the line",
+            );
+        }
+        ok
+    }
+
+    /// One code of each modal group per line (LinuxCNC's `read_g` and `read_m`), even the
+    /// same code twice; false when a group has two.
+    fn one_code_per_group(&mut self, line: Line<'_>, words: &Words<'_>) -> bool {
+        let mut ok = true;
+        for (codes_on_line, groups) in [(&words.g, &G_GROUPS[..]), (&words.m, &M_GROUPS[..])] {
+            if codes_on_line.len() < 2 {
+                continue;
+            }
+            for &(name, members, help) in groups {
+                let mut found = codes_on_line.iter().filter(|(c, _)| members.contains(c));
+                if let (Some((_, a)), Some((_, b))) = (found.next(), found.next()) {
+                    self.diag(
+                        codes::ISOR_CONFLICT,
+                        line,
+                        b.range.clone(),
+                        format!(
+                            "`{}` and `{}` are both {name} codes",
+                            &line.text[a.range.clone()],
+                            &line.text[b.range.clone()]
+                        ),
+                        help,
+                    );
+                    ok = false;
+                }
+            }
+        }
+        ok
+    }
+}
