@@ -24,7 +24,7 @@ pub fn check(program: &Program, src: &SourceFile, to: Option<DialectId>) -> Vec<
     let mut speed: Option<u32> = None;
     let mut feed_mode: Option<FeedMode> = None;
     for item in &program.items {
-        match &item.kind {
+        let refusal = match &item.kind {
             ItemKind::Spindle {
                 speed: s,
                 direction,
@@ -35,83 +35,105 @@ pub fn check(program: &Program, src: &SourceFile, to: Option<DialectId>) -> Vec<
                 if direction.is_some() {
                     turning = true;
                 }
+                None
             }
-            ItemKind::SpindleStop | ItemKind::ProgramEnd(_) => turning = false,
-            ItemKind::FeedMode(mode) => feed_mode = Some(*mode),
+            ItemKind::SpindleStop | ItemKind::ProgramEnd(_) => {
+                turning = false;
+                None
+            }
+            ItemKind::FeedMode(mode) => {
+                feed_mode = Some(*mode);
+                None
+            }
             ItemKind::ThreadPass(_) | ItemKind::ThreadCycle(_) | ItemKind::TapCycle(_)
                 if !turning =>
             {
-                let what = match item.kind {
-                    ItemKind::TapCycle(_) => "tap",
-                    ItemKind::ThreadCycle(_) => "thread cycle",
-                    _ => "thread pass",
-                };
-                diags.push(
-                    Diagnostic::new(
-                        codes::SPINDLE_OFF,
-                        format!("{what} while the spindle is not turning"),
-                    )
-                    .at(src, item.span)
-                    .help("start the spindle (M3/M4 with S) before the thread; a synchronised move follows the turning spindle"),
-                );
+                Some(thread_without_spindle(&item.kind))
             }
             ItemKind::Feed { .. } | ItemKind::Arc { .. }
                 if feed_mode != Some(FeedMode::PerMin) && (!turning || speed.unwrap_or(0) == 0) =>
             {
-                let why = if !turning {
-                    "the spindle is not turning"
-                } else if speed.is_none() {
-                    "no spindle speed (S) is set"
-                } else {
-                    "the spindle speed is S0"
-                };
-                diags.push(
-                    Diagnostic::new(
-                        codes::FEED_SPINDLE_OFF,
-                        format!("a feed per revolution while {why}: the axis would not move"),
-                    )
-                    .at(src, item.span)
-                    .help("start the spindle with S and M3/M4 before the feed, or program the feed per minute (G94)"),
-                );
+                Some(feed_without_spindle(turning, speed))
             }
             ItemKind::Opaque {
                 dialect,
                 text,
                 block: Some(context),
-            } => {
-                let why = match to {
-                    Some(to) if to != *dialect => Some(format!(
-                        "it may move the machine and only the {dialect} control can say it; the output is {to}"
-                    )),
-                    Some(_) => context
-                        .differs_from_output()
-                        .map(|modes| format!("it was written in {modes}"))
-                        .or_else(|| {
-                            let mode = feed_mode
-                                .or_else(|| to.and_then(|t| dialect::get(t).output_feed_mode()))?;
-                            let per_minute = mode == FeedMode::PerMin;
-                            (context.per_minute.is_some_and(|p| p != per_minute)).then(|| {
-                                "it was written in another feed mode than the output has there"
-                                    .to_string()
-                            })
-                        }),
-                    None => None,
-                };
-                if let Some(why) = why {
-                    diags.push(
-                        Diagnostic::new(
-                            codes::OPAQUE_MEANING,
-                            format!("the block `{text}`, kept as written, would mean something else in the output: {why}"),
-                        )
-                        .at(src, item.span)
-                        .help("a block ncthread does not read can only be copied where it means the same; rewrite it in what ncthread reads (or convert to the same dialect without changing its modes)"),
-                    );
-                }
-            }
-            _ => {}
+            } => kept_block_moves(text, *dialect, context, to, feed_mode),
+            _ => None,
+        };
+        if let Some(d) = refusal {
+            diags.push(d.at(src, item.span));
         }
     }
     diags
+}
+
+/// LG001: a thread pass, thread cycle or tap while the spindle is not turning.
+fn thread_without_spindle(kind: &ItemKind) -> Diagnostic {
+    let what = match kind {
+        ItemKind::TapCycle(_) => "tap",
+        ItemKind::ThreadCycle(_) => "thread cycle",
+        _ => "thread pass",
+    };
+    Diagnostic::new(
+        codes::SPINDLE_OFF,
+        format!("{what} while the spindle is not turning"),
+    )
+    .help("start the spindle (M3/M4 with S) before the thread; a synchronised move follows the turning spindle")
+}
+
+/// LG002: a feed per revolution while the spindle is not turning, or turns at no speed.
+fn feed_without_spindle(turning: bool, speed: Option<u32>) -> Diagnostic {
+    let why = if !turning {
+        "the spindle is not turning"
+    } else if speed.is_none() {
+        "no spindle speed (S) is set"
+    } else {
+        "the spindle speed is S0"
+    };
+    Diagnostic::new(
+        codes::FEED_SPINDLE_OFF,
+        format!("a feed per revolution while {why}: the axis would not move"),
+    )
+    .help(
+        "start the spindle with S and M3/M4 before the feed, or program the feed per minute (G94)",
+    )
+}
+
+/// LG003: a block kept as written that would mean something else in the output: another
+/// dialect's, or written in modes (or a feed mode) the output does not have there.
+fn kept_block_moves(
+    text: &str,
+    dialect: DialectId,
+    context: &crate::ir::ModalContext,
+    to: Option<DialectId>,
+    feed_mode: Option<FeedMode>,
+) -> Option<Diagnostic> {
+    let why = match to {
+        Some(to) if to != dialect => Some(format!(
+            "it may move the machine and only the {dialect} control can say it; the output is {to}"
+        )),
+        Some(_) => context
+            .differs_from_output()
+            .map(|modes| format!("it was written in {modes}"))
+            .or_else(|| {
+                let mode =
+                    feed_mode.or_else(|| to.and_then(|t| dialect::get(t).output_feed_mode()))?;
+                let per_minute = mode == FeedMode::PerMin;
+                (context.per_minute.is_some_and(|p| p != per_minute)).then(|| {
+                    "it was written in another feed mode than the output has there".to_string()
+                })
+            }),
+        None => None,
+    }?;
+    Some(
+        Diagnostic::new(
+            codes::OPAQUE_MEANING,
+            format!("the block `{text}`, kept as written, would mean something else in the output: {why}"),
+        )
+        .help("a block ncthread does not read can only be copied where it means the same; rewrite it in what ncthread reads (or convert to the same dialect without changing its modes)"),
+    )
 }
 
 /// The one legalisation of a program for a target: every construct that the target's table

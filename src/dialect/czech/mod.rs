@@ -8,7 +8,7 @@ pub mod syntax;
 
 pub use front::Options;
 
-use super::capabilities::{Capabilities, Construct, Read, Write, row};
+use super::capabilities::{Capabilities, Capability, Construct, Read, Write, row};
 use super::{Dialect, DialectId, Keep, LineClaim, LineMark, Unsupported, WriteOptions, detect};
 use crate::diag::{Diagnostic, codes};
 use crate::dialect::capabilities::Occurrence;
@@ -96,114 +96,8 @@ impl Dialect for Czech {
     }
 
     fn capabilities(&self, profile: &Profile) -> Capabilities {
-        use Construct::*;
         Capabilities {
-            rows: vec![
-                row(
-                    ThreadCycle,
-                    Read::No,
-                    Write::As("writes its passes, a comment block each"),
-                ),
-                row(StartAngle, Read::Yes("I"), Write::Yes("I")),
-                row(
-                    Entry,
-                    Read::Yes("E, its angle from machine constant 8"),
-                    Write::As(
-                        "writes E when the profile's constant 8 gives its angle (else CZW003)",
-                    ),
-                ),
-                row(
-                    Runout,
-                    Read::Yes("J, its angle from machine constant 8"),
-                    Write::As(
-                        "writes J when the profile's constant 8 gives its angle (else CZW003)",
-                    ),
-                ),
-                row(TaperPass, Read::Yes("G33 X Z"), Write::Yes("G33 X Z")),
-                row(ContinuedChain, Read::No, Write::No(codes::CZW_CONTINUE)),
-                row(
-                    IndexWaitInCut,
-                    Read::Yes("a G33 block right after another"),
-                    Write::Yes("G33 … I"),
-                ),
-                row(SyncInfeed, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
-                match profile.czech.arcs {
-                    CzechArcs::None => row(Arc, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
-                    CzechArcs::IkRadius => row(
-                        Arc,
-                        Read::Yes("G02/G03 X Z I K, I a radius"),
-                        Write::Yes("G02/G03 X Z I K, I a radius"),
-                    ),
-                    CzechArcs::IkDiameter => row(
-                        Arc,
-                        Read::Yes("G02/G03 X Z I K, I a diameter"),
-                        Write::Yes("G02/G03 X Z I K, I a diameter"),
-                    ),
-                    CzechArcs::Radius => row(
-                        Arc,
-                        Read::Yes("G02/G03 X Z R"),
-                        Write::As("G02/G03 X Z R (not a full circle)"),
-                    ),
-                },
-                row(
-                    Chamfer45,
-                    Read::No,
-                    Write::As("writes it as a feed move (G01 X Z)"),
-                ),
-                if profile.czech.coolant {
-                    row(Coolant, Read::Yes("M08/M09"), Write::Yes("M08/M09"))
-                } else {
-                    row(Coolant, Read::No, Write::No(codes::CZW_NO_EQUIVALENT))
-                },
-                if profile.czech.mist {
-                    row(MistCoolant, Read::Yes("M07"), Write::Yes("M07"))
-                } else {
-                    row(MistCoolant, Read::No, Write::No(codes::CZW_NO_EQUIVALENT))
-                },
-                row(Stop, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
-                if profile.czech.surface_speed {
-                    row(
-                        SurfaceSpeed,
-                        Read::Yes("G96 S (m/min), G97 S"),
-                        Write::As(
-                            "G96 S (m/min), G97 S; no speed limit word (a G96 with one: CZW002)",
-                        ),
-                    )
-                } else {
-                    row(SurfaceSpeed, Read::No, Write::No(codes::CZW_NO_EQUIVALENT))
-                },
-                row(
-                    CutterCompensation,
-                    Read::No,
-                    Write::No(codes::CZW_NO_EQUIVALENT),
-                ),
-                row(WorkOffset, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
-                row(
-                    MachineCoordinates,
-                    Read::No,
-                    Write::No(codes::CZW_NO_EQUIVALENT),
-                ),
-                row(Tapping, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
-                match profile.czech.dwell {
-                    CzechDwell::None => row(Dwell, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
-                    CzechDwell::XSeconds => {
-                        row(Dwell, Read::Yes("G04 X (s)"), Write::Yes("G04 X (s)"))
-                    }
-                    CzechDwell::FSeconds => {
-                        row(Dwell, Read::Yes("G04 F (s)"), Write::Yes("G04 F (s)"))
-                    }
-                    CzechDwell::PMilliseconds => row(
-                        Dwell,
-                        Read::Yes("G04 P (ms)"),
-                        Write::As("G04 P (ms; a time off the millisecond: CZW001)"),
-                    ),
-                },
-                row(PerMinuteFeed, Read::Yes("G94"), Write::Yes("G94")),
-                row(ToolOffset, Read::Yes("D"), Write::Yes("D")),
-                row(Parameters, Read::Yes("R<nn>="), Write::Yes("R<nn>=")),
-                row(Repeat, Read::No, Write::As("writes the repeated moves out")),
-                row(Comments, Read::Yes("\""), Write::Yes("\"")),
-            ],
+            rows: [thread_rows(), machine_rows(profile)].concat(),
             numbers: "lengths to 0.001 mm, leads to 0.0001 mm (over 99.99 through FRnn); `--round` rounds, reporting the largest deviation",
         }
     }
@@ -284,4 +178,113 @@ impl Dialect for Czech {
     ) -> (Option<String>, Vec<Diagnostic>) {
         emit::emit(program, src, profile, options.renumber, options.round)
     }
+}
+
+/// The table's rows for the thread's forms (cycles, passes, their tapers and chains).
+fn thread_rows() -> Vec<Capability> {
+    use Construct::*;
+    vec![
+        row(
+            ThreadCycle,
+            Read::No,
+            Write::As("writes its passes, a comment block each"),
+        ),
+        row(StartAngle, Read::Yes("I"), Write::Yes("I")),
+        row(
+            Entry,
+            Read::Yes("E, its angle from machine constant 8"),
+            Write::As("writes E when the profile's constant 8 gives its angle (else CZW003)"),
+        ),
+        row(
+            Runout,
+            Read::Yes("J, its angle from machine constant 8"),
+            Write::As("writes J when the profile's constant 8 gives its angle (else CZW003)"),
+        ),
+        row(TaperPass, Read::Yes("G33 X Z"), Write::Yes("G33 X Z")),
+        row(ContinuedChain, Read::No, Write::No(codes::CZW_CONTINUE)),
+        row(
+            IndexWaitInCut,
+            Read::Yes("a G33 block right after another"),
+            Write::Yes("G33 … I"),
+        ),
+        row(SyncInfeed, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
+    ]
+}
+
+/// The table's rows for the rest of a part program, as far as the profile gives their forms.
+fn machine_rows(profile: &Profile) -> Vec<Capability> {
+    use Construct::*;
+
+    vec![
+        match profile.czech.arcs {
+            CzechArcs::None => row(Arc, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
+            CzechArcs::IkRadius => row(
+                Arc,
+                Read::Yes("G02/G03 X Z I K, I a radius"),
+                Write::Yes("G02/G03 X Z I K, I a radius"),
+            ),
+            CzechArcs::IkDiameter => row(
+                Arc,
+                Read::Yes("G02/G03 X Z I K, I a diameter"),
+                Write::Yes("G02/G03 X Z I K, I a diameter"),
+            ),
+            CzechArcs::Radius => row(
+                Arc,
+                Read::Yes("G02/G03 X Z R"),
+                Write::As("G02/G03 X Z R (not a full circle)"),
+            ),
+        },
+        row(
+            Chamfer45,
+            Read::No,
+            Write::As("writes it as a feed move (G01 X Z)"),
+        ),
+        if profile.czech.coolant {
+            row(Coolant, Read::Yes("M08/M09"), Write::Yes("M08/M09"))
+        } else {
+            row(Coolant, Read::No, Write::No(codes::CZW_NO_EQUIVALENT))
+        },
+        if profile.czech.mist {
+            row(MistCoolant, Read::Yes("M07"), Write::Yes("M07"))
+        } else {
+            row(MistCoolant, Read::No, Write::No(codes::CZW_NO_EQUIVALENT))
+        },
+        row(Stop, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
+        if profile.czech.surface_speed {
+            row(
+                SurfaceSpeed,
+                Read::Yes("G96 S (m/min), G97 S"),
+                Write::As("G96 S (m/min), G97 S; no speed limit word (a G96 with one: CZW002)"),
+            )
+        } else {
+            row(SurfaceSpeed, Read::No, Write::No(codes::CZW_NO_EQUIVALENT))
+        },
+        row(
+            CutterCompensation,
+            Read::No,
+            Write::No(codes::CZW_NO_EQUIVALENT),
+        ),
+        row(WorkOffset, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
+        row(
+            MachineCoordinates,
+            Read::No,
+            Write::No(codes::CZW_NO_EQUIVALENT),
+        ),
+        row(Tapping, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
+        match profile.czech.dwell {
+            CzechDwell::None => row(Dwell, Read::No, Write::No(codes::CZW_NO_EQUIVALENT)),
+            CzechDwell::XSeconds => row(Dwell, Read::Yes("G04 X (s)"), Write::Yes("G04 X (s)")),
+            CzechDwell::FSeconds => row(Dwell, Read::Yes("G04 F (s)"), Write::Yes("G04 F (s)")),
+            CzechDwell::PMilliseconds => row(
+                Dwell,
+                Read::Yes("G04 P (ms)"),
+                Write::As("G04 P (ms; a time off the millisecond: CZW001)"),
+            ),
+        },
+        row(PerMinuteFeed, Read::Yes("G94"), Write::Yes("G94")),
+        row(ToolOffset, Read::Yes("D"), Write::Yes("D")),
+        row(Parameters, Read::Yes("R<nn>="), Write::Yes("R<nn>=")),
+        row(Repeat, Read::No, Write::As("writes the repeated moves out")),
+        row(Comments, Read::Yes("\""), Write::Yes("\"")),
+    ]
 }

@@ -6,7 +6,7 @@ mod front;
 pub mod profile;
 pub mod syntax;
 
-use super::capabilities::{Capabilities, Construct, Read, Write, row};
+use super::capabilities::{Capabilities, Capability, Construct, Read, Write, row};
 use super::{Dialect, DialectId, Keep, LineClaim, LineMark, Unsupported, WriteOptions, detect};
 use crate::diag::{Diagnostic, codes};
 use crate::dialect::capabilities::Occurrence;
@@ -115,106 +115,8 @@ impl Dialect for Fanuc {
     }
 
     fn capabilities(&self, profile: &Profile) -> Capabilities {
-        use Construct::*;
-        let f = &profile.fanuc;
         Capabilities {
-            rows: vec![
-                row(
-                    ThreadCycle,
-                    Read::No,
-                    Write::As("writes its passes as G32 blocks (G92 and G76 never)"),
-                ),
-                row(
-                    StartAngle,
-                    Read::Yes("G32/G92 … Q (0.001°)"),
-                    Write::Yes("Q on a chain's first G32"),
-                ),
-                row(
-                    Entry,
-                    Read::No,
-                    Write::As("writes it as a G32 block of the pass's chain"),
-                ),
-                row(
-                    Runout,
-                    Read::Yes("G92's chamfer, from the profile's `thread_chamfer_0p1_lead`"),
-                    Write::As("writes it as a G32 block of the pass's chain"),
-                ),
-                row(
-                    TaperPass,
-                    Read::Yes("G32 X Z, G92 R"),
-                    Write::Yes("G32 X Z, F the lead along Z"),
-                ),
-                row(
-                    ContinuedChain,
-                    Read::Yes("consecutive G32 blocks"),
-                    Write::Yes("consecutive G32 blocks"),
-                ),
-                row(IndexWaitInCut, Read::No, Write::No(codes::FANW_INDEX_WAIT)),
-                row(SyncInfeed, Read::No, Write::No(codes::FANW_STEEP)),
-                row(SteepSync, Read::No, Write::No(codes::FANW_STEEP)),
-                row(
-                    Arc,
-                    Read::Yes("G02/G03 X Z I K, I a radius; R up to half a circle"),
-                    Write::Yes("G02/G03 X Z I K, I a radius"),
-                ),
-                row(
-                    Chamfer45,
-                    Read::No,
-                    Write::As("writes it as a feed move (G01 X Z)"),
-                ),
-                row(Coolant, Read::Yes("M08/M09"), Write::Yes("M08/M09")),
-                if f.mist {
-                    row(MistCoolant, Read::Yes("M07"), Write::Yes("M07"))
-                } else {
-                    row(MistCoolant, Read::No, Write::No(codes::FANW_NO_EQUIVALENT))
-                },
-                row(Stop, Read::Yes("M00/M01"), Write::Yes("M00/M01")),
-                row(
-                    SurfaceSpeed,
-                    Read::Yes("G96 S (m/min), G50 S its limit, G97 S"),
-                    Write::Yes("G50 S, G96 S, G97 S"),
-                ),
-                if f.nose_radius_in_offsets {
-                    row(
-                        CutterCompensation,
-                        Read::Yes("G41/G42, the nose radius in the offset page"),
-                        Write::As(
-                            "G41/G42 (the nose radius in the offset page; G41.1/G42.1: FANW002)",
-                        ),
-                    )
-                } else {
-                    row(
-                        CutterCompensation,
-                        Read::Yes("G41/G42, the nose radius in the offset page"),
-                        Write::No(codes::FANW_NO_EQUIVALENT),
-                    )
-                },
-                row(
-                    WorkOffset,
-                    Read::Yes("G54–G59"),
-                    Write::As("G54–G59 (G59.1–G59.3: FANW002)"),
-                ),
-                row(
-                    MachineCoordinates,
-                    Read::No,
-                    Write::No(codes::FANW_NO_EQUIVALENT),
-                ),
-                row(Tapping, Read::No, Write::No(codes::FANW_NO_EQUIVALENT)),
-                row(
-                    Dwell,
-                    Read::Yes("G04 U/X (s), G04 P (ms)"),
-                    Write::Yes("G04 U (s)"),
-                ),
-                row(PerMinuteFeed, Read::Yes("G98"), Write::Yes("G98")),
-                row(ToolOffset, Read::Yes("T0101"), Write::Yes("T0101")),
-                row(Parameters, Read::No, Write::As("writes them as comments")),
-                row(Repeat, Read::No, Write::As("writes the repeated moves out")),
-                row(
-                    Comments,
-                    Read::Yes("`( )`"),
-                    Write::As("`( )`, upper-case ASCII"),
-                ),
-            ],
+            rows: [thread_rows(), machine_rows(profile)].concat(),
             numbers: "lengths to 0.001 mm (X a diameter, I a radius), leads and feeds to 0.0001 mm, a decimal point on every length; `--round` rounds, reporting the largest deviation",
         }
     }
@@ -270,4 +172,114 @@ impl Dialect for Fanuc {
     ) -> (Option<String>, Vec<Diagnostic>) {
         emit::emit(program, src, profile, options.round)
     }
+}
+
+/// The table's rows for the thread's forms (cycles, passes, their tapers and chains).
+fn thread_rows() -> Vec<Capability> {
+    use Construct::*;
+
+    vec![
+        row(
+            ThreadCycle,
+            Read::No,
+            Write::As("writes its passes as G32 blocks (G92 and G76 never)"),
+        ),
+        row(
+            StartAngle,
+            Read::Yes("G32/G92 … Q (0.001°)"),
+            Write::Yes("Q on a chain's first G32"),
+        ),
+        row(
+            Entry,
+            Read::No,
+            Write::As("writes it as a G32 block of the pass's chain"),
+        ),
+        row(
+            Runout,
+            Read::Yes("G92's chamfer, from the profile's `thread_chamfer_0p1_lead`"),
+            Write::As("writes it as a G32 block of the pass's chain"),
+        ),
+        row(
+            TaperPass,
+            Read::Yes("G32 X Z, G92 R"),
+            Write::Yes("G32 X Z, F the lead along Z"),
+        ),
+        row(
+            ContinuedChain,
+            Read::Yes("consecutive G32 blocks"),
+            Write::Yes("consecutive G32 blocks"),
+        ),
+        row(IndexWaitInCut, Read::No, Write::No(codes::FANW_INDEX_WAIT)),
+        row(SyncInfeed, Read::No, Write::No(codes::FANW_STEEP)),
+        row(SteepSync, Read::No, Write::No(codes::FANW_STEEP)),
+    ]
+}
+
+/// The table's rows for the rest of a part program, as far as the profile gives their forms.
+fn machine_rows(profile: &Profile) -> Vec<Capability> {
+    use Construct::*;
+    let f = &profile.fanuc;
+
+    vec![
+        row(
+            Arc,
+            Read::Yes("G02/G03 X Z I K, I a radius; R up to half a circle"),
+            Write::Yes("G02/G03 X Z I K, I a radius"),
+        ),
+        row(
+            Chamfer45,
+            Read::No,
+            Write::As("writes it as a feed move (G01 X Z)"),
+        ),
+        row(Coolant, Read::Yes("M08/M09"), Write::Yes("M08/M09")),
+        if f.mist {
+            row(MistCoolant, Read::Yes("M07"), Write::Yes("M07"))
+        } else {
+            row(MistCoolant, Read::No, Write::No(codes::FANW_NO_EQUIVALENT))
+        },
+        row(Stop, Read::Yes("M00/M01"), Write::Yes("M00/M01")),
+        row(
+            SurfaceSpeed,
+            Read::Yes("G96 S (m/min), G50 S its limit, G97 S"),
+            Write::Yes("G50 S, G96 S, G97 S"),
+        ),
+        if f.nose_radius_in_offsets {
+            row(
+                CutterCompensation,
+                Read::Yes("G41/G42, the nose radius in the offset page"),
+                Write::As("G41/G42 (the nose radius in the offset page; G41.1/G42.1: FANW002)"),
+            )
+        } else {
+            row(
+                CutterCompensation,
+                Read::Yes("G41/G42, the nose radius in the offset page"),
+                Write::No(codes::FANW_NO_EQUIVALENT),
+            )
+        },
+        row(
+            WorkOffset,
+            Read::Yes("G54–G59"),
+            Write::As("G54–G59 (G59.1–G59.3: FANW002)"),
+        ),
+        row(
+            MachineCoordinates,
+            Read::No,
+            Write::No(codes::FANW_NO_EQUIVALENT),
+        ),
+        row(Tapping, Read::No, Write::No(codes::FANW_NO_EQUIVALENT)),
+        row(
+            Dwell,
+            Read::Yes("G04 U/X (s), G04 P (ms)"),
+            Write::Yes("G04 U (s)"),
+        ),
+        row(PerMinuteFeed, Read::Yes("G98"), Write::Yes("G98")),
+        row(ToolOffset, Read::Yes("T0101"), Write::Yes("T0101")),
+        row(Parameters, Read::No, Write::As("writes them as comments")),
+        row(Repeat, Read::No, Write::As("writes the repeated moves out")),
+        row(
+            Comments,
+            Read::Yes("`( )`"),
+            Write::As("`( )`, upper-case ASCII"),
+        ),
+    ]
 }

@@ -8,7 +8,7 @@ pub mod syntax;
 
 pub use front::Options;
 
-use super::capabilities::{Capabilities, Construct, Read, Write, row};
+use super::capabilities::{Capabilities, Capability, Construct, Read, Write, row};
 use super::{Dialect, DialectId, Keep, LineClaim, LineMark, Unsupported, WriteOptions, detect};
 use crate::diag::{Diagnostic, codes};
 use crate::dialect::capabilities::Occurrence;
@@ -116,116 +116,8 @@ impl Dialect for Nc31 {
     }
 
     fn capabilities(&self, profile: &Profile) -> Capabilities {
-        use Construct::*;
         Capabilities {
-            rows: vec![
-                row(
-                    ThreadCycle,
-                    Read::Yes("G31"),
-                    Write::As(
-                        "writes G31 when the profile's parameters 6 and 7, retract and schedule reproduce it, else G32 passes",
-                    ),
-                ),
-                row(StartAngle, Read::No, Write::No(codes::NCW_PASS)),
-                row(Entry, Read::No, Write::No(codes::NCW_PASS)),
-                row(
-                    Runout,
-                    Read::Yes("in G31: parameter 7"),
-                    Write::As(
-                        "writes it only inside a G31 kept whole (parameter 7); refuses it on a pass (NCW003)",
-                    ),
-                ),
-                row(
-                    TaperPass,
-                    Read::Yes("in G31: the third P"),
-                    Write::As(
-                        "writes it only inside a G31 kept whole (the third P); refuses it on a pass (NCW003)",
-                    ),
-                ),
-                row(ContinuedChain, Read::No, Write::No(codes::NCW_PASS)),
-                row(
-                    IndexWaitInCut,
-                    Read::Yes("a G32 group right after another"),
-                    Write::Yes("G32"),
-                ),
-                row(SyncInfeed, Read::No, Write::No(codes::NCW_PASS)),
-                row(
-                    Tapping,
-                    Read::Yes("G33"),
-                    Write::Yes("G33, `G33 @` for point C"),
-                ),
-                row(Dwell, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
-                if profile.nc31.arcs && profile.nc31.arc_direction.is_some() {
-                    row(
-                        Arc,
-                        Read::Yes("G2/G3 X Z P P, G12/G13 X Z"),
-                        Write::As("G2/G3 X Z P P, a group per quadrant"),
-                    )
-                } else {
-                    row(Arc, Read::No, Write::No(codes::NCW_NO_EQUIVALENT))
-                },
-                row(
-                    Chamfer45,
-                    Read::Yes("X or Z with `+45`/`-45`, closed by F"),
-                    if profile.nc31.chamfer45 {
-                        Write::As(
-                            "writes `X…±45 *` + `F…` where start, end and feed are whole units, else X and Z frames",
-                        )
-                    } else {
-                        Write::As(
-                            "writes X and Z frames (`X…±45 *` + `F…` with the profile's chamfer45 = true)",
-                        )
-                    },
-                ),
-                if profile.nc31.coolant {
-                    row(Coolant, Read::Yes("M8/M9"), Write::Yes("M8/M9"))
-                } else {
-                    row(Coolant, Read::No, Write::No(codes::NCW_NO_EQUIVALENT))
-                },
-                row(MistCoolant, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
-                row(Stop, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
-                row(SurfaceSpeed, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
-                row(
-                    CutterCompensation,
-                    Read::No,
-                    Write::No(codes::NCW_NO_EQUIVALENT),
-                ),
-                row(WorkOffset, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
-                row(
-                    MachineCoordinates,
-                    Read::No,
-                    Write::No(codes::NCW_NO_EQUIVALENT),
-                ),
-                row(PerMinuteFeed, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
-                row(
-                    ToolOffset,
-                    Read::No,
-                    Write::As(
-                        "leaves it out with NCW004 (the T word's turret position carries it)",
-                    ),
-                ),
-                row(
-                    Parameters,
-                    Read::No,
-                    Write::As("leaves them out with NCW004 (their values are written where used)"),
-                ),
-                row(
-                    Repeat,
-                    if profile.nc31.repeat_g25 {
-                        Read::Yes("G25 P P, unrolled")
-                    } else {
-                        Read::No
-                    },
-                    Write::As("writes the repeated frames out, never G25"),
-                ),
-                row(
-                    Comments,
-                    Read::Yes("`(` lines"),
-                    Write::As(
-                        "leaves them out with NCW007, or writes `(` lines with --nc31-comments",
-                    ),
-                ),
-            ],
+            rows: [thread_rows(), machine_rows(profile)].concat(),
             numbers: "whole units of the profile (X, Z, P 0.01 mm; leads 0.0001 mm; feeds 0.01 mm/rev); `--round` rounds, reporting the largest deviation",
         }
     }
@@ -291,4 +183,122 @@ impl Dialect for Nc31 {
     ) -> (Option<String>, Vec<Diagnostic>) {
         emit::emit(program, src, profile, options)
     }
+}
+
+/// The table's rows for the thread's forms (cycles, passes, their tapers and chains).
+fn thread_rows() -> Vec<Capability> {
+    use Construct::*;
+
+    vec![
+        row(
+            ThreadCycle,
+            Read::Yes("G31"),
+            Write::As(
+                "writes G31 when the profile's parameters 6 and 7, retract and schedule reproduce it, else G32 passes",
+            ),
+        ),
+        row(StartAngle, Read::No, Write::No(codes::NCW_PASS)),
+        row(Entry, Read::No, Write::No(codes::NCW_PASS)),
+        row(
+            Runout,
+            Read::Yes("in G31: parameter 7"),
+            Write::As(
+                "writes it only inside a G31 kept whole (parameter 7); refuses it on a pass (NCW003)",
+            ),
+        ),
+        row(
+            TaperPass,
+            Read::Yes("in G31: the third P"),
+            Write::As(
+                "writes it only inside a G31 kept whole (the third P); refuses it on a pass (NCW003)",
+            ),
+        ),
+        row(ContinuedChain, Read::No, Write::No(codes::NCW_PASS)),
+        row(
+            IndexWaitInCut,
+            Read::Yes("a G32 group right after another"),
+            Write::Yes("G32"),
+        ),
+        row(SyncInfeed, Read::No, Write::No(codes::NCW_PASS)),
+        row(
+            Tapping,
+            Read::Yes("G33"),
+            Write::Yes("G33, `G33 @` for point C"),
+        ),
+        row(Dwell, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
+    ]
+}
+
+/// The table's rows for the rest of a part program, as far as the profile gives their forms.
+fn machine_rows(profile: &Profile) -> Vec<Capability> {
+    use Construct::*;
+
+    vec![
+        if profile.nc31.arcs && profile.nc31.arc_direction.is_some() {
+            row(
+                Arc,
+                Read::Yes("G2/G3 X Z P P, G12/G13 X Z"),
+                Write::As("G2/G3 X Z P P, a group per quadrant"),
+            )
+        } else {
+            row(Arc, Read::No, Write::No(codes::NCW_NO_EQUIVALENT))
+        },
+        row(
+            Chamfer45,
+            Read::Yes("X or Z with `+45`/`-45`, closed by F"),
+            if profile.nc31.chamfer45 {
+                Write::As(
+                    "writes `X…±45 *` + `F…` where start, end and feed are whole units, else X and Z frames",
+                )
+            } else {
+                Write::As(
+                    "writes X and Z frames (`X…±45 *` + `F…` with the profile's chamfer45 = true)",
+                )
+            },
+        ),
+        if profile.nc31.coolant {
+            row(Coolant, Read::Yes("M8/M9"), Write::Yes("M8/M9"))
+        } else {
+            row(Coolant, Read::No, Write::No(codes::NCW_NO_EQUIVALENT))
+        },
+        row(MistCoolant, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
+        row(Stop, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
+        row(SurfaceSpeed, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
+        row(
+            CutterCompensation,
+            Read::No,
+            Write::No(codes::NCW_NO_EQUIVALENT),
+        ),
+        row(WorkOffset, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
+        row(
+            MachineCoordinates,
+            Read::No,
+            Write::No(codes::NCW_NO_EQUIVALENT),
+        ),
+        row(PerMinuteFeed, Read::No, Write::No(codes::NCW_NO_EQUIVALENT)),
+        row(
+            ToolOffset,
+            Read::No,
+            Write::As("leaves it out with NCW004 (the T word's turret position carries it)"),
+        ),
+        row(
+            Parameters,
+            Read::No,
+            Write::As("leaves them out with NCW004 (their values are written where used)"),
+        ),
+        row(
+            Repeat,
+            if profile.nc31.repeat_g25 {
+                Read::Yes("G25 P P, unrolled")
+            } else {
+                Read::No
+            },
+            Write::As("writes the repeated frames out, never G25"),
+        ),
+        row(
+            Comments,
+            Read::Yes("`(` lines"),
+            Write::As("leaves them out with NCW007, or writes `(` lines with --nc31-comments"),
+        ),
+    ]
 }
