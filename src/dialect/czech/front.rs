@@ -17,11 +17,11 @@ use std::ops::Range;
 use super::syntax::{self, Block, Value};
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::Unsupported;
+use crate::dialect::czech::profile::{CzechProfile, InitialMotion};
 use crate::dialect::machine::Switches;
 use crate::dialect::read::{Keep, Reader, UnsupportedWording};
 use crate::fixed::{Decimal, Length, NumberError};
 use crate::ir::{ItemKind, ModalContext, Program, SpindleMode};
-use crate::profile::{InitialMotion, Profile};
 use crate::source::{Line, SourceFile, Span};
 use syntax::Word;
 use words::Words;
@@ -40,6 +40,8 @@ const UNSUPPORTED: UnsupportedWording = UnsupportedWording {
 #[derive(Clone, Debug, Default)]
 pub struct Options {
     pub unsupported: Unsupported,
+    /// The profile file's name, for the messages that cite its constant 8.
+    pub profile_name: Option<String>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -68,7 +70,7 @@ enum AfterRunout {
 
 struct FrontEnd<'a> {
     r: Reader<'a>,
-    profile: &'a Profile,
+    profile: &'a CzechProfile,
     options: &'a Options,
     motion: Motion,
     incremental: bool,
@@ -79,14 +81,18 @@ struct FrontEnd<'a> {
 
 /// Reads a czech program. The program holds every item that could be read; the program is
 /// usable only when no diagnostic is an error.
-pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program, Vec<Diagnostic>) {
+pub fn parse(
+    src: &SourceFile,
+    profile: &CzechProfile,
+    options: &Options,
+) -> (Program, Vec<Diagnostic>) {
     read(src, profile, options, Keep::Program)
 }
 
 /// [`parse`], keeping the program or only the diagnostics.
 pub(crate) fn read(
     src: &SourceFile,
-    profile: &Profile,
+    profile: &CzechProfile,
     options: &Options,
     keep: Keep,
 ) -> (Program, Vec<Diagnostic>) {
@@ -94,7 +100,7 @@ pub(crate) fn read(
         r: Reader::new(src, super::ID, keep),
         profile,
         options,
-        motion: match profile.czech.initial_motion {
+        motion: match profile.initial_motion {
             InitialMotion::Rapid => Motion::Rapid,
             InitialMotion::Feed => Motion::Feed,
         },
@@ -553,13 +559,13 @@ fn code_span_range(line: Line<'_>, span: Span) -> Range<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dialect::czech::profile::{Constant8, CzechArcs, CzechDwell};
     use crate::fixed::Lead;
     use crate::ir::{Chamfer, Pos, ThreadPass};
-    use crate::profile::{Constant8, CzechArcs, CzechDwell};
 
     fn run(text: &str, constant8: Option<&str>) -> (Program, Vec<Diagnostic>) {
-        let mut profile = Profile::default();
-        profile.czech.constant8 = constant8.map(|c| Constant8::parse(c).unwrap());
+        let mut profile = CzechProfile::default();
+        profile.constant8 = constant8.map(|c| Constant8::parse(c).unwrap());
         parse(
             &SourceFile::new("t.nc", text),
             &profile,
@@ -571,9 +577,9 @@ mod tests {
     #[test]
     fn dwell_and_surface_speed_follow_the_profile_form() {
         let read = |dwell: CzechDwell, css: bool, text: &str| {
-            let mut profile = Profile::default();
-            profile.czech.dwell = dwell;
-            profile.czech.surface_speed = css;
+            let mut profile = CzechProfile::default();
+            profile.dwell = dwell;
+            profile.surface_speed = css;
             let head = "N10 M03 S500 G95\nN20 G00 X20. Z0.\nN30 ";
             let src = SourceFile::new("t.nc", format!("{head}{text}\nN40 Z-5.\n"));
             let (p, d) = parse(&src, &profile, &Options::default());
@@ -664,9 +670,9 @@ mod tests {
     #[test]
     fn arcs_follow_the_profile_form() {
         let arc = |form: CzechArcs, mirrored: bool, text: &str| {
-            let mut profile = Profile::default();
-            profile.czech.arcs = form;
-            profile.czech.arcs_mirrored = mirrored;
+            let mut profile = CzechProfile::default();
+            profile.arcs = form;
+            profile.arcs_mirrored = mirrored;
             let head = "N10 M03 S500 G95\nN20 G00 X20. Z0.\nN30 G01 F0.1\nN40 ";
             let src = SourceFile::new("t.nc", format!("{head}{text}\n"));
             let (p, d) = parse(&src, &profile, &Options::default());
@@ -926,8 +932,9 @@ mod tests {
         let src = SourceFile::new("t.nc", "N10 G00 X1. Z1.\nN20 G84 X2. Z-5.\nN30 G91 X1.\n");
         let options = Options {
             unsupported: Unsupported::Warn,
+            profile_name: None,
         };
-        let (program, diags) = parse(&src, &Profile::default(), &options);
+        let (program, diags) = parse(&src, &CzechProfile::default(), &options);
         assert_eq!(diags[0].severity, diag::Severity::Warning);
         // Kept without its block number (the writer gives one), with the modes it was
         // written under.
@@ -938,7 +945,7 @@ mod tests {
         assert_eq!(diags[1].code, codes::CZR_UNKNOWN_POSITION);
         // A kept block may not change what later blocks depend on (here the F register).
         let src = SourceFile::new("t.nc", "N10 G00 X1. Z1.\nN20 G84 X2. Z-5. F1.\n");
-        let (_, diags) = parse(&src, &Profile::default(), &options);
+        let (_, diags) = parse(&src, &CzechProfile::default(), &options);
         let e = diags.iter().find(|d| d.is_error()).unwrap();
         assert_eq!(e.code, codes::CZR_UNSUPPORTED);
         assert!(

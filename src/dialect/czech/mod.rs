@@ -83,7 +83,14 @@ impl Dialect for Czech {
         profile: &Profile,
         unsupported: Unsupported,
     ) -> (Program, Vec<Diagnostic>) {
-        front::parse(src, profile, &Options { unsupported })
+        front::parse(
+            src,
+            &profile.czech,
+            &Options {
+                unsupported,
+                profile_name: profile.name.clone(),
+            },
+        )
     }
 
     fn diagnostics(
@@ -92,7 +99,16 @@ impl Dialect for Czech {
         profile: &Profile,
         unsupported: Unsupported,
     ) -> Vec<Diagnostic> {
-        front::read(src, profile, &Options { unsupported }, Keep::Diagnostics).1
+        front::read(
+            src,
+            &profile.czech,
+            &Options {
+                unsupported,
+                profile_name: profile.name.clone(),
+            },
+            Keep::Diagnostics,
+        )
+        .1
     }
 
     fn capabilities(&self, profile: &Profile) -> Capabilities {

@@ -976,7 +976,7 @@ mod tests {
         );
         let (program, diags) = super::super::front::parse(
             &src,
-            &Profile::default(),
+            &Default::default(),
             crate::dialect::Unsupported::Error,
         );
         assert!(!crate::diag::has_errors(&diags), "{diags:?}");

@@ -17,10 +17,10 @@ use std::ops::Range;
 use super::syntax::{self, Block, Word};
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::Unsupported;
+use crate::dialect::fanuc::profile::{DecimalPoint, FanucProfile};
 use crate::dialect::read::{Keep, Reader, UnsupportedWording};
 use crate::fixed::{Decimal, Lead, Length};
 use crate::ir::{ItemKind, ModalContext, Pos, Program};
-use crate::profile::{DecimalPoint, Profile};
 use crate::source::{Line, SourceFile, Span};
 
 mod block;
@@ -103,7 +103,7 @@ enum Unit {
 
 struct FrontEnd<'a> {
     r: Reader<'a>,
-    profile: &'a Profile,
+    profile: &'a FanucProfile,
     unsupported: Unsupported,
     motion: Motion,
     inch: bool,
@@ -130,7 +130,7 @@ struct FrontEnd<'a> {
 /// only when no diagnostic is an error.
 pub fn parse(
     src: &SourceFile,
-    profile: &Profile,
+    profile: &FanucProfile,
     unsupported: Unsupported,
 ) -> (Program, Vec<Diagnostic>) {
     read(src, profile, unsupported, Keep::Program)
@@ -139,7 +139,7 @@ pub fn parse(
 /// [`parse`], keeping the program or only the diagnostics.
 pub(crate) fn read(
     src: &SourceFile,
-    profile: &Profile,
+    profile: &FanucProfile,
     unsupported: Unsupported,
     keep: Keep,
 ) -> (Program, Vec<Diagnostic>) {
@@ -214,7 +214,7 @@ impl FrontEnd<'_> {
     /// (and how the profile reads it), the first inch value rounded onto the grid.
     fn closing_notes(&mut self, src: &SourceFile) {
         if let Some((span, word)) = self.no_point.take() {
-            let (message, help) = match self.profile.fanuc.decimal_point {
+            let (message, help) = match self.profile.decimal_point {
                 DecimalPoint::Increment => (
                     format!(
                         "`{word}` and other words without a decimal point are read in least input increments (0.001 mm), the profile's `decimal_point = \"increment\"` (FANUC parameter 3401#0 = 0)"
@@ -354,11 +354,15 @@ mod tests {
 
     fn read(text: &str, profile: &str) -> (Vec<Item>, Vec<Diagnostic>) {
         let profile = if profile.is_empty() {
-            Profile::default()
+            crate::profile::Profile::default()
         } else {
-            Profile::from_toml(&SourceFile::new("p", profile)).expect("a profile")
+            crate::profile::Profile::from_toml(&SourceFile::new("p", profile)).expect("a profile")
         };
-        let (p, d) = parse(&SourceFile::new("t", text), &profile, Unsupported::Error);
+        let (p, d) = parse(
+            &SourceFile::new("t", text),
+            &profile.fanuc,
+            Unsupported::Error,
+        );
         (p.items, d)
     }
 

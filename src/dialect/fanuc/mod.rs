@@ -102,7 +102,7 @@ impl Dialect for Fanuc {
         profile: &Profile,
         unsupported: Unsupported,
     ) -> (Program, Vec<Diagnostic>) {
-        front::parse(src, profile, unsupported)
+        front::parse(src, &profile.fanuc, unsupported)
     }
 
     fn diagnostics(
@@ -111,7 +111,7 @@ impl Dialect for Fanuc {
         profile: &Profile,
         unsupported: Unsupported,
     ) -> Vec<Diagnostic> {
-        front::read(src, profile, unsupported, Keep::Diagnostics).1
+        front::read(src, &profile.fanuc, unsupported, Keep::Diagnostics).1
     }
 
     fn capabilities(&self, profile: &Profile) -> Capabilities {

@@ -836,7 +836,7 @@ mod tests {
         options: WriteOptions,
     ) -> (Option<String>, Vec<Diagnostic>) {
         let src = SourceFile::new("t.nc", text);
-        let (program, diags) = super::super::front::parse(&src, profile, &Default::default());
+        let (program, diags) = super::super::front::parse(&src, &profile.nc31, &Default::default());
         assert!(!crate::diag::has_errors(&diags), "{diags:?}");
         emit(&program, &src, profile, &options)
     }
@@ -913,7 +913,7 @@ mod tests {
     fn another_machines_cycle_becomes_g32_passes_that_cut_the_same() {
         let src = SourceFile::new("t.nc", SEED_G31);
         let profile = Profile::default();
-        let (program, _) = super::super::front::parse(&src, &profile, &Default::default());
+        let (program, _) = super::super::front::parse(&src, &profile.nc31, &Default::default());
         // The same cycle with a schedule this machine's G31 does not use.
         let mut other = program.clone();
         for item in &mut other.items {
@@ -929,7 +929,7 @@ mod tests {
             "{out}"
         );
         let back = SourceFile::new("back.nc", out);
-        let (read, diags) = super::super::front::parse(&back, &profile, &Default::default());
+        let (read, diags) = super::super::front::parse(&back, &profile.nc31, &Default::default());
         assert!(!crate::diag::has_errors(&diags), "{diags:?}");
         let a = crate::sim::normalise(&crate::sim::simulate(&other).segments);
         let b = crate::sim::normalise(&crate::sim::simulate(&read).segments);
@@ -941,7 +941,7 @@ mod tests {
         let mut p7 = Profile::default();
         p7.nc31.runout_p7 = 10;
         let src = SourceFile::new("t.nc", SEED_G31);
-        let (program, _) = super::super::front::parse(&src, &p7, &Default::default());
+        let (program, _) = super::super::front::parse(&src, &p7.nc31, &Default::default());
         let (out, diags) = emit(
             &program,
             &src,
@@ -1164,7 +1164,7 @@ mod tests {
     /// nc31 → nc31, read with `read` and written with `write`.
     fn rewrite(text: &str, read: &Profile, write: &Profile) -> String {
         let src = SourceFile::new("t.nc", text);
-        let (program, diags) = super::super::front::parse(&src, read, &Default::default());
+        let (program, diags) = super::super::front::parse(&src, &read.nc31, &Default::default());
         assert!(!crate::diag::has_errors(&diags), "{diags:?}");
         let (out, diags) = emit(&program, &src, write, &WriteOptions::default());
         assert!(diags.is_empty(), "{diags:?}");

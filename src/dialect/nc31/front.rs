@@ -10,10 +10,10 @@ use std::ops::Range;
 use super::syntax::{self, Frame, Line as SyntaxLine, Modifier, Word};
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::Unsupported;
+use crate::dialect::nc31::profile::Nc31Profile;
 use crate::dialect::read::{Keep, Reader, UnsupportedWording};
 use crate::fixed::Length;
 use crate::ir::{ItemKind, Program};
-use crate::profile::{Nc31Profile, Profile};
 use crate::source::{SourceFile, Span};
 
 mod arc;
@@ -105,20 +105,24 @@ struct FrontEnd<'a> {
 }
 
 /// Reads an nc31 program. The program is usable only when no diagnostic is an error.
-pub fn parse(src: &SourceFile, profile: &Profile, options: &Options) -> (Program, Vec<Diagnostic>) {
+pub fn parse(
+    src: &SourceFile,
+    profile: &Nc31Profile,
+    options: &Options,
+) -> (Program, Vec<Diagnostic>) {
     read(src, profile, options, Keep::Program)
 }
 
 /// [`parse`], keeping the program or only the diagnostics.
 pub(crate) fn read(
     src: &SourceFile,
-    profile: &Profile,
+    profile: &Nc31Profile,
     options: &Options,
     keep: Keep,
 ) -> (Program, Vec<Diagnostic>) {
     let mut fe = FrontEnd {
         r: Reader::new(src, super::ID, keep),
-        profile: &profile.nc31,
+        profile,
         options,
         feed: Feed::Unset,
         group: Vec::new(),

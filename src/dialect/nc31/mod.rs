@@ -103,7 +103,7 @@ impl Dialect for Nc31 {
         profile: &Profile,
         unsupported: Unsupported,
     ) -> (Program, Vec<Diagnostic>) {
-        front::parse(src, profile, &Options { unsupported })
+        front::parse(src, &profile.nc31, &Options { unsupported })
     }
 
     fn diagnostics(
@@ -112,7 +112,13 @@ impl Dialect for Nc31 {
         profile: &Profile,
         unsupported: Unsupported,
     ) -> Vec<Diagnostic> {
-        front::read(src, profile, &Options { unsupported }, Keep::Diagnostics).1
+        front::read(
+            src,
+            &profile.nc31,
+            &Options { unsupported },
+            Keep::Diagnostics,
+        )
+        .1
     }
 
     fn capabilities(&self, profile: &Profile) -> Capabilities {

@@ -5,11 +5,11 @@ use std::ops::Range;
 
 use super::{FRegister, FrontEnd, Motion, Words, code_span_range};
 use crate::diag::codes;
+use crate::dialect::czech::profile::{CzechArcs, CzechDwell};
 use crate::dialect::czech::syntax::{Value, Word};
 use crate::fixed::{Decimal, Length};
 use crate::ir::{ItemKind, Pos};
 use crate::lower;
-use crate::profile::{CzechArcs, CzechDwell};
 use crate::source::{Line, Span};
 
 impl<'a> FrontEnd<'a> {
@@ -21,7 +21,7 @@ impl<'a> FrontEnd<'a> {
         time: Option<&Word>,
         number: Option<u32>,
     ) {
-        let form = self.profile.czech.dwell;
+        let form = self.profile.dwell;
         let letter = form.letter().unwrap_or('P');
         let Some(time) = time else {
             let g = &line.text[g04.range.clone()];
@@ -306,14 +306,14 @@ impl<'a> FrontEnd<'a> {
             return None;
         };
         let (ex, ez) = (to.x.unwrap_or(sx), to.z.unwrap_or(sz));
-        let clockwise = g02 != self.profile.czech.arcs_mirrored;
+        let clockwise = g02 != self.profile.arcs_mirrored;
         let arc = Arc {
             code,
             whole,
             start: (sx, sz),
             end: (ex, ez),
         };
-        let centre = if self.profile.czech.arcs == CzechArcs::Radius {
+        let centre = if self.profile.arcs == CzechArcs::Radius {
             self.radius_centre(line, words, &arc, clockwise)?
         } else {
             self.ik_centre(line, words, &arc)?
@@ -386,7 +386,7 @@ impl<'a> FrontEnd<'a> {
         }
         let iv = value(self, i)?.unwrap_or(Length::ZERO);
         let kv = value(self, k)?.unwrap_or(Length::ZERO);
-        let dx = if self.profile.czech.arcs == CzechArcs::IkRadius {
+        let dx = if self.profile.arcs == CzechArcs::IkRadius {
             iv + iv
         } else {
             iv

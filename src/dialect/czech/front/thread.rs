@@ -5,10 +5,10 @@ use std::ops::Range;
 
 use super::{AfterRunout, FRegister, FrontEnd, Words, code_span_range};
 use crate::diag::codes;
+use crate::dialect::czech::profile::AngleSource;
 use crate::dialect::czech::syntax::{Value, Word};
 use crate::fixed::{Angle, Lead, Length};
 use crate::ir::{Chamfer, Pos, SyncStart, ThreadPass};
-use crate::profile::AngleSource;
 use crate::source::{Line, Span};
 
 /// The largest lead `F` may give directly. **\[seed\]** 99.99 mm.
@@ -285,11 +285,11 @@ impl<'a> FrontEnd<'a> {
     ) -> Option<(i64, String)> {
         let letter = word.letter;
         let profile_name = self
-            .profile
-            .name
+            .options
+            .profile_name
             .clone()
             .unwrap_or_else(|| "the built-in profile".into());
-        let Some(c8) = self.profile.czech.constant8 else {
+        let Some(c8) = self.profile.constant8 else {
             self.report(self.error(codes::CZR_NO_CONSTANT8, line, word.range.clone(), format!("{} needs the {} angle from machine constant 8, which the profile does not give", letter, usage.name()))
                 .label("angle unknown")
                 .help("give the machine's TAB0.REK constant 8 in a profile (`--profile FILE`): [czech] constant8 = \"04000000\""));

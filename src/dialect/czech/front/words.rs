@@ -3,10 +3,10 @@
 
 use super::{FrontEnd, Motion};
 use crate::diag::codes;
+use crate::dialect::czech::profile::{CzechArcs, CzechDwell};
 use crate::dialect::czech::syntax::{Block, Value, Word};
 use crate::dialect::{Letters, WORD_REPORTS, budget};
 use crate::ir::{Coolant, EndCode, FeedMode, SpindleDirection};
-use crate::profile::{CzechArcs, CzechDwell};
 use crate::source::Line;
 
 /// The words of one block, sorted by modal group: what the block asks.
@@ -131,7 +131,7 @@ impl<'a> FrontEnd<'a> {
 
     /// Files G code `g` in its group; the group's earlier word, if any.
     fn g_group<'b>(&self, g: i64, word: &'b Word, words: &mut Words<'b>) -> Option<&'b Word> {
-        let czech = &self.profile.czech;
+        let czech = self.profile;
         match g {
             0 | 1 | 33 => {
                 let m = match g {
@@ -201,7 +201,7 @@ impl<'a> FrontEnd<'a> {
 
     /// Files M code `m` in its group; the group's earlier word, if any.
     fn m_group<'b>(&self, m: i64, word: &'b Word, words: &mut Words<'b>) -> Option<&'b Word> {
-        let czech = &self.profile.czech;
+        let czech = self.profile;
         let previous = match m {
             3 => words
                 .spindle
@@ -256,8 +256,8 @@ impl<'a> FrontEnd<'a> {
     fn is_address(&self, letter: char) -> bool {
         match letter {
             'X' | 'Z' | 'F' | 'S' | 'T' | 'D' | 'I' | 'J' | 'E' => true,
-            'K' | 'R' => self.profile.czech.arcs != CzechArcs::None,
-            'P' => self.profile.czech.dwell == CzechDwell::PMilliseconds,
+            'K' | 'R' => self.profile.arcs != CzechArcs::None,
+            'P' => self.profile.dwell == CzechDwell::PMilliseconds,
             _ => false,
         }
     }
@@ -318,7 +318,7 @@ impl<'a> FrontEnd<'a> {
         // In a G04 block the profile's time word is the dwell's time, not an axis or a feed;
         // the block moves nothing. P means something only there.
         if let Some((g04, _)) = words.dwell {
-            let letter = self.profile.czech.dwell.letter().unwrap_or('P');
+            let letter = self.profile.dwell.letter().unwrap_or('P');
             let time = words.by_letter.remove(&letter);
             words.dwell = Some((g04, time));
             for w in [words.motion.map(|(_, w)| w), words.get('X'), words.get('Z')]
@@ -349,7 +349,7 @@ impl<'a> FrontEnd<'a> {
         // I, J and E mean something only in a G33 block; I, K and R in an arc block as the
         // profile's arc form says.
         let motion = words.motion.map_or(self.motion, |(m, _)| m);
-        let arc_words: &[char] = match (motion, self.profile.czech.arcs) {
+        let arc_words: &[char] = match (motion, self.profile.arcs) {
             (Motion::Arc(_), CzechArcs::IkRadius | CzechArcs::IkDiameter) => &['I', 'K'],
             (Motion::Arc(_), CzechArcs::Radius) => &['R'],
             _ => &[],

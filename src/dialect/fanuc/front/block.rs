@@ -298,7 +298,7 @@ impl FrontEnd<'_> {
                 words.m_codes.push((m, w));
                 return Some(());
             }
-            7 if self.profile.fanuc.mist => {
+            7 if self.profile.mist => {
                 words.m_codes.push((7, w));
                 return Some(());
             }

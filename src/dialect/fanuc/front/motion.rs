@@ -449,7 +449,7 @@ impl FrontEnd<'_> {
         g: Option<&Word>,
         whole: Range<usize>,
     ) -> Option<u32> {
-        let Some(chamfer) = self.profile.fanuc.thread_chamfer_0p1_lead else {
+        let Some(chamfer) = self.profile.thread_chamfer_0p1_lead else {
             // Said once: every G92 block of the program needs the same key.
             if std::mem::replace(&mut self.chamfer_refused, true) {
                 return None;

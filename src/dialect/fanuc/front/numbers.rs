@@ -3,9 +3,9 @@
 
 use super::{FrontEnd, Unit};
 use crate::diag::codes;
+use crate::dialect::fanuc::profile::DecimalPoint;
 use crate::dialect::fanuc::syntax::Word;
 use crate::fixed::{Decimal, Lead, Length, NumberError, div_round};
-use crate::profile::DecimalPoint;
 use crate::source::Line;
 
 impl FrontEnd<'_> {
@@ -63,7 +63,7 @@ impl FrontEnd<'_> {
     /// of mm with at most `decimals` decimals, or `None` after a diagnostic.
     pub(super) fn mm_value(&mut self, line: Line<'_>, word: &Word, unit: Unit) -> Option<Decimal> {
         let mut value = word.value;
-        if !value.has_point && self.profile.fanuc.decimal_point == DecimalPoint::Increment {
+        if !value.has_point && self.profile.decimal_point == DecimalPoint::Increment {
             let scale = match (unit, self.inch) {
                 (Unit::Axis, false) => 3,
                 (Unit::Axis, true) => 4,

@@ -3,10 +3,10 @@
 use super::thread::ThreadWords;
 use super::{Feed, FrontEnd, GroupFrame};
 use crate::diag::codes;
+use crate::dialect::nc31::profile::Nc31ArcDirection;
 use crate::fixed::Length;
 use crate::ir::{ItemKind, Pos};
 use crate::lower;
-use crate::profile::Nc31ArcDirection;
 use crate::source::Span;
 
 impl FrontEnd<'_> {

@@ -1,13 +1,17 @@
 use super::*;
 use crate::diag::Severity;
+use crate::dialect::nc31::profile::Nc31ArcDirection;
 use crate::ir::{EndCode, Pos, Schedule, SpindleDirection, TapCycle, ThreadPass};
-use crate::profile::Nc31ArcDirection;
 
 fn run(text: &str) -> (Program, Vec<Diagnostic>) {
-    run_with(text, &Profile::default(), Unsupported::Error)
+    run_with(text, &Nc31Profile::default(), Unsupported::Error)
 }
 
-fn run_with(text: &str, profile: &Profile, unsupported: Unsupported) -> (Program, Vec<Diagnostic>) {
+fn run_with(
+    text: &str,
+    profile: &Nc31Profile,
+    unsupported: Unsupported,
+) -> (Program, Vec<Diagnostic>) {
     parse(
         &SourceFile::new("t.nc", text),
         profile,
@@ -136,9 +140,9 @@ fn g31_becomes_one_cycle_from_the_start_point() {
 
 #[test]
 fn g31_takes_parameters_6_and_7_and_the_taper() {
-    let mut profile = Profile::default();
-    profile.nc31.infeed_p6 = 2365;
-    profile.nc31.runout_p7 = 10;
+    let mut profile = Nc31Profile::default();
+    profile.infeed_p6 = 2365;
+    profile.runout_p7 = 10;
     let text = format!("{START}G31 *\nX3600 *\nZ-4750 *\nF15000 *\nP96 *\nP20 *\nP676\n");
     let (program, diags) = run_with(&text, &profile, Unsupported::Error);
     assert!(diags.is_empty(), "{diags:?}");
@@ -160,9 +164,9 @@ fn g31_takes_parameters_6_and_7_and_the_taper() {
 #[test]
 fn arc_groups_take_their_centre_from_the_quadrant() {
     let profile = |direction| {
-        let mut p = Profile::default();
-        p.nc31.arcs = true;
-        p.nc31.arc_direction = direction;
+        let mut p = Nc31Profile::default();
+        p.arcs = true;
+        p.arc_direction = direction;
         p
     };
     let arc = |direction, text: &str| {
@@ -345,8 +349,8 @@ fn every_rule_has_its_code_and_place() {
 
 #[test]
 fn runout_that_does_not_fit_is_refused_at_z() {
-    let mut profile = Profile::default();
-    profile.nc31.runout_p7 = 31;
+    let mut profile = Nc31Profile::default();
+    profile.runout_p7 = 31;
     // 3.1 leads of 2 = 6.2 mm; the pass is 5 mm long.
     let text = "M3\nS100\nX3600 ~ *\nZ0 ~\nG31 *\nX3600 *\nZ-500 *\nF20000 *\nP96 *\nP20\n";
     let (_, diags) = run_with(text, &profile, Unsupported::Error);
@@ -365,7 +369,7 @@ fn a_bad_frame_inside_a_group_does_not_cascade() {
 fn unsupported_warn_keeps_the_group_opaque_and_forgets_the_position() {
     let (program, diags) = run_with(
         "X100 ~ *\nZ100 ~\nN5 G4 *\nP100\nX10 @ ~\n",
-        &Profile::default(),
+        &Nc31Profile::default(),
         Unsupported::Warn,
     );
     assert_eq!(diags[0].severity, Severity::Warning);
@@ -435,8 +439,8 @@ fn chamfers_move_the_other_axis_by_the_same_radial_amount() {
     );
     assert_eq!(chamfer("Z-200@-45*\nF20\n"), [feed(16.0, -2.0, 0.2)]);
     // With a unit of 0.0001 mm half a diameter change can be off the grid: refused.
-    let mut fine = Profile::default();
-    fine.nc31.linear_unit = Length(1);
+    let mut fine = Nc31Profile::default();
+    fine.linear_unit = Length(1);
     let text = "M3\nS500\nX200000 ~ *\nZ0 ~\nN7 X200001+45 *\nF20\n";
     let (_, diags) = run_with(text, &fine, Unsupported::Error);
     assert_eq!(
@@ -490,9 +494,9 @@ fn chamfer_rules_have_their_code_and_place() {
     }
 }
 
-fn repeating() -> Profile {
-    let mut p = Profile::default();
-    p.nc31.repeat_g25 = true;
+fn repeating() -> Nc31Profile {
+    let mut p = Nc31Profile::default();
+    p.repeat_g25 = true;
     p
 }
 
@@ -541,7 +545,7 @@ fn g25_reads_the_frames_again_count_times() {
     // Without the profile's key G25 is refused by name (the help names the key), also
     // when kept as written: one error, at the G25.
     for unsupported in [Unsupported::Error, Unsupported::Warn] {
-        let (_, diags) = run_with(GROOVES, &Profile::default(), unsupported);
+        let (_, diags) = run_with(GROOVES, &Nc31Profile::default(), unsupported);
         assert_eq!(diags.len(), 1, "{diags:?}");
         let d = &diags[0];
         assert_eq!(
@@ -683,9 +687,9 @@ fn a_repeat_reports_what_is_new_once() {
 
 #[test]
 fn units_come_from_the_profile() {
-    let mut profile = Profile::default();
-    profile.nc31.linear_unit = Length(10);
-    profile.nc31.feed_unit = Length(10);
+    let mut profile = Nc31Profile::default();
+    profile.linear_unit = Length(10);
+    profile.feed_unit = Length(10);
     let (program, diags) = run_with("F300\nX36000 *\nZ4500\n", &profile, Unsupported::Error);
     assert!(diags.is_empty());
     assert_eq!(program.items[0].kind, ItemKind::FeedRate(mm(0.3)));
