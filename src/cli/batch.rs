@@ -87,15 +87,24 @@ pub(crate) fn batch(args: BatchArgs) -> Result<ExitCode, Fatal> {
     if let Some(why) = &report.fatal {
         return Err(Fatal::Usage(format!("the run stopped: {why}")));
     }
-    Ok(if report.interrupted {
+    Ok(exit_code(
+        &report,
+        !plan.unmatched_globs().is_empty() || !unwritten.is_empty(),
+    ))
+}
+
+/// A run's exit code: 130 interrupted, 2 when a glob matched nothing or a report was not
+/// written (`incomplete`), 1 when a file failed.
+fn exit_code(report: &ncthread::batch::BatchReport, incomplete: bool) -> ExitCode {
+    if report.interrupted {
         ExitCode::from(130)
-    } else if !plan.unmatched_globs().is_empty() || !unwritten.is_empty() {
+    } else if incomplete {
         ExitCode::from(2)
     } else if report.succeeded() {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)
-    })
+    }
 }
 
 /// The outputs' extension: `--ext` (without its dot), else the target's.
