@@ -561,13 +561,10 @@ impl Emitter<'_> {
             ItemKind::ProgramEnd(EndCode::M2) => block.words.push("M02".into()),
             ItemKind::ProgramEnd(EndCode::M30) => block.words.push("M30".into()),
             ItemKind::Comment(text) => self.comment_item(text, item.span, block),
+            // Its effect is already in the items that use it: a comment of its own.
             ItemKind::ParamAssign { number, value } => {
-                // Its effect is already in the items that use it.
                 self.flush(block);
-                self.write(Block {
-                    comment: Some(format!("R{number:02}={value}")),
-                    ..Block::default()
-                });
+                self.comment_block(format!("R{number:02}={value}"));
             }
             ItemKind::Opaque {
                 dialect: super::ID,
@@ -581,14 +578,7 @@ impl Emitter<'_> {
                 self.as_comment(item, block, &format!("{dialect}: {text}"));
             }
             ItemKind::Delimiter => {}
-            ItemKind::Coolant(c) => block.words.push(
-                match c {
-                    Coolant::Mist => "M07",
-                    Coolant::Flood => "M08",
-                    Coolant::Off => "M09",
-                }
-                .into(),
-            ),
+            ItemKind::Coolant(c) => block.words.push(coolant_word(*c).into()),
             ItemKind::Stop { optional } => block
                 .words
                 .push(if *optional { "M01" } else { "M00" }.into()),
@@ -598,6 +588,14 @@ impl Emitter<'_> {
             ItemKind::FeedRate(feed) => self.feed_rate(*feed, block),
         }
         true
+    }
+
+    /// A block that is only a comment.
+    fn comment_block(&mut self, text: String) {
+        self.write(Block {
+            comment: Some(text),
+            ..Block::default()
+        });
     }
 
     /// The spindle's speed and direction words.
@@ -1026,6 +1024,15 @@ impl Emitter<'_> {
             }
         }
         self.w.pos = item.kind.end_position(self.w.pos);
+    }
+}
+
+/// The M code of a coolant command.
+fn coolant_word(c: Coolant) -> &'static str {
+    match c {
+        Coolant::Mist => "M07",
+        Coolant::Flood => "M08",
+        Coolant::Off => "M09",
     }
 }
 

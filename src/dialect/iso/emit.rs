@@ -232,12 +232,8 @@ impl Emitter<'_> {
             self.sync_end = None;
         }
         match &item.kind {
-            ItemKind::Rapid { to } => {
-                self.line(&format!("G0{}", axes(*to)));
-            }
-            ItemKind::Feed { to, feed } => {
-                self.line(&format!("G1{} F{}", axes(*to), feed.mm()));
-            }
+            ItemKind::Rapid { to } => self.line(&format!("G0{}", axes(*to))),
+            ItemKind::Feed { to, feed } => self.line(&format!("G1{} F{}", axes(*to), feed.mm())),
             ItemKind::Arc {
                 to,
                 centre,
@@ -256,17 +252,7 @@ impl Emitter<'_> {
                 self.line("G97");
             }
             ItemKind::Compensation(c) => self.line(&compensation_words(c)),
-            ItemKind::WorkOffset(n) => self.line(match n {
-                1 => "G54",
-                2 => "G55",
-                3 => "G56",
-                4 => "G57",
-                5 => "G58",
-                6 => "G59",
-                7 => "G59.1",
-                8 => "G59.2",
-                _ => "G59.3",
-            }),
+            ItemKind::WorkOffset(n) => self.line(work_offset_word(*n)),
             // The motion mode after G53 is the line's G0/G1, as in the source.
             ItemKind::MachineMove(m) => self.line(&machine_move_words(m)),
             ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit, feet }) => {
@@ -303,11 +289,7 @@ impl Emitter<'_> {
                 block,
             } => self.opaque(item, *dialect, text, block.is_some()),
             ItemKind::Dwell { seconds } => self.line(&format!("G4 P{seconds}")),
-            ItemKind::Coolant(c) => self.line(match c {
-                Coolant::Mist => "M7",
-                Coolant::Flood => "M8",
-                Coolant::Off => "M9",
-            }),
+            ItemKind::Coolant(c) => self.line(coolant_word(*c)),
             ItemKind::Stop { optional } => self.line(if *optional { "M1" } else { "M0" }),
             ItemKind::Delimiter => {}
             // Unrolled into its moves at the top of `emit`.
@@ -639,6 +621,30 @@ fn machine_move_words(m: &MachineMove) -> String {
             format!("{}{}", if *second { "G30" } else { "G28" }, axes(*via))
         }
         MachineMove::StoreHome { second } => (if *second { "G30.1" } else { "G28.1" }).to_string(),
+    }
+}
+
+/// The word of work offset `n` (1: G54 … 9: G59.3).
+fn work_offset_word(n: u8) -> &'static str {
+    match n {
+        1 => "G54",
+        2 => "G55",
+        3 => "G56",
+        4 => "G57",
+        5 => "G58",
+        6 => "G59",
+        7 => "G59.1",
+        8 => "G59.2",
+        _ => "G59.3",
+    }
+}
+
+/// The M code of a coolant command.
+fn coolant_word(c: Coolant) -> &'static str {
+    match c {
+        Coolant::Mist => "M7",
+        Coolant::Flood => "M8",
+        Coolant::Off => "M9",
     }
 }
 
