@@ -421,13 +421,7 @@ impl Emitter<'_> {
     /// `false` when it is refused (a diagnostic says why) and the position is not moved.
     fn kind(&mut self, item: &Item, block: &mut Block, reserved: &[u32]) -> bool {
         match &item.kind {
-            ItemKind::Rapid { to } => {
-                if let Some(mut words) = self.axes(item, *to) {
-                    self.motion_word("G00", &mut words);
-                    block.words.extend(words);
-                    self.all_axes = false;
-                }
-            }
+            ItemKind::Rapid { to } => self.rapid(item, *to, block),
             ItemKind::Feed { to, feed } => return self.feed(item, *to, *feed, block),
             ItemKind::ThreadPass(pass) => {
                 self.ensure_all_axes(item, block);
@@ -465,14 +459,7 @@ impl Emitter<'_> {
             // Unrolled into its moves at the top of `emit`.
             ItemKind::Roughing(_) => {}
             // Written where the profile declares the codes; legalisation refuses the rest.
-            ItemKind::Coolant(c) => block.words.push(
-                match c {
-                    Coolant::Mist => "M07",
-                    Coolant::Flood => "M08",
-                    Coolant::Off => "M09",
-                }
-                .to_string(),
-            ),
+            ItemKind::Coolant(c) => block.words.push(coolant_word(*c).to_string()),
             ItemKind::Spindle { speed, direction } => spindle_words(*speed, *direction, block),
             ItemKind::SpindleStop => block.words.push("M05".into()),
             ItemKind::Tool { number, offset } => {
@@ -488,12 +475,7 @@ impl Emitter<'_> {
                     .words
                     .push(if *end == EndCode::M2 { "M02" } else { "M30" }.into());
             }
-            ItemKind::Comment(text) => {
-                if !(block.words.is_empty() && block.comment.is_none()) {
-                    self.flush(block);
-                }
-                block.comment = Some(text.clone());
-            }
+            ItemKind::Comment(text) => self.comment_item(text, block),
             ItemKind::ParamAssign { number, value } => {
                 self.params.insert(*number, *value);
                 block.words.push(format!("R{number:02}={value}"));
@@ -512,6 +494,24 @@ impl Emitter<'_> {
             }
         }
         true
+    }
+
+    /// A comment: the block's own, or (when the block has words or a comment already) the
+    /// next block's.
+    fn comment_item(&mut self, text: &str, block: &mut Block) {
+        if !(block.words.is_empty() && block.comment.is_none()) {
+            self.flush(block);
+        }
+        block.comment = Some(text.to_string());
+    }
+
+    /// G00 with the axes (nothing when they cannot be written).
+    fn rapid(&mut self, item: &Item, to: Pos, block: &mut Block) {
+        if let Some(mut words) = self.axes(item, to) {
+            self.motion_word("G00", &mut words);
+            block.words.extend(words);
+            self.all_axes = false;
+        }
     }
 
     /// G01 with the axes and, when it changes, the feed; `false` when the axes cannot be
@@ -1044,6 +1044,15 @@ fn format_param(v: Decimal) -> String {
         text
     }
 }
+/// The M code of a coolant command.
+fn coolant_word(c: Coolant) -> &'static str {
+    match c {
+        Coolant::Mist => "M07",
+        Coolant::Flood => "M08",
+        Coolant::Off => "M09",
+    }
+}
+
 /// The spindle's speed S and direction M03/M04.
 fn spindle_words(speed: Option<u32>, direction: Option<SpindleDirection>, block: &mut Block) {
     if let Some(s) = speed {

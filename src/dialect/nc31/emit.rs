@@ -384,6 +384,20 @@ impl Emitter<'_> {
         if let Some(c) = &item.comment {
             self.comment(item.span, c, group);
         }
+        if !self.motion(item, group) {
+            self.words(item, group);
+        }
+        if !matches!(
+            item.kind,
+            ItemKind::ThreadCycle(_) | ItemKind::ThreadPass(_) | ItemKind::TapCycle(_)
+        ) {
+            self.w.pos = item.kind.end_position(self.w.pos);
+        }
+    }
+
+    /// Writes a move: one arm per kind of motion. `false` when the item is not a move the
+    /// НЦ-31 makes (see [`Self::words`]).
+    fn motion(&mut self, item: &Item, group: &mut Vec<String>) -> bool {
         match &item.kind {
             ItemKind::Rapid { to } => {
                 let frames = self.coordinate_frames(item.span, *to, true);
@@ -425,6 +439,20 @@ impl Emitter<'_> {
                     self.arc(item.span, *to, **centre, *clockwise, direction);
                 }
             }
+            _ => return false,
+        }
+        true
+    }
+
+    /// Writes an item that is not a move: one arm per kind of item.
+    fn words(&mut self, item: &Item, group: &mut Vec<String>) {
+        match &item.kind {
+            // Written by `motion`.
+            ItemKind::Rapid { .. }
+            | ItemKind::Feed { .. }
+            | ItemKind::ThreadPass(_)
+            | ItemKind::ThreadCycle(_)
+            | ItemKind::TapCycle(_) => {}
             // Refused by legalisation (no dwell, arc, stop or mist on the НЦ-31).
             ItemKind::Dwell { .. }
             | ItemKind::Arc { .. }
@@ -493,12 +521,6 @@ impl Emitter<'_> {
                 self.write(group);
                 self.w.out.push_str("%\n");
             }
-        }
-        if !matches!(
-            item.kind,
-            ItemKind::ThreadCycle(_) | ItemKind::ThreadPass(_) | ItemKind::TapCycle(_)
-        ) {
-            self.w.pos = item.kind.end_position(self.w.pos);
         }
     }
 
