@@ -4,17 +4,14 @@ use std::path::PathBuf;
 
 use clap::builder::TypedValueParser as _;
 use clap::{Parser, Subcommand, ValueEnum};
-use ncthread::profile::{BlockDelete, Profile};
+use ncthread::DialectId;
 use ncthread::text::{Eol, OutputOptions, TextEncoding};
-use ncthread::{ConvertOptions, DialectId};
 
-use super::Fatal;
 use super::colour::ColorArg;
 use super::examples::{
     ABOUT, BATCH_EXAMPLES, CHECK_EXAMPLES, CONVERT_EXAMPLES, EXPLAIN_EXAMPLES, LONG_ABOUT,
     PLOT_EXAMPLES, SIMULATE_EXAMPLES, TOP_EXAMPLES, VERIFY_EXAMPLES, examples,
 };
-use super::io::{is_stdio, load_profile, note, unsupported};
 
 #[derive(Parser)]
 #[command(
@@ -111,17 +108,6 @@ pub(crate) struct StdinArgs {
     /// `--from auto`. Ignored for a program read from a file.
     #[arg(long, value_name = "NAME")]
     pub(crate) stdin_filename: Option<PathBuf>,
-}
-
-impl StdinArgs {
-    /// The path the program `input` goes by: the file, or the name given to stdin.
-    pub(crate) fn named(&self, input: &Option<PathBuf>) -> Option<PathBuf> {
-        if is_stdio(input) {
-            self.stdin_filename.clone()
-        } else {
-            input.clone()
-        }
-    }
 }
 
 /// Which files of a folder are programs.
@@ -438,61 +424,6 @@ pub(crate) struct TargetArgs {
     /// them with a warning.
     #[arg(long)]
     pub(crate) nc31_comments: bool,
-}
-
-impl CommonArgs {
-    /// What the command line says of the machine on top of any profile.
-    pub(crate) fn overrides(&self) -> ncthread::profile::Overrides {
-        ncthread::profile::Overrides {
-            block_delete: self.block_delete.map(|b| match b {
-                BlockDeleteArg::Off => BlockDelete::Off,
-                BlockDeleteArg::On => BlockDelete::On,
-            }),
-            subroutine_path: self.subroutine_path.clone(),
-        }
-    }
-
-    /// The profile of the program `input` (stdin without `--stdin-filename`: `None`):
-    /// `--profile`, else (unless `--no-profile`) its sidecar `STEM.profile.toml` or the
-    /// nearest `ncthread.toml`, else the built-in defaults; with the command line's settings
-    /// on top. Loaded before the program is read, so that a bad profile stops early.
-    pub(crate) fn profile_for(&self, input: &Option<PathBuf>) -> Result<Profile, Fatal> {
-        let path = match (&self.profile, input) {
-            (Some(p), _) => Some(p.clone()),
-            (None, _) if self.no_profile => None,
-            (None, Some(file)) if !is_stdio(input) => ncthread::files::discover_profile(file),
-            (None, _) => None,
-        };
-        if self.verbose {
-            note(format!(
-                "ncthread: profile: {}",
-                path.as_ref()
-                    .map_or("built-in defaults".into(), |p| p.display().to_string())
-            ));
-        }
-        let mut profile = load_profile(&path, self.diagnostics)?;
-        self.overrides().apply(&mut profile);
-        Ok(profile)
-    }
-
-    /// The options of a conversion from `from` to `to`.
-    pub(crate) fn options(
-        &self,
-        from: DialectId,
-        to: DialectId,
-        profile: Profile,
-        target: &TargetArgs,
-    ) -> ConvertOptions {
-        ConvertOptions {
-            from,
-            to,
-            profile,
-            unsupported: unsupported(self.unsupported),
-            renumber: target.renumber.unwrap_or_default(),
-            round: target.round,
-            nc31_comments: target.nc31_comments,
-        }
-    }
 }
 
 #[derive(Clone, Copy, ValueEnum)]

@@ -1,17 +1,21 @@
-//! Reading programs and profiles, printing diagnostics, writing outputs.
+//! Reading programs and profiles, printing diagnostics, writing outputs, and what the
+//! common arguments come to (a program's profile, the conversion options).
 
 use std::io::{self, IsTerminal, Read, Write};
 use std::path::PathBuf;
 
 use ncthread::diag::{self, Format};
 use ncthread::files::io_error;
-use ncthread::profile::Profile;
+use ncthread::profile::{BlockDelete, Profile};
 use ncthread::source::SourceFile;
 use ncthread::text::TextEncoding;
-use ncthread::{DialectId, Unsupported};
+use ncthread::{ConvertOptions, DialectId, Unsupported};
 
 use super::Fatal;
-use super::args::{CommonArgs, DiagnosticsFormat, SourceDialect, StdinArgs, UnsupportedArg};
+use super::args::{
+    BlockDeleteArg, CommonArgs, DiagnosticsFormat, SourceDialect, StdinArgs, TargetArgs,
+    UnsupportedArg,
+};
 use super::colour::colour;
 
 /// One line on stderr. Never panics: a closed or broken stderr loses the line, nothing more.
@@ -214,4 +218,70 @@ pub(crate) fn write_output(path: &Option<PathBuf>, bytes: &[u8]) -> Result<(), F
         }
         ncthread::files::WriteError::Exists => Fatal::Usage(format!("{} exists", path.display())),
     })
+}
+
+impl StdinArgs {
+    /// The path the program `input` goes by: the file, or the name given to stdin.
+    pub(crate) fn named(&self, input: &Option<PathBuf>) -> Option<PathBuf> {
+        if is_stdio(input) {
+            self.stdin_filename.clone()
+        } else {
+            input.clone()
+        }
+    }
+}
+
+impl CommonArgs {
+    /// What the command line says of the machine on top of any profile.
+    pub(crate) fn overrides(&self) -> ncthread::profile::Overrides {
+        ncthread::profile::Overrides {
+            block_delete: self.block_delete.map(|b| match b {
+                BlockDeleteArg::Off => BlockDelete::Off,
+                BlockDeleteArg::On => BlockDelete::On,
+            }),
+            subroutine_path: self.subroutine_path.clone(),
+        }
+    }
+
+    /// The profile of the program `input` (stdin without `--stdin-filename`: `None`):
+    /// `--profile`, else (unless `--no-profile`) its sidecar `STEM.profile.toml` or the
+    /// nearest `ncthread.toml`, else the built-in defaults; with the command line's settings
+    /// on top. Loaded before the program is read, so that a bad profile stops early.
+    pub(crate) fn profile_for(&self, input: &Option<PathBuf>) -> Result<Profile, Fatal> {
+        let path = match (&self.profile, input) {
+            (Some(p), _) => Some(p.clone()),
+            (None, _) if self.no_profile => None,
+            (None, Some(file)) if !is_stdio(input) => ncthread::files::discover_profile(file),
+            (None, _) => None,
+        };
+        if self.verbose {
+            note(format!(
+                "ncthread: profile: {}",
+                path.as_ref()
+                    .map_or("built-in defaults".into(), |p| p.display().to_string())
+            ));
+        }
+        let mut profile = load_profile(&path, self.diagnostics)?;
+        self.overrides().apply(&mut profile);
+        Ok(profile)
+    }
+
+    /// The options of a conversion from `from` to `to`.
+    pub(crate) fn options(
+        &self,
+        from: DialectId,
+        to: DialectId,
+        profile: Profile,
+        target: &TargetArgs,
+    ) -> ConvertOptions {
+        ConvertOptions {
+            from,
+            to,
+            profile,
+            unsupported: unsupported(self.unsupported),
+            renumber: target.renumber.unwrap_or_default(),
+            round: target.round,
+            nc31_comments: target.nc31_comments,
+        }
+    }
 }
