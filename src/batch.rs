@@ -654,48 +654,13 @@ pub fn run_with(
     let fatal: std::sync::Mutex<Option<String>> = Default::default();
     let halted = AtomicBool::new(false);
     if !options.dry_run {
-        std::fs::create_dir_all(&options.out_dir)
-            .map_err(|e| files::io_error("create", options.out_dir.display(), &e))?;
-        // A folder that cannot be written is the user's problem, named as they wrote it.
-        tempfile::Builder::new()
-            .prefix(".ncthread-")
-            .tempfile_in(&options.out_dir)
-            .map_err(|e| files::io_error("write into", options.out_dir.display(), &e))?;
-        if let Some(dir) = &options.html {
-            std::fs::create_dir_all(dir.join("plots"))
-                .map_err(|e| files::io_error("create", dir.display(), &e))?;
-        }
+        prepare_folders(options)?;
     }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.jobs)
         .build()
         .map_err(|e| format!("cannot start the worker threads: {e}"))?;
-    // Two inputs that differ only in their extension would write one output; two whose
-    // outputs differ only in case would on a case-insensitive file system (Windows, macOS,
-    // the FAT of a USB stick that takes the programs to the machine).
-    let mut first_of: HashMap<String, &Path> = Default::default();
-    let clashes: Vec<Option<Clash>> = plan
-        .walk
-        .files
-        .iter()
-        .map(|f| {
-            if f.verdict != Verdict::Program {
-                return None;
-            }
-            let out = f.rel.with_extension(&options.extension);
-            let key = out.to_string_lossy().to_lowercase();
-            match first_of.get(&key) {
-                Some(first) if first.with_extension(&options.extension) == out => {
-                    Some(Clash::Same(first))
-                }
-                Some(first) => Some(Clash::Case(first)),
-                None => {
-                    first_of.insert(key, &f.rel);
-                    None
-                }
-            }
-        })
-        .collect();
+    let clashes = clashes(plan, options);
     let files = pool.install(|| {
         plan.walk
             .files
@@ -748,6 +713,51 @@ pub fn run_with(
         interrupted: stop.load(Ordering::Relaxed),
         fatal: fatal.into_inner().unwrap_or_else(|e| e.into_inner()),
     })
+}
+
+/// Makes the output folder (and the HTML report's), and tries a write into it: a folder
+/// that cannot be written is the user's problem, named as they wrote it.
+fn prepare_folders(options: &BatchOptions) -> Result<(), String> {
+    std::fs::create_dir_all(&options.out_dir)
+        .map_err(|e| files::io_error("create", options.out_dir.display(), &e))?;
+    tempfile::Builder::new()
+        .prefix(".ncthread-")
+        .tempfile_in(&options.out_dir)
+        .map_err(|e| files::io_error("write into", options.out_dir.display(), &e))?;
+    if let Some(dir) = &options.html {
+        std::fs::create_dir_all(dir.join("plots"))
+            .map_err(|e| files::io_error("create", dir.display(), &e))?;
+    }
+    Ok(())
+}
+
+/// Each file's clash with an earlier one (`None`: its output is its own). Two inputs that
+/// differ only in their extension would write one output; two whose outputs differ only in
+/// case would on a case-insensitive file system (Windows, macOS, the FAT of a USB stick
+/// that takes the programs to the machine).
+fn clashes<'p>(plan: &'p Plan, options: &BatchOptions) -> Vec<Option<Clash<'p>>> {
+    let mut first_of: HashMap<String, &Path> = Default::default();
+    plan.walk
+        .files
+        .iter()
+        .map(|f| {
+            if f.verdict != Verdict::Program {
+                return None;
+            }
+            let out = f.rel.with_extension(&options.extension);
+            let key = out.to_string_lossy().to_lowercase();
+            match first_of.get(&key) {
+                Some(first) if first.with_extension(&options.extension) == out => {
+                    Some(Clash::Same(first))
+                }
+                Some(first) => Some(Clash::Case(first)),
+                None => {
+                    first_of.insert(key, &f.rel);
+                    None
+                }
+            }
+        })
+        .collect()
 }
 
 /// An input whose output would land on an earlier input's.
@@ -812,43 +822,12 @@ fn convert_one(
     let input = options.src_dir.join(rel);
     let output = output_path(options, rel);
     let mut report = FileReport::new(input.clone(), output.clone(), Status::Failed);
-    match clash {
-        Some(Clash::Same(first)) => {
-            report.reason = Some(format!(
-                "{} is written to the same output; give the files different names",
-                options.src_dir.join(first).display()
-            ));
-            return (report, None);
-        }
-        Some(Clash::Case(first)) => {
-            report.reason = Some(format!(
-                "its output {} and the output {} of {} differ only in case: on a case-insensitive file system (Windows, macOS, a USB stick) one would replace the other; rename one of the programs",
-                output.display(),
-                output_path(options, first).display(),
-                options.src_dir.join(first).display()
-            ));
-            return (report, None);
-        }
-        None => {}
+    if let Some(clash) = clash {
+        report.reason = Some(clash_reason(options, clash, &output));
+        return (report, None);
     }
-    let defaults = || {
-        let mut p = Profile::default();
-        options.overrides.apply(&mut p);
-        p
-    };
-    let profile = match profile {
-        None => defaults(),
-        Some((path, found)) => {
-            report.profile = Some(path);
-            match found {
-                Some(Ok(p)) => p,
-                Some(Err(why)) => {
-                    report.reason = Some(why);
-                    return (report, None);
-                }
-                None => defaults(),
-            }
-        }
+    let Some(profile) = file_profile(options, profile, &mut report) else {
+        return (report, None);
     };
     if !options.force && output.exists() {
         report.status = Status::Skipped;
@@ -866,14 +845,99 @@ fn convert_one(
         }
     };
     report.input_hash = Some(input_fingerprint(&bytes, &profile));
-    let decoded = text::decode_program(&bytes, options.from, options.input_encoding, Some(rel));
+    let Some(decoded) = decode_input(options, rel, &bytes, &mut report) else {
+        return (report, None);
+    };
+    let bytes = convert_decoded(options, rel, decoded, profile, &mut report);
+    if options.dry_run && bytes.is_some() {
+        report.status = Status::Converted;
+        return (report, None);
+    }
+    (report, bytes)
+}
+
+/// Why a file whose output would land on an earlier file's is not converted.
+fn clash_reason(options: &BatchOptions, clash: Clash, output: &Path) -> String {
+    match clash {
+        Clash::Same(first) => format!(
+            "{} is written to the same output; give the files different names",
+            options.src_dir.join(first).display()
+        ),
+        Clash::Case(first) => format!(
+            "its output {} and the output {} of {} differ only in case: on a case-insensitive file system (Windows, macOS, a USB stick) one would replace the other; rename one of the programs",
+            output.display(),
+            output_path(options, first).display(),
+            options.src_dir.join(first).display()
+        ),
+    }
+}
+
+/// A file's profile (`profile`: the one found for it, and it loaded or why not), with
+/// the overrides; the defaults when none was found. `None` when it could not be loaded
+/// (the report says why).
+fn file_profile(
+    options: &BatchOptions,
+    profile: Option<(PathBuf, Option<Result<Profile, String>>)>,
+    report: &mut FileReport,
+) -> Option<Profile> {
+    let defaults = || {
+        let mut p = Profile::default();
+        options.overrides.apply(&mut p);
+        p
+    };
+    match profile {
+        None => Some(defaults()),
+        Some((path, found)) => {
+            report.profile = Some(path);
+            match found {
+                Some(Ok(p)) => Some(p),
+                Some(Err(why)) => {
+                    report.reason = Some(why);
+                    None
+                }
+                None => Some(defaults()),
+            }
+        }
+    }
+}
+
+/// A program's bytes decoded, its dialect and encoding (and how sure) in the report;
+/// `None` when its encoding is refused.
+fn decode_input(
+    options: &BatchOptions,
+    rel: &Path,
+    bytes: &[u8],
+    report: &mut FileReport,
+) -> Option<text::Decoded> {
+    let decoded = text::decode_program(bytes, options.from, options.input_encoding, Some(rel));
     report.dialect_note = decoded.detection.as_ref().filter(|d| !d.certain).map(|d| {
         format!(
             "--from auto: read as {} ({}); give --from to be sure",
             d.dialect, d.reason
         )
     });
-    let note = decoded.encoding_diagnostic(&input.display().to_string());
+    let note = decoded.encoding_diagnostic(&report.input.display().to_string());
+    report.dialect = Some(decoded.dialect);
+    report.encoding = Some(decoded.encoding);
+    if let Some(d) = note {
+        let refused = d.is_error();
+        report.diagnostics.push(d);
+        if refused {
+            return None;
+        }
+    }
+    Some(decoded)
+}
+
+/// Converts a decoded program with its `profile`: the output's bytes (and its
+/// explanation for the HTML report), or `None` when it is refused (the report says why).
+fn convert_decoded(
+    options: &BatchOptions,
+    rel: &Path,
+    decoded: text::Decoded,
+    profile: Profile,
+    report: &mut FileReport,
+) -> Option<Vec<u8>> {
     let text::Decoded {
         text,
         encoding,
@@ -881,17 +945,8 @@ fn convert_one(
         eof_mark,
         ..
     } = decoded;
-    report.dialect = Some(from);
-    report.encoding = Some(encoding);
-    if let Some(d) = note {
-        let refused = d.is_error();
-        report.diagnostics.push(d);
-        if refused {
-            return (report, None);
-        }
-    }
     let kept = text::Input::of(&text, encoding, &eof_mark, from == options.conversion.to);
-    let src = SourceFile::new(input.display().to_string(), text);
+    let src = SourceFile::new(report.input.display().to_string(), text);
     let conversion = ConvertOptions {
         from,
         profile,
@@ -899,30 +954,24 @@ fn convert_one(
     };
     let converted = convert(&src, &conversion);
     report.diagnostics.extend(converted.diagnostics);
-    let Some(program) = converted.output else {
-        return (report, None);
-    };
+    let program = converted.output?;
     report.output_encoding = Some(options.output.encoding_for(&kept));
     let bytes = match text::encode_output(
         &program,
-        &output.display().to_string(),
+        &report.output.display().to_string(),
         &options.output,
         &kept,
     ) {
         Ok(b) => b,
         Err(d) => {
             report.diagnostics.push(*d);
-            return (report, None);
+            return None;
         }
     };
     if let Some(dir) = options.html.as_ref().filter(|_| !options.dry_run) {
         report.explained = Some(explain_output(&program, &conversion, rel, dir));
     }
-    if options.dry_run {
-        report.status = Status::Converted;
-        return (report, None);
-    }
-    (report, Some(bytes))
+    Some(bytes)
 }
 
 /// A file skipped because its output exists, which a previous run's report (`before`)
@@ -1028,6 +1077,27 @@ impl BatchReport {
         let Some(dir) = &options.html else {
             return Ok(());
         };
+        let mut page = self.html_head(options);
+        page.push_str("<table>\n<tr><th>file</th><th>status</th><th>dialect</th><th>encoding</th><th>errors</th><th>warnings</th><th>output</th></tr>\n");
+        for (i, f) in self.files.iter().enumerate() {
+            page.push_str(&self.html_row(i, f));
+        }
+        page.push_str("</table>\n");
+        for (i, f) in self.files.iter().enumerate() {
+            page.push_str(&self.html_section(i, f, options));
+        }
+        page.push_str("</body>\n</html>\n");
+        let path = dir.join("index.html");
+        std::fs::write(&path, page).map_err(|e| files::io_error("write", path.display(), &e))?;
+        // The page's data, which the next run reads back.
+        let path = dir.join(STATE_FILE);
+        let json = serde_json::to_string_pretty(&self.json(options, true))
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        std::fs::write(&path, json + "\n").map_err(|e| files::io_error("write", path.display(), &e))
+    }
+
+    /// The HTML report's head, title and summary line.
+    fn html_head(&self, options: &BatchOptions) -> String {
         let esc = crate::plot::escape;
         let mut page = String::new();
         let title = format!(
@@ -1054,71 +1124,70 @@ impl BatchReport {
                 ProfileChoice::Defaults => "built-in defaults".into(),
             })
         ));
-        page.push_str("<table>\n<tr><th>file</th><th>status</th><th>dialect</th><th>encoding</th><th>errors</th><th>warnings</th><th>output</th></tr>\n");
-        for (i, f) in self.files.iter().enumerate() {
-            let errors = f.diagnostics.iter().filter(|d| d.is_error()).count();
+        page
+    }
+
+    /// File `i`'s row in the HTML report's table, linking to its section.
+    fn html_row(&self, i: usize, f: &FileReport) -> String {
+        let esc = crate::plot::escape;
+        let errors = f.diagnostics.iter().filter(|d| d.is_error()).count();
+        format!(
+            "<tr><td><a href=\"#f{i}\">{}</a></td><td class=\"{}\">{}</td><td>{}</td><td>{}</td><td>{errors}</td><td>{}</td><td>{}</td></tr>\n",
+            esc(&f.input.display().to_string()),
+            f.status.name(),
+            f.status.name(),
+            f.dialect.map_or("—".to_string(), |d| d.to_string()),
+            f.encoding.map_or("—", |e| e.name()),
+            f.diagnostics.len() - errors,
+            f.written(self.dry_run)
+                .map_or("—".to_string(), |p| esc(&p.display().to_string())),
+        )
+    }
+
+    /// File `i`'s section in the HTML report: how it was read, why it failed, its
+    /// diagnostics, and its output explained and plotted.
+    fn html_section(&self, i: usize, f: &FileReport, options: &BatchOptions) -> String {
+        let esc = crate::plot::escape;
+        let mut page = String::new();
+        page.push_str(&format!(
+        "<section id=\"f{i}\">\n<h2>{} <span class=\"{}\">{}</span></h2>\n<p>read as {} in {}; profile: {}; {}</p>\n",
+        esc(&f.input.display().to_string()),
+        f.status.name(),
+        f.status.name(),
+        f.dialect.map_or("—".to_string(), |d| d.to_string()),
+        f.encoding.map_or("—", |e| e.name()),
+        esc(&f.profile_name()),
+        f.written(self.dry_run).map_or("no output".to_string(), |p| format!(
+            "output {}",
+            esc(&p.display().to_string())
+        )),
+    ));
+        if let Some(reason) = &f.reason {
+            page.push_str(&format!("<p class=\"reason\">{}</p>\n", esc(reason)));
+        }
+        if !f.diagnostics.is_empty() {
+            let text = crate::diag::render_all(&f.diagnostics, crate::diag::Format::Human, false);
             page.push_str(&format!(
-                "<tr><td><a href=\"#f{i}\">{}</a></td><td class=\"{}\">{}</td><td>{}</td><td>{}</td><td>{errors}</td><td>{}</td><td>{}</td></tr>\n",
-                esc(&f.input.display().to_string()),
-                f.status.name(),
-                f.status.name(),
-                f.dialect.map_or("—".to_string(), |d| d.to_string()),
-                f.encoding.map_or("—", |e| e.name()),
-                f.diagnostics.len() - errors,
-                f.written(self.dry_run)
-                    .map_or("—".to_string(), |p| esc(&p.display().to_string())),
+                "<h3>diagnostics</h3>\n<pre>{}</pre>\n",
+                esc(&text)
             ));
         }
-        page.push_str("</table>\n");
-        for (i, f) in self.files.iter().enumerate() {
+        if let Some((table, plot)) = &f.explained {
             page.push_str(&format!(
-                "<section id=\"f{i}\">\n<h2>{} <span class=\"{}\">{}</span></h2>\n<p>read as {} in {}; profile: {}; {}</p>\n",
-                esc(&f.input.display().to_string()),
-                f.status.name(),
-                f.status.name(),
-                f.dialect.map_or("—".to_string(), |d| d.to_string()),
-                f.encoding.map_or("—", |e| e.name()),
-                esc(&f.profile_name()),
-                f.written(self.dry_run).map_or("no output".to_string(), |p| format!(
-                    "output {}",
-                    esc(&p.display().to_string())
-                )),
+                "<h3>explain (the {} output)</h3>\n<pre>{}</pre>\n",
+                options.conversion.to,
+                esc(table)
             ));
-            if let Some(reason) = &f.reason {
-                page.push_str(&format!("<p class=\"reason\">{}</p>\n", esc(reason)));
-            }
-            if !f.diagnostics.is_empty() {
-                let text =
-                    crate::diag::render_all(&f.diagnostics, crate::diag::Format::Human, false);
+            if let Some(plot) = plot {
                 page.push_str(&format!(
-                    "<h3>diagnostics</h3>\n<pre>{}</pre>\n",
-                    esc(&text)
+                    "<h3>plot</h3>\n<img src=\"{}\" alt=\"plot of {}\" width=\"1100\">\n",
+                    url(plot),
+                    esc(&f.input.display().to_string())
                 ));
             }
-            if let Some((table, plot)) = &f.explained {
-                page.push_str(&format!(
-                    "<h3>explain (the {} output)</h3>\n<pre>{}</pre>\n",
-                    options.conversion.to,
-                    esc(table)
-                ));
-                if let Some(plot) = plot {
-                    page.push_str(&format!(
-                        "<h3>plot</h3>\n<img src=\"{}\" alt=\"plot of {}\" width=\"1100\">\n",
-                        url(plot),
-                        esc(&f.input.display().to_string())
-                    ));
-                }
-            }
-            page.push_str("</section>\n");
         }
-        page.push_str("</body>\n</html>\n");
-        let path = dir.join("index.html");
-        std::fs::write(&path, page).map_err(|e| files::io_error("write", path.display(), &e))?;
-        // The page's data, which the next run reads back.
-        let path = dir.join(STATE_FILE);
-        let json = serde_json::to_string_pretty(&self.json(options, true))
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-        std::fs::write(&path, json + "\n").map_err(|e| files::io_error("write", path.display(), &e))
+        page.push_str("</section>\n");
+        page
     }
 }
 

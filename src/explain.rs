@@ -460,6 +460,26 @@ impl Run {
         }
     }
 
+    /// +1 when the thread is external (the passes come from larger diameters), −1
+    /// internal (`spread`: the deepest pass's diameter less the first's). A runout or an
+    /// entry rises out of the thread; else the deeper passes lie further in; else the
+    /// first move along X after a pass leaves the thread.
+    fn outward(&self, spread: Length) -> i64 {
+        let first = &self.passes[0];
+        let rise = first.line().and_then(|((a, b), ..)| {
+            let pieces: Vec<Piece> = first.pieces().collect();
+            let (start, end) = (pieces.first()?.0, pieces.last()?.1);
+            let out = |p: Pos, q: Pos| p.x.zip(q.x).map(|(p, q)| (p - q).signum());
+            out(end, b).filter(|s| *s != 0).or(out(start, a))
+        });
+        match (rise.unwrap_or(0), spread.signum(), self.retract) {
+            (0, 0, r) if r < 0 => -1,
+            (0, 0, _) => 1,
+            (0, s, _) => -s,
+            (c, _, _) => c,
+        }
+    }
+
     /// Whether a block continuing a synchronised move at `pos` continues the last pass.
     fn continues_at(&self, pos: Pos) -> bool {
         self.passes.last().is_some_and(|p| p.end == pos)
@@ -653,20 +673,7 @@ fn passes_operation(run: Run, options: &Options) -> Operation {
         .filter_map(|p| reference_z.and_then(|z| p.x_at(z)))
         .collect();
     let spread = xs.last().copied().unwrap_or_default() - xs.first().copied().unwrap_or_default();
-    // A runout or an entry rises out of the thread; else the deeper passes lie further in;
-    // else the first move along X after a pass leaves the thread.
-    let rise = first.line().and_then(|((a, b), ..)| {
-        let pieces: Vec<Piece> = first.pieces().collect();
-        let (start, end) = (pieces.first()?.0, pieces.last()?.1);
-        let out = |p: Pos, q: Pos| p.x.zip(q.x).map(|(p, q)| (p - q).signum());
-        out(end, b).filter(|s| *s != 0).or(out(start, a))
-    });
-    let outward = match (rise.unwrap_or(0), spread.signum(), run.retract) {
-        (0, 0, r) if r < 0 => -1,
-        (0, 0, _) => 1,
-        (0, s, _) => -s,
-        (c, _, _) => c,
-    };
+    let outward = run.outward(spread);
     op.internal = outward < 0;
     op.crest = options.crest;
     op.crest_source = if options.crest.is_some() {
@@ -701,9 +708,19 @@ fn passes_operation(run: Run, options: &Options) -> Operation {
         op.entry = Some(entry).filter(|l| l.0 > 0);
         op.runout = Some(runout).filter(|l| l.0 > 0);
     }
-    // The starts: each start's angle after the index pulse relative to the first's helix.
+    op.start_angles = start_angles(&rows, lead);
+    if let Some(angle) = infeed_angle(&rows) {
+        op.infeed_angle = Some(angle);
+    }
+    op.spring_passes = rows.iter().filter(|r| r.spring).count();
+    op.passes = rows;
+    op
+}
+
+/// The starts: each start's angle after the index pulse relative to the first's helix.
+fn start_angles(rows: &[Pass], lead: Lead) -> Vec<Angle> {
     let mut starts: Vec<(usize, Length)> = Vec::new();
-    for r in &rows {
+    for r in rows {
         if !starts.iter().any(|(n, _)| *n == r.start_number) {
             starts.push((r.start_number, r.shift.unwrap_or_default()));
         }
@@ -712,7 +729,7 @@ fn passes_operation(run: Run, options: &Options) -> Operation {
         .first()
         .and_then(|r| r.start_angle)
         .unwrap_or(Angle::ZERO);
-    op.start_angles = starts
+    starts
         .iter()
         .map(|&(_, shift)| {
             let turns = (shift.0 as i128 * TURN as i128 * Lead::PER_LENGTH as i128)
@@ -720,21 +737,18 @@ fn passes_operation(run: Run, options: &Options) -> Operation {
                 .unwrap_or(0);
             Angle((base.0 - turns as i64).rem_euclid(TURN))
         })
-        .collect();
-    // The infeed angle from the first pass to the deepest of its start.
-    if let Some(last) = rows.iter().rev().find(|r| r.start_number == 1)
-        && let Some(shift) = last.shift
-        && last.below_first.0 > 0
-    {
-        op.infeed_angle = Some(
-            (shift.to_mm_f64() / last.below_first.to_mm_f64())
-                .atan()
-                .to_degrees(),
-        );
-    }
-    op.spring_passes = rows.iter().filter(|r| r.spring).count();
-    op.passes = rows;
-    op
+        .collect()
+}
+
+/// The infeed angle from the first pass to the deepest of its start.
+fn infeed_angle(rows: &[Pass]) -> Option<f64> {
+    let last = rows.iter().rev().find(|r| r.start_number == 1)?;
+    let shift = last.shift?;
+    (last.below_first.0 > 0).then(|| {
+        (shift.to_mm_f64() / last.below_first.to_mm_f64())
+            .atan()
+            .to_degrees()
+    })
 }
 
 fn cycle_operation(
@@ -939,6 +953,25 @@ fn facts(op: &Operation) -> Vec<String> {
         }
         _ => {}
     }
+    lines.push(starts_line(op));
+    lines.push(crest_line(op));
+    if op
+        .passes
+        .iter()
+        .any(|p| p.cumulative_depth.is_some_and(|d| d.0 < 0))
+    {
+        let side = if op.internal { "internal" } else { "external" };
+        lines.push(format!(
+            "some passes lie outside the crest: is it right? (the crest of an {side} thread is its {} diameter)",
+            if op.internal { "minor (bore)" } else { "major" }
+        ));
+    }
+    lines.push(shape_line(op));
+    lines
+}
+
+/// The thread's hand, lead and starts, with each start's angle.
+fn starts_line(op: &Operation) -> String {
     let starts = op.start_angles.len().max(1);
     let angles = op
         .start_angles
@@ -946,7 +979,7 @@ fn facts(op: &Operation) -> Vec<String> {
         .map(|a| format!("{a}°"))
         .collect::<Vec<_>>()
         .join(", ");
-    lines.push(format!(
+    format!(
         "{}, lead {} mm, {} start{} (start angle{} {})",
         hand_text(op),
         lead_text(op),
@@ -958,7 +991,12 @@ fn facts(op: &Operation) -> Vec<String> {
         } else {
             angles
         },
-    ));
+    )
+}
+
+/// External or internal, the crest and where it comes from, the root and the depth.
+fn crest_line(op: &Operation) -> String {
+    use std::fmt::Write as _;
     let side = if op.internal { "internal" } else { "external" };
     let crest = match (op.crest, op.crest_source) {
         (Some(c), CrestSource::Given) => format!("crest {} (--crest)", diameter(c)),
@@ -974,17 +1012,12 @@ fn facts(op: &Operation) -> Vec<String> {
     if let Some(d) = op.depth {
         let _ = write!(l, ", depth {} mm per side", d.mm());
     }
-    lines.push(l);
-    if op
-        .passes
-        .iter()
-        .any(|p| p.cumulative_depth.is_some_and(|d| d.0 < 0))
-    {
-        lines.push(format!(
-            "some passes lie outside the crest: is it right? (the crest of an {side} thread is its {} diameter)",
-            if op.internal { "minor (bore)" } else { "major" }
-        ));
-    }
+    l
+}
+
+/// The taper, the infeed, the entry and runout, the spring passes and the schedule.
+fn shape_line(op: &Operation) -> String {
+    use std::fmt::Write as _;
     let taper = if op.taper == Length::ZERO {
         "straight".to_string()
     } else {
@@ -1009,8 +1042,7 @@ fn facts(op: &Operation) -> Vec<String> {
     if let Some(s) = op.schedule {
         let _ = write!(l, ", {s} schedule");
     }
-    lines.push(l);
-    lines
+    l
 }
 
 fn lead_text(op: &Operation) -> String {
@@ -1024,6 +1056,13 @@ fn axis(v: Option<Length>) -> String {
 
 /// The pass table as aligned columns.
 fn pass_table(op: &Operation, table: Table) -> String {
+    let header: Vec<String> = table_header(op).iter().map(|s| s.to_string()).collect();
+    let rows: Vec<Vec<String>> = op.passes.iter().map(|p| table_row(op, p)).collect();
+    draw_table(&header, &rows, table)
+}
+
+/// The pass table's column names.
+fn table_header(op: &Operation) -> Vec<&'static str> {
     let roughing = matches!(op.kind, Kind::Roughing(_));
     let known = op.crest.is_some();
     let many = op.start_angles.len() > 1;
@@ -1042,35 +1081,42 @@ fn pass_table(op: &Operation, table: Table) -> String {
         ]);
     }
     header.extend(["X start", "Z start", "X end", "Z end"]);
+    header
+}
+
+/// One pass's cells in the pass table, as [`table_header`] names them.
+fn table_row(op: &Operation, p: &Pass) -> Vec<String> {
+    let roughing = matches!(op.kind, Kind::Roughing(_));
+    let known = op.crest.is_some();
+    let many = op.start_angles.len() > 1;
     let none = "—".to_string();
     let opt = |l: Option<Length>| l.map_or(none.clone(), |l| l.mm_fixed());
-    let rows: Vec<Vec<String>> = op
-        .passes
-        .iter()
-        .map(|p| {
-            let mut r = vec![format!("{}{}", p.number, if p.spring { "s" } else { "" })];
-            if !roughing && many {
-                r.push(p.start_number.to_string());
-            }
-            r.push(opt(p.cut));
-            if !roughing {
-                r.push(if known {
-                    opt(p.cumulative_depth)
-                } else {
-                    p.below_first.mm_fixed()
-                });
-                r.push(p.chip_area.map_or(none.clone(), |a| format!("{a:.2}")));
-                r.push(opt(p.shift));
-            }
-            r.extend([
-                axis(p.start.x),
-                axis(p.start.z),
-                axis(p.end.x),
-                axis(p.end.z),
-            ]);
-            r
-        })
-        .collect();
+    let mut r = vec![format!("{}{}", p.number, if p.spring { "s" } else { "" })];
+    if !roughing && many {
+        r.push(p.start_number.to_string());
+    }
+    r.push(opt(p.cut));
+    if !roughing {
+        r.push(if known {
+            opt(p.cumulative_depth)
+        } else {
+            p.below_first.mm_fixed()
+        });
+        r.push(p.chip_area.map_or(none.clone(), |a| format!("{a:.2}")));
+        r.push(opt(p.shift));
+    }
+    r.extend([
+        axis(p.start.x),
+        axis(p.start.z),
+        axis(p.end.x),
+        axis(p.end.z),
+    ]);
+    r
+}
+
+/// A table of `rows` under `header`, ruled with box-drawing characters or plain ASCII,
+/// each column as wide as its widest cell and right-aligned.
+fn draw_table(header: &[String], rows: &[Vec<String>], table: Table) -> String {
     let widths: Vec<usize> = (0..header.len())
         .map(|c| {
             rows.iter()
@@ -1106,11 +1152,9 @@ fn pass_table(op: &Operation, table: Table) -> String {
     };
     let mut out = String::new();
     out.push_str(&rule(corners[0]));
-    out.push_str(&line(
-        &header.iter().map(|s| s.to_string()).collect::<Vec<_>>(),
-    ));
+    out.push_str(&line(header));
     out.push_str(&rule(corners[1]));
-    for r in &rows {
+    for r in rows {
         out.push_str(&line(r));
     }
     out.push_str(&rule(corners[2]));

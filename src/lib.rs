@@ -451,18 +451,6 @@ pub fn verify_within(
     rs274: Option<&sim::rs274::Interpreter>,
     tolerance: fixed::Length,
 ) -> Verification {
-    let refused = |mut diagnostics: Vec<Diagnostic>| {
-        diag::sort(&mut diagnostics);
-        Verification {
-            outcome: Outcome::Refused,
-            diagnostics,
-            left: Vec::new(),
-            right: Vec::new(),
-            left_moves: Vec::new(),
-            right_moves: Vec::new(),
-            oracle: Vec::new(),
-        }
-    };
     let (program, mut diagnostics) =
         parse(src, options.from, &options.profile, options.unsupported);
     if diag::has_errors(&diagnostics) {
@@ -507,56 +495,24 @@ pub fn verify_within(
     let (left_moves, right_moves) = (left.segments, right.segments);
     let left = sim::normalise(&left_moves);
     let right = sim::normalise(&right_moves);
-    // The rounding a `--round` conversion reported (half a step of the target's grid, or a
-    // lead's drift over its thread) is allowed, and the tolerance asked for.
-    let rounded = diagnostics
-        .iter()
-        .filter_map(|d| d.deviation)
-        .max()
-        .unwrap_or(fixed::Length::ZERO);
-    let tolerance = tolerance.max(sim::TOLERANCE).max(rounded);
-    let outcome = match sim::compare_within(&left, &right, tolerance, fixed::Angle::ZERO) {
-        None => Outcome::Equivalent {
-            segments: left.len(),
-            deviation: sim::largest_deviation(&left, &right),
-            tolerance,
-        },
-        Some(d) => Outcome::Different(Box::new(d)),
+    let outcome = compare_sides(&left, &right, tolerance, &diagnostics);
+    let oracle = match rs274 {
+        Some(interpreter) => oracle_checks(
+            interpreter,
+            options,
+            &Side {
+                program: src,
+                segments: &left,
+                unknown: left_unknown,
+            },
+            &Side {
+                program: other,
+                segments: &right,
+                unknown: right_unknown,
+            },
+        ),
+        None => Vec::new(),
     };
-    let mut oracle = Vec::new();
-    if let Some(interpreter) = rs274 {
-        // The block delete switch is the machine's: both runs use it.
-        let settings = sim::rs274::Settings {
-            block_delete: options.profile.iso.block_delete == Some(profile::BlockDelete::On),
-            subroutine_path: options.profile.iso.subroutine_path.clone(),
-        };
-        let turret = options.profile.iso.tool_change == profile::ToolChange::T;
-        let mut judge = |program: &SourceFile,
-                         model: &SourceFile,
-                         segments: &[sim::Segment],
-                         unknown: bool| {
-            let what = format!(
-                "LinuxCNC's run of {} vs ncthread's simulation of {}",
-                program.name, model.name
-            );
-            oracle.push(if unknown {
-                    OracleCheck {
-                        what,
-                        outcome: OracleOutcome::CannotJudge(
-                            "ncthread's simulation has positions it does not know (SIM001), which LinuxCNC's has".into(),
-                        ),
-                    }
-                } else {
-                    oracle_check(interpreter, what, &program.text, &settings, turret, segments)
-                });
-        };
-        if dialect::get(options.to).linuxcnc_reads() {
-            judge(other, src, &left, left_unknown);
-        }
-        if dialect::get(options.from).linuxcnc_reads() {
-            judge(src, other, &right, right_unknown);
-        }
-    }
     Verification {
         outcome,
         diagnostics,
@@ -566,6 +522,101 @@ pub fn verify_within(
         right_moves,
         oracle,
     }
+}
+
+/// A verification that stopped at a program that could not be read or converted.
+fn refused(mut diagnostics: Vec<Diagnostic>) -> Verification {
+    diag::sort(&mut diagnostics);
+    Verification {
+        outcome: Outcome::Refused,
+        diagnostics,
+        left: Vec::new(),
+        right: Vec::new(),
+        left_moves: Vec::new(),
+        right_moves: Vec::new(),
+        oracle: Vec::new(),
+    }
+}
+
+/// Compares the two normalised motions. The rounding a `--round` conversion reported (in
+/// `diagnostics`: half a step of the target's grid, or a lead's drift over its thread) is
+/// allowed, and the tolerance asked for.
+fn compare_sides(
+    left: &[sim::Segment],
+    right: &[sim::Segment],
+    tolerance: fixed::Length,
+    diagnostics: &[Diagnostic],
+) -> Outcome {
+    let rounded = diagnostics
+        .iter()
+        .filter_map(|d| d.deviation)
+        .max()
+        .unwrap_or(fixed::Length::ZERO);
+    let tolerance = tolerance.max(sim::TOLERANCE).max(rounded);
+    match sim::compare_within(left, right, tolerance, fixed::Angle::ZERO) {
+        None => Outcome::Equivalent {
+            segments: left.len(),
+            deviation: sim::largest_deviation(left, right),
+            tolerance,
+        },
+        Some(d) => Outcome::Different(Box::new(d)),
+    }
+}
+
+/// One side of a verification, as the second judge sees it.
+struct Side<'a> {
+    program: &'a SourceFile,
+    /// ncthread's normalised motion of it.
+    segments: &'a [sim::Segment],
+    /// ncthread knows no position of it: the judge cannot compare.
+    unknown: bool,
+}
+
+/// The second judge (`verify --rs274`): LinuxCNC's own run of each program it reads held
+/// against ncthread's simulation of the other side.
+fn oracle_checks(
+    interpreter: &sim::rs274::Interpreter,
+    options: &ConvertOptions,
+    source: &Side,
+    other: &Side,
+) -> Vec<OracleCheck> {
+    // The block delete switch is the machine's: both runs use it.
+    let settings = sim::rs274::Settings {
+        block_delete: options.profile.iso.block_delete == Some(profile::BlockDelete::On),
+        subroutine_path: options.profile.iso.subroutine_path.clone(),
+    };
+    let turret = options.profile.iso.tool_change == profile::ToolChange::T;
+    let judge = |program: &SourceFile, model: &Side| {
+        let what = format!(
+            "LinuxCNC's run of {} vs ncthread's simulation of {}",
+            program.name, model.program.name
+        );
+        if model.unknown {
+            OracleCheck {
+                what,
+                outcome: OracleOutcome::CannotJudge(
+                    "ncthread's simulation has positions it does not know (SIM001), which LinuxCNC's has".into(),
+                ),
+            }
+        } else {
+            oracle_check(
+                interpreter,
+                what,
+                &program.text,
+                &settings,
+                turret,
+                model.segments,
+            )
+        }
+    };
+    let mut oracle = Vec::new();
+    if dialect::get(options.to).linuxcnc_reads() {
+        oracle.push(judge(other.program, source));
+    }
+    if dialect::get(options.from).linuxcnc_reads() {
+        oracle.push(judge(source.program, other));
+    }
+    oracle
 }
 
 #[cfg(test)]

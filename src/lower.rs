@@ -432,60 +432,164 @@ pub fn expand(cycle: &ThreadCycle) -> Result<Expansion, ExpandError> {
         return Err(ExpandError::TooManyPasses);
     }
     depths.extend((0..cycle.spring_passes).map(|_| cycle.depth));
-    let towards_end = (cycle.end_z - az).signum();
-    // Outward: +1 for an external thread (the tool comes from larger diameters).
-    let outward = if cycle.internal { -1 } else { 1 };
-    let out = |l: Length| Length(outward * l.0);
-    let crest_start = cycle.crest;
-    let crest_end = cycle.crest + cycle.taper;
-    let crest_at = |z: Length| crest_start + cycle.taper.mul_div((z - az).0, (cycle.end_z - az).0);
-    let clearance_x = |clearance: Length| {
-        let x = if outward > 0 {
-            crest_start.max(crest_end)
-        } else {
-            crest_start.min(crest_end)
-        } + out(clearance + clearance);
-        if (ax - x).signum() == outward { ax } else { x }
+    let shape = CycleShape {
+        cycle,
+        ax,
+        az,
+        towards_end: (cycle.end_z - az).signum(),
+        // Outward: +1 for an external thread (the tool comes from larger diameters).
+        outward: if cycle.internal { -1 } else { 1 },
+        needed: cycle.entry.map_or(Length::ZERO, |e| e.length)
+            + cycle.runout.map_or(Length::ZERO, |r| r.length),
     };
-    let rise = |r: Rise, c: Length| match r {
-        Rise::ToCrest => out(c + c),
-        Rise::ThreadDepth => out(cycle.depth + cycle.depth),
-    };
-    let needed = cycle.entry.map_or(Length::ZERO, |e| e.length)
-        + cycle.runout.map_or(Length::ZERO, |r| r.length);
     let mut passes = Vec::with_capacity(depths.len());
     let mut moves = Vec::with_capacity(4 * depths.len() + 1);
     let mut previous = Length::ZERO;
-    let rapid = Move::Rapid;
     for (i, &c) in depths.iter().enumerate() {
         let number = i + 1;
-        let sink = out(-(c + c));
-        let z = az + Length(towards_end * cycle.infeed.of(c).0);
+        let (pass, way) = shape.pass(number, c, previous)?;
+        passes.push(pass);
+        previous = c;
+        let kinds = (way.approach.into_iter())
+            .chain([Move::Pass(pass.pass)])
+            .chain(way.leave);
+        moves.extend(kinds.map(|kind| CycleMove { pass: number, kind }));
+    }
+    let last = moves
+        .iter()
+        .fold(Pos::new(ax, az), |p, m| m.kind.end_position(p));
+    if let Some(to) = shape.home_from(last) {
+        moves.push(CycleMove {
+            pass: 0,
+            kind: Move::Rapid(to),
+        });
+    }
+    Ok(Expansion { passes, moves })
+}
+
+/// What [`expand`] works out once for every pass of a cycle.
+struct CycleShape<'c> {
+    cycle: &'c ThreadCycle,
+    /// The start point.
+    ax: Length,
+    az: Length,
+    /// The sign of Z from the start towards the end.
+    towards_end: i64,
+    /// +1 for an external thread (the tool comes from larger diameters), −1 internal.
+    outward: i64,
+    /// The Z travel the entry and the runout take.
+    needed: Length,
+}
+
+/// How the tool comes to a pass and leaves it.
+struct PassWay {
+    /// The diameter the tool retracts to.
+    retract_x: Length,
+    approach: Vec<Move>,
+    leave: Vec<Move>,
+}
+
+impl CycleShape<'_> {
+    /// A radial length (per side) as a diameter change outwards.
+    fn out(&self, l: Length) -> Length {
+        Length(self.outward * l.0)
+    }
+
+    /// The crest diameter at `z`, along the taper.
+    fn crest_at(&self, z: Length) -> Length {
+        let cycle = self.cycle;
+        cycle.crest
+            + cycle
+                .taper
+                .mul_div((z - self.az).0, (cycle.end_z - self.az).0)
+    }
+
+    /// The retract diameter `clearance` outside the crest (the start X when that is
+    /// further out).
+    fn clearance_x(&self, clearance: Length) -> Length {
+        let (crest_start, crest_end) = (self.cycle.crest, self.cycle.crest + self.cycle.taper);
+        let x = if self.outward > 0 {
+            crest_start.max(crest_end)
+        } else {
+            crest_start.min(crest_end)
+        } + self.out(clearance + clearance);
+        if (self.ax - x).signum() == self.outward {
+            self.ax
+        } else {
+            x
+        }
+    }
+
+    /// An entry's or runout's rise at cumulative depth `c`, as a diameter change.
+    fn rise(&self, r: Rise, c: Length) -> Length {
+        match r {
+            Rise::ToCrest => self.out(c + c),
+            Rise::ThreadDepth => self.out(self.cycle.depth + self.cycle.depth),
+        }
+    }
+
+    /// Pass `number` at cumulative depth `c` (`previous`: the depth before it), and how
+    /// the tool comes to it and leaves it.
+    fn pass(
+        &self,
+        number: usize,
+        c: Length,
+        previous: Length,
+    ) -> Result<(CyclePass, PassWay), ExpandError> {
+        let cycle = self.cycle;
+        let sink = self.out(-(c + c));
+        let z = self.az + Length(self.towards_end * cycle.infeed.of(c).0);
         let end_z = if cycle.infeed_moves_end {
-            cycle.end_z - Length(towards_end * cycle.infeed.of(cycle.depth - c).0)
+            cycle.end_z - Length(self.towards_end * cycle.infeed.of(cycle.depth - c).0)
         } else {
             cycle.end_z
         };
-        let travel = Length(towards_end * (end_z - z).0);
-        if travel.0 <= needed.0 {
+        let travel = Length(self.towards_end * (end_z - z).0);
+        if travel.0 <= self.needed.0 {
             return Err(ExpandError::ShortPass {
                 pass: number,
                 travel,
             });
         }
-        let line_start = Pos::new(crest_at(z) + sink, z);
-        let line_end = Pos::new(crest_at(end_z) + sink, end_z);
+        let line_start = Pos::new(self.crest_at(z) + sink, z);
+        let line_end = Pos::new(self.crest_at(end_z) + sink, end_z);
         let entry = cycle.entry.map(|e| Chamfer {
             length: e.length,
-            offset: rise(e.rise, c),
+            offset: self.rise(e.rise, c),
         });
         let start = Pos::new(
             line_start.x.unwrap_or_default() + entry.map_or(Length::ZERO, |e| e.offset),
             z,
         );
-        // LinuxCNC's G76 feeds in along X, synchronised, to the entry's start at the entry's
-        // advance along its path: lead·√(E² + rise²)/E.
-        let infeed = match entry {
+        let infeed = self.sync_infeed(entry, start);
+        let pass = ThreadPass {
+            to: line_end,
+            lead: cycle.lead,
+            start: SyncStart::Index(cycle.start_angle),
+            infeed,
+            entry,
+            exit: cycle.runout.map(|r| Chamfer {
+                length: r.length,
+                offset: self.rise(r.rise, c),
+            }),
+        };
+        let way = self.way(line_start, line_end, start, infeed.is_some());
+        let pass = CyclePass {
+            number,
+            depth: c,
+            cut: c - previous,
+            start,
+            pass,
+            retract_x: way.retract_x,
+        };
+        Ok((pass, way))
+    }
+
+    /// LinuxCNC's G76 feeds in along X, synchronised, to the entry's start at the entry's
+    /// advance along its path: lead·√(E² + rise²)/E.
+    fn sync_infeed(&self, entry: Option<Chamfer>, start: Pos) -> Option<SyncInfeed> {
+        let cycle = self.cycle;
+        match entry {
             Some(e) if cycle.entry_infeed && e.length.0 > 0 => {
                 let (len, rise) = (e.length.to_mm_f64(), e.offset.abs().to_mm_f64() / 2.0);
                 Lead::from_mm_f64(cycle.lead.to_mm_f64() * len.hypot(rise) / len).map(|advance| {
@@ -496,79 +600,66 @@ pub fn expand(cycle: &ThreadCycle) -> Result<Expansion, ExpandError> {
                 })
             }
             _ => None,
-        };
-        let pass = ThreadPass {
-            to: line_end,
-            lead: cycle.lead,
-            start: SyncStart::Index(cycle.start_angle),
-            infeed,
-            entry,
-            exit: cycle.runout.map(|r| Chamfer {
-                length: r.length,
-                offset: rise(r.rise, c),
-            }),
-        };
+        }
+    }
+
+    /// The rapids to a pass whose line runs from `line_start` to `line_end` and whose
+    /// move starts at `start` (`infeed`: it feeds in synchronised), and away from it.
+    fn way(&self, line_start: Pos, line_end: Pos, start: Pos, infeed: bool) -> PassWay {
+        let rapid = Move::Rapid;
         let x_only = |x: Length| Pos {
             x: Some(x),
             z: None,
         };
-        let (retract_x, approach, leave) = match cycle.retract {
+        match self.cycle.retract {
             Retract::AboveCrest(clearance) => {
-                let x = clearance_x(clearance);
-                (
-                    x,
-                    vec![rapid(start)],
-                    vec![
+                let x = self.clearance_x(clearance);
+                PassWay {
+                    retract_x: x,
+                    approach: vec![rapid(start)],
+                    leave: vec![
                         rapid(x_only(x)),
                         rapid(Pos {
                             x: None,
-                            z: Some(az),
+                            z: Some(self.az),
                         }),
                     ],
-                )
+                }
             }
             Retract::AboveCut(height) => {
-                let lift = out(height + height);
-                let back = Pos::new(line_start.x.unwrap_or_default() + lift, z);
+                let lift = self.out(height + height);
+                let back = Pos {
+                    x: Some(line_start.x.unwrap_or_default() + lift),
+                    z: start.z,
+                };
                 let x = line_end.x.unwrap_or_default() + lift;
-                let approach = if back == start || infeed.is_some() {
+                let approach = if back == start || infeed {
                     vec![rapid(back)]
                 } else {
                     vec![rapid(back), rapid(start)]
                 };
-                (x, approach, vec![rapid(x_only(x))])
+                PassWay {
+                    retract_x: x,
+                    approach,
+                    leave: vec![rapid(x_only(x))],
+                }
             }
-        };
-        passes.push(CyclePass {
-            number,
-            depth: c,
-            cut: c - previous,
-            start,
-            pass,
-            retract_x,
-        });
-        previous = c;
-        let kinds = approach.into_iter().chain([Move::Pass(pass)]).chain(leave);
-        moves.extend(kinds.map(|kind| CycleMove { pass: number, kind }));
+        }
     }
-    let last = moves
-        .iter()
-        .fold(Pos::new(ax, az), |p, m| m.kind.end_position(p));
-    let home = match cycle.finish {
-        Finish::Start => Pos::new(ax, az),
-        Finish::EndAt(x) => Pos::new(x, cycle.end_z),
-    };
-    if last != home {
-        let to = Pos {
+
+    /// The rapid from `last` to where the cycle ends (the start point, or the
+    /// [`Finish::EndAt`] diameter at the end Z), in the axes that change; `None` when
+    /// the tool is there.
+    fn home_from(&self, last: Pos) -> Option<Pos> {
+        let home = match self.cycle.finish {
+            Finish::Start => Pos::new(self.ax, self.az),
+            Finish::EndAt(x) => Pos::new(x, self.cycle.end_z),
+        };
+        (last != home).then(|| Pos {
             x: (last.x != home.x).then_some(home.x).flatten(),
             z: (last.z != home.z).then_some(home.z).flatten(),
-        };
-        moves.push(CycleMove {
-            pass: 0,
-            kind: rapid(to),
-        });
+        })
     }
-    Ok(Expansion { passes, moves })
 }
 
 /// What a writer writes of an expansion, in order.

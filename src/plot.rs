@@ -473,15 +473,65 @@ fn heading(out: &mut String, rect: (f64, f64, f64, f64), title: &str) {
 /// The operation's passes along Z, X magnified so that each pass is apart; a roughing or
 /// finishing cycle's cuts as it moves them, rapids dashed.
 fn thread_detail(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
-    // A cycle's moves from its first cut to its last (the approach and the way back are in
-    // the toolpath).
-    let cuts: &[CycleMove] = match (
+    let cuts = detail_cuts(op);
+    let Some(b) = detail_bounds(op, cuts) else {
+        return;
+    };
+    let v = View::fit(rect, b, false);
+    heading(out, rect, &detail_heading(op, cuts, &scale_note(&v)));
+    axes(out, &v, "Z (mm)", "X (diameter, mm)", true);
+    let n = op.passes.len();
+    // Lines along a taper leave the frame: they are cut at it.
+    let _ = writeln!(
+        out,
+        "<clipPath id=\"passes\"><rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"/></clipPath>\n<g clip-path=\"url(#passes)\">",
+        v.left, v.top, v.width, v.height
+    );
+    if op.is_thread() {
+        guide_lines(out, &v, op);
+    }
+    for m in cuts {
+        draw_cut(out, &v, m, n);
+    }
+    if cuts.is_empty() {
+        for (i, p) in op.passes.iter().enumerate() {
+            let (Some(start), Some(end)) = (p.start.known(), p.end.known()) else {
+                continue;
+            };
+            let (a, c) = (v.at(start), v.at(end));
+            let _ = writeln!(
+                out,
+                "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"{}\" stroke-width=\"2\"><title>pass {}: {} to {}</title></line>",
+                a.0,
+                a.1,
+                c.0,
+                c.1,
+                pass_colour(i, n),
+                p.number,
+                crate::sim::show_pos(p.start),
+                crate::sim::show_pos(p.end)
+            );
+        }
+    }
+    out.push_str("</g>\n");
+    pass_labels(out, &v, op);
+}
+
+/// A cycle's moves from its first cut to its last (the approach and the way back are in
+/// the toolpath).
+fn detail_cuts(op: &Operation) -> &[CycleMove] {
+    match (
         op.moves.iter().position(|m| m.cut.is_some()),
         op.moves.iter().rposition(|m| m.cut.is_some()),
     ) {
         (Some(a), Some(b)) => &op.moves[a..=b],
         _ => &[],
-    };
+    }
+}
+
+/// The detail's bounds (Z, Z, radius, radius): the passes, the cuts and the crest line,
+/// with room for the pass numbers past the passes' starts.
+fn detail_bounds(op: &Operation, cuts: &[CycleMove]) -> Option<(f64, f64, f64, f64)> {
     let mut b: Option<(f64, f64, f64, f64)> = None;
     let mut add = |p: Pos| {
         let Some((x, z)) = p.known() else { return };
@@ -517,16 +567,19 @@ fn thread_detail(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
             });
         }
     }
-    let Some(mut b) = b else { return };
-    // Room for the pass numbers past the passes' starts.
+    let mut b = b?;
     let room = (b.1 - b.0).max(1.0) * 0.08;
     if labels_right(op) {
         b.1 += room;
     } else {
         b.0 -= room;
     }
-    let v = View::fit(rect, b, false);
-    let scale = if v.sr > v.sz * 1.05 {
+    Some(b)
+}
+
+/// How a view's axes are scaled: `to scale`, or which one is magnified and how much.
+fn scale_note(v: &View) -> String {
+    if v.sr > v.sz * 1.05 {
         format!(
             "X magnified ×{}",
             number((v.sr / v.sz * 10.0).round() / 10.0)
@@ -538,87 +591,55 @@ fn thread_detail(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
         )
     } else {
         "to scale".into()
-    };
-    heading(
-        out,
-        rect,
-        &match &op.kind {
-            Kind::Roughing(code) if cuts.iter().any(|m| m.cut.is_none()) => {
-                format!(
-                    "operation {}: {code}'s cuts ({scale}; rapids dashed)",
-                    op.number
-                )
-            }
-            Kind::Roughing(code) => format!("operation {}: {code}'s cuts ({scale})", op.number),
-            _ => format!("operation {}: passes along Z ({scale})", op.number),
-        },
-    );
-    axes(out, &v, "Z (mm)", "X (diameter, mm)", true);
-    let n = op.passes.len();
-    // Lines along a taper leave the frame: they are cut at it.
-    let _ = writeln!(
-        out,
-        "<clipPath id=\"passes\"><rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"/></clipPath>\n<g clip-path=\"url(#passes)\">",
-        v.left, v.top, v.width, v.height
-    );
-    if op.is_thread() {
-        guide_lines(out, &v, op);
     }
-    for m in cuts {
-        let Some(d) = path_of(&v, m.from, m.to, m.arc) else {
-            continue;
-        };
-        let (from, to) = (crate::sim::show_pos(m.from), crate::sim::show_pos(m.to));
-        let (stroke, title) = match (m.cut, m.arc) {
-            (None, _) => (
-                Stroke {
-                    colour: RAPID.to_string(),
-                    width: 1.0,
-                    dash: Some("5,4"),
-                },
-                format!("rapid  {from} → {to}"),
-            ),
-            (Some(c), arc) => (
-                Stroke {
-                    colour: pass_colour(c - 1, n),
-                    width: 2.0,
-                    dash: None,
-                },
-                match arc {
-                    Some((centre, clockwise)) => format!(
-                        "cut {c}  arc {}  {from} → {to}  centre {}",
-                        if clockwise { "G2" } else { "G3" },
-                        crate::sim::show_pos(centre)
-                    ),
-                    None => format!("cut {c}  feed  {from} → {to}"),
-                },
-            ),
-        };
-        stroke_path(out, &d, &stroke, Some(&title));
-    }
-    for (i, p) in op.passes.iter().enumerate() {
-        if !cuts.is_empty() {
-            break;
+}
+
+/// The detail's heading: the operation, what is drawn, and the `scale`.
+fn detail_heading(op: &Operation, cuts: &[CycleMove], scale: &str) -> String {
+    match &op.kind {
+        Kind::Roughing(code) if cuts.iter().any(|m| m.cut.is_none()) => {
+            format!(
+                "operation {}: {code}'s cuts ({scale}; rapids dashed)",
+                op.number
+            )
         }
-        let (Some(start), Some(end)) = (p.start.known(), p.end.known()) else {
-            continue;
-        };
-        let (a, c) = (v.at(start), v.at(end));
-        let _ = writeln!(
-            out,
-            "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"{}\" stroke-width=\"2\"><title>pass {}: {} to {}</title></line>",
-            a.0,
-            a.1,
-            c.0,
-            c.1,
-            pass_colour(i, n),
-            p.number,
-            crate::sim::show_pos(p.start),
-            crate::sim::show_pos(p.end)
-        );
+        Kind::Roughing(code) => format!("operation {}: {code}'s cuts ({scale})", op.number),
+        _ => format!("operation {}: passes along Z ({scale})", op.number),
     }
-    out.push_str("</g>\n");
-    pass_labels(out, &v, op);
+}
+
+/// One move of a cycle's cuts (of `n` passes): a rapid dashed, a cut in its pass's colour.
+fn draw_cut(out: &mut String, v: &View, m: &CycleMove, n: usize) {
+    let Some(d) = path_of(v, m.from, m.to, m.arc) else {
+        return;
+    };
+    let (from, to) = (crate::sim::show_pos(m.from), crate::sim::show_pos(m.to));
+    let (stroke, title) = match (m.cut, m.arc) {
+        (None, _) => (
+            Stroke {
+                colour: RAPID.to_string(),
+                width: 1.0,
+                dash: Some("5,4"),
+            },
+            format!("rapid  {from} → {to}"),
+        ),
+        (Some(c), arc) => (
+            Stroke {
+                colour: pass_colour(c - 1, n),
+                width: 2.0,
+                dash: None,
+            },
+            match arc {
+                Some((centre, clockwise)) => format!(
+                    "cut {c}  arc {}  {from} → {to}  centre {}",
+                    if clockwise { "G2" } else { "G3" },
+                    crate::sim::show_pos(centre)
+                ),
+                None => format!("cut {c}  feed  {from} → {to}"),
+            },
+        ),
+    };
+    stroke_path(out, &d, &stroke, Some(&title));
 }
 
 /// Each pass's (or cut's) number beside its start, past the end of its line (beside it, or
@@ -779,45 +800,79 @@ fn guide_lines(out: &mut String, v: &View, op: &Operation) {
         (None, Some(x)) => x.to_mm_f64() >= x0,
         _ => true,
     };
-    let mut draw = |diameter_at: &dyn Fn(f64) -> f64, above: bool, label: String| {
-        let (a, b) = (
-            v.px(from, diameter_at(from) / 2.0),
-            v.px(to, diameter_at(to) / 2.0),
-        );
-        let _ = writeln!(
-            out,
-            "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"#555555\" stroke-width=\"1\" stroke-dasharray=\"2,3\"/>",
-            a.0, a.1, b.0, b.1
-        );
-        // Clear of the line over the label's width (about 6 px a character at 10 px).
-        let width = 6.0 * label.chars().count() as f64 / v.sz;
-        let other = if right { near - width } else { near + width };
-        let (x, ya) = v.px(near, diameter_at(near) / 2.0);
-        let yb = v.px(other, diameter_at(other) / 2.0).1;
-        let y = if above {
-            ya.min(yb) - 4.0
-        } else {
-            ya.max(yb) + 12.0
-        };
-        let y = y.clamp(v.top + 12.0, v.top + v.height - 4.0);
-        let (x, anchor) = if right {
-            (x - 4.0, "end")
-        } else {
-            (x + 4.0, "start")
-        };
-        halo_text(out, x, y, 10.0, anchor, "#555555", &label);
+    let span = GuideSpan {
+        from,
+        to,
+        near,
+        right,
     };
     if let (Some(offset), Some(crest)) = (offset, op.crest) {
-        draw(
+        guide_line(
+            out,
+            v,
+            &span,
             &|z| root_at(z) + offset,
             outward,
-            format!("crest Ø{}{at}", crest.mm()),
+            &format!("crest Ø{}{at}", crest.mm()),
         );
     }
     let root = op.root.map_or("deepest pass".to_string(), |r| {
         format!("root Ø{}{at}", r.mm())
     });
-    draw(&root_at, !outward, root);
+    guide_line(out, v, &span, &root_at, !outward, &root);
+}
+
+/// Where the guide lines run along Z (`from` to `to`) and where their labels stand
+/// (`near`, on the `right` side or the left).
+struct GuideSpan {
+    from: f64,
+    to: f64,
+    near: f64,
+    right: bool,
+}
+
+/// One guide line, at the diameter `diameter_at` each Z, labelled `label` `above` it (or
+/// below).
+fn guide_line(
+    out: &mut String,
+    v: &View,
+    span: &GuideSpan,
+    diameter_at: &dyn Fn(f64) -> f64,
+    above: bool,
+    label: &str,
+) {
+    let GuideSpan {
+        from,
+        to,
+        near,
+        right,
+    } = *span;
+    let (a, b) = (
+        v.px(from, diameter_at(from) / 2.0),
+        v.px(to, diameter_at(to) / 2.0),
+    );
+    let _ = writeln!(
+        out,
+        "<line x1=\"{:.1}\" y1=\"{:.1}\" x2=\"{:.1}\" y2=\"{:.1}\" stroke=\"#555555\" stroke-width=\"1\" stroke-dasharray=\"2,3\"/>",
+        a.0, a.1, b.0, b.1
+    );
+    // Clear of the line over the label's width (about 6 px a character at 10 px).
+    let width = 6.0 * label.chars().count() as f64 / v.sz;
+    let other = if right { near - width } else { near + width };
+    let (x, ya) = v.px(near, diameter_at(near) / 2.0);
+    let yb = v.px(other, diameter_at(other) / 2.0).1;
+    let y = if above {
+        ya.min(yb) - 4.0
+    } else {
+        ya.max(yb) + 12.0
+    };
+    let y = y.clamp(v.top + 12.0, v.top + v.height - 4.0);
+    let (x, anchor) = if right {
+        (x - 4.0, "end")
+    } else {
+        (x + 4.0, "start")
+    };
+    halo_text(out, x, y, 10.0, anchor, "#555555", label);
 }
 
 /// The deepest pass's line, (X diameter, Z) at its start and end in mm: the thread's root.
@@ -840,9 +895,7 @@ fn cross_section(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
         rect,
         &format!("operation {}: cross-section (tool at each pass)", op.number),
     );
-    let depth_of =
-        |p: &crate::explain::Pass| p.cumulative_depth.unwrap_or(p.below_first).to_mm_f64();
-    let deepest = op.passes.iter().map(depth_of).fold(0.0f64, f64::max);
+    let deepest = op.passes.iter().map(pass_depth).fold(0.0f64, f64::max);
     let lead = op.lead.map_or(1.0, |l| l.to_mm_f64());
     let tan30 = (30f64).to_radians().tan();
     // Horizontal: along the cut (mm), the first pass's tip at 0; vertical: depth (down).
@@ -865,54 +918,21 @@ fn cross_section(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
         "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\" fill=\"#ffffff\" stroke=\"#444444\"/>",
         v.left, v.top, v.width, v.height
     );
-    let (z0, z1) = v.z_range();
     // The part: the crest line, and the groove the deepest passes leave.
     let crest_y = v.px(0.0, 0.0).1;
-    let _ = writeln!(
-        out,
-        "<line x1=\"{:.1}\" y1=\"{crest_y:.1}\" x2=\"{:.1}\" y2=\"{crest_y:.1}\" stroke=\"#555555\" stroke-dasharray=\"2,3\"/>",
-        v.left,
-        v.left + v.width
-    );
+    section_line(out, &v, crest_y);
     // The root, the deepest pass's depth, drawn as the crest is.
     let root_y = v.px(0.0, -deepest).1;
-    let _ = writeln!(
-        out,
-        "<line x1=\"{:.1}\" y1=\"{root_y:.1}\" x2=\"{:.1}\" y2=\"{root_y:.1}\" stroke=\"#555555\" stroke-dasharray=\"2,3\"/>",
-        v.left,
-        v.left + v.width
-    );
+    section_line(out, &v, root_y);
     // The tools reach above the crest: they are cut at the frame.
     let _ = writeln!(
         out,
         "<clipPath id=\"section\"><rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"/></clipPath>\n<g clip-path=\"url(#section)\">",
         v.left, v.top, v.width, v.height
     );
-    let n = op.passes.len();
     let height = deepest * 1.1 + lead * 0.05;
-    for (i, p) in op.passes.iter().enumerate() {
-        let (s, d) = (shifts[i], depth_of(p));
-        let top = d - height;
-        let points = [
-            v.px(s - (d - top) * tan30, -top),
-            v.px(s, -d),
-            v.px(s + (d - top) * tan30, -top),
-        ];
-        let colour = pass_colour(i, n);
-        let _ = writeln!(
-            out,
-            "<polyline points=\"{:.1},{:.1} {:.1},{:.1} {:.1},{:.1}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"1.5\"><title>pass {}: depth {} mm, shift {} mm</title></polyline>",
-            points[0].0,
-            points[0].1,
-            points[1].0,
-            points[1].1,
-            points[2].0,
-            points[2].1,
-            p.number,
-            number(d),
-            number(s)
-        );
-        dot(out, points[1], 2.5, &colour, &format!("pass {}", p.number));
+    for (i, &shift) in shifts.iter().enumerate() {
+        section_tool(out, &v, op, i, shift, height);
     }
     out.push_str("</g>\n");
     // The lines' labels over the tools: the crest above its line, the root below.
@@ -926,7 +946,56 @@ fn cross_section(out: &mut String, op: &Operation, rect: (f64, f64, f64, f64)) {
     for (y, label) in [(crest_y - 4.0, crest), (root_y + 12.0, root)] {
         halo_text(out, v.left + 4.0, y, 10.0, "start", "#555555", &label);
     }
-    // A scale bar of one tick step.
+    scale_bar(out, &v);
+}
+
+/// A pass's cumulative depth in mm (below the first pass when the crest is not known).
+fn pass_depth(p: &crate::explain::Pass) -> f64 {
+    p.cumulative_depth.unwrap_or(p.below_first).to_mm_f64()
+}
+
+/// A dotted line across the cross-section at height `y` (px): the crest or the root.
+fn section_line(out: &mut String, v: &View, y: f64) {
+    let _ = writeln!(
+        out,
+        "<line x1=\"{:.1}\" y1=\"{y:.1}\" x2=\"{:.1}\" y2=\"{y:.1}\" stroke=\"#555555\" stroke-dasharray=\"2,3\"/>",
+        v.left,
+        v.left + v.width
+    );
+}
+
+/// The tool of pass `i` in the cross-section, `shift` mm along the cut, its flanks
+/// `height` mm tall, its tip marked.
+fn section_tool(out: &mut String, v: &View, op: &Operation, i: usize, shift: f64, height: f64) {
+    let tan30 = (30f64).to_radians().tan();
+    let p = &op.passes[i];
+    let (s, d) = (shift, pass_depth(p));
+    let top = d - height;
+    let points = [
+        v.px(s - (d - top) * tan30, -top),
+        v.px(s, -d),
+        v.px(s + (d - top) * tan30, -top),
+    ];
+    let colour = pass_colour(i, op.passes.len());
+    let _ = writeln!(
+        out,
+        "<polyline points=\"{:.1},{:.1} {:.1},{:.1} {:.1},{:.1}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"1.5\"><title>pass {}: depth {} mm, shift {} mm</title></polyline>",
+        points[0].0,
+        points[0].1,
+        points[1].0,
+        points[1].1,
+        points[2].0,
+        points[2].1,
+        p.number,
+        number(d),
+        number(s)
+    );
+    dot(out, points[1], 2.5, &colour, &format!("pass {}", p.number));
+}
+
+/// A scale bar of one tick step in the view's lower left corner.
+fn scale_bar(out: &mut String, v: &View) {
+    let (z0, z1) = v.z_range();
     let step = tick_step(z1 - z0, 4.0);
     let (a, y) = (v.left + 10.0, v.top + v.height - 10.0);
     let b = a + step * v.sz;
@@ -1034,29 +1103,7 @@ pub fn verify_plot(
         out.push_str("</svg>\n");
         return out;
     };
-    // The key: each program's line as it is drawn, and their rapids.
-    let line = |out: &mut String, (x, y): (f64, f64), colour: &str, width: f64, dash: &str| {
-        let _ = writeln!(
-            out,
-            "<line x1=\"{x}\" y1=\"{y}\" x2=\"{}\" y2=\"{y}\" stroke=\"{colour}\" stroke-width=\"{width}\" stroke-dasharray=\"{dash}\"/>",
-            x + 30.0
-        );
-    };
-    line(&mut out, (70.0, 50.0), LEFT, 2.5, "none");
-    text(&mut out, 106.0, 54.0, 12.0, "start", "#222222", left_name);
-    line(&mut out, (70.0, 66.0), RIGHT, 1.2, "6,3");
-    text(&mut out, 106.0, 70.0, 12.0, "start", "#222222", right_name);
-    line(&mut out, (WIDTH - 380.0, 50.0), LEFT, 2.5, "2,4");
-    line(&mut out, (WIDTH - 380.0, 66.0), RIGHT, 1.2, "2,4");
-    text(
-        &mut out,
-        WIDTH - 344.0,
-        62.0,
-        12.0,
-        "start",
-        "#222222",
-        "rapids (dotted, each in its program's colour)",
-    );
+    verify_key(&mut out, left_name, right_name);
     let whole = View::fit((70.0, 80.0, WIDTH - 110.0, 440.0), b, true);
     axes(&mut out, &whole, "Z (mm)", "X (diameter, mm)", true);
     overlay(&mut out, &whole, left, right, &marked, difference);
@@ -1085,35 +1132,72 @@ pub fn verify_plot(
             l,
         );
     }
-    if let Some((z0, z1, r0, r1)) = detail {
-        // Around the difference, X magnified: a small step is seen.
-        // (Twice the step around a small one; a large one, such as a rapid to another
-        // place, is not magnified past the whole view.)
-        let (dz, dr) = ((z1 - z0).max(1.0), (r1 - r0).max(0.05));
-        let pad = (dr * 2.0).min(dr * 0.1 + 0.1);
-        let bounds = (z0 - dz * 0.1, z1 + dz * 0.1, r0 - pad, r1 + pad);
-        let rect = (70.0, 640.0, WIDTH - 110.0, 300.0);
-        text(
-            &mut out,
-            70.0,
-            630.0,
-            13.0,
-            "start",
-            "#222222",
-            "around the first difference (X magnified)",
-        );
-        let v = View::fit(rect, bounds, false);
-        axes(&mut out, &v, "Z (mm)", "X (diameter, mm)", true);
-        let _ = writeln!(
-            out,
-            "<clipPath id=\"detail\"><rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"/></clipPath>\n<g clip-path=\"url(#detail)\">",
-            v.left, v.top, v.width, v.height
-        );
-        overlay(&mut out, &v, left, right, &marked, difference);
-        out.push_str("</g>\n");
+    if let Some(detail) = detail {
+        difference_detail(&mut out, detail, left, right, &marked, difference);
     }
     out.push_str("</svg>\n");
     out
+}
+
+/// The key of a verify plot: each program's line as it is drawn, and their rapids.
+fn verify_key(out: &mut String, left_name: &str, right_name: &str) {
+    let line = |out: &mut String, (x, y): (f64, f64), colour: &str, width: f64, dash: &str| {
+        let _ = writeln!(
+            out,
+            "<line x1=\"{x}\" y1=\"{y}\" x2=\"{}\" y2=\"{y}\" stroke=\"{colour}\" stroke-width=\"{width}\" stroke-dasharray=\"{dash}\"/>",
+            x + 30.0
+        );
+    };
+    line(out, (70.0, 50.0), LEFT, 2.5, "none");
+    text(out, 106.0, 54.0, 12.0, "start", "#222222", left_name);
+    line(out, (70.0, 66.0), RIGHT, 1.2, "6,3");
+    text(out, 106.0, 70.0, 12.0, "start", "#222222", right_name);
+    line(out, (WIDTH - 380.0, 50.0), LEFT, 2.5, "2,4");
+    line(out, (WIDTH - 380.0, 66.0), RIGHT, 1.2, "2,4");
+    text(
+        out,
+        WIDTH - 344.0,
+        62.0,
+        12.0,
+        "start",
+        "#222222",
+        "rapids (dotted, each in its program's colour)",
+    );
+}
+
+/// The view around the first difference (`detail`: the bounds of its segments), X
+/// magnified so that a small step is seen. (Twice the step around a small one; a large
+/// one, such as a rapid to another place, is not magnified past the whole view.)
+fn difference_detail(
+    out: &mut String,
+    (z0, z1, r0, r1): (f64, f64, f64, f64),
+    left: &[Segment],
+    right: &[Segment],
+    marked: &[Segment],
+    difference: Option<&Difference>,
+) {
+    let (dz, dr) = ((z1 - z0).max(1.0), (r1 - r0).max(0.05));
+    let pad = (dr * 2.0).min(dr * 0.1 + 0.1);
+    let bounds = (z0 - dz * 0.1, z1 + dz * 0.1, r0 - pad, r1 + pad);
+    let rect = (70.0, 640.0, WIDTH - 110.0, 300.0);
+    text(
+        out,
+        70.0,
+        630.0,
+        13.0,
+        "start",
+        "#222222",
+        "around the first difference (X magnified)",
+    );
+    let v = View::fit(rect, bounds, false);
+    axes(out, &v, "Z (mm)", "X (diameter, mm)", true);
+    let _ = writeln!(
+        out,
+        "<clipPath id=\"detail\"><rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\"/></clipPath>\n<g clip-path=\"url(#detail)\">",
+        v.left, v.top, v.width, v.height
+    );
+    overlay(out, &v, left, right, marked, difference);
+    out.push_str("</g>\n");
 }
 
 /// Both motions in `v`, the difference's segments (`marked`, as moved) in red and circled.

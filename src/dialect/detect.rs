@@ -72,17 +72,53 @@ pub fn has_marks(text: &str) -> bool {
 
 /// Chooses the dialect of `text`.
 pub fn detect(text: &str) -> Detection {
-    let n = ALL.len();
-    let (mut marks, mut weak, mut first) = (vec![0usize; n], vec![0usize; n], vec![None; n]);
-    // Lines that two dialects mark alike (a `( )` comment after code: ISO's and FANUC's).
-    let (mut shared, mut first_shared) = (vec![0usize; n], None);
-    let mut plain = 0;
+    let mut tally = Tally::new(ALL.len());
     for (i, line) in text.lines().enumerate() {
         let line = line.trim();
         if line.is_empty() || line == "%" {
             continue;
         }
-        let claims: Vec<(usize, LineClaim)> = (0..n)
+        tally.add(i + 1, line);
+    }
+    let marked = tally.marks.iter().filter(|&&m| m > 0).count();
+    match (marked, tally.first_shared) {
+        // Only marks that several dialects share: the likeliest of them, never certain.
+        (0, Some(line)) => tally.shared_guess(line),
+        (0, None) => tally.weak_guess(),
+        _ => tally.choice(marked),
+    }
+}
+
+/// What [`detect`] counts over a program's lines, per dialect (indices into [`ALL`]).
+struct Tally {
+    /// Lines that only the dialect marks.
+    marks: Vec<usize>,
+    /// Lines that weakly suggest the dialect.
+    weak: Vec<usize>,
+    /// The first line the dialect marks.
+    first: Vec<Option<usize>>,
+    /// Lines that two dialects mark alike (a `( )` comment after code: ISO's and FANUC's).
+    shared: Vec<usize>,
+    first_shared: Option<usize>,
+    /// Lines that no dialect claims.
+    plain: usize,
+}
+
+impl Tally {
+    fn new(n: usize) -> Tally {
+        Tally {
+            marks: vec![0; n],
+            weak: vec![0; n],
+            first: vec![None; n],
+            shared: vec![0; n],
+            first_shared: None,
+            plain: 0,
+        }
+    }
+
+    /// Counts line `number`, `line` (trimmed, not empty): the claims of highest priority.
+    fn add(&mut self, number: usize, line: &str) {
+        let claims: Vec<(usize, LineClaim)> = (0..ALL.len())
             .filter_map(|k| ALL[k].claim_line(line).map(|c| (k, c)))
             .collect();
         let top = claims.iter().map(|(_, c)| c.priority).max();
@@ -93,29 +129,29 @@ pub fn detect(text: &str) -> Detection {
             .collect();
         if marking.len() > 1 {
             for k in marking {
-                shared[k] += 1;
+                self.shared[k] += 1;
             }
-            first_shared.get_or_insert(i + 1);
-            continue;
+            self.first_shared.get_or_insert(number);
+            return;
         }
         let claim = claims
             .into_iter()
             .max_by_key(|(k, c)| (c.priority, std::cmp::Reverse(*k)));
         match claim {
-            None => plain += 1,
+            None => self.plain += 1,
             Some((_, c)) if c.mark == LineMark::Neutral => {}
-            Some((k, c)) if c.mark == LineMark::Weak => weak[k] += 1,
+            Some((k, c)) if c.mark == LineMark::Weak => self.weak[k] += 1,
             Some((k, _)) => {
-                marks[k] += 1;
-                first[k].get_or_insert(i + 1);
+                self.marks[k] += 1;
+                self.first[k].get_or_insert(number);
             }
         }
     }
-    let marked = marks.iter().filter(|&&m| m > 0).count();
-    // Only marks that several dialects share: the likeliest of them, never certain.
-    if marked == 0
-        && let Some(line) = first_shared
-    {
+
+    /// The likeliest of the dialects that share the marks (the first on `line`).
+    fn shared_guess(&self, line: usize) -> Detection {
+        let n = ALL.len();
+        let shared = &self.shared;
         let k = (0..n)
             .filter(|&k| shared[k] > 0)
             .max_by_key(|&k| (shared[k], ALL[k].tie_rank()))
@@ -124,7 +160,7 @@ pub fn detect(text: &str) -> Detection {
             .filter(|&j| j != k && shared[j] > 0)
             .map(|j| ALL[j].id().as_str())
             .collect();
-        return Detection {
+        Detection {
             dialect: ALL[k].id(),
             certain: false,
             reason: format!(
@@ -133,15 +169,18 @@ pub fn detect(text: &str) -> Detection {
                 others.join(" and "),
                 ALL[k].mark_description()
             ),
-        };
+        }
     }
-    if marked == 0 {
-        let weakest = (0..n)
+
+    /// No marks: the dialect of the weak hints when every line has one, else the fallback.
+    fn weak_guess(&self) -> Detection {
+        let weak = &self.weak;
+        let weakest = (0..ALL.len())
             .filter(|&k| weak[k] > 0 && ALL[k].weak_reason().is_some())
             .max_by_key(|&k| (weak[k], ALL[k].tie_rank()));
         let fallback = ALL.iter().position(|d| d.is_fallback()).unwrap_or(0);
         let (k, reason) = match weakest {
-            Some(k) if plain == 0 => (k, ALL[k].weak_reason().unwrap_or_default().to_string()),
+            Some(k) if self.plain == 0 => (k, ALL[k].weak_reason().unwrap_or_default().to_string()),
             _ => (
                 fallback,
                 ALL[fallback]
@@ -150,40 +189,46 @@ pub fn detect(text: &str) -> Detection {
                     .to_string(),
             ),
         };
-        return Detection {
+        Detection {
             dialect: ALL[k].id(),
             certain: false,
             reason,
-        };
-    }
-    // The dialect with the most marked lines wins; certain when it is the only one.
-    let best = (0..n)
-        .max_by_key(|&k| (marks[k], ALL[k].tie_rank()))
-        .unwrap_or(0);
-    let said = |k: usize| {
-        format!(
-            "line {} has {}",
-            first[k].unwrap_or(0),
-            ALL[k].mark_description()
-        )
-    };
-    let mut reason = said(best);
-    let certain = marked == 1 && !(ALL[best].plain_lines_contradict() && plain > 0);
-    if !certain {
-        let others: Vec<String> = (0..n)
-            .filter(|&k| k != best && marks[k] > 0)
-            .map(said)
-            .collect();
-        if !others.is_empty() {
-            reason.push_str(&format!(", but {}", others.join(" and ")));
-        } else {
-            reason.push_str(", but other lines hold several or decimal words");
         }
     }
-    Detection {
-        dialect: ALL[best].id(),
-        certain,
-        reason,
+
+    /// The dialect with the most marked lines wins; certain when it is the only one of the
+    /// `marked` dialects.
+    fn choice(&self, marked: usize) -> Detection {
+        let n = ALL.len();
+        let marks = &self.marks;
+        let best = (0..n)
+            .max_by_key(|&k| (marks[k], ALL[k].tie_rank()))
+            .unwrap_or(0);
+        let said = |k: usize| {
+            format!(
+                "line {} has {}",
+                self.first[k].unwrap_or(0),
+                ALL[k].mark_description()
+            )
+        };
+        let mut reason = said(best);
+        let certain = marked == 1 && !(ALL[best].plain_lines_contradict() && self.plain > 0);
+        if !certain {
+            let others: Vec<String> = (0..n)
+                .filter(|&k| k != best && marks[k] > 0)
+                .map(said)
+                .collect();
+            if !others.is_empty() {
+                reason.push_str(&format!(", but {}", others.join(" and ")));
+            } else {
+                reason.push_str(", but other lines hold several or decimal words");
+            }
+        }
+        Detection {
+            dialect: ALL[best].id(),
+            certain,
+            reason,
+        }
     }
 }
 

@@ -794,55 +794,8 @@ impl Path {
             if self.segs.is_empty() {
                 return fail("the contour vanishes when it is offset");
             }
-            // Connecting arcs where the offset segments no longer meet.
-            let mut p = 0;
-            while p + 1 < self.segs.len() {
-                budget.spend()?;
-                let n = p + 1;
-                if (self.segs[p].end - self.segs[n].start).re > 1e-2 {
-                    let mut s = self.segs[p].dup();
-                    let mut e = self.segs[n].dup();
-                    s.offset(-max_distance);
-                    e.offset(-max_distance);
-                    let centre = (s.end + e.start).over(2.0);
-                    let arc =
-                        Seg::round(distance > 0.0, self.segs[p].end, centre, self.segs[n].start);
-                    self.segs.insert(n, arc);
-                    p += 1;
-                }
-                p += 1;
-            }
-            let mut p = 0;
-            while p + 1 < self.segs.len() {
-                budget.spend()?;
-                if !self.segs[p].monotonic() {
-                    // LinuxCNC removes the shorter of this and the one before, from the
-                    // start again ("Oops"); before the first there is nothing.
-                    if p == 0 {
-                        return fail("Not monotonic after the offset of the first element");
-                    }
-                    if self.segs[p].radius() < self.segs[p - 1].radius() {
-                        self.segs.remove(p);
-                    } else {
-                        self.segs.remove(p - 1);
-                    }
-                    p = 0;
-                    if self.segs.len() < 2 {
-                        return fail("the contour vanishes when it is offset");
-                    }
-                }
-                if self.segs[p].radius() < 1e-3 {
-                    self.segs.remove(p);
-                    p = 0;
-                    if self.segs.len() < 2 {
-                        return fail("the contour vanishes when it is offset");
-                    }
-                } else {
-                    let (a, b) = self.segs.split_at_mut(p + 1);
-                    intersect(&mut a[p], &mut b[0])?;
-                }
-                p += 1;
-            }
+            self.connect(distance, max_distance, budget)?;
+            self.repair(budget)?;
             current_distance += max_distance;
         }
         for p in 0..self.segs.len().saturating_sub(1) {
@@ -855,33 +808,76 @@ impl Path {
         self.segs.insert(0, of);
         Ok(())
     }
+
+    /// Connecting arcs where the segments, just offset by `max_distance` on the way to
+    /// `distance`, no longer meet.
+    fn connect(
+        &mut self,
+        distance: f64,
+        max_distance: f64,
+        budget: &mut Budget,
+    ) -> Result<(), Fail> {
+        let mut p = 0;
+        while p + 1 < self.segs.len() {
+            budget.spend()?;
+            let n = p + 1;
+            if (self.segs[p].end - self.segs[n].start).re > 1e-2 {
+                let mut s = self.segs[p].dup();
+                let mut e = self.segs[n].dup();
+                s.offset(-max_distance);
+                e.offset(-max_distance);
+                let centre = (s.end + e.start).over(2.0);
+                let arc = Seg::round(distance > 0.0, self.segs[p].end, centre, self.segs[n].start);
+                self.segs.insert(n, arc);
+                p += 1;
+            }
+            p += 1;
+        }
+        Ok(())
+    }
+
+    /// Removes what the offset left not monotonic or vanishing, and joins the rest where
+    /// neighbours cross.
+    fn repair(&mut self, budget: &mut Budget) -> Result<(), Fail> {
+        let mut p = 0;
+        while p + 1 < self.segs.len() {
+            budget.spend()?;
+            if !self.segs[p].monotonic() {
+                // LinuxCNC removes the shorter of this and the one before, from the
+                // start again ("Oops"); before the first there is nothing.
+                if p == 0 {
+                    return fail("Not monotonic after the offset of the first element");
+                }
+                if self.segs[p].radius() < self.segs[p - 1].radius() {
+                    self.segs.remove(p);
+                } else {
+                    self.segs.remove(p - 1);
+                }
+                p = 0;
+                if self.segs.len() < 2 {
+                    return fail("the contour vanishes when it is offset");
+                }
+            }
+            if self.segs[p].radius() < 1e-3 {
+                self.segs.remove(p);
+                p = 0;
+                if self.segs.len() < 2 {
+                    return fail("the contour vanishes when it is offset");
+                }
+            } else {
+                let (a, b) = self.segs.split_at_mut(p + 1);
+                intersect(&mut a[p], &mut b[0])?;
+            }
+            p += 1;
+        }
+        Ok(())
+    }
 }
 
 /// The moves of one cycle: `start` is where the cycle starts (after its rapid to the
 /// block's X and Z), `contour` the elements its subroutine made.
 pub fn run(cycle: &Cycle, start: C, contour: &[Element]) -> Result<Vec<Out>, Fail> {
-    let segs: Vec<Seg> = contour
-        .iter()
-        .map(|e| match *e {
-            Element::Line { start, end } => Seg::straight(start, end),
-            Element::Arc {
-                ccw,
-                start,
-                centre,
-                end,
-            } => Seg::round(ccw, start, centre, end),
-            Element::Fillet { radius, at } => Seg {
-                finish: radius,
-                corner: Corner::Fillet,
-                ..Seg::round(false, at, at, at)
-            },
-            Element::Chamfer { size, at } => Seg {
-                finish: size,
-                corner: Corner::Chamfer,
-                ..Seg::straight(at, at)
-            },
-        })
-        .collect();
+    let segs = segments_of(contour);
     if segs.len() < 2 {
         return fail("the contour has fewer than two elements");
     }
@@ -898,37 +894,7 @@ pub fn run(cycle: &Cycle, start: C, contour: &[Element]) -> Result<Vec<Out>, Fai
             last,
             passes,
         } => {
-            path.segs[0].start = start;
-            let mut probe = path.clone();
-            probe.segs.remove(0);
-            probe.swap()?;
-            if probe.segs.iter().any(|s| !s.monotonic()) {
-                probe.rotate();
-                probe.swap()?;
-            }
-            probe.monotonic()?;
-            if probe.flip & 4 != 0 {
-                path.rotate();
-            }
-            path.swap()?;
-            path.do_finish()?;
-            path.monotonic()?;
-            out.flip = path.flip;
-            // `for(int pass=p; …)`: P truncated to a whole number.
-            let mut pass = passes as i64;
-            while pass > 0 {
-                budget.spend()?;
-                let distance = (pass - 1) as f64 * (first - last) / passes + last;
-                let mut offset = path.clone();
-                offset.add_distance(distance, &mut budget)?;
-                let front = offset.segs[0];
-                out.straight_rapid(front.start);
-                out.straight_rapid(front.end);
-                for s in &offset.segs[1..] {
-                    draw(s, &mut out);
-                }
-                pass -= 1;
-            }
+            path.finish_passes(start, (first, last, passes), &mut out, &mut budget)?;
         }
         Cycle::Rough {
             facing,
@@ -939,18 +905,7 @@ pub fn run(cycle: &Cycle, start: C, contour: &[Element]) -> Result<Vec<Out>, Fai
             i,
             r,
         } => {
-            path.segs[0].start = start;
-            if facing {
-                path.rotate();
-            }
-            path.swap()?;
-            path.do_finish()?;
-            path.monotonic()?;
-            path.add_distance(d, &mut budget)?;
-            let displacement = C::new(w, u);
-            for s in &mut path.segs {
-                s.moved(displacement);
-            }
+            path.rough_contour(start, facing, d, C::new(w, u), &mut budget)?;
             out.flip = path.flip;
             let delta = i.max(2.0 * TOLERANCE);
             let escape = C::new(1.0, 1.0).scale(r);
@@ -976,6 +931,101 @@ pub fn run(cycle: &Cycle, start: C, contour: &[Element]) -> Result<Vec<Out>, Fai
         }
     }
     Ok(out.moves)
+}
+
+/// The contour's elements as segments: a fillet or a chamfer as a corner to be made.
+fn segments_of(contour: &[Element]) -> Vec<Seg> {
+    contour
+        .iter()
+        .map(|e| match *e {
+            Element::Line { start, end } => Seg::straight(start, end),
+            Element::Arc {
+                ccw,
+                start,
+                centre,
+                end,
+            } => Seg::round(ccw, start, centre, end),
+            Element::Fillet { radius, at } => Seg {
+                finish: radius,
+                corner: Corner::Fillet,
+                ..Seg::round(false, at, at, at)
+            },
+            Element::Chamfer { size, at } => Seg {
+                finish: size,
+                corner: Corner::Chamfer,
+                ..Seg::straight(at, at)
+            },
+        })
+        .collect()
+}
+
+impl Path {
+    /// G70's passes (`first`, `last`: the distances of the first and last from the
+    /// contour; `passes`: how many), from `start`.
+    fn finish_passes(
+        &mut self,
+        start: C,
+        (first, last, passes): (f64, f64, f64),
+        out: &mut Sink,
+        budget: &mut Budget,
+    ) -> Result<(), Fail> {
+        self.segs[0].start = start;
+        let mut probe = self.clone();
+        probe.segs.remove(0);
+        probe.swap()?;
+        if probe.segs.iter().any(|s| !s.monotonic()) {
+            probe.rotate();
+            probe.swap()?;
+        }
+        probe.monotonic()?;
+        if probe.flip & 4 != 0 {
+            self.rotate();
+        }
+        self.swap()?;
+        self.do_finish()?;
+        self.monotonic()?;
+        out.flip = self.flip;
+        // `for(int pass=p; …)`: P truncated to a whole number.
+        let mut pass = passes as i64;
+        while pass > 0 {
+            budget.spend()?;
+            let distance = (pass - 1) as f64 * (first - last) / passes + last;
+            let mut offset = self.clone();
+            offset.add_distance(distance, budget)?;
+            let front = offset.segs[0];
+            out.straight_rapid(front.start);
+            out.straight_rapid(front.end);
+            for s in &offset.segs[1..] {
+                draw(s, out);
+            }
+            pass -= 1;
+        }
+        Ok(())
+    }
+
+    /// G71/G72's contour from `start` (`facing`: along X), offset by `d` and moved by
+    /// `displacement` (the finishing allowances W and U).
+    fn rough_contour(
+        &mut self,
+        start: C,
+        facing: bool,
+        d: f64,
+        displacement: C,
+        budget: &mut Budget,
+    ) -> Result<(), Fail> {
+        self.segs[0].start = start;
+        if facing {
+            self.rotate();
+        }
+        self.swap()?;
+        self.do_finish()?;
+        self.monotonic()?;
+        self.add_distance(d, budget)?;
+        for s in &mut self.segs {
+            s.moved(displacement);
+        }
+        Ok(())
+    }
 }
 
 fn draw(s: &Seg, out: &mut Sink) {
@@ -1056,57 +1106,82 @@ fn pocket(
                 p += 1;
                 continue;
             }
-            let mut ip = p;
-            while ip < segs.len() {
-                budget.spend()?;
-                let mut is = Vec::new();
-                segs[ip].intersection_z(location.im, &mut is);
-                let (Some(&front), Some(&back)) = (is.first(), is.last()) else {
-                    ip += 1;
-                    continue;
-                };
-                // The diving element itself can be hit if it is an arc.
-                let destination_z = if ip != p { front } else { back };
-                let distance = (destination_z - location.re).abs();
-                if destination_z - TOLERANCE > location.re {
-                    // The diving element, at its start only.
-                    ip += 1;
-                    continue;
-                }
-                if distance < TOLERANCE {
-                    if p == ip {
-                        ip += 1;
-                        continue;
-                    } else if (location - segs[ip].start).abs() < TOLERANCE {
-                        // Another element, at its entry: move onto it.
-                        p = ip;
-                        break;
-                    } else {
-                        // A zero-length element: done with it.
-                        x -= delta;
-                        break;
-                    }
-                }
-                let mut dest = location;
-                dest.re = destination_z;
-                out.straight_move(dest);
-                // A travel too short for the whole escape.
-                let escape_scale = (distance / 2.0 / escape.re).min(1.0);
-                dest += escape.scale(escape_scale);
-                out.straight_rapid(dest);
-                let dest = location - escape.scale(escape_scale).conj();
-                out.straight_rapid(dest);
-                if p == 0 {
-                    out.straight_rapid(location);
-                } else {
-                    out.straight_move(location);
-                }
-                x -= delta;
-                break;
+            match cross(segs, p, location, out, escape, budget)? {
+                Crossed::Onto(ip) => p = ip,
+                Crossed::Lower => x -= delta,
+                Crossed::Nothing => {}
             }
         }
         return Ok(());
     }
+}
+
+/// What [`cross`] did, for [`pocket`] to go on with.
+enum Crossed {
+    /// Moved onto element `ip` at its entry.
+    Onto(usize),
+    /// Crossed (or found a zero-length element): the next pass is one step lower.
+    Lower,
+    /// Found nothing to cross to.
+    Nothing,
+}
+
+/// From `location`, on element `p` at the pass's height, across to the first element
+/// the pass meets, and back out along `escape` to the start of the next pass.
+fn cross(
+    segs: &[Seg],
+    p: usize,
+    location: C,
+    out: &mut Sink,
+    escape: C,
+    budget: &mut Budget,
+) -> Result<Crossed, Fail> {
+    let mut ip = p;
+    while ip < segs.len() {
+        budget.spend()?;
+        let mut is = Vec::new();
+        segs[ip].intersection_z(location.im, &mut is);
+        let (Some(&front), Some(&back)) = (is.first(), is.last()) else {
+            ip += 1;
+            continue;
+        };
+        // The diving element itself can be hit if it is an arc.
+        let destination_z = if ip != p { front } else { back };
+        let distance = (destination_z - location.re).abs();
+        if destination_z - TOLERANCE > location.re {
+            // The diving element, at its start only.
+            ip += 1;
+            continue;
+        }
+        if distance < TOLERANCE {
+            if p == ip {
+                ip += 1;
+                continue;
+            } else if (location - segs[ip].start).abs() < TOLERANCE {
+                // Another element, at its entry: move onto it.
+                return Ok(Crossed::Onto(ip));
+            } else {
+                // A zero-length element: done with it.
+                return Ok(Crossed::Lower);
+            }
+        }
+        let mut dest = location;
+        dest.re = destination_z;
+        out.straight_move(dest);
+        // A travel too short for the whole escape.
+        let escape_scale = (distance / 2.0 / escape.re).min(1.0);
+        dest += escape.scale(escape_scale);
+        out.straight_rapid(dest);
+        let dest = location - escape.scale(escape_scale).conj();
+        out.straight_rapid(dest);
+        if p == 0 {
+            out.straight_rapid(location);
+        } else {
+            out.straight_move(location);
+        }
+        return Ok(Crossed::Lower);
+    }
+    Ok(Crossed::Nothing)
 }
 
 #[cfg(test)]

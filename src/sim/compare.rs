@@ -307,35 +307,19 @@ pub fn compare_within(
     tol: Length,
     phase_slack: Angle,
 ) -> Option<Difference> {
-    // A short rapid on one side only, from where the other side's thread move starts, that
-    // takes the tool back along the thread line before its own thread move starts: that is
-    // how a start angle is written where there is none (the thread starts earlier on its
-    // line, at the index pulse). It is part of the thread move's start, not a move of its own.
-    let shift_rapid = |r: &Segment, next: Option<&Segment>, other: &Segment| {
-        matches!(r.motion, Motion::Rapid)
-            && close_pos(r.from, other.from, tol)
-            && match (other.motion, next) {
-                (
-                    Motion::Sync { lead, .. },
-                    Some(
-                        n @ Segment {
-                            motion: Motion::Sync { .. },
-                            ..
-                        },
-                    ),
-                ) => close_pos(r.to, n.from, tol) && sync_start_ok(other, n, lead, tol),
-                _ => false,
-            }
+    let judge = Judge {
+        tol,
+        phase_slack,
+        phase_grid: PHASE_GRID + (tol - TOLERANCE).max(Length::ZERO),
     };
-    let phase_grid = PHASE_GRID + (tol - TOLERANCE).max(Length::ZERO);
     let (mut i, mut j) = (0, 0);
     loop {
         if let (Some(a), Some(b)) = (left.get(i), right.get(j)) {
-            if shift_rapid(b, right.get(j + 1), a) {
+            if judge.shift_rapid(b, right.get(j + 1), a) {
                 j += 1;
                 continue;
             }
-            if shift_rapid(a, left.get(i + 1), b) {
+            if judge.shift_rapid(a, left.get(i + 1), b) {
                 i += 1;
                 continue;
             }
@@ -377,271 +361,366 @@ pub fn compare_within(
             }
         }
         let next = (left.get(i + 1), right.get(j + 1));
-        let index = i;
-        i += 1;
-        j += 1;
-        let differ = |what: String| {
-            Some(Difference {
-                index,
+        if let Some(what) = judge.pair(a, b, next) {
+            return Some(Difference {
+                index: i,
                 left: Some(*a),
                 right: Some(*b),
                 what,
-            })
-        };
+            });
+        }
+        i += 1;
+        j += 1;
+    }
+}
+
+/// How closely [`compare_within`] holds two segments together.
+struct Judge {
+    /// The position tolerance.
+    tol: Length,
+    /// The phase slack of a rounded reading.
+    phase_slack: Angle,
+    /// The grid a thread's phase is known to, widened by a tolerance above [`TOLERANCE`].
+    phase_grid: Length,
+}
+
+impl Judge {
+    /// A short rapid on one side only, from where the other side's thread move starts, that
+    /// takes the tool back along the thread line before its own thread move starts: that is
+    /// how a start angle is written where there is none (the thread starts earlier on its
+    /// line, at the index pulse). It is part of the thread move's start, not a move of its own.
+    fn shift_rapid(&self, r: &Segment, next: Option<&Segment>, other: &Segment) -> bool {
+        let tol = self.tol;
+        matches!(r.motion, Motion::Rapid)
+            && close_pos(r.from, other.from, tol)
+            && match (other.motion, next) {
+                (
+                    Motion::Sync { lead, .. },
+                    Some(
+                        n @ Segment {
+                            motion: Motion::Sync { .. },
+                            ..
+                        },
+                    ),
+                ) => close_pos(r.to, n.from, tol) && sync_start_ok(other, n, lead, tol),
+                _ => false,
+            }
+    }
+
+    /// What differs between two paired segments (`next`: the segment after each), or
+    /// `None` when they agree: one check per kind of motion.
+    fn pair(
+        &self,
+        a: &Segment,
+        b: &Segment,
+        next: (Option<&Segment>, Option<&Segment>),
+    ) -> Option<String> {
         match (a.motion, b.motion) {
-            (Motion::Rapid, Motion::Rapid) => {
-                // A rapid to the start of a thread move may end earlier along the thread
-                // line: the thread move's comparison decides.
-                let before_sync = matches!(
-                    next,
-                    (
-                        Some(Segment {
-                            motion: Motion::Sync { .. },
-                            ..
-                        }),
-                        Some(Segment {
-                            motion: Motion::Sync { .. },
-                            ..
-                        })
-                    )
-                );
-                if !before_sync && !close_pos(a.to, b.to, tol) {
-                    return differ(format!("rapid ends at {} ≠ {}", show(a.to), show(b.to)));
-                }
-            }
-            (
-                Motion::Feed {
-                    feed: f,
-                    per_minute: p,
-                },
-                Motion::Feed {
-                    feed: g,
-                    per_minute: q,
-                },
-            ) => {
-                let unit = |m: bool| if m { "mm/min" } else { "mm/rev" };
-                if f != g || p != q {
-                    return differ(format!(
-                        "feed {} {} ≠ {} {}",
-                        f.mm(),
-                        unit(p),
-                        g.mm(),
-                        unit(q)
-                    ));
-                }
-                if !close_pos(a.from, b.from, tol) || !close_pos(a.to, b.to, tol) {
-                    return differ(format!(
-                        "feed move {} → {} ≠ {} → {}",
-                        show(a.from),
-                        show(a.to),
-                        show(b.from),
-                        show(b.to)
-                    ));
-                }
-            }
-            (
-                Motion::Sync {
-                    lead: l,
-                    direction: d,
-                    phase: p,
-                },
-                Motion::Sync {
-                    lead: m,
-                    direction: e,
-                    phase: q,
-                },
-            ) => {
-                // Leads differ when the helices drift apart by more than the tolerance over
-                // the move.
-                let travel = match (a.from.z, a.to.z) {
-                    (Some(z0), Some(z1)) => (z1 - z0).abs(),
-                    _ => Length::ZERO,
-                };
-                let drift = l.drift(m, travel);
-                if drift > tol || (travel == Length::ZERO && l != m) {
-                    return differ(format!(
-                        "lead {} ≠ {} (the helices drift {} mm apart over the move)",
-                        l.mm(),
-                        m.mm(),
-                        drift.mm()
-                    ));
-                }
-                if d != e {
-                    return differ("spindle direction differs (the hand of the thread)".into());
-                }
-                if !close_pos(a.to, b.to, tol) {
-                    return differ(format!(
-                        "thread move ends at {} ≠ {}",
-                        show(a.to),
-                        show(b.to)
-                    ));
-                }
-                if !sync_start_ok(a, b, l, tol) {
-                    return differ(format!(
-                        "thread move starts at {} ≠ {}",
-                        show(a.from),
-                        show(b.from)
-                    ));
-                }
-                // The two helices are compared where the cut starts (the spindle angle at
-                // the start Z on each), not extrapolated to Z0, where a lead that agrees
-                // within the tolerance over the move could still turn a distant phase.
-                let at_start =
-                    |phase: Angle, lead: Lead, s: &Segment| match (a.from.z, s.from.z, s.to.z) {
-                        (Some(z), Some(z0), Some(z1)) => {
-                            super::angle_at(z, phase, lead, (z1 - z0).signum())
-                        }
-                        _ => phase,
-                    };
-                match (p, q) {
-                    (Some(p), Some(q))
-                        if angle_gap(at_start(p, l, a), at_start(q, m, b))
-                            <= phase_tolerance_on(l, phase_grid).0.max(phase_slack.0) => {}
-                    (None, None) => {}
-                    _ => {
-                        let show =
-                            |p: Option<Angle>| p.map_or("unknown".into(), |p| format!("{p}°"));
-                        return differ(format!(
-                            "thread phase (spindle angle at Z0) {} ≠ {}",
-                            show(p),
-                            show(q)
-                        ));
-                    }
-                }
-            }
-            (
-                Motion::Tap {
-                    lead: l,
-                    direction: d,
-                },
-                Motion::Tap {
-                    lead: m,
-                    direction: e,
-                },
-            ) => {
-                if l != m
-                    || d != e
-                    || !close_pos(a.from, b.from, tol)
-                    || !close_pos(a.to, b.to, tol)
-                {
-                    return differ(format!(
-                        "tap {} → {} lead {} ≠ {} → {} lead {}",
-                        show(a.from),
-                        show(a.to),
-                        l.mm(),
-                        show(b.from),
-                        show(b.to),
-                        m.mm()
-                    ));
-                }
-            }
-            (
-                Motion::SyncRadial {
-                    advance: l,
-                    direction: d,
-                    start_angle: p,
-                },
-                Motion::SyncRadial {
-                    advance: m,
-                    direction: e,
-                    start_angle: q,
-                },
-            ) => {
-                let travel = match (a.from.x, a.to.x) {
-                    (Some(x0), Some(x1)) => Length((x1 - x0).0.abs() / 2),
-                    _ => Length::ZERO,
-                };
-                if l.drift(m, travel) > tol {
-                    return differ(format!("infeed advance {} ≠ {}", l.mm(), m.mm()));
-                }
-                if d != e {
-                    return differ("spindle direction differs".into());
-                }
-                if !close_pos(a.from, b.from, tol) || !close_pos(a.to, b.to, tol) {
-                    return differ(format!(
-                        "synchronised infeed {} → {} ≠ {} → {}",
-                        show(a.from),
-                        show(a.to),
-                        show(b.from),
-                        show(b.to)
-                    ));
-                }
-                let start_ok = match (p, q) {
-                    (Some(p), Some(q)) => angle_gap(p, q) <= PHASE_TOLERANCE.0,
-                    (None, None) => true,
-                    _ => false,
-                };
-                if !start_ok {
-                    return differ(
-                        "the synchronised infeed starts differently (at the index pulse or continuing)"
-                            .into(),
-                    );
-                }
-            }
-            (
-                Motion::Arc {
-                    centre: c,
-                    clockwise: cw,
-                    feed: f,
-                    per_minute: p,
-                },
-                Motion::Arc {
-                    centre: d,
-                    clockwise: dw,
-                    feed: g,
-                    per_minute: q,
-                },
-            ) => {
-                if cw != dw {
-                    return differ(format!("{} ≠ {}", describe(&a.motion), describe(&b.motion)));
-                }
-                if (a.from == a.to) != (b.from == b.to) {
-                    let turn = |s: &Segment| {
-                        if s.from == s.to {
-                            "a full circle"
-                        } else {
-                            "an arc"
-                        }
-                    };
-                    return differ(format!("{} ≠ {}", turn(a), turn(b)));
-                }
-                if f != g || p != q {
-                    let unit = |m: bool| if m { "mm/min" } else { "mm/rev" };
-                    return differ(format!(
-                        "arc feed {} {} ≠ {} {}",
-                        f.mm(),
-                        unit(p),
-                        g.mm(),
-                        unit(q)
-                    ));
-                }
-                if !close_pos(a.from, b.from, tol)
-                    || !close_pos(a.to, b.to, tol)
-                    || !close_pos(c, d, tol)
-                {
-                    return differ(format!(
-                        "arc {} → {} around {} ≠ {} → {} around {}",
-                        show(a.from),
-                        show(a.to),
-                        show(c),
-                        show(b.from),
-                        show(b.to),
-                        show(d)
-                    ));
-                }
-            }
-            (Motion::IndexWait, Motion::IndexWait) => {}
+            (Motion::Rapid, Motion::Rapid) => self.rapids(a, b, next),
+            (Motion::Feed { .. }, Motion::Feed { .. }) => self.feeds(a, b),
+            (Motion::Sync { .. }, Motion::Sync { .. }) => self.threads(a, b),
+            (Motion::Tap { .. }, Motion::Tap { .. }) => self.taps(a, b),
+            (Motion::SyncRadial { .. }, Motion::SyncRadial { .. }) => self.infeeds(a, b),
+            (Motion::Arc { .. }, Motion::Arc { .. }) => self.arcs(a, b),
+            (Motion::IndexWait, Motion::IndexWait) => None,
             (Motion::State(_), Motion::State(_))
             | (Motion::Stop { .. }, Motion::Stop { .. })
-            | (Motion::Dwell { .. }, Motion::Dwell { .. }) => {
-                if a.motion != b.motion {
-                    return differ(format!("{} ≠ {}", describe(&a.motion), describe(&b.motion)));
-                }
+            | (Motion::Dwell { .. }, Motion::Dwell { .. })
+                if a.motion == b.motion =>
+            {
+                None
             }
+            _ => Some(format!("{} ≠ {}", describe(&a.motion), describe(&b.motion))),
+        }
+    }
+
+    /// Two rapids: where they end. A rapid to the start of a thread move may end earlier
+    /// along the thread line: the thread move's comparison decides.
+    fn rapids(
+        &self,
+        a: &Segment,
+        b: &Segment,
+        next: (Option<&Segment>, Option<&Segment>),
+    ) -> Option<String> {
+        let before_sync = matches!(
+            next,
+            (
+                Some(Segment {
+                    motion: Motion::Sync { .. },
+                    ..
+                }),
+                Some(Segment {
+                    motion: Motion::Sync { .. },
+                    ..
+                })
+            )
+        );
+        (!before_sync && !close_pos(a.to, b.to, self.tol))
+            .then(|| format!("rapid ends at {} ≠ {}", show(a.to), show(b.to)))
+    }
+
+    /// Two feed moves: the feed, then both ends.
+    fn feeds(&self, a: &Segment, b: &Segment) -> Option<String> {
+        let (
+            Motion::Feed {
+                feed: f,
+                per_minute: p,
+            },
+            Motion::Feed {
+                feed: g,
+                per_minute: q,
+            },
+        ) = (a.motion, b.motion)
+        else {
+            unreachable!("two feed moves")
+        };
+        let unit = |m: bool| if m { "mm/min" } else { "mm/rev" };
+        if f != g || p != q {
+            return Some(format!(
+                "feed {} {} ≠ {} {}",
+                f.mm(),
+                unit(p),
+                g.mm(),
+                unit(q)
+            ));
+        }
+        if !close_pos(a.from, b.from, self.tol) || !close_pos(a.to, b.to, self.tol) {
+            return Some(format!(
+                "feed move {} → {} ≠ {} → {}",
+                show(a.from),
+                show(a.to),
+                show(b.from),
+                show(b.to)
+            ));
+        }
+        None
+    }
+
+    /// Two thread moves: the lead, the hand, both ends, then the phase.
+    fn threads(&self, a: &Segment, b: &Segment) -> Option<String> {
+        let (
+            Motion::Sync {
+                lead: l,
+                direction: d,
+                ..
+            },
+            Motion::Sync {
+                lead: m,
+                direction: e,
+                ..
+            },
+        ) = (a.motion, b.motion)
+        else {
+            unreachable!("two thread moves")
+        };
+        let tol = self.tol;
+        // Leads differ when the helices drift apart by more than the tolerance over the move.
+        let travel = match (a.from.z, a.to.z) {
+            (Some(z0), Some(z1)) => (z1 - z0).abs(),
+            _ => Length::ZERO,
+        };
+        let drift = l.drift(m, travel);
+        if drift > tol || (travel == Length::ZERO && l != m) {
+            return Some(format!(
+                "lead {} ≠ {} (the helices drift {} mm apart over the move)",
+                l.mm(),
+                m.mm(),
+                drift.mm()
+            ));
+        }
+        if d != e {
+            return Some("spindle direction differs (the hand of the thread)".into());
+        }
+        if !close_pos(a.to, b.to, tol) {
+            return Some(format!(
+                "thread move ends at {} ≠ {}",
+                show(a.to),
+                show(b.to)
+            ));
+        }
+        if !sync_start_ok(a, b, l, tol) {
+            return Some(format!(
+                "thread move starts at {} ≠ {}",
+                show(a.from),
+                show(b.from)
+            ));
+        }
+        self.phases(a, b)
+    }
+
+    /// Two thread moves' phases. The two helices are compared where the cut starts (the
+    /// spindle angle at the start Z on each), not extrapolated to Z0, where a lead that
+    /// agrees within the tolerance over the move could still turn a distant phase.
+    fn phases(&self, a: &Segment, b: &Segment) -> Option<String> {
+        let (
+            Motion::Sync {
+                lead: l, phase: p, ..
+            },
+            Motion::Sync {
+                lead: m, phase: q, ..
+            },
+        ) = (a.motion, b.motion)
+        else {
+            unreachable!("two thread moves")
+        };
+        let at_start = |phase: Angle, lead: Lead, s: &Segment| match (a.from.z, s.from.z, s.to.z) {
+            (Some(z), Some(z0), Some(z1)) => super::angle_at(z, phase, lead, (z1 - z0).signum()),
+            _ => phase,
+        };
+        match (p, q) {
+            (Some(p), Some(q))
+                if angle_gap(at_start(p, l, a), at_start(q, m, b))
+                    <= phase_tolerance_on(l, self.phase_grid)
+                        .0
+                        .max(self.phase_slack.0) =>
+            {
+                None
+            }
+            (None, None) => None,
             _ => {
-                return differ(format!("{} ≠ {}", describe(&a.motion), describe(&b.motion)));
+                let show = |p: Option<Angle>| p.map_or("unknown".into(), |p| format!("{p}°"));
+                Some(format!(
+                    "thread phase (spindle angle at Z0) {} ≠ {}",
+                    show(p),
+                    show(q)
+                ))
             }
         }
+    }
+
+    /// Two tapping moves: the lead, the hand and both ends together.
+    fn taps(&self, a: &Segment, b: &Segment) -> Option<String> {
+        let (
+            Motion::Tap {
+                lead: l,
+                direction: d,
+            },
+            Motion::Tap {
+                lead: m,
+                direction: e,
+            },
+        ) = (a.motion, b.motion)
+        else {
+            unreachable!("two tapping moves")
+        };
+        let tol = self.tol;
+        (l != m || d != e || !close_pos(a.from, b.from, tol) || !close_pos(a.to, b.to, tol)).then(
+            || {
+                format!(
+                    "tap {} → {} lead {} ≠ {} → {} lead {}",
+                    show(a.from),
+                    show(a.to),
+                    l.mm(),
+                    show(b.from),
+                    show(b.to),
+                    m.mm()
+                )
+            },
+        )
+    }
+
+    /// Two synchronised infeeds: the advance, the hand, both ends, then how each starts.
+    fn infeeds(&self, a: &Segment, b: &Segment) -> Option<String> {
+        let (
+            Motion::SyncRadial {
+                advance: l,
+                direction: d,
+                start_angle: p,
+            },
+            Motion::SyncRadial {
+                advance: m,
+                direction: e,
+                start_angle: q,
+            },
+        ) = (a.motion, b.motion)
+        else {
+            unreachable!("two synchronised infeeds")
+        };
+        let tol = self.tol;
+        let travel = match (a.from.x, a.to.x) {
+            (Some(x0), Some(x1)) => Length((x1 - x0).0.abs() / 2),
+            _ => Length::ZERO,
+        };
+        if l.drift(m, travel) > tol {
+            return Some(format!("infeed advance {} ≠ {}", l.mm(), m.mm()));
+        }
+        if d != e {
+            return Some("spindle direction differs".into());
+        }
+        if !close_pos(a.from, b.from, tol) || !close_pos(a.to, b.to, tol) {
+            return Some(format!(
+                "synchronised infeed {} → {} ≠ {} → {}",
+                show(a.from),
+                show(a.to),
+                show(b.from),
+                show(b.to)
+            ));
+        }
+        let start_ok = match (p, q) {
+            (Some(p), Some(q)) => angle_gap(p, q) <= PHASE_TOLERANCE.0,
+            (None, None) => true,
+            _ => false,
+        };
+        (!start_ok).then(|| {
+            "the synchronised infeed starts differently (at the index pulse or continuing)".into()
+        })
+    }
+
+    /// Two arcs: the turn, arc or full circle, the feed, then the ends and the centre.
+    fn arcs(&self, a: &Segment, b: &Segment) -> Option<String> {
+        let (
+            Motion::Arc {
+                centre: c,
+                clockwise: cw,
+                feed: f,
+                per_minute: p,
+            },
+            Motion::Arc {
+                centre: d,
+                clockwise: dw,
+                feed: g,
+                per_minute: q,
+            },
+        ) = (a.motion, b.motion)
+        else {
+            unreachable!("two arcs")
+        };
+        let tol = self.tol;
+        if cw != dw {
+            return Some(format!("{} ≠ {}", describe(&a.motion), describe(&b.motion)));
+        }
+        if (a.from == a.to) != (b.from == b.to) {
+            let turn = |s: &Segment| {
+                if s.from == s.to {
+                    "a full circle"
+                } else {
+                    "an arc"
+                }
+            };
+            return Some(format!("{} ≠ {}", turn(a), turn(b)));
+        }
+        if f != g || p != q {
+            let unit = |m: bool| if m { "mm/min" } else { "mm/rev" };
+            return Some(format!(
+                "arc feed {} {} ≠ {} {}",
+                f.mm(),
+                unit(p),
+                g.mm(),
+                unit(q)
+            ));
+        }
+        if !close_pos(a.from, b.from, tol) || !close_pos(a.to, b.to, tol) || !close_pos(c, d, tol) {
+            return Some(format!(
+                "arc {} → {} around {} ≠ {} → {} around {}",
+                show(a.from),
+                show(a.to),
+                show(c),
+                show(b.from),
+                show(b.to),
+                show(d)
+            ));
+        }
+        None
     }
 }
 

@@ -326,10 +326,6 @@ impl Machine {
             }
         };
         for (i, seg) in segments.into_iter().enumerate() {
-            let towards = match (seg.from.z, seg.to.z) {
-                (Some(a), Some(b)) => (b - a).signum(),
-                _ => 0,
-            };
             // The pass's first move starts as the pass says; the rest of the pass (entry,
             // thread, runout) is one synchronised motion.
             let start = if i == 0 {
@@ -337,84 +333,124 @@ impl Machine {
             } else {
                 SyncStart::Continue
             };
-            let continued = self.sync_end.filter(|(end, _)| *end == seg.from);
-            let start_angle = match start {
-                SyncStart::Continue => match continued {
-                    Some((_, angle)) => Some(angle),
-                    None => {
-                        self.problem(
-                            span,
-                            "the thread move continues a synchronised move, but none ended where it starts",
-                        );
-                        None
-                    }
-                },
-                SyncStart::Index(angle) => {
-                    if continued.is_some() {
-                        // It waits for the index pulse where the last synchronised move
-                        // ended: the tool stands in the cut while the spindle turns.
-                        self.out.problems.push(Problem {
-                            span,
-                            message: "the tool stands in the cut until the index pulse: this pass starts where the thread move before it ended".into(),
-                            index_wait: true,
-                        });
-                        self.keep(Segment {
-                            motion: Motion::IndexWait,
-                            from: seg.from,
-                            to: seg.from,
-                            line: span.line,
-                            pass: number,
-                        });
-                    }
-                    Some(angle)
-                }
-            };
+            let start_angle = self.start_angle(start, &seg, span, number);
             if seg.is_radial() {
                 let continues = matches!(start, SyncStart::Continue);
-                self.segment(
-                    Motion::SyncRadial {
-                        advance: seg.lead,
-                        direction: self.direction,
-                        start_angle: if continues { None } else { start_angle },
-                    },
-                    seg.to,
-                    span,
-                    number,
-                );
-                // The spindle turns (|ΔX|/2) / advance revolutions on the way.
-                self.sync_end = match (start_angle, seg.from.x, seg.to.x) {
-                    (Some(angle), Some(x0), Some(x1)) => {
-                        let side = Length((x1 - x0).0.abs() / 2);
-                        Some((
-                            self.pos,
-                            Angle((angle.0 + turned(side, seg.lead)).rem_euclid(TURN)),
-                        ))
-                    }
-                    _ => None,
-                };
-                continue;
+                self.sync_radial(&seg, start_angle, continues, span, number);
+            } else {
+                self.sync_along(&seg, start_angle, span, number);
             }
-            let phase = match (seg.from.z, start_angle) {
-                (Some(z), Some(angle)) if towards != 0 => {
-                    Some(phase_at_zero(z, angle, seg.lead, towards))
-                }
-                _ => None,
-            };
-            self.segment(
-                Motion::Sync {
-                    lead: seg.lead,
-                    direction: self.direction,
-                    phase,
-                },
-                seg.to,
-                span,
-                number,
-            );
-            self.sync_end = match (phase, seg.to.z) {
-                (Some(phase), Some(z)) => Some((self.pos, angle_at(z, phase, seg.lead, towards))),
-                _ => None,
-            };
         }
+    }
+
+    /// The spindle angle a synchronised move starts at: where the last one ended (it
+    /// continues it), or the index pulse's angle (after the tool stood in the cut waiting
+    /// for it, if a thread move ended there).
+    fn start_angle(
+        &mut self,
+        start: SyncStart,
+        seg: &lower::SyncSegment,
+        span: Span,
+        number: Option<usize>,
+    ) -> Option<Angle> {
+        let continued = self.sync_end.filter(|(end, _)| *end == seg.from);
+        match start {
+            SyncStart::Continue => match continued {
+                Some((_, angle)) => Some(angle),
+                None => {
+                    self.problem(
+                        span,
+                        "the thread move continues a synchronised move, but none ended where it starts",
+                    );
+                    None
+                }
+            },
+            SyncStart::Index(angle) => {
+                if continued.is_some() {
+                    // It waits for the index pulse where the last synchronised move
+                    // ended: the tool stands in the cut while the spindle turns.
+                    self.out.problems.push(Problem {
+                        span,
+                        message: "the tool stands in the cut until the index pulse: this pass starts where the thread move before it ended".into(),
+                        index_wait: true,
+                    });
+                    self.keep(Segment {
+                        motion: Motion::IndexWait,
+                        from: seg.from,
+                        to: seg.from,
+                        line: span.line,
+                        pass: number,
+                    });
+                }
+                Some(angle)
+            }
+        }
+    }
+
+    /// A synchronised infeed (along X); the spindle turns (|ΔX|/2) / advance revolutions
+    /// on the way.
+    fn sync_radial(
+        &mut self,
+        seg: &lower::SyncSegment,
+        start_angle: Option<Angle>,
+        continues: bool,
+        span: Span,
+        number: Option<usize>,
+    ) {
+        self.segment(
+            Motion::SyncRadial {
+                advance: seg.lead,
+                direction: self.direction,
+                start_angle: if continues { None } else { start_angle },
+            },
+            seg.to,
+            span,
+            number,
+        );
+        self.sync_end = match (start_angle, seg.from.x, seg.to.x) {
+            (Some(angle), Some(x0), Some(x1)) => {
+                let side = Length((x1 - x0).0.abs() / 2);
+                Some((
+                    self.pos,
+                    Angle((angle.0 + turned(side, seg.lead)).rem_euclid(TURN)),
+                ))
+            }
+            _ => None,
+        };
+    }
+
+    /// A thread move along the helix: its phase is the spindle angle at Z0.
+    fn sync_along(
+        &mut self,
+        seg: &lower::SyncSegment,
+        start_angle: Option<Angle>,
+        span: Span,
+        number: Option<usize>,
+    ) {
+        let towards = match (seg.from.z, seg.to.z) {
+            (Some(a), Some(b)) => (b - a).signum(),
+            _ => 0,
+        };
+        let phase = match (seg.from.z, start_angle) {
+            (Some(z), Some(angle)) if towards != 0 => {
+                Some(phase_at_zero(z, angle, seg.lead, towards))
+            }
+            _ => None,
+        };
+        self.segment(
+            Motion::Sync {
+                lead: seg.lead,
+                direction: self.direction,
+                phase,
+            },
+            seg.to,
+            span,
+            number,
+        );
+        self.sync_end = match (phase, seg.to.z) {
+            (Some(phase), Some(z)) => Some((self.pos, angle_at(z, phase, seg.lead, towards))),
+            _ => None,
+        };
     }
 
     fn item(&mut self, kind: &ItemKind, span: Span) {
@@ -452,64 +488,9 @@ impl Machine {
                 self.segment(motion, *to, span, None)
             }
             ItemKind::ThreadPass(pass) => self.thread_pass(pass, span, None),
-            ItemKind::ThreadCycle(cycle) => match lower::expand(cycle) {
-                Ok(expansion) => {
-                    for m in &expansion.moves {
-                        let pass = (m.pass > 0).then_some(m.pass);
-                        match &m.kind {
-                            lower::Move::Pass(p) => self.thread_pass(p, span, pass),
-                            lower::Move::Rapid(to) => self.segment(Motion::Rapid, *to, span, pass),
-                        }
-                    }
-                }
-                Err(e) => {
-                    let message = e.message(cycle);
-                    self.problem(span, message);
-                    self.pos = kind.end_position(self.pos);
-                }
-            },
-            ItemKind::TapCycle(tap) => {
-                if self.pos.z.is_none() {
-                    self.problem(span, "the tapping cycle starts from a Z that is not known");
-                }
-                if self.direction.is_none() {
-                    self.problem(span, "a tapping cycle while the spindle is not turning");
-                }
-                self.segment(
-                    Motion::Tap {
-                        lead: tap.lead,
-                        direction: self.direction,
-                    },
-                    Pos {
-                        x: None,
-                        z: Some(tap.end_z),
-                    },
-                    span,
-                    None,
-                );
-                if let Some(x) = tap.then_x {
-                    self.segment(
-                        Motion::Rapid,
-                        Pos {
-                            x: Some(x),
-                            z: None,
-                        },
-                        span,
-                        None,
-                    );
-                }
-            }
-            ItemKind::Spindle { speed, direction } => {
-                if direction.is_some() {
-                    self.direction = *direction;
-                }
-                let mut state = self.state;
-                state.direction = self.direction;
-                if speed.is_some() {
-                    state.speed = *speed;
-                }
-                self.change(state, span);
-            }
+            ItemKind::ThreadCycle(cycle) => self.thread_cycle(cycle, kind, span),
+            ItemKind::TapCycle(tap) => self.tap_cycle(tap, span),
+            ItemKind::Spindle { speed, direction } => self.spindle(*speed, *direction, span),
             ItemKind::SpindleStop => {
                 self.direction = None;
                 let state = MachineState {
@@ -518,88 +499,20 @@ impl Machine {
                 };
                 self.change(state, span);
             }
-            // LinuxCNC's program end stops the spindle, turns the coolant off and goes back
-            // to rpm; so does every control here.
-            ItemKind::ProgramEnd(_) => {
-                self.direction = None;
-                let state = MachineState {
-                    mist: false,
-                    flood: false,
-                    direction: None,
-                    surface_speed: None,
-                    surface_feet: false,
-                    work_offset: 0,
-                    compensation: None,
-                    ..self.state
-                };
-                self.change(state, span);
-            }
-            ItemKind::Coolant(c) => {
-                let mut state = self.state;
-                match c {
-                    crate::ir::Coolant::Mist => state.mist = true,
-                    crate::ir::Coolant::Flood => state.flood = true,
-                    crate::ir::Coolant::Off => (state.mist, state.flood) = (false, false),
-                }
-                self.change(state, span);
-            }
+            ItemKind::ProgramEnd(_) => self.program_end(span),
+            ItemKind::Coolant(c) => self.coolant(*c, span),
             ItemKind::Tool {
                 number: Some(n), ..
-            } => {
-                let state = MachineState {
-                    tool: Some(*n),
-                    ..self.state
-                };
-                self.change(state, span);
-            }
-            ItemKind::Compensation(c) => {
-                let state = MachineState {
-                    compensation: (*c != crate::ir::Compensation::Off).then_some(*c),
-                    ..self.state
-                };
-                self.change(state, span);
-            }
+            } => self.change_state(span, |s| s.tool = Some(*n)),
+            ItemKind::Compensation(c) => self.change_state(span, |s| {
+                s.compensation = (*c != crate::ir::Compensation::Off).then_some(*c)
+            }),
             ItemKind::WorkOffset(n) => {
-                let state = MachineState {
-                    work_offset: n.saturating_sub(1),
-                    ..self.state
-                };
-                self.change(state, span);
+                self.change_state(span, |s| s.work_offset = n.saturating_sub(1))
             }
             ItemKind::MachineMove(crate::ir::MachineMove::StoreHome { .. }) => {}
-            ItemKind::MachineMove(m) => {
-                if let crate::ir::MachineMove::Home { via, .. } = m
-                    && *via != Pos::UNKNOWN
-                {
-                    self.segment(Motion::Rapid, *via, span, None);
-                }
-                // The rapid to where the machine's coordinates put the tool: unknown here.
-                let to = kind.end_position(self.pos);
-                self.keep(Segment {
-                    motion: Motion::Rapid,
-                    from: self.pos,
-                    to,
-                    line: span.line,
-                    pass: None,
-                });
-                self.pos = to;
-                self.sync_end = None;
-            }
-            ItemKind::SpindleMode(mode) => {
-                let (surface_speed, surface_feet) = match mode {
-                    crate::ir::SpindleMode::Rpm => (None, false),
-                    crate::ir::SpindleMode::SurfaceSpeed { limit, feet } => (
-                        Some(limit.map(|d| (d.to_f64() * 1000.0).round() as i64)),
-                        *feet,
-                    ),
-                };
-                let state = MachineState {
-                    surface_speed,
-                    surface_feet,
-                    ..self.state
-                };
-                self.change(state, span);
-            }
+            ItemKind::MachineMove(m) => self.machine_move(m, kind, span),
+            ItemKind::SpindleMode(mode) => self.spindle_mode(mode, span),
             ItemKind::Stop { optional } => self.event(
                 Motion::Stop {
                     optional: *optional,
@@ -619,6 +532,145 @@ impl Machine {
             }
             _ => {}
         }
+    }
+
+    /// The machine's state as `edit` changes it.
+    fn change_state(&mut self, span: Span, edit: impl FnOnce(&mut MachineState)) {
+        let mut state = self.state;
+        edit(&mut state);
+        self.change(state, span);
+    }
+
+    /// A threading cycle, as the passes and rapids it expands to (`kind`: the item, for
+    /// where it ends when it cannot be expanded).
+    fn thread_cycle(&mut self, cycle: &crate::ir::ThreadCycle, kind: &ItemKind, span: Span) {
+        match lower::expand(cycle) {
+            Ok(expansion) => {
+                for m in &expansion.moves {
+                    let pass = (m.pass > 0).then_some(m.pass);
+                    match &m.kind {
+                        lower::Move::Pass(p) => self.thread_pass(p, span, pass),
+                        lower::Move::Rapid(to) => self.segment(Motion::Rapid, *to, span, pass),
+                    }
+                }
+            }
+            Err(e) => {
+                let message = e.message(cycle);
+                self.problem(span, message);
+                self.pos = kind.end_position(self.pos);
+            }
+        }
+    }
+
+    /// A tapping cycle: the tap to its end Z, then the rapid out in X if it has one.
+    fn tap_cycle(&mut self, tap: &crate::ir::TapCycle, span: Span) {
+        if self.pos.z.is_none() {
+            self.problem(span, "the tapping cycle starts from a Z that is not known");
+        }
+        if self.direction.is_none() {
+            self.problem(span, "a tapping cycle while the spindle is not turning");
+        }
+        self.segment(
+            Motion::Tap {
+                lead: tap.lead,
+                direction: self.direction,
+            },
+            Pos {
+                x: None,
+                z: Some(tap.end_z),
+            },
+            span,
+            None,
+        );
+        if let Some(x) = tap.then_x {
+            self.segment(
+                Motion::Rapid,
+                Pos {
+                    x: Some(x),
+                    z: None,
+                },
+                span,
+                None,
+            );
+        }
+    }
+
+    /// The spindle started, or its speed or direction changed.
+    fn spindle(&mut self, speed: Option<u32>, direction: Option<SpindleDirection>, span: Span) {
+        if direction.is_some() {
+            self.direction = direction;
+        }
+        let mut state = self.state;
+        state.direction = self.direction;
+        if speed.is_some() {
+            state.speed = speed;
+        }
+        self.change(state, span);
+    }
+
+    /// LinuxCNC's program end stops the spindle, turns the coolant off and goes back to
+    /// rpm; so does every control here.
+    fn program_end(&mut self, span: Span) {
+        self.direction = None;
+        let state = MachineState {
+            mist: false,
+            flood: false,
+            direction: None,
+            surface_speed: None,
+            surface_feet: false,
+            work_offset: 0,
+            compensation: None,
+            ..self.state
+        };
+        self.change(state, span);
+    }
+
+    /// Mist or flood on, or both off.
+    fn coolant(&mut self, c: crate::ir::Coolant, span: Span) {
+        let mut state = self.state;
+        match c {
+            crate::ir::Coolant::Mist => state.mist = true,
+            crate::ir::Coolant::Flood => state.flood = true,
+            crate::ir::Coolant::Off => (state.mist, state.flood) = (false, false),
+        }
+        self.change(state, span);
+    }
+
+    /// A move in the machine's coordinates: the rapid via its intermediate point, if it
+    /// has one, then a rapid to where the machine's coordinates put the tool (unknown here).
+    fn machine_move(&mut self, m: &crate::ir::MachineMove, kind: &ItemKind, span: Span) {
+        if let crate::ir::MachineMove::Home { via, .. } = m
+            && *via != Pos::UNKNOWN
+        {
+            self.segment(Motion::Rapid, *via, span, None);
+        }
+        let to = kind.end_position(self.pos);
+        self.keep(Segment {
+            motion: Motion::Rapid,
+            from: self.pos,
+            to,
+            line: span.line,
+            pass: None,
+        });
+        self.pos = to;
+        self.sync_end = None;
+    }
+
+    /// Constant surface speed (its spindle limit kept in thousandths) or back to rpm.
+    fn spindle_mode(&mut self, mode: &crate::ir::SpindleMode, span: Span) {
+        let (surface_speed, surface_feet) = match mode {
+            crate::ir::SpindleMode::Rpm => (None, false),
+            crate::ir::SpindleMode::SurfaceSpeed { limit, feet } => (
+                Some(limit.map(|d| (d.to_f64() * 1000.0).round() as i64)),
+                *feet,
+            ),
+        };
+        let state = MachineState {
+            surface_speed,
+            surface_feet,
+            ..self.state
+        };
+        self.change(state, span);
     }
 }
 

@@ -376,30 +376,7 @@ impl Interpreter {
         let cannot = RunError::CannotRun;
         let dir = tempfile::tempdir()
             .map_err(|e| cannot(format!("cannot make a temporary folder: {e}")))?;
-        let mut switch: Vec<std::ffi::OsString> = Vec::new();
-        if settings.block_delete {
-            switch.push("-b".into());
-        }
-        if !settings.subroutine_path.is_empty() {
-            let folders: Vec<String> = settings
-                .subroutine_path
-                .iter()
-                .map(|p| {
-                    std::path::absolute(p)
-                        .unwrap_or_else(|_| p.clone())
-                        .display()
-                        .to_string()
-                })
-                .collect();
-            let ini = dir.path().join("ncthread.ini");
-            std::fs::write(
-                &ini,
-                format!("[RS274NGC]\nSUBROUTINE_PATH = {}\n", folders.join(":")),
-            )
-            .map_err(|e| cannot(format!("cannot write {}: {e}", ini.display())))?;
-            switch.push("-i".into());
-            switch.push(ini.into_os_string());
-        }
+        let switch = switches(settings, dir.path())?;
         let file = dir.path().join("program.ngc");
         std::fs::write(&file, program)
             .map_err(|e| cannot(format!("cannot write {}: {e}", file.display())))?;
@@ -426,41 +403,29 @@ impl Interpreter {
                 c
             }
         };
+        let out = self.run_retrying(command)?;
+        calls_of(&out)
+    }
+
+    /// Runs the command `command` makes, again while it is killed by a signal, up to
+    /// [`TRIES`] runs in all.
+    fn run_retrying(
+        &self,
+        command: impl Fn() -> Command,
+    ) -> Result<std::process::Output, RunError> {
         let mut tries = 0;
-        let out = loop {
+        loop {
             tries += 1;
-            let out = run_bounded(command(), RUN_LIMIT)
-                .map_err(|e| cannot(format!("cannot run {}: {e}", self.path().display())))?;
+            let out = run_bounded(command(), RUN_LIMIT).map_err(|e| {
+                RunError::CannotRun(format!("cannot run {}: {e}", self.path().display()))
+            })?;
             match killed_by(&out.status) {
                 // A crash of the interpreter, not a judgement of the program: once more.
                 Some(_) if tries < TRIES => {}
                 Some(signal) => return Err(RunError::Killed { signal, tries }),
-                None => break out,
+                None => return Ok(out),
             }
-        };
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        let stdout = String::from_utf8_lossy(&out.stdout);
-        let complaint: Vec<&str> = stderr
-            .lines()
-            .filter(|l| l.trim() != "executing" && !l.trim().is_empty())
-            .collect();
-        // A program without an end runs to its last line; then rs274 complains.
-        let ran_to_the_end = complaint
-            .first()
-            .is_some_and(|c| c.starts_with("File ended with no percent sign"));
-        if (!out.status.success() || !complaint.is_empty()) && !ran_to_the_end {
-            return Err(RunError::Refused(format!(
-                "rs274 exit {:?}: {}",
-                out.status.code(),
-                complaint.join("\n")
-            )));
         }
-        if !ran_to_the_end && !stdout.contains("FINISH()") && !stdout.contains("PROGRAM_END()") {
-            return Err(RunError::Refused(
-                "rs274 did not reach the end of the program".into(),
-            ));
-        }
-        Ok(without_axis_offsets(stdout.lines().filter_map(parse_canon)))
     }
 
     fn path(&self) -> &Path {
@@ -468,6 +433,65 @@ impl Interpreter {
             Interpreter::Wrapper(p) | Interpreter::Binary(p) => p,
         }
     }
+}
+
+/// The switches of an rs274 run with `settings`: `-b` for the block delete switch, and
+/// `-i` with an INI file (written into `dir`) for the folders of subroutine files.
+fn switches(settings: &Settings, dir: &Path) -> Result<Vec<std::ffi::OsString>, RunError> {
+    let mut switch: Vec<std::ffi::OsString> = Vec::new();
+    if settings.block_delete {
+        switch.push("-b".into());
+    }
+    if !settings.subroutine_path.is_empty() {
+        let folders: Vec<String> = settings
+            .subroutine_path
+            .iter()
+            .map(|p| {
+                std::path::absolute(p)
+                    .unwrap_or_else(|_| p.clone())
+                    .display()
+                    .to_string()
+            })
+            .collect();
+        let ini = dir.join("ncthread.ini");
+        std::fs::write(
+            &ini,
+            format!("[RS274NGC]\nSUBROUTINE_PATH = {}\n", folders.join(":")),
+        )
+        .map_err(|e| RunError::CannotRun(format!("cannot write {}: {e}", ini.display())))?;
+        switch.push("-i".into());
+        switch.push(ini.into_os_string());
+    }
+    Ok(switch)
+}
+
+/// The canonical calls of a finished rs274 run, or its complaint: a run must end without
+/// one (but for the complaint of a program without an end, which runs to its last line)
+/// and reach the program's end.
+fn calls_of(out: &std::process::Output) -> Result<Vec<Canon>, RunError> {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let complaint: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.trim() != "executing" && !l.trim().is_empty())
+        .collect();
+    // A program without an end runs to its last line; then rs274 complains.
+    let ran_to_the_end = complaint
+        .first()
+        .is_some_and(|c| c.starts_with("File ended with no percent sign"));
+    if (!out.status.success() || !complaint.is_empty()) && !ran_to_the_end {
+        return Err(RunError::Refused(format!(
+            "rs274 exit {:?}: {}",
+            out.status.code(),
+            complaint.join("\n")
+        )));
+    }
+    if !ran_to_the_end && !stdout.contains("FINISH()") && !stdout.contains("PROGRAM_END()") {
+        return Err(RunError::Refused(
+            "rs274 did not reach the end of the program".into(),
+        ));
+    }
+    Ok(without_axis_offsets(stdout.lines().filter_map(parse_canon)))
 }
 
 /// LinuxCNC's motion as ncthread's simulator describes motion. A chain of synchronised moves
@@ -478,111 +502,58 @@ impl Interpreter {
 /// taper) is reported as [`Motion::SyncRadial`]. Positions are unknown until the first move,
 /// as in the simulator.
 pub fn segments(canon: &[Canon]) -> Vec<Segment> {
-    let mm = Length::from_mm_f64;
-    let mut pos = Pos::UNKNOWN;
-    // The position as rs274 printed it, in mm, before rounding onto the grid.
-    let mut exact: Option<(f64, f64)> = None;
-    let (mut k, mut chain_turns): (Option<f64>, Option<f64>) = (None, None);
-    let mut direction = None;
-    let (mut feed, mut per_rev) = (0.0, false);
-    let mut out = Vec::new();
-    let mut scale = 1.0;
-    let mut state = super::MachineState::default();
-    let event = |motion, at: Pos| Segment {
-        motion,
-        from: at,
-        to: at,
-        line: 0,
-        pass: None,
-    };
-    let push = |out: &mut Vec<Segment>, motion, from: Pos, to: Pos| {
-        if from != to || matches!(motion, Motion::Tap { .. } | Motion::Arc { .. }) {
-            out.push(Segment {
-                motion,
-                from,
-                to,
-                line: 0,
-                pass: None,
-            });
-        }
+    let mut reader = CanonReader {
+        pos: Pos::UNKNOWN,
+        exact: None,
+        k: None,
+        chain_turns: None,
+        direction: None,
+        feed: 0.0,
+        per_rev: false,
+        out: Vec::new(),
+        scale: 1.0,
+        state: super::MachineState::default(),
     };
     for c in canon {
+        reader.call(c);
+    }
+    reader.out
+}
+
+/// [`segments`]' reading of the calls, one at a time.
+struct CanonReader {
+    pos: Pos,
+    /// The position as rs274 printed it, in mm, before rounding onto the grid.
+    exact: Option<(f64, f64)>,
+    /// The K of the synchronised motion in force (in the program's units).
+    k: Option<f64>,
+    /// The spindle turns so far in the chain of synchronised moves (`None`: no chain).
+    chain_turns: Option<f64>,
+    direction: Option<SpindleDirection>,
+    feed: f64,
+    per_rev: bool,
+    out: Vec<Segment>,
+    /// mm per program unit.
+    scale: f64,
+    state: super::MachineState,
+}
+
+impl CanonReader {
+    /// One canonical call.
+    fn call(&mut self, c: &Canon) {
+        let mm = Length::from_mm_f64;
+        let scale = self.scale;
         match *c {
             // Added back into the coordinates when the calls were read.
             Canon::AxisOffset { .. } => {}
             Canon::Traverse { x, z } => {
                 let to = Pos::new(mm(x * scale), mm(z * scale));
-                push(&mut out, Motion::Rapid, pos, to);
-                pos = to;
-                exact = Some((x * scale, z * scale));
-                chain_turns = None;
+                self.push(Motion::Rapid, to);
+                self.pos = to;
+                self.exact = Some((x * scale, z * scale));
+                self.chain_turns = None;
             }
-            Canon::Feed { x, z } => {
-                let (x, mut z) = (x * scale, z * scale);
-                // In inches rs274 prints a Z it did not move to four decimals of an inch: a
-                // synchronised move along X alone can seem to move Z by up to 0.0001 inch.
-                if let (Some((_, z0)), Some(_)) = (exact, k)
-                    && scale != 1.0
-                    && (z - z0).abs() <= 1.0001e-4 * scale
-                {
-                    z = z0;
-                }
-                let to = Pos::new(mm(x), mm(z));
-                match k.map(|k| k * scale) {
-                    Some(k) => {
-                        let (x0, z0) = exact.unwrap_or((0.0, 0.0));
-                        let (dr, dz) = ((x - x0) / 2.0, z - z0);
-                        let length = dr.hypot(dz);
-                        let turns = chain_turns.get_or_insert(0.0);
-                        let index_start = *turns == 0.0;
-                        if dz == 0.0 {
-                            push(
-                                &mut out,
-                                Motion::SyncRadial {
-                                    advance: Lead::from_mm_f64(k).unwrap_or(Lead::MAX),
-                                    direction,
-                                    start_angle: index_start.then_some(Angle::ZERO),
-                                },
-                                pos,
-                                to,
-                            );
-                        } else {
-                            let z_lead = k * dz.abs() / length;
-                            // The spindle angle at Z0 on this helix.
-                            let towards = dz.signum();
-                            let at_zero = (*turns - towards * z0 / z_lead) * 360.0;
-                            let phase = Angle(
-                                (at_zero.rem_euclid(360.0) * 1000.0).round() as i64 % 360_000,
-                            );
-                            push(
-                                &mut out,
-                                Motion::Sync {
-                                    lead: Lead::from_mm_f64(z_lead).unwrap_or(Lead::MAX),
-                                    direction,
-                                    phase: Some(phase),
-                                },
-                                pos,
-                                to,
-                            );
-                        }
-                        *turns += length / k;
-                    }
-                    None => {
-                        push(
-                            &mut out,
-                            Motion::Feed {
-                                feed: mm(feed * scale),
-                                per_minute: !per_rev,
-                            },
-                            pos,
-                            to,
-                        );
-                        chain_turns = None;
-                    }
-                }
-                pos = to;
-                exact = Some((x, z));
-            }
+            Canon::Feed { x, z } => self.feed_to(x, z),
             Canon::Arc {
                 x,
                 z,
@@ -594,25 +565,26 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
                 let motion = Motion::Arc {
                     centre: Pos::new(mm(cx * scale), mm(cz * scale)),
                     clockwise: rotation < 0,
-                    feed: mm(feed * scale),
-                    per_minute: !per_rev,
+                    feed: mm(self.feed * scale),
+                    per_minute: !self.per_rev,
                 };
-                push(&mut out, motion, pos, to);
-                pos = to;
-                exact = Some((x * scale, z * scale));
-                chain_turns = None;
+                self.push(motion, to);
+                self.pos = to;
+                self.exact = Some((x * scale, z * scale));
+                self.chain_turns = None;
             }
             Canon::RigidTap { z, .. } => {
                 let to = Pos {
-                    x: pos.x,
+                    x: self.pos.x,
                     z: Some(mm(z * scale)),
                 };
-                let lead = Lead::from_mm_f64(k.unwrap_or(0.0) * scale).unwrap_or(Lead::MAX);
-                push(&mut out, Motion::Tap { lead, direction }, pos, to);
-                chain_turns = None;
+                let lead = Lead::from_mm_f64(self.k.unwrap_or(0.0) * scale).unwrap_or(Lead::MAX);
+                let direction = self.direction;
+                self.push(Motion::Tap { lead, direction }, to);
+                self.chain_turns = None;
             }
-            Canon::SyncStart { k: new } => k = Some(new),
-            Canon::SyncStop => k = None,
+            Canon::SyncStart { k: new } => self.k = Some(new),
+            Canon::SyncStop => self.k = None,
             Canon::SpindleClockwise
             | Canon::SpindleCounterClockwise
             | Canon::SpindleStop
@@ -621,52 +593,139 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
             | Canon::WorkOffset(_)
             | Canon::Mist(_)
             | Canon::Flood(_)
-            | Canon::ChangeTool(_) => {
-                let mut next = state;
-                match *c {
-                    Canon::SpindleClockwise => {
-                        direction = Some(SpindleDirection::Clockwise);
-                    }
-                    Canon::SpindleCounterClockwise => {
-                        direction = Some(SpindleDirection::CounterClockwise);
-                    }
-                    Canon::SpindleStop => direction = None,
-                    // Under a surface speed, LinuxCNC's task canon takes S in ft/min or
-                    // m/min by the units in force when S is set.
-                    Canon::SpindleSpeed(v) => {
-                        next.speed = Some(v.round() as u32);
-                        next.surface_feet = next.surface_speed.is_some() && scale != 1.0;
-                    }
-                    Canon::SpindleMode(v) => {
-                        next.surface_speed =
-                            (v != 0.0).then(|| (v < 1e29).then(|| (v * 1000.0).round() as i64));
-                        next.surface_feet = next.surface_speed.is_some() && scale != 1.0;
-                    }
-                    Canon::WorkOffset(n) => next.work_offset = n.saturating_sub(1),
-                    Canon::Mist(on) => next.mist = on,
-                    Canon::Flood(on) => next.flood = on,
-                    Canon::ChangeTool(t) => next.tool = Some(t),
-                    _ => {}
-                }
-                next.direction = direction;
-                if next != state {
-                    state = next;
-                    out.push(event(Motion::State(state), pos));
-                }
-            }
+            | Canon::ChangeTool(_) => self.machine_state(c),
             // Only a change puts the tool in the spindle.
             Canon::SelectTool(_) => {}
-            Canon::FeedRate(f) => feed = f,
-            Canon::FeedPerRev(p) => per_rev = p,
-            Canon::Inches(inch) => scale = if inch { 25.4 } else { 1.0 },
-            Canon::Stop(optional) => out.push(event(Motion::Stop { optional }, pos)),
+            Canon::FeedRate(f) => self.feed = f,
+            Canon::FeedPerRev(p) => self.per_rev = p,
+            Canon::Inches(inch) => self.scale = if inch { 25.4 } else { 1.0 },
+            Canon::Stop(optional) => self.event(Motion::Stop { optional }),
             Canon::Dwell(seconds) => {
                 let time = (seconds * 10_000.0).round() as i64;
-                out.push(event(Motion::Dwell { time }, pos));
+                self.event(Motion::Dwell { time });
             }
         }
     }
-    out
+
+    /// A move from the position to `to`, kept unless it goes nowhere (a tap or an arc, a
+    /// full circle, is always kept).
+    fn push(&mut self, motion: Motion, to: Pos) {
+        if self.pos != to || matches!(motion, Motion::Tap { .. } | Motion::Arc { .. }) {
+            self.out.push(Segment {
+                motion,
+                from: self.pos,
+                to,
+                line: 0,
+                pass: None,
+            });
+        }
+    }
+
+    /// An event where the tool stands.
+    fn event(&mut self, motion: Motion) {
+        self.out.push(Segment {
+            motion,
+            from: self.pos,
+            to: self.pos,
+            line: 0,
+            pass: None,
+        });
+    }
+
+    /// A straight feed move: synchronised while a K is in force, else at the feed rate.
+    fn feed_to(&mut self, x: f64, z: f64) {
+        let scale = self.scale;
+        let (x, mut z) = (x * scale, z * scale);
+        // In inches rs274 prints a Z it did not move to four decimals of an inch: a
+        // synchronised move along X alone can seem to move Z by up to 0.0001 inch.
+        if let (Some((_, z0)), Some(_)) = (self.exact, self.k)
+            && scale != 1.0
+            && (z - z0).abs() <= 1.0001e-4 * scale
+        {
+            z = z0;
+        }
+        let to = Pos::new(Length::from_mm_f64(x), Length::from_mm_f64(z));
+        match self.k.map(|k| k * scale) {
+            Some(k) => self.synchronised(k, x, z, to),
+            None => {
+                let motion = Motion::Feed {
+                    feed: Length::from_mm_f64(self.feed * scale),
+                    per_minute: !self.per_rev,
+                };
+                self.push(motion, to);
+                self.chain_turns = None;
+            }
+        }
+        self.pos = to;
+        self.exact = Some((x, z));
+    }
+
+    /// A synchronised move to (`x`, `z`) in mm, K `k` mm per turn along its path: an
+    /// infeed without Z travel, else a thread move with its phase; the chain's spindle
+    /// angle runs on.
+    fn synchronised(&mut self, k: f64, x: f64, z: f64, to: Pos) {
+        let (x0, z0) = self.exact.unwrap_or((0.0, 0.0));
+        let (dr, dz) = ((x - x0) / 2.0, z - z0);
+        let length = dr.hypot(dz);
+        let turns = *self.chain_turns.get_or_insert(0.0);
+        let index_start = turns == 0.0;
+        let motion = if dz == 0.0 {
+            Motion::SyncRadial {
+                advance: Lead::from_mm_f64(k).unwrap_or(Lead::MAX),
+                direction: self.direction,
+                start_angle: index_start.then_some(Angle::ZERO),
+            }
+        } else {
+            let z_lead = k * dz.abs() / length;
+            // The spindle angle at Z0 on this helix.
+            let towards = dz.signum();
+            let at_zero = (turns - towards * z0 / z_lead) * 360.0;
+            let phase = Angle((at_zero.rem_euclid(360.0) * 1000.0).round() as i64 % 360_000);
+            Motion::Sync {
+                lead: Lead::from_mm_f64(z_lead).unwrap_or(Lead::MAX),
+                direction: self.direction,
+                phase: Some(phase),
+            }
+        };
+        self.push(motion, to);
+        self.chain_turns = Some(turns + length / k);
+    }
+
+    /// A call that changes the machine's state: an event when it does.
+    fn machine_state(&mut self, c: &Canon) {
+        let mut next = self.state;
+        let inches = self.scale != 1.0;
+        match *c {
+            Canon::SpindleClockwise => {
+                self.direction = Some(SpindleDirection::Clockwise);
+            }
+            Canon::SpindleCounterClockwise => {
+                self.direction = Some(SpindleDirection::CounterClockwise);
+            }
+            Canon::SpindleStop => self.direction = None,
+            // Under a surface speed, LinuxCNC's task canon takes S in ft/min or m/min by
+            // the units in force when S is set.
+            Canon::SpindleSpeed(v) => {
+                next.speed = Some(v.round() as u32);
+                next.surface_feet = next.surface_speed.is_some() && inches;
+            }
+            Canon::SpindleMode(v) => {
+                next.surface_speed =
+                    (v != 0.0).then(|| (v < 1e29).then(|| (v * 1000.0).round() as i64));
+                next.surface_feet = next.surface_speed.is_some() && inches;
+            }
+            Canon::WorkOffset(n) => next.work_offset = n.saturating_sub(1),
+            Canon::Mist(on) => next.mist = on,
+            Canon::Flood(on) => next.flood = on,
+            Canon::ChangeTool(t) => next.tool = Some(t),
+            _ => {}
+        }
+        next.direction = self.direction;
+        if next != self.state {
+            self.state = next;
+            self.event(Motion::State(next));
+        }
+    }
 }
 
 /// How far (in degrees) rs274's printed numbers leave the helix of its synchronised chains

@@ -14,14 +14,14 @@ use std::fmt::Write as _;
 
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::write::{self, Writer};
-use crate::dialect::{Inexact, Renumber, one_line};
+use crate::dialect::{DialectId, Inexact, Renumber, one_line};
 use crate::fixed::{Angle, Decimal, Lead, Length};
 use crate::ir::{
     Chamfer, Coolant, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection,
     SpindleMode, SyncStart, ThreadCycle, ThreadPass,
 };
 use crate::lower;
-use crate::profile::{AngleSource, CzechArcs, CzechDwell, Profile};
+use crate::profile::{AngleSource, Constant8, CzechArcs, CzechDwell, Profile};
 use crate::source::SourceFile;
 
 /// The largest lead the czech control takes directly in F. **\[seed\]**
@@ -270,64 +270,14 @@ impl Emitter<'_> {
         self.motion_word(if g02 { "G02" } else { "G03" }, &mut words);
         match self.profile.czech.arcs {
             CzechArcs::Radius => {
-                if (sx, sz) == (ex, ez) {
-                    self.diag(
-                        codes::CZW_NO_EQUIVALENT,
-                        item,
-                        "a full circle has no R form on this machine".into(),
-                        "write the circle as two arcs in the source, or declare `arcs = \"ik-radius\"` (or \"ik-diameter\") if the machine takes I and K",
-                    );
+                let Some(r) = self.radius_word(item, (sx, sz), (ex, ez), (cx, cz), clockwise)
+                else {
                     return;
-                }
-                let (r1, _) = lower::arc::radii((sx, sz), (ex, ez), (cx, cz));
-                let long = lower::arc::over_half_turn((sx, sz), (ex, ez), (cx, cz), clockwise);
-                let r = Length::from_mm_f64(if long { -r1 } else { r1 });
-                let text = self.three_decimals(item, "R", r);
-                // The centre the control finds from the written R.
-                let written = Decimal::parse(&text).map(|d| d.to_f64()).unwrap_or(0.0);
-                let off = lower::arc::centre_miss((sx, sz), (ex, ez), (cx, cz), written, clockwise);
-                if off > 0.0005 {
-                    if !self.round {
-                        self.diag(
-                            codes::CZW_PRECISION,
-                            item,
-                            format!("the arc's radius {r1:.4} mm written as R{text} moves its centre by {off:.4} mm"),
-                            "pass --round to accept it, or write the arc with I and K where the machine takes them",
-                        );
-                        return;
-                    }
-                    let moved = Length::from_mm_f64(off);
-                    self.inexact.note(
-                        item.span,
-                        "arc centre (from R)",
-                        Length::ZERO,
-                        moved,
-                        Length(10),
-                    );
-                }
-                words.push(format!("R{text}"));
+                };
+                words.push(format!("R{r}"));
             }
             _ => {
-                let dx = cx - sx;
-                let i = if self.profile.czech.arcs == CzechArcs::IkRadius {
-                    if dx.0 % 20 == 0 {
-                        Length(dx.0 / 2).mm_with_point()
-                    } else {
-                        // A radius between two 0.001 mm steps: noted as its diameter.
-                        let rounded = Length(crate::fixed::div_round(dx.0 as i128, 20) as i64 * 10);
-                        self.inexact.note(
-                            item.span,
-                            "I (as a diameter)",
-                            dx,
-                            rounded + rounded,
-                            Length(20),
-                        );
-                        rounded.mm_with_point()
-                    }
-                } else {
-                    self.three_decimals(item, "I", dx)
-                };
-                let k = self.three_decimals(item, "K", cz - sz);
+                let (i, k) = self.centre_words(item, cx - sx, cz - sz);
                 words.push(format!("I{i}"));
                 words.push(format!("K{k}"));
             }
@@ -339,6 +289,80 @@ impl Emitter<'_> {
         }
         block.words.extend(words);
         self.all_axes = false;
+    }
+
+    /// An arc's radius as R writes it (negative over half a turn); `None` when it is
+    /// refused: a full circle, or (without --round) an R whose three decimals move the
+    /// centre the control finds.
+    fn radius_word(
+        &mut self,
+        item: &Item,
+        (sx, sz): (Length, Length),
+        (ex, ez): (Length, Length),
+        (cx, cz): (Length, Length),
+        clockwise: bool,
+    ) -> Option<String> {
+        if (sx, sz) == (ex, ez) {
+            self.diag(
+                codes::CZW_NO_EQUIVALENT,
+                item,
+                "a full circle has no R form on this machine".into(),
+                "write the circle as two arcs in the source, or declare `arcs = \"ik-radius\"` (or \"ik-diameter\") if the machine takes I and K",
+            );
+            return None;
+        }
+        let (r1, _) = lower::arc::radii((sx, sz), (ex, ez), (cx, cz));
+        let long = lower::arc::over_half_turn((sx, sz), (ex, ez), (cx, cz), clockwise);
+        let r = Length::from_mm_f64(if long { -r1 } else { r1 });
+        let text = self.three_decimals(item, "R", r);
+        // The centre the control finds from the written R.
+        let written = Decimal::parse(&text).map(|d| d.to_f64()).unwrap_or(0.0);
+        let off = lower::arc::centre_miss((sx, sz), (ex, ez), (cx, cz), written, clockwise);
+        if off > 0.0005 {
+            if !self.round {
+                self.diag(
+                    codes::CZW_PRECISION,
+                    item,
+                    format!("the arc's radius {r1:.4} mm written as R{text} moves its centre by {off:.4} mm"),
+                    "pass --round to accept it, or write the arc with I and K where the machine takes them",
+                );
+                return None;
+            }
+            let moved = Length::from_mm_f64(off);
+            self.inexact.note(
+                item.span,
+                "arc centre (from R)",
+                Length::ZERO,
+                moved,
+                Length(10),
+            );
+        }
+        Some(text)
+    }
+
+    /// An arc's centre as I and K write it (offsets from the start `dx`, `dz`; I in radius
+    /// or diameter as the profile says).
+    fn centre_words(&mut self, item: &Item, dx: Length, dz: Length) -> (String, String) {
+        let i = if self.profile.czech.arcs == CzechArcs::IkRadius {
+            if dx.0 % 20 == 0 {
+                Length(dx.0 / 2).mm_with_point()
+            } else {
+                // A radius between two 0.001 mm steps: noted as its diameter.
+                let rounded = Length(crate::fixed::div_round(dx.0 as i128, 20) as i64 * 10);
+                self.inexact.note(
+                    item.span,
+                    "I (as a diameter)",
+                    dx,
+                    rounded + rounded,
+                    Length(20),
+                );
+                rounded.mm_with_point()
+            }
+        } else {
+            self.three_decimals(item, "I", dx)
+        };
+        let k = self.three_decimals(item, "K", dz);
+        (i, k)
     }
 
     fn motion_word(&mut self, g: &'static str, words: &mut Vec<String>) {
@@ -378,27 +402,27 @@ impl Emitter<'_> {
     }
 
     fn item(&mut self, item: &Item, block: &mut Block, reserved: &[u32]) {
+        if !self.kind(item, block, reserved) {
+            return;
+        }
+        if !matches!(
+            item.kind,
+            ItemKind::ThreadCycle(_) | ItemKind::ThreadPass(_)
+        ) {
+            let before = self.w.pos;
+            self.w.pos = item.kind.end_position(self.w.pos);
+            if self.w.pos != before {
+                self.in_cut = None;
+            }
+        }
+    }
+
+    /// Writes an item into `block` (or into blocks of its own): one arm per kind of item.
+    /// `false` when it is refused (a diagnostic says why) and the position is not moved.
+    fn kind(&mut self, item: &Item, block: &mut Block, reserved: &[u32]) -> bool {
         match &item.kind {
-            ItemKind::Rapid { to } => {
-                if let Some(mut words) = self.axes(item, *to) {
-                    self.motion_word("G00", &mut words);
-                    block.words.extend(words);
-                    self.all_axes = false;
-                }
-            }
-            ItemKind::Feed { to, feed } => {
-                let Some(mut words) = self.axes(item, *to) else {
-                    return;
-                };
-                self.motion_word("G01", &mut words);
-                if self.f != Some((Lead::from_length(*feed), false)) {
-                    let f = self.three_decimals(item, "feed F", *feed);
-                    words.push(format!("F{f}"));
-                    self.f = Some((Lead::from_length(*feed), false));
-                }
-                block.words.extend(words);
-                self.all_axes = false;
-            }
+            ItemKind::Rapid { to } => self.rapid(item, *to, block),
+            ItemKind::Feed { to, feed } => return self.feed(item, *to, *feed, block),
             ItemKind::ThreadPass(pass) => {
                 self.ensure_all_axes(item, block);
                 self.thread_pass(item, pass, block, reserved);
@@ -427,115 +451,31 @@ impl Emitter<'_> {
             | ItemKind::Dwell { .. }
             | ItemKind::Arc { .. }
             | ItemKind::Stop { .. } => {}
-            // A feed of its own: in a G01 block when the last motion was a thread (there F
-            // would be a lead).
-            ItemKind::FeedRate(feed) => {
-                if self.f != Some((Lead::from_length(*feed), false)) {
-                    if self.motion == Some("G33") {
-                        self.motion_word("G01", &mut block.words);
-                    }
-                    let f = self.three_decimals(item, "feed F", *feed);
-                    block.words.push(format!("F{f}"));
-                    self.f = Some((Lead::from_length(*feed), false));
-                }
-            }
-            // G96/G97 where the profile declares them (legalisation refuses them elsewhere;
-            // without the key, rpm is this control's only mode). The machine's speed limit
-            // is its own setting: a limit in the source has no word here.
-            ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { feet: true, .. })
-                if self.profile.czech.surface_speed =>
-            {
-                self.diag(
-                    codes::CZW_NO_EQUIVALENT,
-                    item,
-                    "a surface speed in feet per minute (G96 under G20): the czech control's G96 takes m/min".to_string(),
-                    "program the surface speed in m/min (G21) in the source",
-                );
-                return;
-            }
-            ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit, .. })
-                if self.profile.czech.surface_speed =>
-            {
-                if let Some(d) = limit {
-                    self.diag(
-                        codes::CZW_NO_EQUIVALENT,
-                        item,
-                        format!("the surface speed's limit of {d} rpm has no word on this machine (its limit is a machine setting)"),
-                        "set the machine's speed limit by hand to the source's, and remove the limit (G96's D) from the source",
-                    );
-                    return;
-                }
-                block.words.push("G96".into());
-            }
-            ItemKind::SpindleMode(SpindleMode::Rpm) if self.profile.czech.surface_speed => {
-                block.words.push("G97".into());
-            }
-            ItemKind::SpindleMode(_) => {}
+            ItemKind::FeedRate(feed) => self.feed_rate(item, *feed, block),
+            ItemKind::SpindleMode(mode) => return self.spindle_mode(item, mode, block),
             // No compensation and the default work offset are this control's only state;
             // the others, and machine coordinates, are refused by legalisation.
             ItemKind::Compensation(_) | ItemKind::WorkOffset(_) | ItemKind::MachineMove(_) => {}
             // Unrolled into its moves at the top of `emit`.
             ItemKind::Roughing(_) => {}
             // Written where the profile declares the codes; legalisation refuses the rest.
-            ItemKind::Coolant(c) => block.words.push(
-                match c {
-                    Coolant::Mist => "M07",
-                    Coolant::Flood => "M08",
-                    Coolant::Off => "M09",
-                }
-                .to_string(),
-            ),
-            ItemKind::Spindle { speed, direction } => {
-                if let Some(s) = speed {
-                    block.words.push(format!("S{s}"));
-                }
-                match direction {
-                    Some(SpindleDirection::Clockwise) => block.words.push("M03".into()),
-                    Some(SpindleDirection::CounterClockwise) => block.words.push("M04".into()),
-                    None => {}
-                }
-            }
-            ItemKind::SpindleStop => {
-                block.words.push("M05".into());
-            }
+            ItemKind::Coolant(c) => block.words.push(coolant_word(*c).to_string()),
+            ItemKind::Spindle { speed, direction } => spindle_words(*speed, *direction, block),
+            ItemKind::SpindleStop => block.words.push("M05".into()),
             ItemKind::Tool { number, offset } => {
-                if let Some(t) = number {
-                    block.words.push(format!("T{t}"));
-                }
-                if let Some(d) = offset {
-                    block.words.push(format!("D{d}"));
-                }
+                block.words.extend(number.map(|t| format!("T{t}")));
+                block.words.extend(offset.map(|d| format!("D{d}")));
             }
-            ItemKind::GearRange { code: m, machine } => {
-                // An M number means a gear range only on the machine it was written for.
-                if *machine == super::ID && self.profile.czech.gear_range_mcodes.contains(m) {
-                    block.words.push(format!("M{m}"));
-                } else {
-                    self.as_comment(
-                        item,
-                        block,
-                        &format!("M{m}: gear range of the source machine"),
-                    );
-                }
-            }
+            ItemKind::GearRange { code: m, machine } => self.gear_range(item, *m, *machine, block),
             ItemKind::FeedMode(FeedMode::PerRev) => block.words.push("G95".into()),
             ItemKind::FeedMode(FeedMode::PerMin) => block.words.push("G94".into()),
-            ItemKind::ProgramEnd(EndCode::M2) => {
+            ItemKind::ProgramEnd(end) => {
                 self.ensure_all_axes(item, block);
-                block.words.push("M02".into());
+                block
+                    .words
+                    .push(if *end == EndCode::M2 { "M02" } else { "M30" }.into());
             }
-            ItemKind::ProgramEnd(EndCode::M30) => {
-                self.ensure_all_axes(item, block);
-                block.words.push("M30".into());
-            }
-            ItemKind::Comment(text) => {
-                if block.words.is_empty() && block.comment.is_none() {
-                    block.comment = Some(text.clone());
-                } else {
-                    self.flush(block);
-                    block.comment = Some(text.clone());
-                }
-            }
+            ItemKind::Comment(text) => self.comment_item(text, block),
             ItemKind::ParamAssign { number, value } => {
                 self.params.insert(*number, *value);
                 block.words.push(format!("R{number:02}={value}"));
@@ -553,15 +493,101 @@ impl Emitter<'_> {
                 self.w.out.push_str("%\n");
             }
         }
-        if !matches!(
-            item.kind,
-            ItemKind::ThreadCycle(_) | ItemKind::ThreadPass(_)
-        ) {
-            let before = self.w.pos;
-            self.w.pos = item.kind.end_position(self.w.pos);
-            if self.w.pos != before {
-                self.in_cut = None;
+        true
+    }
+
+    /// A comment: the block's own, or (when the block has words or a comment already) the
+    /// next block's.
+    fn comment_item(&mut self, text: &str, block: &mut Block) {
+        if !(block.words.is_empty() && block.comment.is_none()) {
+            self.flush(block);
+        }
+        block.comment = Some(text.to_string());
+    }
+
+    /// G00 with the axes (nothing when they cannot be written).
+    fn rapid(&mut self, item: &Item, to: Pos, block: &mut Block) {
+        if let Some(mut words) = self.axes(item, to) {
+            self.motion_word("G00", &mut words);
+            block.words.extend(words);
+            self.all_axes = false;
+        }
+    }
+
+    /// G01 with the axes and, when it changes, the feed; `false` when the axes cannot be
+    /// written.
+    fn feed(&mut self, item: &Item, to: Pos, feed: Length, block: &mut Block) -> bool {
+        let Some(mut words) = self.axes(item, to) else {
+            return false;
+        };
+        self.motion_word("G01", &mut words);
+        if self.f != Some((Lead::from_length(feed), false)) {
+            let f = self.three_decimals(item, "feed F", feed);
+            words.push(format!("F{f}"));
+            self.f = Some((Lead::from_length(feed), false));
+        }
+        block.words.extend(words);
+        self.all_axes = false;
+        true
+    }
+
+    /// A feed of its own: in a G01 block when the last motion was a thread (there F would
+    /// be a lead).
+    fn feed_rate(&mut self, item: &Item, feed: Length, block: &mut Block) {
+        if self.f != Some((Lead::from_length(feed), false)) {
+            if self.motion == Some("G33") {
+                self.motion_word("G01", &mut block.words);
             }
+            let f = self.three_decimals(item, "feed F", feed);
+            block.words.push(format!("F{f}"));
+            self.f = Some((Lead::from_length(feed), false));
+        }
+    }
+
+    /// G96/G97 where the profile declares them (legalisation refuses them elsewhere;
+    /// without the key, rpm is this control's only mode). The machine's speed limit is its
+    /// own setting: a limit in the source has no word here, and is refused (`false`), as is
+    /// a surface speed in feet per minute.
+    fn spindle_mode(&mut self, item: &Item, mode: &SpindleMode, block: &mut Block) -> bool {
+        if !self.profile.czech.surface_speed {
+            return true;
+        }
+        match mode {
+            SpindleMode::SurfaceSpeed { feet: true, .. } => {
+                self.diag(
+                    codes::CZW_NO_EQUIVALENT,
+                    item,
+                    "a surface speed in feet per minute (G96 under G20): the czech control's G96 takes m/min".to_string(),
+                    "program the surface speed in m/min (G21) in the source",
+                );
+                return false;
+            }
+            SpindleMode::SurfaceSpeed { limit: Some(d), .. } => {
+                self.diag(
+                    codes::CZW_NO_EQUIVALENT,
+                    item,
+                    format!("the surface speed's limit of {d} rpm has no word on this machine (its limit is a machine setting)"),
+                    "set the machine's speed limit by hand to the source's, and remove the limit (G96's D) from the source",
+                );
+                return false;
+            }
+            SpindleMode::SurfaceSpeed { .. } => block.words.push("G96".into()),
+            SpindleMode::Rpm => block.words.push("G97".into()),
+        }
+        true
+    }
+
+    /// A gear range's M code; an M number means a gear range only on the machine it was
+    /// written for (and one the profile names): else a comment.
+    fn gear_range(&mut self, item: &Item, m: u32, machine: DialectId, block: &mut Block) {
+        if machine == super::ID && self.profile.czech.gear_range_mcodes.contains(&m) {
+            block.words.push(format!("M{m}"));
+        } else {
+            self.as_comment(
+                item,
+                block,
+                &format!("M{m}: gear range of the source machine"),
+            );
         }
     }
 
@@ -702,39 +728,55 @@ impl Emitter<'_> {
                 } else {
                     runout
                 };
-                if param == 0 || param == 80 {
-                    self.diag(
-                        codes::CZW_ANGLE,
-                        item,
-                        format!("machine constant 8 ({c8}) names R{param:02} for the {what} angle, and R00 and R80 may not hold angles"),
-                        "check the target machine's constant 8 (the manual recommends R04)",
-                    );
-                    return false;
-                }
-                let value = Decimal {
-                    mantissa: word as i128,
-                    scale: 3,
-                    has_point: true,
-                };
-                let holds = self
-                    .params
-                    .get(&param)
-                    .is_some_and(|v| v.to_scaled(3).ok() == Some(word));
-                if !holds {
-                    self.params.insert(param, value);
-                    let text = format_param(value);
-                    self.write(Block {
-                        words: vec![format!("R{param:02}={text}")],
-                        comment: Some(format!(
-                            "{what} angle {}{angle}°",
-                            if negative { "−" } else { "+" }
-                        )),
-                        ..Block::default()
-                    });
-                }
-                true
+                self.angle_parameter(item, c8, param, what, chamfer)
             }
         }
+    }
+
+    /// Sets R`param`, which constant 8 (`c8`) names for the `what` angle, to the angle of
+    /// `chamfer` (in a block of its own, unless it holds it already); `false` when the
+    /// parameter may not hold an angle.
+    fn angle_parameter(
+        &mut self,
+        item: &Item,
+        c8: Constant8,
+        param: u32,
+        what: &str,
+        chamfer: &Chamfer,
+    ) -> bool {
+        let (angle, negative, _) = Self::angle_for(chamfer);
+        let word = (100_000 + angle.0) * if negative { -1 } else { 1 };
+        if param == 0 || param == 80 {
+            self.diag(
+                codes::CZW_ANGLE,
+                item,
+                format!("machine constant 8 ({c8}) names R{param:02} for the {what} angle, and R00 and R80 may not hold angles"),
+                "check the target machine's constant 8 (the manual recommends R04)",
+            );
+            return false;
+        }
+        let value = Decimal {
+            mantissa: word as i128,
+            scale: 3,
+            has_point: true,
+        };
+        let holds = self
+            .params
+            .get(&param)
+            .is_some_and(|v| v.to_scaled(3).ok() == Some(word));
+        if !holds {
+            self.params.insert(param, value);
+            let text = format_param(value);
+            self.write(Block {
+                words: vec![format!("R{param:02}={text}")],
+                comment: Some(format!(
+                    "{what} angle {}{angle}°",
+                    if negative { "−" } else { "+" }
+                )),
+                ..Block::default()
+            });
+        }
+        true
     }
 
     fn thread_pass(&mut self, item: &Item, pass: &ThreadPass, block: &mut Block, reserved: &[u32]) {
@@ -742,33 +784,7 @@ impl Emitter<'_> {
         if pass.infeed.is_some() {
             return;
         }
-        // The angle parameters go in blocks before the pass.
-        let entry_param = self.profile.czech.constant8.map(|c| c.angle_source());
-        if (pass.entry.is_some() || pass.exit.is_some()) && !block.words.is_empty() {
-            self.flush(block);
-        }
-        if let (Some(e), Some(r)) = (pass.entry, pass.exit)
-            && matches!(
-                entry_param,
-                Some(AngleSource::Parameters { entry: None, .. })
-            )
-            && Self::angle_for(&e).0 != Self::angle_for(&r).0
-        {
-            return self.diag(
-                codes::CZW_ANGLE,
-                item,
-                "entry and runout need different angles, and constant 8 gives both from one parameter".into(),
-                "use a machine whose constant 8 names an entry parameter (decades 6–5)",
-            );
-        }
-        if let Some(r) = pass.exit
-            && !self.chamfer_angle(item, &r, "runout")
-        {
-            return;
-        }
-        if let Some(e) = pass.entry
-            && !self.chamfer_angle(item, &e, "entry")
-        {
+        if !self.chamfer_angles(item, pass, block) {
             return;
         }
         let mut start_angle = match pass.start {
@@ -776,51 +792,8 @@ impl Emitter<'_> {
             // Refused by legalisation: every czech G33 block waits for the index pulse.
             SyncStart::Continue => return,
         };
-        // A start that needs a 4th decimal (--round) moves along the pass onto the 0.001 grid
-        // (less than 0.001 mm, inside the tolerance), and the start angle changes by the turns
-        // that takes, so the helix stays: a start later along the travel is reached later.
-        // Of the two grid points the nearer one whose angle stays in 0…360° is taken (so that
-        // no other control starts almost a turn early), and the tool moves there; in the cut
-        // (right after another pass) the tool stays where the last block left it, and the
-        // angle wraps.
-        if self.round
-            && let (Some(z), Some(end_z)) = (self.w.pos.z, pass.to.z)
-            && z.0 % 10 != 0
-        {
-            let towards = (end_z - z).signum();
-            let angle_for = |c: Length| {
-                let later = Length(towards * (c - z).0);
-                let turn = crate::fixed::div_round(
-                    later.0 as i128 * 360_000 * Lead::PER_LENGTH as i128,
-                    pass.lead.0.max(1) as i128,
-                ) as i64;
-                start_angle.0 + turn
-            };
-            let nearest = Length(crate::fixed::div_round(z.0 as i128, 10) as i64 * 10);
-            let other = if nearest < z {
-                nearest + Length(10)
-            } else {
-                nearest - Length(10)
-            };
-            let in_cut = self.in_cut == Some(self.w.pos);
-            match [nearest, other]
-                .into_iter()
-                .find(|&c| (0..360_000).contains(&angle_for(c)))
-            {
-                Some(at) if !in_cut => {
-                    start_angle = Angle(angle_for(at));
-                    if at != nearest {
-                        self.flush(block);
-                        let mut words = vec![format!("Z{}", at.mm_with_point())];
-                        self.motion_word("G00", &mut words);
-                        self.write(Block {
-                            words,
-                            ..Block::default()
-                        });
-                    }
-                }
-                _ => start_angle = Angle(angle_for(nearest).rem_euclid(360_000)),
-            }
+        if self.round {
+            start_angle = self.start_on_grid(pass, start_angle, block);
         }
         // On the 0.001 grid (--round) a very short pass can lose its travel.
         let on_grid = |z: Length| crate::fixed::div_round(z.0 as i128, 10);
@@ -852,56 +825,12 @@ impl Emitter<'_> {
             return;
         };
         self.motion_word("G33", &mut words);
-        // Leads take 4 decimals: another is refused, or with --round rounded with the drift
-        // at the thread's end as its deviation. A lead that rounds to nothing is refused.
-        let (units, exact) = pass.lead.in_units(4);
-        let lead = Lead::from_units(units, 4);
-        if units <= 0 {
-            return self.diag(
-                codes::CZW_PRECISION,
-                item,
-                format!(
-                    "the lead {} mm rounds to 0 in the czech control's 0.0001 mm",
-                    pass.lead
-                ),
-                "a thread needs a lead the control can hold",
-            );
-        }
-        if !exact {
-            let travel = match (self.w.pos.z, pass.to.z) {
-                (Some(a), Some(b)) => (b - a).abs(),
-                _ => Length::ZERO,
-            };
-            let drift = pass.lead.drift(lead, travel);
-            self.inexact
-                .note_lead(item.span, "lead F", pass.lead, drift, Length(1));
-        }
-        if self.f != Some((lead, true)) {
-            if lead > Lead::from_length(MAX_DIRECT_LEAD) {
-                let Some((n, new)) = self.lead_param(lead, reserved) else {
-                    return self.diag(
-                        codes::CZW_NO_EQUIVALENT,
-                        item,
-                        format!(
-                            "the lead {} is over 99.99 and no R parameter is free to hold it",
-                            lead
-                        ),
-                        "free an R parameter in the program",
-                    );
-                };
-                if new {
-                    self.flush(block);
-                    self.write(Block {
-                        words: vec![format!("R{n:02}={}", lead.mm_with_point())],
-                        comment: Some("lead over 99.99".into()),
-                        ..Block::default()
-                    });
-                }
-                words.push(format!("FR{n:02}"));
-            } else {
-                words.push(format!("F{}", lead.mm_with_point()));
-            }
-            self.f = Some((lead, true));
+        let Some(lead) = self.pass_lead(item, pass) else {
+            return;
+        };
+        if self.f != Some((lead, true)) && !self.lead_word(item, lead, reserved, block, &mut words)
+        {
+            return;
         }
         if start_angle != Angle::ZERO {
             words.push(format!("I{}", start_angle.deg()));
@@ -923,6 +852,166 @@ impl Emitter<'_> {
             self.pending_empty = true;
             self.all_axes = true;
         }
+    }
+
+    /// The entry's and runout's angles, in parameter blocks before the pass (the block in
+    /// hand written first); `false` when they cannot be set (a diagnostic says why).
+    fn chamfer_angles(&mut self, item: &Item, pass: &ThreadPass, block: &mut Block) -> bool {
+        let entry_param = self.profile.czech.constant8.map(|c| c.angle_source());
+        if (pass.entry.is_some() || pass.exit.is_some()) && !block.words.is_empty() {
+            self.flush(block);
+        }
+        if let (Some(e), Some(r)) = (pass.entry, pass.exit)
+            && matches!(
+                entry_param,
+                Some(AngleSource::Parameters { entry: None, .. })
+            )
+            && Self::angle_for(&e).0 != Self::angle_for(&r).0
+        {
+            self.diag(
+                codes::CZW_ANGLE,
+                item,
+                "entry and runout need different angles, and constant 8 gives both from one parameter".into(),
+                "use a machine whose constant 8 names an entry parameter (decades 6–5)",
+            );
+            return false;
+        }
+        if let Some(r) = pass.exit
+            && !self.chamfer_angle(item, &r, "runout")
+        {
+            return false;
+        }
+        if let Some(e) = pass.entry
+            && !self.chamfer_angle(item, &e, "entry")
+        {
+            return false;
+        }
+        true
+    }
+
+    /// A start that needs a 4th decimal (--round) moves along the pass onto the 0.001 grid
+    /// (less than 0.001 mm, inside the tolerance), and the start angle changes by the turns
+    /// that takes, so the helix stays: a start later along the travel is reached later.
+    /// Of the two grid points the nearer one whose angle stays in 0…360° is taken (so that
+    /// no other control starts almost a turn early), and the tool moves there; in the cut
+    /// (right after another pass) the tool stays where the last block left it, and the
+    /// angle wraps.
+    fn start_on_grid(
+        &mut self,
+        pass: &ThreadPass,
+        mut start_angle: Angle,
+        block: &mut Block,
+    ) -> Angle {
+        let (Some(z), Some(end_z)) = (self.w.pos.z, pass.to.z) else {
+            return start_angle;
+        };
+        if z.0 % 10 == 0 {
+            return start_angle;
+        }
+        let towards = (end_z - z).signum();
+        let angle_for = |c: Length| {
+            let later = Length(towards * (c - z).0);
+            let turn = crate::fixed::div_round(
+                later.0 as i128 * 360_000 * Lead::PER_LENGTH as i128,
+                pass.lead.0.max(1) as i128,
+            ) as i64;
+            start_angle.0 + turn
+        };
+        let nearest = Length(crate::fixed::div_round(z.0 as i128, 10) as i64 * 10);
+        let other = if nearest < z {
+            nearest + Length(10)
+        } else {
+            nearest - Length(10)
+        };
+        let in_cut = self.in_cut == Some(self.w.pos);
+        match [nearest, other]
+            .into_iter()
+            .find(|&c| (0..360_000).contains(&angle_for(c)))
+        {
+            Some(at) if !in_cut => {
+                start_angle = Angle(angle_for(at));
+                if at != nearest {
+                    self.flush(block);
+                    let mut words = vec![format!("Z{}", at.mm_with_point())];
+                    self.motion_word("G00", &mut words);
+                    self.write(Block {
+                        words,
+                        ..Block::default()
+                    });
+                }
+            }
+            _ => start_angle = Angle(angle_for(nearest).rem_euclid(360_000)),
+        }
+        start_angle
+    }
+
+    /// A pass's lead in the control's 4 decimals: another is refused (`None`), or with
+    /// --round rounded with the drift at the thread's end as its deviation. A lead that
+    /// rounds to nothing is refused.
+    fn pass_lead(&mut self, item: &Item, pass: &ThreadPass) -> Option<Lead> {
+        let (units, exact) = pass.lead.in_units(4);
+        let lead = Lead::from_units(units, 4);
+        if units <= 0 {
+            self.diag(
+                codes::CZW_PRECISION,
+                item,
+                format!(
+                    "the lead {} mm rounds to 0 in the czech control's 0.0001 mm",
+                    pass.lead
+                ),
+                "a thread needs a lead the control can hold",
+            );
+            return None;
+        }
+        if !exact {
+            let travel = match (self.w.pos.z, pass.to.z) {
+                (Some(a), Some(b)) => (b - a).abs(),
+                _ => Length::ZERO,
+            };
+            let drift = pass.lead.drift(lead, travel);
+            self.inexact
+                .note_lead(item.span, "lead F", pass.lead, drift, Length(1));
+        }
+        Some(lead)
+    }
+
+    /// The lead word: F, or over 99.99 FR with the R parameter that holds it (set in a
+    /// block before); `false` when no parameter is free.
+    fn lead_word(
+        &mut self,
+        item: &Item,
+        lead: Lead,
+        reserved: &[u32],
+        block: &mut Block,
+        words: &mut Vec<String>,
+    ) -> bool {
+        if lead > Lead::from_length(MAX_DIRECT_LEAD) {
+            let Some((n, new)) = self.lead_param(lead, reserved) else {
+                self.diag(
+                    codes::CZW_NO_EQUIVALENT,
+                    item,
+                    format!(
+                        "the lead {} is over 99.99 and no R parameter is free to hold it",
+                        lead
+                    ),
+                    "free an R parameter in the program",
+                );
+                return false;
+            };
+            if new {
+                self.flush(block);
+                self.write(Block {
+                    words: vec![format!("R{n:02}={}", lead.mm_with_point())],
+                    comment: Some("lead over 99.99".into()),
+                    ..Block::default()
+                });
+            }
+            words.push(format!("FR{n:02}"));
+        } else {
+            words.push(format!("F{}", lead.mm_with_point()));
+        }
+        self.f = Some((lead, true));
+        true
     }
 
     fn thread_cycle(&mut self, item: &Item, cycle: &ThreadCycle, reserved: &[u32]) {
@@ -953,5 +1042,25 @@ fn format_param(v: Decimal) -> String {
         format!("{text}0")
     } else {
         text
+    }
+}
+/// The M code of a coolant command.
+fn coolant_word(c: Coolant) -> &'static str {
+    match c {
+        Coolant::Mist => "M07",
+        Coolant::Flood => "M08",
+        Coolant::Off => "M09",
+    }
+}
+
+/// The spindle's speed S and direction M03/M04.
+fn spindle_words(speed: Option<u32>, direction: Option<SpindleDirection>, block: &mut Block) {
+    if let Some(s) = speed {
+        block.words.push(format!("S{s}"));
+    }
+    match direction {
+        Some(SpindleDirection::Clockwise) => block.words.push("M03".into()),
+        Some(SpindleDirection::CounterClockwise) => block.words.push("M04".into()),
+        None => {}
     }
 }

@@ -12,7 +12,7 @@ use std::fmt::Write as _;
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::write::{self, Writer};
 use crate::dialect::{Inexact, one_line};
-use crate::fixed::{Angle, Lead, Length};
+use crate::fixed::{Angle, Decimal, Lead, Length};
 use crate::ir::{
     Compensation, Coolant, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection,
     SpindleMode, SyncStart, ThreadCycle, ThreadPass,
@@ -216,38 +216,31 @@ pub fn emit(
         inexact: Inexact::default(),
         round,
     };
-    e.w.out.push_str("%\n");
-    let _ = writeln!(e.w.out, "O{:04}", profile.fanuc.program_number);
-    let mut items = program.items.as_slice();
-    while let Some((first, rest)) = items.split_first()
-        && first.kind == ItemKind::Delimiter
-    {
-        items = rest;
-    }
-    match items.split_first() {
-        Some((first, rest)) if matches!(&first.kind, ItemKind::Comment(c) if comment_text(c).ends_with(HEADER_END)) =>
-        {
-            if let ItemKind::Comment(c) = &first.kind {
-                let _ = writeln!(e.w.out, "({})", comment_text(c));
-            }
-            items = rest;
-        }
-        _ => {
-            let _ = writeln!(
-                e.w.out,
-                "({}, DIALECT {}{HEADER_END})",
-                comment_text(
-                    std::path::Path::new(&src.name)
-                        .file_name()
-                        .map_or(src.name.as_str(), |n| n.to_str().unwrap_or(&src.name))
-                ),
-                comment_text(program.dialect.as_str())
-            );
-        }
-    }
+    let items = e.header(program, src, &program.items);
     e.w.out.push_str("G21 G99\n");
-    // The header's feed mode, as the reader reads it back, is not written again (its
-    // comment stays, as a comment item). Only the header's items are copied for that.
+    let (head, tail) = header_feed_mode(items, keep);
+    let groups: Vec<&[Item]> = write::blocks(&head, keep)
+        .chain(write::blocks(tail, keep))
+        .collect();
+    e.groups(&groups);
+    for (text, at) in std::mem::take(&mut e.deferred) {
+        e.at = at;
+        e.write(Block {
+            comment: Some(text),
+            ..Block::default()
+        });
+    }
+    e.w.out.push_str("%\n");
+    e.closing_diagnostics(src);
+    e.w.finish()
+}
+
+/// The items after the header's feed mode (G99, which the header writes): the header's
+/// comments (and the feed mode's own) and the rest. The header's feed mode, as the reader
+/// reads it back, is not written again (its comment stays, as a comment item). Only the
+/// header's items are copied for that. A block of the kept program's source line must not
+/// be cut in two: then the copy takes the rest too.
+fn header_feed_mode(items: &[Item], keep: bool) -> (Vec<Item>, &[Item]) {
     let header_end = items
         .iter()
         .position(|i| !matches!(i.kind, ItemKind::Comment(_) | ItemKind::Delimiter));
@@ -261,8 +254,6 @@ pub fn emit(
         }
         _ => (Vec::new(), items),
     };
-    // A block of the kept program's source line must not be cut in two: then the copy takes
-    // the rest too.
     let straddles = keep
         && matches!((head.last(), tail.first()), (Some(last), Some(next)) if last.span.line == next.span.line);
     let tail = if straddles {
@@ -271,66 +262,102 @@ pub fn emit(
     } else {
         tail
     };
-    let groups: Vec<&[Item]> = write::blocks(&head, keep)
-        .chain(write::blocks(tail, keep))
-        .collect();
-    let mut i = 0;
-    while i < groups.len() {
-        let group = groups[i];
-        // A speed mode and the spindle item after it are one block: `G96 S200 M03`.
-        if !keep
-            && matches!(group[0].kind, ItemKind::SpindleMode(_))
-            && let Some(next) = groups.get(i + 1)
-            && matches!(next[0].kind, ItemKind::Spindle { .. })
-            && next[0].comment.is_none()
+    (head, tail)
+}
+
+impl Emitter<'_> {
+    /// The program's start (`%`, its O number) and its header comment: the source's own
+    /// (kept when it ends as ncthread's do), or the file's name and dialect. The items
+    /// after the header comment.
+    fn header<'i>(&mut self, program: &Program, src: &SourceFile, items: &'i [Item]) -> &'i [Item] {
+        self.w.out.push_str("%\n");
+        let _ = writeln!(self.w.out, "O{:04}", self.profile.fanuc.program_number);
+        let mut items = items;
+        while let Some((first, rest)) = items.split_first()
+            && first.kind == ItemKind::Delimiter
         {
-            let both = [group[0].clone(), next[0].clone()];
-            e.group(&both);
-            i += 2;
-            continue;
+            items = rest;
         }
-        e.group(group);
-        i += 1;
+        match items.split_first() {
+            Some((first, rest)) if matches!(&first.kind, ItemKind::Comment(c) if comment_text(c).ends_with(HEADER_END)) =>
+            {
+                if let ItemKind::Comment(c) = &first.kind {
+                    let _ = writeln!(self.w.out, "({})", comment_text(c));
+                }
+                items = rest;
+            }
+            _ => {
+                let _ = writeln!(
+                    self.w.out,
+                    "({}, DIALECT {}{HEADER_END})",
+                    comment_text(
+                        std::path::Path::new(&src.name)
+                            .file_name()
+                            .map_or(src.name.as_str(), |n| n.to_str().unwrap_or(&src.name))
+                    ),
+                    comment_text(program.dialect.as_str())
+                );
+            }
+        }
+        items
     }
-    for (text, at) in std::mem::take(&mut e.deferred) {
-        e.at = at;
-        e.write(Block {
-            comment: Some(text),
-            ..Block::default()
-        });
+
+    /// Writes the groups of items block by block. A speed mode and the spindle item after
+    /// it are one block: `G96 S200 M03`.
+    fn groups(&mut self, groups: &[&[Item]]) {
+        let mut i = 0;
+        while i < groups.len() {
+            let group = groups[i];
+            if !self.keep
+                && matches!(group[0].kind, ItemKind::SpindleMode(_))
+                && let Some(next) = groups.get(i + 1)
+                && matches!(next[0].kind, ItemKind::Spindle { .. })
+                && next[0].comment.is_none()
+            {
+                let both = [group[0].clone(), next[0].clone()];
+                self.group(&both);
+                i += 2;
+                continue;
+            }
+            self.group(group);
+            i += 1;
+        }
     }
-    e.w.out.push_str("%\n");
-    let summary = e.inexact.diagnostic(
-        src,
-        e.round,
-        |s| {
-            Diagnostic::new(
-                codes::FANW_ROUNDED,
-                format!("{} value(s) rounded to the FANUC program's grid (0.001 mm, leads and feeds 0.0001 mm), the first {}; the largest deviation is {} mm", s.count, s.what, s.largest),
-            )
-            .help("a thread's start keeps its start angle Q")
-        },
-        |s| {
-            Diagnostic::new(
-                codes::FANW_PRECISION,
-                format!("{} is finer than the FANUC program's {} mm ({} value(s) in this program are; lengths take 3 decimals, leads and feeds 4)", s.what, s.grid, s.count),
-            )
-            .help(format!("pass --round to round them (largest deviation {} mm, for a lead its drift at the thread's end)", s.largest))
-        },
-    );
-    e.w.diags.extend(summary);
-    let latin = e.latin.diagnostic(
-        src,
-        "comment text transliterated to ASCII",
-        "a FANUC comment is upper-case ASCII: a letter loses its accent (`Č` → `C`), a symbol is spelled out (`°` → `DEG`) or becomes `?`; the diameter sign is `D`",
-    );
-    let script = e.script.diagnostic(
-        src,
-        "comment text in another script romanised to ASCII",
-        "a FANUC comment is upper-case ASCII: letters of other scripts are romanised (Cyrillic letter by letter, Chinese characters as pinyin, each as deunicode spells it); read them on the control, or write the comments in Latin letters in the source",
-    );
-    e.w.diags.extend(latin.into_iter().chain(script));
-    e.w.finish()
+
+    /// The diagnostics that sum up the program: values rounded (or too fine), comment text
+    /// transliterated or romanised.
+    fn closing_diagnostics(&mut self, src: &SourceFile) {
+        let summary = self.inexact.diagnostic(
+            src,
+            self.round,
+            |s| {
+                Diagnostic::new(
+                    codes::FANW_ROUNDED,
+                    format!("{} value(s) rounded to the FANUC program's grid (0.001 mm, leads and feeds 0.0001 mm), the first {}; the largest deviation is {} mm", s.count, s.what, s.largest),
+                )
+                .help("a thread's start keeps its start angle Q")
+            },
+            |s| {
+                Diagnostic::new(
+                    codes::FANW_PRECISION,
+                    format!("{} is finer than the FANUC program's {} mm ({} value(s) in this program are; lengths take 3 decimals, leads and feeds 4)", s.what, s.grid, s.count),
+                )
+                .help(format!("pass --round to round them (largest deviation {} mm, for a lead its drift at the thread's end)", s.largest))
+            },
+        );
+        self.w.diags.extend(summary);
+        let latin = self.latin.diagnostic(
+            src,
+            "comment text transliterated to ASCII",
+            "a FANUC comment is upper-case ASCII: a letter loses its accent (`Č` → `C`), a symbol is spelled out (`°` → `DEG`) or becomes `?`; the diameter sign is `D`",
+        );
+        let script = self.script.diagnostic(
+            src,
+            "comment text in another script romanised to ASCII",
+            "a FANUC comment is upper-case ASCII: letters of other scripts are romanised (Cyrillic letter by letter, Chinese characters as pinyin, each as deunicode spells it); read them on the control, or write the comments in Latin letters in the source",
+        );
+        self.w.diags.extend(latin.into_iter().chain(script));
+    }
 }
 
 impl Emitter<'_> {
@@ -475,6 +502,20 @@ impl Emitter<'_> {
             }
         }
         self.at = item.span;
+        if !self.kind(item, block) {
+            return;
+        }
+        if !matches!(
+            item.kind,
+            ItemKind::ThreadCycle(_) | ItemKind::ThreadPass(_)
+        ) {
+            self.w.pos = item.kind.end_position(self.w.pos);
+        }
+    }
+
+    /// Writes an item into `block` (or into blocks of its own): one arm per kind of item.
+    /// `false` when it is refused (a diagnostic says why) and the position is not moved.
+    fn kind(&mut self, item: &Item, block: &mut Block) -> bool {
         match &item.kind {
             ItemKind::Rapid { to } => {
                 self.sync_end = None;
@@ -505,81 +546,9 @@ impl Emitter<'_> {
             }
             // Refused by legalisation (no rigid tapping, no machine coordinates).
             ItemKind::TapCycle(_) | ItemKind::MachineMove(_) | ItemKind::Roughing(_) => {}
-            ItemKind::Spindle { speed, direction } => {
-                if let Some(s) = speed {
-                    block.words.push(format!("S{s}"));
-                    self.speed = Some(*s);
-                    self.speed_word = None;
-                }
-                match direction {
-                    Some(SpindleDirection::Clockwise) => block.words.push("M03".into()),
-                    Some(SpindleDirection::CounterClockwise) => block.words.push("M04".into()),
-                    None => {}
-                }
-            }
+            ItemKind::Spindle { speed, direction } => self.spindle(*speed, *direction, block),
             ItemKind::SpindleStop => block.words.push("M05".into()),
-            ItemKind::SpindleMode(SpindleMode::Rpm) => {
-                self.surface_speed = false;
-                block.words.push("G97".into());
-                self.speed_word = Some(item.clone());
-            }
-            ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { feet: true, .. }) => {
-                self.diag(
-                    codes::FANW_NO_EQUIVALENT,
-                    item,
-                    "a surface speed in feet per minute (G96 under G20): the FANUC program is written in millimetres (G21), where G96's S is m/min, and the unit cannot change after its start".to_string(),
-                    "program the surface speed in m/min (G21) in the source, or cut at a speed in rpm (G97)",
-                );
-                return;
-            }
-            ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit, .. }) => {
-                let limit = match limit {
-                    Some(d) => match d.to_whole() {
-                        Ok(n) if n > 0 => Some(n),
-                        _ => {
-                            self.diag(
-                                codes::FANW_PRECISION,
-                                item,
-                                format!("the surface speed's limit of {d} rpm is not a whole number of rpm, which G50 S takes"),
-                                "write the limit in whole rpm in the source",
-                            );
-                            return;
-                        }
-                    },
-                    None => None,
-                };
-                let changed = limit.is_some() && limit != self.limit;
-                match (limit, self.limit) {
-                    (Some(n), last) if last != Some(n) => {
-                        // The limit on a line of its own before the G96 (which keeps the
-                        // block's number and comment).
-                        let (comment, number) = (block.comment.take(), block.number.take());
-                        self.flush(block);
-                        self.write(Block {
-                            words: vec![format!("G50 S{n}")],
-                            ..Block::default()
-                        });
-                        (block.comment, block.number) = (comment, number);
-                        self.limit = Some(n);
-                    }
-                    (None, Some(_)) => {
-                        self.diag(
-                            codes::FANW_NO_EQUIVALENT,
-                            item,
-                            "a surface speed without a speed limit after one with a limit: a FANUC program cannot lift the limit G50 S set".into(),
-                            "give this G96 a limit in the source (G96 … D)",
-                        );
-                        return;
-                    }
-                    _ => {}
-                }
-                // Under G96 already, a new limit is its G50 S alone.
-                if !(self.surface_speed && changed) {
-                    block.words.push("G96".into());
-                    self.speed_word = Some(item.clone());
-                }
-                self.surface_speed = true;
-            }
+            ItemKind::SpindleMode(mode) => return self.spindle_mode(item, mode, block),
             ItemKind::Tool { number, offset } => self.tool(item, *number, *offset, block),
             ItemKind::GearRange { code, .. } => {
                 self.as_comment(
@@ -588,45 +557,14 @@ impl Emitter<'_> {
                     &format!("M{code}: gear range of the source machine"),
                 );
             }
-            // A feed after a feed mode word states its F again (what F holds across the
-            // change is not something to rely on).
-            ItemKind::FeedMode(mode) => {
-                block.words.push(
-                    if *mode == FeedMode::PerRev {
-                        "G99"
-                    } else {
-                        "G98"
-                    }
-                    .into(),
-                );
-                if matches!(self.f, Some((_, false))) {
-                    self.f = None;
-                }
-            }
+            ItemKind::FeedMode(mode) => self.feed_mode(*mode, block),
             ItemKind::ProgramEnd(EndCode::M2) => block.words.push("M02".into()),
             ItemKind::ProgramEnd(EndCode::M30) => block.words.push("M30".into()),
-            // Inside a G32 chain a comment block would stand between two thread blocks:
-            // it waits until the chain ends.
-            ItemKind::Comment(text)
-                if self.sync_end.is_some() && self.sync_end == Some(self.w.pos) =>
-            {
-                self.deferred.push((text.clone(), item.span));
-            }
-            ItemKind::Comment(text) => {
-                if block.words.is_empty() && block.comment.is_none() {
-                    block.comment = Some(text.clone());
-                } else {
-                    self.flush(block);
-                    block.comment = Some(text.clone());
-                }
-            }
+            ItemKind::Comment(text) => self.comment_item(text, item.span, block),
+            // Its effect is already in the items that use it: a comment of its own.
             ItemKind::ParamAssign { number, value } => {
-                // Its effect is already in the items that use it.
                 self.flush(block);
-                self.write(Block {
-                    comment: Some(format!("R{number:02}={value}")),
-                    ..Block::default()
-                });
+                self.comment_block(format!("R{number:02}={value}"));
             }
             ItemKind::Opaque {
                 dialect: super::ID,
@@ -640,45 +578,182 @@ impl Emitter<'_> {
                 self.as_comment(item, block, &format!("{dialect}: {text}"));
             }
             ItemKind::Delimiter => {}
-            ItemKind::Coolant(c) => block.words.push(
-                match c {
-                    Coolant::Mist => "M07",
-                    Coolant::Flood => "M08",
-                    Coolant::Off => "M09",
-                }
-                .into(),
-            ),
+            ItemKind::Coolant(c) => block.words.push(coolant_word(*c).into()),
             ItemKind::Stop { optional } => block
                 .words
                 .push(if *optional { "M01" } else { "M00" }.into()),
-            ItemKind::Dwell { seconds } => {
-                let Ok(ms) = seconds.to_scaled(3) else {
+            ItemKind::Dwell { seconds } => return self.dwell(item, *seconds, block),
+            ItemKind::Compensation(c) => self.compensation(item, c, block),
+            ItemKind::WorkOffset(n) => self.work_offset(item, *n, block),
+            ItemKind::FeedRate(feed) => self.feed_rate(*feed, block),
+        }
+        true
+    }
+
+    /// A block that is only a comment.
+    fn comment_block(&mut self, text: String) {
+        self.write(Block {
+            comment: Some(text),
+            ..Block::default()
+        });
+    }
+
+    /// The spindle's speed and direction words.
+    fn spindle(
+        &mut self,
+        speed: Option<u32>,
+        direction: Option<SpindleDirection>,
+        block: &mut Block,
+    ) {
+        if let Some(s) = speed {
+            block.words.push(format!("S{s}"));
+            self.speed = Some(s);
+            self.speed_word = None;
+        }
+        match direction {
+            Some(SpindleDirection::Clockwise) => block.words.push("M03".into()),
+            Some(SpindleDirection::CounterClockwise) => block.words.push("M04".into()),
+            None => {}
+        }
+    }
+
+    /// G97, or G96 with its limit (G50 S) on a line of its own before it; `false` when
+    /// the surface speed is refused.
+    fn spindle_mode(&mut self, item: &Item, mode: &SpindleMode, block: &mut Block) -> bool {
+        match mode {
+            SpindleMode::Rpm => {
+                self.surface_speed = false;
+                block.words.push("G97".into());
+                self.speed_word = Some(item.clone());
+                true
+            }
+            SpindleMode::SurfaceSpeed { feet: true, .. } => {
+                self.diag(
+                    codes::FANW_NO_EQUIVALENT,
+                    item,
+                    "a surface speed in feet per minute (G96 under G20): the FANUC program is written in millimetres (G21), where G96's S is m/min, and the unit cannot change after its start".to_string(),
+                    "program the surface speed in m/min (G21) in the source, or cut at a speed in rpm (G97)",
+                );
+                false
+            }
+            SpindleMode::SurfaceSpeed { limit, .. } => self.surface_speed(item, *limit, block),
+        }
+    }
+
+    /// G96 with its speed limit `limit`; `false` when it is refused.
+    fn surface_speed(&mut self, item: &Item, limit: Option<Decimal>, block: &mut Block) -> bool {
+        let limit = match limit {
+            Some(d) => match d.to_whole() {
+                Ok(n) if n > 0 => Some(n),
+                _ => {
                     self.diag(
                         codes::FANW_PRECISION,
                         item,
-                        format!("the dwell of {seconds} s needs more than the 0.001 s G04 U takes"),
-                        "write the dwell in whole milliseconds in the source",
+                        format!("the surface speed's limit of {d} rpm is not a whole number of rpm, which G50 S takes"),
+                        "write the limit in whole rpm in the source",
                     );
-                    return;
-                };
+                    return false;
+                }
+            },
+            None => None,
+        };
+        let changed = limit.is_some() && limit != self.limit;
+        match (limit, self.limit) {
+            (Some(n), last) if last != Some(n) => {
+                // The limit on a line of its own before the G96 (which keeps the
+                // block's number and comment).
+                let (comment, number) = (block.comment.take(), block.number.take());
                 self.flush(block);
-                let comment = block.comment.take();
                 self.write(Block {
-                    number: item.block_number,
-                    words: vec![
-                        "G04".into(),
-                        format!("U{}", Length(ms * 10).mm_with_point()),
-                    ],
-                    comment,
-                    moves: false,
-                    own_comment: false,
+                    words: vec![format!("G50 S{n}")],
+                    ..Block::default()
                 });
+                (block.comment, block.number) = (comment, number);
+                self.limit = Some(n);
             }
-            ItemKind::Compensation(Compensation::Off) => block.words.push("G40".into()),
-            ItemKind::Compensation(Compensation::FromTool { right, tool: None }) => {
+            (None, Some(_)) => {
+                self.diag(
+                    codes::FANW_NO_EQUIVALENT,
+                    item,
+                    "a surface speed without a speed limit after one with a limit: a FANUC program cannot lift the limit G50 S set".into(),
+                    "give this G96 a limit in the source (G96 … D)",
+                );
+                return false;
+            }
+            _ => {}
+        }
+        // Under G96 already, a new limit is its G50 S alone.
+        if !(self.surface_speed && changed) {
+            block.words.push("G96".into());
+            self.speed_word = Some(item.clone());
+        }
+        self.surface_speed = true;
+        true
+    }
+
+    /// G98 or G99. A feed after a feed mode word states its F again (what F holds across
+    /// the change is not something to rely on).
+    fn feed_mode(&mut self, mode: FeedMode, block: &mut Block) {
+        block.words.push(
+            if mode == FeedMode::PerRev {
+                "G99"
+            } else {
+                "G98"
+            }
+            .into(),
+        );
+        if matches!(self.f, Some((_, false))) {
+            self.f = None;
+        }
+    }
+
+    /// A comment: the block's own, or (inside a G32 chain, where a comment block would
+    /// stand between two thread blocks) one that waits until the chain ends.
+    fn comment_item(&mut self, text: &str, span: Span, block: &mut Block) {
+        if self.sync_end.is_some() && self.sync_end == Some(self.w.pos) {
+            self.deferred.push((text.to_string(), span));
+        } else if block.words.is_empty() && block.comment.is_none() {
+            block.comment = Some(text.to_string());
+        } else {
+            self.flush(block);
+            block.comment = Some(text.to_string());
+        }
+    }
+
+    /// G04 U in a block of its own; `false` when the dwell is finer than G04 U takes.
+    fn dwell(&mut self, item: &Item, seconds: Decimal, block: &mut Block) -> bool {
+        let Ok(ms) = seconds.to_scaled(3) else {
+            self.diag(
+                codes::FANW_PRECISION,
+                item,
+                format!("the dwell of {seconds} s needs more than the 0.001 s G04 U takes"),
+                "write the dwell in whole milliseconds in the source",
+            );
+            return false;
+        };
+        self.flush(block);
+        let comment = block.comment.take();
+        self.write(Block {
+            number: item.block_number,
+            words: vec![
+                "G04".into(),
+                format!("U{}", Length(ms * 10).mm_with_point()),
+            ],
+            comment,
+            moves: false,
+            own_comment: false,
+        });
+        true
+    }
+
+    /// G40, G41 or G42; a compensation a FANUC lathe has no form of is refused.
+    fn compensation(&mut self, item: &Item, c: &Compensation, block: &mut Block) {
+        match c {
+            Compensation::Off => block.words.push("G40".into()),
+            Compensation::FromTool { right, tool: None } => {
                 block.words.push(if *right { "G42" } else { "G41" }.into())
             }
-            ItemKind::Compensation(c) => {
+            _ => {
                 let what = match c {
                     Compensation::FromTool { tool: Some(d), .. } => {
                         format!("cutter radius compensation with tool table entry {d}")
@@ -693,10 +768,15 @@ impl Emitter<'_> {
                     "compensate with the tool's own offset (G41/G42 without D) in the source",
                 );
             }
-            ItemKind::WorkOffset(n) if (1..=6).contains(n) => {
-                block.words.push(format!("G{}", 53 + u32::from(*n)))
-            }
-            ItemKind::WorkOffset(n) => self.diag(
+        }
+    }
+
+    /// G54–G59; another work offset is refused.
+    fn work_offset(&mut self, item: &Item, n: u8, block: &mut Block) {
+        if (1..=6).contains(&n) {
+            block.words.push(format!("G{}", 53 + u32::from(n)))
+        } else {
+            self.diag(
                 codes::FANW_NO_EQUIVALENT,
                 item,
                 format!(
@@ -704,22 +784,17 @@ impl Emitter<'_> {
                     n.saturating_sub(6)
                 ),
                 "use G54–G59 in the source",
-            ),
-            ItemKind::FeedRate(feed) => {
-                // A feed of its own: in a G01 block when F last held a lead.
-                if self.f != Some((Lead::from_length(*feed), false)) {
-                    if matches!(self.f, Some((_, true))) || self.motion == Some("G32") {
-                        self.motion_word_only(block, "G01");
-                    }
-                    self.feed_word(*feed, block);
-                }
-            }
+            )
         }
-        if !matches!(
-            item.kind,
-            ItemKind::ThreadCycle(_) | ItemKind::ThreadPass(_)
-        ) {
-            self.w.pos = item.kind.end_position(self.w.pos);
+    }
+
+    /// A feed of its own: in a G01 block when F last held a lead.
+    fn feed_rate(&mut self, feed: Length, block: &mut Block) {
+        if self.f != Some((Lead::from_length(feed), false)) {
+            if matches!(self.f, Some((_, true))) || self.motion == Some("G32") {
+                self.motion_word_only(block, "G01");
+            }
+            self.feed_word(feed, block);
         }
     }
 
@@ -872,34 +947,9 @@ impl Emitter<'_> {
             SyncStart::Continue => None,
             SyncStart::Index(a) => Some(Angle(a.0.rem_euclid(360_000))),
         };
-        // Leads take 4 decimals: another is refused, or with --round rounded with the drift
-        // at the thread's end as its deviation.
-        let (units, exact) = pass.lead.in_units(4);
-        let lead = Lead::from_units(units, 4);
-        if units <= 0 {
-            self.diag(
-                codes::FANW_PRECISION,
-                item,
-                format!(
-                    "the lead {} mm rounds to 0 in the FANUC program's 0.0001 mm",
-                    pass.lead
-                ),
-                "a thread needs a lead the control can hold",
-            );
+        let Some(lead) = self.pass_lead(item, pass, &segments) else {
             return;
-        }
-        if !exact {
-            let travel = match (
-                segments.first().and_then(|s| s.from.z),
-                segments.last().and_then(|s| s.to.z),
-            ) {
-                (Some(a), Some(b)) => (b - a).abs(),
-                _ => Length::ZERO,
-            };
-            let drift = pass.lead.drift(lead, travel);
-            self.inexact
-                .note_lead(item.span, "lead F", pass.lead, drift, Length(1));
-        }
+        };
         for (n, seg) in segments.iter().enumerate() {
             self.motion_block(block, "G32");
             let words = self.axes(item, seg.to);
@@ -916,6 +966,43 @@ impl Emitter<'_> {
         }
         self.w.pos = pass.end_position(self.w.pos);
         self.sync_end = Some(self.w.pos);
+    }
+
+    /// A pass's lead in the program's 4 decimals: another is refused (`None`), or with
+    /// --round rounded with the drift at the thread's end as its deviation.
+    fn pass_lead(
+        &mut self,
+        item: &Item,
+        pass: &ThreadPass,
+        segments: &[lower::SyncSegment],
+    ) -> Option<Lead> {
+        let (units, exact) = pass.lead.in_units(4);
+        let lead = Lead::from_units(units, 4);
+        if units <= 0 {
+            self.diag(
+                codes::FANW_PRECISION,
+                item,
+                format!(
+                    "the lead {} mm rounds to 0 in the FANUC program's 0.0001 mm",
+                    pass.lead
+                ),
+                "a thread needs a lead the control can hold",
+            );
+            return None;
+        }
+        if !exact {
+            let travel = match (
+                segments.first().and_then(|s| s.from.z),
+                segments.last().and_then(|s| s.to.z),
+            ) {
+                (Some(a), Some(b)) => (b - a).abs(),
+                _ => Length::ZERO,
+            };
+            let drift = pass.lead.drift(lead, travel);
+            self.inexact
+                .note_lead(item.span, "lead F", pass.lead, drift, Length(1));
+        }
+        Some(lead)
     }
 
     fn thread_cycle(&mut self, item: &Item, cycle: &ThreadCycle) {
@@ -937,6 +1024,15 @@ impl Emitter<'_> {
             }
         }
         self.w.pos = item.kind.end_position(self.w.pos);
+    }
+}
+
+/// The M code of a coolant command.
+fn coolant_word(c: Coolant) -> &'static str {
+    match c {
+        Coolant::Mist => "M07",
+        Coolant::Flood => "M08",
+        Coolant::Off => "M09",
     }
 }
 

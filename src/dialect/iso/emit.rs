@@ -3,8 +3,9 @@
 use std::fmt::Write as _;
 
 use crate::diag::{Code, Diagnostic, codes};
+use crate::dialect::DialectId;
 use crate::dialect::write::Writer;
-use crate::fixed::{Angle, Length};
+use crate::fixed::{Angle, Decimal, Length};
 use crate::ir::{
     Compensation, Coolant, EndCode, FeedMode, Item, ItemKind, MachineMove, Pos, Program,
     SpindleDirection, SpindleMode, SyncStart, TapCycle, ThreadCycle, ThreadPass,
@@ -231,12 +232,8 @@ impl Emitter<'_> {
             self.sync_end = None;
         }
         match &item.kind {
-            ItemKind::Rapid { to } => {
-                self.line(&format!("G0{}", axes(*to)));
-            }
-            ItemKind::Feed { to, feed } => {
-                self.line(&format!("G1{} F{}", axes(*to), feed.mm()));
-            }
+            ItemKind::Rapid { to } => self.line(&format!("G0{}", axes(*to))),
+            ItemKind::Feed { to, feed } => self.line(&format!("G1{} F{}", axes(*to), feed.mm())),
             ItemKind::Arc {
                 to,
                 centre,
@@ -248,102 +245,20 @@ impl Emitter<'_> {
             ItemKind::TapCycle(tap) => self.tap_cycle(item, tap),
             // Written on the G96 line before it.
             ItemKind::Spindle { .. } if std::mem::take(&mut self.spindle_on_g96) => {}
-            ItemKind::Spindle { speed, direction } => {
-                if speed.is_some() {
-                    self.speed = *speed;
-                }
-                if direction.is_some() {
-                    self.turning = *direction;
-                }
-                let text = spindle_words(*speed, *direction);
-                self.speed_line(&text, speed.is_some());
-            }
+            ItemKind::Spindle { speed, direction } => self.spindle(*speed, *direction),
             ItemKind::FeedRate(f) => self.line(&format!("F{}", f.mm())),
             ItemKind::SpindleMode(SpindleMode::Rpm) => {
                 self.surface_feet = false;
                 self.line("G97");
             }
-            ItemKind::Compensation(c) => {
-                let text = match c {
-                    Compensation::Off => "G40".to_string(),
-                    Compensation::FromTool { right, tool } => {
-                        let g = if *right { "G42" } else { "G41" };
-                        tool.map_or(g.to_string(), |t| format!("{g} D{t}"))
-                    }
-                    Compensation::Dynamic {
-                        right,
-                        diameter,
-                        orientation,
-                    } => {
-                        let g = if *right { "G42.1" } else { "G41.1" };
-                        let l = orientation.map_or(String::new(), |l| format!(" L{l}"));
-                        format!("{g} D{diameter}{l}")
-                    }
-                };
-                self.line(&text);
-            }
-            ItemKind::WorkOffset(n) => self.line(match n {
-                1 => "G54",
-                2 => "G55",
-                3 => "G56",
-                4 => "G57",
-                5 => "G58",
-                6 => "G59",
-                7 => "G59.1",
-                8 => "G59.2",
-                _ => "G59.3",
-            }),
-            ItemKind::MachineMove(m) => {
-                let text = match m {
-                    MachineMove::Machine { to, feed: None } => format!("G53 G0{}", axes(*to)),
-                    MachineMove::Machine { to, feed: Some(f) } => {
-                        format!("G53 G1{} F{}", axes(*to), f.mm())
-                    }
-                    MachineMove::Home { second, via } => {
-                        format!("{}{}", if *second { "G30" } else { "G28" }, axes(*via))
-                    }
-                    MachineMove::StoreHome { second } => {
-                        (if *second { "G30.1" } else { "G28.1" }).to_string()
-                    }
-                };
-                self.line(&text);
-                // The motion mode after G53 is the line's G0/G1, as in the source.
-            }
-            // LinuxCNC wants S on the G96 line: the speed item that follows goes there.
+            ItemKind::Compensation(c) => self.line(&compensation_words(c)),
+            ItemKind::WorkOffset(n) => self.line(work_offset_word(*n)),
+            // The motion mode after G53 is the line's G0/G1, as in the source.
+            ItemKind::MachineMove(m) => self.line(&machine_move_words(m)),
             ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit, feet }) => {
-                self.surface_feet = *feet;
-                let mut text = "G96".to_string();
-                if let Some(d) = limit {
-                    let _ = write!(text, " D{d}");
+                if !self.surface_speed(item, *limit, *feet, next) {
+                    return;
                 }
-                match next.map(|n| &n.kind) {
-                    Some(ItemKind::Spindle {
-                        speed: Some(s),
-                        direction,
-                    }) => {
-                        self.speed = Some(*s);
-                        if direction.is_some() {
-                            self.turning = *direction;
-                        }
-                        let _ = write!(text, " {}", spindle_words(Some(*s), *direction));
-                        self.spindle_on_g96 = true;
-                    }
-                    _ => match self.speed {
-                        Some(s) => {
-                            let _ = write!(text, " S{s}");
-                        }
-                        None => {
-                            self.diag(
-                                codes::ISOW_UNKNOWN_START,
-                                item,
-                                "G96 with no surface speed to write (LinuxCNC needs S on the G96 line)",
-                                "give the surface speed with S on the line that sets the mode",
-                            );
-                            return;
-                        }
-                    },
-                }
-                self.speed_line(&text, true);
             }
             // LinuxCNC's M6 has just stopped the spindle (the iso reader notes that stop).
             ItemKind::SpindleStop if m6_stopped => {}
@@ -351,67 +266,16 @@ impl Emitter<'_> {
                 self.turning = None;
                 self.line("M5");
             }
-            ItemKind::Tool { number, offset } => {
-                let mut text = String::new();
-                if let Some(t) = number {
-                    let _ = write!(text, "T{t}");
-                    if self.profile.iso.tool_change == ToolChange::M6 {
-                        text.push_str(" M6");
-                    }
-                }
-                if let Some(d) = offset {
-                    let _ = write!(text, " G43 H{d}");
-                }
-                self.line(&text);
-                // LinuxCNC's M6 stops the spindle; restart it unless the source stops it here
-                // too (an ISO source says so with the item that follows).
-                let stops = next.is_some_and(|n| n.kind == ItemKind::SpindleStop);
-                // The reader notes the stop of a turning spindle that M6 makes: that stop is
-                // this M6's, not an M5 of its own.
-                let m6 = number.is_some() && self.profile.iso.tool_change == ToolChange::M6;
-                if m6 && stops && self.turning.is_some() {
-                    self.turning = None;
-                    self.m6_stopped = true;
-                }
-                if m6 && self.turning.is_some() && !stops {
-                    let restart = spindle_words(self.speed, self.turning);
-                    let text = format!("{restart} (restart the spindle after M6)");
-                    self.speed_line(&text, self.speed.is_some());
-                }
-            }
-            ItemKind::GearRange { code: m, .. } => match self.profile.iso.mcodes.get(m) {
-                Some(word) => {
-                    let word = word.clone();
-                    self.line(&word);
-                }
-                None => {
-                    self.line(&format!("(M{m}: gear range, not converted)"));
-                    self.diag(
-                        codes::ISOW_MCODE,
-                        item,
-                        format!("M{m} selects a gear range; LinuxCNC has no such M code, so it is written as a comment"),
-                        format!("map it in the profile if the machine needs it: [iso] mcodes = {{ {m} = \"M1{m:02}\" }}"),
-                    );
-                }
-            },
-            ItemKind::FeedMode(FeedMode::PerRev) => {
-                self.line("G95");
-            }
-            ItemKind::FeedMode(FeedMode::PerMin) => {
-                self.line("G94");
-            }
-            ItemKind::ProgramEnd(EndCode::M2) => {
-                self.line("M2");
-            }
-            ItemKind::ProgramEnd(EndCode::M30) => {
-                self.line("M30");
-            }
-            ItemKind::Comment(text) => {
-                self.line(&format!("({})", comment_text(text)));
-            }
+            ItemKind::Tool { number, offset } => self.tool(*number, *offset, next),
+            ItemKind::GearRange { code: m, .. } => self.gear_range(item, *m),
+            ItemKind::FeedMode(FeedMode::PerRev) => self.line("G95"),
+            ItemKind::FeedMode(FeedMode::PerMin) => self.line("G94"),
+            ItemKind::ProgramEnd(EndCode::M2) => self.line("M2"),
+            ItemKind::ProgramEnd(EndCode::M30) => self.line("M30"),
+            ItemKind::Comment(text) => self.line(&format!("({})", comment_text(text))),
+            // Its effect is already in the items that use it; keep it for the reader.
             ItemKind::ParamAssign { number, value } => {
-                // Its effect is already in the items that use it; keep it for the reader.
-                self.line(&format!("(R{number:02}={value})"));
+                self.line(&format!("(R{number:02}={value})"))
             }
             // ISO words ncthread keeps without modelling them (coolant, path control…).
             ItemKind::Opaque {
@@ -423,30 +287,144 @@ impl Emitter<'_> {
                 dialect,
                 text,
                 block,
-            } => {
-                self.line(&format!("({dialect}: {})", comment_text(text)));
-                let what = if block.is_some() { "block" } else { "word" };
-                self.diag(
-                    codes::ISOW_OPAQUE,
-                    item,
-                    format!("the {dialect} {what} `{text}` has no documented meaning; it is written as a comment"),
-                    "check the ISO program by hand where this matters; only the same dialect can write it back",
-                );
-            }
-            ItemKind::Dwell { seconds } => {
-                self.line(&format!("G4 P{seconds}"));
-            }
-            ItemKind::Coolant(c) => self.line(match c {
-                Coolant::Mist => "M7",
-                Coolant::Flood => "M8",
-                Coolant::Off => "M9",
-            }),
+            } => self.opaque(item, *dialect, text, block.is_some()),
+            ItemKind::Dwell { seconds } => self.line(&format!("G4 P{seconds}")),
+            ItemKind::Coolant(c) => self.line(coolant_word(*c)),
             ItemKind::Stop { optional } => self.line(if *optional { "M1" } else { "M0" }),
             ItemKind::Delimiter => {}
             // Unrolled into its moves at the top of `emit`.
             ItemKind::Roughing(_) => {}
         }
         self.w.pos = item.kind.end_position(self.w.pos);
+        self.item_comment(item, start);
+    }
+
+    /// The spindle's speed and direction on a line.
+    fn spindle(&mut self, speed: Option<u32>, direction: Option<SpindleDirection>) {
+        if speed.is_some() {
+            self.speed = speed;
+        }
+        if direction.is_some() {
+            self.turning = direction;
+        }
+        let text = spindle_words(speed, direction);
+        self.speed_line(&text, speed.is_some());
+    }
+
+    /// G96 with its limit D. LinuxCNC wants S on the G96 line: the speed item that follows
+    /// goes there (or the speed in force). `false` when there is no speed to write.
+    fn surface_speed(
+        &mut self,
+        item: &Item,
+        limit: Option<Decimal>,
+        feet: bool,
+        next: Option<&Item>,
+    ) -> bool {
+        let limit = &limit;
+        self.surface_feet = feet;
+        let mut text = "G96".to_string();
+        if let Some(d) = limit {
+            let _ = write!(text, " D{d}");
+        }
+        match next.map(|n| &n.kind) {
+            Some(ItemKind::Spindle {
+                speed: Some(s),
+                direction,
+            }) => {
+                self.speed = Some(*s);
+                if direction.is_some() {
+                    self.turning = *direction;
+                }
+                let _ = write!(text, " {}", spindle_words(Some(*s), *direction));
+                self.spindle_on_g96 = true;
+            }
+            _ => match self.speed {
+                Some(s) => {
+                    let _ = write!(text, " S{s}");
+                }
+                None => {
+                    self.diag(
+                        codes::ISOW_UNKNOWN_START,
+                        item,
+                        "G96 with no surface speed to write (LinuxCNC needs S on the G96 line)",
+                        "give the surface speed with S on the line that sets the mode",
+                    );
+                    return false;
+                }
+            },
+        }
+        self.speed_line(&text, true);
+        true
+    }
+
+    /// T (with M6 when the profile changes tools so) and G43 H. LinuxCNC's M6 stops the
+    /// spindle; it is restarted unless the source stops it here too (an ISO source says so
+    /// with the item that follows).
+    fn tool(&mut self, number: Option<u32>, offset: Option<u32>, next: Option<&Item>) {
+        let mut text = String::new();
+        if let Some(t) = number {
+            let _ = write!(text, "T{t}");
+            if self.profile.iso.tool_change == ToolChange::M6 {
+                text.push_str(" M6");
+            }
+        }
+        if let Some(d) = offset {
+            let _ = write!(text, " G43 H{d}");
+        }
+        self.line(&text);
+        let stops = next.is_some_and(|n| n.kind == ItemKind::SpindleStop);
+        // The reader notes the stop of a turning spindle that M6 makes: that stop is
+        // this M6's, not an M5 of its own.
+        let m6 = number.is_some() && self.profile.iso.tool_change == ToolChange::M6;
+        if m6 && stops && self.turning.is_some() {
+            self.turning = None;
+            self.m6_stopped = true;
+        }
+        if m6 && self.turning.is_some() && !stops {
+            let restart = spindle_words(self.speed, self.turning);
+            let text = format!("{restart} (restart the spindle after M6)");
+            self.speed_line(&text, self.speed.is_some());
+        }
+    }
+
+    /// A gear range: its M code as the profile maps it, else a comment (and why).
+    fn gear_range(&mut self, item: &Item, m: u32) {
+        match self.profile.iso.mcodes.get(&m) {
+            Some(word) => {
+                let word = word.clone();
+                self.line(&word);
+            }
+            None => {
+                self.line(&format!("(M{m}: gear range, not converted)"));
+                self.diag(
+                codes::ISOW_MCODE,
+                item,
+                format!("M{m} selects a gear range; LinuxCNC has no such M code, so it is written as a comment"),
+                format!("map it in the profile if the machine needs it: [iso] mcodes = {{ {m} = \"M1{m:02}\" }}"),
+            );
+            }
+        }
+    }
+
+    /// Another dialect's word or block ncthread keeps without modelling it: a comment,
+    /// and why.
+    fn opaque(&mut self, item: &Item, dialect: DialectId, text: &str, block: bool) {
+        self.line(&format!("({dialect}: {})", comment_text(text)));
+        let what = if block { "block" } else { "word" };
+        self.diag(
+            codes::ISOW_OPAQUE,
+            item,
+            format!("the {dialect} {what} `{text}` has no documented meaning; it is written as a comment"),
+            "check the ISO program by hand where this matters; only the same dialect can write it back",
+        );
+    }
+
+    /// The item's comment, inline on the item's first line (written from `start`), unless
+    /// that line is a comment itself (LinuxCNC keeps only the last comment of a line): then
+    /// on a line before it. A line that ends in a comment of the writer's (a start angle's
+    /// note) gets this one in the same parentheses, as the reader joins a line's comments:
+    /// `(a; b)`.
+    fn item_comment(&mut self, item: &Item, start: usize) {
         let comment = match (&item.kind, &item.comment) {
             (ItemKind::TapCycle(_), Some(c)) if !c.contains(TAP_NOTE) => {
                 Some(format!("{TAP_NOTE}; {c}"))
@@ -455,10 +433,6 @@ impl Emitter<'_> {
         };
         if let Some(comment) = &comment {
             let text = comment_text(comment);
-            // Inline on the item's first line, unless that line is a comment itself
-            // (LinuxCNC keeps only the last comment of a line): then on a line before it. A
-            // line that ends in a comment of the writer's (a start angle's note) gets this
-            // one in the same parentheses, as the reader joins a line's comments: `(a; b)`.
             if self.w.out.len() == start || self.w.out[start..].starts_with('(') {
                 self.w.out.insert_str(start, &format!("({text})\n"));
             } else {
@@ -611,6 +585,66 @@ impl Emitter<'_> {
             self.line(&format!("G33{} K{}", axes(seg.to), k_value(seg)));
         }
         self.sync_end = segments.last().map(|s| s.to);
+    }
+}
+
+/// The words of a cutter radius compensation: G40, G41/G42 (with the tool table entry D),
+/// or G41.1/G42.1 with its diameter (and orientation L).
+fn compensation_words(c: &Compensation) -> String {
+    match c {
+        Compensation::Off => "G40".to_string(),
+        Compensation::FromTool { right, tool } => {
+            let g = if *right { "G42" } else { "G41" };
+            tool.map_or(g.to_string(), |t| format!("{g} D{t}"))
+        }
+        Compensation::Dynamic {
+            right,
+            diameter,
+            orientation,
+        } => {
+            let g = if *right { "G42.1" } else { "G41.1" };
+            let l = orientation.map_or(String::new(), |l| format!(" L{l}"));
+            format!("{g} D{diameter}{l}")
+        }
+    }
+}
+
+/// The words of a move in the machine's coordinates: G53 with its G0/G1, G28/G30 (via a
+/// point), or G28.1/G30.1.
+fn machine_move_words(m: &MachineMove) -> String {
+    match m {
+        MachineMove::Machine { to, feed: None } => format!("G53 G0{}", axes(*to)),
+        MachineMove::Machine { to, feed: Some(f) } => {
+            format!("G53 G1{} F{}", axes(*to), f.mm())
+        }
+        MachineMove::Home { second, via } => {
+            format!("{}{}", if *second { "G30" } else { "G28" }, axes(*via))
+        }
+        MachineMove::StoreHome { second } => (if *second { "G30.1" } else { "G28.1" }).to_string(),
+    }
+}
+
+/// The word of work offset `n` (1: G54 … 9: G59.3).
+fn work_offset_word(n: u8) -> &'static str {
+    match n {
+        1 => "G54",
+        2 => "G55",
+        3 => "G56",
+        4 => "G57",
+        5 => "G58",
+        6 => "G59",
+        7 => "G59.1",
+        8 => "G59.2",
+        _ => "G59.3",
+    }
+}
+
+/// The M code of a coolant command.
+fn coolant_word(c: Coolant) -> &'static str {
+    match c {
+        Coolant::Mist => "M7",
+        Coolant::Flood => "M8",
+        Coolant::Off => "M9",
     }
 }
 

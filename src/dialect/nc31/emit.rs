@@ -12,7 +12,7 @@
 
 use crate::diag::{Code, Diagnostic, codes};
 use crate::dialect::write::{self, Writer};
-use crate::dialect::{Inexact, WriteOptions, one_line};
+use crate::dialect::{DialectId, Inexact, WriteOptions, one_line};
 use crate::fixed::{Angle, Lead, Length};
 use crate::ir::{
     Coolant, CycleChamfer, EndCode, FeedMode, Finish, Item, ItemKind, Pos, Program, Retract, Rise,
@@ -104,6 +104,15 @@ fn frame(word: String, rapid: bool) -> String {
 
 /// Why a cycle is not the profile's G31, or `None` when it is.
 fn g31_mismatch(cycle: &ThreadCycle, p: &Nc31Profile) -> Option<String> {
+    g31_start_mismatch(cycle, p)
+        .or_else(|| g31_runout_mismatch(cycle, p))
+        .or_else(|| g31_path_mismatch(cycle, p))
+        .or_else(|| g31_units_mismatch(cycle, p))
+}
+
+/// How a cycle's infeed and start differ from G31's (machine parameter 6, the index
+/// pulse, no entry).
+fn g31_start_mismatch(cycle: &ThreadCycle, p: &Nc31Profile) -> Option<String> {
     let infeed = p.infeed();
     if cycle.infeed.rise as i128 * infeed.run as i128
         != infeed.rise as i128 * cycle.infeed.run as i128
@@ -127,6 +136,11 @@ fn g31_mismatch(cycle: &ThreadCycle, p: &Nc31Profile) -> Option<String> {
     if cycle.entry.is_some() {
         return Some("it has an entry taper".into());
     }
+    None
+}
+
+/// How a cycle's runout differs from G31's (machine parameter 7).
+fn g31_runout_mismatch(cycle: &ThreadCycle, p: &Nc31Profile) -> Option<String> {
     let runout = Some(p.runout(cycle.lead))
         .filter(|r| r.0 > 0)
         .map(|length| CycleChamfer {
@@ -153,6 +167,11 @@ fn g31_mismatch(cycle: &ThreadCycle, p: &Nc31Profile) -> Option<String> {
             p.runout_p7
         ));
     }
+    None
+}
+
+/// How a cycle's retract, passes, finish and side differ from the profile's G31.
+fn g31_path_mismatch(cycle: &ThreadCycle, p: &Nc31Profile) -> Option<String> {
     if cycle.retract != Retract::AboveCrest(p.retract) {
         return Some(format!(
             "it retracts differently from the profile's G31 ({} mm above the crest)",
@@ -178,6 +197,11 @@ fn g31_mismatch(cycle: &ThreadCycle, p: &Nc31Profile) -> Option<String> {
     if cycle.taper.0 < 0 {
         return Some("its thread narrows towards the end (G31 tapers widen)".into());
     }
+    None
+}
+
+/// Which of a cycle's lead and words is not a whole number of the profile's units.
+fn g31_units_mismatch(cycle: &ThreadCycle, p: &Nc31Profile) -> Option<String> {
     let lead_unit = Lead::from_length(p.lead_unit);
     if lead_unit.0 > 0 && cycle.lead.0 % lead_unit.0 != 0 {
         return Some(format!(
@@ -203,6 +227,51 @@ fn g31_mismatch(cycle: &ThreadCycle, p: &Nc31Profile) -> Option<String> {
         }
     }
     None
+}
+
+/// Where an arc from `(sx, sz)` to `(ex, ez)` around `(cx, cz)` (X diameters) crosses the
+/// axes through its centre, in order, on the circle of `radius`: the angles (Z first, X as
+/// a radius), and the axis crossings between them.
+fn quadrant_crossings(
+    (sx, sz): (Length, Length),
+    (ex, ez): (Length, Length),
+    (cx, cz): (Length, Length),
+    radius: Length,
+    clockwise: bool,
+) -> Vec<Pos> {
+    let angle = |x: Length, z: Length| ((x - cx).to_mm_f64() / 2.0).atan2((z - cz).to_mm_f64());
+    let quarter = std::f64::consts::FRAC_PI_2;
+    let (a0, a1) = (angle(sx, sz), angle(ex, ez));
+    let turn = std::f64::consts::TAU;
+    let mut sweep = if clockwise { a0 - a1 } else { a1 - a0 }.rem_euclid(turn);
+    if (sx, sz) == (ex, ez) || sweep < 1e-12 {
+        sweep = turn;
+    }
+    let mut points = Vec::new();
+    let step = if clockwise { -1.0 } else { 1.0 };
+    let mut k = if clockwise {
+        (a0 / quarter - 1e-9).floor()
+    } else {
+        (a0 / quarter + 1e-9).ceil()
+    };
+    loop {
+        let crossing = k * quarter;
+        let travelled = (crossing - a0) * step;
+        if travelled >= sweep - 1e-9 {
+            break;
+        }
+        if travelled > 1e-9 {
+            let (x, z) = match (k as i64).rem_euclid(4) {
+                0 => (cx, cz + radius),
+                1 => (cx + radius + radius, cz),
+                2 => (cx, cz - radius),
+                _ => (cx - radius - radius, cz),
+            };
+            points.push(Pos::new(x, z));
+        }
+        k += step;
+    }
+    points
 }
 
 impl Emitter<'_> {
@@ -315,6 +384,20 @@ impl Emitter<'_> {
         if let Some(c) = &item.comment {
             self.comment(item.span, c, group);
         }
+        if !self.motion(item, group) {
+            self.words(item, group);
+        }
+        if !matches!(
+            item.kind,
+            ItemKind::ThreadCycle(_) | ItemKind::ThreadPass(_) | ItemKind::TapCycle(_)
+        ) {
+            self.w.pos = item.kind.end_position(self.w.pos);
+        }
+    }
+
+    /// Writes a move: one arm per kind of motion. `false` when the item is not a move the
+    /// НЦ-31 makes (see [`Self::words`]).
+    fn motion(&mut self, item: &Item, group: &mut Vec<String>) -> bool {
         match &item.kind {
             ItemKind::Rapid { to } => {
                 let frames = self.coordinate_frames(item.span, *to, true);
@@ -326,13 +409,8 @@ impl Emitter<'_> {
             }
             ItemKind::Feed { to, feed } => {
                 // A feed per minute is refused by legalisation (the НЦ-31 feeds per rev).
-                if !self.per_minute && self.feed != Some(*feed) {
-                    // The feed goes in a frame of its own, as in the seed programs.
-                    self.write(group);
-                    let n = self.units(item.span, "feed F", *feed, self.profile.feed_unit);
-                    group.push(format!("F{n}"));
-                    self.write(group);
-                    self.feed = Some(*feed);
+                if !self.per_minute {
+                    self.feed_frame(item.span, *feed, group);
                 }
                 let frames = self.coordinate_frames(item.span, *to, false);
                 group.extend(frames);
@@ -357,15 +435,24 @@ impl Emitter<'_> {
             } if self.profile.arcs && !self.per_minute => {
                 if let Some(direction) = self.profile.arc_direction {
                     self.write(group);
-                    if self.feed != Some(*feed) {
-                        let n = self.units(item.span, "feed F", *feed, self.profile.feed_unit);
-                        group.push(format!("F{n}"));
-                        self.write(group);
-                        self.feed = Some(*feed);
-                    }
+                    self.feed_frame(item.span, *feed, group);
                     self.arc(item.span, *to, **centre, *clockwise, direction);
                 }
             }
+            _ => return false,
+        }
+        true
+    }
+
+    /// Writes an item that is not a move: one arm per kind of item.
+    fn words(&mut self, item: &Item, group: &mut Vec<String>) {
+        match &item.kind {
+            // Written by `motion`.
+            ItemKind::Rapid { .. }
+            | ItemKind::Feed { .. }
+            | ItemKind::ThreadPass(_)
+            | ItemKind::ThreadCycle(_)
+            | ItemKind::TapCycle(_) => {}
             // Refused by legalisation (no dwell, arc, stop or mist on the НЦ-31).
             ItemKind::Dwell { .. }
             | ItemKind::Arc { .. }
@@ -373,12 +460,8 @@ impl Emitter<'_> {
             | ItemKind::Coolant(Coolant::Mist) => {}
             // A feed frame of its own (a feed per minute is refused by legalisation).
             ItemKind::FeedRate(feed) => {
-                if !self.per_minute && self.feed != Some(*feed) {
-                    self.write(group);
-                    let n = self.units(item.span, "feed F", *feed, self.profile.feed_unit);
-                    group.push(format!("F{n}"));
-                    self.write(group);
-                    self.feed = Some(*feed);
+                if !self.per_minute {
+                    self.feed_frame(item.span, *feed, group);
                 }
             }
             // Speeds in rpm are this control's only mode; a surface speed is refused by
@@ -394,42 +477,17 @@ impl Emitter<'_> {
                 if *c == Coolant::Flood { "M8" } else { "M9" }.to_string(),
             ),
             ItemKind::Spindle { speed, direction } => {
-                if let Some(s) = speed {
-                    group.push(format!("S{s}"));
-                }
+                group.extend(speed.map(|s| format!("S{s}")));
                 match direction {
                     Some(SpindleDirection::Clockwise) => group.push("M3".into()),
                     Some(SpindleDirection::CounterClockwise) => group.push("M4".into()),
                     None => {}
                 }
             }
-            ItemKind::SpindleStop => {
-                group.push("M5".into());
-            }
-            ItemKind::Tool { number, offset } => {
-                if let Some(t) = number {
-                    group.push(format!("T{t}"));
-                }
-                if let Some(d) = offset {
-                    self.diag(
-                        codes::NCW_DROPPED,
-                        item.span,
-                        format!("tool offset {d} is left out: the НЦ-31's T word selects a turret position and its offset"),
-                        "check that the turret position carries the offset this program needs",
-                    );
-                }
-            }
+            ItemKind::SpindleStop => group.push("M5".into()),
+            ItemKind::Tool { number, offset } => self.tool(item, *number, *offset, group),
             ItemKind::GearRange { code: m, machine } => {
-                if *machine == super::ID && self.profile.gear_range_mcodes.contains(m) {
-                    group.push(format!("M{m}"));
-                } else {
-                    self.not_written(
-                        item,
-                        &format!("M{m}: gear range of the source machine"),
-                        "the НЦ-31's speed ranges (M38–M41) are not the source machine's gear ranges; add the range by hand",
-                        group,
-                    );
-                }
+                self.gear_range(item, *m, *machine, group)
             }
             ItemKind::FeedMode(mode) => {
                 self.per_minute = *mode == FeedMode::PerMin;
@@ -451,17 +509,7 @@ impl Emitter<'_> {
                 ..
             } => {
                 self.write(group);
-                for line in text.lines() {
-                    // Renumbered: drop the source's frame number.
-                    let rest = line.trim_start();
-                    let rest = rest
-                        .strip_prefix('N')
-                        .map(|r| r.trim_start_matches(|c: char| c.is_ascii_digit()))
-                        .unwrap_or(rest)
-                        .trim();
-                    self.w.out.push_str(&format!("N{} {rest}\n", self.next_frame));
-                    self.next_frame += 1;
-                }
+                self.own_frames(text);
             }
             ItemKind::Opaque { dialect, text, .. } => self.not_written(
                 item,
@@ -474,11 +522,69 @@ impl Emitter<'_> {
                 self.w.out.push_str("%\n");
             }
         }
-        if !matches!(
-            item.kind,
-            ItemKind::ThreadCycle(_) | ItemKind::ThreadPass(_) | ItemKind::TapCycle(_)
-        ) {
-            self.w.pos = item.kind.end_position(self.w.pos);
+    }
+
+    /// The feed in a frame of its own, as in the seed programs, when it changes.
+    fn feed_frame(&mut self, span: Span, feed: Length, group: &mut Vec<String>) {
+        if self.feed != Some(feed) {
+            self.write(group);
+            let n = self.units(span, "feed F", feed, self.profile.feed_unit);
+            group.push(format!("F{n}"));
+            self.write(group);
+            self.feed = Some(feed);
+        }
+    }
+
+    /// The turret position T; a tool offset has no word (the position carries its own).
+    fn tool(
+        &mut self,
+        item: &Item,
+        number: Option<u32>,
+        offset: Option<u32>,
+        group: &mut Vec<String>,
+    ) {
+        if let Some(t) = number {
+            group.push(format!("T{t}"));
+        }
+        if let Some(d) = offset {
+            self.diag(
+                codes::NCW_DROPPED,
+                item.span,
+                format!("tool offset {d} is left out: the НЦ-31's T word selects a turret position and its offset"),
+                "check that the turret position carries the offset this program needs",
+            );
+        }
+    }
+
+    /// A gear range's M code when it is the НЦ-31's own (and the profile names it); else
+    /// not written, and why.
+    fn gear_range(&mut self, item: &Item, m: u32, machine: DialectId, group: &mut Vec<String>) {
+        if machine == super::ID && self.profile.gear_range_mcodes.contains(&m) {
+            group.push(format!("M{m}"));
+        } else {
+            self.not_written(
+                item,
+                &format!("M{m}: gear range of the source machine"),
+                "the НЦ-31's speed ranges (M38–M41) are not the source machine's gear ranges; add the range by hand",
+                group,
+            );
+        }
+    }
+
+    /// Frames kept from an НЦ-31 source as they were, renumbered: the source's frame
+    /// number is dropped.
+    fn own_frames(&mut self, text: &str) {
+        for line in text.lines() {
+            let rest = line.trim_start();
+            let rest = rest
+                .strip_prefix('N')
+                .map(|r| r.trim_start_matches(|c: char| c.is_ascii_digit()))
+                .unwrap_or(rest)
+                .trim();
+            self.w
+                .out
+                .push_str(&format!("N{} {rest}\n", self.next_frame));
+            self.next_frame += 1;
         }
     }
 
@@ -518,41 +624,7 @@ impl Emitter<'_> {
 
     /// `G32 *` F Z. `cycle`: why the cycle this pass belongs to is not a G31.
     fn thread_pass(&mut self, span: Span, pass: &ThreadPass, cycle: Option<&str>) {
-        let mut cannot = Vec::new();
-        match pass.start {
-            SyncStart::Index(Angle::ZERO) => {}
-            SyncStart::Index(angle) => cannot.push(format!(
-                "a start angle of {}° (a Z shift of {} mm)",
-                angle.deg(),
-                pass.lead.of_angle(angle).mm()
-            )),
-            SyncStart::Continue => {
-                cannot.push("no index pulse: it continues the thread move before it".to_string())
-            }
-        }
-        if pass.infeed.is_some() {
-            cannot.push("a synchronised infeed along X".to_string());
-        }
-        if let Some(e) = pass.entry {
-            cannot.push(format!("an entry ({} mm)", e.length.mm()));
-        }
-        if let Some(r) = pass.exit {
-            cannot.push(format!("a runout ({} mm)", r.length.mm()));
-        }
-        // The thread line starts where the entry meets it.
-        let line_start = pass
-            .infeed
-            .map(|i| i.x)
-            .or(self.w.pos.x)
-            .map(|x| x - pass.entry.map_or(Length::ZERO, |e| e.offset));
-        match (line_start, pass.to.x) {
-            (_, None) => {}
-            (Some(from), Some(to)) if from == to => {}
-            (Some(from), Some(to)) => {
-                cannot.push(format!("a taper (Ø{} to Ø{})", from.mm(), to.mm()));
-            }
-            (None, Some(_)) => cannot.push("a start diameter that is not known".into()),
-        }
+        let cannot = self.g32_obstacles(pass);
         if !cannot.is_empty() {
             let context = match cycle {
                 Some(why) => {
@@ -599,6 +671,47 @@ impl Emitter<'_> {
         self.write(&mut group);
         self.w.pos.z = Some(to_z);
         self.feed = None;
+    }
+
+    /// What a thread pass has that G32 cannot cut: a start angle, no index pulse, a
+    /// synchronised infeed, an entry or runout, a taper (or a start diameter not known).
+    fn g32_obstacles(&self, pass: &ThreadPass) -> Vec<String> {
+        let mut cannot = Vec::new();
+        match pass.start {
+            SyncStart::Index(Angle::ZERO) => {}
+            SyncStart::Index(angle) => cannot.push(format!(
+                "a start angle of {}° (a Z shift of {} mm)",
+                angle.deg(),
+                pass.lead.of_angle(angle).mm()
+            )),
+            SyncStart::Continue => {
+                cannot.push("no index pulse: it continues the thread move before it".to_string())
+            }
+        }
+        if pass.infeed.is_some() {
+            cannot.push("a synchronised infeed along X".to_string());
+        }
+        if let Some(e) = pass.entry {
+            cannot.push(format!("an entry ({} mm)", e.length.mm()));
+        }
+        if let Some(r) = pass.exit {
+            cannot.push(format!("a runout ({} mm)", r.length.mm()));
+        }
+        // The thread line starts where the entry meets it.
+        let line_start = pass
+            .infeed
+            .map(|i| i.x)
+            .or(self.w.pos.x)
+            .map(|x| x - pass.entry.map_or(Length::ZERO, |e| e.offset));
+        match (line_start, pass.to.x) {
+            (_, None) => {}
+            (Some(from), Some(to)) if from == to => {}
+            (Some(from), Some(to)) => {
+                cannot.push(format!("a taper (Ø{} to Ø{})", from.mm(), to.mm()));
+            }
+            (None, Some(_)) => cannot.push("a start diameter that is not known".into()),
+        }
+        cannot
     }
 
     fn thread_cycle(&mut self, item: &Item, cycle: &ThreadCycle) {
@@ -705,39 +818,7 @@ impl Emitter<'_> {
         };
         let (r, _) = lower::arc::radii((sx, sz), (ex, ez), (cx, cz));
         let radius = Length::from_mm_f64(r);
-        // The angles (Z first, X as a radius), and the axis crossings between them.
-        let angle = |x: Length, z: Length| ((x - cx).to_mm_f64() / 2.0).atan2((z - cz).to_mm_f64());
-        let quarter = std::f64::consts::FRAC_PI_2;
-        let (a0, a1) = (angle(sx, sz), angle(ex, ez));
-        let turn = std::f64::consts::TAU;
-        let mut sweep = if clockwise { a0 - a1 } else { a1 - a0 }.rem_euclid(turn);
-        if (sx, sz) == (ex, ez) || sweep < 1e-12 {
-            sweep = turn;
-        }
-        let mut points = Vec::new();
-        let step = if clockwise { -1.0 } else { 1.0 };
-        let mut k = if clockwise {
-            (a0 / quarter - 1e-9).floor()
-        } else {
-            (a0 / quarter + 1e-9).ceil()
-        };
-        loop {
-            let crossing = k * quarter;
-            let travelled = (crossing - a0) * step;
-            if travelled >= sweep - 1e-9 {
-                break;
-            }
-            if travelled > 1e-9 {
-                let (x, z) = match (k as i64).rem_euclid(4) {
-                    0 => (cx, cz + radius),
-                    1 => (cx + radius + radius, cz),
-                    2 => (cx, cz - radius),
-                    _ => (cx - radius - radius, cz),
-                };
-                points.push(Pos::new(x, z));
-            }
-            k += step;
-        }
+        let mut points = quadrant_crossings((sx, sz), (ex, ez), (cx, cz), radius, clockwise);
         if !points.is_empty() && (r - radius.to_mm_f64()).abs() > 1e-7 {
             self.inexact.note(
                 span,
