@@ -192,20 +192,7 @@ pub fn occurrences(program: &Program) -> Vec<Occurrence> {
             ItemKind::FeedRate(_) if per_minute => found.push((Construct::PerMinuteFeed, None)),
             ItemKind::ThreadCycle(c) => cycle_occurrences(c, pos, &mut found),
             ItemKind::ThreadPass(pass) => {
-                if pass.infeed.is_some() {
-                    found.push((Construct::SyncInfeed, None));
-                }
-                if steep_sync(pos, pass) {
-                    found.push((Construct::SteepSync, None));
-                }
-                match pass.start {
-                    SyncStart::Continue => found.push((Construct::ContinuedChain, None)),
-                    SyncStart::Index(angle) if in_cut.is_some() && in_cut == Some(pos) => {
-                        found.push((Construct::IndexWaitInCut, Some(angle)))
-                    }
-                    SyncStart::Index(_) => {}
-                }
-                pass_shape(pos, pass, &mut found);
+                pass_occurrences(pass, pos, in_cut == Some(pos), &mut found)
             }
             ItemKind::Tool {
                 offset: Some(_), ..
@@ -234,6 +221,29 @@ pub fn occurrences(program: &Program) -> Vec<Occurrence> {
         pos = moved;
     }
     out
+}
+
+/// What a single pass from `pos` holds: a synchronised infeed, a move steeper than 45°, a
+/// continued chain, an index wait with the tool in the cut (`in_cut`: the pass before it
+/// ended here), and its shape.
+fn pass_occurrences(
+    pass: &crate::ir::ThreadPass,
+    pos: Pos,
+    in_cut: bool,
+    found: &mut Vec<(Construct, Option<crate::fixed::Angle>)>,
+) {
+    if pass.infeed.is_some() {
+        found.push((Construct::SyncInfeed, None));
+    }
+    if steep_sync(pos, pass) {
+        found.push((Construct::SteepSync, None));
+    }
+    match pass.start {
+        SyncStart::Continue => found.push((Construct::ContinuedChain, None)),
+        SyncStart::Index(angle) if in_cut => found.push((Construct::IndexWaitInCut, Some(angle))),
+        SyncStart::Index(_) => {}
+    }
+    pass_shape(pos, pass, found);
 }
 
 /// What a thread cycle from `pos` holds: itself, a synchronised infeed along its entry, a
