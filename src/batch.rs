@@ -242,7 +242,7 @@ impl FileReport {
             .get("diagnostics")?
             .as_array()?
             .iter()
-            .map(Diagnostic::from_json_value)
+            .map(|v| Diagnostic::from_json_value(v, crate::dialect::all_codes()))
             .collect::<Option<Vec<_>>>()?;
         f.explained = text("explain").map(|t| (t.to_string(), text("plot").map(PathBuf::from)));
         f.input_hash = hash("input_hash");

@@ -4,7 +4,7 @@
 fn readme_lists_every_diagnostic_code() {
     let readme =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
-    for code in ncthread::diag::codes::ALL {
+    for code in ncthread::dialect::all_codes() {
         let row = format!(
             "| `{}` | {} |",
             code.id,

@@ -47,7 +47,7 @@ pub(crate) fn man_sections() -> String {
     roff.text([roman(
         "Every diagnostic has a stable code, a severity, the file, line and column, the source line with a caret, and a help text; --diagnostics json prints one JSON object per diagnostic.",
     )]);
-    for code in ncthread::diag::codes::ALL {
+    for code in ncthread::dialect::all_codes() {
         let severity = if code.severity == diag::Severity::Error {
             "error"
         } else {

@@ -197,10 +197,11 @@ impl Diagnostic {
 impl Diagnostic {
     /// The diagnostic [`Diagnostic::to_json_value`] wrote (a report read back by a later
     /// run), or `None` when it is not one: an unknown code, a location that does not fit its
-    /// line. The range is found from the columns (characters) in the line.
-    pub fn from_json_value(v: &serde_json::Value) -> Option<Diagnostic> {
+    /// line, a code not in `known` (`dialect::all_codes`). The range is found from the columns
+    /// (characters) in the line.
+    pub fn from_json_value(v: &serde_json::Value, known: &[Code]) -> Option<Diagnostic> {
         let id = v.get("code")?.as_str()?;
-        let code = *codes::ALL.iter().find(|c| c.id == id)?;
+        let code = *known.iter().find(|c| c.id == id)?;
         let severity = match v.get("severity")?.as_str()? {
             "error" => Severity::Error,
             "warning" => Severity::Warning,
@@ -330,7 +331,7 @@ mod tests {
         let line = src.line(2);
         let span = src.span_in_line(line, 12..15);
         let d = Diagnostic::new(
-            codes::CZR_ENTRY_WITHOUT_POINT,
+            crate::dialect::czech::codes::CZR_ENTRY_WITHOUT_POINT,
             "entry length written without a decimal point",
         )
         .at(&src, span)
@@ -355,11 +356,11 @@ mod tests {
             Diagnostic::new(code, "x").at(&src, span)
         };
         let diags = vec![
-            at("a.nc", 1, codes::CZR_SYNTAX),
-            at("a.nc", 2, codes::CZR_AFTER_END),
-            at("a.nc", 3, codes::CZR_SYNTAX),
-            at("b.nc", 1, codes::CZR_SYNTAX),
-            at("a.nc", 4, codes::CZR_SYNTAX),
+            at("a.nc", 1, crate::dialect::czech::codes::CZR_SYNTAX),
+            at("a.nc", 2, crate::dialect::czech::codes::CZR_AFTER_END),
+            at("a.nc", 3, crate::dialect::czech::codes::CZR_SYNTAX),
+            at("b.nc", 1, crate::dialect::czech::codes::CZR_SYNTAX),
+            at("a.nc", 4, crate::dialect::czech::codes::CZR_SYNTAX),
         ];
         let (kept, hidden) = cap(&diags, 1);
         let lines: Vec<(&str, u32)> = kept
@@ -384,28 +385,39 @@ mod tests {
     fn json_reads_back_as_it_was_written() {
         let src = SourceFile::new("č.nc", "N10 \"Č\" F120.\n");
         let span = src.span_in_line(src.line(1), 10..15);
-        let d = Diagnostic::new(codes::CZR_LEAD_TOO_LARGE, "lead too large")
-            .at(&src, span)
-            .label("here")
-            .help("write FR")
-            .as_warning();
-        let back = Diagnostic::from_json_value(&d.to_json_value()).unwrap();
+        let d = Diagnostic::new(
+            crate::dialect::czech::codes::CZR_LEAD_TOO_LARGE,
+            "lead too large",
+        )
+        .at(&src, span)
+        .label("here")
+        .help("write FR")
+        .as_warning();
+        let back =
+            Diagnostic::from_json_value(&d.to_json_value(), &crate::dialect::all_codes()).unwrap();
         assert_eq!(back, d);
         assert_eq!(back.render(false), d.render(false));
         let plain = Diagnostic::new(codes::EMPTY_INPUT, "empty");
         assert_eq!(
-            Diagnostic::from_json_value(&plain.to_json_value()),
+            Diagnostic::from_json_value(&plain.to_json_value(), &crate::dialect::all_codes()),
             Some(plain)
         );
         let unknown = serde_json::json!({"code": "XX999", "severity": "error", "message": "?"});
-        assert_eq!(Diagnostic::from_json_value(&unknown), None);
+        assert_eq!(
+            Diagnostic::from_json_value(&unknown, &crate::dialect::all_codes()),
+            None
+        );
     }
 
     #[test]
     fn json_names_every_field() {
         let src = SourceFile::new("a.nc", "N10 F120.\n");
         let span = src.span_in_line(src.line(1), 4..9);
-        let d = Diagnostic::new(codes::CZR_LEAD_TOO_LARGE, "lead too large").at(&src, span);
+        let d = Diagnostic::new(
+            crate::dialect::czech::codes::CZR_LEAD_TOO_LARGE,
+            "lead too large",
+        )
+        .at(&src, span);
         let v: serde_json::Value = serde_json::from_str(&d.to_json()).unwrap();
         assert_eq!(v["code"], "CZR003");
         assert_eq!(v["severity"], "error");

@@ -26,6 +26,28 @@ use crate::ir::Program;
 use crate::profile::Profile;
 use crate::source::SourceFile;
 
+/// Every diagnostic code: the readers', the profile's, the writers' and the shared ones, in
+/// the order README.md lists them (`scripts/codes-table.py`) and the manual page prints them.
+pub fn all_codes() -> &'static [crate::diag::Code] {
+    static ALL_CODES: std::sync::LazyLock<Vec<crate::diag::Code>> =
+        std::sync::LazyLock::new(|| {
+            [
+                czech::codes::READ,
+                nc31::codes::READ,
+                crate::diag::codes::PROFILE,
+                iso::codes::READ,
+                fanuc::codes::READ,
+                czech::codes::WRITE,
+                iso::codes::WRITE,
+                nc31::codes::WRITE,
+                fanuc::codes::WRITE,
+                crate::diag::codes::SHARED,
+            ]
+            .concat()
+        });
+    &ALL_CODES
+}
+
 /// Every dialect, in the order ncthread lists them.
 pub static ALL: [&'static dyn Dialect; 4] = [&czech::Czech, &nc31::Nc31, &iso::Iso, &fanuc::Fanuc];
 

@@ -434,10 +434,10 @@ impl<'a> Reader<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::diag::{Severity, codes};
+    use crate::diag::Severity;
 
     const WORDING: UnsupportedWording = UnsupportedWording {
-        code: codes::ISOR_UNSUPPORTED,
+        code: crate::dialect::iso::codes::ISOR_UNSUPPORTED,
         more: "on this line",
         in_one: "on a line",
         many: "lines",
@@ -515,8 +515,18 @@ mod tests {
             None,
         );
         assert!(r.ends_program(0) && !r.ends_program(1));
-        r.after_end(codes::ISOR_AFTER_END, Span::default(), "after", "help");
-        r.after_end(codes::ISOR_AFTER_END, Span::default(), "after", "help");
+        r.after_end(
+            crate::dialect::iso::codes::ISOR_AFTER_END,
+            Span::default(),
+            "after",
+            "help",
+        );
+        r.after_end(
+            crate::dialect::iso::codes::ISOR_AFTER_END,
+            Span::default(),
+            "after",
+            "help",
+        );
         assert_eq!(r.diags.len(), 1);
     }
 }

@@ -209,7 +209,7 @@ mod tests {
         assert_eq!(e[0].code, codes::PF_CONSTANT8);
         assert_eq!(e[0].location.as_ref().unwrap().line, 3);
         let e = load("[iso]\nmcodes = { 42 = \"G1\" }\n").unwrap_err();
-        assert_eq!(e[0].code, codes::ISOW_BAD_MAPPING);
+        assert_eq!(e[0].code, crate::dialect::iso::codes::ISOW_BAD_MAPPING);
     }
 
     #[test]

@@ -12,7 +12,8 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-use crate::diag::{Code, Diagnostic, codes};
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::czech::codes;
 use crate::dialect::write::{self, Writer};
 use crate::dialect::{DialectId, Inexact, Renumber, one_line};
 use crate::fixed::{Angle, Decimal, Lead, Length};

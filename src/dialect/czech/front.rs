@@ -15,8 +15,9 @@ use std::collections::HashMap;
 use std::ops::Range;
 
 use super::syntax::{self, Block, Value};
-use crate::diag::{Code, Diagnostic, codes};
+use crate::diag::{Code, Diagnostic};
 use crate::dialect::Unsupported;
+use crate::dialect::czech::codes;
 use crate::dialect::czech::profile::{CzechProfile, InitialMotion};
 use crate::dialect::machine::Switches;
 use crate::dialect::read::{Keep, Reader, UnsupportedWording};

@@ -1,6 +1,7 @@
 //! Dialect `czech`: the Czech lathe control of manual chapter 5 (G33 with F, I, J, E,
 //! R-parameter angles, `FRnn`).
 
+pub mod codes;
 mod emit;
 mod front;
 pub mod profile;
@@ -10,7 +11,7 @@ pub use front::Options;
 
 use super::capabilities::{Capabilities, Capability, Construct, Read, Write, row};
 use super::{Dialect, DialectId, Keep, LineClaim, LineMark, Unsupported, WriteOptions, detect};
-use crate::diag::{Diagnostic, codes};
+use crate::diag::Diagnostic;
 use crate::dialect::capabilities::Occurrence;
 use crate::encoding::TextEncoding;
 use crate::ir::Program;

@@ -2,7 +2,8 @@
 
 use serde::Deserialize;
 
-use crate::diag::{Diagnostic, codes};
+use crate::diag::Diagnostic;
+use crate::dialect::czech::codes;
 use crate::profile::value::bad_value;
 use crate::source::SourceFile;
 

@@ -9,7 +9,8 @@
 
 use std::fmt::Write as _;
 
-use crate::diag::{Code, Diagnostic, codes};
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::fanuc::codes;
 use crate::dialect::write::{self, Writer};
 use crate::dialect::{Inexact, one_line};
 use crate::fixed::{Angle, Decimal, Lead, Length};

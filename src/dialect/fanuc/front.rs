@@ -15,8 +15,9 @@
 use std::ops::Range;
 
 use super::syntax::{self, Block, Word};
-use crate::diag::{Code, Diagnostic, codes};
+use crate::diag::{Code, Diagnostic};
 use crate::dialect::Unsupported;
+use crate::dialect::fanuc::codes;
 use crate::dialect::fanuc::profile::{DecimalPoint, FanucProfile};
 use crate::dialect::read::{Keep, Reader, UnsupportedWording};
 use crate::fixed::{Decimal, Lead, Length};

@@ -1,6 +1,7 @@
 //! Dialect `fanuc`: FANUC lathe G-code, system A (Series 0i-TF and the controls that copy
 //! it: Haas, Mitsubishi and many others). See ../shared/spec/fanuc.md.
 
+pub mod codes;
 mod emit;
 mod front;
 pub mod profile;
@@ -8,7 +9,7 @@ pub mod syntax;
 
 use super::capabilities::{Capabilities, Capability, Construct, Read, Write, row};
 use super::{Dialect, DialectId, Keep, LineClaim, LineMark, Unsupported, WriteOptions, detect};
-use crate::diag::{Diagnostic, codes};
+use crate::diag::Diagnostic;
 use crate::dialect::capabilities::Occurrence;
 use crate::encoding::TextEncoding;
 use crate::ir::Program;

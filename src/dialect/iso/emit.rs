@@ -2,8 +2,9 @@
 
 use std::fmt::Write as _;
 
-use crate::diag::{Code, Diagnostic, codes};
+use crate::diag::{Code, Diagnostic};
 use crate::dialect::DialectId;
+use crate::dialect::iso::codes;
 use crate::dialect::write::Writer;
 use crate::fixed::{Angle, Decimal, Length};
 use crate::ir::{

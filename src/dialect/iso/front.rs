@@ -20,8 +20,9 @@ use std::ops::Range;
 
 use super::gcode::*;
 use super::syntax::{self, Block, Word};
-use crate::diag::{Code, Diagnostic, codes};
+use crate::diag::{Code, Diagnostic};
 use crate::dialect::Unsupported;
+use crate::dialect::iso::codes;
 use crate::dialect::read::{Keep, Reader, UnsupportedWording};
 use crate::fixed::{Decimal, Length};
 use crate::ir::{FeedMode, ItemKind, Pos, Program, SpindleDirection};

@@ -1,6 +1,7 @@
 //! Dialect `iso`: RS274/NGC as LinuxCNC reads it. A target checked against LinuxCNC's
 //! `rs274`, and a source (hand conversions to check, CAM programs to move to old machines).
 
+pub mod codes;
 mod control;
 mod emit;
 mod expr;
@@ -13,7 +14,7 @@ pub use front::Options;
 
 use super::capabilities::{Capabilities, Construct, Read, Write, row};
 use super::{Dialect, DialectId, Keep, LineClaim, LineMark, Unsupported, WriteOptions, detect};
-use crate::diag::{Diagnostic, codes};
+use crate::diag::Diagnostic;
 use crate::dialect::capabilities::Occurrence;
 use crate::encoding::TextEncoding;
 use crate::ir::Program;

@@ -3,7 +3,8 @@
 use indexmap::IndexMap;
 use serde::Deserialize;
 
-use crate::diag::{Diagnostic, codes};
+use crate::diag::Diagnostic;
+use crate::dialect::iso::codes;
 use crate::source::SourceFile;
 
 #[derive(Clone, Debug, Default, PartialEq, Eq)]

@@ -10,7 +10,8 @@
 //! warning, or written as `(` lines (`--nc31-comments`, or when the source is an nc31 file
 //! that already holds such lines).
 
-use crate::diag::{Code, Diagnostic, codes};
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::nc31::codes;
 use crate::dialect::write::{self, Writer};
 use crate::dialect::{DialectId, Inexact, WriteOptions, one_line};
 use crate::fixed::{Angle, Lead, Length};

@@ -8,8 +8,9 @@ use std::collections::{HashMap, HashSet};
 use std::ops::Range;
 
 use super::syntax::{self, Frame, Line as SyntaxLine, Modifier, Word};
-use crate::diag::{Code, Diagnostic, codes};
+use crate::diag::{Code, Diagnostic};
 use crate::dialect::Unsupported;
+use crate::dialect::nc31::codes;
 use crate::dialect::nc31::profile::Nc31Profile;
 use crate::dialect::read::{Keep, Reader, UnsupportedWording};
 use crate::fixed::Length;

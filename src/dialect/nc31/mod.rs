@@ -1,6 +1,7 @@
 //! Dialect `nc31`: the Электроника НЦ-31 (scaled integer words, one word per frame, `*`
 //! groups, `~` rapid, `@` incremental, G31 multi-pass cycle, G32 single pass, G33 tapping).
 
+pub mod codes;
 mod emit;
 mod front;
 pub mod profile;
@@ -10,7 +11,7 @@ pub use front::Options;
 
 use super::capabilities::{Capabilities, Capability, Construct, Read, Write, row};
 use super::{Dialect, DialectId, Keep, LineClaim, LineMark, Unsupported, WriteOptions, detect};
-use crate::diag::{Diagnostic, codes};
+use crate::diag::Diagnostic;
 use crate::dialect::capabilities::Occurrence;
 use crate::encoding::TextEncoding;
 use crate::ir::Program;

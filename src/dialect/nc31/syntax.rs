@@ -5,8 +5,9 @@ use std::ops::Range;
 use pest::Parser;
 use pest_derive::Parser;
 
-use crate::diag::{Code, codes};
+use crate::diag::Code;
 use crate::dialect::lex::{Cursor, blank_or_tab};
+use crate::dialect::nc31::codes;
 
 #[derive(Parser)]
 #[grammar = "../grammar/nc31.pest"]

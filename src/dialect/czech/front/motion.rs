@@ -4,7 +4,7 @@
 use std::ops::Range;
 
 use super::{FRegister, FrontEnd, Motion, Words, code_span_range};
-use crate::diag::codes;
+use crate::dialect::czech::codes;
 use crate::dialect::czech::profile::{CzechArcs, CzechDwell};
 use crate::dialect::czech::syntax::{Value, Word};
 use crate::fixed::{Decimal, Length};

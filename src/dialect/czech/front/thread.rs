@@ -4,7 +4,7 @@
 use std::ops::Range;
 
 use super::{AfterRunout, FRegister, FrontEnd, Words, code_span_range};
-use crate::diag::codes;
+use crate::dialect::czech::codes;
 use crate::dialect::czech::profile::AngleSource;
 use crate::dialect::czech::syntax::{Value, Word};
 use crate::fixed::{Angle, Lead, Length};

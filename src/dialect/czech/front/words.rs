@@ -2,7 +2,7 @@
 //! it is carried out. Repeated and conflicting words are reported here.
 
 use super::{FrontEnd, Motion};
-use crate::diag::codes;
+use crate::dialect::czech::codes;
 use crate::dialect::czech::profile::{CzechArcs, CzechDwell};
 use crate::dialect::czech::syntax::{Block, Value, Word};
 use crate::dialect::{Letters, WORD_REPORTS, budget};

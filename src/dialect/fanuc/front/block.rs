@@ -32,8 +32,8 @@
 //! M05` stops twice, `M02 M30` ends twice), where `Switches` holds one of each.
 
 use super::{FRegister, FrontEnd, KNOWN_G, Motion, UNSUPPORTED, Unit};
-use crate::diag::codes;
 use crate::dialect::Unsupported;
+use crate::dialect::fanuc::codes;
 use crate::dialect::fanuc::syntax::{Block, Word};
 use crate::dialect::machine::Switches;
 use crate::fixed::{Decimal, Lead, Length};

@@ -3,7 +3,7 @@
 use std::ops::Range;
 
 use super::{Cycle, FRegister, FrontEnd, MAX_Q, Motion, Unit};
-use crate::diag::codes;
+use crate::dialect::fanuc::codes;
 use crate::dialect::fanuc::syntax::Word;
 use crate::fixed::{Angle, Decimal, Lead, Length};
 use crate::ir::{Chamfer, ItemKind, Pos, SyncStart, ThreadPass};

@@ -2,7 +2,7 @@
 //! rule and inches applied) and leads.
 
 use super::{FrontEnd, Unit};
-use crate::diag::codes;
+use crate::dialect::fanuc::codes;
 use crate::dialect::fanuc::profile::DecimalPoint;
 use crate::dialect::fanuc::syntax::Word;
 use crate::fixed::{Decimal, Lead, Length, NumberError, div_round};

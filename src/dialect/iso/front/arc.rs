@@ -3,7 +3,7 @@
 use super::super::gcode::*;
 use super::super::syntax::Word;
 use super::{FrontEnd, Words};
-use crate::diag::codes;
+use crate::dialect::iso::codes;
 use crate::fixed::Length;
 use crate::ir::{ItemKind, Pos};
 use crate::lower;

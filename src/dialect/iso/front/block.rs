@@ -40,7 +40,7 @@ use super::super::gcode::*;
 use super::super::syntax::{Block, Word};
 use super::words::{Asks, Words};
 use super::{FrontEnd, Motion};
-use crate::diag::codes;
+use crate::dialect::iso::codes;
 use crate::dialect::machine::Switches;
 use crate::dialect::read::Reader;
 use crate::fixed::Length;

@@ -10,7 +10,7 @@
 use super::super::gcode::*;
 use super::super::syntax::Word;
 use super::{FrontEnd, Motion, Words};
-use crate::diag::codes;
+use crate::dialect::iso::codes;
 use crate::fixed::{Decimal, Length};
 use crate::ir::{ItemKind, Pos};
 use crate::source::{Line, Span};

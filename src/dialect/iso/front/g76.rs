@@ -2,7 +2,7 @@
 
 use super::super::syntax::Word;
 use super::{FrontEnd, SLOPE_RUN, Words};
-use crate::diag::codes;
+use crate::dialect::iso::codes;
 use crate::fixed::{Angle, Decimal, Length};
 use crate::ir::{
     CycleChamfer, Degression, Finish, IjkScale, ItemKind, Pos, Retract, Rise, Schedule, Slope,

@@ -9,7 +9,8 @@ use super::super::control::{self, FileRun, Flow, Frame, ModalState, Params, Stru
 use super::super::expr::{self, Env, EvalError, Param};
 use super::super::syntax::{Block, Keyword, OWord, Setting};
 use super::{FrontEnd, Motion};
-use crate::diag::{Diagnostic, codes};
+use crate::diag::Diagnostic;
+use crate::dialect::iso::codes;
 use crate::ir::{FeedMode, SpindleDirection};
 use crate::source::Line;
 

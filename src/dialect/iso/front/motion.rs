@@ -4,7 +4,7 @@ use super::super::gcode::*;
 use super::super::syntax::Word;
 use super::words::MOTION;
 use super::{FrontEnd, Motion, Words};
-use crate::diag::codes;
+use crate::dialect::iso::codes;
 use crate::fixed::Length;
 use crate::ir::{FeedMode, ItemKind};
 use crate::source::{Line, Span};

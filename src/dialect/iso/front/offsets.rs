@@ -6,7 +6,7 @@
 
 use super::super::gcode::*;
 use super::{FrontEnd, Words};
-use crate::diag::codes;
+use crate::dialect::iso::codes;
 use crate::fixed::Length;
 use crate::source::Line;
 

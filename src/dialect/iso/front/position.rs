@@ -2,7 +2,7 @@
 
 use super::super::syntax::Word;
 use super::{FrontEnd, ProgramZ, Words};
-use crate::diag::codes;
+use crate::dialect::iso::codes;
 use crate::fixed::Length;
 use crate::ir::Pos;
 use crate::source::Line;

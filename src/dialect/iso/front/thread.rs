@@ -2,7 +2,7 @@
 
 use super::super::syntax::Word;
 use super::{FrontEnd, Words};
-use crate::diag::codes;
+use crate::dialect::iso::codes;
 use crate::fixed::{Angle, Lead, Length};
 use crate::ir::{ItemKind, Pos, SyncInfeed, SyncStart, TapCycle, ThreadPass};
 use crate::lower;

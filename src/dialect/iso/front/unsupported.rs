@@ -6,8 +6,8 @@ use std::ops::Range;
 use super::super::gcode::*;
 use super::super::syntax::{BLOCK_DELETE, Block, Word};
 use super::{FrontEnd, UNSUPPORTED};
-use crate::diag::codes;
 use crate::dialect::Unsupported;
+use crate::dialect::iso::codes;
 use crate::ir::{FeedMode, ModalContext};
 use crate::source::Line;
 

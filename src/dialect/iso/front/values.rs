@@ -2,7 +2,7 @@
 
 use super::super::syntax::Word;
 use super::FrontEnd;
-use crate::diag::codes;
+use crate::dialect::iso::codes;
 use crate::fixed::{Lead, Length, div_round};
 use crate::source::Line;
 

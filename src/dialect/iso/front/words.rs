@@ -4,7 +4,7 @@
 use super::super::gcode::*;
 use super::super::syntax::{Block, Word};
 use super::{FrontEnd, Motion};
-use crate::diag::codes;
+use crate::dialect::iso::codes;
 use crate::dialect::{Letters, WORD_REPORTS, budget};
 use crate::ir::{Coolant, FeedMode, SpindleDirection};
 use crate::source::Line;

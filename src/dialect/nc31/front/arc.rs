@@ -2,7 +2,7 @@
 
 use super::thread::ThreadWords;
 use super::{Feed, FrontEnd, GroupFrame};
-use crate::diag::codes;
+use crate::dialect::nc31::codes;
 use crate::dialect::nc31::profile::Nc31ArcDirection;
 use crate::fixed::Length;
 use crate::ir::{ItemKind, Pos};

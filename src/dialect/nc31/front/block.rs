@@ -26,8 +26,8 @@
 
 use super::super::syntax::Modifier;
 use super::{Feed, FrontEnd, GroupFrame};
-use crate::diag::codes;
 use crate::dialect::machine::Switches;
+use crate::dialect::nc31::codes;
 use crate::fixed::Length;
 use crate::ir::{Coolant, EndCode, ItemKind, Pos, SpindleDirection};
 use crate::source::Span;

@@ -1,7 +1,8 @@
 //! G25 groups: frames repeated by their numbers.
 
 use super::{FrontEnd, GroupFrame, REPEAT_LIMIT};
-use crate::diag::{Diagnostic, codes};
+use crate::diag::Diagnostic;
+use crate::dialect::nc31::codes;
 
 /// What a G25 group holds (the help of its errors).
 const ABOUT: &str = "G25 takes P (the first frame's number followed by the last frame's number in three digits: P5009 repeats N5 to N9) and P (how many times)";

@@ -2,8 +2,8 @@
 
 use super::super::syntax::Word;
 use super::{FrontEnd, GroupFrame, UNSUPPORTED};
-use crate::diag::codes;
 use crate::dialect::Unsupported;
+use crate::dialect::nc31::codes;
 use crate::ir::ModalContext;
 
 impl FrontEnd<'_> {

@@ -2,7 +2,7 @@
 
 use super::super::syntax::Modifier;
 use super::{Feed, FrontEnd, GroupFrame};
-use crate::diag::codes;
+use crate::dialect::nc31::codes;
 use crate::fixed::{Angle, Lead, Length};
 use crate::ir::{
     CycleChamfer, Finish, ItemKind, Pos, Retract, Rise, SyncStart, TapCycle, ThreadCycle,

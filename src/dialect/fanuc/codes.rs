@@ -1,0 +1,131 @@
+//! FANUC's diagnostic codes, beside the rules that raise them: its reader's
+//! (`FANR`) and its writer's (`FANW`). The codes every dialect shares are
+//! [`crate::diag::codes`]'s, re-exported here so that a rule names every code as `codes::…`.
+
+pub use crate::diag::codes::*;
+use crate::diag::codes::{error, warning};
+
+// reader
+pub const FANR_SYNTAX: Code = error("FANR001", "the block cannot be read");
+pub const FANR_UNSUPPORTED: Code = error(
+    "FANR002",
+    "a code or word ncthread does not read in a FANUC program (G90/G94 cycles, G70–G75, G28, G53, tapping…)",
+);
+pub const FANR_G76: Code = error(
+    "FANR003",
+    "the G76 threading cycle: its pass placement is not documented in any source ncthread holds",
+);
+pub const FANR_G92_CHAMFER: Code = error(
+    "FANR004",
+    "a G92 threading cycle while the profile does not give the machine's thread chamfer ([fanuc] thread_chamfer_0p1_lead)",
+);
+pub const FANR_STEEP: Code = error(
+    "FANR005",
+    "a thread move steeper than 45° (X moves more than Z): the unit of its X lead is not confirmed",
+);
+pub const FANR_NUMBER: Code = error(
+    "FANR006",
+    "a number that does not fit its word (too large, too precise, or a decimal point where the word takes none)",
+);
+pub const FANR_UNKNOWN_POSITION: Code =
+    error("FANR007", "the move needs a position that is not known yet");
+pub const FANR_CONFLICT: Code = error("FANR008", "conflicting or repeated words in one block");
+pub const FANR_NO_FEED: Code = error(
+    "FANR009",
+    "a move without its feed, or a thread without its lead (F last set for the other kind of move)",
+);
+pub const FANR_TOOL: Code = error(
+    "FANR010",
+    "a T word that is not a tool and offset number of two digits each (T0101)",
+);
+pub const FANR_ARC: Code = error(
+    "FANR011",
+    "an arc that cannot be cut: no centre or radius, a radius too small for its chord, an end off its circle",
+);
+pub const FANR_CHAIN: Code = error(
+    "FANR012",
+    "a thread chain ncthread cannot follow: a block between two G32 blocks, or Q on a block that continues the one before",
+);
+pub const FANR_DECIMAL_POINT: Code = warning(
+    "FANR013",
+    "words without a decimal point, read as the profile's decimal_point rule says",
+);
+pub const FANR_AFTER_END: Code = warning(
+    "FANR014",
+    "blocks after the program's end (M02/M30), which the control does not run",
+);
+pub const FANR_INCH: Code = error(
+    "FANR015",
+    "G20/G21 after the first move: the unit must be set at the program's start",
+);
+
+pub const FANR_INCH_ROUNDED: Code = warning(
+    "FANR016",
+    "inch values rounded onto the 0.0001 mm grid (0.0001 in is 0.00254 mm)",
+);
+
+// writer
+pub const FANW_PRECISION: Code = error(
+    "FANW001",
+    "a value needs more decimals than the FANUC program takes (3 for lengths, 4 for leads and feeds)",
+);
+pub const FANW_NO_EQUIVALENT: Code = error(
+    "FANW002",
+    "an operation FANUC lathe G-code has no form for that ncthread writes (tapping, G28, cutter compensation without the profile key…)",
+);
+pub const FANW_STEEP: Code = error(
+    "FANW003",
+    "a synchronised move steeper than 45° or along X only: the unit of its X lead is not confirmed",
+);
+pub const FANW_COMMENT: Code = warning(
+    "FANW004",
+    "a source word with no FANUC equivalent is kept only as a comment",
+);
+pub const FANW_ROUNDED: Code = warning(
+    "FANW005",
+    "values rounded to 0.001 mm, leads and feeds to 0.0001 mm (--round)",
+);
+pub const FANW_TOOL: Code = error(
+    "FANW006",
+    "a tool or offset number over 99, which the four-digit T word cannot hold",
+);
+pub const FANW_INDEX_WAIT: Code = error(
+    "FANW007",
+    "a pass that waits for the index pulse where another thread move ended (consecutive G32 blocks continue)",
+);
+pub const FANW_TRANSLITERATED: Code = warning(
+    "FANW008",
+    "comment text transliterated to ASCII (a FANUC comment is upper-case ASCII): accents dropped, other scripts romanised",
+);
+
+/// The reader's codes, in the order README.md lists them.
+pub const READ: &[Code] = &[
+    FANR_SYNTAX,
+    FANR_UNSUPPORTED,
+    FANR_G76,
+    FANR_G92_CHAMFER,
+    FANR_STEEP,
+    FANR_NUMBER,
+    FANR_UNKNOWN_POSITION,
+    FANR_CONFLICT,
+    FANR_NO_FEED,
+    FANR_TOOL,
+    FANR_ARC,
+    FANR_CHAIN,
+    FANR_DECIMAL_POINT,
+    FANR_AFTER_END,
+    FANR_INCH,
+    FANR_INCH_ROUNDED,
+];
+
+/// The writer's codes, in the order README.md lists them.
+pub const WRITE: &[Code] = &[
+    FANW_PRECISION,
+    FANW_NO_EQUIVALENT,
+    FANW_STEEP,
+    FANW_COMMENT,
+    FANW_ROUNDED,
+    FANW_TOOL,
+    FANW_INDEX_WAIT,
+    FANW_TRANSLITERATED,
+];
