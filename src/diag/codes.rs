@@ -92,8 +92,6 @@ pub const SIM_INDEX_WAIT: Code = warning(
     "a pass waits for the index pulse with the tool in the cut (where the thread move before it ended)",
 );
 
-/// Every code, for documentation and uniqueness checks.
-
 /// The profile's codes, in the order README.md lists them.
 pub const PROFILE: &[Code] = &[PF_INVALID, PF_CONSTANT8, PF_VALUE];
 

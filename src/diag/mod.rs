@@ -394,17 +394,17 @@ mod tests {
         .help("write FR")
         .as_warning();
         let back =
-            Diagnostic::from_json_value(&d.to_json_value(), &crate::dialect::all_codes()).unwrap();
+            Diagnostic::from_json_value(&d.to_json_value(), crate::dialect::all_codes()).unwrap();
         assert_eq!(back, d);
         assert_eq!(back.render(false), d.render(false));
         let plain = Diagnostic::new(codes::EMPTY_INPUT, "empty");
         assert_eq!(
-            Diagnostic::from_json_value(&plain.to_json_value(), &crate::dialect::all_codes()),
+            Diagnostic::from_json_value(&plain.to_json_value(), crate::dialect::all_codes()),
             Some(plain)
         );
         let unknown = serde_json::json!({"code": "XX999", "severity": "error", "message": "?"});
         assert_eq!(
-            Diagnostic::from_json_value(&unknown, &crate::dialect::all_codes()),
+            Diagnostic::from_json_value(&unknown, crate::dialect::all_codes()),
             None
         );
     }

@@ -430,7 +430,7 @@ impl Judge {
             {
                 None
             }
-            _ => Some(format!("{} ≠ {}", describe(&a.motion), describe(&b.motion))),
+            _ => Some(kinds_differ(a, b)),
         }
     }
 
@@ -472,7 +472,7 @@ impl Judge {
             },
         ) = (a.motion, b.motion)
         else {
-            unreachable!("two feed moves")
+            return Some(kinds_differ(a, b));
         };
         let unit = |m: bool| if m { "mm/min" } else { "mm/rev" };
         if f != g || p != q {
@@ -511,7 +511,7 @@ impl Judge {
             },
         ) = (a.motion, b.motion)
         else {
-            unreachable!("two thread moves")
+            return Some(kinds_differ(a, b));
         };
         let tol = self.tol;
         // Leads differ when the helices drift apart by more than the tolerance over the move.
@@ -561,7 +561,7 @@ impl Judge {
             },
         ) = (a.motion, b.motion)
         else {
-            unreachable!("two thread moves")
+            return Some(kinds_differ(a, b));
         };
         let at_start = |phase: Angle, lead: Lead, s: &Segment| match (a.from.z, s.from.z, s.to.z) {
             (Some(z), Some(z0), Some(z1)) => super::angle_at(z, phase, lead, (z1 - z0).signum()),
@@ -601,7 +601,7 @@ impl Judge {
             },
         ) = (a.motion, b.motion)
         else {
-            unreachable!("two tapping moves")
+            return Some(kinds_differ(a, b));
         };
         let tol = self.tol;
         (l != m || d != e || !close_pos(a.from, b.from, tol) || !close_pos(a.to, b.to, tol)).then(
@@ -634,7 +634,7 @@ impl Judge {
             },
         ) = (a.motion, b.motion)
         else {
-            unreachable!("two synchronised infeeds")
+            return Some(kinds_differ(a, b));
         };
         let tol = self.tol;
         let travel = match (a.from.x, a.to.x) {
@@ -683,7 +683,7 @@ impl Judge {
             },
         ) = (a.motion, b.motion)
         else {
-            unreachable!("two arcs")
+            return Some(kinds_differ(a, b));
         };
         let tol = self.tol;
         if cw != dw {
@@ -722,6 +722,12 @@ impl Judge {
         }
         None
     }
+}
+
+/// Two segments of different kinds of motion, said as the comparison says it (each check
+/// of a pair of one kind answers so too, should it be given two of different kinds).
+fn kinds_differ(a: &Segment, b: &Segment) -> String {
+    format!("{} ≠ {}", describe(&a.motion), describe(&b.motion))
 }
 
 #[cfg(test)]

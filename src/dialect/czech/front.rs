@@ -565,8 +565,10 @@ mod tests {
     use crate::ir::{Chamfer, Pos, ThreadPass};
 
     fn run(text: &str, constant8: Option<&str>) -> (Program, Vec<Diagnostic>) {
-        let mut profile = CzechProfile::default();
-        profile.constant8 = constant8.map(|c| Constant8::parse(c).unwrap());
+        let profile = CzechProfile {
+            constant8: constant8.map(|c| Constant8::parse(c).unwrap()),
+            ..Default::default()
+        };
         parse(
             &SourceFile::new("t.nc", text),
             &profile,
@@ -578,9 +580,11 @@ mod tests {
     #[test]
     fn dwell_and_surface_speed_follow_the_profile_form() {
         let read = |dwell: CzechDwell, css: bool, text: &str| {
-            let mut profile = CzechProfile::default();
-            profile.dwell = dwell;
-            profile.surface_speed = css;
+            let profile = CzechProfile {
+                dwell,
+                surface_speed: css,
+                ..Default::default()
+            };
             let head = "N10 M03 S500 G95\nN20 G00 X20. Z0.\nN30 ";
             let src = SourceFile::new("t.nc", format!("{head}{text}\nN40 Z-5.\n"));
             let (p, d) = parse(&src, &profile, &Options::default());
@@ -671,9 +675,11 @@ mod tests {
     #[test]
     fn arcs_follow_the_profile_form() {
         let arc = |form: CzechArcs, mirrored: bool, text: &str| {
-            let mut profile = CzechProfile::default();
-            profile.arcs = form;
-            profile.arcs_mirrored = mirrored;
+            let profile = CzechProfile {
+                arcs: form,
+                arcs_mirrored: mirrored,
+                ..Default::default()
+            };
             let head = "N10 M03 S500 G95\nN20 G00 X20. Z0.\nN30 G01 F0.1\nN40 ";
             let src = SourceFile::new("t.nc", format!("{head}{text}\n"));
             let (p, d) = parse(&src, &profile, &Options::default());

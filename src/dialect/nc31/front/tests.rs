@@ -140,9 +140,11 @@ fn g31_becomes_one_cycle_from_the_start_point() {
 
 #[test]
 fn g31_takes_parameters_6_and_7_and_the_taper() {
-    let mut profile = Nc31Profile::default();
-    profile.infeed_p6 = 2365;
-    profile.runout_p7 = 10;
+    let profile = Nc31Profile {
+        infeed_p6: 2365,
+        runout_p7: 10,
+        ..Default::default()
+    };
     let text = format!("{START}G31 *\nX3600 *\nZ-4750 *\nF15000 *\nP96 *\nP20 *\nP676\n");
     let (program, diags) = run_with(&text, &profile, Unsupported::Error);
     assert!(diags.is_empty(), "{diags:?}");
@@ -163,11 +165,10 @@ fn g31_takes_parameters_6_and_7_and_the_taper() {
 /// the quadrant, quarter arcs, and the refusals.
 #[test]
 fn arc_groups_take_their_centre_from_the_quadrant() {
-    let profile = |direction| {
-        let mut p = Nc31Profile::default();
-        p.arcs = true;
-        p.arc_direction = direction;
-        p
+    let profile = |direction| Nc31Profile {
+        arcs: true,
+        arc_direction: direction,
+        ..Default::default()
     };
     let arc = |direction, text: &str| {
         let head = "M3\nS500\nX2000 ~ *\nZ0 ~\nF10\n";
@@ -349,8 +350,10 @@ fn every_rule_has_its_code_and_place() {
 
 #[test]
 fn runout_that_does_not_fit_is_refused_at_z() {
-    let mut profile = Nc31Profile::default();
-    profile.runout_p7 = 31;
+    let profile = Nc31Profile {
+        runout_p7: 31,
+        ..Default::default()
+    };
     // 3.1 leads of 2 = 6.2 mm; the pass is 5 mm long.
     let text = "M3\nS100\nX3600 ~ *\nZ0 ~\nG31 *\nX3600 *\nZ-500 *\nF20000 *\nP96 *\nP20\n";
     let (_, diags) = run_with(text, &profile, Unsupported::Error);
@@ -439,8 +442,10 @@ fn chamfers_move_the_other_axis_by_the_same_radial_amount() {
     );
     assert_eq!(chamfer("Z-200@-45*\nF20\n"), [feed(16.0, -2.0, 0.2)]);
     // With a unit of 0.0001 mm half a diameter change can be off the grid: refused.
-    let mut fine = Nc31Profile::default();
-    fine.linear_unit = Length(1);
+    let fine = Nc31Profile {
+        linear_unit: Length(1),
+        ..Default::default()
+    };
     let text = "M3\nS500\nX200000 ~ *\nZ0 ~\nN7 X200001+45 *\nF20\n";
     let (_, diags) = run_with(text, &fine, Unsupported::Error);
     assert_eq!(
@@ -495,9 +500,10 @@ fn chamfer_rules_have_their_code_and_place() {
 }
 
 fn repeating() -> Nc31Profile {
-    let mut p = Nc31Profile::default();
-    p.repeat_g25 = true;
-    p
+    Nc31Profile {
+        repeat_g25: true,
+        ..Default::default()
+    }
 }
 
 /// Grooves 5 mm apart: the frames N5 to N7 (incremental) run again twice at the G25.
@@ -687,9 +693,11 @@ fn a_repeat_reports_what_is_new_once() {
 
 #[test]
 fn units_come_from_the_profile() {
-    let mut profile = Nc31Profile::default();
-    profile.linear_unit = Length(10);
-    profile.feed_unit = Length(10);
+    let profile = Nc31Profile {
+        linear_unit: Length(10),
+        feed_unit: Length(10),
+        ..Default::default()
+    };
     let (program, diags) = run_with("F300\nX36000 *\nZ4500\n", &profile, Unsupported::Error);
     assert!(diags.is_empty());
     assert_eq!(program.items[0].kind, ItemKind::FeedRate(mm(0.3)));
