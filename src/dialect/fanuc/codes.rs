@@ -56,7 +56,7 @@ pub const FANR_AFTER_END: Code = warning(
 );
 pub const FANR_INCH: Code = error(
     "FANR015",
-    "G20/G21 after the first move: the unit must be set at the program's start",
+    "G20/G21 after the first move or a G96: the unit must be set at the program's start",
 );
 
 pub const FANR_INCH_ROUNDED: Code = warning(

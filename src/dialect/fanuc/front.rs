@@ -564,6 +564,11 @@ mod tests {
         );
         assert_eq!(first("M30\nG00 X20.\n"), ("FANR014", Some((2, 1))));
         assert_eq!(first("G21\nG00 X20. Z5.\nG20\n"), ("FANR015", Some((3, 1))));
+        // A surface speed keeps its unit: G50 S would write it again in the other one.
+        assert_eq!(
+            first("G21\nG96 S200 M03\nG20\nG50 S2000\n"),
+            ("FANR015", Some((3, 1)))
+        );
         assert_eq!(first("G20\nG00 X0.0001 Z1.\n"), ("FANR016", Some((2, 5))));
         assert_eq!(first("G00 X20. X30.\n"), ("FANR008", Some((1, 10))));
     }

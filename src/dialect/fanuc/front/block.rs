@@ -433,16 +433,21 @@ impl FrontEnd<'_> {
     /// the first move.
     fn units(&mut self, line: Line<'_>, words: &Words<'_>) -> Option<()> {
         if let Some((inch, w)) = words.units {
-            if self.moved && inch != self.inch {
+            if (self.moved || self.surface_speed) && inch != self.inch {
+                // A surface speed keeps the unit it was set in (m/min or ft/min): a G50 S or
+                // an S after the change would be read in the other one.
+                let after = if self.moved {
+                    "after the first move"
+                } else {
+                    "after G96 set a surface speed"
+                };
                 let text = &line.text[w.range.clone()];
                 self.error(
                     codes::FANR_INCH,
                     line,
                     w.range.clone(),
-                    format!(
-                        "`{text}` after the first move: the unit must be set at the program's start"
-                    ),
-                    "put G20 or G21 in the program's first blocks, before any move",
+                    format!("`{text}` {after}: the unit must be set at the program's start"),
+                    "put G20 or G21 in the program's first blocks, before any move or G96",
                 );
                 return None;
             }
