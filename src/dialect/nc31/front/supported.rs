@@ -137,10 +137,11 @@ impl FrontEnd<'_> {
     }
 
     /// Whether `w` changes what ncthread follows: the feed, the spindle, the tool, a thread
-    /// or arc group's words, the program's end.
+    /// or arc group's words, a repeat (G25 runs frames again, which its P words name by
+    /// numbers the writer may give to other frames), the program's end.
     fn changes_state(&self, w: &Word) -> bool {
         matches!(w.letter, 'F' | 'S' | 'T')
-            || (w.letter == 'G' && matches!(w.value, 2 | 3 | 12 | 13 | 31..=33))
+            || (w.letter == 'G' && matches!(w.value, 2 | 3 | 12 | 13 | 25 | 31..=33))
             || (w.letter == 'M'
                 && (matches!(w.value, 3 | 4 | 5 | 30)
                     || (self.profile.coolant && matches!(w.value, 8 | 9))

@@ -565,6 +565,17 @@ fn g25_reads_the_frames_again_count_times() {
         let help = d.help.as_deref().unwrap_or_default();
         assert!(help.contains("repeat_g25 = true"), "{help}");
     }
+    // With the key, a G25 group that also holds a word ncthread does not read is not kept as
+    // written under warn either: the repeat would not run in ncthread's reading, and its P
+    // names frames by numbers the writer may give to other frames.
+    let kept = GROOVES.replace("N8 G25 *\n", "N8 G25 *\nM7 *\n");
+    let (_, diags) = run_with(&kept, &repeating(), Unsupported::Warn);
+    assert!(
+        diags.iter().any(|d| d.is_error()
+            && d.code == codes::NCR_UNSUPPORTED
+            && d.message.starts_with("`G25` in a group kept opaque")),
+        "{diags:?}"
+    );
 }
 
 #[test]
