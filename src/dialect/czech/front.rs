@@ -577,6 +577,14 @@ mod tests {
     }
 
     /// Dwells and surface speed as the profile declares them, and their refusals.
+    /// An M number past u32 is no gear range that wraps onto a small one (M4294967338 was
+    /// read as M42).
+    #[test]
+    fn a_huge_m_number_is_no_gear_range() {
+        let (_, diags) = run("N10 M03 S500\nN20 M4294967338\n", None);
+        assert_eq!(diags[0].code, codes::CZR_UNSUPPORTED, "{diags:?}");
+    }
+
     #[test]
     fn dwell_and_surface_speed_follow_the_profile_form() {
         let read = |dwell: CzechDwell, css: bool, text: &str| {

@@ -202,6 +202,9 @@ impl<'a> FrontEnd<'a> {
     /// Files M code `m` in its group; the group's earlier word, if any.
     fn m_group<'b>(&self, m: i64, word: &'b Word, words: &mut Words<'b>) -> Option<&'b Word> {
         let czech = self.profile;
+        let gear = u32::try_from(m)
+            .ok()
+            .filter(|g| czech.gear_range_mcodes.contains(g));
         let previous = match m {
             3 => words
                 .spindle
@@ -239,8 +242,8 @@ impl<'a> FrontEnd<'a> {
                 ));
                 None
             }
-            _ if czech.gear_range_mcodes.contains(&(m as u32)) => {
-                words.gears.push((m as u32, word));
+            _ if gear.is_some() => {
+                words.gears.extend(gear.map(|g| (g, word)));
                 None
             }
             _ => {

@@ -132,7 +132,7 @@ impl FrontEnd<'_> {
                 ('M', 30) => words.end = true,
                 ('M', 8) => words.coolant.push(Coolant::Flood),
                 ('M', 9) => words.coolant.push(Coolant::Off),
-                ('M', m) => words.gears.push(m as u32),
+                ('M', m) => words.gears.extend(u32::try_from(m).ok()),
                 _ => {
                     // P outside G31.
                     self.word_error(

@@ -68,7 +68,8 @@ impl FrontEnd<'_> {
             )),
             'M' if matches!(w.value, 3 | 4 | 5 | 30)
                 || (self.profile.coolant && matches!(w.value, 8 | 9))
-                || self.profile.gear_range_mcodes.contains(&(w.value as u32)) =>
+                || u32::try_from(w.value)
+                    .is_ok_and(|m| self.profile.gear_range_mcodes.contains(&m)) =>
             {
                 None
             }
@@ -145,6 +146,7 @@ impl FrontEnd<'_> {
             || (w.letter == 'M'
                 && (matches!(w.value, 3 | 4 | 5 | 30)
                     || (self.profile.coolant && matches!(w.value, 8 | 9))
-                    || self.profile.gear_range_mcodes.contains(&(w.value as u32))))
+                    || u32::try_from(w.value)
+                        .is_ok_and(|m| self.profile.gear_range_mcodes.contains(&m))))
     }
 }

@@ -720,3 +720,10 @@ fn units_come_from_the_profile() {
         }
     );
 }
+
+/// An M number past u32 is no speed range that wraps onto a small one (M4294967337 was M41).
+#[test]
+fn a_huge_m_number_is_no_speed_range() {
+    let (_, diags) = run("M4294967337\n");
+    assert_eq!(diags[0].code, codes::NCR_UNSUPPORTED, "{diags:?}");
+}
