@@ -198,6 +198,10 @@ fn run_bounded(
 ) -> Result<std::process::Output, String> {
     use std::io::Read;
     use std::process::Stdio;
+    // Its own process group, so that a run killed at the limit takes its children with it
+    // (a wrapper such as scripts/rs274 cannot pass a SIGKILL on to the rs274 under it).
+    #[cfg(unix)]
+    std::os::unix::process::CommandExt::process_group(&mut command, 0);
     let mut child = command
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -231,6 +235,7 @@ fn run_bounded(
             break status;
         }
         if started.elapsed() > limit {
+            kill_group(child.id());
             let _ = child.kill();
             let _ = child.wait();
             return Err(format!(
@@ -245,6 +250,18 @@ fn run_bounded(
         stdout: stdout.join().unwrap_or_default(),
         stderr: stderr.join().unwrap_or_default(),
     })
+}
+
+/// Kills the process group `pid` leads (see [`run_bounded`]), through `kill(1)`.
+fn kill_group(pid: u32) {
+    #[cfg(unix)]
+    let _ = Command::new("kill")
+        .args(["-s", "KILL", "--", &format!("-{pid}")])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .status();
+    #[cfg(not(unix))]
+    let _ = pid;
 }
 
 /// How many runs [`Interpreter::run_with`] makes of a program while rs274 is killed by a
@@ -896,6 +913,34 @@ fn without_rapid_to_rs274_start(mut segments: Vec<Segment>) -> Vec<Segment> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A run killed at its limit takes its children with it: a wrapper's rs274 that loops
+    /// for ever does not live on (SIGKILL does not pass through a shell).
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_run_killed_at_the_limit_kills_its_children() {
+        let dir = tempfile::tempdir().unwrap();
+        let pid_file = dir.path().join("pid");
+        let mut command = Command::new("sh");
+        command
+            .arg("-c")
+            .arg(format!("sleep 30 & echo $! > {}; wait", pid_file.display()));
+        let ran = run_bounded(command, std::time::Duration::from_millis(500));
+        assert!(ran.is_err(), "{ran:?}");
+        let pid = std::fs::read_to_string(&pid_file).unwrap();
+        // Gone, or a zombie waiting to be reaped: no longer running.
+        std::thread::sleep(std::time::Duration::from_millis(100));
+        let stat =
+            std::fs::read_to_string(format!("/proc/{}/stat", pid.trim())).unwrap_or_default();
+        let state = stat
+            .rsplit(')')
+            .next()
+            .unwrap_or("")
+            .trim_start()
+            .chars()
+            .next();
+        assert!(matches!(state, None | Some('Z') | Some('X')), "{stat}");
+    }
 
     /// A stand-in for rs274 in `dir`: a shell script, copied into place by another process so
     /// that no file this process has open for writing is executed ("text file busy").
