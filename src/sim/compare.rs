@@ -4,7 +4,7 @@
 
 use super::{Motion, Segment, TURN, show_pos as show};
 use crate::fixed::{Angle, Lead, Length, div_round};
-use crate::ir::Pos;
+use crate::ir::{Pos, SpindleDirection};
 
 /// Position tolerance: 0.001 mm.
 pub const TOLERANCE: Length = Length(10);
@@ -375,6 +375,13 @@ pub fn compare_within(
 }
 
 /// How closely [`compare_within`] holds two segments together.
+/// A thread move's words as a pair's check reads them: lead, hand, phase.
+type SyncWords = (Lead, Option<SpindleDirection>, Option<Angle>);
+/// A synchronised infeed's words: advance per turn, hand, start angle.
+type RadialWords = (Lead, Option<SpindleDirection>, Option<Angle>);
+/// An arc's words: centre, clockwise, feed, per minute.
+type ArcWords = (Pos, bool, Length, bool);
+
 struct Judge {
     /// The position tolerance.
     tol: Length,
@@ -417,11 +424,64 @@ impl Judge {
     ) -> Option<String> {
         match (a.motion, b.motion) {
             (Motion::Rapid, Motion::Rapid) => self.rapids(a, b, next),
-            (Motion::Feed { .. }, Motion::Feed { .. }) => self.feeds(a, b),
-            (Motion::Sync { .. }, Motion::Sync { .. }) => self.threads(a, b),
-            (Motion::Tap { .. }, Motion::Tap { .. }) => self.taps(a, b),
-            (Motion::SyncRadial { .. }, Motion::SyncRadial { .. }) => self.infeeds(a, b),
-            (Motion::Arc { .. }, Motion::Arc { .. }) => self.arcs(a, b),
+            (
+                Motion::Feed {
+                    feed: f,
+                    per_minute: p,
+                },
+                Motion::Feed {
+                    feed: g,
+                    per_minute: q,
+                },
+            ) => self.feeds(a, b, (f, p), (g, q)),
+            (
+                Motion::Sync {
+                    lead: l,
+                    direction: d,
+                    phase: p,
+                },
+                Motion::Sync {
+                    lead: m,
+                    direction: e,
+                    phase: q,
+                },
+            ) => self.threads(a, b, (l, d, p), (m, e, q)),
+            (
+                Motion::Tap {
+                    lead: l,
+                    direction: d,
+                },
+                Motion::Tap {
+                    lead: m,
+                    direction: e,
+                },
+            ) => self.taps(a, b, (l, d), (m, e)),
+            (
+                Motion::SyncRadial {
+                    advance: l,
+                    direction: d,
+                    start_angle: p,
+                },
+                Motion::SyncRadial {
+                    advance: m,
+                    direction: e,
+                    start_angle: q,
+                },
+            ) => self.infeeds(a, b, (l, d, p), (m, e, q)),
+            (
+                Motion::Arc {
+                    centre: c,
+                    clockwise: cw,
+                    feed: f,
+                    per_minute: p,
+                },
+                Motion::Arc {
+                    centre: d,
+                    clockwise: dw,
+                    feed: g,
+                    per_minute: q,
+                },
+            ) => self.arcs(a, b, (c, cw, f, p), (d, dw, g, q)),
             (Motion::IndexWait, Motion::IndexWait) => None,
             (Motion::State(_), Motion::State(_))
             | (Motion::Stop { .. }, Motion::Stop { .. })
@@ -430,7 +490,7 @@ impl Judge {
             {
                 None
             }
-            _ => Some(kinds_differ(a, b)),
+            _ => Some(format!("{} ≠ {}", describe(&a.motion), describe(&b.motion))),
         }
     }
 
@@ -460,20 +520,13 @@ impl Judge {
     }
 
     /// Two feed moves: the feed, then both ends.
-    fn feeds(&self, a: &Segment, b: &Segment) -> Option<String> {
-        let (
-            Motion::Feed {
-                feed: f,
-                per_minute: p,
-            },
-            Motion::Feed {
-                feed: g,
-                per_minute: q,
-            },
-        ) = (a.motion, b.motion)
-        else {
-            return Some(kinds_differ(a, b));
-        };
+    fn feeds(
+        &self,
+        a: &Segment,
+        b: &Segment,
+        (f, p): (Length, bool),
+        (g, q): (Length, bool),
+    ) -> Option<String> {
         let unit = |m: bool| if m { "mm/min" } else { "mm/rev" };
         if f != g || p != q {
             return Some(format!(
@@ -497,22 +550,14 @@ impl Judge {
     }
 
     /// Two thread moves: the lead, the hand, both ends, then the phase.
-    fn threads(&self, a: &Segment, b: &Segment) -> Option<String> {
-        let (
-            Motion::Sync {
-                lead: l,
-                direction: d,
-                ..
-            },
-            Motion::Sync {
-                lead: m,
-                direction: e,
-                ..
-            },
-        ) = (a.motion, b.motion)
-        else {
-            return Some(kinds_differ(a, b));
-        };
+    fn threads(
+        &self,
+        a: &Segment,
+        b: &Segment,
+        left: SyncWords,
+        right: SyncWords,
+    ) -> Option<String> {
+        let ((l, d, _), (m, e, _)) = (left, right);
         let tol = self.tol;
         // Leads differ when the helices drift apart by more than the tolerance over the move.
         let travel = match (a.from.z, a.to.z) {
@@ -545,24 +590,20 @@ impl Judge {
                 show(b.from)
             ));
         }
-        self.phases(a, b)
+        self.phases(a, b, left, right)
     }
 
     /// Two thread moves' phases. The two helices are compared where the cut starts (the
     /// spindle angle at the start Z on each), not extrapolated to Z0, where a lead that
     /// agrees within the tolerance over the move could still turn a distant phase.
-    fn phases(&self, a: &Segment, b: &Segment) -> Option<String> {
-        let (
-            Motion::Sync {
-                lead: l, phase: p, ..
-            },
-            Motion::Sync {
-                lead: m, phase: q, ..
-            },
-        ) = (a.motion, b.motion)
-        else {
-            return Some(kinds_differ(a, b));
-        };
+    fn phases(
+        &self,
+        a: &Segment,
+        b: &Segment,
+        left: SyncWords,
+        right: SyncWords,
+    ) -> Option<String> {
+        let ((l, _, p), (m, _, q)) = (left, right);
         let at_start = |phase: Angle, lead: Lead, s: &Segment| match (a.from.z, s.from.z, s.to.z) {
             (Some(z), Some(z0), Some(z1)) => super::angle_at(z, phase, lead, (z1 - z0).signum()),
             _ => phase,
@@ -589,20 +630,13 @@ impl Judge {
     }
 
     /// Two tapping moves: the lead, the hand and both ends together.
-    fn taps(&self, a: &Segment, b: &Segment) -> Option<String> {
-        let (
-            Motion::Tap {
-                lead: l,
-                direction: d,
-            },
-            Motion::Tap {
-                lead: m,
-                direction: e,
-            },
-        ) = (a.motion, b.motion)
-        else {
-            return Some(kinds_differ(a, b));
-        };
+    fn taps(
+        &self,
+        a: &Segment,
+        b: &Segment,
+        (l, d): (Lead, Option<SpindleDirection>),
+        (m, e): (Lead, Option<SpindleDirection>),
+    ) -> Option<String> {
         let tol = self.tol;
         (l != m || d != e || !close_pos(a.from, b.from, tol) || !close_pos(a.to, b.to, tol)).then(
             || {
@@ -620,22 +654,14 @@ impl Judge {
     }
 
     /// Two synchronised infeeds: the advance, the hand, both ends, then how each starts.
-    fn infeeds(&self, a: &Segment, b: &Segment) -> Option<String> {
-        let (
-            Motion::SyncRadial {
-                advance: l,
-                direction: d,
-                start_angle: p,
-            },
-            Motion::SyncRadial {
-                advance: m,
-                direction: e,
-                start_angle: q,
-            },
-        ) = (a.motion, b.motion)
-        else {
-            return Some(kinds_differ(a, b));
-        };
+    fn infeeds(
+        &self,
+        a: &Segment,
+        b: &Segment,
+        left: RadialWords,
+        right: RadialWords,
+    ) -> Option<String> {
+        let ((l, d, p), (m, e, q)) = (left, right);
         let tol = self.tol;
         let travel = match (a.from.x, a.to.x) {
             (Some(x0), Some(x1)) => Length((x1 - x0).0.abs() / 2),
@@ -667,24 +693,8 @@ impl Judge {
     }
 
     /// Two arcs: the turn, arc or full circle, the feed, then the ends and the centre.
-    fn arcs(&self, a: &Segment, b: &Segment) -> Option<String> {
-        let (
-            Motion::Arc {
-                centre: c,
-                clockwise: cw,
-                feed: f,
-                per_minute: p,
-            },
-            Motion::Arc {
-                centre: d,
-                clockwise: dw,
-                feed: g,
-                per_minute: q,
-            },
-        ) = (a.motion, b.motion)
-        else {
-            return Some(kinds_differ(a, b));
-        };
+    fn arcs(&self, a: &Segment, b: &Segment, left: ArcWords, right: ArcWords) -> Option<String> {
+        let ((c, cw, f, p), (d, dw, g, q)) = (left, right);
         let tol = self.tol;
         if cw != dw {
             return Some(format!("{} ≠ {}", describe(&a.motion), describe(&b.motion)));
@@ -722,12 +732,6 @@ impl Judge {
         }
         None
     }
-}
-
-/// Two segments of different kinds of motion, said as the comparison says it (each check
-/// of a pair of one kind answers so too, should it be given two of different kinds).
-fn kinds_differ(a: &Segment, b: &Segment) -> String {
-    format!("{} ≠ {}", describe(&a.motion), describe(&b.motion))
 }
 
 #[cfg(test)]
