@@ -395,7 +395,7 @@ impl Interpreter {
             .map_err(|e| cannot(format!("cannot make a temporary folder: {e}")))?;
         let switch = switches(settings, dir.path())?;
         let file = dir.path().join("program.ngc");
-        std::fs::write(&file, program)
+        std::fs::write(&file, as_lathe_starts(program))
             .map_err(|e| cannot(format!("cannot write {}: {e}", file.display())))?;
         let tools = dir.path().join("tools.tbl");
         if let Interpreter::Binary(_) = self {
@@ -450,6 +450,32 @@ impl Interpreter {
             Interpreter::Wrapper(p) | Interpreter::Binary(p) => p,
         }
     }
+}
+
+/// `program` as a LinuxCNC lathe runs it: after its start-up code, `G18`. LinuxCNC's lathe
+/// configuration sets `RS274NGC_STARTUP_CODE = G18` (its manual's "Lathe Configuration"
+/// chapter: the interpreter was written for mills and starts in G17), and ncthread reads an ISO
+/// program as on a lathe; the standalone rs274 runs no start-up code, so the line goes first
+/// — after the opening `%` when the program has one, which must stay its first line.
+fn as_lathe_starts(program: &str) -> String {
+    let mut out = String::with_capacity(program.len() + 5);
+    let mut rest = program;
+    // rs274 skips blank lines before the `%` line (`Interp::open`).
+    while let Some(end) = rest.find('\n') {
+        let line = &rest[..end];
+        if !line.trim().is_empty() {
+            if line.trim() == "%" {
+                out.push_str(&rest[..=end]);
+                rest = &rest[end + 1..];
+            }
+            break;
+        }
+        out.push_str(&rest[..=end]);
+        rest = &rest[end + 1..];
+    }
+    out.push_str("G18\n");
+    out.push_str(rest);
+    out
 }
 
 /// The switches of an rs274 run with `settings`: `-b` for the block delete switch, and
@@ -913,6 +939,20 @@ fn without_rapid_to_rs274_start(mut segments: Vec<Segment>) -> Vec<Segment> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// G18 goes first, or after the `%` that opens a program (blank lines before it kept), so
+    /// that rs274 still takes the `%` for the program's opening.
+    #[test]
+    fn a_lathe_starts_in_g18() {
+        assert_eq!(as_lathe_starts("G0 X1\nM2\n"), "G18\nG0 X1\nM2\n");
+        assert_eq!(as_lathe_starts("%\nG0 X1\n%\n"), "%\nG18\nG0 X1\n%\n");
+        assert_eq!(
+            as_lathe_starts("\n  \r\n % \r\nG0 X1\r\n%\r\n"),
+            "\n  \r\n % \r\nG18\nG0 X1\r\n%\r\n"
+        );
+        assert_eq!(as_lathe_starts("\nG0 X1\n"), "\nG18\nG0 X1\n");
+        assert_eq!(as_lathe_starts("M2"), "G18\nM2");
+    }
 
     /// A run killed at its limit takes its children with it: a wrapper's rs274 that loops
     /// for ever does not live on (SIGKILL does not pass through a shell).
