@@ -919,7 +919,8 @@ fn made_up_drilling_programs_move_as_rs274_moves() {
                     _ => "G92.1".into(),
                 });
             } else {
-                lines.push(g.pick(&["G20", "G21"]).into());
+                // F again with the units: a feed carried across them is refused (ISOR004).
+                lines.push(format!("{} F100", g.pick(&["G20", "G21"])));
             }
         }
         lines.push("G90 G80".into());

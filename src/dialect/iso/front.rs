@@ -110,6 +110,8 @@ struct FrontEnd<'a> {
     /// offset from the arc's start.
     absolute_centres: bool,
     feed: Option<Length>,
+    /// The feed rate was given in inches (under G20).
+    feed_inch: bool,
     /// `None` until the program sets one: LinuxCNC then feeds per minute (G94).
     feed_mode: Option<FeedMode>,
     speed: Option<u32>,

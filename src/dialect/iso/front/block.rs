@@ -159,6 +159,7 @@ impl FrontEnd<'_> {
                 self.number_error(b.line, f, "the feed is negative".into(), "F is 0 or more");
             } else {
                 self.feed = Some(feed);
+                self.feed_inch = self.inch;
                 b.f_word = Some(feed);
             }
         }

@@ -182,10 +182,37 @@ impl FrontEnd<'_> {
                 return None;
             }
         };
+        if let Some(why) = self.feed_in_other_units(code) {
+            if let Some(at) = at {
+                self.missing(line, at, why, FEED_AGAIN);
+            }
+            return None;
+        }
         if self.feed_mode.is_none() {
             self.feed_mode = Some(FeedMode::PerMin);
             self.push(ItemKind::FeedMode(FeedMode::PerMin), span);
         }
         Some(feed)
     }
+
+    /// Why a feed move (`code`) cannot use the feed rate in force: it was given in the other
+    /// units, before a G20/G21. LinuxCNC's machine and its standalone interpreter go on at
+    /// different feeds then: the task canon converts a feed per minute into the new units
+    /// (`GET_EXTERNAL_FEED_RATE` in emccanon.cc), rs274 keeps the number (saicanon.cc), so no
+    /// conversion can say which the program meant.
+    pub(super) fn feed_in_other_units(&self, code: &str) -> Option<String> {
+        (self.feed.is_some() && self.feed_inch != self.inch).then(|| {
+            let (was, change) = if self.feed_inch {
+                ("inches", "G21")
+            } else {
+                ("mm", "G20")
+            };
+            format!(
+                "{code} under a feed rate (F) given in {was} before the {change}: LinuxCNC's standalone interpreter keeps F's number in the new units, a LinuxCNC machine feeding per minute keeps its speed, so the feed is not known"
+            )
+        })
+    }
 }
+
+/// The help of a feed move under a feed rate given in the other units.
+pub(super) const FEED_AGAIN: &str = "give F again after a G20/G21 that changes the units";

@@ -844,6 +844,10 @@ impl FrontEnd<'_> {
 
     /// The feed of the cycle's cuts: F in force, more than 0, when it has any (`feeds`).
     fn g7x_feed(&mut self, c: &Contour, name: &str, feeds: bool) -> Option<Length> {
+        if feeds && let Some(why) = self.feed_in_other_units(name) {
+            self.contour_error(c.span, why, super::motion::FEED_AGAIN);
+            return None;
+        }
         match self.feed {
             Some(f) if f.0 > 0 => Some(f),
             _ if !feeds => Some(Length(0)),

@@ -83,6 +83,7 @@ impl<'a> FrontEnd<'a> {
             exact_target: (None, None),
             absolute_centres: false,
             feed: None,
+            feed_inch: false,
             feed_mode: None,
             speed: None,
             turning: None,
