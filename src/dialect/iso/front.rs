@@ -300,6 +300,40 @@ pub(super) mod tests {
         assert_ne!(errors[0].code, codes::ISOR_CONTROL, "{d:?}");
     }
 
+    /// A feed rate given before a G20/G21 that changed the units is not known: a feed move
+    /// under it and `#<_feed>` are refused at their word, and an F after the change, or a
+    /// G20 that changes nothing, lets the program go on.
+    #[test]
+    fn a_feed_across_a_change_of_units_is_not_known() {
+        let head = "G8 G18 G21 G94\nG0 X0 Z0\nF100\n";
+        for (body, marked) in [
+            ("G20\nG1 X1\n", "G1"),
+            ("G1 X0\nG20\nZ-1 X1\n", "X1"),
+            ("G20\nG2 X0 Z-1 K-0.5\n", "G2"),
+            ("G20\n#1 = #<_feed>\n", "#<_feed>"),
+            ("G20\nG21\nG20\nG1 X1\n", "G1"),
+        ] {
+            let text = format!("{head}{body}");
+            let (_, d) = run(&text);
+            if marked == "#<_feed>" {
+                first_error(&d, &text, codes::ISOR_EVAL, marked);
+            } else {
+                let e = first_error(&d, &text, codes::ISOR_WORD, marked);
+                assert!(e.message.contains("given in mm before the G20"), "{e:?}");
+            }
+        }
+        for fine in [
+            "G20 F4\nG1 X1\n",
+            "G21\nG1 X1\n",
+            "G20\nG21\nG1 X1\n",
+            "G20\nG0 X1\n",
+        ] {
+            let text = format!("{head}{fine}");
+            let (_, d) = run(&text);
+            assert!(!d.iter().any(|d| d.is_error()), "{text:?}: {d:?}");
+        }
+    }
+
     /// Reads a fragment: without its program end (ISOR013, tested on its own).
     pub(super) fn run(text: &str) -> (Program, Vec<Diagnostic>) {
         let (p, d) = parse(&SourceFile::new("t.ngc", text), &Options::default());

@@ -275,6 +275,9 @@ struct System {
     inch: bool,
     incremental: bool,
     feed: Option<f64>,
+    /// The feed rate was given in the other units, before a G20/G21: LinuxCNC's task and its
+    /// standalone interpreter give different numbers for it.
+    feed_in_other_units: bool,
     rpm: Option<f64>,
     tool: f64,
     motion: Option<f64>,
@@ -320,6 +323,11 @@ impl Scope<'_> {
             "_imperial" => flag(s.inch),
             "_absolute" => flag(!s.incremental),
             "_incremental" => flag(s.incremental),
+            "_feed" if s.feed_in_other_units => Err(EvalError {
+                message: "the feed rate (F) given before the G20/G21 that changed the units is not known here: LinuxCNC's standalone interpreter gives its number, a LinuxCNC machine feeding per minute its speed in the new units".into(),
+                help: "give F again after the G20/G21",
+                range: range.clone(),
+            }),
             "_feed" => Ok(s.feed.unwrap_or(0.0)),
             "_rpm" => Ok(s.rpm.unwrap_or(0.0)),
             "_current_tool" => Ok(s.tool),
@@ -435,6 +443,7 @@ impl FrontEnd<'_> {
                 inch: self.inch,
                 incremental: self.incremental,
                 feed: self.feed.map(|f| f.to_mm_f64() / unit),
+                feed_in_other_units: self.feed.is_some() && self.feed_inch != self.inch,
                 rpm: self.speed.map(f64::from),
                 tool: self.selected_tool.map_or(0.0, f64::from),
                 motion: self.motion.map(|m| match m {
