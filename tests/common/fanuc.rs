@@ -17,9 +17,17 @@ fn words(code: &str) -> Vec<(char, String)> {
     out
 }
 
-/// The program's text without comments, `%` and the `O` line.
+/// The program's text without comments, `%` and the `O` line (`%O1200`, `:0100`), a title
+/// line before the program's start and Denford's `[BILLET` line.
 fn code_lines(text: &str) -> Vec<String> {
-    text.lines()
+    let start = |l: &str| l.starts_with(['%', '％', 'O', 'o', ':']);
+    let mut lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
+    if lines.len() > 1 && !start(lines[0].trim()) && start(lines[1].trim()) {
+        lines.remove(0);
+    }
+    lines
+        .into_iter()
+        .filter(|l| !l.trim().to_ascii_uppercase().starts_with("[BILLET"))
         .map(|l| {
             let mut code = String::new();
             let mut depth = 0;
@@ -32,9 +40,12 @@ fn code_lines(text: &str) -> Vec<String> {
                     _ => {}
                 }
             }
-            code.trim().to_string()
+            code.trim()
+                .trim_start_matches(['%', '％'])
+                .trim()
+                .to_string()
         })
-        .filter(|l| !l.is_empty() && l != "%" && !l.starts_with(['O', 'o']))
+        .filter(|l| !l.is_empty() && !l.starts_with(['O', 'o', ':']))
         .collect()
 }
 

@@ -64,6 +64,11 @@ pub const FANR_INCH_ROUNDED: Code = warning(
     "inch values rounded onto the 0.0001 mm grid (0.0001 in is 0.00254 mm)",
 );
 
+pub const FANR_NOT_RUN: Code = warning(
+    "FANR017",
+    "a line the control does not run, read as a comment: a title before the program's start, Denford's `[BILLET` stock line",
+);
+
 // writer
 pub const FANW_PRECISION: Code = error(
     "FANW001",
@@ -116,6 +121,7 @@ pub const READ: &[Code] = &[
     FANR_AFTER_END,
     FANR_INCH,
     FANR_INCH_ROUNDED,
+    FANR_NOT_RUN,
 ];
 
 /// The writer's codes, in the order README.md lists them.

@@ -173,41 +173,129 @@ impl FrontEnd<'_> {
     fn lines(&mut self, src: &SourceFile) {
         let mut ended = false;
         let mut percents = 0;
+        // The first line, when it cannot be read: a title if the program starts after it.
+        let mut title: Option<(Line<'_>, syntax::SyntaxError)> = None;
+        let mut first = true;
         for line in src.lines() {
             // Nothing looks back past the line being read.
             self.r.items.line_read();
             if line.text.trim().is_empty() {
                 continue;
             }
-            match syntax::parse_line(line.text) {
-                Ok(block) if block.delimiter => {
+            if self.billet(src, line) {
+                first = false;
+                continue;
+            }
+            let parsed = syntax::parse_line(line.text);
+            if let Some((t, e)) = title.take() {
+                match &parsed {
+                    Ok(b) if b.delimiter || b.get('O').is_some() => self.title(src, t),
+                    _ => self.syntax_error(t, e),
+                }
+            }
+            if std::mem::take(&mut first)
+                && let Err(e) = &parsed
+                && line.text.trim_start().starts_with(char::is_alphabetic)
+            {
+                title = Some((line, e.clone()));
+                continue;
+            }
+            match parsed {
+                Ok(mut block) if block.delimiter => {
                     percents += 1;
                     if percents >= 2 {
                         ended = true;
                     }
+                    // `%O1200 (NAME)`: the program number on the `%` line.
+                    if !block.words.is_empty() || block.comment.is_some() {
+                        block.delimiter = false;
+                        self.line_block(src, line, &block, &mut ended);
+                    }
                 }
-                Ok(block) if ended && !block.is_empty() => self.r.after_end(
+                Ok(block) => self.line_block(src, line, &block, &mut ended),
+                Err(e) => self.syntax_error(line, e),
+            }
+        }
+        if let Some((t, e)) = title {
+            self.syntax_error(t, e);
+        }
+    }
+
+    fn syntax_error(&mut self, line: Line<'_>, e: syntax::SyntaxError) {
+        let code = if e.number_too_large {
+            codes::FANR_NUMBER
+        } else {
+            codes::FANR_SYNTAX
+        };
+        self.r.syntax_error(code, line, e.offset, e.message, e.help);
+    }
+
+    /// A first line of text that is no block, before the program's start (`%` or its
+    /// number): the program's title, as some editors and course books write it. A comment.
+    fn title(&mut self, src: &SourceFile, line: Line<'_>) {
+        let text = line.text.trim();
+        self.not_run(
+            src,
+            line,
+            text,
+            format!("`{text}`: a line of text before the program's start, read as its title (a comment)"),
+            "the control would refuse this line if it reached it; put the title in a comment, `(NAME)`, if the file is sent as it is",
+        );
+    }
+
+    /// `[BILLET X… Z…`: Denford's stock for its simulator (VR Turning), which no control
+    /// runs. A comment.
+    fn billet(&mut self, src: &SourceFile, line: Line<'_>) -> bool {
+        let text = line.text.trim();
+        let is_billet = text
+            .get(..7)
+            .is_some_and(|head| head.eq_ignore_ascii_case("[BILLET"));
+        if is_billet {
+            self.not_run(
+                src,
+                line,
+                text,
+                format!("`{text}`: Denford's stock line for its simulator, read as a comment"),
+                "a FANUC control refuses `[` outside a macro: remove the line before sending the program to a machine",
+            );
+        }
+        is_billet
+    }
+
+    /// A line no control runs, kept as a comment with a note.
+    fn not_run(
+        &mut self,
+        src: &SourceFile,
+        line: Line<'_>,
+        text: &str,
+        message: String,
+        help: &str,
+    ) {
+        let span = src.line_span(line);
+        self.r.diags.push(
+            Diagnostic::new(codes::FANR_NOT_RUN, message)
+                .at(src, span)
+                .help(help),
+        );
+        self.push(ItemKind::Comment(text.to_string()), span);
+    }
+
+    /// A line's block, after the program's end or before it.
+    fn line_block(&mut self, src: &SourceFile, line: Line<'_>, block: &Block, ended: &mut bool) {
+        match block {
+                block if *ended && !block.is_empty() => self.r.after_end(
                     codes::FANR_AFTER_END,
                     src.line_span(line),
                     "this block comes after the program's end (M02/M30 or the closing %); the control does not run it, and neither does ncthread",
                     "remove it, or move the program's end after it",
                 ),
                 // A comment after the end stays a comment (the writers keep it).
-                Ok(block) if ended => self.block(line, &block),
-                Ok(block) => {
+                block if *ended => self.block(line, block),
+                block => {
                     let first = self.r.items.len();
-                    self.block(line, &block);
-                    ended |= self.r.ends_program(first);
+                    self.block(line, block);
+                    *ended |= self.r.ends_program(first);
                 }
-                Err(e) => {
-                    let code = if e.number_too_large {
-                        codes::FANR_NUMBER
-                    } else {
-                        codes::FANR_SYNTAX
-                    };
-                    self.r.syntax_error(code, line, e.offset, e.message, e.help);
-                }
-            }
         }
     }
 

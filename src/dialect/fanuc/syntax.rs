@@ -163,11 +163,12 @@ fn parse_with_grammar(line: &str) -> Result<Block, SyntaxError> {
                         Rule::word => {
                             code_end = span.end();
                             let mut inner = part.into_inner();
-                            let letter = inner
-                                .next()
-                                .and_then(|a| a.as_str().chars().next())
-                                .unwrap_or('?')
-                                .to_ascii_uppercase();
+                            let letter = match inner.next().and_then(|a| a.as_str().chars().next())
+                            {
+                                // ISO code's program number: `:0100` is `O0100`.
+                                Some(':') => 'O',
+                                c => c.unwrap_or('?').to_ascii_uppercase(),
+                            };
                             let text = inner.next().map_or("", |n| n.as_str());
                             let value = Decimal::parse(text).ok_or_else(|| SyntaxError {
                                 offset: span.start(),
@@ -262,6 +263,22 @@ mod tests {
         assert!(parse_line("%").unwrap().delimiter);
         assert!(parse_line("O0001 (SHAFT)").unwrap().get('O').is_some());
         assert!(parse_line("/ G00 X1.").unwrap().block_delete.is_some());
+    }
+
+    /// The forms real files take: `:0100` is a program number, `%` may stand before one on
+    /// its line, and a full-width `％` is a `%`.
+    #[test]
+    fn program_numbers_and_delimiters_as_files_carry_them() {
+        let b = parse_line(":0100").unwrap();
+        assert_eq!(b.get('O').map(|w| w.value.to_whole()), Some(Ok(100)));
+        let b = parse_line("%O1200(TOKARKA)").unwrap();
+        assert!(b.delimiter);
+        assert_eq!(b.get('O').map(|w| w.value.to_whole()), Some(Ok(1200)));
+        assert_eq!(b.comment.as_deref(), Some("TOKARKA"));
+        let b = parse_line(" ％ ").unwrap();
+        assert!(b.delimiter && b.words.is_empty());
+        assert!(parse_line("G00 X1. %").is_err());
+        assert!(parse_line("G00 :1").is_ok());
     }
 
     #[test]
