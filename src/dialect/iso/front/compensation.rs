@@ -337,8 +337,7 @@ impl Model {
     }
 
     fn straight_next(&mut self, mut s: Session, traverse: bool, p: P) -> Result<(), Refusal> {
-        let c = s.current;
-        let op = s.program;
+        let (c, op) = (s.current, s.program);
         let mut end = c;
         if p.1 == op.1 && p.0 == op.0 {
             // No motion in the plane.
@@ -682,18 +681,10 @@ impl Model {
         let ce = self.arc_data(op, end, centre, turn, None)?;
         let radius = s.radius;
         let arc_radius = hypot(ce.0 - end.0, ce.1 - end.1);
-        let mut theta = (c.1 - op.1).atan2(c.0 - op.0);
-        theta = if s.left {
-            theta - FRAC_PI_2
-        } else {
-            theta + FRAC_PI_2
-        };
+        let theta = (c.1 - op.1).atan2(c.0 - op.0);
+        let theta = theta + if s.left { -FRAC_PI_2 } else { FRAC_PI_2 };
         let mut delta = (ce.1 - op.1).atan2(ce.0 - op.0);
-        let alpha = if clockwise {
-            delta + FRAC_PI_2
-        } else {
-            delta - FRAC_PI_2
-        };
+        let alpha = delta + if clockwise { FRAC_PI_2 } else { -FRAC_PI_2 };
         let mut beta = if s.left { theta - alpha } else { alpha - theta };
         // beta from -90° to 270°
         beta = if beta > 1.5 * PI {
