@@ -226,6 +226,7 @@ impl Model {
     /// G41/G42 (a radius ncthread does not know), or a refusal: nothing more is followed.
     pub(super) fn forget(&mut self) {
         self.session = None;
+        self.arc_not_allowed = false;
         self.queue.clear();
         self.endpoint_valid = false;
     }
@@ -874,19 +875,25 @@ impl Model {
                         });
                     }
                     if l1 != 0.0 && valid && l2.abs() > l1.abs() + sweep_slack {
-                        return Err(gouge(
+                        return Err(refusal(
                             "Arc move in concave corner cannot be reached by the tool without gouging",
+                            "to reach this concave corner the compensated arc before it would have to sweep further than programmed, cutting into the part",
+                            MOVE_HELP,
                         ));
                     }
                 }
                 Queued::Straight { traverse, dir, end } => {
                     let dot = dir.0 * (p.0 - endpoint.0) + dir.1 * (p.1 - endpoint.1);
                     if valid && dot < 0.0 {
-                        return Err(gouge(if *traverse {
-                            "Straight traverse in concave corner cannot be reached by the tool without gouging"
-                        } else {
-                            "Straight feed in concave corner cannot be reached by the tool without gouging"
-                        }));
+                        return Err(refusal(
+                            if *traverse {
+                                "Straight traverse in concave corner cannot be reached by the tool without gouging"
+                            } else {
+                                "Straight feed in concave corner cannot be reached by the tool without gouging"
+                            },
+                            "a move before this corner is shorter than the tool's way back out of a concave corner: the compensated move would run backwards, cutting into the part",
+                            MOVE_HELP,
+                        ));
                     }
                     *end = p;
                 }
@@ -947,6 +954,8 @@ impl FrontEnd<'_> {
         match result {
             Ok(()) => true,
             Err(r) => {
+                // LinuxCNC stops here: nothing after it is followed.
+                self.comp.forget();
                 self.comp_refused(line, at, r);
                 false
             }
