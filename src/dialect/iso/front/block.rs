@@ -415,7 +415,7 @@ impl FrontEnd<'_> {
             if on && self.compensation {
                 self.comp_refusal(line, w, "Cannot turn cutter radius comp on when on");
             }
-            self.comp_switch(line, w, comp.clone(), self.compensation);
+            self.comp_switch(line, w, comp, self.compensation);
             self.compensation = on;
             self.ccomp = match comp {
                 Compensation::FromTool { right: true, .. }

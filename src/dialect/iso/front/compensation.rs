@@ -137,6 +137,13 @@ pub(super) struct Model {
     inch: bool,
 }
 
+/// `v > 1.0 || v < -1.0`, as LinuxCNC tests an asin's or acos's argument: a NaN is not
+/// beyond (`!(-1.0..=1.0).contains(&v)` would take it for beyond).
+#[allow(clippy::manual_range_contains)]
+fn beyond_one(v: f64) -> bool {
+    v > 1.0 || v < -1.0
+}
+
 /// TOOL_INSIDE_ARC.
 fn inside(left: bool, turn: i32) -> bool {
     (left && turn > 0) || (!left && turn < 0)
@@ -470,7 +477,7 @@ impl Model {
         let d = oldrad_uncomp * alpha.cos();
         let d2 = if tool_inside { d - radius } else { d + radius };
         let l = d2 / oldrad;
-        if l > 1.0 || l < -1.0 {
+        if beyond_one(l) {
             return Err(gouge(
                 "Arc to straight motion makes a corner the compensated tool can't fit in without gouging",
             ));
@@ -770,7 +777,7 @@ impl Model {
                 (arc_radius + radius, cy - radius)
             };
             let l = toward_nominal / dist_from_center;
-            if l > 1.0 || l < -1.0 {
+            if beyond_one(l) {
                 return Err(gouge(
                     "Arc move in concave corner cannot be reached by the tool without gouging",
                 ));
@@ -802,7 +809,7 @@ impl Model {
             ));
         }
         let a = (oldrad * oldrad + arc_cc * arc_cc - newrad * newrad) / (2.0 * oldrad * arc_cc);
-        if a > 1.0 || a < -1.0 {
+        if beyond_one(a) {
             return Err(gouge(
                 "Arc to arc motion makes a corner the compensated tool can't fit in without gouging",
             ));
