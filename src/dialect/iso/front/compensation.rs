@@ -18,9 +18,9 @@
 //! **[evidence]** `interp_convert.cc`: `convert_straight_comp1` (LinuxCNC line 5162),
 //! `convert_straight_comp2` (5291), `convert_arc_comp1` (647), `convert_arc_comp2` (797),
 //! `convert_cutter_compensation_off` (1910), `convert_stop` (4554), `convert_straight`'s G53
-//! check (4811) and `convert_arc`'s `arc_not_allowed` (382); `interp_arc.cc`:
-//! `arc_data_comp_ijk` (78), `arc_data_comp_r` (197), `arc_data_ijk`, `arc_data_r`;
-//! `interp_queue.cc`: `move_endpoint_and_flush` (577), `dequeue_canons`, `qc_scale`;
+//! check (4814) and `convert_arc`'s `arc_not_allowed` (382); `interp_arc.cc`:
+//! `arc_data_comp_ijk` (78), `arc_data_comp_r` (201), `arc_data_ijk`, `arc_data_r`;
+//! `interp_queue.cc`: `move_endpoint_and_flush` (571), `dequeue_canons`, `qc_scale`;
 //! `interp_find.cc`: `find_turn` (687).
 
 use std::f64::consts::{FRAC_PI_2, PI, SQRT_2};
