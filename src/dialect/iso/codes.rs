@@ -56,7 +56,7 @@ pub const ISOR_ARC: Code = error(
 );
 pub const ISOR_COMPENSATION: Code = error(
     "ISOR015",
-    "a command LinuxCNC refuses while cutter radius compensation is on (a second G41/G42, a tool change, G28/G30, G76)",
+    "a command LinuxCNC refuses while cutter radius compensation is on (a second G41/G42, a tool change, G28/G30, G76), or a path it cannot compensate with G41.1/G42.1's known radius (a short entry move, a tool larger than an arc, a concave corner that gouges)",
 );
 pub const ISOR_BLOCK_DELETE: Code = warning(
     "ISOR016",

@@ -99,6 +99,8 @@ struct FrontEnd<'a> {
     surface: (Option<Decimal>, bool),
     /// Cutter radius compensation is on (G41/G42 and their `.1`, until G40).
     compensation: bool,
+    /// LinuxCNC's compensated path, followed while the radius is known (G41.1/G42.1 D > 0).
+    comp: compensation::Model,
     /// The position as written (mm, X a diameter), before it was rounded onto the grid:
     /// incremental moves add to it and arcs are computed from it, so that a value is rounded
     /// once, as LinuxCNC computes in doubles. An axis that does not round to the known
@@ -169,6 +171,7 @@ struct FrontEnd<'a> {
 
 mod arc;
 mod block;
+mod compensation;
 mod drilling;
 mod g76;
 mod line;

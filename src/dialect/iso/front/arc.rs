@@ -62,6 +62,9 @@ impl FrontEnd<'_> {
             words.take('P'),
         );
         let at = code_word.or(axis).or(i).or(k).or(r);
+        if !self.comp_arc_allowed(line, at) {
+            return;
+        }
         if let Some(g4) = words.has_g(G4) {
             return self.arc_error(
                 line,
@@ -109,6 +112,9 @@ impl FrontEnd<'_> {
         let Some(centre) = centre_exact.and_then(|c| self.arc_centre(line, &a, c)) else {
             return;
         };
+        if !self.comp_arc(line, at, (a.start_exact, a.end_exact), (i, k, r), clockwise) {
+            return;
+        }
         let kind = ItemKind::Arc {
             to: end,
             centre: Box::new(centre),
@@ -154,8 +160,14 @@ impl FrontEnd<'_> {
                 );
                 None
             }
-            (Some(r), false) => self.centre_from_r(line, a, r, target, clockwise),
-            (None, true) => self.centre_from_ik(line, a, i, k),
+            (Some(r), false) => {
+                self.comp_arc_start(line, a.at, (a.start_exact, a.end_exact), Some(r), clockwise)?;
+                self.centre_from_r(line, a, r, target, clockwise)
+            }
+            (None, true) => {
+                self.comp_arc_start(line, a.at, (a.start_exact, a.end_exact), None, clockwise)?;
+                self.centre_from_ik(line, a, i, k)
+            }
         }
     }
 

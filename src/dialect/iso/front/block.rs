@@ -416,6 +416,7 @@ impl FrontEnd<'_> {
             if on && self.compensation {
                 self.comp_refusal(line, w, "Cannot turn cutter radius comp on when on");
             }
+            self.comp_switch(line, w, comp, self.compensation);
             self.compensation = on;
             self.ccomp = match comp {
                 Compensation::FromTool { right: true, .. }
@@ -583,6 +584,9 @@ impl FrontEnd<'_> {
         } else {
             Some(None)
         };
+        if to.is_some() && feed.is_some() && !self.comp_machine_move(line, w) {
+            return None;
+        }
         match (to, feed) {
             (Some(to), Some(feed)) if to != Pos::UNKNOWN => Some(MachineMove::Machine { to, feed }),
             (Some(_), Some(_)) => {
@@ -616,7 +620,15 @@ impl FrontEnd<'_> {
             )
         );
         if !(axes || moves_without_axes) {
-            return self.motion_code_without_axes(b);
+            self.motion_code_without_axes(b);
+            // LinuxCNC moves a G0/G1 line without axes to where it is, compensated or not.
+            if let Some(m @ (Motion::Rapid | Motion::Feed)) = b.asks.motion
+                && (m == Motion::Rapid || self.feed.is_some_and(|f| f.0 > 0))
+            {
+                let at = b.words.g.iter().find(|(c, _)| [G0, G1].contains(c));
+                self.comp_without_axes(b.line, at.map(|(_, w)| *w), m == Motion::Rapid);
+            }
+            return;
         }
         match self.motion {
             Some(m) => self.motion(b.line, &mut b.words, m, b.span),
@@ -691,6 +703,7 @@ impl FrontEnd<'_> {
         let Some((code, w)) = b.asks.stop else {
             return;
         };
+        self.comp_stop(b.line, w, code >= 2);
         let end = match code {
             0 | 1 => {
                 let at = self.r.span(b.line, w.range.clone());

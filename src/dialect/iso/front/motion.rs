@@ -40,6 +40,13 @@ impl FrontEnd<'_> {
             .iter()
             .find(|(c, _)| MOTION.contains(c))
             .map(|(_, w)| *w);
+        if !matches!(
+            motion,
+            Motion::Rapid | Motion::Feed | Motion::Arc { .. } | Motion::Drill(_) | Motion::CycleOff
+        ) {
+            // A move `convert_straight` makes, which allows an arc after G40 again.
+            self.comp.straight_motion();
+        }
         match motion {
             Motion::Thread | Motion::Tap if self.compensation => {
                 let at = code_word.or(words.other.get(&'Z').copied());
@@ -51,7 +58,7 @@ impl FrontEnd<'_> {
                     );
                 }
             }
-            Motion::Rapid => self.rapid(line, words, span),
+            Motion::Rapid => self.rapid(line, words, code_word, span),
             Motion::Feed => self.feed_move(line, words, code_word, span),
             Motion::Arc { clockwise } if self.plane_xy => {
                 let g = if clockwise { "G2" } else { "G3" };
@@ -86,9 +93,19 @@ impl FrontEnd<'_> {
     }
 
     /// G0 to the line's target.
-    fn rapid(&mut self, line: Line<'_>, words: &mut Words<'_>, span: Span) {
+    fn rapid(
+        &mut self,
+        line: Line<'_>,
+        words: &mut Words<'_>,
+        code_word: Option<&Word>,
+        span: Span,
+    ) {
         let start = self.exact_start();
+        let at = code_word.or(words.other.get(&'X').or(words.other.get(&'Z')).copied());
         if let Some(to) = self.target(line, words) {
+            if !self.comp_straight(line, at, true, start, true) {
+                return;
+            }
             self.push(ItemKind::Rapid { to }, span);
             self.r.pos = ItemKind::Rapid { to }.end_position(self.r.pos);
             self.exact_after_move(start);
@@ -111,6 +128,9 @@ impl FrontEnd<'_> {
         let Some(feed) = self.feed_rate(line, code_word.or(axis), "G1", span) else {
             return;
         };
+        if !self.comp_straight(line, code_word.or(axis), false, start, true) {
+            return;
+        }
         self.push(ItemKind::Feed { to, feed }, span);
         self.r.pos = ItemKind::Feed { to, feed }.end_position(self.r.pos);
         self.exact_after_move(start);

@@ -79,6 +79,7 @@ impl<'a> FrontEnd<'a> {
             surface_speed: false,
             surface: (None, false),
             compensation: false,
+            comp: Default::default(),
             exact: (None, None),
             exact_target: (None, None),
             absolute_centres: false,
