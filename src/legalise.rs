@@ -110,6 +110,26 @@ fn kept_block_moves(
     to: Option<DialectId>,
     feed_mode: Option<FeedMode>,
 ) -> Option<Diagnostic> {
+    if context.cycle
+        && let Some(to) = to.filter(|&to| to != dialect)
+    {
+        // Said once per cycle, at its block that moves: a G71's first block and its
+        // contour's blocks belong to it.
+        if !context.moves {
+            return None;
+        }
+        return Some(
+            Diagnostic::new(
+                codes::OPAQUE_MEANING,
+                format!(
+                    "`{text}`: a {dialect} canned cycle (or a move to the reference point), kept as written: its moves are the control's, and ncthread writes them for another control only under a declared machine model, which this version does not have yet; the output is {to}"
+                ),
+            )
+            .help(format!(
+                "convert to {dialect} (the same control runs the cycle), or write the cycle's moves in the source"
+            )),
+        );
+    }
     let why = match to {
         Some(to) if to != dialect => Some(format!(
             "it may move the machine and only the {dialect} control can say it; the output is {to}"

@@ -50,6 +50,15 @@ fn every_refusal_in_the_table_is_a_refusal_in_practice() {
                     continue;
                 }
                 let conversion = common::convert_case(case, target.id());
+                // A FANUC cycle kept as written is refused by the shared legalisation (LG003),
+                // which stops before the target's table is asked.
+                if conversion
+                    .diagnostics
+                    .iter()
+                    .any(|d| d.is_error() && d.code.id == "LG003")
+                {
+                    continue;
+                }
                 assert!(
                     conversion.output.is_none()
                         && conversion

@@ -86,6 +86,10 @@ pub struct ModalContext {
     /// meaning is not known): positions after it are unknown. A block that cannot move
     /// (`/G64 P0.01`) leaves the position known.
     pub moves: bool,
+    /// The block is a canned cycle (or a move to the machine's reference point) that the
+    /// reader read and checked, kept as written because no machine model says its moves: not
+    /// an unsupported block kept under `--unsupported warn`.
+    pub cycle: bool,
 }
 
 impl ModalContext {

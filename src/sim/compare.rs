@@ -214,6 +214,7 @@ fn describe(m: &Motion) -> String {
         Motion::Stop { optional: true } => "an optional stop (M1)".into(),
         Motion::Stop { optional: false } => "a program stop (M0)".into(),
         Motion::Dwell { time } => format!("a dwell of {} s", Length(*time).mm()),
+        Motion::Kept { .. } => "a block kept as written".into(),
     }
 }
 
@@ -486,9 +487,13 @@ impl Judge {
             (Motion::State(_), Motion::State(_))
             | (Motion::Stop { .. }, Motion::Stop { .. })
             | (Motion::Dwell { .. }, Motion::Dwell { .. })
+            | (Motion::Kept { .. }, Motion::Kept { .. })
                 if a.motion == b.motion =>
             {
                 None
+            }
+            (Motion::Kept { .. }, Motion::Kept { .. }) => {
+                Some("the blocks kept as written differ".into())
             }
             _ => Some(format!("{} ≠ {}", describe(&a.motion), describe(&b.motion))),
         }

@@ -70,6 +70,12 @@ pub enum Motion {
     Dwell {
         time: i64,
     },
+    /// A block kept as written that the control runs by its own rules (a FANUC canned
+    /// cycle): `text` is a hash of its words, so that two programs agree only where they keep
+    /// the same block. The position after it is unknown.
+    Kept {
+        text: u64,
+    },
     /// The tool stands where a synchronised move ended, in the cut, while the spindle turns
     /// until the index pulse (and the start angle after it): a pass that waits for the
     /// index right where another ended (`from` = `to`).
@@ -148,7 +154,7 @@ impl Motion {
     pub fn moves(&self) -> bool {
         !matches!(
             self,
-            Motion::State(_) | Motion::Stop { .. } | Motion::Dwell { .. }
+            Motion::State(_) | Motion::Stop { .. } | Motion::Dwell { .. } | Motion::Kept { .. }
         )
     }
 }
@@ -524,7 +530,19 @@ impl Machine {
                 self.event(Motion::Dwell { time }, span);
             }
             ItemKind::FeedMode(mode) => self.per_minute = *mode == crate::ir::FeedMode::PerMin,
-            ItemKind::Opaque { block: Some(c), .. } => {
+            ItemKind::Opaque {
+                block: Some(c),
+                text,
+                ..
+            } => {
+                if c.cycle {
+                    self.event(
+                        Motion::Kept {
+                            text: kept_hash(text),
+                        },
+                        span,
+                    );
+                }
                 if c.moves {
                     self.pos = Pos::UNKNOWN;
                 }
@@ -764,6 +782,10 @@ impl Segment {
                 String::new(),
             ),
             Motion::Dwell { time } => ("dwell", format!("  {} s", Length(time).mm())),
+            Motion::Kept { text } => (
+                "kept",
+                format!("  a block the control runs by its own rules (#{text:016x})"),
+            ),
         };
         let pass = self.pass.map_or(String::new(), |p| format!(" pass {p}"));
         format!(
@@ -847,6 +869,10 @@ impl Segment {
                 "motion": "dwell",
                 "seconds": time as f64 / 10_000.0,
             }),
+            Motion::Kept { text } => serde_json::json!({
+                "motion": "kept",
+                "block": format!("{text:016x}"),
+            }),
         };
         if let (Some(v), serde_json::Value::Object(extra)) = (v.as_object_mut(), extra) {
             v.extend(extra);
@@ -893,6 +919,17 @@ pub fn chain_moves(from: Pos, chain: &[ThreadPass]) -> Vec<(Pos, Pos, Option<Ang
             _ => None,
         })
         .collect()
+}
+
+/// A kept block's words as a hash (FNV-1a), blanks and case left out: the same block
+/// written `G71 P80 Q130` or `g71p80q130` is the same.
+fn kept_hash(text: &str) -> u64 {
+    text.bytes()
+        .filter(|b| !b.is_ascii_whitespace())
+        .map(|b| b.to_ascii_uppercase())
+        .fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+            (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3)
+        })
 }
 
 #[cfg(test)]

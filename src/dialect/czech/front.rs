@@ -292,6 +292,7 @@ impl<'a> FrontEnd<'a> {
             per_minute: None,
             // The reader cannot tell: positions after the block are unknown.
             moves: true,
+            cycle: false,
         };
         self.r
             .keep_opaque(code.to_string(), code_span, None, context);

@@ -9,11 +9,11 @@ use crate::diag::codes::{error, warning};
 pub const FANR_SYNTAX: Code = error("FANR001", "the block cannot be read");
 pub const FANR_UNSUPPORTED: Code = error(
     "FANR002",
-    "a code or word ncthread does not read in a FANUC program (G90/G94 cycles, G70–G75, G28, G53, tapping…)",
+    "a code or word ncthread does not read in a FANUC program (drilling and tapping cycles, macro calls, the machine builder's M codes…)",
 );
 pub const FANR_G76: Code = error(
     "FANR003",
-    "the G76 threading cycle: its pass placement is not documented in any source ncthread holds",
+    "retired: G76 was refused here; it is now kept as written (FANR018 for its mistakes)",
 );
 pub const FANR_G92_CHAMFER: Code = error(
     "FANR004",
@@ -69,6 +69,11 @@ pub const FANR_NOT_RUN: Code = warning(
     "a line the control does not run, read as a comment: a title before the program's start, Denford's `[BILLET` stock line",
 );
 
+pub const FANR_CYCLE: Code = error(
+    "FANR018",
+    "a canned cycle written wrongly: a word its form does not take, P or Q naming no block (or two), a contour that does not follow its cycle, holds other than G00–G03 or turns back (type I), a G76 P out of range",
+);
+
 // writer
 pub const FANW_PRECISION: Code = error(
     "FANW001",
@@ -122,6 +127,7 @@ pub const READ: &[Code] = &[
     FANR_INCH,
     FANR_INCH_ROUNDED,
     FANR_NOT_RUN,
+    FANR_CYCLE,
 ];
 
 /// The writer's codes, in the order README.md lists them.

@@ -570,10 +570,19 @@ impl Emitter<'_> {
             ItemKind::Opaque {
                 dialect: super::ID,
                 text,
-                ..
+                block: context,
             } => {
                 self.sync_end = None;
-                block.words.push(text.clone());
+                if context.is_some_and(|c| c.cycle) {
+                    // A cycle may leave another motion code (G90, G94) and F in force: the
+                    // next move writes both.
+                    self.motion = None;
+                    self.f = None;
+                }
+                // A contour's block with only its number keeps it (G70's P and Q name it).
+                if !text.is_empty() {
+                    block.words.push(text.clone());
+                }
             }
             ItemKind::Opaque { dialect, text, .. } => {
                 self.as_comment(item, block, &format!("{dialect}: {text}"));

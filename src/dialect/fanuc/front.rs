@@ -25,6 +25,7 @@ use crate::ir::{ItemKind, ModalContext, Pos, Program};
 use crate::source::{Line, SourceFile, Span};
 
 mod block;
+mod cycles;
 mod motion;
 mod numbers;
 
@@ -77,6 +78,8 @@ impl Motion {
 enum FRegister {
     Feed(Length),
     Lead(Lead),
+    /// Not known after this G70–G73: the contour's F words run in G70.
+    AfterCycle(i64),
 }
 
 /// A G92 cycle's words, kept for its repeat blocks.
@@ -125,6 +128,16 @@ struct FrontEnd<'a> {
     no_point: Option<(Span, String)>,
     /// The first inch value rounded onto the 0.0001 mm grid.
     inch_rounded: Option<Span>,
+    /// The contour of a G71–G73 being read (`front/cycles.rs`).
+    contour: Option<cycles::Contour>,
+    /// A G90 or G94 cycle in force: a block with only axes repeats it.
+    kept_modal: Option<i64>,
+    /// After this cycle (G70–G76), the next move must name its G code.
+    motion_after_cycle: Option<i64>,
+    /// How many blocks carry each block number.
+    numbers: std::collections::HashMap<u32, u32>,
+    /// The P and Q words of the cycles, checked at the end.
+    references: Vec<cycles::Reference>,
 }
 
 /// Reads a FANUC program. The program holds every item that could be read; it is usable
@@ -161,8 +174,14 @@ pub(crate) fn read(
         moved: false,
         no_point: None,
         inch_rounded: None,
+        contour: None,
+        kept_modal: None,
+        motion_after_cycle: None,
+        numbers: std::collections::HashMap::new(),
+        references: Vec::new(),
     };
     fe.lines(src);
+    fe.cycle_closing();
     fe.closing_notes(src);
     fe.r.finish()
 }
@@ -359,6 +378,15 @@ impl FrontEnd<'_> {
     fn block(&mut self, line: Line<'_>, block: &Block) {
         let first = self.r.items.len();
         let code_span = self.span(line, block.code_range.clone());
+        if let Some(n) = block.number {
+            *self.numbers.entry(n).or_default() += 1;
+        }
+        if self.contour.is_some() && (!block.words.is_empty() || block.number.is_some()) {
+            self.contour_block(line, block);
+            self.r
+                .stamp_block(first, block.number, block.comment.clone(), code_span, false);
+            return;
+        }
         if block.words.is_empty() {
             // A comment block is a block too: between two G32 blocks it is refused (whether
             // the chain waits there is documented nowhere).
@@ -398,6 +426,20 @@ impl FrontEnd<'_> {
         }
     }
 
+    /// A block's code as written, without its block number (the item carries it).
+    fn kept_text(&self, line: Line<'_>, block: &Block) -> String {
+        let code = line.text[block.code_range.clone()].trim();
+        match block.number {
+            Some(_) => code
+                .trim_start_matches(['N', 'n'])
+                .trim_start()
+                .trim_start_matches(|c: char| c.is_ascii_digit())
+                .trim_start()
+                .to_string(),
+            None => code.to_string(),
+        }
+    }
+
     /// Keeps a block as written (`--unsupported warn`), unless it changes followed state.
     fn keep(&mut self, line: Line<'_>, block: &Block, state: &[&Word]) {
         if let Some(w) = state.first() {
@@ -406,16 +448,7 @@ impl FrontEnd<'_> {
                 .state_in_opaque(&UNSUPPORTED, span, &line.text[w.range.clone()]);
             return;
         }
-        let code = line.text[block.code_range.clone()].trim().to_string();
-        let code = match block.number {
-            Some(_) => code
-                .trim_start_matches(['N', 'n'])
-                .trim_start()
-                .trim_start_matches(|c: char| c.is_ascii_digit())
-                .trim_start()
-                .to_string(),
-            None => code,
-        };
+        let code = self.kept_text(line, block);
         let incremental = block.words.iter().any(|w| matches!(w.letter, 'U' | 'W'));
         let span = self.span(line, block.code_range.clone());
         self.r.keep_opaque(
@@ -428,6 +461,7 @@ impl FrontEnd<'_> {
                 incremental,
                 per_minute: Some(self.per_minute),
                 moves: true,
+                cycle: false,
             },
         );
         self.sync_end = None;
@@ -488,14 +522,26 @@ mod tests {
                 to: Pos::new(mm("20"), mm("5"))
             }
         );
-        // A lead, a feed or a dwell without a point: no source settles its unit.
-        for text in [
-            "G00 X20. Z5.\nG32 Z-20. F15\n",
-            "G00 X20. Z5.\nG01 Z-20. F2\n",
-            "G04 U5\n",
-        ] {
+        // A lead or a dwell without a point: no source settles its unit.
+        for text in ["G00 X20. Z5.\nG32 Z-20. F15\n", "G04 U5\n"] {
             assert!(codes(&read(text, "").1).contains(&"FANR006"), "{text}");
         }
+        // A feed without a point: 0.0001 mm/rev under G99, whole mm/min under G98 (the
+        // spec's decision); in inches, not settled.
+        for (text, feed) in [
+            ("G00 X20. Z5.\nG01 Z-20. F2000\n", 2_000),
+            ("G98\nG00 X20. Z5.\nG01 Z-20. F150\n", 1_500_000),
+        ] {
+            let (items, d) = read(text, "");
+            assert!(!codes(&d).contains(&"FANR006"), "{text}: {d:?}");
+            assert!(
+                items
+                    .iter()
+                    .any(|i| matches!(i.kind, ItemKind::Feed { feed: f, .. } if f.0 == feed)),
+                "{text}: {items:?}"
+            );
+        }
+        assert!(codes(&read("G20\nG00 X2. Z1.\nG01 Z-2. F2\n", "").1).contains(&"FANR006"));
     }
 
     #[test]

@@ -26,7 +26,17 @@ pub struct Fanuc;
 /// T, U or W words.
 fn fanuc_word(words: &[String]) -> bool {
     let g92_with_f = words.iter().any(|w| w == "G92") && words.iter().any(|w| w.starts_with('F'));
+    let has = |g: &str| words.iter().any(|w| w == g);
+    let p = words.iter().find(|w| w.starts_with('P'));
+    // G76 P010060 (mm rr aa) and G76 X… F… are FANUC's two-block G76 (LinuxCNC's has P with a
+    // point, and no F); G70–G73 with P name a contour's first block (LinuxCNC's, only Q).
+    let g76 = has("G76")
+        && (words.iter().any(|w| w.starts_with('F'))
+            || p.is_some_and(|p| p.len() == 7 && p[1..].bytes().all(|b| b.is_ascii_digit())));
+    let g7x_p = ["G70", "G71", "G72", "G73"].iter().any(|g| has(g)) && p.is_some();
     g92_with_f
+        || g76
+        || g7x_p
         || words.iter().any(|w| {
             matches!(w.as_str(), "G32" | "G50" | "G98" | "G99")
                 || (w.len() == 5
@@ -85,7 +95,7 @@ impl Dialect for Fanuc {
     }
 
     fn mark_description(&self) -> &'static str {
-        "a FANUC mark (an `O0001` program number, G32, G50, G98/G99, G92 with F, T0101, or U/W words)"
+        "a FANUC mark (an `O0001` program number, G32, G50, G98/G99, G92 with F, G76 with F or P010060, G70–G73 with P, T0101, or U/W words)"
     }
 
     fn tie_rank(&self) -> u8 {

@@ -44,50 +44,52 @@ use crate::source::{Line, Span};
 
 /// What one block asks, its words sorted by modal group (LinuxCNC's `block_struct`).
 #[derive(Default)]
-struct Words<'w> {
+pub(super) struct Words<'w> {
     /// What ncthread does not read, each with what to say about it, in the block's order.
     unsupported: Vec<(Span, String)>,
     /// The first modal code ncthread does not read (a cycle: the blocks after it repeat it).
     modal_unsupported: Option<&'w Word>,
-    /// A code refused by name (G76), its diagnostic said.
+    /// A code refused by name, its diagnostic said.
     refused_by_name: bool,
+    /// A cycle ncthread keeps as written (`front/cycles.rs`).
+    cycle: Option<(i64, &'w Word)>,
     /// The first word that repeats a letter or a code of its group.
     conflict: Option<&'w Word>,
     /// G00 G01 G02 G03 G32 G92.
-    motion: Option<(Motion, &'w Word)>,
+    pub(super) motion: Option<(Motion, &'w Word)>,
     /// G04 (one-shot).
-    dwell: Option<&'w Word>,
+    pub(super) dwell: Option<&'w Word>,
     /// G50: the spindle's limit, its S.
-    limit: Option<&'w Word>,
+    pub(super) limit: Option<&'w Word>,
     /// G20 (true) or G21.
-    units: Option<(bool, &'w Word)>,
+    pub(super) units: Option<(bool, &'w Word)>,
     /// G98 (true: per minute) or G99.
-    feed_mode: Option<(bool, &'w Word)>,
+    pub(super) feed_mode: Option<(bool, &'w Word)>,
     /// G96 (true: a surface speed) or G97.
-    speed_mode: Option<(bool, &'w Word)>,
+    pub(super) speed_mode: Option<(bool, &'w Word)>,
     /// G40 G41 G42.
-    comp: Option<(Compensation, &'w Word)>,
+    pub(super) comp: Option<(Compensation, &'w Word)>,
     /// G54 – G59, as 1 – 6.
-    offset: Option<(u8, &'w Word)>,
+    pub(super) offset: Option<(u8, &'w Word)>,
     /// The M codes read, in the block's order.
-    m_codes: Vec<(i64, &'w Word)>,
+    pub(super) m_codes: Vec<(i64, &'w Word)>,
     /// X Z U W I K R F S T P Q O, in the block's order.
-    letters: Vec<&'w Word>,
+    pub(super) letters: Vec<&'w Word>,
 }
 
 impl<'w> Words<'w> {
     /// The word of this letter.
-    fn get(&self, c: char) -> Option<&'w Word> {
+    pub(super) fn get(&self, c: char) -> Option<&'w Word> {
         self.letters.iter().copied().find(|w| w.letter == c)
     }
 
     /// The first M code `m`.
-    fn m(&self, m: i64) -> Option<&'w Word> {
+    pub(super) fn m(&self, m: i64) -> Option<&'w Word> {
         self.m_codes.iter().find(|(c, _)| *c == m).map(|(_, w)| *w)
     }
 
     /// Whether the block has X, Z, U or W.
-    fn moves(&self) -> bool {
+    pub(super) fn moves(&self) -> bool {
         ['X', 'Z', 'U', 'W'].iter().any(|&c| self.get(c).is_some())
     }
 
@@ -160,6 +162,45 @@ impl FrontEnd<'_> {
             self.refuse_unsupported(line, block, words, thread);
             return None;
         }
+        if let Some((g, w)) = words.cycle {
+            self.kept_cycle(line, block, &words, g, Some(w));
+            return None;
+        }
+        if let Some(g) = self.motion_after_cycle {
+            if words.motion.is_some() {
+                self.motion_after_cycle = None;
+            } else if words.dwell.is_none() && words.moves() {
+                let text = &line.text[block.code_range.clone()];
+                self.error(
+                    codes::FANR_CYCLE,
+                    line,
+                    block.code_range.clone(),
+                    format!("`{text}` moves without a G code after the G{g} cycle: which of G00–G03 is in force after a cycle is the control's"),
+                    "name the motion: `G00 X100. Z100.` or `G01 X50. F0.2`",
+                );
+                return None;
+            }
+        }
+        if let Some(g) = self.kept_modal {
+            if words.motion.is_some() {
+                self.kept_modal = None;
+            } else if words.dwell.is_none() && words.moves() {
+                // A block with only axes repeats the G90/G94 cycle.
+                self.kept_cycle(line, block, &words, g, None);
+                return None;
+            }
+        }
+        if let Some(w) = ['D', 'A', 'C'].iter().find_map(|&c| words.get(c)) {
+            let text = &line.text[w.range.clone()];
+            self.error(
+                codes::FANR_UNSUPPORTED,
+                line,
+                w.range.clone(),
+                format!("`{text}`: D, A and C belong to a canned cycle or its contour"),
+                "remove it",
+            );
+            return None;
+        }
         if let Some(w) = words.get('O') {
             self.program_number(line, block, w);
             return None;
@@ -198,7 +239,8 @@ impl FrontEnd<'_> {
             match w.letter {
                 'G' => self.sort_g(line, w, &mut words),
                 'M' => self.sort_m(line, w, &mut words)?,
-                'X' | 'Z' | 'U' | 'W' | 'I' | 'K' | 'R' | 'F' | 'S' | 'T' | 'P' | 'Q' | 'O' => {
+                'X' | 'Z' | 'U' | 'W' | 'I' | 'K' | 'R' | 'F' | 'S' | 'T' | 'P' | 'Q' | 'O'
+                | 'D' | 'A' | 'C' => {
                     if words.letters.iter().any(|o| o.letter == w.letter) {
                         words.conflict.get_or_insert(w);
                     }
@@ -265,16 +307,7 @@ impl FrontEnd<'_> {
             // The ZX plane is a lathe's only one; G80 cancels drilling cycles, which
             // ncthread never reads.
             18 | 80 => {}
-            76 => {
-                words.refused_by_name = true;
-                self.error(
-                    codes::FANR_G76,
-                    line,
-                    w.range.clone(),
-                    format!("`{text}`: the G76 threading cycle is not read"),
-                    "its pass placement (and the two-block form's P, Q, R words) is not documented in any source ncthread holds, and its chamfer is a machine parameter: write the passes as G32 blocks (ncthread writes every thread that way)",
-                );
-            }
+            g if super::cycles::is_kept(g) => set(w, &mut words.cycle, g, conflict),
             _ => {
                 // A cycle code is modal: the blocks after it would repeat it.
                 if matches!(g, 90 | 94 | 83..=89) {
@@ -328,7 +361,7 @@ impl<'w> Words<'w> {
     }
 
     /// M07 and M08, in the block's order.
-    fn coolant_on(&self, span: Span) -> Vec<(Coolant, Span)> {
+    pub(super) fn coolant_on(&self, span: Span) -> Vec<(Coolant, Span)> {
         self.m_codes
             .iter()
             .filter_map(|(m, _)| match m {
@@ -416,7 +449,7 @@ impl FrontEnd<'_> {
                 "write `O0001 (NAME)` as the program's first line",
             );
         } else if let Some(n) = self.whole(line, w)
-            && !(1..=9999).contains(&n)
+            && !(1..=99_999_999).contains(&n)
         {
             let text = &line.text[w.range.clone()];
             self.error(
@@ -424,7 +457,7 @@ impl FrontEnd<'_> {
                 line,
                 w.range.clone(),
                 format!("`{text}` is not a program number"),
-                "program numbers are O1 to O9999",
+                "program numbers are O1 to O9999 (O99999999 on controls with eight digits, and Haas's five)",
             );
         }
     }

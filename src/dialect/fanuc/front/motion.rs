@@ -200,10 +200,10 @@ impl FrontEnd<'_> {
             (Some(f), _) => f,
             (None, Some(FRegister::Feed(f))) => f,
             (None, register) => {
-                let why = if matches!(register, Some(FRegister::Lead(_))) {
-                    "F was last a thread's lead; whether this control feeds at it is not settled by any source ncthread holds"
-                } else {
-                    "no feed F is set yet"
+                let why = match register {
+                    Some(FRegister::Lead(_)) => "F was last a thread's lead; whether this control feeds at it is not settled by any source ncthread holds".to_string(),
+                    Some(FRegister::AfterCycle(g)) => format!("the feed after the G{g} cycle is the control's (its F, or its contour's, which G70 runs)"),
+                    _ => "no feed F is set yet".to_string(),
                 };
                 self.error(
                     codes::FANR_NO_FEED,

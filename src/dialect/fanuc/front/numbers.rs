@@ -67,6 +67,10 @@ impl FrontEnd<'_> {
             let scale = match (unit, self.inch) {
                 (Unit::Axis, false) => 3,
                 (Unit::Axis, true) => 4,
+                // A feed without a point, in mm: whole mm/min under G98, 0.0001 mm/rev under
+                // G99. **[decided]** (spec fanuc.md)
+                (Unit::Feed, false) if self.per_minute => 0,
+                (Unit::Feed, false) => 4,
                 _ => {
                     let text = &line.text[word.range.clone()];
                     let what = match unit {

@@ -309,6 +309,7 @@ impl FrontEnd<'_> {
             incremental: self.incremental,
             per_minute: Some(self.feed_mode != Some(FeedMode::PerRev)),
             moves: may_move(line, block),
+            cycle: false,
         };
         let text = line.text.trim().to_string();
         self.r

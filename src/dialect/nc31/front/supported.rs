@@ -132,6 +132,7 @@ impl FrontEnd<'_> {
             per_minute: None,
             // The reader cannot tell: positions after the block are unknown.
             moves: true,
+            cycle: false,
         };
         self.r
             .keep_opaque(text, span, frames[0].frame.number, context);
