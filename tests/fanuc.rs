@@ -26,7 +26,12 @@ fn judge(
     profile: &ncthread::profile::Profile,
     cmd: &std::path::Path,
 ) -> Result<bool, String> {
-    let ngc = match translate(fanuc, calculator) {
+    let system_a = if profile.fanuc.gcode_system == ncthread::profile::GcodeSystem::B {
+        common::fanuc::from_system_b(fanuc)
+    } else {
+        Ok(fanuc.to_string())
+    };
+    let ngc = match system_a.and_then(|a| translate(&a, calculator)) {
         Ok(ngc) => ngc,
         Err(why) if why.starts_with("skip:") => {
             eprintln!("{name}: not judged ({why})");

@@ -45,7 +45,7 @@ pub(crate) mod value;
 pub use crate::dialect::czech::profile::{
     AngleSource, Constant8, CzechArcs, CzechDwell, CzechProfile, InitialMotion,
 };
-pub use crate::dialect::fanuc::profile::{DecimalPoint, FanucProfile, ToolOffset};
+pub use crate::dialect::fanuc::profile::{DecimalPoint, FanucProfile, GcodeSystem, ToolOffset};
 pub use crate::dialect::iso::profile::{BlockDelete, IsoProfile, ToolChange};
 pub use crate::dialect::nc31::profile::{Nc31ArcDirection, Nc31Profile};
 

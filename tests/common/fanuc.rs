@@ -122,6 +122,11 @@ pub fn translate(fanuc: &str, calculator: bool) -> Result<String, String> {
                 }
                 40 => now.push("G40".into()),
                 54..=59 => now.push(format!("G{g}")),
+                70..=76 | 90 | 94 | 28 | 30 | 53 => {
+                    return Err(format!(
+                        "skip: G{g} is kept as written, its moves are the control's"
+                    ));
+                }
                 _ => return Err(format!("G{g} is not in the subset")),
             }
         }
@@ -281,4 +286,49 @@ pub fn translate(fanuc: &str, calculator: bool) -> Result<String, String> {
         out.extend(after);
     }
     Ok(out.join("\n") + "\n")
+}
+
+/// A program of FANUC's G-code system B in system A's words, for [`translate`]: G33 is G32,
+/// G92 S the spindle limit G50 S, G94/G95 the feed modes G98/G99, G77/G79 the cycles G90/G94,
+/// G90 (absolute) says nothing; G91 (incremental) is not translated.
+pub fn from_system_b(text: &str) -> Result<String, String> {
+    let mut out = String::new();
+    for line in text.lines() {
+        let mut words: Vec<String> = Vec::new();
+        let mut rest = line;
+        // Comments as they are; the code word by word.
+        let code_end = rest.find('(').unwrap_or(rest.len());
+        let (code, comment) = rest.split_at(code_end);
+        rest = comment;
+        let mut limit = false;
+        for w in code.split_whitespace() {
+            let up = w.to_ascii_uppercase();
+            let mapped = match up.as_str() {
+                "G33" => "G32".to_string(),
+                "G95" => "G99".to_string(),
+                "G94" => "G98".to_string(),
+                "G77" => "G90".to_string(),
+                "G79" => "G94".to_string(),
+                "G78" => "G92".to_string(),
+                "G90" => continue,
+                "G91" => return Err("skip: G91 in system B".into()),
+                "G92" => {
+                    limit = true;
+                    "G50".to_string()
+                }
+                _ => up,
+            };
+            words.push(mapped);
+        }
+        if limit && !words.iter().any(|w| w.starts_with('S')) {
+            return Err("skip: G92 without S in system B".into());
+        }
+        out.push_str(&words.join(" "));
+        if !rest.is_empty() {
+            out.push(' ');
+            out.push_str(rest);
+        }
+        out.push('\n');
+    }
+    Ok(out)
 }

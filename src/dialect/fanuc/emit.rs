@@ -19,7 +19,7 @@ use crate::ir::{
     SpindleMode, SyncStart, ThreadCycle, ThreadPass,
 };
 use crate::lower;
-use crate::profile::{Profile, ToolOffset};
+use crate::profile::{GcodeSystem, Profile, ToolOffset};
 use crate::source::{SourceFile, Span};
 
 /// How the header comment of a program ncthread wrote ends.
@@ -218,7 +218,10 @@ pub fn emit(
         round,
     };
     let items = e.header(program, src, &program.items);
-    e.w.out.push_str("G21 G99\n");
+    e.w.out.push_str(match profile.fanuc.gcode_system {
+        GcodeSystem::A => "G21 G99\n",
+        GcodeSystem::B => "G21 G90 G95\n",
+    });
     let (head, tail) = header_feed_mode(items, keep);
     let groups: Vec<&[Item]> = write::blocks(&head, keep)
         .chain(write::blocks(tail, keep))
@@ -366,6 +369,23 @@ impl Emitter<'_> {
         self.w.error(code, item.span, message, help);
     }
 
+    /// A word as the machine's G-code system spells it: the writer builds system A's words,
+    /// and system B says G33 for G32, G92 S for G50 S, G94/G95 for G98/G99, X for a dwell's
+    /// U. (A block kept as written is the source's, in the same system.)
+    fn in_system<'w>(&self, word: &'w str) -> std::borrow::Cow<'w, str> {
+        if self.profile.fanuc.gcode_system == GcodeSystem::A {
+            return word.into();
+        }
+        match word {
+            "G32" => "G33".into(),
+            "G98" => "G94".into(),
+            "G99" => "G95".into(),
+            "G92" => "G78".into(),
+            w if w.starts_with("G50 ") => format!("G92{}", &w[3..]).into(),
+            w => w.into(),
+        }
+    }
+
     fn write(&mut self, block: Block) {
         let mut line = String::new();
         if let Some(n) = block.number.filter(|_| self.keep) {
@@ -375,7 +395,7 @@ impl Emitter<'_> {
             if !line.is_empty() {
                 line.push(' ');
             }
-            line.push_str(w);
+            line.push_str(&self.in_system(w));
         }
         if let Some(c) = block
             .comment
@@ -747,7 +767,15 @@ impl Emitter<'_> {
             number: item.block_number,
             words: vec![
                 "G04".into(),
-                format!("U{}", Length(ms * 10).mm_with_point()),
+                // System B's dwell is X (U is a cycle's word there).
+                format!(
+                    "{}{}",
+                    match self.profile.fanuc.gcode_system {
+                        GcodeSystem::A => 'U',
+                        GcodeSystem::B => 'X',
+                    },
+                    Length(ms * 10).mm_with_point()
+                ),
             ],
             comment,
             moves: false,

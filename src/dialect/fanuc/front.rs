@@ -134,6 +134,8 @@ struct FrontEnd<'a> {
     kept_modal: Option<i64>,
     /// After this cycle (G70–G76), the next move must name its G code.
     motion_after_cycle: Option<i64>,
+    /// System B's G91: X and Z are increments.
+    incremental: bool,
     /// How many blocks carry each block number.
     numbers: std::collections::HashMap<u32, u32>,
     /// The P and Q words of the cycles, checked at the end.
@@ -177,6 +179,7 @@ pub(crate) fn read(
         contour: None,
         kept_modal: None,
         motion_after_cycle: None,
+        incremental: false,
         numbers: std::collections::HashMap::new(),
         references: Vec::new(),
     };

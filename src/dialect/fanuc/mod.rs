@@ -34,7 +34,10 @@ fn fanuc_word(words: &[String]) -> bool {
         && (words.iter().any(|w| w.starts_with('F'))
             || p.is_some_and(|p| p.len() == 7 && p[1..].bytes().all(|b| b.is_ascii_digit())));
     let g7x_p = ["G70", "G71", "G72", "G73"].iter().any(|g| has(g)) && p.is_some();
+    // System B: G92 S, the spindle limit.
+    let g92_s = has("G92") && words.iter().any(|w| w.starts_with('S'));
     g92_with_f
+        || g92_s
         || g76
         || g7x_p
         || words.iter().any(|w| {
@@ -95,7 +98,7 @@ impl Dialect for Fanuc {
     }
 
     fn mark_description(&self) -> &'static str {
-        "a FANUC mark (an `O0001` program number, G32, G50, G98/G99, G92 with F, G76 with F or P010060, G70–G73 with P, T0101, or U/W words)"
+        "a FANUC mark (an `O0001` program number, G32, G50, G98/G99, G92 with F, G76 with F or P010060, G70–G73 with P, G92 with S, T0101, or U/W words)"
     }
 
     fn tie_rank(&self) -> u8 {

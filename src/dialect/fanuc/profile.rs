@@ -8,6 +8,7 @@
 //! program_number = 1              # O0001
 //! nose_radius_in_offsets = false  # the offset page holds nose radius and tip: G41/G42 may be written
 //! mist = false                    # the machine has M07
+//! gcode_system = "A"              # "A", or "B" (G33 threads, G90/G91, G94/G95, G92 S, G77–G79)
 //! ```
 
 use serde::Deserialize;
@@ -37,6 +38,18 @@ pub enum ToolOffset {
     None,
 }
 
+/// FANUC's lathe G-code systems (parameter 3401#6, #7). **\[evidence\]** spec fanuc.md.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum GcodeSystem {
+    /// System A: G32 threads, G50 S the spindle limit, G98/G99 the feed mode, U/W
+    /// incremental, G90/G92/G94 the turning, threading and facing cycles.
+    #[default]
+    A,
+    /// System B: G33 threads, G92 S the spindle limit, G94/G95 the feed mode, G90/G91
+    /// absolute and incremental, G77/G78/G79 the turning, threading and facing cycles.
+    B,
+}
+
 /// What ncthread knows of a FANUC lathe.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct FanucProfile {
@@ -52,6 +65,8 @@ pub struct FanucProfile {
     pub nose_radius_in_offsets: bool,
     /// The machine has mist coolant on `M07`.
     pub mist: bool,
+    /// The G-code system the machine reads and ncthread writes.
+    pub gcode_system: GcodeSystem,
 }
 
 impl Default for FanucProfile {
@@ -63,6 +78,7 @@ impl Default for FanucProfile {
             program_number: 1,
             nose_radius_in_offsets: false,
             mist: false,
+            gcode_system: GcodeSystem::A,
         }
     }
 }
@@ -76,6 +92,7 @@ pub(crate) struct Raw {
     program_number: Option<toml::Spanned<i64>>,
     nose_radius_in_offsets: Option<bool>,
     mist: Option<bool>,
+    gcode_system: Option<toml::Spanned<String>>,
 }
 
 /// Reads the `[fanuc]` section into `p`, reporting each bad value with its line.
@@ -139,5 +156,49 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut FanucProfile, diags: &mut
     }
     if let Some(b) = raw.mist {
         p.mist = b;
+    }
+    if let Some(v) = raw.gcode_system {
+        let span = src.span_of(v.span());
+        match v.into_inner().as_str() {
+            "A" | "a" => p.gcode_system = GcodeSystem::A,
+            "B" | "b" => p.gcode_system = GcodeSystem::B,
+            "C" | "c" => diags.push(bad_value(
+                src,
+                span,
+                "gcode_system",
+                "G-code system C is not read yet: the sources ncthread holds disagree on its codes for the turning, threading and facing cycles".into(),
+                "\"A\" or \"B\"",
+            )),
+            other => diags.push(bad_value(
+                src,
+                span,
+                "gcode_system",
+                format!("`{other}` is not a FANUC G-code system"),
+                "\"A\" (G32, G50 S, G98/G99) or \"B\" (G33, G92 S, G94/G95, G90/G91)",
+            )),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::GcodeSystem;
+    use crate::profile::Profile;
+    use crate::source::SourceFile;
+
+    fn system(value: &str) -> Result<GcodeSystem, Vec<crate::diag::Diagnostic>> {
+        let text = format!("[fanuc]\ngcode_system = \"{value}\"\n");
+        Profile::from_toml(&SourceFile::new("p.toml", text)).map(|p| p.fanuc.gcode_system)
+    }
+
+    /// A and B are read; C is refused with its reason, and so is anything else.
+    #[test]
+    fn the_gcode_system_is_a_or_b() {
+        assert_eq!(system("A").unwrap(), GcodeSystem::A);
+        assert_eq!(system("B").unwrap(), GcodeSystem::B);
+        let c = system("C").unwrap_err();
+        assert!(c[0].message.contains("system C is not read yet"), "{c:?}");
+        assert!(system("D").is_err());
+        assert_eq!(Profile::default().fanuc.gcode_system, GcodeSystem::A);
     }
 }

@@ -278,6 +278,10 @@ mod tests {
         let b = parse_line(" ％ ").unwrap();
         assert!(b.delimiter && b.words.is_empty());
         assert!(parse_line("G00 X1. %").is_err());
+        // A comment after the end-of-block mark, as some editors save it.
+        let b = parse_line("N60 T0202; (DESBASTE)").unwrap();
+        assert_eq!(b.comment.as_deref(), Some("DESBASTE"));
+        assert!(parse_line("N60 T0202; X1.").is_err());
         assert!(parse_line("G00 :1").is_ok());
     }
 

@@ -34,6 +34,7 @@
 use super::{FRegister, FrontEnd, KNOWN_G, Motion, UNSUPPORTED, Unit};
 use crate::dialect::Unsupported;
 use crate::dialect::fanuc::codes;
+use crate::dialect::fanuc::profile::GcodeSystem;
 use crate::dialect::fanuc::syntax::{Block, Word};
 use crate::dialect::machine::Switches;
 use crate::fixed::{Decimal, Lead, Length};
@@ -71,6 +72,8 @@ pub(super) struct Words<'w> {
     pub(super) comp: Option<(Compensation, &'w Word)>,
     /// G54 – G59, as 1 – 6.
     pub(super) offset: Option<(u8, &'w Word)>,
+    /// G90 / G91 of system B (true: incremental).
+    pub(super) distance: Option<(bool, &'w Word)>,
     /// The M codes read, in the block's order.
     pub(super) m_codes: Vec<(i64, &'w Word)>,
     /// X Z U W I K R F S T P Q O, in the block's order.
@@ -121,6 +124,28 @@ fn set<'w, T>(
     *slot = Some((v, w));
 }
 
+/// A G code of system B as the reader numbers it (system A's code for the same function;
+/// G90/G91 as 900/910), or why it is none.
+fn from_system_b(g: i64) -> Result<i64, &'static str> {
+    match g {
+        33 => Ok(32),
+        77 => Ok(90),
+        78 => Ok(92),
+        79 => Ok(94),
+        92 => Ok(50),
+        94 => Ok(98),
+        95 => Ok(99),
+        90 => Ok(900),
+        91 => Ok(910),
+        32 => Err("in G-code system B threads are G33"),
+        50 => Err("in G-code system B the spindle limit is G92 S"),
+        98 | 99 => Err(
+            "in G-code system B, G98/G99 set a drilling cycle's return level, which ncthread does not read",
+        ),
+        g => Ok(g),
+    }
+}
+
 /// What to say about a G code ncthread does not read (`text` as written).
 fn unsupported_g(g: i64, text: &str) -> String {
     match g {
@@ -133,6 +158,9 @@ fn unsupported_g(g: i64, text: &str) -> String {
         53 => "G53 (machine coordinates) is not read".to_string(),
         83..=89 => format!("the G{g} drilling or tapping cycle is not read"),
         17 | 19 => format!("G{g} selects a plane other than ZX: not a lathe program"),
+        33 | 77 | 78 | 79 | 91 | 95 => format!(
+            "G{g} is a code of FANUC's G-code system B, not of system A (the default): if the machine reads system B, set `gcode_system = \"B\"` in the profile's [fanuc] section"
+        ),
         _ => format!(
             "`{text}` is not supported{}",
             crate::dialect::read::did_you_mean(&format!("G{g:02}"), &KNOWN_G)
@@ -149,6 +177,13 @@ impl FrontEnd<'_> {
         block: &Block,
         code_span: Span,
     ) -> Option<()> {
+        let incremental;
+        let block = if self.profile.gcode_system == GcodeSystem::B {
+            incremental = self.system_b_block(line, block)?;
+            &incremental
+        } else {
+            block
+        };
         let words = self.sort_words(line, block)?;
         if words.refused_by_name {
             return None;
@@ -229,6 +264,49 @@ impl FrontEnd<'_> {
         Some(())
     }
 
+    /// A block of system B as the reader reads system A: G90 / G91 set the distance mode
+    /// (`self.incremental`) first, under G91 X and Z are increments (read as U and W), and U
+    /// and W are words of the cycles only. `None` when a block moves with U or W (said).
+    fn system_b_block(&mut self, line: Line<'_>, block: &Block) -> Option<Block> {
+        for w in &block.words {
+            if w.letter == 'G' {
+                match w.value.to_whole() {
+                    Ok(90) => self.incremental = false,
+                    Ok(91) => self.incremental = true,
+                    _ => {}
+                }
+            }
+        }
+        let cycle = block.words.iter().any(|w| {
+            w.letter == 'G'
+                && w.value
+                    .to_whole()
+                    .is_ok_and(|g| matches!(g, 70..=76 | 77 | 79 | 28 | 30 | 53))
+        });
+        if !cycle && let Some(w) = block.words.iter().find(|w| matches!(w.letter, 'U' | 'W')) {
+            let text = &line.text[w.range.clone()];
+            self.error(
+                codes::FANR_UNSUPPORTED,
+                line,
+                w.range.clone(),
+                format!("`{text}`: in G-code system B an increment is G91 with X or Z"),
+                "write `G91 X… Z…` (or the absolute X, Z)",
+            );
+            return None;
+        }
+        let mut b = block.clone();
+        if self.incremental && !cycle {
+            for w in &mut b.words {
+                w.letter = match w.letter {
+                    'X' => 'U',
+                    'Z' => 'W',
+                    c => c,
+                };
+            }
+        }
+        Some(b)
+    }
+
     /// Sorts the block's words by group: G and M codes into their groups (or among the
     /// unsupported), the address letters kept in order. G76 is refused here, by name. `None`
     /// when an M code is not a whole number (said).
@@ -276,9 +354,22 @@ impl FrontEnd<'_> {
             ));
             return;
         }
-        let g = g / 10;
+        let mut g = g / 10;
+        if self.profile.gcode_system == GcodeSystem::B {
+            match from_system_b(g) {
+                Ok(a) => g = a,
+                Err(why) => {
+                    words
+                        .unsupported
+                        .push((self.span(line, w.range.clone()), format!("`{text}`: {why}")));
+                    return;
+                }
+            }
+        }
         let conflict = &mut words.conflict;
         match g {
+            // System B's G90 / G91, absolute and incremental (read as 900 / 910).
+            900 | 910 => set(w, &mut words.distance, g == 910, conflict),
             0 => set(w, &mut words.motion, Motion::Rapid, conflict),
             1 => set(w, &mut words.motion, Motion::Feed, conflict),
             2 => set(w, &mut words.motion, Motion::Arc(true), conflict),

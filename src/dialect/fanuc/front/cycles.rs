@@ -413,7 +413,8 @@ impl FrontEnd<'_> {
             ModalContext {
                 inch: self.inch,
                 diameter: true,
-                incremental: false,
+                // System B's G91: the block's X and Z are increments.
+                incremental: self.incremental,
                 per_minute: Some(self.per_minute),
                 moves,
                 cycle: true,
@@ -474,7 +475,9 @@ impl FrontEnd<'_> {
                         c.motion = g;
                         None
                     }
-                    _ => Some("the contour holds G00–G03 moves only"),
+                    // Tool nose radius compensation, on and off along the contour.
+                    Ok(40..=42) if !w.value.has_point => None,
+                    _ => Some("the contour holds G00–G03 moves (and G40–G42) only"),
                 },
                 'X' | 'Z' | 'U' | 'W' => {
                     let v = self.length(line, w, Unit::Axis);
