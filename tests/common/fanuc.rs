@@ -170,6 +170,8 @@ pub fn translate(fanuc: &str, calculator: bool) -> Result<String, String> {
                 0 => after.push("M0".into()),
                 1 => after.push("M1".into()),
                 2 | 30 => after.push(format!("M{m}")),
+                // A gear range: LinuxCNC has none, and it moves nothing.
+                41..=44 => {}
                 _ => return Err(format!("M{m} is not in the subset")),
             }
         }

@@ -571,6 +571,11 @@ impl Emitter<'_> {
             ItemKind::SpindleStop => block.words.push("M05".into()),
             ItemKind::SpindleMode(mode) => return self.spindle_mode(item, mode, block),
             ItemKind::Tool { number, offset } => self.tool(item, *number, *offset, block),
+            // The same machine's gear range: its M code.
+            ItemKind::GearRange {
+                code,
+                machine: super::ID,
+            } => block.words.push(format!("M{code}")),
             ItemKind::GearRange { code, .. } => {
                 self.as_comment(
                     item,

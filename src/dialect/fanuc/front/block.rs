@@ -249,6 +249,18 @@ impl FrontEnd<'_> {
         };
         sw.spindle_mode(&mut self.r, None);
         self.tool(line, &words, code_span)?;
+        // M41–M44, the gear (speed) range, before the spindle turns in it.
+        for (m, _) in &words.m_codes {
+            if (41..=44).contains(m) {
+                self.push(
+                    ItemKind::GearRange {
+                        code: *m as u32,
+                        machine: crate::dialect::fanuc::ID,
+                    },
+                    code_span,
+                );
+            }
+        }
         sw.spindle = Some((self.speed(line, &words)?, words.direction(), code_span));
         sw.spindle(&mut self.r, None);
         sw.coolant = words.coolant_on(code_span);
@@ -418,7 +430,7 @@ impl FrontEnd<'_> {
     fn sort_m<'w>(&mut self, line: Line<'_>, w: &'w Word, words: &mut Words<'w>) -> Option<()> {
         let text = &line.text[w.range.clone()];
         let why = match self.whole(line, w)? {
-            m @ (0 | 1 | 2 | 30 | 3 | 4 | 5 | 8 | 9) => {
+            m @ (0 | 1 | 2 | 30 | 3 | 4 | 5 | 8 | 9 | 41..=44) => {
                 words.m_codes.push((m, w));
                 return Some(());
             }
@@ -431,7 +443,7 @@ impl FrontEnd<'_> {
             ),
             29 => format!("`{text}`: rigid tapping (M29) is not read"),
             _ => format!(
-                "`{text}` is not supported: M codes other than M00–M05, M08, M09 and M30 are the machine builder's"
+                "`{text}` is not supported: M codes other than M00–M05, M08, M09, M30 and the gear ranges M41–M44 are the machine builder's"
             ),
         };
         words
