@@ -193,6 +193,7 @@ mod tests {
         let program = Program {
             dialect: crate::dialect::iso::ID,
             library: Vec::new(),
+            number: None,
             items: kinds
                 .into_iter()
                 .map(|k| Item::new(k, Span::default()))

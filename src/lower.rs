@@ -1322,5 +1322,6 @@ pub fn unroll(program: &crate::ir::Program) -> std::borrow::Cow<'_, crate::ir::P
         items,
         dialect: program.dialect,
         library: Vec::new(),
+        number: program.number,
     })
 }

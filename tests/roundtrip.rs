@@ -200,6 +200,7 @@ fn program(steps: &[Step], chains: bool) -> Program {
         items,
         dialect: ncthread::dialect::iso::ID,
         library: Vec::new(),
+        number: None,
     }
 }
 
@@ -299,6 +300,7 @@ proptest! {
         let p = Program {
             dialect: p.dialect,
             library: Vec::new(),
+            number: None,
             items: p
                 .items
                 .into_iter()

@@ -248,6 +248,8 @@ pub(crate) struct Reader<'a> {
     pub pos: Pos,
     dialect: DialectId,
     warned_after_end: bool,
+    /// The program's number (FANUC's `O0100`), when the source gives one.
+    pub number: Option<u32>,
 }
 
 impl<'a> Reader<'a> {
@@ -263,6 +265,7 @@ impl<'a> Reader<'a> {
             pos: Pos::UNKNOWN,
             dialect,
             warned_after_end: false,
+            number: None,
         }
     }
 
@@ -274,6 +277,7 @@ impl<'a> Reader<'a> {
                 items: self.items.held,
                 dialect: self.dialect,
                 library: Vec::new(),
+                number: self.number,
             },
             self.diags,
         )

@@ -205,6 +205,7 @@ mod tests {
         let program = Program {
             dialect: crate::dialect::czech::ID,
             library: Vec::new(),
+            number: None,
             items: vec![on(1), on(1), on(2), on(3), on(3)],
         };
         let sizes = |keep| {

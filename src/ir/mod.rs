@@ -44,6 +44,9 @@ pub struct Program {
     /// program calls it, so its items are empty; empty for a program. Each with the span
     /// of its definition's first line.
     pub library: Vec<(String, Span)>,
+    /// The program's number as the source gives it (FANUC's `O0100`): a writer of the same
+    /// dialect keeps it.
+    pub number: Option<u32>,
 }
 
 /// One item with where it came from.

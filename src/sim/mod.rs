@@ -946,6 +946,7 @@ mod tests {
         Program {
             dialect: crate::dialect::iso::ID,
             library: Vec::new(),
+            number: None,
             items: kinds
                 .into_iter()
                 .enumerate()

@@ -275,7 +275,13 @@ impl Emitter<'_> {
     /// after the header comment.
     fn header<'i>(&mut self, program: &Program, src: &SourceFile, items: &'i [Item]) -> &'i [Item] {
         self.w.out.push_str("%\n");
-        let _ = writeln!(self.w.out, "O{:04}", self.profile.fanuc.program_number);
+        // The source's own number (a FANUC program's), else the profile's.
+        let number = program
+            .number
+            .filter(|_| program.dialect == super::ID && self.profile.fanuc.program_number.is_none())
+            .or(self.profile.fanuc.program_number)
+            .unwrap_or(1);
+        let _ = writeln!(self.w.out, "O{number:04}");
         let mut items = items;
         while let Some((first, rest)) = items.split_first()
             && first.kind == ItemKind::Delimiter
@@ -1092,6 +1098,7 @@ mod tests {
         let program = Program {
             dialect: crate::dialect::iso::ID,
             library: Vec::new(),
+            number: None,
             items: kinds
                 .into_iter()
                 .map(|k| Item::new(k, Span::default()))

@@ -5,7 +5,7 @@
 //! decimal_point = "increment"     # a word without a point: "increment" (X10 = 0.010 mm) or "calculator" (X10 = 10 mm)
 //! thread_chamfer_0p1_lead = 10    # G92's chamfer (parameter 5130) in 0.1 lead; needed to read G92
 //! tool_offset = "same"            # T0303 for tool 3 without an offset number; "none" writes T0300
-//! program_number = 1              # O0001
+//! program_number = 1              # O0001 (default: a FANUC source's own number, else 1)
 //! nose_radius_in_offsets = false  # the offset page holds nose radius and tip: G41/G42 may be written
 //! mist = false                    # the machine has M07
 //! gcode_system = "A"              # "A", or "B" (G33 threads, G90/G91, G94/G95, G92 S, G77–G79)
@@ -58,8 +58,9 @@ pub struct FanucProfile {
     /// not said, so a G92 is refused. **\[decided\]**
     pub thread_chamfer_0p1_lead: Option<u32>,
     pub tool_offset: ToolOffset,
-    /// The `O` number of a program ncthread writes (1–9999).
-    pub program_number: u32,
+    /// The `O` number of a program ncthread writes (1–9999). `None`: a FANUC source's own
+    /// number, else 1.
+    pub program_number: Option<u32>,
     /// The offset page holds the nose radius and tip direction, so `G41`/`G42` may be
     /// written. **\[decided\]** off: the program cannot state them.
     pub nose_radius_in_offsets: bool,
@@ -75,7 +76,7 @@ impl Default for FanucProfile {
             decimal_point: DecimalPoint::Increment,
             thread_chamfer_0p1_lead: None,
             tool_offset: ToolOffset::Same,
-            program_number: 1,
+            program_number: None,
             nose_radius_in_offsets: false,
             mist: false,
             gcode_system: GcodeSystem::A,
@@ -141,7 +142,7 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut FanucProfile, diags: &mut
     if let Some(v) = raw.program_number {
         let span = src.span_of(v.span());
         match u32::try_from(v.into_inner()) {
-            Ok(n) if (1..=9999).contains(&n) => p.program_number = n,
+            Ok(n) if (1..=9999).contains(&n) => p.program_number = Some(n),
             _ => diags.push(bad_value(
                 src,
                 span,

@@ -697,6 +697,7 @@ mod tests {
             ],
             dialect: crate::dialect::nc31::ID,
             library: Vec::new(),
+            number: None,
         };
         let (out, diags) = emit(&program, &src, &Profile::default());
         assert!(out.is_none());

@@ -932,6 +932,7 @@ mod tests {
                 .collect(),
             dialect: crate::dialect::iso::ID,
             library: Vec::new(),
+            number: None,
         };
         // As a conversion does: legalisation for the НЦ-31, then the writer.
         let mut diags =
@@ -1165,6 +1166,7 @@ mod tests {
                 .collect(),
             dialect: crate::dialect::iso::ID,
             library: Vec::new(),
+            number: None,
         };
         let (out, diags) = emit(
             &program,
@@ -1305,6 +1307,7 @@ mod tests {
             .collect(),
             dialect: crate::dialect::iso::ID,
             library: Vec::new(),
+            number: None,
         };
         let (out, _) = emit(
             &program,

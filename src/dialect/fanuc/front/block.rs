@@ -551,17 +551,24 @@ impl FrontEnd<'_> {
                 format!("`{text}`: a program number stands on a line of its own"),
                 "write `O0001 (NAME)` as the program's first line",
             );
-        } else if let Some(n) = self.whole(line, w)
-            && !(1..=99_999_999).contains(&n)
-        {
-            let text = &line.text[w.range.clone()];
-            self.error(
-                codes::FANR_NUMBER,
-                line,
-                w.range.clone(),
-                format!("`{text}` is not a program number"),
-                "program numbers are O1 to O9999 (O99999999 on controls with eight digits, and Haas's five)",
-            );
+        } else if let Some(n) = self.whole(line, w) {
+            match u32::try_from(n) {
+                // The first program number is the program's (a second one would start a
+                // subprogram, which ncthread does not read yet).
+                Ok(number) if (1..=99_999_999).contains(&number) => {
+                    self.r.number.get_or_insert(number);
+                }
+                _ => {
+                    let text = &line.text[w.range.clone()];
+                    self.error(
+                        codes::FANR_NUMBER,
+                        line,
+                        w.range.clone(),
+                        format!("`{text}` is not a program number"),
+                        "program numbers are O1 to O9999 (O99999999 on controls with eight digits, and Haas's five)",
+                    );
+                }
+            }
         }
     }
 
