@@ -27,6 +27,9 @@ pub enum Kind {
     Tap,
     /// A roughing (`G71`…) or finishing (`G70`) cycle: its G code as written.
     Roughing(String),
+    /// A FANUC canned cycle (or a move home) kept as written, with no machine model to say
+    /// its moves: its block as written.
+    Kept(String),
 }
 
 impl Kind {
@@ -38,6 +41,7 @@ impl Kind {
             Kind::Tap => "tap",
             Kind::Roughing(code) if code == "G70" => "finishing",
             Kind::Roughing(_) => "roughing",
+            Kind::Kept(_) => "kept",
         }
     }
 
@@ -48,6 +52,9 @@ impl Kind {
             Kind::Tap => "tapping cycle".into(),
             Kind::Roughing(code) if code == "G70" => format!("finishing cycle {code}"),
             Kind::Roughing(code) => format!("roughing cycle {code}"),
+            Kind::Kept(block) => format!(
+                "`{block}`, kept as written: its moves are the control's, listed only under a machine model"
+            ),
         }
     }
 }
@@ -265,6 +272,13 @@ pub fn explain(program: &Program, options: &Options) -> Vec<Operation> {
                         });
                     }
                     ItemKind::Roughing(cycle) => ops.push(roughing_operation(cycle, at, pos)),
+                    ItemKind::Opaque {
+                        text,
+                        block: Some(c),
+                        ..
+                    } if c.cycle && c.moves && !is_move_home(text) => {
+                        ops.push(blank(Kind::Kept(text.clone()), at, direction, 0, None));
+                    }
                     ItemKind::Spindle {
                         direction: Some(d), ..
                     } => direction = Some(*d),
@@ -280,6 +294,13 @@ pub fn explain(program: &Program, options: &Options) -> Vec<Operation> {
         op.number = n + 1;
     }
     ops
+}
+
+/// A kept block that goes home (G28, G30) or moves in machine coordinates (G53): no
+/// operation of its own.
+fn is_move_home(text: &str) -> bool {
+    let up = text.to_ascii_uppercase();
+    ["G28", "G30", "G53"].iter().any(|g| up.contains(g))
 }
 
 /// An operation with nothing known yet but its kind and where it is.
@@ -938,6 +959,7 @@ fn facts(op: &Operation) -> Vec<String> {
     use std::fmt::Write as _;
     let mut lines = Vec::new();
     match &op.kind {
+        Kind::Kept(_) => return lines,
         Kind::Roughing(_) => {
             let n = op.passes.len();
             lines.push(format!("{n} cut{}", if n == 1 { "" } else { "s" }));
@@ -1198,7 +1220,7 @@ pub fn to_json(ops: &[Operation]) -> serde_json::Value {
                 })
                 .collect();
             let code = match &op.kind {
-                Kind::Roughing(code) => Some(code.clone()),
+                Kind::Roughing(code) | Kind::Kept(code) => Some(code.clone()),
                 _ => None,
             };
             serde_json::json!({

@@ -420,15 +420,22 @@ pub fn plot(title: &str, segments: &[Segment], operation: Option<&Operation>) ->
     let mut out = svg_open(height, title);
     // 1. The toolpath.
     let rect = (70.0, 60.0, WIDTH - 110.0, 400.0);
-    text(
-        &mut out,
-        70.0,
-        52.0,
-        13.0,
-        "start",
-        "#222222",
-        "toolpath (XZ; rapids dashed, feeds green, threads coloured by pass: first blue, last red)",
-    );
+    // Blocks kept as written (a FANUC cycle without a machine model): their moves are the
+    // control's, so the picture says they are missing.
+    let kept = segments
+        .iter()
+        .filter(|s| matches!(s.motion, crate::sim::Motion::Kept { .. }))
+        .count();
+    let heading = if kept == 0 {
+        "toolpath (XZ; rapids dashed, feeds green, threads coloured by pass: first blue, last red)"
+            .to_string()
+    } else {
+        format!(
+            "toolpath (XZ; rapids dashed, feeds green); not drawn: {kept} block{} kept as written, whose moves are the control's",
+            if kept == 1 { "" } else { "s" }
+        )
+    };
+    text(&mut out, 70.0, 52.0, 13.0, "start", "#222222", &heading);
     match bounds(segments.iter()) {
         Some(b) => {
             let v = View::fit(rect, b, true);
