@@ -272,13 +272,7 @@ pub fn explain(program: &Program, options: &Options) -> Vec<Operation> {
                         });
                     }
                     ItemKind::Roughing(cycle) => ops.push(roughing_operation(cycle, at, pos)),
-                    ItemKind::Opaque {
-                        text,
-                        block: Some(c),
-                        ..
-                    } if c.cycle && c.moves && !is_move_home(text) => {
-                        ops.push(blank(Kind::Kept(text.clone()), at, direction, 0, None));
-                    }
+                    ItemKind::Opaque { .. } => ops.extend(kept_operation(kind, at, direction)),
                     ItemKind::Spindle {
                         direction: Some(d), ..
                     } => direction = Some(*d),
@@ -296,11 +290,23 @@ pub fn explain(program: &Program, options: &Options) -> Vec<Operation> {
     ops
 }
 
-/// A kept block that goes home (G28, G30) or moves in machine coordinates (G53): no
-/// operation of its own.
-fn is_move_home(text: &str) -> bool {
+/// A FANUC cycle kept as written, an operation of its own (not a move home: G28, G30, G53).
+fn kept_operation(
+    kind: &ItemKind,
+    at: (u32, Option<u32>),
+    direction: Option<SpindleDirection>,
+) -> Option<Operation> {
+    let ItemKind::Opaque {
+        text,
+        block: Some(c),
+        ..
+    } = kind
+    else {
+        return None;
+    };
     let up = text.to_ascii_uppercase();
-    ["G28", "G30", "G53"].iter().any(|g| up.contains(g))
+    let home = ["G28", "G30", "G53"].iter().any(|g| up.contains(g));
+    (c.cycle && c.moves && !home).then(|| blank(Kind::Kept(text.clone()), at, direction, 0, None))
 }
 
 /// An operation with nothing known yet but its kind and where it is.

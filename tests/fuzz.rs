@@ -744,13 +744,17 @@ fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, Strin
                     && to == input.from
                     && !round
                     && conversion.diagnostics.iter().any(|d| {
-                        // Two refusals are ncthread's own: a cycle LinuxCNC never ends, and a
-                        // G70 under compensation, which LinuxCNC 2.9 runs along another path.
+                        // Three refusals are ncthread's own: a cycle LinuxCNC never ends, a
+                        // G70 under compensation, which LinuxCNC 2.9 runs along another path,
+                        // and a cycle or thread code on a contour's line, of which LinuxCNC's
+                        // cycle makes no element while its motion mode stays in force for the
+                        // lines after it (ncthread does not follow a cycle code there).
                         d.code.id == "ISOR019"
                             && !d.message.contains("does not end")
                             && !d
                                 .message
                                 .contains("takes the contour's end for the tool's position")
+                            && !d.message.contains("makes no element of it")
                     })
                     && match rs274.run(&src.text) {
                         Ok(_) => true,

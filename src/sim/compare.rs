@@ -218,6 +218,25 @@ fn describe(m: &Motion) -> String {
     }
 }
 
+/// Two events where the tool stands (a state, a stop, a dwell, a kept block), or two
+/// motions of different kinds: equal, or what differs.
+fn events(a: &Segment, b: &Segment) -> Option<String> {
+    match (&a.motion, &b.motion) {
+        (Motion::State(_), Motion::State(_))
+        | (Motion::Stop { .. }, Motion::Stop { .. })
+        | (Motion::Dwell { .. }, Motion::Dwell { .. })
+        | (Motion::Kept { .. }, Motion::Kept { .. })
+            if a.motion == b.motion =>
+        {
+            None
+        }
+        (Motion::Kept { .. }, Motion::Kept { .. }) => {
+            Some("the blocks kept as written differ".into())
+        }
+        _ => Some(format!("{} ≠ {}", describe(&a.motion), describe(&b.motion))),
+    }
+}
+
 /// The circular distance between two angles.
 fn angle_gap(a: Angle, b: Angle) -> i64 {
     let d = (a.0 - b.0).rem_euclid(TURN);
@@ -484,18 +503,7 @@ impl Judge {
                 },
             ) => self.arcs(a, b, (c, cw, f, p), (d, dw, g, q)),
             (Motion::IndexWait, Motion::IndexWait) => None,
-            (Motion::State(_), Motion::State(_))
-            | (Motion::Stop { .. }, Motion::Stop { .. })
-            | (Motion::Dwell { .. }, Motion::Dwell { .. })
-            | (Motion::Kept { .. }, Motion::Kept { .. })
-                if a.motion == b.motion =>
-            {
-                None
-            }
-            (Motion::Kept { .. }, Motion::Kept { .. }) => {
-                Some("the blocks kept as written differ".into())
-            }
-            _ => Some(format!("{} ≠ {}", describe(&a.motion), describe(&b.motion))),
+            _ => events(a, b),
         }
     }
 

@@ -149,6 +149,24 @@ impl MachineState {
 }
 
 impl Motion {
+    /// The JSON of an event that happens where the tool stands: a stop, a dwell, a kept block.
+    fn event_json(&self) -> serde_json::Value {
+        match *self {
+            Motion::Stop { optional } => serde_json::json!({
+                "motion": if optional { "optional-stop" } else { "stop" },
+            }),
+            Motion::Dwell { time } => serde_json::json!({
+                "motion": "dwell",
+                "seconds": time as f64 / 10_000.0,
+            }),
+            Motion::Kept { text } => serde_json::json!({
+                "motion": "kept",
+                "block": format!("{text:016x}"),
+            }),
+            _ => serde_json::Value::Null,
+        }
+    }
+
     /// Whether the tool moves (a coolant command, a stop or a dwell happens where it
     /// stands, wherever that is).
     pub fn moves(&self) -> bool {
@@ -534,22 +552,26 @@ impl Machine {
                 block: Some(c),
                 text,
                 ..
-            } => {
-                if c.cycle {
-                    self.event(
-                        Motion::Kept {
-                            text: kept_hash(text),
-                        },
-                        span,
-                    );
-                }
-                if c.moves {
-                    self.pos = Pos::UNKNOWN;
-                }
-                self.sync_end = None;
-            }
+            } => self.kept(text, c, span),
             _ => {}
         }
+    }
+
+    /// A block kept as written: a cycle is recorded (its words, so that two programs agree
+    /// only where they keep the same block); one that may move leaves the position unknown.
+    fn kept(&mut self, text: &str, c: &crate::ir::ModalContext, span: Span) {
+        if c.cycle {
+            self.event(
+                Motion::Kept {
+                    text: kept_hash(text),
+                },
+                span,
+            );
+        }
+        if c.moves {
+            self.pos = Pos::UNKNOWN;
+        }
+        self.sync_end = None;
     }
 
     /// The machine's state as `edit` changes it.
@@ -862,17 +884,9 @@ impl Segment {
                 "rpm_limit": state.surface_speed.flatten().map(|l| l as f64 / 1000.0),
                 "work_offset": state.work_offset + 1,
             }),
-            Motion::Stop { optional } => serde_json::json!({
-                "motion": if optional { "optional-stop" } else { "stop" },
-            }),
-            Motion::Dwell { time } => serde_json::json!({
-                "motion": "dwell",
-                "seconds": time as f64 / 10_000.0,
-            }),
-            Motion::Kept { text } => serde_json::json!({
-                "motion": "kept",
-                "block": format!("{text:016x}"),
-            }),
+            Motion::Stop { .. } | Motion::Dwell { .. } | Motion::Kept { .. } => {
+                self.motion.event_json()
+            }
         };
         if let (Some(v), serde_json::Value::Object(extra)) = (v.as_object_mut(), extra) {
             v.extend(extra);

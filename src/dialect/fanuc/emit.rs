@@ -602,19 +602,7 @@ impl Emitter<'_> {
                 dialect: super::ID,
                 text,
                 block: context,
-            } => {
-                self.sync_end = None;
-                if context.is_some_and(|c| c.cycle) {
-                    // A cycle may leave another motion code (G90, G94) and F in force: the
-                    // next move writes both.
-                    self.motion = None;
-                    self.f = None;
-                }
-                // A contour's block with only its number keeps it (G70's P and Q name it).
-                if !text.is_empty() {
-                    block.words.push(text.clone());
-                }
-            }
+            } => self.kept(text, context.is_some_and(|c| c.cycle), block),
             ItemKind::Opaque { dialect, text, .. } => {
                 self.as_comment(item, block, &format!("{dialect}: {text}"));
             }
@@ -629,6 +617,20 @@ impl Emitter<'_> {
             ItemKind::FeedRate(feed) => self.feed_rate(*feed, block),
         }
         true
+    }
+
+    /// A FANUC block kept as written. A cycle may leave another motion code (G90, G94) and F
+    /// in force: the next move writes both. A contour's block with only its number keeps it
+    /// (G70's P and Q name it).
+    fn kept(&mut self, text: &str, cycle: bool, block: &mut Block) {
+        self.sync_end = None;
+        if cycle {
+            self.motion = None;
+            self.f = None;
+        }
+        if !text.is_empty() {
+            block.words.push(text.to_string());
+        }
     }
 
     /// A block that is only a comment.

@@ -159,25 +159,35 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut FanucProfile, diags: &mut
         p.mist = b;
     }
     if let Some(v) = raw.gcode_system {
-        let span = src.span_of(v.span());
-        match v.into_inner().as_str() {
-            "A" | "a" => p.gcode_system = GcodeSystem::A,
-            "B" | "b" => p.gcode_system = GcodeSystem::B,
-            "C" | "c" => diags.push(bad_value(
-                src,
-                span,
-                "gcode_system",
-                "G-code system C is not read yet: the sources ncthread holds disagree on its codes for the turning, threading and facing cycles".into(),
-                "\"A\" or \"B\"",
-            )),
-            other => diags.push(bad_value(
-                src,
-                span,
-                "gcode_system",
-                format!("`{other}` is not a FANUC G-code system"),
-                "\"A\" (G32, G50 S, G98/G99) or \"B\" (G33, G92 S, G94/G95, G90/G91)",
-            )),
-        }
+        gcode_system(src, v, p, diags);
+    }
+}
+
+/// `gcode_system`: "A" or "B"; "C" is refused with its reason.
+fn gcode_system(
+    src: &SourceFile,
+    v: toml::Spanned<String>,
+    p: &mut FanucProfile,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let span = src.span_of(v.span());
+    match v.into_inner().as_str() {
+        "A" | "a" => p.gcode_system = GcodeSystem::A,
+        "B" | "b" => p.gcode_system = GcodeSystem::B,
+        "C" | "c" => diags.push(bad_value(
+            src,
+            span,
+            "gcode_system",
+            "G-code system C is not read yet: the sources ncthread holds disagree on its codes for the turning, threading and facing cycles".into(),
+            "\"A\" or \"B\"",
+        )),
+        other => diags.push(bad_value(
+            src,
+            span,
+            "gcode_system",
+            format!("`{other}` is not a FANUC G-code system"),
+            "\"A\" (G32, G50 S, G98/G99) or \"B\" (G33, G92 S, G94/G95, G90/G91)",
+        )),
     }
 }
 

@@ -124,6 +124,13 @@ fn set<'w, T>(
     *slot = Some((v, w));
 }
 
+/// Whether ncthread keeps G code `g` as written (`front/cycles.rs`): G70–G76, G90 and G94
+/// (the turning and facing cycles, modal), G28 and G30 (to the reference point) and G53
+/// (machine coordinates).
+fn is_kept(g: i64) -> bool {
+    matches!(g, 28 | 30 | 53 | 70..=76 | 90 | 94)
+}
+
 /// A G code of system B as the reader numbers it (system A's code for the same function;
 /// G90/G91 as 900/910), or why it is none.
 fn from_system_b(g: i64) -> Result<i64, &'static str> {
@@ -197,43 +204,7 @@ impl FrontEnd<'_> {
             self.refuse_unsupported(line, block, words, thread);
             return None;
         }
-        if let Some((g, w)) = words.cycle {
-            self.kept_cycle(line, block, &words, g, Some(w));
-            return None;
-        }
-        if let Some(g) = self.motion_after_cycle {
-            if words.motion.is_some() {
-                self.motion_after_cycle = None;
-            } else if words.dwell.is_none() && words.moves() {
-                let text = &line.text[block.code_range.clone()];
-                self.error(
-                    codes::FANR_CYCLE,
-                    line,
-                    block.code_range.clone(),
-                    format!("`{text}` moves without a G code after the G{g} cycle: which of G00–G03 is in force after a cycle is the control's"),
-                    "name the motion: `G00 X100. Z100.` or `G01 X50. F0.2`",
-                );
-                return None;
-            }
-        }
-        if let Some(g) = self.kept_modal {
-            if words.motion.is_some() {
-                self.kept_modal = None;
-            } else if words.dwell.is_none() && words.moves() {
-                // A block with only axes repeats the G90/G94 cycle.
-                self.kept_cycle(line, block, &words, g, None);
-                return None;
-            }
-        }
-        if let Some(w) = ['D', 'A', 'C'].iter().find_map(|&c| words.get(c)) {
-            let text = &line.text[w.range.clone()];
-            self.error(
-                codes::FANR_UNSUPPORTED,
-                line,
-                w.range.clone(),
-                format!("`{text}`: D, A and C belong to a canned cycle or its contour"),
-                "remove it",
-            );
+        if self.cycle_step(line, block, &words) {
             return None;
         }
         if let Some(w) = words.get('O') {
@@ -274,6 +245,54 @@ impl FrontEnd<'_> {
         self.stops(&words, code_span);
         self.program_end(&words, code_span);
         Some(())
+    }
+
+    /// What a block means beside FANUC's cycles: a cycle kept as written (`front/cycles.rs`),
+    /// the repeat of a G90/G94 in force, a move without its G code right after a cycle
+    /// (refused: which of G00–G03 is in force is the control's), D, A or C outside a cycle.
+    /// True when the block is done with (kept, or refused and said).
+    fn cycle_step(&mut self, line: Line<'_>, block: &Block, words: &Words<'_>) -> bool {
+        if let Some((g, w)) = words.cycle {
+            self.kept_cycle(line, block, words, g, Some(w));
+            return true;
+        }
+        let moves = words.dwell.is_none() && words.moves();
+        if let Some(g) = self.motion_after_cycle {
+            if words.motion.is_some() {
+                self.motion_after_cycle = None;
+            } else if moves {
+                let text = &line.text[block.code_range.clone()];
+                self.error(
+                    codes::FANR_CYCLE,
+                    line,
+                    block.code_range.clone(),
+                    format!("`{text}` moves without a G code after the G{g} cycle: which of G00–G03 is in force after a cycle is the control's"),
+                    "name the motion: `G00 X100. Z100.` or `G01 X50. F0.2`",
+                );
+                return true;
+            }
+        }
+        if let Some(g) = self.kept_modal {
+            if words.motion.is_some() {
+                self.kept_modal = None;
+            } else if moves {
+                // A block with only axes repeats the G90/G94 cycle.
+                self.kept_cycle(line, block, words, g, None);
+                return true;
+            }
+        }
+        if let Some(w) = ['D', 'A', 'C'].iter().find_map(|&c| words.get(c)) {
+            let text = &line.text[w.range.clone()];
+            self.error(
+                codes::FANR_UNSUPPORTED,
+                line,
+                w.range.clone(),
+                format!("`{text}`: D, A and C belong to a canned cycle or its contour"),
+                "remove it",
+            );
+            return true;
+        }
+        false
     }
 
     /// A block of system B as the reader reads system A: G90 / G91 set the distance mode
@@ -410,7 +429,7 @@ impl FrontEnd<'_> {
             // The ZX plane is a lathe's only one; G80 cancels drilling cycles, which
             // ncthread never reads.
             18 | 80 => {}
-            g if super::cycles::is_kept(g) => set(w, &mut words.cycle, g, conflict),
+            g if is_kept(g) => set(w, &mut words.cycle, g, conflict),
             _ => {
                 // A cycle code is modal: the blocks after it would repeat it.
                 if matches!(g, 90 | 94 | 83..=89) {

@@ -19,10 +19,74 @@ use crate::fixed::Length;
 use crate::ir::ModalContext;
 use crate::source::{Line, Span};
 
-/// Whether ncthread keeps G code `g` as written: G70–G76, G90 and G94 (the turning and facing
-/// cycles, modal), G28 and G30 (to the reference point) and G53 (machine coordinates).
-pub(super) fn is_kept(g: i64) -> bool {
-    matches!(g, 28 | 30 | 53 | 70..=76 | 90 | 94)
+/// The words a cycle's form takes (`second`: the block that runs it, not a two-block form's
+/// first).
+fn form(g: i64, second: bool) -> &'static str {
+    match g {
+        // U, W and D as Haas's own example programs write them.
+        70 => "PQFUWD",
+        71..=73 if second => "PQUWDF",
+        // The first block: the depth of cut (U for G71, W for G72) and the retract; F there
+        // too in real programs.
+        71 => "URF",
+        72 => "WRF",
+        73 => "UWRF",
+        // I and K: Haas's one-block form (the peck and the step).
+        74 | 75 if second => "XZUWPQRFIKD",
+        74 | 75 => "R",
+        76 if second => "XZUWRPQFKDAI",
+        76 => "PQR",
+        90 | 94 => "XZUWRF",
+        30 => "XZUWP",
+        28 => "XZUW",
+        _ => "XZ",
+    }
+}
+
+/// A value a cycle's word must have, known without a model.
+#[derive(Clone, Copy)]
+enum Check {
+    /// A block number, N1 to N99999.
+    Block,
+    /// A depth of cut, more than 0.
+    Depth,
+    /// A number of passes, 1 or more.
+    Passes,
+    /// G76's P: mm rr aa.
+    G76P,
+}
+
+impl Check {
+    /// Why a value fails, and the help.
+    fn words(self) -> (&'static str, &'static str) {
+        match self {
+            Check::Block => ("not a block number", "block numbers are N1 to N99999"),
+            Check::Depth => (
+                "the depth of cut must be more than 0",
+                "`G71 U2. R0.5` (`G72 W2. R0.5`): the depth of each cut, then the retract",
+            ),
+            Check::Passes => (
+                "the number of passes must be 1 or more",
+                "`G73 U3. W0. R3`: R the number of passes",
+            ),
+            Check::G76P => (
+                "P is six digits mm rr aa: the finishing passes mm (01–99), the chamfer rr (00–99, in 0.1 lead) and the tool angle aa (80, 60, 55, 30, 29 or 00)",
+                "`G76 P020060 Q100 R0.05`: 2 finishing passes, no chamfer, a 60° tool",
+            ),
+        }
+    }
+}
+
+/// The words of cycle `g` whose values are checked.
+fn value_checks(g: i64, second: bool) -> &'static [(char, Check)] {
+    match (g, second) {
+        (70..=73, true) => &[('P', Check::Block), ('Q', Check::Block)],
+        (71, false) => &[('U', Check::Depth)],
+        (72, false) => &[('W', Check::Depth)],
+        (73, false) => &[('R', Check::Passes)],
+        (76, false) => &[('P', Check::G76P)],
+        _ => &[],
+    }
 }
 
 /// What each cycle is, for messages.
@@ -85,69 +149,21 @@ impl FrontEnd<'_> {
         g: i64,
         at: Option<&Word>,
     ) {
+        // The block that runs the cycle (a two-block form's first block only sets it up).
         let second = match g {
             70 => true,
             71..=73 => words.get('P').is_some() || words.get('Q').is_some(),
             74..=76 => words.moves(),
             _ => true,
         };
-        let allowed = match g {
-            // U, W and D as Haas's own example programs write them.
-            70 => "PQFUWD",
-            71..=73 if second => "PQUWDF",
-            // The first block: the depth of cut (U for G71, W for G72) and the retract; F
-            // there too in real programs.
-            71 => "URF",
-            72 => "WRF",
-            73 => "UWRF",
-            // I and K: Haas's one-block form (the peck and the step).
-            74 | 75 if second => "XZUWPQRFIKD",
-            74 | 75 => "R",
-            76 if second => "XZUWRPQFKDAI",
-            76 => "PQR",
-            90 | 94 => "XZUWRF",
-            30 => "XZUWP",
-            28 => "XZUW",
-            _ => "XZ",
-        };
         let what = name(g);
-        if !self.cycle_words(line, words, g, allowed, what) {
+        let at = at.map_or(block.code_range.clone(), |w| w.range.clone());
+        if !self.cycle_words(line, words, g, form(g, second), what)
+            || !self.cycle_needs(line, words, g, second, at)
+            || !self.cycle_values(line, words, g, second, what)
+        {
             return;
         }
-        let needs = if matches!(g, 70..=73) && second {
-            "PQ"
-        } else {
-            ""
-        };
-        for c in needs.chars() {
-            if words.get(c).is_none() {
-                let range = at.map_or(block.code_range.clone(), |w| w.range.clone());
-                self.error(
-                    codes::FANR_CYCLE,
-                    line,
-                    range,
-                    format!("{what} without {c}"),
-                    "P and Q name the first and the last block of the contour: `G71 P100 Q200 U0.4 W0.1 F0.25`",
-                );
-                return;
-            }
-        }
-        // A bare G28 (Haas) sends every axis home directly.
-        if second && matches!(g, 53 | 74..=76 | 90 | 94) && !words.moves() {
-            let range = at.map_or(block.code_range.clone(), |w| w.range.clone());
-            self.error(
-                codes::FANR_CYCLE,
-                line,
-                range,
-                format!("{what} without an axis word (X, Z, U or W)"),
-                "write where the cycle goes: `G90 X38. Z-30. F0.25`, `G28 U0. W0.`",
-            );
-            return;
-        }
-        if !self.cycle_values(line, words, g, second, what) {
-            return;
-        }
-        let moves = second;
         let start = self.r.pos;
         let code_span = self.span(line, block.code_range.clone());
         let sw = crate::dialect::machine::Switches {
@@ -155,14 +171,63 @@ impl FrontEnd<'_> {
             ..Default::default()
         };
         sw.coolant_on(&mut self.r, None);
-        self.keep_cycle_block(line, block, moves);
+        self.keep_cycle_block(line, block, second);
         if words.m(9).is_some() {
             self.push(
                 crate::ir::ItemKind::Coolant(crate::ir::Coolant::Off),
                 code_span,
             );
         }
-        if moves {
+        self.after_cycle(line, words, g, second);
+        if (70..=73).contains(&g) && second {
+            self.cycle_references(line, words, g, start);
+        }
+    }
+
+    /// The words a cycle cannot be without: P and Q naming its contour, an axis where it goes
+    /// (a bare G28, Haas's, sends every axis home directly). False when one is missing (said,
+    /// at `at`).
+    fn cycle_needs(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        g: i64,
+        second: bool,
+        at: std::ops::Range<usize>,
+    ) -> bool {
+        let what = name(g);
+        if matches!(g, 70..=73)
+            && second
+            && let Some(c) = ['P', 'Q'].into_iter().find(|&c| words.get(c).is_none())
+        {
+            self.error(
+                codes::FANR_CYCLE,
+                line,
+                at,
+                format!("{what} without {c}"),
+                "P and Q name the first and the last block of the contour: `G71 P100 Q200 U0.4 W0.1 F0.25`",
+            );
+            return false;
+        }
+        if second && matches!(g, 53 | 74..=76 | 90 | 94) && !words.moves() {
+            self.error(
+                codes::FANR_CYCLE,
+                line,
+                at,
+                format!("{what} without an axis word (X, Z, U or W)"),
+                "write where the cycle goes: `G90 X38. Z-30. F0.25`, `G28 U0. W0.`",
+            );
+            return false;
+        }
+        true
+    }
+
+    /// What a cycle leaves in force: a move done (G20/G21 no longer allowed), the F register
+    /// (a G90/G94/G74/G75's feed, a G76's lead, unknown after G70–G73), which motion code
+    /// (unknown after G70–G76: the next move names its own, spec fanuc.md; a G00 beside a
+    /// G28 stays), and a G90/G94 repeated by the blocks after it.
+    fn after_cycle(&mut self, line: Line<'_>, words: &Words<'_>, g: i64, second: bool) {
+        if second {
             self.moved = true;
             self.f = match (g, words.get('F')) {
                 (90 | 94 | 74 | 75, Some(f)) => {
@@ -172,9 +237,6 @@ impl FrontEnd<'_> {
                 (70..=73, _) => Some(FRegister::AfterCycle(g)),
                 _ => self.f,
             };
-            // Which of G00–G03 is in force after a cycle is the control's (spec fanuc.md:
-            // the next move names its G code). G28, G30 and G53 leave G00 (written beside
-            // them, or the one before).
             if (70..=76).contains(&g) {
                 self.motion_after_cycle = Some(g);
             }
@@ -187,9 +249,6 @@ impl FrontEnd<'_> {
         }
         if matches!(g, 90 | 94) {
             self.kept_modal = Some(g);
-        }
-        if (70..=73).contains(&g) && second {
-            self.cycle_references(line, words, g, start);
         }
     }
 
@@ -267,87 +326,36 @@ impl FrontEnd<'_> {
         second: bool,
         what: &str,
     ) -> bool {
-        let bad = |fe: &mut Self, w: &Word, why: String, help: &str| {
-            let text = &line.text[w.range.clone()];
-            fe.error(
-                codes::FANR_CYCLE,
-                line,
-                w.range.clone(),
-                format!("`{text}` in the {what}: {why}"),
-                help,
-            );
-            false
-        };
-        if matches!(g, 70..=73) && second {
-            for c in ['P', 'Q'] {
-                if let Some(w) = words.get(c) {
-                    match self.whole(line, w) {
-                        Some(n) if (1..=99_999).contains(&n) => {}
-                        Some(_) => {
-                            return bad(
-                                self,
-                                w,
-                                "not a block number".into(),
-                                "block numbers are N1 to N99999",
-                            );
-                        }
-                        None => return false,
-                    }
-                }
-            }
-        }
-        if matches!(g, 71 | 72)
-            && !second
-            && let Some(w) = words.get(if g == 71 { 'U' } else { 'W' })
-        {
-            match self.length(line, w, Unit::Axis) {
-                Some(d) if d.0 > 0 => {}
-                Some(_) => {
-                    return bad(
-                        self,
-                        w,
-                        "the depth of cut must be more than 0".into(),
-                        "`G71 U2. R0.5` (`G72 W2. R0.5`): the depth of each cut, then the retract",
-                    );
-                }
-                None => return false,
-            }
-        }
-        if g == 73
-            && !second
-            && let Some(w) = words.get('R')
-        {
-            match self.whole(line, w) {
-                Some(n) if n >= 1 => {}
-                Some(_) => {
-                    return bad(
-                        self,
-                        w,
-                        "the number of passes must be 1 or more".into(),
-                        "`G73 U3. W0. R3`: R the number of passes",
-                    );
-                }
-                None => return false,
-            }
-        }
-        if g == 76
-            && !second
-            && let Some(w) = words.get('P')
-        {
-            match self.whole(line, w) {
-                Some(p)
-                    if (0..=999_999).contains(&p)
+        for &(letter, check) in value_checks(g, second) {
+            let Some(w) = words.get(letter) else {
+                continue;
+            };
+            let fits = match check {
+                Check::Depth => self.length(line, w, Unit::Axis).map(|d| d.0 > 0),
+                Check::Block => self.whole(line, w).map(|n| (1..=99_999).contains(&n)),
+                Check::Passes => self.whole(line, w).map(|n| n >= 1),
+                Check::G76P => self.whole(line, w).map(|p| {
+                    (0..=999_999).contains(&p)
                         && p / 10_000 >= 1
-                        && matches!(p % 100, 80 | 60 | 55 | 30 | 29 | 0) => {}
-                Some(_) => {
-                    return bad(
-                        self,
-                        w,
-                        "P is six digits mm rr aa: the finishing passes mm (01–99), the chamfer rr (00–99, in 0.1 lead) and the tool angle aa (80, 60, 55, 30, 29 or 00)".into(),
-                        "`G76 P020060 Q100 R0.05`: 2 finishing passes, no chamfer, a 60° tool",
-                    );
-                }
+                        && matches!(p % 100, 80 | 60 | 55 | 30 | 29 | 0)
+                }),
+            };
+            match fits {
+                Some(true) => {}
+                // Its number could not be read (said).
                 None => return false,
+                Some(false) => {
+                    let (why, help) = check.words();
+                    let text = &line.text[w.range.clone()];
+                    self.error(
+                        codes::FANR_CYCLE,
+                        line,
+                        w.range.clone(),
+                        format!("`{text}` in the {what}: {why}"),
+                        help,
+                    );
+                    return false;
+                }
             }
         }
         true
@@ -509,6 +517,20 @@ impl FrontEnd<'_> {
                 );
             }
         }
+        self.contour_shape(line, block, c, to);
+        c.at = to;
+    }
+
+    /// The contour's shape where it is known: the first block says G00 or G01 (and decides
+    /// type I or II), a type I contour's points change X and Z one way each.
+    fn contour_shape(
+        &mut self,
+        line: Line<'_>,
+        block: &Block,
+        c: &mut Contour,
+        to: (Option<Length>, Option<Length>),
+    ) {
+        let what = name(c.g);
         let has = |l: char| block.words.iter().any(|w| w.letter == l);
         if c.first {
             if !matches!(c.motion, 0 | 1) || !block.words.iter().any(|w| w.letter == 'G') {
@@ -548,7 +570,6 @@ impl FrontEnd<'_> {
                 c.dir.1 = step.1;
             }
         }
-        c.at = to;
     }
 
     /// At the program's end: a contour still open, and every P and Q that names no block, or
