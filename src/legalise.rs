@@ -23,7 +23,8 @@ pub fn check(program: &Program, src: &SourceFile, to: Option<DialectId>) -> Vec<
     let mut turning = false;
     let mut speed: Option<u32> = None;
     let mut feed_mode: Option<FeedMode> = None;
-    for item in &program.items {
+    let said = cycle_blocks_said(program);
+    for (index, item) in program.items.iter().enumerate() {
         let refusal = match &item.kind {
             ItemKind::Spindle {
                 speed: s,
@@ -59,7 +60,14 @@ pub fn check(program: &Program, src: &SourceFile, to: Option<DialectId>) -> Vec<
                 dialect,
                 text,
                 block: Some(context),
-            } => kept_block_moves(text, *dialect, context, to, feed_mode),
+            } => kept_block_moves(
+                text,
+                *dialect,
+                context,
+                to,
+                feed_mode,
+                said.contains(&index),
+            ),
             _ => None,
         };
         if let Some(d) = refusal {
@@ -101,6 +109,31 @@ fn feed_without_spindle(turning: bool, speed: Option<u32>) -> Diagnostic {
     )
 }
 
+/// The blocks kept as a cycle at which another target's refusal is said: in each run of
+/// them (a two-block form, a contour, comments between), every block that moves (a G71's
+/// second block, a G70), or the run's first block when none does (a first block alone).
+fn cycle_blocks_said(program: &Program) -> Vec<usize> {
+    let mut said = Vec::new();
+    let mut run: Vec<(usize, bool)> = Vec::new();
+    let mut close = |run: &mut Vec<(usize, bool)>| {
+        if run.iter().any(|&(_, moves)| moves) {
+            said.extend(run.iter().filter(|&&(_, moves)| moves).map(|&(i, _)| i));
+        } else {
+            said.extend(run.first().map(|&(i, _)| i));
+        }
+        run.clear();
+    };
+    for (i, item) in program.items.iter().enumerate() {
+        match &item.kind {
+            ItemKind::Opaque { block: Some(c), .. } if c.cycle => run.push((i, c.moves)),
+            ItemKind::Comment(_) => {}
+            _ => close(&mut run),
+        }
+    }
+    close(&mut run);
+    said
+}
+
 /// LG003: a block kept as written that would mean something else in the output: another
 /// dialect's, or written in modes (or a feed mode) the output does not have there.
 fn kept_block_moves(
@@ -109,13 +142,14 @@ fn kept_block_moves(
     context: &crate::ir::ModalContext,
     to: Option<DialectId>,
     feed_mode: Option<FeedMode>,
+    said: bool,
 ) -> Option<Diagnostic> {
     if context.cycle
         && let Some(to) = to.filter(|&to| to != dialect)
     {
-        // Said once per cycle, at its block that moves: a G71's first block and its
-        // contour's blocks belong to it.
-        if !context.moves {
+        // Said once per cycle (`cycle_blocks_said`): a G71's first block and its contour's
+        // blocks belong to its second.
+        if !said {
             return None;
         }
         return Some(

@@ -52,6 +52,7 @@ pub fn corpus_cases() -> Vec<Case> {
         ("fuzz/czech", ncthread::dialect::czech::ID),
         ("fuzz/nc31", ncthread::dialect::nc31::ID),
         ("fuzz/iso", ncthread::dialect::iso::ID),
+        ("fuzz/fanuc", ncthread::dialect::fanuc::ID),
     ] {
         let ext = extension(from);
         let dir = root().join("corpus").join(folder);

@@ -429,9 +429,25 @@ impl FrontEnd<'_> {
         }
     }
 
-    /// A block's code as written, without its block number (the item carries it).
+    /// A block's code as written, without its block number and its comments (the item
+    /// carries both).
     fn kept_text(&self, line: Line<'_>, block: &Block) -> String {
-        let code = line.text[block.code_range.clone()].trim();
+        let mut depth = 0usize;
+        let code: String = line.text[block.code_range.clone()]
+            .chars()
+            .filter(|&c| {
+                match c {
+                    '(' => depth += 1,
+                    ')' => {
+                        depth = depth.saturating_sub(1);
+                        return false;
+                    }
+                    _ => {}
+                }
+                depth == 0
+            })
+            .collect();
+        let code = code.trim();
         match block.number {
             Some(_) => code
                 .trim_start_matches(['N', 'n'])
