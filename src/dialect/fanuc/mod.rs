@@ -4,6 +4,7 @@
 pub mod codes;
 mod emit;
 mod front;
+mod macros;
 pub mod profile;
 pub mod syntax;
 
@@ -116,7 +117,13 @@ impl Dialect for Fanuc {
         profile: &Profile,
         unsupported: Unsupported,
     ) -> (Program, Vec<Diagnostic>) {
-        front::parse(src, &profile.fanuc, unsupported)
+        front::read(
+            src,
+            &profile.fanuc,
+            &profile.iso.subroutine_path,
+            unsupported,
+            Keep::Program,
+        )
     }
 
     fn diagnostics(
@@ -125,7 +132,14 @@ impl Dialect for Fanuc {
         profile: &Profile,
         unsupported: Unsupported,
     ) -> Vec<Diagnostic> {
-        front::read(src, &profile.fanuc, unsupported, Keep::Diagnostics).1
+        front::read(
+            src,
+            &profile.fanuc,
+            &profile.iso.subroutine_path,
+            unsupported,
+            Keep::Diagnostics,
+        )
+        .1
     }
 
     fn capabilities(&self, profile: &Profile) -> Capabilities {
