@@ -67,6 +67,13 @@ pub(super) fn uses_macros(src: &SourceFile) -> bool {
     })
 }
 
+/// Denford's `[BILLET X… Z…` stock line (a comment, see `front.rs`).
+fn is_billet(text: &str) -> bool {
+    text.trim_start()
+        .get(..7)
+        .is_some_and(|h| h.eq_ignore_ascii_case("[BILLET"))
+}
+
 fn without_comments(text: &str) -> String {
     let mut out = String::new();
     let mut depth = false;
@@ -201,7 +208,7 @@ fn read_line(text: &str) -> Result<MLine, (usize, String, String)> {
         }),
         Err(plain) => parse::parse_line(text).map_err(|e| {
             let up = without_comments(text).to_ascii_uppercase();
-            let macro_line = plain.message.contains("macro")
+            let macro_line = without_comments(text).contains(['#', '['])
                 || ["IF", "WHILE", "GOTO", "END", "DO"].iter().any(|k| up.contains(k));
             if macro_line {
                 (e.offset, e.message, "custom macro B: `#1=[#2+1.]`, `IF [#1 GT 2] GOTO 10`, `WHILE [#1 LE 3] DO 1` … `END 1`, words with `#n` or `[expression]` values".into())
@@ -298,9 +305,7 @@ pub(super) fn run<'a>(src: &'a SourceFile, loaded: &'a Loaded) -> Vec<Event<'a>>
         percents: 0,
         events: Vec::new(),
     };
-    if r.syntax_errors() {
-        return r.events;
-    }
+    r.syntax_errors();
     while let Flow::Next = r.step() {}
     r.events
 }
@@ -361,18 +366,13 @@ fn programs(lines: &[Vec<ReadLine<'_>>], numbers: &[u32]) -> (Prog, HashMap<u32,
 
 impl<'a> Runner<'a> {
     /// Every line that cannot be read, said up front (a program with one runs nowhere).
-    fn syntax_errors(&mut self) -> bool {
-        let mut any = false;
+    fn syntax_errors(&mut self) {
         for f in 0..self.files.len() {
             for i in 0..self.lines[f].len() {
                 let (line, Err((offset, message, help))) = &self.lines[f][i] else {
                     continue;
                 };
-                let billet = line
-                    .text
-                    .trim_start()
-                    .get(..7)
-                    .is_some_and(|h| h.eq_ignore_ascii_case("[BILLET"));
+                let billet = is_billet(line.text);
                 if billet && f == 0 {
                     continue;
                 }
@@ -383,10 +383,8 @@ impl<'a> Runner<'a> {
                         .at(src, span)
                         .help(help.clone()),
                 ));
-                any = true;
             }
         }
-        any
     }
 
     /// The call chain: `in O2000 called from line 12, in O3000 called from line 4`.
@@ -453,9 +451,13 @@ impl<'a> Runner<'a> {
         let (f, i) = (self.cur.prog.file, self.cur.pc);
         self.cur.pc += 1;
         let Ok(l) = &self.lines[f][i].1 else {
+            // Said up front; a program stops at a line it cannot read.
             let line = self.lines[f][i].0;
-            self.events.push(Event::Billet(line));
-            return Flow::Next;
+            if f == 0 && is_billet(line.text) {
+                self.events.push(Event::Billet(line));
+                return Flow::Next;
+            }
+            return Flow::Stop;
         };
         let l = l.clone();
         if l.delimiter {

@@ -322,6 +322,16 @@ impl Runner<'_> {
                 'G' if w.value.to_whole() == Ok(65) => {}
                 'P' => p = Some((v as u32, w.range.clone())),
                 'L' => repeats = v as u32,
+                // FANUC reads an argument without a point in the address's least input
+                // increment on some addresses and as written on others: not guessed.
+                letter if !w.value.has_point && "XYZUVWIJKRF".contains(letter) => {
+                    return self.refuse(
+                        codes::FANR_NUMBER,
+                        w.range.clone(),
+                        format!("`{}`: a G65 argument on {letter} without a decimal point, whose unit (whole or least input increment) depends on the machine", self.line_text(w.range.clone())),
+                        "write the argument with a decimal point (`X20.`)",
+                    );
+                }
                 letter => match argument(letter) {
                     Some(n) if args[n - 1].is_none() => args[n - 1] = Some(v),
                     _ => {

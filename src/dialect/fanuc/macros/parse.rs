@@ -102,6 +102,11 @@ impl<'a> Lexer<'a> {
         })
     }
 
+    /// The character here (whole, when it is not ASCII).
+    fn here(&self) -> char {
+        self.text[self.pos..].chars().next().unwrap_or(' ')
+    }
+
     fn eat(&mut self, c: u8) -> bool {
         if self.peek() == Some(c) {
             self.pos += 1;
@@ -421,8 +426,13 @@ pub fn parse_line(text: &str) -> Result<MLine, Error> {
                 comments.extend(crate::dialect::comment_text(&text[start + 1..start + end]));
                 l.pos = start + end + 1;
             }
-            Some(b';') => l.pos += 1,
-            Some(c) => return l.fail(format!("unexpected character `{}`", c as char)),
+            Some(b';') => {
+                l.pos += 1;
+                if !matches!(l.peek(), None | Some(b'(')) {
+                    return l.fail("text after the end-of-block mark `;` is not a comment");
+                }
+            }
+            Some(_) => return l.fail(format!("unexpected character `{}`", l.here())),
         }
     }
     if !comments.is_empty() {
@@ -453,6 +463,8 @@ fn statement(l: &mut Lexer<'_>) -> Res<Stmt> {
             } else if l.keyword("THEN") {
                 let (t, e) = assignment(l)?;
                 Ok(Stmt::IfThen(cond, t, e))
+            } else if l.peek() == Some(b'#') {
+                l.fail("IF […] #i=… without THEN: FANUC writes IF […] THEN #i=…")
             } else {
                 l.fail("IF […] is followed by GOTO n or THEN #i=…")
             }

@@ -75,6 +75,15 @@ impl Variables {
                 "#0 is always vacant: it cannot be set".into(),
                 RANGES,
             )),
+            // The program's own alarm: the machine stops here with alarm 3000 + n.
+            3000 => Err(EvalError::new(
+                range,
+                format!(
+                    "#3000={}: the program raises its own alarm here and the machine stops",
+                    v.map_or("vacant".into(), |v| v.to_string())
+                ),
+                "this run of the program ends in an alarm: check the values it was given",
+            )),
             1000.. => Err(machine(
                 range,
                 format!(
