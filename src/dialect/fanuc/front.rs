@@ -483,6 +483,18 @@ impl FrontEnd<'_> {
     /// A block's code as written, without its block number (the item carries it).
     fn kept_text(&self, line: Line<'_>, block: &Block) -> String {
         let code = line.text[block.code_range.clone()].trim();
+        // A block run through its macros: the words with their computed values.
+        if code.contains(['#', '[']) {
+            let words: Vec<String> = block
+                .words
+                .iter()
+                .map(|w| match &line.text[w.range.clone()] {
+                    t if t.contains(['#', '[']) => format!("{}{}", w.letter, w.value),
+                    t => t.to_string(),
+                })
+                .collect();
+            return words.join(" ");
+        }
         match block.number {
             Some(_) => code
                 .trim_start_matches(['N', 'n'])

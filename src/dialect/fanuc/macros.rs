@@ -392,7 +392,7 @@ impl<'a> Runner<'a> {
         if self.frames.is_empty() {
             return None;
         }
-        let mut parts = Vec::new();
+        let mut parts: Vec<(String, usize)> = Vec::new();
         let mut inner = &self.cur;
         for outer in self.frames.iter().rev() {
             let (f, i) = inner.call;
@@ -402,9 +402,18 @@ impl<'a> Runner<'a> {
             } else {
                 format!("{} line {number}", self.files[f].name)
             };
-            parts.push(format!("in {} called from {at}", inner.name));
+            let part = format!("in {} called from {at}", inner.name);
+            // A recursion's repeated calls are counted, not listed (as the ISO reader does).
+            match parts.last_mut() {
+                Some((last, n)) if *last == part => *n += 1,
+                _ => parts.push((part, 1)),
+            }
             inner = outer;
         }
+        let parts: Vec<String> = parts
+            .into_iter()
+            .map(|(p, n)| if n > 1 { format!("{p} ({n} times)") } else { p })
+            .collect();
         Some(parts.join(", "))
     }
 
@@ -516,3 +525,6 @@ impl<'a> Runner<'a> {
 }
 
 mod flow;
+
+#[cfg(test)]
+mod tests;

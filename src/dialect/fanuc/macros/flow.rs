@@ -419,11 +419,11 @@ impl Runner<'_> {
             .chain(std::iter::once(&self.cur))
             .filter(|f| f.macro_call)
             .count();
-        if self.frames.len() + 1 >= MAX_DEPTH || (args.is_some() && levels >= MAX_MACRO_LEVELS) {
+        if self.frames.len() + 1 > MAX_DEPTH || (args.is_some() && levels >= MAX_MACRO_LEVELS) {
             return self.refuse(
                 codes::FANR_MACRO,
                 range,
-                format!("calling O{n:04} here nests calls deeper than FANUC's limit ({MAX_DEPTH} calls, {MAX_MACRO_LEVELS} of them G65)"),
+                format!("calling O{n:04} here nests calls deeper than FANUC allows (at most {MAX_DEPTH} nested calls, at most {MAX_MACRO_LEVELS} of them G65 calls)"),
                 "a subprogram that calls itself needs a condition that ends the calls",
             );
         }
