@@ -210,6 +210,7 @@ impl<'a> FrontEnd<'a> {
                 macros::Event::Billet(line) => {
                     self.billet(src, line);
                 }
+                macros::Event::Title(line) => self.title(src, line),
                 macros::Event::Block {
                     file,
                     line,

@@ -40,20 +40,13 @@ const MAX_MACRO_LEVELS: usize = 4;
 
 /// Whether a program uses custom macro B or subprograms (see the module's comment).
 pub(super) fn uses_macros(src: &SourceFile) -> bool {
+    let title = title_line(src);
     src.lines().any(|line| {
-        let code = without_comments(line.text);
-        let t = code.trim_start();
-        if t.get(..7)
-            .is_some_and(|h| h.eq_ignore_ascii_case("[BILLET"))
-        {
+        if Some(line.number) == title || is_billet(line.text) {
             return false;
         }
-        let up = code.to_ascii_uppercase();
-        if code.contains(['#', '['])
-            || ["IF", "WHILE", "GOTO", "END", "DO"]
-                .iter()
-                .any(|k| up.contains(k))
-        {
+        let code = without_comments(line.text);
+        if code.contains(['#', '[']) || statement(&code) {
             return true;
         }
         syntax::parse_line(line.text).is_ok_and(|b| {
@@ -65,6 +58,39 @@ pub(super) fn uses_macros(src: &SourceFile) -> bool {
             })
         })
     })
+}
+
+/// `IF`, `WHILE`, `GOTO`, `DO` or `END` first in a block's code (after `/` and its N).
+fn statement(code: &str) -> bool {
+    let code = code.trim_start().trim_start_matches('/').trim_start();
+    let code = match code.strip_prefix(['N', 'n']) {
+        Some(rest) if rest.starts_with(|c: char| c.is_ascii_digit()) => {
+            rest.trim_start_matches(|c: char| c.is_ascii_digit())
+        }
+        _ => code,
+    };
+    let word: String = code
+        .trim_start()
+        .chars()
+        .take_while(char::is_ascii_alphabetic)
+        .collect();
+    matches!(
+        word.to_ascii_uppercase().as_str(),
+        "IF" | "WHILE" | "GOTO" | "DO" | "END"
+    )
+}
+
+/// The line of a title before the program's start (see `front.rs`): a first line that is
+/// no block and starts with a letter, followed by a `%` or the program number.
+fn title_line(src: &SourceFile) -> Option<u32> {
+    let mut lines = src.lines().filter(|l| !l.text.trim().is_empty());
+    let first = lines.next()?;
+    let next = lines.next()?;
+    let starts = syntax::parse_line(next.text).is_ok_and(|b| b.delimiter || b.get('O').is_some());
+    (syntax::parse_line(first.text).is_err()
+        && first.text.trim_start().starts_with(char::is_alphabetic)
+        && starts)
+        .then_some(first.number)
 }
 
 /// Denford's `[BILLET X… Z…` stock line (a comment, see `front.rs`).
@@ -207,9 +233,8 @@ fn read_line(text: &str) -> Result<MLine, (usize, String, String)> {
             ),
         }),
         Err(plain) => parse::parse_line(text).map_err(|e| {
-            let up = without_comments(text).to_ascii_uppercase();
-            let macro_line = without_comments(text).contains(['#', '['])
-                || ["IF", "WHILE", "GOTO", "END", "DO"].iter().any(|k| up.contains(k));
+            let code = without_comments(text);
+            let macro_line = code.contains(['#', '[']) || statement(&code);
             if macro_line {
                 (e.offset, e.message, "custom macro B: `#1=[#2+1.]`, `IF [#1 GT 2] GOTO 10`, `WHILE [#1 LE 3] DO 1` … `END 1`, words with `#n` or `[expression]` values".into())
             } else {
@@ -233,6 +258,8 @@ pub(super) enum Event<'a> {
     },
     /// A `[BILLET` line (a comment, see `front.rs`).
     Billet(Line<'a>),
+    /// A title before the program's start (a comment, see `front.rs`).
+    Title(Line<'a>),
     Diag(Diagnostic),
 }
 
@@ -268,6 +295,8 @@ struct Runner<'a> {
     inch: bool,
     percents: u32,
     events: Vec<Event<'a>>,
+    /// The program's title line (see [`title_line`]).
+    title: Option<u32>,
 }
 
 enum Flow {
@@ -304,6 +333,7 @@ pub(super) fn run<'a>(src: &'a SourceFile, loaded: &'a Loaded) -> Vec<Event<'a>>
         inch: false,
         percents: 0,
         events: Vec::new(),
+        title: title_line(src),
     };
     r.syntax_errors();
     while let Flow::Next = r.step() {}
@@ -372,8 +402,7 @@ impl<'a> Runner<'a> {
                 let (line, Err((offset, message, help))) = &self.lines[f][i] else {
                     continue;
                 };
-                let billet = is_billet(line.text);
-                if billet && f == 0 {
+                if f == 0 && (is_billet(line.text) || Some(line.number) == self.title) {
                     continue;
                 }
                 let src = self.files[f];
@@ -460,13 +489,18 @@ impl<'a> Runner<'a> {
         let (f, i) = (self.cur.prog.file, self.cur.pc);
         self.cur.pc += 1;
         let Ok(l) = &self.lines[f][i].1 else {
-            // Said up front; a program stops at a line it cannot read.
+            // Said up front; the run goes on past it, as the line-by-line reader does, so
+            // that the rest of the program is checked too.
             let line = self.lines[f][i].0;
             if f == 0 && is_billet(line.text) {
                 self.events.push(Event::Billet(line));
                 return Flow::Next;
             }
-            return Flow::Stop;
+            if f == 0 && Some(line.number) == self.title {
+                self.events.push(Event::Title(line));
+                return Flow::Next;
+            }
+            return Flow::Next;
         };
         let l = l.clone();
         if l.delimiter {

@@ -66,6 +66,10 @@ fn plain_programs_do_not_run_through_macros() {
         "[BILLET X33 Z65\n(IF #1 GOTO)\n"
     )));
     assert!(super::uses_macros(&SourceFile::new("t", "M98 P100\n")));
+    // A title with a keyword in it is a title; a keyword inside a word is no statement.
+    let title = "SHAFT END DOOR\n%\nO0001\nG00 X1. Z1.\nM30\n%\n";
+    assert!(!super::uses_macros(&SourceFile::new("t", title)));
+    assert!(super::uses_macros(&SourceFile::new("t", "N10 GOTO 20\n")));
     assert!(super::uses_macros(&SourceFile::new("t", "G00 X#1\n")));
 }
 
