@@ -31,6 +31,10 @@ use parse::{EvalError, MLine, Stmt, Value};
 /// reader's limit.)
 pub(super) const LOOP_LIMIT: u64 = 200_000;
 
+/// The most lines one program runs: a long loop of many blocks ends with an error within
+/// seconds as well. **\[decided\]**
+const STEP_LIMIT: u64 = 2_000_000;
+
 /// FANUC's deepest nesting of subprogram and macro calls (0i-F: 10 levels in all).
 const MAX_DEPTH: usize = 10;
 
@@ -46,7 +50,7 @@ pub(super) fn uses_macros(src: &SourceFile) -> bool {
             return false;
         }
         let code = without_comments(line.text);
-        if code.contains(['#', '[']) || statement(&code) {
+        if code.contains(['#', '[']) || starts_with_statement(&code) {
             return true;
         }
         syntax::parse_line(line.text).is_ok_and(|b| {
@@ -61,7 +65,7 @@ pub(super) fn uses_macros(src: &SourceFile) -> bool {
 }
 
 /// `IF`, `WHILE`, `GOTO`, `DO` or `END` first in a block's code (after `/` and its N).
-fn statement(code: &str) -> bool {
+fn starts_with_statement(code: &str) -> bool {
     let code = code.trim_start().trim_start_matches('/').trim_start();
     let code = match code.strip_prefix(['N', 'n']) {
         Some(rest) if rest.starts_with(|c: char| c.is_ascii_digit()) => {
@@ -234,7 +238,7 @@ fn read_line(text: &str) -> Result<MLine, (usize, String, String)> {
         }),
         Err(plain) => parse::parse_line(text).map_err(|e| {
             let code = without_comments(text);
-            let macro_line = code.contains(['#', '[']) || statement(&code);
+            let macro_line = code.contains(['#', '[']) || starts_with_statement(&code);
             if macro_line {
                 (e.offset, e.message, "custom macro B: `#1=[#2+1.]`, `IF [#1 GT 2] GOTO 10`, `WHILE [#1 LE 3] DO 1` … `END 1`, words with `#n` or `[expression]` values".into())
             } else {
@@ -292,11 +296,15 @@ struct Runner<'a> {
     cur: Frame,
     vars: vars::Variables,
     iterations: u64,
+    /// Lines run so far.
+    steps: u64,
     inch: bool,
     percents: u32,
     events: Vec<Event<'a>>,
     /// The program's title line (see [`title_line`]).
     title: Option<u32>,
+    /// Each program's block numbers and loops, by (file, first line).
+    indexes: HashMap<(usize, usize), std::rc::Rc<flow::Index>>,
 }
 
 enum Flow {
@@ -330,10 +338,12 @@ pub(super) fn run<'a>(src: &'a SourceFile, loaded: &'a Loaded) -> Vec<Event<'a>>
         },
         vars: vars::Variables::default(),
         iterations: 0,
+        steps: 0,
         inch: false,
         percents: 0,
         events: Vec::new(),
         title: title_line(src),
+        indexes: HashMap::new(),
     };
     r.syntax_errors();
     while let Flow::Next = r.step() {}
@@ -488,6 +498,15 @@ impl<'a> Runner<'a> {
         }
         let (f, i) = (self.cur.prog.file, self.cur.pc);
         self.cur.pc += 1;
+        self.steps += 1;
+        if self.steps > STEP_LIMIT {
+            return self.refuse(
+                codes::FANR_MACRO,
+                0..0,
+                format!("the program runs more than {STEP_LIMIT} lines: ncthread stops it here"),
+                "a loop this long is not a part program ncthread can convert; check its condition",
+            );
+        }
         let Ok(l) = &self.lines[f][i].1 else {
             // Said up front; the run goes on past it, as the line-by-line reader does, so
             // that the rest of the program is checked too.

@@ -3,6 +3,13 @@
 
 use super::parse::{self, EvalError, MLine, MWord, Stmt, Value};
 use super::{Event, Flow, Frame, LOOP_LIMIT, MAX_DEPTH, MAX_MACRO_LEVELS, Runner, packed};
+
+/// A program's block numbers (each with its lines, in order) and its `DO m` … `END m` pairs.
+#[derive(Debug, Default)]
+pub(super) struct Index {
+    numbers: std::collections::HashMap<u32, Vec<usize>>,
+    loops: Vec<(usize, usize)>,
+}
 use crate::dialect::fanuc::codes;
 use crate::dialect::fanuc::syntax::{Block, Word};
 use crate::fixed::Decimal;
@@ -77,33 +84,35 @@ fn word_value(letter: char, v: f64, inch: bool) -> Option<Decimal> {
 impl Runner<'_> {
     /// The line index of `N n` in the running program: forward from here, then from its
     /// start (as FANUC searches).
-    fn find_block(&self, n: u32) -> Option<usize> {
-        let p = self.cur.prog;
-        let is_n = |i: &usize| {
-            self.lines[p.file][*i]
-                .1
-                .as_ref()
-                .is_ok_and(|l| l.number == Some(n))
-        };
-        (self.cur.pc..p.end)
-            .find(is_n)
-            .or_else(|| (p.start..self.cur.pc).find(is_n))
+    fn find_block(&mut self, n: u32) -> Option<usize> {
+        let (pc, index) = (self.cur.pc, self.index());
+        let at = index.numbers.get(&n)?;
+        at.iter().find(|i| **i >= pc).or(at.first()).copied()
     }
 
-    /// The loops of the running program: each `DO m` line with its `END m` line.
-    fn loops(&self) -> Vec<(usize, usize)> {
+    /// The running program's block numbers and loops, found once per program.
+    fn index(&mut self) -> std::rc::Rc<Index> {
         let p = self.cur.prog;
-        let stmt = |i: usize| self.lines[p.file][i].1.as_ref().ok().map(|l| &l.stmt);
-        let mut out = Vec::new();
+        if let Some(index) = self.indexes.get(&(p.file, p.start)) {
+            return index.clone();
+        }
+        let stmt = |i: usize| self.lines[p.file][i].1.as_ref().ok();
+        let mut index = Index::default();
         for i in p.start..p.end {
-            if let Some(Stmt::While(_, m)) = stmt(i)
-                && let Some(j) =
-                    (i + 1..p.end).find(|j| matches!(stmt(*j), Some(Stmt::End(e)) if e == m))
+            let Some(l) = stmt(i) else { continue };
+            if let Some(n) = l.number {
+                index.numbers.entry(n).or_default().push(i);
+            }
+            if let Stmt::While(_, m) = &l.stmt
+                && let Some(j) = (i + 1..p.end)
+                    .find(|j| matches!(stmt(*j).map(|l| &l.stmt), Some(Stmt::End(e)) if e == m))
             {
-                out.push((i, j));
+                index.loops.push((i, j));
             }
         }
-        out
+        let index = std::rc::Rc::new(index);
+        self.indexes.insert((p.file, p.start), index.clone());
+        index
     }
 
     fn back(&mut self, to: usize, l: &MLine) -> Flow {
@@ -140,8 +149,10 @@ impl Runner<'_> {
             ));
         };
         let into = self
-            .loops()
-            .into_iter()
+            .index()
+            .loops
+            .iter()
+            .copied()
             .any(|(d, e)| d < to && to <= e && !(d..=e).contains(&here));
         if into {
             return Ok(self.refuse(
@@ -164,7 +175,7 @@ impl Runner<'_> {
     /// `WHILE` false: on after its `END m`.
     pub(super) fn past_end(&mut self, m: u8, l: &MLine) -> Flow {
         let here = self.cur.pc - 1;
-        match self.loops().into_iter().find(|(d, _)| *d == here) {
+        match self.index().loops.iter().copied().find(|(d, _)| *d == here) {
             Some((_, e)) => {
                 self.cur.pc = e + 1;
                 Flow::Next
@@ -182,8 +193,10 @@ impl Runner<'_> {
     pub(super) fn back_to_do(&mut self, m: u8, l: &MLine) -> Flow {
         let here = self.cur.pc - 1;
         match self
-            .loops()
-            .into_iter()
+            .index()
+            .loops
+            .iter()
+            .copied()
             .filter(|(_, e)| *e == here)
             .map(|(d, _)| d)
             .max()
