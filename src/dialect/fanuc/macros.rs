@@ -458,7 +458,11 @@ impl<'a> Runner<'a> {
 
     /// A refusal at `range` of the line just run; the run stops.
     fn refuse(&mut self, code: Code, range: Range<usize>, message: String, help: &str) -> Flow {
-        let (f, i) = (self.cur.prog.file, self.cur.pc - 1);
+        let (mut f, mut i) = (self.cur.prog.file, self.cur.pc.saturating_sub(1));
+        if i >= self.lines[f].len() {
+            // An empty subprogram file: at its call.
+            (f, i) = self.cur.call;
+        }
         let line = self.lines[f][i].0;
         let src = self.files[f];
         let message = match self.chain() {
@@ -507,6 +511,10 @@ impl<'a> Runner<'a> {
                 "a loop this long is not a part program ncthread can convert; check its condition",
             );
         }
+        // A blank line is no block (as in the line-by-line reader).
+        if self.lines[f][i].0.text.trim().is_empty() {
+            return Flow::Next;
+        }
         let Ok(l) = &self.lines[f][i].1 else {
             // Said up front; the run goes on past it, as the line-by-line reader does, so
             // that the rest of the program is checked too.
@@ -523,12 +531,25 @@ impl<'a> Runner<'a> {
         };
         let l = l.clone();
         if l.delimiter {
-            self.percents += 1;
+            // The main program's closing `%` ends it; a subprogram file's `%` is its frame.
+            if self.frames.is_empty() {
+                self.percents += 1;
+            }
             return if self.percents >= 2 && self.frames.is_empty() {
                 Flow::Stop
             } else {
                 Flow::Next
             };
+        }
+        if let Some(range) = l.block_delete.clone()
+            && !matches!(l.stmt, Stmt::Words(_))
+        {
+            return self.refuse(
+                codes::FANR_UNSUPPORTED,
+                range,
+                "`/` before a macro statement: whether the operator's block skip switch skips it is not known".into(),
+                "remove the `/`, or the statement",
+            );
         }
         match self.statement(&l) {
             Ok(flow) => flow,

@@ -79,7 +79,12 @@ struct Lexer<'a> {
     text: &'a str,
     b: &'a [u8],
     pos: usize,
+    /// Operators and nested brackets so far: an expression beyond [`MAX_NODES`] is refused
+    /// (FANUC nests brackets 5 deep; the bound keeps the recursion's stack small).
+    nodes: usize,
 }
+
+const MAX_NODES: usize = 400;
 
 type Res<T> = Result<T, Error>;
 
@@ -245,6 +250,10 @@ impl<'a> Lexer<'a> {
     }
 
     fn unary(&mut self) -> Res<Expr> {
+        self.nodes += 1;
+        if self.nodes > MAX_NODES {
+            return self.fail("the expression is too long or nests too deep");
+        }
         let start = {
             self.blanks();
             self.pos
@@ -378,6 +387,7 @@ pub fn parse_line(text: &str) -> Result<MLine, Error> {
         text,
         b: text.as_bytes(),
         pos: 0,
+        nodes: 0,
     };
     let first = {
         l.blanks();
@@ -690,6 +700,7 @@ mod tests {
             text,
             b: text.as_bytes(),
             pos: 0,
+            nodes: 0,
         };
         let e = l.expr().unwrap_or_else(|e| panic!("{text}: {e:?}"));
         assert_eq!(l.pos, text.len(), "{text}");
@@ -750,5 +761,9 @@ mod tests {
         assert!(parse_line("X[1+").is_err());
         assert!(parse_line("#1=BIN[3]").is_err());
         assert!(parse_line("G00 X(OPEN").is_err());
+        // Deep or long expressions are refused, not a stack overflow.
+        assert!(parse_line(&format!("#1={}1{}", "[".repeat(5000), "]".repeat(5000))).is_err());
+        assert!(parse_line(&format!("#1={}", "-".repeat(5000))).is_err());
+        assert!(parse_line(&format!("#1=1{}", "+1".repeat(5000))).is_err());
     }
 }

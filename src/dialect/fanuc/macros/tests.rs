@@ -111,6 +111,11 @@ fn indirect_variables_and_commons() {
     assert!(code == "FANR019" && message.contains("alarm"), "{message}");
     let (code, _, _) = refusal("#1=1/#0\n");
     assert_eq!(code, "FANR019");
+    let (code, message, _) = refusal("/#1=1\n");
+    assert!(
+        code == "FANR002" && message.contains("block skip"),
+        "{message}"
+    );
 }
 
 #[test]
