@@ -68,6 +68,17 @@ fn n(v: f64) -> String {
 
 /// The translation of a FANUC program of the G32 subset into LinuxCNC ISO, or why not.
 pub fn translate(fanuc: &str, calculator: bool) -> Result<String, String> {
+    // Custom macro B and subprograms run in ncthread's reader: a translation word for word
+    // cannot follow them (their `fanuc → iso` conversions are checked by rs274 elsewhere).
+    let macro_words = [
+        "#", "[", "IF", "WHILE", "GOTO", "END", "DO", "G65", "G66", "M98", "M99",
+    ];
+    if code_lines(fanuc).iter().any(|l| {
+        let l = l.to_ascii_uppercase();
+        macro_words.iter().any(|k| l.contains(k))
+    }) {
+        return Err("skip: custom macro B and subprograms are not translated word for word".into());
+    }
     let mut out = vec!["G7 G18 G21 G90 G91.1 G95".to_string()];
     let (mut x, mut z): (Option<f64>, Option<f64>) = (None, None);
     let mut motion = 0u32;

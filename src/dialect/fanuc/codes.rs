@@ -73,6 +73,14 @@ pub const FANR_CYCLE: Code = error(
     "FANR018",
     "a canned cycle written wrongly: a word its form does not take, P or Q naming no block (or two), a contour that does not follow its cycle, holds other than G00–G03 or turns back (type I), a G76 P out of range",
 );
+pub const FANR_MACRO: Code = error(
+    "FANR019",
+    "a custom macro B statement or a subprogram call that cannot be run (a GOTO to a missing block, a loop that does not end, calls nested too deep, a subprogram not found, a division by zero…)",
+);
+pub const FANR_MACHINE_VARIABLE: Code = error(
+    "FANR020",
+    "a macro variable whose value lives in the machine: a system variable (#1000 and above: signals, offsets, modal information, positions), or #500 … #999 read before the program sets it",
+);
 
 // writer
 pub const FANW_PRECISION: Code = error(
@@ -128,6 +136,8 @@ pub const READ: &[Code] = &[
     FANR_INCH_ROUNDED,
     FANR_NOT_RUN,
     FANR_CYCLE,
+    FANR_MACRO,
+    FANR_MACHINE_VARIABLE,
 ];
 
 /// The writer's codes, in the order README.md lists them.

@@ -14,6 +14,7 @@
 
 use std::ops::Range;
 
+use super::macros;
 use super::syntax::{self, Block, Word};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::Unsupported;
@@ -144,21 +145,26 @@ struct FrontEnd<'a> {
 
 /// Reads a FANUC program. The program holds every item that could be read; it is usable
 /// only when no diagnostic is an error.
+#[cfg(test)]
 pub fn parse(
     src: &SourceFile,
     profile: &FanucProfile,
     unsupported: Unsupported,
 ) -> (Program, Vec<Diagnostic>) {
-    read(src, profile, unsupported, Keep::Program)
+    read(src, profile, &[], unsupported, Keep::Program)
 }
 
 /// [`parse`], keeping the program or only the diagnostics.
 pub(crate) fn read(
     src: &SourceFile,
     profile: &FanucProfile,
+    subroutine_path: &[std::path::PathBuf],
     unsupported: Unsupported,
     keep: Keep,
 ) -> (Program, Vec<Diagnostic>) {
+    // A program with custom macro B or subprograms runs first (`macros.rs`); its files
+    // outlive the reader.
+    let loaded = macros::uses_macros(src).then(|| macros::load(src, subroutine_path));
     let mut fe = FrontEnd {
         r: Reader::new(src, super::ID, keep),
         profile,
@@ -183,10 +189,56 @@ pub(crate) fn read(
         numbers: std::collections::HashMap::new(),
         references: Vec::new(),
     };
-    fe.lines(src);
+    match &loaded {
+        Some(loaded) => fe.macro_lines(src, loaded),
+        None => fe.lines(src),
+    }
     fe.cycle_closing();
     fe.closing_notes(src);
     fe.r.finish()
+}
+
+impl<'a> FrontEnd<'a> {
+    /// The blocks of a program run through its macros and subprograms, each at its own line
+    /// (and file); a block of another file's subprogram stands at the program's call, and
+    /// a diagnostic in a subprogram names the call chain.
+    fn macro_lines(&mut self, src: &'a SourceFile, loaded: &'a macros::Loaded) {
+        for event in macros::run(src, loaded) {
+            self.r.items.line_read();
+            match event {
+                macros::Event::Diag(d) => self.r.diags.push(d),
+                macros::Event::Billet(line) => {
+                    self.billet(src, line);
+                }
+                macros::Event::Title(line) => self.title(src, line),
+                macros::Event::Block {
+                    file,
+                    line,
+                    block,
+                    chain,
+                    call,
+                } => {
+                    let (items, diags) = (self.r.items.len(), self.r.diags.len());
+                    if file != 0 {
+                        self.r.src = &loaded.files[file - 1].1;
+                    }
+                    self.block(line, &block);
+                    self.r.src = src;
+                    if let Some(chain) = chain {
+                        for d in &mut self.r.diags[diags..] {
+                            d.message = format!("{} ({chain})", d.message);
+                        }
+                    }
+                    if let Some(call) = call {
+                        let span = src.line_span(call);
+                        for item in &mut self.r.items[items..] {
+                            item.span = span;
+                        }
+                    }
+                }
+            }
+        }
+    }
 }
 
 impl FrontEnd<'_> {
@@ -432,8 +484,21 @@ impl FrontEnd<'_> {
     /// A block's code as written, without its block number and its comments (the item
     /// carries both).
     fn kept_text(&self, line: Line<'_>, block: &Block) -> String {
+        let raw = line.text[block.code_range.clone()].trim();
+        // A block run through its macros: the words with their computed values.
+        if raw.contains(['#', '[']) {
+            let words: Vec<String> = block
+                .words
+                .iter()
+                .map(|w| match &line.text[w.range.clone()] {
+                    t if t.contains(['#', '[']) => format!("{}{}", w.letter, w.value),
+                    t => t.to_string(),
+                })
+                .collect();
+            return words.join(" ");
+        }
         let mut depth = 0usize;
-        let code: String = line.text[block.code_range.clone()]
+        let code: String = raw
             .chars()
             .filter(|&c| {
                 match c {

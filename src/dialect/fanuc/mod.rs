@@ -4,6 +4,7 @@
 pub mod codes;
 mod emit;
 mod front;
+mod macros;
 pub mod profile;
 pub mod syntax;
 
@@ -49,6 +50,33 @@ fn fanuc_word(words: &[String]) -> bool {
         })
 }
 
+/// Custom macro B: an `IF`, `WHILE`, `GOTO`, `DO` or `END` statement, `G65` and `M98` are
+/// FANUC's alone (LinuxCNC writes its control flow after an O-word and has no G65); a
+/// variable (`#1`, `#[…]`) or an expression (`[`) is LinuxCNC's as much (a shared mark).
+fn macro_claim(code: &str, words: &[String]) -> Option<LineClaim> {
+    let up = code.to_ascii_uppercase();
+    let statement = up
+        .trim_start_matches(|c: char| c == 'N' || c.is_ascii_digit() || c == ' ')
+        .split(|c: char| !c.is_ascii_alphabetic())
+        .next()
+        .is_some_and(|k| matches!(k, "IF" | "WHILE" | "GOTO" | "DO" | "END"));
+    if statement || words.iter().any(|w| w == "G65" || w == "M98") {
+        return Some(LineClaim {
+            priority: 96,
+            mark: LineMark::Mark,
+        });
+    }
+    let variable = up.contains('[')
+        || up
+            .as_bytes()
+            .windows(2)
+            .any(|w| w[0] == b'#' && (w[1].is_ascii_digit() || w[1] == b'['));
+    (variable && !up.contains("#<") && !up.starts_with('O')).then_some(LineClaim {
+        priority: 90,
+        mark: LineMark::Mark,
+    })
+}
+
 impl Dialect for Fanuc {
     fn id(&self) -> DialectId {
         ID
@@ -88,6 +116,9 @@ impl Dialect for Fanuc {
                 mark: LineMark::Mark,
             });
         }
+        if let Some(claim) = macro_claim(code, &words) {
+            return Some(claim);
+        }
         // A `( )` comment after code: FANUC's as much as LinuxCNC's (a shared mark).
         // So is a `;` at the end: FANUC's end of block, LinuxCNC's empty comment.
         let eob = line.trim_end().ends_with(';') && code.len() + 1 == line.trim().len();
@@ -116,7 +147,13 @@ impl Dialect for Fanuc {
         profile: &Profile,
         unsupported: Unsupported,
     ) -> (Program, Vec<Diagnostic>) {
-        front::parse(src, &profile.fanuc, unsupported)
+        front::read(
+            src,
+            &profile.fanuc,
+            &profile.iso.subroutine_path,
+            unsupported,
+            Keep::Program,
+        )
     }
 
     fn diagnostics(
@@ -125,7 +162,14 @@ impl Dialect for Fanuc {
         profile: &Profile,
         unsupported: Unsupported,
     ) -> Vec<Diagnostic> {
-        front::read(src, &profile.fanuc, unsupported, Keep::Diagnostics).1
+        front::read(
+            src,
+            &profile.fanuc,
+            &profile.iso.subroutine_path,
+            unsupported,
+            Keep::Diagnostics,
+        )
+        .1
     }
 
     fn capabilities(&self, profile: &Profile) -> Capabilities {

@@ -216,7 +216,7 @@ impl Expr {
 
     /// A function of one argument (LinuxCNC's `execute_unary`), refusing what it refuses:
     /// ACOS and ASIN outside −1 … 1, LN of 0 or less, SQRT of less than 0.
-    fn unary(&self, f: Func, v: f64) -> Result<f64, EvalError> {
+    pub(crate) fn unary(&self, f: Func, v: f64) -> Result<f64, EvalError> {
         Ok(match f {
             Func::Abs => v.abs(),
             Func::Acos | Func::Asin if !(-1.0..=1.0).contains(&v) => {
@@ -266,7 +266,7 @@ impl Expr {
     /// An operation of two operands (LinuxCNC's `execute_binary1` and `execute_binary2`),
     /// refusing what it refuses: a negative base to a fractional power, a division by 0,
     /// MOD 0.
-    fn binary_value(&self, op: Op, a: f64, b: f64) -> Result<f64, EvalError> {
+    pub(crate) fn binary_value(&self, op: Op, a: f64, b: f64) -> Result<f64, EvalError> {
         let truth = |t: bool| f64::from(u8::from(t));
         Ok(match op {
             Op::Power => {

@@ -4,7 +4,7 @@
 pub mod codes;
 mod control;
 mod emit;
-mod expr;
+pub(crate) mod expr;
 mod front;
 mod gcode;
 pub mod profile;
