@@ -35,6 +35,9 @@ struct Block {
     /// The comment is ncthread's own text (a cycle's summary and pass headings), not the
     /// program's: its transliteration (`°` → `DEG`) is not reported.
     own_comment: bool,
+    /// A kept block with only its number (a contour's first or last, which P and Q name):
+    /// written though it has no words.
+    number_only: bool,
 }
 
 struct Emitter<'a> {
@@ -438,7 +441,7 @@ impl Emitter<'_> {
     }
 
     fn flush(&mut self, block: &mut Block) {
-        if !block.words.is_empty() || block.comment.is_some() {
+        if !block.words.is_empty() || block.comment.is_some() || block.number_only {
             let b = std::mem::take(block);
             self.write(b);
         }
@@ -628,7 +631,9 @@ impl Emitter<'_> {
             self.motion = None;
             self.f = None;
         }
-        if !text.is_empty() {
+        if text.is_empty() {
+            block.number_only = true;
+        } else {
             block.words.push(text.to_string());
         }
     }
@@ -793,6 +798,7 @@ impl Emitter<'_> {
             comment,
             moves: false,
             own_comment: false,
+            number_only: false,
         });
         true
     }
