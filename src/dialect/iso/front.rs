@@ -816,6 +816,54 @@ pub(super) mod tests {
         assert_eq!(end.z, None);
     }
 
+    /// LinuxCNC reads the lines it skips: a comment it cannot read there, or the closing
+    /// `%`, stops it.
+    #[test]
+    fn skipped_lines_are_read_as_linuxcnc_reads_them() {
+        let head = "%\nG7 G18 G21 G90 G95\n";
+        let nested = format!("{head}o1 sub\n(a (b)\no1 endsub\nM2\n%\n");
+        let (_, d) = run(&nested);
+        let e = first_error(&d, &nested, codes::ISOR_SYNTAX, "(");
+        assert!(e.message.contains("Nested comment found"), "{e:?}");
+        let unclosed = format!("{head}o1 if [0]\n  (a\no1 endif\nM2\n%\n");
+        let (_, d) = run(&unclosed);
+        let e = first_error(&d, &unclosed, codes::ISOR_SYNTAX, "(");
+        assert!(e.message.contains("Unclosed comment found"), "{e:?}");
+        let percent = format!("{head}o<turn> sub\n%\no<turn> endsub\nM2\n");
+        let (_, d) = run(&percent);
+        let e = first_error(&d, &percent, codes::ISOR_CONTROL, "%");
+        assert!(e.message.contains("'Oturn' before EOF"), "{e:?}");
+        // Lines not run are not read: after the end.
+        for ok in [
+            format!("{head}M2\n(a (b)\n%\n"),
+            format!("{head}o1 sub\n(a) ; (b\no1 endsub\nM2\n%\n"),
+        ] {
+            let (_, d) = run(&ok);
+            assert!(!d.iter().any(|d| d.is_error()), "{ok:?}: {d:?}");
+        }
+    }
+
+    /// A value after an O-word's keyword on a line LinuxCNC runs stops it ("Unexpected
+    /// character after O-word"); on a line it reaches by skipping, it does not look.
+    #[test]
+    fn an_oword_takes_only_its_arguments() {
+        let head = "%\nG7 G18 G21 G90 G95\n";
+        for (text, marked) in [
+            (format!("{head}o100 sub [1]\no100 endsub\nM2\n%\n"), "[1]"),
+            (
+                format!("{head}o2 if [1]\no2 else [3]\no2 endif\nM2\n%\n"),
+                "[3]",
+            ),
+        ] {
+            let (_, d) = run(&text);
+            let e = first_error(&d, &text, codes::ISOR_CONTROL, marked);
+            assert!(e.message.contains("Unexpected character"), "{e:?}");
+        }
+        let skipped = format!("{head}o1 if [0]\no1 elseif [1] [2]\no1 endif\nM2\n%\n");
+        let (_, d) = run(&skipped);
+        assert!(!d.iter().any(|d| d.is_error()), "{d:?}");
+    }
+
     #[test]
     fn block_delete_follows_the_switch_or_is_refused() {
         let src = SourceFile::new(
