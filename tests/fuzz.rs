@@ -766,9 +766,9 @@ fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, Strin
                 // A roughing cycle ncthread refuses as LinuxCNC would: LinuxCNC refuses it too.
                 // Judged on a program whose every error is a cycle's (ISOR019) and whose
                 // first error is not one of ncthread's own: a later one may follow from the
-                // first (a G70 refused stays the motion mode, so the next line with an axis
-                // is "G70 without Q"; an F ncthread refuses as too large leaves the cycle
-                // with no feed).
+                // first (an F ncthread refuses as too large leaves the cycle with no feed;
+                // before the reader passed over them, the axis lines after a refused G70
+                // were "G70 without Q").
                 if let Some(rs274) = rs274
                     && to == input.from
                     && !round

@@ -864,6 +864,17 @@ pub(super) mod tests {
         assert!(!d.iter().any(|d| d.is_error()), "{d:?}");
     }
 
+    /// A refused G70 leaves ncthread not knowing the motion mode LinuxCNC has after it (its
+    /// last move's): the axis lines after it are not blamed as a G70 without Q.
+    #[test]
+    fn no_follow_on_report_after_a_refused_cycle() {
+        let text = "%\nG7 G18 G21 G90 G95\nS500 M3\nG0 X34 Z-30\nG42.1 D0.8 L2\nG70 Q100 X32 Z-30 F0.08\nG40 X34\nZ5\nM2\no100 sub\nG1 X12 Z1\nG1 X18 Z-2\nG1 Z-30\no100 endsub\n%\n";
+        let (_, d) = run(text);
+        let errors: Vec<_> = d.iter().filter(|d| d.is_error()).collect();
+        assert_eq!(errors.len(), 1, "{errors:?}");
+        first_error(&d, text, codes::ISOR_ROUGHING, "G70");
+    }
+
     #[test]
     fn block_delete_follows_the_switch_or_is_refused() {
         let src = SourceFile::new(
