@@ -717,6 +717,30 @@ fn options(from: DialectId, to: DialectId, profile: &Profile, round: bool) -> Co
     }
 }
 
+/// Whether ncthread's refusal is of a roughing cycle that LinuxCNC should refuse too: every
+/// error is ISOR019 and the first is not one of ncthread's own refusals.
+fn roughing_refusal_to_check(diagnostics: &[ncthread::diag::Diagnostic]) -> bool {
+    let mut errors = diagnostics.iter().filter(|d| d.is_error());
+    let Some(first) = errors.next() else {
+        return false;
+    };
+    // Four refusals are ncthread's own: a cycle LinuxCNC never ends; a G70 under
+    // compensation, which LinuxCNC 2.9 runs along another path; a cycle or thread code on
+    // a contour's line, of which LinuxCNC's cycle makes no element while its motion mode
+    // stays in force for the lines after it (ncthread does not follow a cycle code there);
+    // and a contour of one element, on which LinuxCNC cuts nothing and takes the contour's
+    // end for the tool's position, where the tool is not (its later moves start from a
+    // point it never reached, which no ISO output can say).
+    let own = |d: &ncthread::diag::Diagnostic| {
+        d.message.contains("does not end")
+            || d.message
+                .contains("takes the contour's end for the tool's position")
+            || d.message.contains("makes no element of it")
+            || d.message.contains("LinuxCNC then cuts nothing")
+    };
+    first.code.id == "ISOR019" && !own(first) && errors.all(|d| d.code.id == "ISOR019")
+}
+
 /// Every property for one input; `Err` says what broke.
 fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, String> {
     let profile = match &input.profile {
@@ -740,22 +764,15 @@ fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, Strin
             let conversion = ncthread::convert(&src, &opts);
             let Some(output) = conversion.output else {
                 // A roughing cycle ncthread refuses as LinuxCNC would: LinuxCNC refuses it too.
+                // Judged on a program whose every error is a cycle's (ISOR019) and whose
+                // first error is not one of ncthread's own: a later one may follow from the
+                // first (an F ncthread refuses as too large leaves the cycle with no feed;
+                // before the reader passed over them, the axis lines after a refused G70
+                // were "G70 without Q").
                 if let Some(rs274) = rs274
                     && to == input.from
                     && !round
-                    && conversion.diagnostics.iter().any(|d| {
-                        // Three refusals are ncthread's own: a cycle LinuxCNC never ends, a
-                        // G70 under compensation, which LinuxCNC 2.9 runs along another path,
-                        // and a cycle or thread code on a contour's line, of which LinuxCNC's
-                        // cycle makes no element while its motion mode stays in force for the
-                        // lines after it (ncthread does not follow a cycle code there).
-                        d.code.id == "ISOR019"
-                            && !d.message.contains("does not end")
-                            && !d
-                                .message
-                                .contains("takes the contour's end for the tool's position")
-                            && !d.message.contains("makes no element of it")
-                    })
+                    && roughing_refusal_to_check(&conversion.diagnostics)
                     && match rs274.run(&src.text) {
                         Ok(_) => true,
                         Err(e) => {

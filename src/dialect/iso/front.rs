@@ -816,6 +816,65 @@ pub(super) mod tests {
         assert_eq!(end.z, None);
     }
 
+    /// LinuxCNC reads the lines it skips: a comment it cannot read there, or the closing
+    /// `%`, stops it.
+    #[test]
+    fn skipped_lines_are_read_as_linuxcnc_reads_them() {
+        let head = "%\nG7 G18 G21 G90 G95\n";
+        let nested = format!("{head}o1 sub\n(a (b)\no1 endsub\nM2\n%\n");
+        let (_, d) = run(&nested);
+        let e = first_error(&d, &nested, codes::ISOR_SYNTAX, "(");
+        assert!(e.message.contains("Nested comment found"), "{e:?}");
+        let unclosed = format!("{head}o1 if [0]\n  (a\no1 endif\nM2\n%\n");
+        let (_, d) = run(&unclosed);
+        let e = first_error(&d, &unclosed, codes::ISOR_SYNTAX, "(");
+        assert!(e.message.contains("Unclosed comment found"), "{e:?}");
+        let percent = format!("{head}o<turn> sub\n%\no<turn> endsub\nM2\n");
+        let (_, d) = run(&percent);
+        let e = first_error(&d, &percent, codes::ISOR_CONTROL, "%");
+        assert!(e.message.contains("'Oturn' before EOF"), "{e:?}");
+        // Lines not run are not read: after the end.
+        for ok in [
+            format!("{head}M2\n(a (b)\n%\n"),
+            format!("{head}o1 sub\n(a) ; (b\no1 endsub\nM2\n%\n"),
+        ] {
+            let (_, d) = run(&ok);
+            assert!(!d.iter().any(|d| d.is_error()), "{ok:?}: {d:?}");
+        }
+    }
+
+    /// A value after an O-word's keyword on a line LinuxCNC runs stops it ("Unexpected
+    /// character after O-word"); on a line it reaches by skipping, it does not look.
+    #[test]
+    fn an_oword_takes_only_its_arguments() {
+        let head = "%\nG7 G18 G21 G90 G95\n";
+        for (text, marked) in [
+            (format!("{head}o100 sub [1]\no100 endsub\nM2\n%\n"), "[1]"),
+            (
+                format!("{head}o2 if [1]\no2 else [3]\no2 endif\nM2\n%\n"),
+                "[3]",
+            ),
+        ] {
+            let (_, d) = run(&text);
+            let e = first_error(&d, &text, codes::ISOR_CONTROL, marked);
+            assert!(e.message.contains("Unexpected character"), "{e:?}");
+        }
+        let skipped = format!("{head}o1 if [0]\no1 elseif [1] [2]\no1 endif\nM2\n%\n");
+        let (_, d) = run(&skipped);
+        assert!(!d.iter().any(|d| d.is_error()), "{d:?}");
+    }
+
+    /// A refused G70 leaves ncthread not knowing the motion mode LinuxCNC has after it (its
+    /// last move's): the axis lines after it are not blamed as a G70 without Q.
+    #[test]
+    fn no_follow_on_report_after_a_refused_cycle() {
+        let text = "%\nG7 G18 G21 G90 G95\nS500 M3\nG0 X34 Z-30\nG42.1 D0.8 L2\nG70 Q100 X32 Z-30 F0.08\nG40 X34\nZ5\nM2\no100 sub\nG1 X12 Z1\nG1 X18 Z-2\nG1 Z-30\no100 endsub\n%\n";
+        let (_, d) = run(text);
+        let errors: Vec<_> = d.iter().filter(|d| d.is_error()).collect();
+        assert_eq!(errors.len(), 1, "{errors:?}");
+        first_error(&d, text, codes::ISOR_ROUGHING, "G70");
+    }
+
     #[test]
     fn block_delete_follows_the_switch_or_is_refused() {
         let src = SourceFile::new(

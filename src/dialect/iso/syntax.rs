@@ -166,6 +166,39 @@ pub struct SyntaxError {
     pub message: String,
 }
 
+/// What LinuxCNC's `close_and_downcase` refuses in a line: a `(` inside a comment ("Nested
+/// comment found", at that `(`) or a comment the line does not close ("Unclosed comment
+/// found", at its `(`); a `;` outside a comment makes the rest of the line a comment. It
+/// reads every line it meets, also one it then skips (a subroutine's definition, a branch
+/// not taken), and up to a NUL only (the line is a C string). **\[evidence\]** LinuxCNC
+/// `interp_internal.cc`, `close_and_downcase`.
+pub fn comment_error(line: &str) -> Option<SyntaxError> {
+    let text = line.split('\0').next().unwrap_or("");
+    let mut open: Option<usize> = None;
+    for (i, c) in text.char_indices() {
+        match (open, c) {
+            (None, ';') => return None,
+            (None, '(') => open = Some(i),
+            (Some(_), ')') => open = None,
+            (Some(_), '(') => {
+                return Some(SyntaxError {
+                    offset: i,
+                    message:
+                        "a comment inside a comment: LinuxCNC refuses it (\"Nested comment found\")"
+                            .into(),
+                });
+            }
+            _ => {}
+        }
+    }
+    open.map(|offset| SyntaxError {
+        offset,
+        message:
+            "the comment is not closed with `)`: LinuxCNC refuses it (\"Unclosed comment found\")"
+                .into(),
+    })
+}
+
 /// Parses one line (without its line ending).
 pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
     match fast_line(line) {
@@ -566,6 +599,25 @@ mod tests {
         assert_eq!(b.words[0].value, Decimal::parse("33.1").unwrap());
         let b = parse_line("G0 X 10 Z.5").unwrap();
         assert_eq!(letters(&b), "GXZ");
+    }
+
+    #[test]
+    fn finds_the_comments_linuxcnc_refuses() {
+        assert_eq!(comment_error("G0 X1 (a) ; (b"), None);
+        assert_eq!(comment_error("(a ; b)"), None);
+        let e = comment_error("  (  (#1 the groove)").unwrap();
+        assert_eq!(e.offset, 5);
+        assert!(e.message.contains("Nested comment found"), "{}", e.message);
+        let e = comment_error("G0 (  G0 X1 Z1").unwrap();
+        assert_eq!(e.offset, 3);
+        assert!(
+            e.message.contains("Unclosed comment found"),
+            "{}",
+            e.message
+        );
+        // A NUL ends the line for LinuxCNC.
+        assert!(comment_error("(a\0)").is_some());
+        assert_eq!(comment_error("G0\0("), None);
     }
 
     #[test]

@@ -220,6 +220,63 @@ impl OLine<'_, '_> {
         }
     }
 
+    /// What follows the keyword and its arguments: LinuxCNC's `read_items` allows comments
+    /// only, on a line it reads while not skipping (a `sub` takes no argument, an `if` one,
+    /// a `call` up to 30). **\[evidence\]** LinuxCNC `interp_read.cc`, `read_items` and
+    /// `read_o`.
+    fn tail(&self) -> Result<(), StructureError> {
+        let most = match self.o.keyword {
+            Keyword::Call => return Ok(()),
+            Keyword::EndSub
+            | Keyword::Return
+            | Keyword::If
+            | Keyword::ElseIf
+            | Keyword::While
+            | Keyword::Repeat => 1,
+            Keyword::Sub
+            | Keyword::Do
+            | Keyword::Else
+            | Keyword::EndIf
+            | Keyword::Break
+            | Keyword::Continue
+            | Keyword::EndWhile
+            | Keyword::EndRepeat => 0,
+        };
+        let Some(extra) = self.o.args.get(most) else {
+            return Ok(());
+        };
+        // The argument with its brackets.
+        let text = self.runs[self.file]
+            .lines
+            .get(self.at)
+            .map_or("", |l| l.text);
+        let (start, end) = (extra.range.start, extra.range.end);
+        let start = text
+            .get(..start)
+            .and_then(|t| t.rfind('['))
+            .unwrap_or(start);
+        let end = text
+            .get(end..)
+            .and_then(|t| t.find(']'))
+            .map_or(end, |i| end + i + 1);
+        let (range, written) = match text.get(start..end) {
+            Some(w) => (start..end, w),
+            None => (extra.range.clone(), "[…]"),
+        };
+        Err(self.error(
+            range,
+                format!(
+                    "`{written}` after {} {}: LinuxCNC allows only a comment there (\"Unexpected character after O-word\")",
+                    self.o.label,
+                    self.o.keyword.name()
+                ),
+                match most {
+                    0 => "this O-word takes no value: remove the bracket (a subroutine's arguments go on its `call`)",
+                    _ => "this O-word takes one value in brackets: remove the others",
+                },
+        ))
+    }
+
     /// A `break` or `continue` of a `repeat` (the loop starting at line `start`), which
     /// LinuxCNC refuses when it reaches it.
     fn not_a_loop(&self, start: usize) -> StructureError {
@@ -726,6 +783,9 @@ impl FrontEnd<'_> {
         let flow = runs[file].structure.flow.get(&at);
         // Reached by skipping to this label (LinuxCNC's `skipping_o`)?
         let skipped = std::mem::take(&mut params.skipping);
+        if !skipped && params.testing != Some(at) {
+            l.tail()?;
+        }
         match (o.keyword, flow) {
             (Keyword::Sub, Some(Flow::Sub { end })) => l.o_sub(*end, params),
             (Keyword::EndSub | Keyword::Return, _) => self.o_endsub(&l, params),

@@ -235,6 +235,9 @@ impl FrontEnd<'_> {
         let range = at.map_or(0..line.text.len(), |w| w.range.clone());
         let name = plain(code);
         let w = G7xWords::take(words, code == G70);
+        if at.is_none() && self.contour.is_none() && self.r.diags.iter().any(|d| d.is_error()) {
+            return self.after_a_refused_cycle(words);
+        }
         let Some((q, whole, depth)) = self.check_g7x(line, &range, code, &w) else {
             return;
         };
@@ -274,6 +277,22 @@ impl FrontEnd<'_> {
             args: Vec::new(),
             range: q.range.clone(),
         });
+    }
+
+    /// A line with axes in the motion mode a refused G70–G72 line left. LinuxCNC never keeps
+    /// a cycle as the motion mode: the cycle's moves set it (`motion_machine` calls
+    /// `convert_straight` and `convert_arc`), so the line continues the mode of the cycle's
+    /// last move, which ncthread does not know as it refused the cycle. The line is not
+    /// read (the program is refused already; "G70 without Q" there would blame a line for
+    /// what the cycle's refusal left), and the position is forgotten; so is every such line
+    /// up to the next motion code.
+    /// **\[evidence\]** LinuxCNC `interp_g7x.cc`, `motion_machine::straight_move`.
+    fn after_a_refused_cycle(&mut self, words: &mut Words<'_>) {
+        for letter in ['X', 'Z', 'U', 'W'] {
+            words.take(letter);
+        }
+        self.r.pos = Pos::UNKNOWN;
+        self.exact = (None, None);
     }
 
     /// `convert_g7x`'s checks of the cycle's line, in its order: a Q, no cutter radius

@@ -8,7 +8,7 @@
 use std::ops::ControlFlow;
 
 use super::super::control::{self, FileRun};
-use super::super::syntax::OWord;
+use super::super::syntax::{self, Keyword, Label, OWord};
 use super::macros::{Jump, LOOP_LIMIT};
 use super::{FrontEnd, Options};
 use crate::diag::Diagnostic;
@@ -172,6 +172,9 @@ impl<'a> FrontEnd<'a> {
             let line = run.lines[st.pc];
             let here = st.pc;
             st.pc += 1;
+            if std::env::var("RUNDBG").is_ok() {
+                eprintln!("run line {here} f{}", st.f);
+            }
             if run.blank[here] {
                 continue;
             }
@@ -324,7 +327,13 @@ impl<'a> FrontEnd<'a> {
         self.name_call_chain(diags_before, &st.params, runs);
         match jump {
             Ok(Jump::Next) => {}
-            Ok(Jump::Here(target)) => st.pc = target,
+            Ok(Jump::Here(target)) => {
+                if self.read_skipped(runs, st, here + 1..target, o).is_break() {
+                    self.stopped = true;
+                    return ControlFlow::Break(());
+                }
+                st.pc = target;
+            }
             Ok(Jump::To(file, target)) => (st.f, st.pc) = (file, target),
             // LinuxCNC stops at an error. ncthread reads on to report the file's other
             // problems, but not round a loop: it would only repeat its reports, or spin
@@ -367,6 +376,57 @@ impl<'a> FrontEnd<'a> {
             self.name_call_chain(before, &st.params, runs);
             if self.r.diags[before..].iter().any(|d| d.is_error()) {
                 self.stopped = true;
+                return ControlFlow::Break(());
+            }
+        }
+        ControlFlow::Continue(())
+    }
+
+    /// The lines control skips from an O-word line (a definition passed, a branch not
+    /// taken, a loop left): LinuxCNC reads each before it skips it, so it stops at a comment
+    /// it cannot read (`close_and_downcase`) and at the program's closing `%`, which ends
+    /// the file while it is still looking for the label ("Failed to find sub 'O…' before
+    /// EOF"). Breaks at such a line, reported. **\[evidence\]** LinuxCNC
+    /// `interp_read.cc` (`read_text`), `rs274ngc_pre.cc` (`_read`).
+    fn read_skipped(
+        &mut self,
+        runs: &[FileRun<'a>],
+        st: &Run,
+        lines: std::ops::Range<usize>,
+        o: &OWord,
+    ) -> ControlFlow<()> {
+        let run = &runs[st.f];
+        for i in lines {
+            let Some(&line) = run.lines.get(i) else { break };
+            if st.reported[st.f][i] {
+                continue;
+            }
+            if let Some(e) = syntax::comment_error(line.text) {
+                self.r.syntax_error(
+                    codes::ISOR_SYNTAX,
+                    line,
+                    e.offset,
+                    format!(
+                        "{}, though the line is skipped: LinuxCNC reads every line it passes",
+                        e.message
+                    ),
+                    "close each comment on its line, with no `(` inside it",
+                );
+                return ControlFlow::Break(());
+            }
+            if st.f == 0 && st.percent && run.percent[i] {
+                self.diag(
+                    codes::ISOR_CONTROL,
+                    line,
+                    0..line.text.len(),
+                    format!(
+                        "the program's closing `%` while LinuxCNC skips from {} {} to the next line of {0}: it stops (\"Failed to find sub 'O{}' before EOF\")",
+                        o.label,
+                        o.keyword.name(),
+                        linuxcnc_name(o, &st.params)
+                    ),
+                    "end the block (its `endsub`, `endif`, `endwhile` …) before the closing `%`",
+                );
                 return ControlFlow::Break(());
             }
         }
@@ -474,5 +534,25 @@ impl<'a> FrontEnd<'a> {
             },
             "end the program with M2 or M30 (or a closing `%` after a first line `%`)",
         );
+    }
+}
+
+/// The name LinuxCNC's `read_o` gives an O-word's label (its `skipping_o`): a subroutine's
+/// (`sub`, `endsub`, `call`, `return`) is the label itself, `100` or `name`; any other is
+/// local, after the subroutine's running and a `#`.
+fn linuxcnc_name(o: &OWord, params: &crate::dialect::iso::control::Params) -> String {
+    let bare = |l: &Label| match l {
+        Label::Number(n) | Label::Name(n) => n.clone(),
+    };
+    match o.keyword {
+        Keyword::Sub | Keyword::EndSub | Keyword::Call | Keyword::Return => bare(&o.label),
+        _ => {
+            let sub = params
+                .frames
+                .last()
+                .map(|f| bare(&f.name))
+                .unwrap_or_default();
+            format!("{sub}#{}", bare(&o.label))
+        }
     }
 }
