@@ -392,6 +392,19 @@ pub struct FileRun<'s> {
 }
 
 impl<'s> FileRun<'s> {
+    /// The program's closing `%` line, when its first line (not blank) is a `%`: LinuxCNC's
+    /// file ends there, so nothing after it is ever read, a definition included.
+    /// **\[evidence\]** LinuxCNC `interp_read.cc` (`read_text`: a `%` line under the
+    /// percent flag is the end of the file).
+    pub fn closing_percent(&self) -> Option<usize> {
+        let mut lines = (0..self.lines.len()).filter(|&i| !self.blank[i] || self.percent[i]);
+        let first = lines.next()?;
+        if !self.percent[first] {
+            return None;
+        }
+        lines.find(|&i| self.percent[i])
+    }
+
     pub fn new(src: &'s SourceFile) -> FileRun<'s> {
         let lines: Vec<Line<'s>> = src.lines().collect();
         let parse = |l: &Line<'_>| (!l.text.contains('\0')).then(|| syntax::parse_line(l.text));

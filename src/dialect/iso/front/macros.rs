@@ -919,6 +919,20 @@ impl FrontEnd<'_> {
         let found = std::iter::once(file)
             .chain(0..runs.len())
             .find_map(|k| runs[k].structure.subs.get(&o.label).map(|&l| (k, l)));
+        // A definition after the program's closing `%` is never read: the file ends there.
+        if let Some((k, start)) = found
+            && runs[k].closing_percent().is_some_and(|c| start > c)
+        {
+            return Err(l.error(
+                o.range.clone(),
+                format!(
+                    "{} is defined after the program's closing `%`, where LinuxCNC's file ends (\"Failed to find sub '{}' before EOF\")",
+                    o.label,
+                    o.label.to_string().to_uppercase()
+                ),
+                "define the subroutine before the closing `%`",
+            ));
+        }
         let Some((sub_file, start)) = found else {
             return Err(l.error(
                 o.range.clone(),
