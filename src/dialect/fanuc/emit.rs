@@ -385,13 +385,19 @@ impl Emitter<'_> {
         if self.profile.fanuc.gcode_system == GcodeSystem::A {
             return word.into();
         }
-        match word {
-            "G32" => "G33".into(),
-            "G98" => "G94".into(),
-            "G99" => "G95".into(),
-            "G92" => "G78".into(),
-            w if w.starts_with("G50 ") => format!("G92{}", &w[3..]).into(),
-            w => w.into(),
+        // A G code the writer builds: a word of its own, or `G50 S2000` (a block kept as
+        // written, `G71 P100 …`, is the source's and stays).
+        let end = word.find(' ').unwrap_or(word.len());
+        if end < word.len() && !word.starts_with("G50 S") {
+            return word.into();
+        }
+        match word[..end]
+            .strip_prefix('G')
+            .and_then(|g| g.parse().ok())
+            .and_then(GcodeSystem::b_of)
+        {
+            Some(b) => format!("G{b:02}{}", &word[end..]).into(),
+            None => word.into(),
         }
     }
 

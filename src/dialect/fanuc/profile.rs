@@ -50,6 +50,30 @@ pub enum GcodeSystem {
     B,
 }
 
+/// The functions whose G code differs between systems A and B: (system A's, system B's).
+/// The reader maps B onto A, the writer A onto B: one table for both.
+const SYSTEM_B_CODES: [(i64, i64); 7] = [
+    (32, 33), // thread
+    (90, 77), // turning cycle
+    (92, 78), // threading cycle
+    (94, 79), // facing cycle
+    (50, 92), // spindle limit (S)
+    (98, 94), // feed per minute
+    (99, 95), // feed per revolution
+];
+
+impl GcodeSystem {
+    /// System B's code for system A's `a`, where they differ.
+    pub(crate) fn b_of(a: i64) -> Option<i64> {
+        SYSTEM_B_CODES.iter().find(|p| p.0 == a).map(|p| p.1)
+    }
+
+    /// System A's code for system B's `b`, where they differ.
+    pub(crate) fn a_of(b: i64) -> Option<i64> {
+        SYSTEM_B_CODES.iter().find(|p| p.1 == b).map(|p| p.0)
+    }
+}
+
 /// What ncthread knows of a FANUC lathe.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct FanucProfile {

@@ -134,14 +134,10 @@ fn is_kept(g: i64) -> bool {
 /// A G code of system B as the reader numbers it (system A's code for the same function;
 /// G90/G91 as 900/910), or why it is none.
 fn from_system_b(g: i64) -> Result<i64, &'static str> {
+    if let Some(a) = GcodeSystem::a_of(g) {
+        return Ok(a);
+    }
     match g {
-        33 => Ok(32),
-        77 => Ok(90),
-        78 => Ok(92),
-        79 => Ok(94),
-        92 => Ok(50),
-        94 => Ok(98),
-        95 => Ok(99),
         90 => Ok(900),
         91 => Ok(910),
         32 => Err("in G-code system B threads are G33"),
@@ -184,10 +180,10 @@ impl FrontEnd<'_> {
         block: &Block,
         code_span: Span,
     ) -> Option<()> {
-        let incremental;
+        let read_as_a;
         let block = if self.profile.gcode_system == GcodeSystem::B {
-            incremental = self.system_b_block(line, block)?;
-            &incremental
+            read_as_a = self.system_b_block(line, block)?;
+            &*read_as_a
         } else {
             block
         };
@@ -298,7 +294,11 @@ impl FrontEnd<'_> {
     /// A block of system B as the reader reads system A: G90 / G91 set the distance mode
     /// (`self.incremental`) first, under G91 X and Z are increments (read as U and W), and U
     /// and W are words of the cycles only. `None` when a block moves with U or W (said).
-    fn system_b_block(&mut self, line: Line<'_>, block: &Block) -> Option<Block> {
+    fn system_b_block<'b>(
+        &mut self,
+        line: Line<'_>,
+        block: &'b Block,
+    ) -> Option<std::borrow::Cow<'b, Block>> {
         for w in &block.words {
             if w.letter == 'G' {
                 match w.value.to_whole() {
@@ -308,11 +308,12 @@ impl FrontEnd<'_> {
                 }
             }
         }
+        // A cycle kept as written (system B's G77/G79 are system A's G90/G94).
         let cycle = block.words.iter().any(|w| {
             w.letter == 'G'
                 && w.value
                     .to_whole()
-                    .is_ok_and(|g| matches!(g, 70..=76 | 77 | 79 | 28 | 30 | 53))
+                    .is_ok_and(|g| from_system_b(g).is_ok_and(is_kept))
         });
         if !cycle && let Some(w) = block.words.iter().find(|w| matches!(w.letter, 'U' | 'W')) {
             let text = &line.text[w.range.clone()];
@@ -325,17 +326,18 @@ impl FrontEnd<'_> {
             );
             return None;
         }
-        let mut b = block.clone();
-        if self.incremental && !cycle {
-            for w in &mut b.words {
-                w.letter = match w.letter {
-                    'X' => 'U',
-                    'Z' => 'W',
-                    c => c,
-                };
-            }
+        if !self.incremental || cycle {
+            return Some(std::borrow::Cow::Borrowed(block));
         }
-        Some(b)
+        let mut b = block.clone();
+        for w in &mut b.words {
+            w.letter = match w.letter {
+                'X' => 'U',
+                'Z' => 'W',
+                c => c,
+            };
+        }
+        Some(std::borrow::Cow::Owned(b))
     }
 
     /// Sorts the block's words by group: G and M codes into their groups (or among the
