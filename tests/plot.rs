@@ -739,3 +739,30 @@ fn readme_pictures_are_current() {
         );
     }
 }
+
+/// A program with blocks kept as written (a FANUC cycle, no machine model) says in its
+/// heading how many it does not draw; a program without them keeps the usual heading.
+#[test]
+fn a_plot_says_how_many_kept_blocks_it_does_not_draw() {
+    let heading = |path: &str| {
+        let text = std::fs::read_to_string(common::root().join(path)).unwrap();
+        let src = ncthread::source::SourceFile::new(path, text);
+        let (program, _) = ncthread::parse(
+            &src,
+            ncthread::dialect::fanuc::ID,
+            &Default::default(),
+            ncthread::Unsupported::Error,
+        );
+        let sim = ncthread::sim::simulate(&program);
+        ncthread::plot::plot(path, &sim.segments, None)
+    };
+    // G71 U R, G71 P Q, the contour's 6 blocks, G70 and G28.
+    let kept = heading("corpus/fanuc/kept-g71-g70-g28-part.nc");
+    assert!(
+        kept.contains("not drawn: 10 blocks kept as written"),
+        "{kept}"
+    );
+    let plain = heading("corpus/fanuc/part-shaft-two-tools.nc");
+    assert!(!plain.contains("not drawn"), "{plain}");
+    assert!(plain.contains("threads coloured by pass"));
+}
