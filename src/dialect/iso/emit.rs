@@ -112,7 +112,45 @@ pub fn emit(
         e.item(item, items.get(i + 1));
     }
     e.w.out.push_str("%\n");
+    e.w.out = split_long_lines(&e.w.out);
     e.w.finish()
+}
+
+/// The output with every line LinuxCNC could not read ([`syntax::LINE_MAX`] bytes) split: a
+/// long comment goes on lines of its own after its block's code, in parts broken at a blank
+/// where one is near.
+fn split_long_lines(out: &str) -> String {
+    use super::syntax::LINE_MAX;
+    if !out.lines().any(|l| l.len() > LINE_MAX) {
+        return out.to_string();
+    }
+    let mut split = String::with_capacity(out.len() + 64);
+    for line in out.lines() {
+        let (Some(open), true) = (line.find('('), line.len() > LINE_MAX) else {
+            split.push_str(line);
+            split.push('\n');
+            continue;
+        };
+        let code = line[..open].trim_end();
+        if !code.is_empty() {
+            split.push_str(code);
+            split.push('\n');
+        }
+        let mut rest = line[open + 1..].trim_end().trim_end_matches(')').trim();
+        while !rest.is_empty() {
+            let mut end = rest.floor_char_boundary(LINE_MAX - 2);
+            if end < rest.len()
+                && let Some(blank) = rest[..end].rfind(' ').filter(|&b| b > end / 2)
+            {
+                end = blank;
+            }
+            split.push('(');
+            split.push_str(rest[..end].trim_end());
+            split.push_str(")\n");
+            rest = rest[end..].trim_start();
+        }
+    }
+    split
 }
 
 /// Makes text safe inside `( )`: no nested parentheses, and no leading word that LinuxCNC
@@ -653,6 +691,31 @@ fn coolant_word(c: Coolant) -> &'static str {
 mod tests {
     use super::*;
     use crate::fixed::Length;
+
+    #[test]
+    fn a_long_comment_is_split_onto_lines_linuxcnc_reads() {
+        let words = ["WORD"; 70].join(" ");
+        let wide = "Č".repeat(140);
+        let out = split_long_lines(&format!("%\n({words})\nT1 M6 ({wide})\nG0 X1\n%\n"));
+        assert!(
+            out.lines()
+                .all(|l| l.len() <= super::super::syntax::LINE_MAX),
+            "{out}"
+        );
+        let lines: Vec<&str> = out.lines().collect();
+        assert_eq!(lines[1].len(), 251, "{out}");
+        assert!(
+            lines[1].ends_with("WORD)") && lines[2].starts_with("(WORD"),
+            "{out}"
+        );
+        assert_eq!(lines[3], "T1 M6");
+        let back: String = lines[4..6]
+            .iter()
+            .map(|l| l.trim_matches(['(', ')']))
+            .collect();
+        assert_eq!(back, wide);
+        assert_eq!(&lines[6..], ["G0 X1", "%"]);
+    }
 
     #[test]
     fn comments_cannot_nest_or_command() {

@@ -166,6 +166,65 @@ pub struct SyntaxError {
     pub message: String,
 }
 
+/// The longest line LinuxCNC reads, in bytes (a CR included): its buffer is `LINELEN` = 255
+/// bytes with the newline and the C string's end; a longer line stops it. **\[evidence\]**
+/// LinuxCNC `rs274ngc_pre.cc` (`_read`: "Command too long"); rs274 refuses a line of 253.
+pub const LINE_MAX: usize = 252;
+
+/// A line longer than LinuxCNC reads ([`LINE_MAX`]), also one it skips.
+pub fn too_long(line: &str) -> Option<SyntaxError> {
+    (line.len() > LINE_MAX).then(|| SyntaxError {
+        offset: line.floor_char_boundary(LINE_MAX),
+        message: format!(
+            "a line of {} bytes: LinuxCNC reads lines of up to {LINE_MAX} (\"Command too long\")",
+            line.len()
+        ),
+    })
+}
+
+/// [`comment_error`]'s sibling for an O-word: LinuxCNC reads the label of every O-word line
+/// it passes, also one it skips (`read_o`), up to a NUL: an `o` with no number or `<name>`
+/// after it stops it. **\[evidence\]** LinuxCNC `interp_read.cc` (`read_items`, `read_o`).
+pub fn skipped_label_error(line: &str) -> Option<SyntaxError> {
+    let text = line.split('\0').next().unwrap_or("");
+    // Blanks go (`close_and_downcase`); a block delete and a line number come first.
+    let chars: Vec<(usize, char)> = text
+        .char_indices()
+        .filter(|(_, c)| !c.is_whitespace())
+        .collect();
+    let mut i = 0;
+    if chars.get(i).is_some_and(|c| c.1 == '/') {
+        i += 1;
+    }
+    if chars.get(i).is_some_and(|c| c.1.eq_ignore_ascii_case(&'n')) {
+        i += 1;
+        while chars
+            .get(i)
+            .is_some_and(|c| c.1.is_ascii_digit() || c.1 == '.')
+        {
+            i += 1;
+        }
+    }
+    let (at, o) = *chars.get(i)?;
+    if !o.eq_ignore_ascii_case(&'o') {
+        return None;
+    }
+    match chars.get(i + 1) {
+        Some((_, c)) if c.is_ascii_digit() || "+-.[#<".contains(*c) => None,
+        next => Some(SyntaxError {
+            offset: next
+                .map_or(line.find('\0').unwrap_or(line.len()), |n| n.0)
+                .max(at),
+            message: if next.is_none() && line.contains('\0') {
+                "an O-word cut short by a NUL character: LinuxCNC reads the line only up to it, and finds no number after the `o` (\"No characters found in reading real value\")".to_string()
+            } else {
+                "an `o` with no number or name after it: LinuxCNC cannot read the O-word's label"
+                    .to_string()
+            },
+        }),
+    }
+}
+
 /// What LinuxCNC's `close_and_downcase` refuses in a line: a `(` inside a comment ("Nested
 /// comment found", at that `(`) or a comment the line does not close ("Unclosed comment
 /// found", at its `(`); a `;` outside a comment makes the rest of the line a comment. It
@@ -201,6 +260,9 @@ pub fn comment_error(line: &str) -> Option<SyntaxError> {
 
 /// Parses one line (without its line ending).
 pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
+    if let Some(e) = too_long(line) {
+        return Err(e);
+    }
     match fast_line(line) {
         Some(block) => Ok(block),
         None => parse_with_grammar(line),
@@ -662,9 +724,16 @@ mod tests {
         // O-words take nothing but brackets and a comment.
         assert!(parse_line("o100 call G0").is_err());
         // A hostile nesting is refused, not a stack overflow.
+        // (Past LinuxCNC's line length, which the grammar never sees.)
         let deep = format!("G0 X{}1{}", "[".repeat(100_000), "]".repeat(100_000));
         assert!(
             parse_line(&deep)
+                .unwrap_err()
+                .message
+                .contains("Command too long")
+        );
+        assert!(
+            parse_with_grammar(&deep)
                 .unwrap_err()
                 .message
                 .contains("nested deeper")

@@ -53,7 +53,7 @@ pub(super) struct Words<'w> {
     /// A code refused by name, its diagnostic said.
     refused_by_name: bool,
     /// A cycle ncthread keeps as written (`front/cycles.rs`).
-    cycle: Option<(i64, &'w Word)>,
+    pub(super) cycle: Option<(i64, &'w Word)>,
     /// The first word that repeats a letter or a code of its group.
     conflict: Option<&'w Word>,
     /// G00 G01 G02 G03 G32 G92.
@@ -513,7 +513,7 @@ impl FrontEnd<'_> {
             );
             return None;
         }
-        for (a, b) in [(3, 4), (3, 5), (4, 5), (8, 9), (7, 9)] {
+        for (a, b) in [(3, 4), (3, 5), (4, 5), (8, 9), (7, 9), (2, 30)] {
             if let (Some(_), Some(w)) = (words.m(a), words.m(b)) {
                 let text = &line.text[w.range.clone()];
                 self.error(
@@ -521,7 +521,7 @@ impl FrontEnd<'_> {
                     line,
                     w.range.clone(),
                     format!("`{text}` contradicts M{a:02} in the same block"),
-                    "write each spindle or coolant command in a block of its own",
+                    "write each spindle or coolant command, and the program's end, in a block of its own",
                 );
                 return None;
             }

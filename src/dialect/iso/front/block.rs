@@ -44,7 +44,9 @@ use crate::dialect::iso::codes;
 use crate::dialect::machine::Switches;
 use crate::dialect::read::Reader;
 use crate::fixed::Length;
-use crate::ir::{Compensation, Coolant, EndCode, ItemKind, MachineMove, Pos, SpindleMode};
+use crate::ir::{
+    Compensation, Coolant, EndCode, FeedMode, ItemKind, MachineMove, Pos, SpindleMode,
+};
 use crate::source::{Line, Span};
 
 /// One block as the interpreter runs it: its words, what it asks of each modal group, and
@@ -544,6 +546,15 @@ impl FrontEnd<'_> {
         let second = matches!(code, G30 | G30_1);
         let kind = match code {
             G28_1 | G30_1 => Some(MachineMove::StoreHome { second }),
+            G28 | G30 if b.asks.motion.is_some_and(|m| m != Motion::CycleOff) => {
+                self.missing(
+                    b.line,
+                    w,
+                    format!("{} with a motion code on its line (LinuxCNC: \"Cannot use two G codes that both use axis values\")", if second { "G30" } else { "G28" }),
+                    "put the move on a line of its own",
+                );
+                None
+            }
             G28 | G30 if self.compensation => {
                 self.comp_refusal(b.line, w, "Cannot use g28 or g30 with cutter radius comp");
                 None
@@ -675,6 +686,14 @@ impl FrontEnd<'_> {
                 "G1 with no feed rate (F) set, or F0 (LinuxCNC refuses it even without axes)"
                     .into(),
                 "set the feed with F before or on this line",
+            );
+        } else if self.feed_mode == Some(FeedMode::PerRev) && self.speed.unwrap_or(0) == 0 {
+            self.missing(
+                b.line,
+                code_word,
+                "G1 under feed per revolution (G95) with no spindle speed (S) set, or S0 (LinuxCNC: \"Cannot feed with zero spindle speed in feed per rev mode\", even without axes)"
+                    .into(),
+                "set the spindle speed with S before or on this line",
             );
         }
     }

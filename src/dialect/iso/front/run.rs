@@ -401,7 +401,23 @@ impl<'a> FrontEnd<'a> {
             if st.reported[st.f][i] {
                 continue;
             }
-            if let Some(e) = syntax::comment_error(line.text) {
+            let found = [
+                (
+                    syntax::too_long(line.text),
+                    "split the line: LinuxCNC reads 252 bytes of it",
+                ),
+                (
+                    syntax::comment_error(line.text),
+                    "close each comment on its line, with no `(` inside it",
+                ),
+                (
+                    syntax::skipped_label_error(line.text),
+                    "give the O-word its number or <name> (a NUL byte ends the line for LinuxCNC)",
+                ),
+            ]
+            .into_iter()
+            .find_map(|(e, help)| e.map(|e| (e, help)));
+            if let Some((e, help)) = found {
                 self.r.syntax_error(
                     codes::ISOR_SYNTAX,
                     line,
@@ -410,7 +426,7 @@ impl<'a> FrontEnd<'a> {
                         "{}, though the line is skipped: LinuxCNC reads every line it passes",
                         e.message
                     ),
-                    "close each comment on its line, with no `(` inside it",
+                    help,
                 );
                 return ControlFlow::Break(());
             }
