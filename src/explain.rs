@@ -10,8 +10,8 @@
 
 use crate::fixed::{Angle, Lead, Length};
 use crate::ir::{
-    ItemKind, Pos, Program, RoughingCycle, RoughingKind, SpindleDirection, SyncStart, ThreadCycle,
-    ThreadPass,
+    ItemKind, ModelCycle, Pos, Program, RoughingCycle, RoughingKind, SpindleDirection, SyncStart,
+    ThreadCycle, ThreadPass,
 };
 use crate::lower;
 use crate::sim::{self, TURN};
@@ -208,8 +208,37 @@ pub struct Options {
     pub crest: Option<Length>,
 }
 
+/// The program with each threading cycle under a machine model (G76) replaced by its
+/// passes, which `explain` reads as a thread written pass by pass.
+fn thread_cycles_as_passes(program: &Program) -> std::borrow::Cow<'_, Program> {
+    let threads = |kind: &ItemKind| match kind {
+        ItemKind::ModelCycle(c) => c.moves.iter().any(|m| matches!(m, ItemKind::ThreadPass(_))),
+        _ => false,
+    };
+    if !program.items.iter().any(|i| threads(&i.kind)) {
+        return std::borrow::Cow::Borrowed(program);
+    }
+    let mut items = Vec::with_capacity(program.items.len());
+    for item in &program.items {
+        match &item.kind {
+            ItemKind::ModelCycle(c) if threads(&item.kind) => {
+                items.extend(c.moves.iter().map(|m| crate::ir::Item {
+                    kind: m.clone(),
+                    ..item.clone()
+                }));
+            }
+            _ => items.push(item.clone()),
+        }
+    }
+    std::borrow::Cow::Owned(Program {
+        items,
+        ..program.clone()
+    })
+}
+
 /// The operations of `program` in order.
 pub fn explain(program: &Program, options: &Options) -> Vec<Operation> {
+    let program = &*thread_cycles_as_passes(program);
     let mut ops = Vec::new();
     let mut pos = Pos::UNKNOWN;
     let mut direction = None;
@@ -264,14 +293,9 @@ pub fn explain(program: &Program, options: &Options) -> Vec<Operation> {
                     ItemKind::ThreadCycle(cycle) => {
                         ops.push(cycle_operation(cycle, at, direction));
                     }
-                    ItemKind::TapCycle(tap) => {
-                        let towards = pos.z.map_or(0, |z| (tap.end_z - z).signum());
-                        ops.push(Operation {
-                            z_range: pos.z.map(|z| (z, tap.end_z)),
-                            ..blank(Kind::Tap, at, direction, towards, Some(tap.lead))
-                        });
-                    }
+                    ItemKind::TapCycle(tap) => ops.push(tap_operation(tap, at, direction, pos)),
                     ItemKind::Roughing(cycle) => ops.push(roughing_operation(cycle, at, pos)),
+                    ItemKind::ModelCycle(cycle) => ops.extend(model_operation(cycle, at, pos)),
                     ItemKind::Opaque { .. } => ops.extend(kept_operation(kind, at, direction)),
                     ItemKind::Spindle {
                         direction: Some(d), ..
@@ -288,6 +312,20 @@ pub fn explain(program: &Program, options: &Options) -> Vec<Operation> {
         op.number = n + 1;
     }
     ops
+}
+
+/// A rigid tapping cycle from `pos`.
+fn tap_operation(
+    tap: &crate::ir::TapCycle,
+    at: (u32, Option<u32>),
+    direction: Option<SpindleDirection>,
+    pos: Pos,
+) -> Operation {
+    let towards = pos.z.map_or(0, |z| (tap.end_z - z).signum());
+    Operation {
+        z_range: pos.z.map(|z| (z, tap.end_z)),
+        ..blank(Kind::Tap, at, direction, towards, Some(tap.lead))
+    }
 }
 
 /// A FANUC cycle kept as written, an operation of its own (not a move home: G28, G30, G53).
@@ -831,12 +869,35 @@ fn cycle_operation(
 
 fn roughing_operation(cycle: &RoughingCycle, at: (u32, Option<u32>), from: Pos) -> Operation {
     let facing = matches!(cycle.kind, RoughingKind::Rough { facing: true, .. });
-    let mut op = blank(Kind::Roughing(cycle.code_name()), at, None, 0, None);
+    // A pocket's cuts (G71.2/G72.2) start where each pocket does: no step.
+    let steps = matches!(cycle.kind, RoughingKind::Rough { variant: 0 | 1, .. });
+    cuts_operation(&cycle.code_name(), &cycle.moves, facing, steps, at, from)
+}
+
+/// A FANUC cycle under the machine model: its cuts, as a roughing cycle's (a cycle that only
+/// goes home, G28, is none).
+fn model_operation(cycle: &ModelCycle, at: (u32, Option<u32>), from: Pos) -> Option<Operation> {
+    let cuts = !cycle.moves.is_empty() && !matches!(cycle.code.as_str(), "G28" | "G53");
+    let steps = cycle.code != "G70";
+    cuts.then(|| cuts_operation(&cycle.code, &cycle.moves, cycle.facing, steps, at, from))
+}
+
+/// An operation of the cuts `moves` make (each cut the feeds and arcs between two rapids), and
+/// with `steps` each cut's step from the one before, per side (along Z when `facing`).
+fn cuts_operation(
+    code: &str,
+    moves: &[ItemKind],
+    facing: bool,
+    steps: bool,
+    at: (u32, Option<u32>),
+    from: Pos,
+) -> Operation {
+    let mut op = blank(Kind::Roughing(code.to_string()), at, None, 0, None);
     // A cut: the feeds and arcs between two rapids.
     let mut pos = from;
     let mut rows: Vec<Pass> = Vec::new();
     let mut cutting = false;
-    for m in &cycle.moves {
+    for m in moves {
         let next = m.end_position(pos);
         let arc = match m {
             ItemKind::Arc {
@@ -876,9 +937,8 @@ fn roughing_operation(cycle: &RoughingCycle, at: (u32, Option<u32>), from: Pos) 
         });
         pos = next;
     }
-    // The step of each roughing cut from the one before, per side (along Z for facing). (A
-    // pocket's cuts, G71.2/G72.2, start where each pocket does: no step.)
-    if let RoughingKind::Rough { variant: 0 | 1, .. } = cycle.kind {
+    // The step of each roughing cut from the one before, per side (along Z for facing).
+    if steps {
         for i in 1..rows.len() {
             let (a, b) = (rows[i - 1].start, rows[i].start);
             rows[i].cut = if facing {

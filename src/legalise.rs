@@ -68,6 +68,10 @@ pub fn check(program: &Program, src: &SourceFile, to: Option<DialectId>) -> Vec<
                 feed_mode,
                 said.contains(&index),
             ),
+            // Whole only for its own dialect (`lower::unroll`): copied where it means the same.
+            ItemKind::ModelCycle(c) => {
+                kept_block_moves(&c.text, c.dialect, &c.context, to, feed_mode, true)
+            }
             _ => None,
         };
         if let Some(d) = refusal {
@@ -156,11 +160,11 @@ fn kept_block_moves(
             Diagnostic::new(
                 codes::OPAQUE_MEANING,
                 format!(
-                    "`{text}`: a {dialect} canned cycle (or a move to the reference point), kept as written: its moves are the control's, and ncthread writes them for another control only under a declared machine model, which this version does not have yet; the output is {to}"
+                    "`{text}`: a {dialect} canned cycle (or a move to the reference point), kept as written: its moves are the control's, and ncthread writes them for another control only where the machine model declared in the profile's [{dialect}] section expands it (G70, G71 and G72 type I, G73, G76, G90, G94, G28 with the reference point, G53); the output is {to}"
                 ),
             )
             .help(format!(
-                "convert to {dialect} (the same control runs the cycle), or write the cycle's moves in the source"
+                "if the machine runs its cycles as the GSK 980TDi does, set `cycle_model = \"gsk-980tdi\"` in the profile's [{dialect}] section (the reader says why a cycle stays kept); else convert to {dialect} (the same control runs the cycle), or write the cycle's moves in the source"
             )),
         );
     }

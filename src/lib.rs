@@ -161,7 +161,7 @@ pub fn emit(
     options: &ConvertOptions,
 ) -> (Option<String>, Vec<Diagnostic>) {
     // Roughing cycles are legalised and written as their moves.
-    let program = &*lower::unroll(program);
+    let program = &*lower::unroll(program, Some(options.to));
     let shared = legalise::check(program, src, Some(options.to));
     if diag::has_errors(&shared) {
         return (None, shared);
@@ -319,7 +319,7 @@ pub fn check(
         diagnostics.push(empty.as_warning());
     }
     if !diag::has_errors(&diagnostics) {
-        diagnostics.extend(legalise::check(&lower::unroll(&program), src, None));
+        diagnostics.extend(legalise::check(&lower::unroll(&program, None), src, None));
         diagnostics.extend(sim::problems(&program).iter().map(|p| p.diagnostic(src)));
     }
     diag::sort(&mut diagnostics);

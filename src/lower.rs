@@ -2,6 +2,7 @@
 //! moves. Emitters, `explain`, `plot` and the simulator all call these functions.
 //! [`g7x`] is LinuxCNC's roughing and finishing cycles.
 
+pub mod fanuc;
 pub mod g7x;
 
 use crate::fixed::{Angle, Lead, Length};
@@ -1293,23 +1294,29 @@ pub mod arc {
 
 /// The program with every roughing or finishing cycle replaced by its moves (each stamped
 /// with the cycle's line, block number and, on the first, its comment): what every writer,
-/// the legalisation and the simulator see. Borrowed when there is none.
-pub fn unroll(program: &crate::ir::Program) -> std::borrow::Cow<'_, crate::ir::Program> {
+/// the legalisation and the simulator see. A cycle read under a machine model stays whole
+/// for its own dialect (`target`), which writes it back as written. Borrowed when there is
+/// nothing to replace.
+pub fn unroll(
+    program: &crate::ir::Program,
+    target: Option<crate::ir::DialectId>,
+) -> std::borrow::Cow<'_, crate::ir::Program> {
     use crate::ir::{Item, Program};
-    if !program
-        .items
-        .iter()
-        .any(|i| matches!(i.kind, ItemKind::Roughing(_)))
-    {
+    let replaced = |kind: &ItemKind| match kind {
+        ItemKind::Roughing(_) => true,
+        ItemKind::ModelCycle(cycle) => target != Some(cycle.dialect),
+        _ => false,
+    };
+    if !program.items.iter().any(|i| replaced(&i.kind)) {
         return std::borrow::Cow::Borrowed(program);
     }
     let mut items = Vec::with_capacity(program.items.len());
     for item in &program.items {
-        let ItemKind::Roughing(cycle) = &item.kind else {
+        let Some(moves) = item.kind.cycle_moves().filter(|_| replaced(&item.kind)) else {
             items.push(item.clone());
             continue;
         };
-        for (n, kind) in cycle.moves.iter().enumerate() {
+        for (n, kind) in moves.iter().enumerate() {
             items.push(Item {
                 kind: kind.clone(),
                 span: item.span,

@@ -363,8 +363,8 @@ pub(crate) struct CommonArgs {
     /// the G31 retract and pass schedule, gear range M codes, coolant, arcs, 45° chamfers,
     /// G25 repeats. [iso]: M code mappings, the tool change, the block delete switch,
     /// subroutine folders. [fanuc]: words without a decimal point, G92's thread chamfer, the
-    /// tool offset number, the program number, nose radius compensation, mist coolant.
-    /// Without a key, what needs it is refused by name. README.md lists every key.
+    /// tool offset number, the program number, nose radius compensation, mist coolant, the
+    /// G-code system, the machine model of the canned cycles. Without a key, what needs it is refused by name. README.md lists every key.
     #[arg(long, value_name = "FILE")]
     pub(crate) profile: Option<PathBuf>,
     /// Use the built-in defaults: no sidecar or `ncthread.toml` is looked for.

@@ -199,6 +199,18 @@ impl Items {
         self.held.get(self.held_index(first.start)..)
     }
 
+    /// Item `i`, while it is held (`None` once its line was let go of).
+    pub fn held_mut(&mut self, i: usize) -> Option<&mut Item> {
+        let at = i.checked_sub(self.dropped)?;
+        self.held.get_mut(at)
+    }
+
+    /// Takes the items from index `first` on out of the program.
+    pub fn split_off(&mut self, first: usize) -> Vec<Item> {
+        let at = self.held_index(first).min(self.held.len());
+        self.held.split_off(at)
+    }
+
     /// Where item `i` stands in `held`.
     fn held_index(&self, i: usize) -> usize {
         debug_assert!(i >= self.dropped, "an item of a line already let go of");

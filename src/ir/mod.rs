@@ -531,6 +531,27 @@ impl RoughingCycle {
     }
 }
 
+/// A block of a canned cycle (FANUC's G70–G76, G90/G94, G28) read under the machine model the
+/// profile declares (spec fanuc.md, "Canned cycles under a declared machine model"): its text
+/// as written, which its own dialect writes back, and the moves the model gives it, which every
+/// other target writes and the simulator runs. A two-block form's first block and a contour's
+/// blocks have no moves (the block that runs the cycle has them all).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ModelCycle {
+    pub dialect: DialectId,
+    /// The block's code as written, without its number and comments.
+    pub text: String,
+    /// The modes it was read under.
+    pub context: ModalContext,
+    /// The cycle's G code as written (`G71`): `explain` names it.
+    pub code: String,
+    /// Its cuts run along X (a facing cycle, G72 or G94): `explain` measures steps along Z.
+    pub facing: bool,
+    /// The moves: [`ItemKind::Rapid`], [`ItemKind::Feed`], [`ItemKind::Arc`] and
+    /// [`ItemKind::ThreadPass`] only.
+    pub moves: Vec<ItemKind>,
+}
+
 /// A G code ×10 (`711`) as it is written (`G71.1`; `G70` for 700).
 pub fn g_code_name(code: i64) -> String {
     if code % 10 == 0 {
@@ -679,6 +700,9 @@ pub enum ItemKind {
     /// A roughing or finishing cycle; every target writes its moves
     /// ([`crate::lower::unroll`]).
     Roughing(Box<RoughingCycle>),
+    /// A block of a canned cycle under the profile's declared machine model: kept as written
+    /// for its own dialect, its moves for every other target ([`crate::lower::unroll`]).
+    ModelCycle(Box<ModelCycle>),
 }
 
 impl ItemKind {
@@ -688,8 +712,20 @@ impl ItemKind {
         ItemKind::ThreadPass(Box::new(pass))
     }
 
+    /// The moves a roughing cycle or a cycle under a machine model stands for.
+    pub fn cycle_moves(&self) -> Option<&[ItemKind]> {
+        match self {
+            ItemKind::Roughing(cycle) => Some(&cycle.moves),
+            ItemKind::ModelCycle(cycle) => Some(&cycle.moves),
+            _ => None,
+        }
+    }
+
     /// Where the tool is after this item, starting from `current`.
     pub fn end_position(&self, current: Pos) -> Pos {
+        if let Some(moves) = self.cycle_moves() {
+            return moves.iter().fold(current, |at, m| m.end_position(at));
+        }
         match self {
             ItemKind::Rapid { to } | ItemKind::Feed { to, .. } | ItemKind::Arc { to, .. } => Pos {
                 x: to.x.or(current.x),
@@ -705,9 +741,6 @@ impl ItemKind {
                 z: current.z,
             },
             ItemKind::Opaque { block: Some(c), .. } if c.moves => Pos::UNKNOWN,
-            ItemKind::Roughing(cycle) => {
-                cycle.moves.iter().fold(current, |at, m| m.end_position(at))
-            }
             // What the machine's coordinates are in the program's is the machine's.
             ItemKind::MachineMove(MachineMove::Machine { to, .. }) => Pos {
                 x: if to.x.is_some() { None } else { current.x },

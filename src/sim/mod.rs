@@ -478,12 +478,13 @@ impl Machine {
     }
 
     fn item(&mut self, kind: &ItemKind, span: Span) {
-        match kind {
-            ItemKind::Roughing(cycle) => {
-                for m in &cycle.moves {
-                    self.item(m, span);
-                }
+        if let Some(moves) = kind.cycle_moves() {
+            for m in moves {
+                self.item(m, span);
             }
+            return;
+        }
+        match kind {
             ItemKind::Rapid { to } => self.segment(Motion::Rapid, *to, span, None),
             ItemKind::Feed { to, feed } => {
                 let per_minute = self.per_minute;

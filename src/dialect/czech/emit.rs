@@ -74,7 +74,7 @@ pub fn emit(
     round: bool,
 ) -> (Option<String>, Vec<Diagnostic>) {
     // Roughing cycles are written as their moves.
-    let program = &*crate::lower::unroll(program);
+    let program = &*crate::lower::unroll(program, Some(super::ID));
     let mut params = BTreeMap::new();
     // Parameters the program assigns are not free for leads.
     for item in &program.items {
@@ -458,7 +458,7 @@ impl Emitter<'_> {
             // the others, and machine coordinates, are refused by legalisation.
             ItemKind::Compensation(_) | ItemKind::WorkOffset(_) | ItemKind::MachineMove(_) => {}
             // Unrolled into its moves at the top of `emit`.
-            ItemKind::Roughing(_) => {}
+            ItemKind::Roughing(_) | ItemKind::ModelCycle(_) => {}
             // Written where the profile declares the codes; legalisation refuses the rest.
             ItemKind::Coolant(c) => block.words.push(coolant_word(*c).to_string()),
             ItemKind::Spindle { speed, direction } => spindle_words(*speed, *direction, block),

@@ -81,6 +81,10 @@ pub const FANR_MACHINE_VARIABLE: Code = error(
     "FANR020",
     "a macro variable whose value lives in the machine: a system variable (#1000 and above: signals, offsets, modal information, positions), or #500 … #999 read before the program sets it",
 );
+pub const FANR_NOT_EXPANDED: Code = warning(
+    "FANR021",
+    "a canned cycle the profile's machine model covers, kept as written because the model cannot expand it (a layer on an element parallel to it, an allowance into the part, a type II contour…): another target refuses it",
+);
 
 // writer
 pub const FANW_PRECISION: Code = error(
@@ -138,6 +142,7 @@ pub const READ: &[Code] = &[
     FANR_CYCLE,
     FANR_MACRO,
     FANR_MACHINE_VARIABLE,
+    FANR_NOT_EXPANDED,
 ];
 
 /// The writer's codes, in the order README.md lists them.

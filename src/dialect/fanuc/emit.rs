@@ -200,7 +200,7 @@ pub fn emit(
     profile: &Profile,
     round: bool,
 ) -> (Option<String>, Vec<Diagnostic>) {
-    let program = &*lower::unroll(program);
+    let program = &*lower::unroll(program, Some(super::ID));
     let keep = program.dialect == super::ID;
     let mut e = Emitter {
         w: Writer::new(src),
@@ -615,6 +615,8 @@ impl Emitter<'_> {
             ItemKind::Opaque { dialect, text, .. } => {
                 self.as_comment(item, block, &format!("{dialect}: {text}"));
             }
+            // Only its own dialect sees a cycle whole (`lower::unroll`).
+            ItemKind::ModelCycle(cycle) => self.kept(&cycle.text, true, block),
             ItemKind::Delimiter => {}
             ItemKind::Coolant(c) => block.words.push(coolant_word(*c).into()),
             ItemKind::Stop { optional } => block

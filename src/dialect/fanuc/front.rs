@@ -27,6 +27,7 @@ use crate::source::{Line, SourceFile, Span};
 
 mod block;
 mod cycles;
+mod model;
 mod motion;
 mod numbers;
 
@@ -141,6 +142,18 @@ struct FrontEnd<'a> {
     numbers: std::collections::HashMap<u32, u32>,
     /// The P and Q words of the cycles, checked at the end.
     references: Vec<cycles::Reference>,
+    /// Under a machine model: a G71/G72's first block, read.
+    setup: Option<model::Setup>,
+    /// Under a machine model: a G76's first block, read.
+    thread_setup: Option<model::ThreadSetup>,
+    /// Under a machine model: the G71/G72 whose contour is being read.
+    pending: Option<model::Pending>,
+    /// Under a machine model: the contour being read, as moves.
+    capturing: Option<model::Capture>,
+    /// Under a machine model: the contours read as moves.
+    contours: model::Contours,
+    /// Under a machine model: the last G90/G94's end and taper (a repeat block keeps them).
+    turning: Option<(crate::lower::fanuc::Point, Length)>,
 }
 
 /// Reads a FANUC program. The program holds every item that could be read; it is usable
@@ -188,6 +201,12 @@ pub(crate) fn read(
         incremental: false,
         numbers: std::collections::HashMap::new(),
         references: Vec::new(),
+        setup: None,
+        thread_setup: None,
+        pending: None,
+        capturing: None,
+        contours: model::Contours::new(),
+        turning: None,
     };
     match &loaded {
         Some(loaded) => fe.macro_lines(src, loaded),

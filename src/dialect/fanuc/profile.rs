@@ -9,11 +9,20 @@
 //! nose_radius_in_offsets = false  # the offset page holds nose radius and tip: G41/G42 may be written
 //! mist = false                    # the machine has M07
 //! gcode_system = "A"              # "A", or "B" (G33 threads, G90/G91, G94/G95, G92 S, G77–G79)
+//! cycle_model = "gsk-980tdi"      # expand the canned cycles into moves as this control makes them
+//! g71_retract = "feed"            # or one open point at a time: the 45° retract after a G71 layer
+//! g71_layers_from = "shifted-start" # layers counted from the start shifted by the allowance, or "start"
+//! g71_semi_finish = true          # the pass along the roughing contour after the layers
+//! g73_divisor = "passes-minus-one" # how G73 spreads its relief: by passes − 1, or "passes"
+//! g76_min_cut = "formula"         # G76's Δdmin counts from Δd√(n−1), or "accumulated"
+//! g76_pass_end = "end-line"       # G76's passes end on the end line, or "shifted"
+//! reference_point = { x = 250.0, z = 300.0 }  # G28's point in machine coordinates (X a diameter)
 //! ```
 
 use serde::Deserialize;
 
 use crate::diag::Diagnostic;
+use crate::fixed::Length;
 use crate::profile::value::bad_value;
 use crate::source::SourceFile;
 
@@ -74,6 +83,83 @@ impl GcodeSystem {
     }
 }
 
+/// How the 45° retract after each G71/G72 layer moves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Retract {
+    Feed,
+    Rapid,
+}
+
+/// Where the G71/G72 layers are counted from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LayersFrom {
+    /// The start point shifted by the finishing allowance (Δu/2, Δw).
+    ShiftedStart,
+    /// The start point itself.
+    Start,
+}
+
+/// How G73 spreads its relief over its passes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum G73Divisor {
+    /// By passes − 1: the first pass at the whole relief, the last at none.
+    PassesMinusOne,
+    /// By the passes.
+    Passes,
+}
+
+/// Where G76's least depth per pass (Δdmin) counts from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MinCut {
+    /// From Δd√(n − 1), the formula's depth of the pass before.
+    Formula,
+    /// From the pass before's actual depth.
+    Accumulated,
+}
+
+/// Where each G76 pass ends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PassEnd {
+    /// On the thread's end line: only its start moves along the flank.
+    EndLine,
+    /// Moved with its start.
+    Shifted,
+}
+
+/// The machine model under which the FANUC reader expands canned cycles into moves (spec
+/// fanuc.md, "Canned cycles under a declared machine model"): each open point the sources
+/// leave to the control. `None` in a point: not said. **\[decided\]**
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct CycleModel {
+    /// The profile declares a model: `cycle_model` names the control, or the points are
+    /// given one by one (`"the profile's keys"`). `None`: cycles are kept as written.
+    pub declared: Option<&'static str>,
+    pub g71_retract: Option<Retract>,
+    pub g71_layers_from: Option<LayersFrom>,
+    pub g71_semi_finish: Option<bool>,
+    pub g73_divisor: Option<G73Divisor>,
+    pub g76_min_cut: Option<MinCut>,
+    pub g76_pass_end: Option<PassEnd>,
+    /// The reference point G28 returns to, in machine coordinates (X a diameter).
+    pub reference_point: Option<(Length, Length)>,
+}
+
+impl CycleModel {
+    /// The GSK 980TDi's answer to each open point, as its manual states it.
+    fn gsk_980tdi() -> CycleModel {
+        CycleModel {
+            declared: Some("gsk-980tdi"),
+            g71_retract: Some(Retract::Feed),
+            g71_layers_from: Some(LayersFrom::ShiftedStart),
+            g71_semi_finish: Some(true),
+            g73_divisor: Some(G73Divisor::PassesMinusOne),
+            g76_min_cut: Some(MinCut::Formula),
+            g76_pass_end: Some(PassEnd::EndLine),
+            reference_point: None,
+        }
+    }
+}
+
 /// What ncthread knows of a FANUC lathe.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct FanucProfile {
@@ -92,6 +178,8 @@ pub struct FanucProfile {
     pub mist: bool,
     /// The G-code system the machine reads and ncthread writes.
     pub gcode_system: GcodeSystem,
+    /// How the machine runs its canned cycles, where the profile says.
+    pub cycle_model: CycleModel,
 }
 
 impl Default for FanucProfile {
@@ -104,6 +192,7 @@ impl Default for FanucProfile {
             nose_radius_in_offsets: false,
             mist: false,
             gcode_system: GcodeSystem::A,
+            cycle_model: CycleModel::default(),
         }
     }
 }
@@ -118,6 +207,22 @@ pub(crate) struct Raw {
     nose_radius_in_offsets: Option<bool>,
     mist: Option<bool>,
     gcode_system: Option<toml::Spanned<String>>,
+    cycle_model: Option<toml::Spanned<String>>,
+    g71_retract: Option<toml::Spanned<String>>,
+    g71_layers_from: Option<toml::Spanned<String>>,
+    g71_semi_finish: Option<bool>,
+    g73_divisor: Option<toml::Spanned<String>>,
+    g76_min_cut: Option<toml::Spanned<String>>,
+    g76_pass_end: Option<toml::Spanned<String>>,
+    reference_point: Option<toml::Spanned<RawPoint>>,
+}
+
+/// `reference_point = { x = 250.0, z = 300.0 }`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawPoint {
+    x: f64,
+    z: f64,
 }
 
 /// Reads the `[fanuc]` section into `p`, reporting each bad value with its line.
@@ -185,6 +290,174 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut FanucProfile, diags: &mut
     if let Some(v) = raw.gcode_system {
         gcode_system(src, v, p, diags);
     }
+    let keys = ModelKeys {
+        cycle_model: raw.cycle_model,
+        g71_retract: raw.g71_retract,
+        g71_layers_from: raw.g71_layers_from,
+        g71_semi_finish: raw.g71_semi_finish,
+        g73_divisor: raw.g73_divisor,
+        g76_min_cut: raw.g76_min_cut,
+        g76_pass_end: raw.g76_pass_end,
+        reference_point: raw.reference_point,
+    };
+    model_keys(src, keys, p, diags);
+}
+
+/// The keys of the machine model of the canned cycles.
+struct ModelKeys {
+    cycle_model: Option<toml::Spanned<String>>,
+    g71_retract: Option<toml::Spanned<String>>,
+    g71_layers_from: Option<toml::Spanned<String>>,
+    g71_semi_finish: Option<bool>,
+    g73_divisor: Option<toml::Spanned<String>>,
+    g76_min_cut: Option<toml::Spanned<String>>,
+    g76_pass_end: Option<toml::Spanned<String>>,
+    reference_point: Option<toml::Spanned<RawPoint>>,
+}
+
+/// The machine model: `cycle_model` first, each open point's own key over it, and the
+/// reference point; a key alone declares a model.
+fn model_keys(
+    src: &SourceFile,
+    keys: ModelKeys,
+    p: &mut FanucProfile,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let reference = keys.reference_point.map(|v| {
+        let span = src.span_of(v.span());
+        (span, v.into_inner())
+    });
+    cycle_model(src, keys.cycle_model, p, diags);
+    if let Some((span, v)) = reference {
+        if v.x.is_finite() && v.z.is_finite() && v.x.abs() < 1e5 && v.z.abs() < 1e5 {
+            p.cycle_model.reference_point =
+                Some((Length::from_mm_f64(v.x), Length::from_mm_f64(v.z)));
+        } else {
+            diags.push(bad_value(
+                src,
+                span,
+                "reference_point",
+                "the reference point's x and z are millimetres under 100,000".into(),
+                "copy the machine's reference point in machine coordinates: `reference_point = { x = 250.0, z = 300.0 }` (x a diameter)",
+            ));
+        }
+    }
+    let m = &mut p.cycle_model;
+    let own = keys.g71_retract.is_some()
+        || keys.g71_layers_from.is_some()
+        || keys.g71_semi_finish.is_some()
+        || keys.g73_divisor.is_some()
+        || keys.g76_min_cut.is_some()
+        || keys.g76_pass_end.is_some()
+        || m.reference_point.is_some();
+    if own && m.declared.is_none() {
+        m.declared = Some("the profile's keys");
+    }
+    if let Some(v) = keys.g71_retract {
+        m.g71_retract = choice(
+            src,
+            v,
+            "g71_retract",
+            &[("feed", Retract::Feed), ("rapid", Retract::Rapid)],
+            diags,
+        );
+    }
+    if let Some(v) = keys.g71_layers_from {
+        m.g71_layers_from = choice(
+            src,
+            v,
+            "g71_layers_from",
+            &[
+                ("shifted-start", LayersFrom::ShiftedStart),
+                ("start", LayersFrom::Start),
+            ],
+            diags,
+        );
+    }
+    if let Some(b) = keys.g71_semi_finish {
+        m.g71_semi_finish = Some(b);
+    }
+    if let Some(v) = keys.g76_min_cut {
+        m.g76_min_cut = choice(
+            src,
+            v,
+            "g76_min_cut",
+            &[
+                ("formula", MinCut::Formula),
+                ("accumulated", MinCut::Accumulated),
+            ],
+            diags,
+        );
+    }
+    if let Some(v) = keys.g76_pass_end {
+        m.g76_pass_end = choice(
+            src,
+            v,
+            "g76_pass_end",
+            &[
+                ("end-line", PassEnd::EndLine),
+                ("shifted", PassEnd::Shifted),
+            ],
+            diags,
+        );
+    }
+    if let Some(v) = keys.g73_divisor {
+        m.g73_divisor = choice(
+            src,
+            v,
+            "g73_divisor",
+            &[
+                ("passes-minus-one", G73Divisor::PassesMinusOne),
+                ("passes", G73Divisor::Passes),
+            ],
+            diags,
+        );
+    }
+}
+
+/// `cycle_model`: the control whose every open point the profile takes.
+fn cycle_model(
+    src: &SourceFile,
+    v: Option<toml::Spanned<String>>,
+    p: &mut FanucProfile,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let Some(v) = v else { return };
+    let span = src.span_of(v.span());
+    match v.into_inner().to_ascii_lowercase().as_str() {
+        "gsk-980tdi" => p.cycle_model = CycleModel::gsk_980tdi(),
+        other => diags.push(bad_value(
+            src,
+            span,
+            "cycle_model",
+            format!("`{other}` is not a machine model ncthread knows"),
+            "\"gsk-980tdi\" (every open point as the GSK 980TDi manual states it), or give the open points one by one: g71_retract, g71_layers_from, g71_semi_finish, g73_divisor, g76_min_cut, g76_pass_end, reference_point",
+        )),
+    }
+}
+
+/// A key whose value is one of `options` (its name in the profile, and the value).
+fn choice<T: Copy>(
+    src: &SourceFile,
+    v: toml::Spanned<String>,
+    key: &str,
+    options: &[(&str, T)],
+    diags: &mut Vec<Diagnostic>,
+) -> Option<T> {
+    let span = src.span_of(v.span());
+    let value = v.into_inner();
+    let found = options.iter().find(|(name, _)| *name == value).map(|o| o.1);
+    if found.is_none() {
+        let names: Vec<String> = options.iter().map(|(n, _)| format!("\"{n}\"")).collect();
+        diags.push(bad_value(
+            src,
+            span,
+            key,
+            format!("`{value}` is not a value of {key}"),
+            &format!("one of {}", names.join(", ")),
+        ));
+    }
+    found
 }
 
 /// `gcode_system`: "A" or "B"; "C" is refused with its reason.

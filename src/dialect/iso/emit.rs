@@ -51,7 +51,7 @@ pub fn emit(
     profile: &Profile,
 ) -> (Option<String>, Vec<Diagnostic>) {
     // Roughing cycles are written as their moves.
-    let program = &*crate::lower::unroll(program);
+    let program = &*crate::lower::unroll(program, Some(super::ID));
     let from = program.dialect;
     let mut e = Emitter {
         w: Writer::new(src),
@@ -332,7 +332,7 @@ impl Emitter<'_> {
             ItemKind::Stop { optional } => self.line(if *optional { "M1" } else { "M0" }),
             ItemKind::Delimiter => {}
             // Unrolled into its moves at the top of `emit`.
-            ItemKind::Roughing(_) => {}
+            ItemKind::Roughing(_) | ItemKind::ModelCycle(_) => {}
         }
         self.w.pos = item.kind.end_position(self.w.pos);
         self.item_comment(item, start);

@@ -49,7 +49,7 @@ pub fn emit(
     options: &WriteOptions,
 ) -> (Option<String>, Vec<Diagnostic>) {
     // Roughing cycles are written as their moves.
-    let program = &*crate::lower::unroll(program);
+    let program = &*crate::lower::unroll(program, Some(super::ID));
     // An nc31 program's own groups and `(` comment lines are kept as they were.
     let own = program.dialect == super::ID;
     let mut e = Emitter {
@@ -472,7 +472,7 @@ impl Emitter<'_> {
             // the others, and machine coordinates, are refused by legalisation.
             ItemKind::Compensation(_) | ItemKind::WorkOffset(_) | ItemKind::MachineMove(_) => {}
             // Unrolled into its moves at the top of `emit`.
-            ItemKind::Roughing(_) => {}
+            ItemKind::Roughing(_) | ItemKind::ModelCycle(_) => {}
             // M8/M9 where the profile declares them; legalisation refuses them otherwise.
             ItemKind::Coolant(c) => group.push(
                 if *c == Coolant::Flood { "M8" } else { "M9" }.to_string(),

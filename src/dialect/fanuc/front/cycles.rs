@@ -171,7 +171,9 @@ impl FrontEnd<'_> {
             ..Default::default()
         };
         sw.coolant_on(&mut self.r, None);
-        self.keep_cycle_block(line, block, second);
+        if !self.model_block(line, block, words, g, second) {
+            self.keep_cycle_block(line, block, second);
+        }
         if words.m(9).is_some() {
             self.push(
                 crate::ir::ItemKind::Coolant(crate::ir::Coolant::Off),
@@ -397,22 +399,13 @@ impl FrontEnd<'_> {
                 type_one: g != 73,
                 motion: 0,
             });
+            self.capturing = self.capture();
         }
     }
 
     /// A block kept as written, as a cycle: only the FANUC writer writes it back.
     fn keep_cycle_block(&mut self, line: Line<'_>, block: &Block, moves: bool) {
-        // The coolant words are read (and written) as items of their own.
-        let mut code = self.kept_text(line, block);
-        for w in block.words.iter().rev() {
-            if w.letter == 'M' && matches!(w.value.to_whole(), Ok(7..=9)) {
-                let text = &line.text[w.range.clone()];
-                if let Some(at) = code.rfind(text) {
-                    code.replace_range(at..at + text.len(), "");
-                }
-            }
-        }
-        let code = code.split_whitespace().collect::<Vec<_>>().join(" ");
+        let code = self.cycle_text(line, block);
         let span = self.span(line, block.code_range.clone());
         self.r.keep_opaque(
             code,
@@ -429,6 +422,21 @@ impl FrontEnd<'_> {
             },
         );
         self.sync_end = None;
+    }
+
+    /// A cycle block's code as written, but for its coolant words (read, and written, as
+    /// items of their own).
+    pub(super) fn cycle_text(&self, line: Line<'_>, block: &Block) -> String {
+        let mut code = self.kept_text(line, block);
+        for w in block.words.iter().rev() {
+            if w.letter == 'M' && matches!(w.value.to_whole(), Ok(7..=9)) {
+                let text = &line.text[w.range.clone()];
+                if let Some(at) = code.rfind(text) {
+                    code.replace_range(at..at + text.len(), "");
+                }
+            }
+        }
+        code.split_whitespace().collect::<Vec<_>>().join(" ")
     }
 
     /// A block of the contour that follows a G71, G72 or G73: checked (the first is the block
@@ -462,11 +470,24 @@ impl FrontEnd<'_> {
             );
         }
         if !block.words.is_empty() {
+            let errors = self.r.diags.len();
             self.contour_words(line, block, &mut c);
+            if self.r.diags[errors..].iter().any(|d| d.is_error())
+                && let Some(cap) = self.capturing.as_mut()
+            {
+                cap.refuse("its contour has an error");
+            }
+            self.capture_block(line, block);
             c.first = false;
         }
-        self.keep_cycle_block(line, block, false);
-        if block.number != Some(c.q) {
+        if self.model() {
+            self.push_model(line, block, c.g, false, Vec::new());
+        } else {
+            self.keep_cycle_block(line, block, false);
+        }
+        if block.number == Some(c.q) {
+            self.contour_done((c.p, c.q), c.type_one);
+        } else {
             self.contour = Some(c);
         }
     }

@@ -76,7 +76,7 @@ impl FrontEnd<'_> {
     }
 
     /// The end of a move: X/U and Z/W from the current position.
-    fn target<'w>(
+    pub(super) fn target<'w>(
         &mut self,
         line: Line<'_>,
         get: &dyn Fn(char) -> Option<&'w Word>,
