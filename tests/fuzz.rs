@@ -487,6 +487,9 @@ fn fanuc_block() -> impl Strategy<Value = Vec<String>> {
                     "G00 X130. Z10.".to_string(),
                 ]
             }),
+        // Canned cycles, which a machine model expands (the profile may declare one).
+        2 => prop_oneof![fanuc_turning_cycle(), fanuc_roughing_cycle(), fanuc_g76()],
+        1 => Just(vec!["G28 U0. W0.".to_string(), "G00 X130. Z10.".to_string()]),
         1 => Just(vec!["M05".to_string()]),
         1 => (100u32..2000, any::<bool>()).prop_map(|(s, ccw)| vec![format!("G97 S{s} {}", if ccw { "M04" } else { "M03" })]),
         1 => (100u32..300, 1000u32..3000).prop_map(|(v, l)| vec![format!("G50 S{l}"), format!("G96 S{v} M03")]),
@@ -496,13 +499,102 @@ fn fanuc_block() -> impl Strategy<Value = Vec<String>> {
     ]
 }
 
+/// G90 or G94 from X130 Z10, straight or tapered, with a repeat block.
+fn fanuc_turning_cycle() -> impl Strategy<Value = Vec<String>> {
+    (
+        length(20, 120, 3),
+        length(-60, -1, 3),
+        prop::option::of(length(-3, 3, 3)),
+        any::<bool>(),
+    )
+        .prop_map(|(x, z, r, facing)| {
+            let r = r.map_or(String::new(), |r| format!(" R{r}"));
+            let x0: f64 = x.parse().unwrap_or(50.0);
+            let z0: f64 = z.parse().unwrap_or(-10.0);
+            let (cycle, repeat) = if facing {
+                (
+                    format!("G94 X{x} Z{:.3}{r} F0.2", z0 / 10.0),
+                    format!("Z{:.3}", z0 / 10.0 - 1.0),
+                )
+            } else {
+                (
+                    format!("G90 X{x} Z{z}{r} F0.2"),
+                    format!("X{:.3}", x0 - 1.0),
+                )
+            };
+            vec![
+                "G00 X130. Z10.".to_string(),
+                cycle,
+                repeat,
+                "G00 X130. Z10.".into(),
+            ]
+        })
+}
+
+/// G71 (or G72) two-block with a type I contour numbered N9xx, then G70.
+fn fanuc_roughing_cycle() -> impl Strategy<Value = Vec<String>> {
+    (
+        (900u32..990),
+        length(20, 60, 3),
+        length(-40, -2, 3),
+        length(1, 60, 3),
+        length(1, 40, 3),
+        length(1, 3, 1),
+        any::<bool>(),
+    )
+        .prop_map(|(n, a, b, c, d, depth, arc)| {
+            let (p, q) = (n * 10, n * 10 + 9);
+            let (a, b): (f64, f64) = (a.parse().unwrap_or(30.0), b.parse().unwrap_or(-10.0));
+            let (c, d): (f64, f64) = (c.parse().unwrap_or(10.0), d.parse().unwrap_or(10.0));
+            let (x2, z2) = ((a + c).min(128.0), b - d);
+            let middle = if arc {
+                format!("G02 X{x2:.3} Z{z2:.3} R{:.3}", (x2 - a).max(z2.abs()))
+            } else {
+                format!("X{x2:.3} Z{z2:.3}")
+            };
+            vec![
+                "G00 X130. Z10.".to_string(),
+                format!("G71 U{depth} R0.5"),
+                format!("G71 P{p} Q{q} U0.4 W0.1 F0.25"),
+                format!("N{p} G00 X{a:.3}"),
+                format!("G01 Z{b:.3} F0.15"),
+                middle,
+                format!("N{q} G01 X130."),
+                format!("G70 P{p} Q{q}"),
+                "G00 X130. Z10.".into(),
+            ]
+        })
+}
+
+/// A two-block G76 from above the thread.
+fn fanuc_g76() -> impl Strategy<Value = Vec<String>> {
+    (
+        length(10, 100, 2),
+        length(-80, -5, 2),
+        (1u32..4),
+        prop::sample::select(vec![0u32, 5, 10]),
+        prop::sample::select(vec![60u32, 55, 30, 0]),
+        prop::sample::select(vec!["1.", "1.5", "2."]),
+    )
+        .prop_map(|(x, z, m, rr, aa, f)| {
+            let x0: f64 = x.parse().unwrap_or(20.0);
+            vec![
+                format!("G00 X{:.3} Z10.", x0 + 6.0),
+                format!("G76 P{m:02}{rr:02}{aa:02} Q100 R0.05"),
+                format!("G76 X{x} Z{z} P920 Q400 F{f}"),
+                "G00 X130. Z10.".into(),
+            ]
+        })
+}
+
 fn fanuc_program() -> impl Strategy<Value = Input> {
     (
         prop::collection::vec(fanuc_block(), 1..10),
         prop::sample::select(vec![0u32, 10, 15]),
         any::<bool>(),
+        any::<bool>(),
     )
-        .prop_map(|(blocks, chamfer, numbered)| {
+        .prop_map(|(blocks, chamfer, numbered, model)| {
             let mut lines = vec![
                 "O0001 (FUZZ)".to_string(),
                 "G21 G99".into(),
@@ -516,7 +608,7 @@ fn fanuc_program() -> impl Strategy<Value = Input> {
                 .iter()
                 .enumerate()
                 .map(|(i, l)| {
-                    if numbered && i > 0 {
+                    if numbered && i > 0 && !l.starts_with('N') {
                         format!("N{} {l}\n", i * 10)
                     } else {
                         format!("{l}\n")
@@ -526,7 +618,14 @@ fn fanuc_program() -> impl Strategy<Value = Input> {
             Input {
                 from: ncthread::dialect::fanuc::ID,
                 bytes: format!("%\n{body}%\n").into_bytes(),
-                profile: Some(format!("[fanuc]\nthread_chamfer_0p1_lead = {chamfer}\n")),
+                profile: Some(format!(
+                    "[fanuc]\nthread_chamfer_0p1_lead = {chamfer}\n{}",
+                    if model {
+                        "cycle_model = \"gsk-980tdi\"\nreference_point = { x = 250.0, z = 300.0 }\n"
+                    } else {
+                        ""
+                    }
+                )),
             }
         })
 }
