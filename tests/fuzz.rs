@@ -490,6 +490,7 @@ fn fanuc_block() -> impl Strategy<Value = Vec<String>> {
         // Canned cycles, which a machine model expands (the profile may declare one).
         2 => prop_oneof![fanuc_turning_cycle(), fanuc_roughing_cycle(), fanuc_g76()],
         1 => Just(vec!["G28 U0. W0.".to_string(), "G00 X130. Z10.".to_string()]),
+        1 => (length(20, 120, 3), length(-60, -5, 3)).prop_map(|(x, z)| vec!["G00 X130. Z10.".to_string(), "G75 R0.5".into(), format!("G75 X{x} Z{z} P1500 Q2000 R0.1 F0.1"), "G00 X130. Z10.".into()]),
         1 => Just(vec!["M05".to_string()]),
         1 => (100u32..2000, any::<bool>()).prop_map(|(s, ccw)| vec![format!("G97 S{s} {}", if ccw { "M04" } else { "M03" })]),
         1 => (100u32..300, 1000u32..3000).prop_map(|(v, l)| vec![format!("G50 S{l}"), format!("G96 S{v} M03")]),

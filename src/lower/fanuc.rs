@@ -266,6 +266,80 @@ pub fn threading(start: Point, t: &Threading) -> Result<Vec<ItemKind>, Refusal> 
     Ok(moves)
 }
 
+/// The words of a G74 (`facing`: pecks along Z, shifts along X) or G75 (pecks along X, shifts
+/// along Z) peck cycle, lengths as radii along X.
+#[derive(Clone, Copy, Debug)]
+pub struct Pecking {
+    pub facing: bool,
+    /// Where the pecks end (X a diameter) and the last shift stops.
+    pub end: Point,
+    /// Δk (G74) or Δi (G75): the depth of each peck.
+    pub peck: Length,
+    /// Δi (G74) or Δk (G75): the shift between plunges.
+    pub shift: Length,
+    /// Δd: the relief at the bottom of each plunge, opposite to the shift.
+    pub relief: Length,
+    /// e: the retract after each peck.
+    pub retract: Length,
+    pub feed: Length,
+}
+
+/// A G74 or G75 peck cycle from `start`: at each position (the start, then a shift towards
+/// the end, the last one shortened) a plunge of pecks at feed, each but the last followed by
+/// a rapid retract e; at the bottom a rapid relief Δd opposite to the shift (+Z for a G75,
+/// +X for a G74, that does not shift), a rapid back to the start's level; at the end a rapid
+/// to the start. **\[decided\]** spec fanuc.md, GSK 980TDi and TAC-100XT.
+pub fn pecking(start: Point, p: &Pecking) -> Result<Vec<ItemKind>, Refusal> {
+    // G75 plunges along X: the Axes of G71, whose layers step along X.
+    let ax = Axes { facing: p.facing };
+    let (a0, b0) = (ax.across(start), ax.along(start));
+    let (a1, b1) = (ax.across(p.end), ax.along(p.end));
+    let (sa, sb) = ((a1 - a0).signum(), (b1 - b0).signum());
+    let (peck, shift) = (ax.across_units(p.peck), ax.along_units(p.shift));
+    if sa == 0 || peck <= 0 || (sb != 0 && shift <= 0) {
+        return Err("its pecks do not reach the end: it needs the end beyond the start, and a peck (and a shift) of more than 0".into());
+    }
+    let back = ax.across_units(p.retract);
+    let relief = -(if sb == 0 { 1 } else { sb }) * ax.along_units(p.relief);
+    let mut moves = Vec::new();
+    let mut b = b0;
+    loop {
+        let mut a = a0;
+        while a != a1 {
+            a = if sa * (a1 - (a + sa * peck)) <= 0 {
+                a1
+            } else {
+                a + sa * peck
+            };
+            moves.push(feed(ax.point(a, b), p.feed));
+            if a != a1 && back > 0 {
+                moves.push(rapid(ax.point(a - sa * back, b)));
+            }
+            if moves.len() > 100_000 {
+                return Err("it would make more than 100,000 moves".into());
+            }
+        }
+        if relief != 0 {
+            moves.push(rapid(ax.point(a1, b + relief)));
+        }
+        moves.push(rapid(ax.point(a0, b + relief)));
+        if b == b1 {
+            break;
+        }
+        b = if sb * (b1 - (b + sb * shift)) <= 0 {
+            b1
+        } else {
+            b + sb * shift
+        };
+        moves.push(rapid(ax.point(a0, b)));
+    }
+    // Back to the start, unless the last plunge's return is there (no shift, no relief).
+    if ax.point(a0, b + relief) != start {
+        moves.push(rapid(start));
+    }
+    Ok(moves)
+}
+
 /// The words and open points of a G71 (or, `facing`, a G72) type I roughing cycle.
 #[derive(Clone, Copy, Debug)]
 pub struct Roughing {

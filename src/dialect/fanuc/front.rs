@@ -144,6 +144,8 @@ struct FrontEnd<'a> {
     references: Vec<cycles::Reference>,
     /// Under a machine model: a G71/G72's first block, read.
     setup: Option<model::Setup>,
+    /// Under a machine model: a G74/G75's first block, its retract.
+    peck_retract: Option<Length>,
     /// Under a machine model: a G76's first block, read.
     thread_setup: Option<model::ThreadSetup>,
     /// Under a machine model: the G71/G72 whose contour is being read.
@@ -203,6 +205,7 @@ pub(crate) fn read(
         references: Vec::new(),
         setup: None,
         thread_setup: None,
+        peck_retract: None,
         pending: None,
         capturing: None,
         contours: model::Contours::new(),

@@ -1,6 +1,6 @@
 //! FANUC's canned cycles under the machine model the profile declares (`[fanuc] cycle_model`
 //! or the open points one by one, spec fanuc.md): the cycles this version expands (G70, G71
-//! and G72 type I, G73, G76, G90, G94, G28 with the reference point, G53) become [`ItemKind::ModelCycle`] items, each block kept as written
+//! and G72 type I, G73, G74, G75, G76, G90, G94, G28 with the reference point, G53) become [`ItemKind::ModelCycle`] items, each block kept as written
 //! for FANUC with the moves the one implementation (`lower::fanuc`) gives it for every other
 //! target. A cycle the model does not expand stays kept as written (`front/cycles.rs`), and a
 //! warning says why when it is one the model covers: another target then refuses it (LG003).
@@ -18,7 +18,9 @@ use crate::dialect::fanuc::profile::{G73Divisor, LayersFrom, MinCut, PassEnd, Re
 use crate::dialect::fanuc::syntax::Block;
 use crate::fixed::Length;
 use crate::ir::{ItemKind, ModalContext, ModelCycle, Pos};
-use crate::lower::fanuc::{self as lowering, Element, Pattern, Point, Roughing, Threading};
+use crate::lower::fanuc::{
+    self as lowering, Element, Pattern, Pecking, Point, Roughing, Threading,
+};
 use crate::source::{Line, Span};
 
 /// The feed of a contour move whose F the contour does not write: G71/G72 rough at their own
@@ -120,6 +122,8 @@ impl FrontEnd<'_> {
             (70, _) => self.finishing(line, words),
             (71..=73, false) => self.setup(line, words, g),
             (71..=73, true) => self.roughing(line, words, g),
+            (74 | 75, false) => self.peck_setup(line, words),
+            (74 | 75, true) => self.pecking(line, words, g),
             (76, false) => self.thread_setup(line, words),
             (76, true) => self.threading(line, words),
             (28 | 53, _) => self.machine(line, words, g),
@@ -265,6 +269,70 @@ impl FrontEnd<'_> {
             .whole(line, w)
             .ok_or_else(|| format!("its {c} cannot be read"))?;
         Ok(Length(n.saturating_mul(10)))
+    }
+
+    /// G74/G75's first block: `R e`, the retract after each peck.
+    fn peck_setup(&mut self, line: Line<'_>, words: &Words<'_>) -> Expansion {
+        match self.axis(line, words, 'R') {
+            Ok(e) => {
+                self.peck_retract = Some(e);
+                Expansion::Moves(Vec::new())
+            }
+            Err(reason) => {
+                self.peck_retract = None;
+                Expansion::Kept(Some(reason))
+            }
+        }
+    }
+
+    /// G74/G75's second block: `X(U) Z(W) P Δi Q Δk R Δd F`, after its first.
+    fn pecking(&mut self, line: Line<'_>, words: &Words<'_>, g: i64) -> Expansion {
+        let moves = (|| {
+            if ['I', 'K', 'D'].iter().any(|&c| words.get(c).is_some()) {
+                return Err("Haas's one-block form takes its retract from the machine's Settings, which the model does not hold".to_string());
+            }
+            if self.inch {
+                return Err(
+                    "an inch cycle's P and Q are in 0.0001 in, which this version does not expand"
+                        .to_string(),
+                );
+            }
+            let retract = self
+                .peck_retract
+                .take()
+                .ok_or("its first block (R, the retract) is not right before it")?;
+            let start = self.start()?;
+            let get = |c: char| words.get(c);
+            let to = self
+                .target(line, &get, Pos::new(start.0, start.1))
+                .ok_or("its end cannot be read")?;
+            let end = (to.x.unwrap_or(start.0), to.z.unwrap_or(start.1));
+            let relief = match words.get('R') {
+                Some(w) if !w.value.has_point => {
+                    return Err("its R (the relief) has no decimal point: whether R500 is 0.5 mm or 500 mm, the sources ncthread holds disagree".into());
+                }
+                _ => self.axis(line, words, 'R')?,
+            };
+            let (i, k) = (
+                self.microns(line, words, 'P')?,
+                self.microns(line, words, 'Q')?,
+            );
+            let facing = g == 74;
+            let p = Pecking {
+                facing,
+                end,
+                peck: if facing { k } else { i },
+                shift: if facing { i } else { k },
+                relief,
+                retract,
+                feed: self.cycle_feed(line, words)?,
+            };
+            lowering::pecking(start, &p)
+        })();
+        match moves {
+            Ok(m) => Expansion::Moves(m),
+            Err(reason) => Expansion::Kept(Some(reason)),
+        }
     }
 
     /// G76's first block: `P mmrraa Q Δdmin R d`.
