@@ -56,6 +56,24 @@ pub fn check(program: &Program, src: &SourceFile, to: Option<DialectId>) -> Vec<
             {
                 Some(feed_without_spindle(turning, speed))
             }
+            // A cycle kept whole for its own dialect: the same rules over its moves.
+            ItemKind::ModelCycle(c)
+                if !turning && c.moves.iter().any(|m| matches!(m, ItemKind::ThreadPass(_))) =>
+            {
+                c.moves
+                    .iter()
+                    .find(|m| matches!(m, ItemKind::ThreadPass(_)))
+                    .map(thread_without_spindle)
+            }
+            ItemKind::ModelCycle(c)
+                if feed_mode != Some(FeedMode::PerMin)
+                    && (!turning || speed.unwrap_or(0) == 0)
+                    && c.moves
+                        .iter()
+                        .any(|m| matches!(m, ItemKind::Feed { .. } | ItemKind::Arc { .. })) =>
+            {
+                Some(feed_without_spindle(turning, speed))
+            }
             ItemKind::Opaque {
                 dialect,
                 text,

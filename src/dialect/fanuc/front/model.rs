@@ -1002,6 +1002,21 @@ mod tests {
         assert!(d.iter().any(|d| d.message.contains("R1")), "{d:?}");
     }
 
+    /// A cycle kept whole for FANUC still needs the spindle for its moves (LG001), as its
+    /// moves do for any other target.
+    #[test]
+    fn a_cycle_kept_for_fanuc_is_checked_for_the_spindle() {
+        let text = "G21 G99\nT0101\nG00 X26. Z5.\nG76 P010060 Q100 R0.05\nG76 X18.16 Z-20. P920 Q400 F1.5\nM30\n";
+        let src = SourceFile::new("t", text);
+        let profile = Profile::from_toml(&SourceFile::new("p.toml", GSK)).unwrap();
+        let (p, d) = super::super::parse(&src, &profile.fanuc, Unsupported::Error);
+        assert_eq!(said(&d), [], "{d:?}");
+        let fanuc = crate::dialect::fanuc::ID;
+        let errors =
+            crate::legalise::check(&crate::lower::unroll(&p, Some(fanuc)), &src, Some(fanuc));
+        assert_eq!(said(&errors), [("LG001", 5, true)], "{errors:?}");
+    }
+
     /// The open points one by one: a G71 waits for each of its keys, named in the reason.
     #[test]
     fn each_open_point_is_named_when_the_profile_leaves_it() {
