@@ -803,7 +803,7 @@ impl FrontEnd<'_> {
     }
 
     /// Spindle: the speed S (not G50's, which is the limit). The block's speed, if any.
-    fn speed(&mut self, line: Line<'_>, words: &Words<'_>) -> Option<Option<u32>> {
+    pub(super) fn speed(&mut self, line: Line<'_>, words: &Words<'_>) -> Option<Option<u32>> {
         let Some(w) = words.get('S').filter(|_| words.limit.is_none()) else {
             return Some(None);
         };

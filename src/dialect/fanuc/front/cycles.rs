@@ -23,20 +23,20 @@ use crate::source::{Line, Span};
 /// first).
 fn form(g: i64, second: bool) -> &'static str {
     match g {
-        // U, W and D as Haas's own example programs write them.
-        70 => "PQFUWD",
-        71..=73 if second => "PQUWDF",
+        // U, W and D as Haas's own example programs write them; S the speed it runs at.
+        70 => "PQFUWDS",
+        71..=73 if second => "PQUWDFS",
         // The first block: the depth of cut (U for G71, W for G72) and the retract; F there
         // too in real programs.
         71 => "URF",
         72 => "WRF",
         73 => "UWRF",
         // I and K: Haas's one-block form (the peck and the step).
-        74 | 75 if second => "XZUWPQRFIKD",
+        74 | 75 if second => "XZUWPQRFIKDS",
         74 | 75 => "R",
-        76 if second => "XZUWRPQFKDAI",
+        76 if second => "XZUWRPQFKDAIS",
         76 => "PQR",
-        90 | 94 => "XZUWRF",
+        90 | 94 => "XZUWRFS",
         30 => "XZUWP",
         28 => "XZUW",
         _ => "XZ",
@@ -166,10 +166,16 @@ impl FrontEnd<'_> {
         }
         let start = self.r.pos;
         let code_span = self.span(line, block.code_range.clone());
+        // S (the speed the cycle runs at) and coolant act before the cycle, as items.
+        let Some(speed) = self.speed(line, words) else {
+            return;
+        };
         let sw = crate::dialect::machine::Switches {
             coolant: words.coolant_on(code_span),
+            spindle: Some((speed, None, code_span)),
             ..Default::default()
         };
+        sw.spindle(&mut self.r, None);
         sw.coolant_on(&mut self.r, None);
         if !self.model_block(line, block, words, g, second) {
             self.keep_cycle_block(line, block, second);
@@ -424,12 +430,12 @@ impl FrontEnd<'_> {
         self.sync_end = None;
     }
 
-    /// A cycle block's code as written, but for its coolant words (read, and written, as
-    /// items of their own).
+    /// A cycle block's code as written, but for its coolant words and S (read, and written,
+    /// as items of their own).
     pub(super) fn cycle_text(&self, line: Line<'_>, block: &Block) -> String {
         let mut code = self.kept_text(line, block);
         for w in block.words.iter().rev() {
-            if w.letter == 'M' && matches!(w.value.to_whole(), Ok(7..=9)) {
+            if (w.letter == 'M' && matches!(w.value.to_whole(), Ok(7..=9))) || w.letter == 'S' {
                 let text = &line.text[w.range.clone()];
                 if let Some(at) = code.rfind(text) {
                     code.replace_range(at..at + text.len(), "");
@@ -719,6 +725,29 @@ mod tests {
             let (_, d) = read(body);
             assert_eq!(errors(&d), [("FANR018", line)], "{body:?}: {d:?}");
         }
+    }
+
+    /// An S in a cycle's block is the speed the cycle runs at: a spindle item before it, and
+    /// not in its kept text.
+    #[test]
+    fn an_s_beside_a_cycle_acts_before_it() {
+        let (items, d) = read("G70 P80 Q90 S1200 M08\nN80 G00 X20.\nN90 G01 Z-10. F0.2\n");
+        assert!(errors(&d).is_empty(), "{d:?}");
+        let at = items
+            .iter()
+            .position(|i| matches!(&i.kind, ItemKind::Opaque { text, .. } if text == "G70 P80 Q90"))
+            .unwrap();
+        assert!(matches!(
+            items[..at]
+                .iter()
+                .rev()
+                .find(|i| matches!(i.kind, ItemKind::Spindle { .. }))
+                .map(|i| &i.kind),
+            Some(ItemKind::Spindle {
+                speed: Some(1200),
+                direction: None
+            })
+        ));
     }
 
     /// G90 and G94 are modal: a block with only axes repeats the cycle, until a motion code.
