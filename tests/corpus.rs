@@ -1,7 +1,8 @@
 //! One snapshot per corpus file, holding every route of it: what `explain` says of it and its
-//! conversion to every target (diagnostics and output); a program the reader refuses is shown
-//! once, since no target sees it; a file with a profile beside it then shows what the profile
-//! changes. Every test runs and reports on its
+//! conversion to every target (diagnostics and output); a file with a profile beside it then
+//! shows what the profile changes. The programs of a folder that the reader refuses (no target
+//! sees them) share one snapshot, each refusal once, so that a folder's refusals are read in
+//! one go. Every test runs and reports on its
 //! own, so the first failing file does not hide the rest: `cargo test --test corpus czech/ex4`
 //! runs the cases whose name contains `czech/ex4`.
 mod common;
@@ -32,6 +33,19 @@ fn main() {
         let cases = cases.clone();
         move || no_stale_snapshots(&cases)
     }));
+    let mut grouped: std::collections::BTreeMap<String, Vec<Case>> = Default::default();
+    for case in &cases {
+        if refused_alone(case, &with_profile) {
+            grouped.entry(folder(case)).or_default().push(case.clone());
+        }
+    }
+    for (folder, members) in &grouped {
+        let members = members.clone();
+        trials.push(Trial::test(
+            format!("snapshot::{folder} (refused by the reader)"),
+            move || refused_snapshot(&members),
+        ));
+    }
     for case in cases {
         // A bad file with a profile is judged with it: its fault may lie in the machine's
         // constants, and be fine on another machine.
@@ -41,7 +55,7 @@ fn main() {
             && !case.path.starts_with("corpus/fuzz/")
             && case.profile.is_none();
         let name = case.name.clone();
-        if case.profile.is_none() {
+        if case.profile.is_none() && !refused_alone(&case, &with_profile) {
             let plain = case.clone();
             let profiled = profiled.iter().find(|c| c.path == case.path).cloned();
             trials.push(Trial::test(format!("snapshot::{name}"), move || {
@@ -122,6 +136,41 @@ fn snapshot(plain: &Case, with_profile: Option<&Case>) -> Result<(), Failed> {
     Ok(())
 }
 
+/// A program the reader refuses, with no profile beside it: its snapshot is its folder's.
+fn refused_alone(case: &Case, with_profile: &[String]) -> bool {
+    case.profile.is_none() && !with_profile.contains(&case.path) && common::reader_refuses(case)
+}
+
+/// `bad/iso` for `corpus/bad/iso/x.ngc`.
+fn folder(case: &Case) -> String {
+    let path = case.path.trim_start_matches("corpus/");
+    path.rsplit_once('/').map_or(path, |(f, _)| f).to_string()
+}
+
+/// The name of a folder's snapshot of the programs the reader refuses.
+fn refused_name(folder: &str) -> String {
+    format!("{}__refused-by-the-reader", folder.replace('/', "__"))
+}
+
+/// The one snapshot of a folder's programs that the reader refuses: each refusal, in order.
+fn refused_snapshot(members: &[Case]) -> Result<(), Failed> {
+    let mut text = String::new();
+    for case in members {
+        text.push_str(&format!(
+            "##### {}
+{}
+",
+            case.path,
+            routes(case)?
+        ));
+    }
+    let name = refused_name(&folder(&members[0]));
+    insta::with_settings!({ prepend_module_to_snapshot => false, omit_expression => true }, {
+        insta::assert_snapshot!(name, text);
+    });
+    Ok(())
+}
+
 /// A routes text cut at its `=== ` headings: (heading, body) in order.
 fn sections(text: &str) -> Vec<(&str, String)> {
     let mut out: Vec<(&str, String)> = Vec::new();
@@ -173,13 +222,19 @@ fn detected_as_its_folder(case: &Case) -> Result<(), Failed> {
 /// Every snapshot file belongs to a case of today's corpus (a renamed or deleted corpus file
 /// takes its snapshots with it).
 fn no_stale_snapshots(cases: &[Case]) -> Result<(), Failed> {
+    let with_profile: Vec<String> = cases
+        .iter()
+        .filter(|c| c.profile.is_some())
+        .map(|c| c.path.clone())
+        .collect();
     let expected: std::collections::HashSet<String> = cases
         .iter()
-        .map(|case| {
-            format!(
+        .map(|case| match refused_alone(case, &with_profile) {
+            true => format!("{}.snap", refused_name(&folder(case))),
+            false => format!(
                 "{}.snap",
                 case.name.replace('/', "__").replace("+profile", "")
-            )
+            ),
         })
         .collect();
     let dir = common::root().join("tests/snapshots");
