@@ -323,24 +323,9 @@ fn model_keys(
     p: &mut FanucProfile,
     diags: &mut Vec<Diagnostic>,
 ) {
-    let reference = keys.reference_point.map(|v| {
-        let span = src.span_of(v.span());
-        (span, v.into_inner())
-    });
     cycle_model(src, keys.cycle_model, p, diags);
-    if let Some((span, v)) = reference {
-        if v.x.is_finite() && v.z.is_finite() && v.x.abs() < 1e5 && v.z.abs() < 1e5 {
-            p.cycle_model.reference_point =
-                Some((Length::from_mm_f64(v.x), Length::from_mm_f64(v.z)));
-        } else {
-            diags.push(bad_value(
-                src,
-                span,
-                "reference_point",
-                "the reference point's x and z are millimetres under 100,000".into(),
-                "copy the machine's reference point in machine coordinates: `reference_point = { x = 250.0, z = 300.0 }` (x a diameter)",
-            ));
-        }
+    if let Some(v) = keys.reference_point {
+        p.cycle_model.reference_point = reference_point(src, v, diags);
     }
     let m = &mut p.cycle_model;
     let own = keys.g71_retract.is_some()
@@ -353,66 +338,82 @@ fn model_keys(
     if own && m.declared.is_none() {
         m.declared = Some("the profile's keys");
     }
-    if let Some(v) = keys.g71_retract {
-        m.g71_retract = choice(
-            src,
-            v,
-            "g71_retract",
-            &[("feed", Retract::Feed), ("rapid", Retract::Rapid)],
-            diags,
-        );
-    }
-    if let Some(v) = keys.g71_layers_from {
-        m.g71_layers_from = choice(
-            src,
-            v,
-            "g71_layers_from",
-            &[
-                ("shifted-start", LayersFrom::ShiftedStart),
-                ("start", LayersFrom::Start),
-            ],
-            diags,
-        );
-    }
+    m.g71_retract = choice(
+        src,
+        keys.g71_retract,
+        "g71_retract",
+        &[("feed", Retract::Feed), ("rapid", Retract::Rapid)],
+        diags,
+        m.g71_retract,
+    );
+    m.g71_layers_from = choice(
+        src,
+        keys.g71_layers_from,
+        "g71_layers_from",
+        &[
+            ("shifted-start", LayersFrom::ShiftedStart),
+            ("start", LayersFrom::Start),
+        ],
+        diags,
+        m.g71_layers_from,
+    );
     if let Some(b) = keys.g71_semi_finish {
         m.g71_semi_finish = Some(b);
     }
-    if let Some(v) = keys.g76_min_cut {
-        m.g76_min_cut = choice(
-            src,
-            v,
-            "g76_min_cut",
-            &[
-                ("formula", MinCut::Formula),
-                ("accumulated", MinCut::Accumulated),
-            ],
-            diags,
-        );
+    m.g76_min_cut = choice(
+        src,
+        keys.g76_min_cut,
+        "g76_min_cut",
+        &[
+            ("formula", MinCut::Formula),
+            ("accumulated", MinCut::Accumulated),
+        ],
+        diags,
+        m.g76_min_cut,
+    );
+    m.g76_pass_end = choice(
+        src,
+        keys.g76_pass_end,
+        "g76_pass_end",
+        &[
+            ("end-line", PassEnd::EndLine),
+            ("shifted", PassEnd::Shifted),
+        ],
+        diags,
+        m.g76_pass_end,
+    );
+    m.g73_divisor = choice(
+        src,
+        keys.g73_divisor,
+        "g73_divisor",
+        &[
+            ("passes-minus-one", G73Divisor::PassesMinusOne),
+            ("passes", G73Divisor::Passes),
+        ],
+        diags,
+        m.g73_divisor,
+    );
+}
+
+/// `reference_point = { x = …, z = … }`: millimetres, x a diameter.
+fn reference_point(
+    src: &SourceFile,
+    v: toml::Spanned<RawPoint>,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<(Length, Length)> {
+    let span = src.span_of(v.span());
+    let v = v.into_inner();
+    if v.x.is_finite() && v.z.is_finite() && v.x.abs() < 1e5 && v.z.abs() < 1e5 {
+        return Some((Length::from_mm_f64(v.x), Length::from_mm_f64(v.z)));
     }
-    if let Some(v) = keys.g76_pass_end {
-        m.g76_pass_end = choice(
-            src,
-            v,
-            "g76_pass_end",
-            &[
-                ("end-line", PassEnd::EndLine),
-                ("shifted", PassEnd::Shifted),
-            ],
-            diags,
-        );
-    }
-    if let Some(v) = keys.g73_divisor {
-        m.g73_divisor = choice(
-            src,
-            v,
-            "g73_divisor",
-            &[
-                ("passes-minus-one", G73Divisor::PassesMinusOne),
-                ("passes", G73Divisor::Passes),
-            ],
-            diags,
-        );
-    }
+    diags.push(bad_value(
+        src,
+        span,
+        "reference_point",
+        "the reference point's x and z are millimetres under 100,000".into(),
+        "copy the machine's reference point in machine coordinates: `reference_point = { x = 250.0, z = 300.0 }` (x a diameter)",
+    ));
+    None
 }
 
 /// `cycle_model`: the control whose every open point the profile takes.
@@ -436,14 +437,19 @@ fn cycle_model(
     }
 }
 
-/// A key whose value is one of `options` (its name in the profile, and the value).
+/// A key whose value is one of `options` (its name in the profile, and the value); without
+/// the key, `current`.
 fn choice<T: Copy>(
     src: &SourceFile,
-    v: toml::Spanned<String>,
+    v: Option<toml::Spanned<String>>,
     key: &str,
     options: &[(&str, T)],
     diags: &mut Vec<Diagnostic>,
+    current: Option<T>,
 ) -> Option<T> {
+    let Some(v) = v else {
+        return current;
+    };
     let span = src.span_of(v.span());
     let value = v.into_inner();
     let found = options.iter().find(|(name, _)| *name == value).map(|o| o.1);
