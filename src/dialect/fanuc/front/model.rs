@@ -229,9 +229,13 @@ impl FrontEnd<'_> {
     /// G90 / G94, or a block repeating one: the cut's end from X/U and Z/W (a repeat keeps
     /// the last cycle's), its taper R.
     fn turning(&mut self, line: Line<'_>, words: &Words<'_>, g: i64) -> Expansion {
+        // A G90/G94 written anew forgets the last one's words.
+        if words.cycle.is_some() || self.kept_modal != Some(g) {
+            self.turning = None;
+        }
         let moves = (|| {
             let start = self.start()?;
-            let last = self.turning.filter(|_| self.kept_modal == Some(g));
+            let last = self.turning.take();
             let get = |c: char| words.get(c);
             let to = self
                 .target(line, &get, Pos::new(start.0, start.1))
@@ -904,6 +908,12 @@ mod tests {
                 "G90 X40. Z-20. R-2. F0.2\nX38.\n".into(),
                 6,
                 "without R",
+            ),
+            // A repeat of a G90 the model could not expand takes nothing from an older one.
+            (
+                "G90 X40. Z-20. F0.2\nG90 X36. R-1.\nX38.\n".into(),
+                7,
+                "no Z or W",
             ),
             (
                 format!("G71 P80 Q100 U0.4 W0.1 D2. F0.25\n{contour}"),
