@@ -229,8 +229,9 @@ impl FrontEnd<'_> {
     /// G90 / G94, or a block repeating one: the cut's end from X/U and Z/W (a repeat keeps
     /// the last cycle's), its taper R.
     fn turning(&mut self, line: Line<'_>, words: &Words<'_>, g: i64) -> Expansion {
-        // A G90/G94 written anew forgets the last one's words.
-        if words.cycle.is_some() || self.kept_modal != Some(g) {
+        // The cycle's words are modal while it is in force (FANUC: X, Z and R need not be
+        // said again); a cycle the model could not expand leaves none (`take` below).
+        if self.kept_modal != Some(g) {
             self.turning = None;
         }
         let moves = (|| {
@@ -876,14 +877,14 @@ mod tests {
     fn the_model_gives_the_cycles_their_moves() {
         let (items, d) = read(
             GSK,
-            "G90 X48. Z-30. F0.25\nX44.\nG00 X52. Z2.\nG71 U2. R0.5\nG71 P80 Q100 U0.4 W0.1 F0.25\nN80 G00 X30.\nN90 G01 Z-20. F0.15\nN100 X52.\nG70 P80 Q100\n",
+            "G90 X48. Z-30. F0.25\nG90 X44.\nG00 X52. Z2.\nG71 U2. R0.5\nG71 P80 Q100 U0.4 W0.1 F0.25\nN80 G00 X30.\nN90 G01 Z-20. F0.15\nN100 X52.\nG70 P80 Q100\n",
         );
         assert_eq!(said(&d), [], "{d:?}");
         // G71: A', 4 moves for each of the layers Ø48.4 … Ø32.4 (5), the infeed to B',
         // 2 contour moves, the rapid back. G70: 3 contour moves and the rapid back.
         let want = [
             ("G90 X48. Z-30. F0.25", 4),
-            ("X44.", 4),
+            ("G90 X44.", 4),
             ("G71 P80 Q100 U0.4 W0.1 F0.25", 1 + 5 * 4 + 1 + 2 + 1),
             ("G70 P80 Q100", 4),
         ]
@@ -909,11 +910,11 @@ mod tests {
                 6,
                 "without R",
             ),
-            // A repeat of a G90 the model could not expand takes nothing from an older one.
+            // After a G90 the model could not expand, the position is not known.
             (
-                "G90 X40. Z-20. F0.2\nG90 X36. R-1.\nX38.\n".into(),
+                "G90 X40. Z-20. R-1. F0.2\nG90 X36. Z-15.\nX38.\n".into(),
                 7,
-                "no Z or W",
+                "not known",
             ),
             (
                 format!("G71 P80 Q100 U0.4 W0.1 D2. F0.25\n{contour}"),
