@@ -86,3 +86,30 @@ pub const G96: GCode = 960; // constant surface speed
 pub const G97: GCode = 970; // spindle speed in rpm
 pub const G98: GCode = 980; // canned cycles retract to the initial level
 pub const G99: GCode = 990; // canned cycles retract to R
+
+/// The G codes LinuxCNC knows (its `_gees` table): any other one stops it where it reads the
+/// line, also in a contour's subroutine ("G-code out of range" past G99.9, else "Unknown g
+/// code used"). **\[evidence\]** LinuxCNC 2.9.0~pre1 `interp_array.cc`.
+const LINUXCNC_G: [GCode; 88] = [
+    0, 10, 20, 30, 40, 50, 51, 52, 53, 70, 80, 100, 170, 171, 180, 181, 190, 191, 200, 210, 280,
+    281, 300, 301, 330, 331, 382, 383, 384, 385, 400, 410, 411, 420, 421, 430, 431, 432, 490, 520,
+    530, 540, 550, 560, 570, 580, 590, 591, 592, 593, 610, 611, 640, 700, 710, 711, 712, 720, 721,
+    722, 730, 740, 760, 800, 810, 820, 830, 840, 850, 860, 870, 880, 890, 900, 901, 910, 911, 920,
+    921, 922, 923, 930, 940, 950, 960, 970, 980, 990,
+];
+
+/// Why LinuxCNC cannot read G code `code` (×10, `None`: not a whole tenth), as it says it.
+pub fn linuxcnc_refuses(code: Option<GCode>) -> Option<&'static str> {
+    match code {
+        None => Some("G-code out of range"),
+        Some(c) if !(0..=999).contains(&c) => Some("G-code out of range"),
+        Some(c) if !LINUXCNC_G.contains(&c) => Some("Unknown g code used"),
+        Some(_) => None,
+    }
+}
+
+/// The M codes LinuxCNC knows (its `_ems` table): M0–M9, M19, M30, M48–M53, M60–M68,
+/// M70–M73, M99 and the user's M100–M199. **\[evidence\]** as [`LINUXCNC_G`].
+pub fn linuxcnc_knows_m(m: i64) -> bool {
+    matches!(m, 0..=9 | 19 | 30 | 48..=53 | 60..=68 | 70..=73 | 99..=199)
+}

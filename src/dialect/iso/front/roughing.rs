@@ -495,8 +495,32 @@ impl FrontEnd<'_> {
                             );
                             return None;
                         }
-                        _ => ignored.push(w),
+                        g => {
+                            if let Some(why) =
+                                linuxcnc_refuses(w.value.to_scaled(1).ok().filter(|_| g >= 0))
+                            {
+                                let text = &line.text[w.range.clone()];
+                                self.roughing_error(
+                                    line,
+                                    w.range.clone(),
+                                    format!("`{text}` in the contour of a {name} ({label}): LinuxCNC stops where it reads it (\"{why}\")"),
+                                    "a contour is made of G0, G1, G2 and G3 moves",
+                                );
+                                return None;
+                            }
+                            ignored.push(w)
+                        }
                     }
+                }
+                'M' if !w.value.to_whole().is_ok_and(linuxcnc_knows_m) => {
+                    let text = &line.text[w.range.clone()];
+                    self.roughing_error(
+                        line,
+                        w.range.clone(),
+                        format!("`{text}` in the contour of a {name} ({label}): LinuxCNC stops where it reads it (\"Unknown m code used\")"),
+                        "set M codes before the cycle",
+                    );
+                    return None;
                 }
                 'M' | 'S' | 'T' | 'F' => ignored.push(w),
                 'X' | 'Z' | 'U' | 'W' | 'I' | 'K' | 'R' | 'A' | 'C' => {
