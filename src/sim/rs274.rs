@@ -548,6 +548,7 @@ pub fn segments(canon: &[Canon]) -> Vec<Segment> {
     let mut reader = CanonReader {
         pos: Pos::UNKNOWN,
         exact: None,
+        snapped: None,
         k: None,
         chain_turns: None,
         direction: None,
@@ -568,6 +569,9 @@ struct CanonReader {
     pos: Pos,
     /// The position as rs274 printed it, in mm, before rounding onto the grid.
     exact: Option<(f64, f64)>,
+    /// After a synchronised move whose printed Z [`Self::feed_to`] took for the one it did
+    /// not leave: that printed position (mm), where a traverse to it goes nowhere.
+    snapped: Option<(f64, f64)>,
     /// The K of the synchronised motion in force (in the program's units).
     k: Option<f64>,
     /// The spindle turns so far in the chain of synchronised moves (`None`: no chain).
@@ -586,9 +590,22 @@ impl CanonReader {
     fn call(&mut self, c: &Canon) {
         let mm = Length::from_mm_f64;
         let scale = self.scale;
+        // Calls that do not move (a synchronisation's end, a comment) keep it.
+        let snapped = match c {
+            Canon::Traverse { .. }
+            | Canon::Feed { .. }
+            | Canon::Arc { .. }
+            | Canon::RigidTap { .. } => self.snapped.take(),
+            _ => self.snapped,
+        };
         match *c {
             // Added back into the coordinates when the calls were read.
             Canon::AxisOffset { .. } => {}
+            // A traverse to the printed end of a snapped synchronised move stays there.
+            Canon::Traverse { x, z } if snapped == Some((x * scale, z * scale)) => {
+                self.push(Motion::Rapid, self.pos);
+                self.chain_turns = None;
+            }
             Canon::Traverse { x, z } => {
                 let to = Pos::new(mm(x * scale), mm(z * scale));
                 self.push(Motion::Rapid, to);
@@ -685,6 +702,7 @@ impl CanonReader {
             && scale != 1.0
             && (z - z0).abs() <= 1.0001e-4 * scale
         {
+            self.snapped = Some((x, z));
             z = z0;
         }
         let to = Pos::new(Length::from_mm_f64(x), Length::from_mm_f64(z));
