@@ -248,6 +248,15 @@ pub fn threading(start: Point, t: &Threading) -> Result<Vec<ItemKind>, Refusal> 
             x + Length(out * 2 * rise.0) + (t.taper + t.taper).mul_div((zz - z).0, (sz - z).0)
         };
         let (cut_x, end_x) = (at(from_z), at(to_z));
+        // The pull-out ends 2·pull out from the pass, which must stay this side of the start.
+        if out * (end_x.0 + out * 2 * pull.0 - sx.0) > 0 {
+            return Err(format!(
+                "its pull-out ({} mm at 45°) from the pass at X{} goes past the start X{}",
+                pull.mm(),
+                end_x.mm(),
+                sx.mm()
+            ));
+        }
         moves.push(rapid((cut_x, from_z)));
         moves.push(ItemKind::pass(ThreadPass {
             to: Pos::new(end_x, to_z),
@@ -756,9 +765,11 @@ mod tests {
             p.exit.map(|e| (e.length.0, e.offset.0)),
             Some((20_000, 40_000))
         );
-        // A pull-out longer than the room to the start X is refused.
-        let e = threading(pt(22.0, 5.0), &t).unwrap_err();
-        assert!(e.contains("pull-out"), "{e}");
+        // A pull-out longer than the room to the start X is refused: from X24.5 the root
+        // leaves 4.5 mm (room for 2 × 2 mm), but the first pass, at X21, only 3.5.
+        let e = threading(pt(24.5, 5.0), &t).unwrap_err();
+        assert!(e.contains("from the pass at X21"), "{e}");
+        assert!(threading(pt(25.0, 5.0), &t).is_ok());
     }
 
     /// A layer on an element parallel to it, and an allowance into the part, are refused.
