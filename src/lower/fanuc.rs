@@ -309,7 +309,8 @@ pub fn pecking(start: Point, p: &Pecking) -> Result<Vec<ItemKind>, Refusal> {
         return Err("its pecks do not reach the end: it needs the end beyond the start, and a peck (and a shift) of more than 0".into());
     }
     let back = ax.across_units(p.retract);
-    let relief = -(if sb == 0 { 1 } else { sb }) * ax.along_units(p.relief);
+    // Opposite to the shift; without one, towards + (TAC-100XT: "positive tool retraction").
+    let relief = (if sb == 0 { 1 } else { -sb }) * ax.along_units(p.relief);
     let mut moves = Vec::new();
     let mut b = b0;
     loop {
@@ -770,6 +771,29 @@ mod tests {
         let e = threading(pt(24.5, 5.0), &t).unwrap_err();
         assert!(e.contains("from the pass at X21"), "{e}");
         assert!(threading(pt(25.0, 5.0), &t).is_ok());
+    }
+
+    /// A G75 without a shift relieves towards +Z at its bottom; with one, against it.
+    #[test]
+    fn a_g75_relieves_against_its_shift_or_towards_plus_z() {
+        let mut p = Pecking {
+            facing: false,
+            end: pt(30.0, -10.0),
+            peck: mm(10.0),
+            shift: mm(2.0),
+            relief: mm(0.2),
+            retract: mm(0.5),
+            feed: mm(0.1),
+        };
+        let relief_z = |p: &Pecking| match &pecking(pt(42.0, -10.0), p).unwrap()[1] {
+            ItemKind::Rapid { to } => to.z.unwrap().to_mm_f64(),
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(relief_z(&p), -9.8);
+        p.end = pt(30.0, -14.0);
+        assert_eq!(relief_z(&p), -9.8);
+        p.end = pt(30.0, -6.0);
+        assert_eq!(relief_z(&p), -10.2);
     }
 
     /// A layer on an element parallel to it, and an allowance into the part, are refused.
