@@ -267,6 +267,24 @@ fn from_auto_chooses_the_dialect_and_says_so_when_unsure() {
     );
 }
 
+/// `--from auto` names the FANUC G-code system it reads a program in, and why (issue 32).
+#[test]
+fn from_auto_names_the_fanuc_gcode_system() {
+    let run = |file: &str| {
+        let out = ncthread(&["convert", file, "--from", "auto", "--to", "iso"], None);
+        assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+        text(&out.stderr)
+    };
+    let a = run("corpus/fanuc/g32-taper.nc");
+    assert!(a.contains("as fanuc, G-code system A (the default"), "{a}");
+    // The sidecar profile says B.
+    let b = run("corpus/fanuc/system-b.nc");
+    assert!(b.contains("G-code system B (the profile's `gcode_system`)"), "{b}");
+    // Another dialect has no variant to name.
+    let czech = run("corpus/czech/ex3-taper.nc");
+    assert!(!czech.contains("G-code system"), "{czech}");
+}
+
 #[test]
 fn simulate_prints_the_motion_as_text_or_json() {
     let out = ncthread(

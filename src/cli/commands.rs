@@ -19,6 +19,7 @@ pub(crate) fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
         args.from,
         &args.common,
         args.to.into(),
+        &profile,
     )?;
     let options = args
         .common
@@ -54,7 +55,7 @@ pub(crate) fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
 
 pub(crate) fn simulate(args: SimulateArgs) -> Result<ExitCode, Fatal> {
     let profile = args.common.profile_for(&args.stdin.named(&args.input))?;
-    let (src, from) = read_source(&args.input, &args.stdin, args.from, &args.common)?;
+    let (src, from) = read_source(&args.input, &args.stdin, args.from, &args.common, &profile)?;
     let (program, mut diags) =
         ncthread::parse(&src, from, &profile, unsupported(args.common.unsupported));
     if diag::has_errors(&diags) {

@@ -106,9 +106,10 @@ pub(crate) fn read_source(
     stdin: &StdinArgs,
     from: SourceDialect,
     common: &CommonArgs,
+    profile: &Profile,
 ) -> Result<(SourceFile, DialectId), Fatal> {
     let (name, bytes) = read_input(input, stdin.stdin_filename.as_deref())?;
-    let (src, from, decoded) = decode_source(name, &bytes, from, common.encoding);
+    let (src, from, decoded) = decode_source(name, &bytes, from, common.encoding, profile);
     encoding_checked(&src, &decoded, common.diagnostics)?;
     Ok((src, from))
 }
@@ -120,9 +121,10 @@ pub(crate) fn read_source_for(
     from: SourceDialect,
     common: &CommonArgs,
     to: DialectId,
+    profile: &Profile,
 ) -> Result<(SourceFile, DialectId, ncthread::text::Input), Fatal> {
     let (name, bytes) = read_input(input, stdin.stdin_filename.as_deref())?;
-    let (src, from, decoded) = decode_source(name, &bytes, from, common.encoding);
+    let (src, from, decoded) = decode_source(name, &bytes, from, common.encoding, profile);
     encoding_checked(&src, &decoded, common.diagnostics)?;
     let kept =
         ncthread::text::Input::of(&src.text, decoded.encoding, &decoded.eof_mark, from == to);
@@ -136,6 +138,7 @@ pub(crate) fn decode_source(
     bytes: &[u8],
     from: SourceDialect,
     encoding: Option<TextEncoding>,
+    profile: &Profile,
 ) -> (SourceFile, DialectId, ncthread::text::Decoded) {
     let mut decoded = ncthread::text::decode_program(
         bytes,
@@ -143,11 +146,22 @@ pub(crate) fn decode_source(
         encoding,
         Some(std::path::Path::new(&name)),
     );
-    if let Some(detection) = decoded.detection.as_ref().filter(|d| !d.certain) {
-        note(format!(
-            "ncthread: --from auto: reading {name} as {} ({}); give --from to be sure",
-            detection.dialect, detection.reason
-        ));
+    // Which variant of the dialect it reads the program in, where the dialect has some.
+    let variant = decoded
+        .detection
+        .as_ref()
+        .and_then(|d| ncthread::dialect::get(d.dialect).auto_note(profile))
+        .map_or(String::new(), |v| format!(", {v}"));
+    match decoded.detection.as_ref() {
+        Some(d) if !d.certain => note(format!(
+            "ncthread: --from auto: reading {name} as {} ({}){variant}; give --from to be sure",
+            d.dialect, d.reason
+        )),
+        Some(d) if !variant.is_empty() => note(format!(
+            "ncthread: --from auto: reading {name} as {}{variant}",
+            d.dialect
+        )),
+        _ => {}
     }
     let text = std::mem::take(&mut decoded.text);
     (SourceFile::new(name, text), decoded.dialect, decoded)
@@ -183,7 +197,7 @@ pub(crate) fn read_program(
     common: &CommonArgs,
 ) -> Result<Option<(SourceFile, ncthread::ir::Program)>, Fatal> {
     let profile = common.profile_for(&stdin.named(input))?;
-    let (src, from) = read_source(input, stdin, from, common)?;
+    let (src, from) = read_source(input, stdin, from, common, &profile)?;
     let (program, mut diags) =
         ncthread::parse(&src, from, &profile, unsupported(common.unsupported));
     diag::sort(&mut diags);

@@ -24,7 +24,7 @@ struct Sides<'a> {
 
 pub(crate) fn verify(args: VerifyArgs) -> Result<ExitCode, Fatal> {
     let profile = args.common.profile_for(&args.stdin.named(&args.input))?;
-    let (src, from) = read_source(&args.input, &args.stdin, args.from, &args.common)?;
+    let (src, from) = read_source(&args.input, &args.stdin, args.from, &args.common, &profile)?;
     let to: DialectId = args.to.into();
     let against = match &args.against {
         Some(path) => Some(read_against(path, args.common.encoding, to)?),

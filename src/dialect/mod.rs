@@ -213,6 +213,11 @@ pub trait Dialect: Sync {
     }
     /// Which of two dialects with as many marked lines wins (the higher).
     fn tie_rank(&self) -> u8;
+    /// What `--from auto` says beside this dialect when it chose it, for a profile: which
+    /// variant of the language it reads the program in, and why (FANUC's G-code system).
+    fn auto_note(&self, _profile: &Profile) -> Option<String> {
+        None
+    }
     /// LinuxCNC's interpreter reads its programs (so `rs274` can judge them).
     fn linuxcnc_reads(&self) -> bool {
         false

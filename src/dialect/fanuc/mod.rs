@@ -136,6 +136,13 @@ impl Dialect for Fanuc {
         0
     }
 
+    fn auto_note(&self, profile: &Profile) -> Option<String> {
+        Some(match profile.fanuc.gcode_system {
+            profile::GcodeSystem::A => "G-code system A (the default; a machine that reads G33 threads, G90/G91, G94/G95, G92 S and G77–G79 needs `[fanuc] gcode_system = \"B\"`)".into(),
+            profile::GcodeSystem::B => "G-code system B (the profile's `gcode_system`)".into(),
+        })
+    }
+
     fn output_feed_mode(&self) -> Option<crate::ir::FeedMode> {
         // The header: `G21 G99`.
         Some(crate::ir::FeedMode::PerRev)
