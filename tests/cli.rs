@@ -279,7 +279,10 @@ fn from_auto_names_the_fanuc_gcode_system() {
     assert!(a.contains("as fanuc, G-code system A (the default"), "{a}");
     // The sidecar profile says B.
     let b = run("corpus/fanuc/system-b.nc");
-    assert!(b.contains("G-code system B (the profile's `gcode_system`)"), "{b}");
+    assert!(
+        b.contains("G-code system B (the profile's `gcode_system`)"),
+        "{b}"
+    );
     // Another dialect has no variant to name.
     let czech = run("corpus/czech/ex3-taper.nc");
     assert!(!czech.contains("G-code system"), "{czech}");

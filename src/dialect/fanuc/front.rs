@@ -124,6 +124,9 @@ struct FrontEnd<'a> {
     cycle: Option<Cycle>,
     /// A G92 was refused for want of the chamfer key (said once).
     chamfer_refused: bool,
+    /// The chamfer (0.1 lead) a G76's first block set with P's rr: the machine's parameter
+    /// 5130, which G92 uses too. **\[decided\]** spec fanuc.md.
+    g76_chamfer: Option<u32>,
     /// Any move read yet (G20/G21 must come before).
     moved: bool,
     /// The first word read without a decimal point.
@@ -194,6 +197,7 @@ pub(crate) fn read(
         blocks_since_sync: 0,
         cycle: None,
         chamfer_refused: false,
+        g76_chamfer: None,
         moved: false,
         no_point: None,
         inch_rounded: None,

@@ -164,6 +164,12 @@ impl FrontEnd<'_> {
         {
             return;
         }
+        if g == 76
+            && !second
+            && let Some(p) = words.get('P').and_then(|w| w.value.to_whole().ok())
+        {
+            self.g76_chamfer = Some((p / 100 % 100) as u32);
+        }
         let start = self.r.pos;
         let code_span = self.span(line, block.code_range.clone());
         // S (the speed the cycle runs at) and coolant act before the cycle, as items.
@@ -748,6 +754,23 @@ mod tests {
                 direction: None
             })
         ));
+    }
+
+    /// A G76's P rr sets the machine's chamfer (parameter 5130): a G92 after it needs no
+    /// profile key, and chamfers by it.
+    #[test]
+    fn a_g76_sets_the_chamfer_of_the_g92_after_it() {
+        let (items, d) = read(
+            "G76 P011060 Q100 R0.05\nG76 X18.16 Z-20. P920 Q400 F1.5\nG00 X26. Z5.\nG92 X19.4 Z-20. F1.5\n",
+        );
+        assert!(errors(&d).is_empty(), "{d:?}");
+        let exit = items.iter().find_map(|i| match &i.kind {
+            ItemKind::ThreadPass(p) => p.exit,
+            _ => None,
+        });
+        assert_eq!(exit.map(|e| e.length.0), Some(15_000));
+        let (_, d) = read("G00 X26. Z5.\nG92 X19.4 Z-20. F1.5\n");
+        assert_eq!(errors(&d), [("FANR004", 6)]);
     }
 
     /// G90 and G94 are modal: a block with only axes repeats the cycle, until a motion code.

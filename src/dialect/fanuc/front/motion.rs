@@ -449,7 +449,8 @@ impl FrontEnd<'_> {
         g: Option<&Word>,
         whole: Range<usize>,
     ) -> Option<u32> {
-        let Some(chamfer) = self.profile.thread_chamfer_0p1_lead else {
+        // A G76's rr before it sets the machine's chamfer (parameter 5130) for G92 too.
+        let Some(chamfer) = self.g76_chamfer.or(self.profile.thread_chamfer_0p1_lead) else {
             // Said once: every G92 block of the program needs the same key.
             if std::mem::replace(&mut self.chamfer_refused, true) {
                 return None;
