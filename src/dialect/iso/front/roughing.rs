@@ -522,7 +522,8 @@ impl FrontEnd<'_> {
                     );
                     return None;
                 }
-                'M' | 'S' | 'T' | 'F' => ignored.push(w),
+                // J (of the XY plane) too: rs274 runs a contour's `G2 X30 J0 Z-10 R5`.
+                'M' | 'S' | 'T' | 'F' | 'J' => ignored.push(w),
                 'X' | 'Z' | 'U' | 'W' | 'I' | 'K' | 'R' | 'A' | 'C' => {
                     if let Some(first) = words.insert(w.letter, w) {
                         let first = line.text[first.range.clone()].to_string();
