@@ -471,55 +471,12 @@ impl FrontEnd<'_> {
         for w in &block.words {
             match w.letter {
                 'G' => {
-                    let g = w.value.to_scaled(1).unwrap_or(-1);
-                    match g {
-                        G0 | G1 | G2 | G3 => {
-                            if motion.is_some() {
-                                self.roughing_error(
-                                    line,
-                                    w.range.clone(),
-                                    "two motion codes on one line of a contour".into(),
-                                    "one motion code per line",
-                                );
-                                return None;
-                            }
-                            motion = Some((g / 10) as u8);
-                        }
-                        g if makes_no_element(g) => {
-                            let text = &line.text[w.range.clone()];
-                            self.roughing_error(
-                                line,
-                                w.range.clone(),
-                                format!("`{text}` in the contour of a {name} ({label}): LinuxCNC's cycle makes no element of it"),
-                                "a contour is made of G0, G1, G2 and G3 moves",
-                            );
-                            return None;
-                        }
-                        g => {
-                            if let Some(why) =
-                                linuxcnc_refuses(w.value.to_scaled(1).ok().filter(|_| g >= 0))
-                            {
-                                let text = &line.text[w.range.clone()];
-                                self.roughing_error(
-                                    line,
-                                    w.range.clone(),
-                                    format!("`{text}` in the contour of a {name} ({label}): LinuxCNC stops where it reads it (\"{why}\")"),
-                                    "a contour is made of G0, G1, G2 and G3 moves",
-                                );
-                                return None;
-                            }
-                            ignored.push(w)
-                        }
+                    if !self.contour_g(line, w, &mut motion, &mut ignored, (name, label)) {
+                        return None;
                     }
                 }
                 'M' if !w.value.to_whole().is_ok_and(linuxcnc_knows_m) => {
-                    let text = &line.text[w.range.clone()];
-                    self.roughing_error(
-                        line,
-                        w.range.clone(),
-                        format!("`{text}` in the contour of a {name} ({label}): LinuxCNC stops where it reads it (\"Unknown m code used\")"),
-                        "set M codes before the cycle",
-                    );
+                    self.unknown_in_contour(line, w, "Unknown m code used", (name, label));
                     return None;
                 }
                 // J (of the XY plane) too: rs274 runs a contour's `G2 X30 J0 Z-10 R5`.
@@ -554,6 +511,77 @@ impl FrontEnd<'_> {
         }
         self.report_ignored_contour_words(line, &ignored, name, label);
         Some(ContourWords { words, motion })
+    }
+
+    /// A G word of a contour line: its motion (one per line), or a code the cycle does not
+    /// run (`ignored`); false when it stops the cycle (said).
+    fn contour_g<'b>(
+        &mut self,
+        line: Line<'_>,
+        w: &'b Word,
+        motion: &mut Option<u8>,
+        ignored: &mut Vec<&'b Word>,
+        (name, label): (&str, &str),
+    ) -> bool {
+        let g = w.value.to_scaled(1).unwrap_or(-1);
+        let refusal = match g {
+            G0 | G1 | G2 | G3 if motion.is_some() => Some((
+                "two motion codes on one line of a contour".to_string(),
+                "one motion code per line",
+            )),
+            G0 | G1 | G2 | G3 => {
+                *motion = Some((g / 10) as u8);
+                None
+            }
+            g if makes_no_element(g) => {
+                let text = &line.text[w.range.clone()];
+                Some((
+                    format!(
+                        "`{text}` in the contour of a {name} ({label}): LinuxCNC's cycle makes no element of it"
+                    ),
+                    "a contour is made of G0, G1, G2 and G3 moves",
+                ))
+            }
+            g => match linuxcnc_refuses(w.value.to_scaled(1).ok().filter(|_| g >= 0)) {
+                Some(why) => {
+                    self.unknown_in_contour(line, w, why, (name, label));
+                    return false;
+                }
+                None => {
+                    ignored.push(w);
+                    None
+                }
+            },
+        };
+        match refusal {
+            Some((message, help)) => {
+                self.roughing_error(line, w.range.clone(), message, help);
+                false
+            }
+            None => true,
+        }
+    }
+
+    /// A code LinuxCNC does not know, in a contour: it stops where it reads it (`why`, its
+    /// own words).
+    fn unknown_in_contour(
+        &mut self,
+        line: Line<'_>,
+        w: &Word,
+        why: &str,
+        (name, label): (&str, &str),
+    ) {
+        let text = &line.text[w.range.clone()];
+        self.roughing_error(
+            line,
+            w.range.clone(),
+            format!("`{text}` in the contour of a {name} ({label}): LinuxCNC stops where it reads it (\"{why}\")"),
+            if w.letter == 'M' {
+                "set M codes before the cycle"
+            } else {
+                "a contour is made of G0, G1, G2 and G3 moves"
+            },
+        );
     }
 
     /// The words of a contour line that LinuxCNC does not run there (M, S, T, F, G codes
