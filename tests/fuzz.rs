@@ -1126,8 +1126,27 @@ fn run(name: &str, strategy: impl Strategy<Value = Input>, rs274: Option<Interpr
     totals
 }
 
+/// The oracle, each run bounded to 15 s by `timeout`: under the 20 s watchdog, so that an
+/// rs274 that loops for ever (its G71 on some contours) ends as a failed run, not a hang, and
+/// is never left spinning after the harness.
 fn interpreter() -> Option<Interpreter> {
-    common::rs274().map(|p| Interpreter::Wrapper(p.to_path_buf()))
+    static BOUNDED: std::sync::OnceLock<Option<PathBuf>> = std::sync::OnceLock::new();
+    BOUNDED
+        .get_or_init(|| {
+            let rs274 = common::rs274()?;
+            let script =
+                std::env::temp_dir().join(format!("ncthread-fuzz-rs274-{}.sh", std::process::id()));
+            let text = format!(
+                "#!/bin/sh\nexec timeout -k 1 15 '{}' \"$@\"\n",
+                rs274.display()
+            );
+            std::fs::write(&script, text).ok()?;
+            use std::os::unix::fs::PermissionsExt;
+            std::fs::set_permissions(&script, std::fs::Permissions::from_mode(0o755)).ok()?;
+            Some(script)
+        })
+        .clone()
+        .map(Interpreter::Wrapper)
 }
 
 #[test]
