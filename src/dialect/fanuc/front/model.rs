@@ -98,6 +98,16 @@ enum Expansion {
     Kept(Option<String>),
 }
 
+impl From<Result<Vec<ItemKind>, String>> for Expansion {
+    /// A cycle's moves, or the reason the model cannot give them.
+    fn from(moves: Result<Vec<ItemKind>, String>) -> Expansion {
+        match moves {
+            Ok(m) => Expansion::Moves(m),
+            Err(reason) => Expansion::Kept(Some(reason)),
+        }
+    }
+}
+
 impl FrontEnd<'_> {
     /// Whether the profile declares a machine model.
     pub(super) fn model(&self) -> bool {
@@ -254,10 +264,7 @@ impl FrontEnd<'_> {
             self.turning = Some(((x, z), taper));
             Ok(lowering::turning(start, (x, z), taper, g == 94, feed))
         })();
-        match moves {
-            Ok(m) => Expansion::Moves(m),
-            Err(reason) => Expansion::Kept(Some(reason)),
-        }
+        moves.into()
     }
 
     /// A word of G76 written in least input increments (0.001 mm), without a decimal point.
@@ -334,10 +341,7 @@ impl FrontEnd<'_> {
             };
             lowering::pecking(start, &p)
         })();
-        match moves {
-            Ok(m) => Expansion::Moves(m),
-            Err(reason) => Expansion::Kept(Some(reason)),
-        }
+        moves.into()
     }
 
     /// G76's first block: `P mmrraa Q Δdmin R d`.
@@ -416,10 +420,7 @@ impl FrontEnd<'_> {
             };
             lowering::threading(start, &t)
         })();
-        match moves {
-            Ok(m) => Expansion::Moves(m),
-            Err(reason) => Expansion::Kept(Some(reason)),
-        }
+        moves.into()
     }
 
     /// G28 (through X/U Z/W to the profile's reference point, the named axes; a bare G28
@@ -486,10 +487,7 @@ impl FrontEnd<'_> {
             };
             Ok(lowering::home(from, via, reference, axes))
         })();
-        match moves {
-            Ok(m) => Expansion::Moves(m),
-            Err(reason) => Expansion::Kept(Some(reason)),
-        }
+        moves.into()
     }
 
     /// G70: the contour P–Q read before, with its own feeds (the G70's F where the contour
@@ -516,10 +514,7 @@ impl FrontEnd<'_> {
             }
             Ok(lowering::finishing(start, &elements))
         })();
-        match moves {
-            Ok(m) => Expansion::Moves(m),
-            Err(reason) => Expansion::Kept(Some(reason)),
-        }
+        moves.into()
     }
 
     /// The P and Q of a cycle's block.
