@@ -188,10 +188,8 @@ impl Structure {
             Keyword::Call => {
                 self.flow.insert(i, Flow::Call);
             }
-            Keyword::If | Keyword::Do | Keyword::Repeat => stack.push(Open::new(i, o, o.keyword)),
-            Keyword::While if !top_is(stack, Keyword::Do, label) => {
-                stack.push(Open::new(i, o, o.keyword))
-            }
+            Keyword::If | Keyword::Do | Keyword::Repeat => self.open(stack, i, o),
+            Keyword::While if !top_is(stack, Keyword::Do, label) => self.open(stack, i, o),
             Keyword::ElseIf | Keyword::Else => self.branch(blocks, stack, i, o),
             Keyword::EndIf => self.endif(stack, i, o),
             // The `while` that closes a `do` of the same label.
@@ -213,6 +211,34 @@ impl Structure {
             message,
             help,
         });
+    }
+
+    /// `if`, `do`, `repeat` and a `while` that opens a loop: not inside an open block of
+    /// the same label in the same subroutine (or the program). LinuxCNC keeps one place per
+    /// label there (`offset_map`): the inner line is reached, run or skipped to, and
+    /// refused ("duplicate O-word label"), or, for a `do`, its `while` goes back to the
+    /// outer one. **\[evidence\]** LinuxCNC 2.9 `interp_o_word.cc`,
+    /// `convert_control_functions`.
+    fn open(&mut self, stack: &mut Vec<Open>, i: usize, o: &OWord) {
+        let label = &o.label;
+        let inner = stack
+            .iter()
+            .rev()
+            .take_while(|t| t.keyword != Keyword::Sub)
+            .find(|t| t.label == *label);
+        if let Some(outer) = inner {
+            let outer = outer.keyword.name();
+            self.error(
+                i,
+                o,
+                format!(
+                    "duplicate O-word label: {label} {} inside the {label} {outer} it would close or skip to",
+                    o.keyword.name()
+                ),
+                "give the inner block a label of its own (LinuxCNC keeps one place per label in a subroutine)",
+            );
+        }
+        stack.push(Open::new(i, o, o.keyword));
     }
 
     /// `sub`: a definition, not inside another, each name once.
@@ -637,6 +663,10 @@ pub struct Params {
     pub doing_continue: bool,
     /// Subroutine definitions (file, line) passed in sequence or called.
     pub passed: std::collections::HashSet<(usize, usize)>,
+    /// The `if`, `do`, `repeat` and opening `while` lines run so far, by the subroutine
+    /// they ran in (`None`: the program) and their label, with their file and line
+    /// (LinuxCNC's `offset_map`, where a label has one place for the whole run).
+    pub opened: HashMap<(Option<Label>, Label), (usize, usize)>,
     /// The modal state M70/M73 saved at each call level (0: the program), and whether the
     /// return from that level restores it (M73).
     pub contexts: HashMap<usize, (ModalState, bool)>,
@@ -684,6 +714,7 @@ impl Default for Params {
             doing_break: false,
             doing_continue: false,
             passed: Default::default(),
+            opened: HashMap::new(),
             contexts: HashMap::new(),
         }
     }
@@ -809,5 +840,14 @@ mod tests {
         assert_eq!(lines("o1 break\n"), [0]);
         assert_eq!(lines("o<a> sub\no<b> sub\no<b> endsub\no<a> endsub\n"), [1]);
         assert_eq!(lines("o<a> return\n"), [0]);
+        // An opener inside an open block of its label, in the same subroutine.
+        assert_eq!(lines("o1 if [1]\no1 if [1]\no1 endif\no1 endif\n"), [1]);
+        assert!(lines("o1 do\no2 if [1]\no1 while [1]\no2 endif\n").contains(&2));
+        // A subroutine's labels are its own.
+        assert!(
+            lines("o1 if [1]\no<s> sub\no1 if [1]\no1 endif\no<s> endsub\no1 endif\n").is_empty()
+        );
+        // One after the other is LinuxCNC's run to judge, not the structure's.
+        assert!(lines("o1 if [1]\no1 endif\no1 if [1]\no1 endif\n").is_empty());
     }
 }

@@ -292,6 +292,36 @@ impl OLine<'_, '_> {
         )
     }
 
+    /// An `if`, `do`, `repeat` or opening `while` reached: its label takes this place in
+    /// the subroutine running (or the program) for the rest of the run, as in LinuxCNC's
+    /// `offset_map`. A label that already has another place there is refused: LinuxCNC
+    /// stops at an `if`, `while` or `repeat` ("duplicate O-word label"), and sends the
+    /// `while` of a `do` back to the earlier place.
+    fn opened(&self, params: &mut Params) -> Result<(), StructureError> {
+        let scope = params.frames.last().map(|f| f.name.clone());
+        let here = (self.file, self.at);
+        let place = *params
+            .opened
+            .entry((scope, self.o.label.clone()))
+            .or_insert(here);
+        if place == here {
+            return Ok(());
+        }
+        let line = self.runs[place.0]
+            .lines
+            .get(place.1)
+            .map_or(0, |l| l.number);
+        Err(self.error(
+            self.o.range.clone(),
+            format!(
+                "duplicate O-word label - already defined in line {line}: LinuxCNC keeps one place per label in a subroutine (or the program), and {} {} is a second",
+                self.o.label,
+                self.o.keyword.name()
+            ),
+            "give each `if`, `do`, `while` and `repeat` of a subroutine (or of the program) a label of its own",
+        ))
+    }
+
     /// `sub` (LinuxCNC's `O_sub`): a definition is passed once; reaching it again (a
     /// loop, or after a call that found it further down) is LinuxCNC's "found in illegal
     /// location".
@@ -785,6 +815,13 @@ impl FrontEnd<'_> {
         let skipped = std::mem::take(&mut params.skipping);
         if !skipped && params.testing != Some(at) {
             l.tail()?;
+        }
+        if matches!(
+            (o.keyword, flow),
+            (Keyword::If | Keyword::Do | Keyword::Repeat, _)
+                | (Keyword::While, Some(Flow::While { .. }))
+        ) {
+            l.opened(params)?;
         }
         match (o.keyword, flow) {
             (Keyword::Sub, Some(Flow::Sub { end })) => l.o_sub(*end, params),
