@@ -663,9 +663,9 @@ impl Rows<'_> {
             // moves by no more than its depth grew (an infeed of at most 45°), give or take
             // 0.01 mm.
             let s = shift.unwrap_or_default();
-            let start = starts
-                .iter()
-                .position(|&(ss, d, _)| (s - ss).abs() <= (below_first - d).abs() + Length(100));
+            let start = starts.iter().position(|&(ss, d, _)| {
+                (s - ss).abs() <= (below_first - d).abs() + Length::from_steps(100)
+            });
             let before = start.map(|k| starts[k]);
             let start = start.unwrap_or_else(|| {
                 starts.push((s, below_first, depth));

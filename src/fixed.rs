@@ -1,12 +1,14 @@
 //! Exact numbers: fixed-point lengths and angles, and the decimal literals they come from.
 //!
-//! Lengths are integers of 0.0001 mm, angles integers of 0.001°. Floats appear only inside
-//! trigonometry and are rounded once onto these grids ([`Length::from_mm_f64`],
-//! [`Angle::tan`] callers).
+//! Lengths are integers of 0.00001 mm, a grid that holds 0.0001 mm and 0.0001 in (2.54 µm,
+//! 254 units) alike. A value written in millimetres, and every computed value, lies on the
+//! 0.0001 mm step ([`Length::STEP`]); a value written in inches on the 0.0001 in step.
+//! Angles are integers of 0.001°. Floats appear only inside trigonometry and are rounded once
+//! onto these grids ([`Length::from_mm_f64`], [`Angle::tan`] callers).
 
 use std::fmt;
 
-/// A length in units of 0.0001 mm (X is a diameter wherever it appears).
+/// A length in units of 0.00001 mm (X is a diameter wherever it appears).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct Length(pub i64);
 
@@ -15,21 +17,40 @@ pub struct Length(pub i64);
 pub struct Angle(pub i64);
 
 impl Length {
-    /// Decimal places of the grid.
-    pub const DECIMALS: u32 = 4;
+    /// Decimal places of the grid (0.00001 mm).
+    pub const DECIMALS: u32 = 5;
+    /// Grid units per millimetre.
+    pub const PER_MM: i64 = 100_000;
+    /// Decimal places of the millimetre step: a millimetre program's values, and computed ones.
+    pub const MM_DECIMALS: u32 = 4;
+    /// The millimetre step, 0.0001 mm, in grid units.
+    pub const STEP: i64 = 10;
+    /// The inch step, 0.0001 in, in grid units.
+    pub const INCH_STEP: i64 = 254;
     pub const ZERO: Length = Length(0);
 
     pub fn from_mm(mm: i64) -> Length {
-        Length(mm * 10_000)
+        Length(mm * Self::PER_MM)
     }
 
-    /// Rounds a float (the result of trigonometry) onto the grid, half away from zero.
+    /// `steps` of 0.0001 mm.
+    pub const fn from_steps(steps: i64) -> Length {
+        Length(steps * Self::STEP)
+    }
+
+    /// Rounds a float (the result of trigonometry) onto the 0.0001 mm step, half away from
+    /// zero.
     pub fn from_mm_f64(mm: f64) -> Length {
-        Length((mm * 10_000.0).round() as i64)
+        Length((mm * 10_000.0).round() as i64 * Self::STEP)
     }
 
     pub fn to_mm_f64(self) -> f64 {
-        self.0 as f64 / 10_000.0
+        self.0 as f64 / Self::PER_MM as f64
+    }
+
+    /// Whether the value is a whole number of `10^-decimals` mm (`decimals` at most 5).
+    pub fn on_mm_decimals(self, decimals: u32) -> bool {
+        self.0 % 10i64.pow(Self::DECIMALS.saturating_sub(decimals)) == 0
     }
 
     pub fn abs(self) -> Length {
@@ -40,9 +61,16 @@ impl Length {
         self.0.signum()
     }
 
-    /// `self · num / den`, rounded half away from zero onto the grid (exact integer arithmetic).
+    /// `self · num / den`, rounded half away from zero onto the 0.0001 mm step (exact
+    /// integer arithmetic).
     pub fn mul_div(self, num: i64, den: i64) -> Length {
-        Length(div_round(self.0 as i128 * num as i128, den as i128) as i64)
+        Length(
+            div_round(
+                self.0 as i128 * num as i128,
+                den as i128 * Self::STEP as i128,
+            ) as i64
+                * Self::STEP,
+        )
     }
 
     /// The value in millimetres with as few decimals as needed (`-100`, `71.798`).
@@ -56,16 +84,80 @@ impl Length {
     }
 
     /// The value in millimetres with all four decimals (`0.2000`, `-47.5000`): a table's
-    /// column.
+    /// column; five where the value lies between two 0.0001 mm steps (an inch value).
     pub fn mm_fixed(self) -> String {
-        format_scaled(self.0, Self::DECIMALS, Trailing::All)
+        if self.0 % Self::STEP == 0 {
+            format_scaled(self.0 / Self::STEP, Self::MM_DECIMALS, Trailing::All)
+        } else {
+            format_scaled(self.0, Self::DECIMALS, Trailing::All)
+        }
     }
 
-    /// Half of this length in mm, exactly (a diameter's radius: a fifth decimal when it
-    /// falls between two grid steps): `Length(3)` → `0.00015`.
+    /// Half of this length in mm, exactly (a diameter's radius: one more decimal when it
+    /// falls between two grid steps): `Length::from_steps(30)` → `0.00015`.
     pub fn half_mm(self) -> String {
-        // Lengths are at most about 10^11 mm (10^15 units): five times that fits.
+        // Lengths are at most about 10^11 mm (10^16 units): five times that fits.
         format_scaled(self.0.saturating_mul(5), Self::DECIMALS + 1, Trailing::None)
+    }
+}
+
+/// `num / den` as a decimal with the fewest decimals from `min` to `max` that hold it
+/// exactly, else rounded half away from zero at `max`: the text, and the rounded value times
+/// `den / 10^max` (compare it with `num · 10^max / 10^max` for the deviation), and whether it
+/// is exact.
+pub fn decimal_of(num: i128, den: i128, min: u32, max: u32) -> (String, bool) {
+    for decimals in min..=max {
+        let Some(scaled) = 10i128
+            .checked_pow(decimals)
+            .and_then(|p| num.checked_mul(p))
+        else {
+            break;
+        };
+        if scaled % den == 0 {
+            return (format_wide(scaled / den, decimals), true);
+        }
+    }
+    let scaled = 10i128
+        .checked_pow(max)
+        .and_then(|p| num.checked_mul(p))
+        .unwrap_or(num);
+    (format_wide(div_round(scaled, den), max), false)
+}
+
+/// An i128 of `10^-decimals` units, as few decimals as needed.
+fn format_wide(value: i128, decimals: u32) -> String {
+    match i64::try_from(value) {
+        Ok(v) => format_scaled(v, decimals, Trailing::None),
+        Err(_) => value.to_string(),
+    }
+}
+
+impl Length {
+    /// Grid units per inch.
+    pub const PER_INCH: i64 = 2_540_000;
+
+    /// The value in inches: exact with up to four decimals (0.0001 in, 254 units), else to
+    /// 0.000001 in; `false` when rounded.
+    pub fn inches(self) -> (String, bool) {
+        decimal_of(self.0 as i128, Self::PER_INCH as i128, 0, 6)
+    }
+
+    /// Half of this length in inches (a diameter's radius), as [`Length::inches`].
+    pub fn half_inches(self) -> (String, bool) {
+        decimal_of(self.0 as i128, 2 * Self::PER_INCH as i128, 0, 6)
+    }
+
+    /// How far `text`, a value in inches, lies from this length (on the grid, rounded up).
+    pub fn inch_deviation(self, text: &str, half: bool) -> Length {
+        let Some(d) = Decimal::parse(text) else {
+            return Length::ZERO;
+        };
+        let per = if half { 2 } else { 1 } * Self::PER_INCH as i128;
+        let Some(den) = 10i128.checked_pow(d.scale) else {
+            return Length::ZERO;
+        };
+        let diff = (d.mantissa * per - self.0 as i128 * den).abs();
+        Length(((diff + den - 1) / den).min(i64::MAX as i128) as i64)
     }
 }
 
@@ -138,7 +230,7 @@ impl Lead {
     pub const DECIMALS: u32 = 12;
     pub const ZERO: Lead = Lead(0);
     /// Lead units per [`Length`] unit.
-    pub const PER_LENGTH: i64 = 100_000_000;
+    pub const PER_LENGTH: i64 = 10_000_000;
     /// The largest lead ncthread holds: 1,000,000 mm (i64 holds more, but products with
     /// lengths must stay inside i128).
     pub const MAX: Lead = Lead(1_000_000 * 1_000_000_000_000);
@@ -158,9 +250,10 @@ impl Lead {
         self.0 as f64 / 1e12
     }
 
-    /// The lead as a length, when it lies on the 0.0001 mm grid.
+    /// The lead as a length, when it lies on the 0.0001 mm step.
     pub fn exact_length(self) -> Option<Length> {
-        (self.0 % Self::PER_LENGTH == 0).then_some(Length(self.0 / Self::PER_LENGTH))
+        (self.0 % (Self::PER_LENGTH * Length::STEP) == 0)
+            .then_some(Length(self.0 / Self::PER_LENGTH))
     }
 
     /// The lead in units of `10^-decimals` mm: exactly, or rounded half away from zero with
@@ -176,12 +269,12 @@ impl Lead {
         Lead(units.saturating_mul(10i64.pow(Self::DECIMALS.saturating_sub(decimals))))
     }
 
-    /// `self · num / den` as a length, rounded once onto the 0.0001 mm grid (exact integer
+    /// `self · num / den` as a length, rounded once onto the 0.0001 mm step (exact integer
     /// arithmetic): a runout of P7 tenths of the lead, the Z shift of a start angle.
     pub fn length_times(self, num: i64, den: i64) -> Length {
-        Length(div_round(
+        Length::from_steps(div_round(
             self.0 as i128 * num as i128,
-            den as i128 * Self::PER_LENGTH as i128,
+            den as i128 * Self::PER_LENGTH as i128 * Length::STEP as i128,
         ) as i64)
     }
 
@@ -198,8 +291,15 @@ impl Lead {
             return Length(i64::MAX);
         }
         let num = (self.0 as i128 - other.0 as i128).abs() * travel.0.unsigned_abs() as i128;
-        let den = self.0 as i128;
-        Length(((num + den - 1) / den).min(i64::MAX as i128) as i64)
+        let den = self.0 as i128 * Length::STEP as i128;
+        let steps = ((num + den - 1) / den).min(i64::MAX as i128 / Length::STEP as i128);
+        Length::from_steps(steps as i64)
+    }
+
+    /// The lead in inches, exact to 11 decimals (what a reader of inch leads holds), else
+    /// rounded there; `false` when rounded.
+    pub fn inches(self) -> (String, bool) {
+        decimal_of(self.0 as i128 * 10, 254 * 10i128.pow(12), 0, 11)
     }
 
     /// The lead in millimetres with as few decimals as needed (`1.5`, `1.49979167`).
@@ -392,8 +492,9 @@ impl Decimal {
         Ok(value as i64)
     }
 
+    /// The value as a length in millimetres: at most four decimals (the 0.0001 mm step).
     pub fn to_length(self) -> Result<Length, NumberError> {
-        self.to_scaled(Length::DECIMALS).map(Length)
+        self.to_scaled(Length::MM_DECIMALS).map(Length::from_steps)
     }
 
     /// The value as a lead (10⁻¹² mm units), exactly, or why not.
@@ -649,14 +750,17 @@ mod tests {
     fn parses_the_seed_spellings() {
         let d = Decimal::parse("-00120.000").unwrap();
         assert_eq!((d.mantissa, d.scale, d.has_point), (-120000, 3, true));
-        assert_eq!(d.to_length(), Ok(Length(-1_200_000)));
+        assert_eq!(d.to_length(), Ok(Length::from_steps(-1_200_000)));
         assert_eq!(Decimal::parse("Z").map(|d| d.mantissa), None);
         assert!(!Decimal::parse("12").unwrap().has_point);
         assert_eq!(
             Decimal::parse("12.").unwrap().to_length(),
             Ok(Length::from_mm(12))
         );
-        assert_eq!(Decimal::parse(".5").unwrap().to_length(), Ok(Length(5000)));
+        assert_eq!(
+            Decimal::parse(".5").unwrap().to_length(),
+            Ok(Length::from_steps(5000))
+        );
         assert_eq!(
             Decimal::parse("+3").unwrap().to_length(),
             Ok(Length::from_mm(3))
@@ -686,7 +790,7 @@ mod tests {
         // Trailing zeros beyond the grid are exact.
         assert_eq!(
             Decimal::parse("1.000000").unwrap().to_length(),
-            Ok(Length(10_000))
+            Ok(Length::from_steps(10_000))
         );
         assert_eq!(
             Decimal::parse("12.5").unwrap().to_whole(),
@@ -702,10 +806,10 @@ mod tests {
 
     #[test]
     fn formats_without_noise() {
-        assert_eq!(Length(-1_000_000).mm(), "-100");
-        assert_eq!(Length(717_980).mm(), "71.798");
-        assert_eq!(Length(30_000).mm_with_point(), "3.");
-        assert_eq!(Length(-5).mm(), "-0.0005");
+        assert_eq!(Length::from_steps(-1_000_000).mm(), "-100");
+        assert_eq!(Length::from_steps(717_980).mm(), "71.798");
+        assert_eq!(Length::from_steps(30_000).mm_with_point(), "3.");
+        assert_eq!(Length::from_steps(-5).mm(), "-0.0005");
         assert_eq!(Angle(12_500).deg(), "12.5");
     }
 
@@ -717,11 +821,17 @@ mod tests {
         assert_eq!(k.exact_length(), None);
         assert_eq!(k.in_units(4), (12_346, false));
         assert_eq!(
-            Lead::from_length(Length(15_000)).in_units(4),
+            Lead::from_length(Length::from_steps(15_000)).in_units(4),
             (15_000, true)
         );
-        assert_eq!(Lead::from_length(Length(15_000)).mm_with_point(), "1.5");
-        assert_eq!(Lead::from_length(Length(60_000)).mm_with_point(), "6.");
+        assert_eq!(
+            Lead::from_length(Length::from_steps(15_000)).mm_with_point(),
+            "1.5"
+        );
+        assert_eq!(
+            Lead::from_length(Length::from_steps(60_000)).mm_with_point(),
+            "6."
+        );
         assert_eq!(
             Decimal::parse("0.0000000000001").unwrap().to_lead(),
             Err(NumberError::TooPrecise { decimals: 12 })
@@ -735,12 +845,12 @@ mod tests {
         assert_eq!(z.mm(), "1.499791710059");
         // On the 0.0001 grid (1.4998) it would drift 0.0017 mm over the thread; here it does
         // not drift at all at that resolution.
-        let grid = Lead::from_length(Length(14_998));
-        assert_eq!(z.drift(grid, Length::from_mm(300)), Length(17));
+        let grid = Lead::from_length(Length::from_steps(14_998));
+        assert_eq!(z.drift(grid, Length::from_mm(300)), Length::from_steps(17));
         // A start angle of 180° at lead 1.5 is 0.75 mm; a runout of 7 tenths of 1.5 is 1.05.
-        let l = Lead::from_length(Length(15_000));
-        assert_eq!(l.of_angle(Angle::from_deg(180)), Length(7_500));
-        assert_eq!(l.length_times(7, 10), Length(10_500));
+        let l = Lead::from_length(Length::from_steps(15_000));
+        assert_eq!(l.of_angle(Angle::from_deg(180)), Length::from_steps(7_500));
+        assert_eq!(l.length_times(7, 10), Length::from_steps(10_500));
     }
 
     #[test]
@@ -748,7 +858,7 @@ mod tests {
         assert_eq!(div_round(5, 2), 3);
         assert_eq!(div_round(-5, 2), -3);
         assert_eq!(div_round(4, 3), 1);
-        assert_eq!(Length(10).mul_div(1, 4), Length(3));
-        assert_eq!(Length::from_mm_f64(7.798_072_7), Length(77_981));
+        assert_eq!(Length::from_steps(10).mul_div(1, 4), Length::from_steps(3));
+        assert_eq!(Length::from_mm_f64(7.798_072_7), Length::from_steps(77_981));
     }
 }

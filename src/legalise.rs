@@ -24,6 +24,8 @@ pub fn check(program: &Program, src: &SourceFile, to: Option<DialectId>) -> Vec<
     let mut speed: Option<u32> = None;
     let mut feed_mode: Option<FeedMode> = None;
     let said = cycle_blocks_said(program);
+    // The output's unit: inches for an inch program whose target can say them.
+    let inch = program.inch && to.is_some_and(|t| dialect::get(t).says_inches());
     for (index, item) in program.items.iter().enumerate() {
         let refusal = match &item.kind {
             ItemKind::Spindle {
@@ -82,13 +84,13 @@ pub fn check(program: &Program, src: &SourceFile, to: Option<DialectId>) -> Vec<
                 text,
                 *dialect,
                 context,
-                to,
+                (to, inch),
                 feed_mode,
                 said.contains(&index),
             ),
             // Whole only for its own dialect (`lower::unroll`): copied where it means the same.
             ItemKind::ModelCycle(c) => {
-                kept_block_moves(&c.text, c.dialect, &c.context, to, feed_mode, true)
+                kept_block_moves(&c.text, c.dialect, &c.context, (to, inch), feed_mode, true)
             }
             _ => None,
         };
@@ -162,7 +164,7 @@ fn kept_block_moves(
     text: &str,
     dialect: DialectId,
     context: &crate::ir::ModalContext,
-    to: Option<DialectId>,
+    (to, inch): (Option<DialectId>, bool),
     feed_mode: Option<FeedMode>,
     said: bool,
 ) -> Option<Diagnostic> {
@@ -191,7 +193,7 @@ fn kept_block_moves(
             "it may move the machine and only the {dialect} control can say it; the output is {to}"
         )),
         Some(_) => context
-            .differs_from_output()
+            .differs_from_output(inch)
             .map(|modes| format!("it was written in {modes}"))
             .or_else(|| {
                 let mode =
@@ -250,6 +252,7 @@ mod tests {
             dialect: crate::dialect::iso::ID,
             library: Vec::new(),
             number: None,
+            inch: false,
             items: kinds
                 .into_iter()
                 .map(|k| Item::new(k, Span::default()))
@@ -265,7 +268,7 @@ mod tests {
     fn a_thread_needs_the_spindle_turning() {
         let tap = ItemKind::TapCycle(TapCycle {
             end_z: Length::from_mm(-10),
-            lead: crate::fixed::Lead::from_length(Length(15_000)),
+            lead: crate::fixed::Lead::from_length(Length::from_steps(15_000)),
             then_x: None,
         });
         let start = ItemKind::Spindle {

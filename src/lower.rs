@@ -5,7 +5,7 @@
 pub mod fanuc;
 pub mod g7x;
 
-use crate::fixed::{Angle, Lead, Length};
+use crate::fixed::{Angle, Lead, Length, div_round};
 use crate::ir::{
     Chamfer, Degression, Finish, ItemKind, Pos, Retract, Rise, Schedule, SyncInfeed, SyncStart,
     ThreadCycle, ThreadPass,
@@ -255,7 +255,27 @@ pub fn pass_depths(
     if first.0 <= 0 {
         return Err(ExpandError::FirstDepth);
     }
-    let (p1, p2) = (depth.0, first.0);
+    // In 0.0001 mm steps, where the schedules' integer rules are defined; the last pass
+    // ends at `depth` itself (an inch depth lies between two steps).
+    let step = |l: Length| div_round(l.0 as i128, Length::STEP as i128) as i64;
+    let (p1, p2) = (step(depth), step(first).max(1));
+    let mut depths = depths_in_steps(schedule, depth, p1, p2)?;
+    if let Some(last) = depths.last_mut()
+        && step(*last) == p1
+    {
+        *last = depth;
+    }
+    Ok(depths)
+}
+
+/// [`pass_depths`] with the depth and the first cut `p1`, `p2` in 0.0001 mm steps.
+fn depths_in_steps(
+    schedule: Schedule,
+    depth: Length,
+    p1: i64,
+    p2: i64,
+) -> Result<Vec<Length>, ExpandError> {
+    let first = Length::from_steps(p2);
     match schedule {
         Schedule::Halving => {
             // f = P2/2, P2/4, P2/8, P2/16 (integer division); k passes of P2; a remainder.
@@ -263,7 +283,7 @@ pub fn pass_depths(
             let tail: i64 = last_four.iter().sum();
             if p1 < p2 + tail {
                 return Err(ExpandError::DepthTooSmall {
-                    minimum: Length(p2 + tail),
+                    minimum: Length::from_steps(p2 + tail),
                 });
             }
             let full = (p1 - tail) / p2;
@@ -286,7 +306,9 @@ pub fn pass_depths(
             if n as usize > MAX_PASSES {
                 return Err(ExpandError::TooManyPasses);
             }
-            Ok((1..=n).map(|i| Length((i * p2).min(p1))).collect())
+            Ok((1..=n)
+                .map(|i| Length::from_steps((i * p2).min(p1)))
+                .collect())
         }
         Schedule::ConstantArea => {
             if p1 < p2 {
@@ -304,7 +326,7 @@ pub fn pass_depths(
                     depths.push(depth);
                     break;
                 }
-                depths.push(Length(c));
+                depths.push(Length::from_steps(c));
             }
             Ok(depths)
         }
@@ -346,7 +368,7 @@ fn cumulative(cuts: &[i64]) -> Vec<Length> {
     cuts.iter()
         .scan(0, |c, cut| {
             *c += cut;
-            Some(Length(*c))
+            Some(Length::from_steps(*c))
         })
         .collect()
 }
@@ -746,12 +768,12 @@ impl Expansion {
 #[cfg(test)]
 pub(crate) fn seed_m36_cycle(schedule: Schedule) -> ThreadCycle {
     ThreadCycle {
-        start: (Length(360_000), Length(45_000)),
-        crest: Length(360_000),
-        end_z: Length(-475_000),
-        lead: Lead(15_000 * Lead::PER_LENGTH),
-        depth: Length(9_600),
-        first_depth: Length(2_000),
+        start: (Length::from_steps(360_000), Length::from_steps(45_000)),
+        crest: Length::from_steps(360_000),
+        end_z: Length::from_steps(-475_000),
+        lead: Lead::from_length(Length::from_steps(15_000)),
+        depth: Length::from_steps(9_600),
+        first_depth: Length::from_steps(2_000),
         taper: Length::ZERO,
         infeed: crate::ir::Slope::ZERO,
         infeed_moves_end: false,
@@ -759,7 +781,7 @@ pub(crate) fn seed_m36_cycle(schedule: Schedule) -> ThreadCycle {
         entry: None,
         entry_infeed: false,
         runout: None,
-        retract: Retract::AboveCrest(Length(5_000)),
+        retract: Retract::AboveCrest(Length::from_steps(5_000)),
         spring_passes: 0,
         finish: Finish::Start,
         internal: false,
@@ -971,7 +993,7 @@ mod tests {
             Err(ExpandError::DepthTooSmall { minimum: mm(0.2) })
         );
         assert_eq!(
-            pass_depths(Schedule::ConstantDepth, mm(100.0), Length(1)),
+            pass_depths(Schedule::ConstantDepth, mm(100.0), Length::from_steps(1)),
             Err(ExpandError::TooManyPasses)
         );
         assert_eq!(
@@ -1330,5 +1352,6 @@ pub fn unroll(
         dialect: program.dialect,
         library: Vec::new(),
         number: program.number,
+        inch: program.inch,
     })
 }

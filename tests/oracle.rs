@@ -554,8 +554,8 @@ fn rs274_runs_the_iso_output_as_it_runs_the_iso_source() {
         // rs274 prints four decimals: of an inch under G20, and of a chain's K.
         use ncthread::sim::rs274::{Canon, phase_uncertainty};
         let inch = theirs.iter().any(|c| matches!(c, Canon::Inches(true)));
-        let tolerance =
-            ncthread::sim::TOLERANCE + ncthread::fixed::Length(if inch { 26 } else { 0 });
+        let tolerance = ncthread::sim::TOLERANCE
+            + ncthread::fixed::Length::from_steps(if inch { 26 } else { 0 });
         let slack = phase_uncertainty(&theirs).max(phase_uncertainty(&ours));
         if slack >= 180.0 {
             eprintln!(

@@ -15,12 +15,12 @@ use proptest::prelude::*;
 
 fn on_grid(range: std::ops::Range<i64>) -> impl Strategy<Value = Length> + Clone {
     // Whole thousandths of a millimetre.
-    range.prop_map(|v| Length(v * 10))
+    range.prop_map(|v| Length::from_steps(v * 10))
 }
 
 /// Whole hundredths of a millimetre (the НЦ-31's unit).
 fn on_nc31_grid(range: std::ops::Range<i64>) -> impl Strategy<Value = Length> + Clone {
-    range.prop_map(|v| Length(v * 100))
+    range.prop_map(|v| Length::from_steps(v * 100))
 }
 
 #[derive(Clone, Debug)]
@@ -45,7 +45,7 @@ fn nc31_step() -> impl Strategy<Value = Step> {
         (z.clone(), 1i64..2_000_000).prop_map(|(z, lead)| Step::Pass(
             None,
             z,
-            Length(lead),
+            Length::from_steps(lead),
             Angle::ZERO
         )),
         (
@@ -59,7 +59,7 @@ fn nc31_step() -> impl Strategy<Value = Step> {
             .prop_map(|(crest, z, lead, depth, first, p7)| Step::Cycle(
                 crest,
                 z,
-                Length(lead),
+                Length::from_steps(lead),
                 depth,
                 first,
                 p7
@@ -78,7 +78,7 @@ fn step(with_angles: bool) -> BoxedStrategy<Step> {
     let rapid = (x.clone(), z.clone()).prop_map(|(x, z)| Step::Rapid(x, z));
     let feed = (x.clone(), z.clone(), on_grid(1..2_000)).prop_map(|(x, z, f)| Step::Feed(x, z, f));
     let pass = (proptest::option::of(x), z, (1i64..2_000_000), angle)
-        .prop_map(|(x, z, lead, a)| Step::Pass(x, z, Length(lead), Angle(a)));
+        .prop_map(|(x, z, lead, a)| Step::Pass(x, z, Length::from_steps(lead), Angle(a)));
     if with_angles {
         // The czech control: no arcs.
         return prop_oneof![rapid, feed, pass].boxed();
@@ -90,7 +90,9 @@ fn step(with_angles: bool) -> BoxedStrategy<Step> {
         any::<bool>(),
         on_grid(1..2_000),
     )
-        .prop_map(|(di, dk, a, cw, f)| Step::Arc(Length(di), Length(dk), a, cw, f));
+        .prop_map(|(di, dk, a, cw, f)| {
+            Step::Arc(Length::from_steps(di), Length::from_steps(dk), a, cw, f)
+        });
     prop_oneof![rapid, feed, pass, arc].boxed()
 }
 
@@ -143,7 +145,7 @@ fn program(steps: &[Step], chains: bool) -> Program {
                         length: lead.mul_div(p7, 10),
                         rise: Rise::ToCrest,
                     }),
-                    retract: Retract::AboveCrest(Length(5_000)),
+                    retract: Retract::AboveCrest(Length::from_steps(5_000)),
                     spring_passes: 0,
                     finish: Finish::Start,
                     internal: x_now < crest,
@@ -201,6 +203,7 @@ fn program(steps: &[Step], chains: bool) -> Program {
         dialect: ncthread::dialect::iso::ID,
         library: Vec::new(),
         number: None,
+        inch: false,
     }
 }
 
@@ -301,6 +304,7 @@ proptest! {
             dialect: p.dialect,
             library: Vec::new(),
             number: None,
+            inch: false,
             items: p
                 .items
                 .into_iter()

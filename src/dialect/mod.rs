@@ -222,6 +222,10 @@ pub trait Dialect: Sync {
     fn linuxcnc_reads(&self) -> bool {
         false
     }
+    /// Its writer writes an inch program in inches (else every output is in millimetres).
+    fn says_inches(&self) -> bool {
+        false
+    }
     /// The feed mode its output is in before the program sets one (a header that the
     /// writer always writes), if any.
     fn output_feed_mode(&self) -> Option<crate::ir::FeedMode> {

@@ -262,6 +262,9 @@ pub(crate) struct Reader<'a> {
     warned_after_end: bool,
     /// The program's number (FANUC's `O0100`), when the source gives one.
     pub number: Option<u32>,
+    /// The units the program's length words were written in: `None` before any, then
+    /// `Some(true)` for inches throughout, `Some(false)` for millimetres or both.
+    units: Option<bool>,
 }
 
 impl<'a> Reader<'a> {
@@ -278,7 +281,13 @@ impl<'a> Reader<'a> {
             dialect,
             warned_after_end: false,
             number: None,
+            units: None,
         }
+    }
+
+    /// Notes that a length word was read in inches (`true`) or millimetres.
+    pub fn saw_length(&mut self, inch: bool) {
+        self.units = Some(self.units.map_or(inch, |was| was && inch));
     }
 
     /// The program read (without the items let go of under [`Keep::Diagnostics`]), and
@@ -290,6 +299,7 @@ impl<'a> Reader<'a> {
                 dialect: self.dialect,
                 library: Vec::new(),
                 number: self.number,
+                inch: self.units == Some(true),
             },
             self.diags,
         )

@@ -206,6 +206,7 @@ mod tests {
             dialect: crate::dialect::czech::ID,
             library: Vec::new(),
             number: None,
+            inch: false,
             items: vec![on(1), on(1), on(2), on(3), on(3)],
         };
         let sizes = |keep| {

@@ -47,6 +47,9 @@ pub struct Program {
     /// The program's number as the source gives it (FANUC's `O0100`): a writer of the same
     /// dialect keeps it.
     pub number: Option<u32>,
+    /// Every length of the program was written in inches (G20): a target that can say
+    /// inches writes them in inches (the items hold millimetres, as always).
+    pub inch: bool,
 }
 
 /// One item with where it came from.
@@ -96,10 +99,13 @@ pub struct ModalContext {
 }
 
 impl ModalContext {
-    /// What the output of every writer is in: mm, diameters, absolute coordinates.
-    pub fn differs_from_output(&self) -> Option<&'static str> {
-        if self.inch {
+    /// What the output of every writer is in: diameters, absolute coordinates, and
+    /// millimetres, or inches (`inch`) for an inch program whose target can say them.
+    pub fn differs_from_output(&self, inch: bool) -> Option<&'static str> {
+        if self.inch && !inch {
             Some("inches (G20), and the output is in millimetres")
+        } else if !self.inch && inch {
+            Some("millimetres (G21), and the output is in inches")
         } else if !self.diameter {
             Some("radius mode (X as a radius), and the output writes diameters")
         } else if self.incremental {

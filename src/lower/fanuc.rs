@@ -545,7 +545,7 @@ fn layer_end(
             None if a0.min(a1) <= level && level <= a0.max(a1) => {
                 let t = (level - a0) as f64 / (a1 - a0) as f64;
                 let (b0, b1) = (ax.along(p) as f64, ax.along(q) as f64);
-                Some((b0 + t * (b1 - b0)).round() as i64)
+                Some(on_step(b0 + t * (b1 - b0)))
             }
             None => None,
             Some((c, _)) => arc_hit(ax, level, p, q, (c.0 + shift.0, c.1 + shift.1)),
@@ -556,6 +556,11 @@ fn layer_end(
         p = q;
     }
     None
+}
+
+/// `v` grid units rounded onto the 0.0001 mm step, where computed values lie.
+fn on_step(v: f64) -> i64 {
+    (v / Length::STEP as f64).round() as i64 * Length::STEP
 }
 
 /// Where an arc from `p` to `q` around `c` meets the level, along (grid units): the crossing
@@ -585,11 +590,7 @@ fn arc_hit(ax: Axes, level: i64, p: Point, q: Point, c: Point) -> Option<i64> {
         (a.min(b), a.max(b))
     };
     let back = |b: f64| {
-        if al_x {
-            (b * 2.0).round() as i64
-        } else {
-            b.round() as i64
-        }
+        if al_x { on_step(b * 2.0) } else { on_step(b) }
     };
     let candidates = [cb - d.sqrt(), cb + d.sqrt()].map(back);
     candidates
@@ -763,7 +764,10 @@ mod tests {
             unreachable!()
         };
         assert_eq!(
-            p.exit.map(|e| (e.length.0, e.offset.0)),
+            p.exit.map(|e| (
+                e.length.0 / crate::fixed::Length::STEP,
+                e.offset.0 / crate::fixed::Length::STEP
+            )),
             Some((20_000, 40_000))
         );
         // A pull-out longer than the room to the start X is refused: from X24.5 the root

@@ -215,18 +215,21 @@ mod tests {
     #[test]
     fn reads_the_nc31_section() {
         let p = Profile::default();
-        assert_eq!(p.nc31.linear_unit, Length(100));
-        assert_eq!(p.nc31.lead_unit, Length(1));
-        assert_eq!(p.nc31.retract, Length(5000));
+        assert_eq!(p.nc31.linear_unit, Length::from_steps(100));
+        assert_eq!(p.nc31.lead_unit, Length::from_steps(1));
+        assert_eq!(p.nc31.retract, Length::from_steps(5000));
         let p = load("[nc31]\nlinear_unit_mm = 0.001\nlead_unit_mm = 0.001\nfeed_unit_mm = 0.001\ninfeed_p6 = 2365\nruntout_p7 = 1\n").unwrap_err();
         assert!(p[0].message.contains("runtout_p7"), "{}", p[0].message);
         let p = load("[nc31]\nlinear_unit_mm = 0.001\nfeed_unit_mm = 1\ninfeed_p6 = 2365\nrunout_p7 = 10\nretract_mm = 1\nschedule = \"constant-area\"\n").unwrap();
-        assert_eq!(p.nc31.linear_unit, Length(10));
-        assert_eq!(p.nc31.feed_unit, Length(10_000));
-        assert_eq!(p.nc31.infeed().of(Length(9600)), Length(5543));
+        assert_eq!(p.nc31.linear_unit, Length::from_steps(10));
+        assert_eq!(p.nc31.feed_unit, Length::from_steps(10_000));
         assert_eq!(
-            p.nc31.runout(Lead::from_length(Length(15_000))),
-            Length(15_000)
+            p.nc31.infeed().of(Length::from_steps(9600)),
+            Length::from_steps(5543)
+        );
+        assert_eq!(
+            p.nc31.runout(Lead::from_length(Length::from_steps(15_000))),
+            Length::from_steps(15_000)
         );
         assert_eq!(p.nc31.schedule, Schedule::ConstantArea);
         // Chamfers and G25 repeats: off by default, booleans.

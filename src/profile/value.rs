@@ -20,11 +20,11 @@ impl RawNumber {
     /// The value as a length on the 0.0001 mm grid, if it lies on it.
     pub(crate) fn length(self) -> Option<Length> {
         match self {
-            RawNumber::Int(i) => i.checked_mul(10_000).map(Length),
+            RawNumber::Int(i) => i.checked_mul(Length::PER_MM).map(Length),
             RawNumber::Float(f) => {
-                let units = f * 10_000.0;
-                (units.is_finite() && units.abs() < 1e15 && (units - units.round()).abs() < 1e-6)
-                    .then(|| Length(units.round() as i64))
+                let steps = f * 10_000.0;
+                (steps.is_finite() && steps.abs() < 1e15 && (steps - steps.round()).abs() < 1e-6)
+                    .then(|| Length::from_steps(steps.round() as i64))
             }
         }
     }

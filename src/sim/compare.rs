@@ -7,13 +7,13 @@ use crate::fixed::{Angle, Lead, Length, div_round};
 use crate::ir::{Pos, SpindleDirection};
 
 /// Position tolerance: 0.001 mm.
-pub const TOLERANCE: Length = Length(10);
+pub const TOLERANCE: Length = Length::from_steps(10);
 /// Phase tolerance: 0.01°, but never finer than the angle the spindle turns while the tool
 /// advances [`PHASE_GRID`] along Z (positions live on a 0.0001 mm grid, so a thread start
 /// that is rounded once on each side can differ by two grid steps).
 pub const PHASE_TOLERANCE: Angle = Angle(10);
 /// The axial offset of two helices that is below the grid's resolution: 0.0002 mm.
-pub const PHASE_GRID: Length = Length(2);
+pub const PHASE_GRID: Length = Length::from_steps(2);
 
 /// The phase tolerance for a thread of `lead`: `PHASE_TOLERANCE` or the angle of
 /// `PHASE_GRID`, whichever is larger.
@@ -219,7 +219,7 @@ fn arcs_continue(last: &Segment, s: &Segment) -> bool {
     };
     // The same circle within the grid of a printed radius (rs274 prints four decimals of a
     // radius: a centre computed two ways can differ by one step of it on the diameter).
-    if (cw, f, p) != (dw, g, q) || !close_pos(c, d, Length(2)) || last.to != s.from {
+    if (cw, f, p) != (dw, g, q) || !close_pos(c, d, Length::from_steps(2)) || last.to != s.from {
         return false;
     }
     let turned =
@@ -255,7 +255,7 @@ fn describe(m: &Motion) -> String {
         Motion::State(state) => state.describe(),
         Motion::Stop { optional: true } => "an optional stop (M1)".into(),
         Motion::Stop { optional: false } => "a program stop (M0)".into(),
-        Motion::Dwell { time } => format!("a dwell of {} s", Length(*time).mm()),
+        Motion::Dwell { time } => format!("a dwell of {} s", Length::from_steps(*time).mm()),
         Motion::Kept { .. } => "a block kept as written".into(),
     }
 }
@@ -731,7 +731,7 @@ impl Judge {
         let ((l, d, p), (m, e, q)) = (left, right);
         let tol = self.tol;
         let travel = match (a.from.x, a.to.x) {
-            (Some(x0), Some(x1)) => Length((x1 - x0).0.abs() / 2),
+            (Some(x0), Some(x1)) => Length::from_steps((x1 - x0).0.abs() / Length::STEP / 2),
             _ => Length::ZERO,
         };
         if l.drift(m, travel) > tol {
@@ -808,13 +808,13 @@ mod tests {
     #[test]
     fn two_feeds_nearly_on_one_line_pair_with_one() {
         let feed = Motion::Feed {
-            feed: Length(2000),
+            feed: Length::from_steps(2000),
             per_minute: false,
         };
         let seg = |from: (i64, i64), to: (i64, i64)| Segment {
             motion: feed,
-            from: Pos::new(Length(from.0), Length(from.1)),
-            to: Pos::new(Length(to.0), Length(to.1)),
+            from: Pos::new(Length::from_steps(from.0), Length::from_steps(from.1)),
+            to: Pos::new(Length::from_steps(to.0), Length::from_steps(to.1)),
             line: 1,
             pass: None,
         };
@@ -827,7 +827,7 @@ mod tests {
         let one = [seg((100000, 20000), (129182, -51586))];
         assert_eq!(compare(&two, &one), None);
         assert_eq!(compare(&one, &two), None);
-        assert_eq!(largest_deviation(&two, &one), Length(1));
+        assert_eq!(largest_deviation(&two, &one), Length::from_steps(1));
         // A real corner is not a line.
         let corner = [
             seg((100000, 20000), (110000, 798)),
@@ -847,7 +847,7 @@ mod tests {
         ];
         assert_eq!(compare(&ncthread, &rs274), None);
         assert_eq!(compare(&rs274, &ncthread), None);
-        assert_eq!(largest_deviation(&ncthread, &rs274), Length(1));
+        assert_eq!(largest_deviation(&ncthread, &rs274), Length::from_steps(1));
         // A real corner that moved is not the same path.
         let moved = [
             seg((106998, 3572), (204301, -44087)),

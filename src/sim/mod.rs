@@ -128,7 +128,7 @@ impl MachineState {
                 if self.surface_feet { "ft/min" } else { "m/min" },
                 limit.map_or(String::new(), |l| format!(
                     " up to {} rpm",
-                    Length(l * 10).mm()
+                    Length::from_steps(l * 10).mm()
                 ))
             ),
         };
@@ -433,7 +433,7 @@ impl Machine {
         );
         self.sync_end = match (start_angle, seg.from.x, seg.to.x) {
             (Some(angle), Some(x0), Some(x1)) => {
-                let side = Length((x1 - x0).0.abs() / 2);
+                let side = Length::from_steps((x1 - x0).0.abs() / Length::STEP / 2);
                 Some((
                     self.pos,
                     Angle((angle.0 + turned(side, seg.lead)).rem_euclid(TURN)),
@@ -804,7 +804,7 @@ impl Segment {
                 if optional { "optional stop" } else { "stop" },
                 String::new(),
             ),
-            Motion::Dwell { time } => ("dwell", format!("  {} s", Length(time).mm())),
+            Motion::Dwell { time } => ("dwell", format!("  {} s", Length::from_steps(time).mm())),
             Motion::Kept { text } => (
                 "kept",
                 format!("  a block the control runs by its own rules (#{text:016x})"),
@@ -962,6 +962,7 @@ mod tests {
             dialect: crate::dialect::iso::ID,
             library: Vec::new(),
             number: None,
+            inch: false,
             items: kinds
                 .into_iter()
                 .enumerate()

@@ -908,7 +908,7 @@ pub fn judge(expected: &[Segment], canon: &[Canon]) -> Judgement {
     let expected = &expected[..known];
     let inch = canon.iter().any(|c| matches!(c, Canon::Inches(true)));
     let tolerance = if inch {
-        super::TOLERANCE + Length(26)
+        super::TOLERANCE + Length::from_steps(26)
     } else {
         super::TOLERANCE
     };

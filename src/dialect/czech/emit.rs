@@ -26,7 +26,7 @@ use crate::profile::{AngleSource, Constant8, CzechArcs, CzechDwell, Profile};
 use crate::source::SourceFile;
 
 /// The largest lead the czech control takes directly in F. **\[seed\]**
-const MAX_DIRECT_LEAD: Length = Length(999_900);
+const MAX_DIRECT_LEAD: Length = Length::from_steps(999_900);
 /// Runout and entry angles are 0…60°. **\[seed\]**
 const MAX_ANGLE: Angle = Angle(60_000);
 
@@ -129,7 +129,7 @@ pub fn emit(
 
 /// `X26.618`-style text for a coordinate, or `None` when it needs a 4th decimal.
 fn coordinate(v: Length) -> Option<String> {
-    (v.0 % 10 == 0).then(|| v.mm_with_point())
+    v.on_mm_decimals(3).then(|| v.mm_with_point())
 }
 
 impl Emitter<'_> {
@@ -184,8 +184,9 @@ impl Emitter<'_> {
         if let Some(text) = coordinate(v) {
             return text;
         }
-        let rounded = Length(crate::fixed::div_round(v.0 as i128, 10) as i64 * 10);
-        self.inexact.note(item.span, what, v, rounded, Length(10));
+        let rounded = Length(crate::fixed::div_round(v.0 as i128, 100) as i64 * 100);
+        self.inexact
+            .note(item.span, what, v, rounded, Length::from_steps(10));
         rounded.mm_with_point()
     }
 
@@ -211,7 +212,7 @@ impl Emitter<'_> {
                 } else {
                     'X'
                 };
-                format!("{letter}{}", Length(ms * 10).mm_with_point())
+                format!("{letter}{}", Length::from_steps(ms * 10).mm_with_point())
             }
         };
         block.words.push("G04".into());
@@ -335,7 +336,7 @@ impl Emitter<'_> {
                 "arc centre (from R)",
                 Length::ZERO,
                 moved,
-                Length(10),
+                Length::from_steps(10),
             );
         }
         Some(text)
@@ -345,17 +346,17 @@ impl Emitter<'_> {
     /// or diameter as the profile says).
     fn centre_words(&mut self, item: &Item, dx: Length, dz: Length) -> (String, String) {
         let i = if self.profile.czech.arcs == CzechArcs::IkRadius {
-            if dx.0 % 20 == 0 {
+            if dx.0 % 2 == 0 && Length(dx.0 / 2).on_mm_decimals(3) {
                 Length(dx.0 / 2).mm_with_point()
             } else {
                 // A radius between two 0.001 mm steps: noted as its diameter.
-                let rounded = Length(crate::fixed::div_round(dx.0 as i128, 20) as i64 * 10);
+                let rounded = Length(crate::fixed::div_round(dx.0 as i128, 200) as i64 * 100);
                 self.inexact.note(
                     item.span,
                     "I (as a diameter)",
                     dx,
                     rounded + rounded,
-                    Length(20),
+                    Length::from_steps(20),
                 );
                 rounded.mm_with_point()
             }
@@ -698,7 +699,7 @@ impl Emitter<'_> {
             );
             return false;
         }
-        if deviation > Length(1) {
+        if deviation > Length::from_steps(1) {
             self.diag(
                 codes::CZW_ANGLE,
                 item,
@@ -797,7 +798,7 @@ impl Emitter<'_> {
             start_angle = self.start_on_grid(pass, start_angle, block);
         }
         // On the 0.001 grid (--round) a very short pass can lose its travel.
-        let on_grid = |z: Length| crate::fixed::div_round(z.0 as i128, 10);
+        let on_grid = |z: Length| crate::fixed::div_round(z.0 as i128, 100);
         if let (Some(from), Some(to)) = (self.w.pos.z, pass.to.z)
             && from != to
             && on_grid(from) == on_grid(to)
@@ -906,7 +907,7 @@ impl Emitter<'_> {
         let (Some(z), Some(end_z)) = (self.w.pos.z, pass.to.z) else {
             return start_angle;
         };
-        if z.0 % 10 == 0 {
+        if z.on_mm_decimals(3) {
             return start_angle;
         }
         let towards = (end_z - z).signum();
@@ -918,11 +919,11 @@ impl Emitter<'_> {
             ) as i64;
             start_angle.0 + turn
         };
-        let nearest = Length(crate::fixed::div_round(z.0 as i128, 10) as i64 * 10);
+        let nearest = Length(crate::fixed::div_round(z.0 as i128, 100) as i64 * 100);
         let other = if nearest < z {
-            nearest + Length(10)
+            nearest + Length::from_steps(10)
         } else {
-            nearest - Length(10)
+            nearest - Length::from_steps(10)
         };
         let in_cut = self.in_cut == Some(self.w.pos);
         match [nearest, other]
@@ -971,7 +972,7 @@ impl Emitter<'_> {
             };
             let drift = pass.lead.drift(lead, travel);
             self.inexact
-                .note_lead(item.span, "lead F", pass.lead, drift, Length(1));
+                .note_lead(item.span, "lead F", pass.lead, drift, Length::from_steps(1));
         }
         Some(lead)
     }
@@ -1038,7 +1039,7 @@ impl Emitter<'_> {
 
 /// `120.0`, `-118.435`: an angle parameter's value with at least one decimal.
 fn format_param(v: Decimal) -> String {
-    let text = Length(v.mantissa as i64 * 10).mm_with_point();
+    let text = Length::from_steps(v.mantissa as i64 * 10).mm_with_point();
     if text.ends_with('.') {
         format!("{text}0")
     } else {

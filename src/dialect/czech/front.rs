@@ -883,19 +883,19 @@ mod tests {
             p.exit,
             Some(Chamfer {
                 length: Length::from_mm(12),
-                offset: Length(53_207)
+                offset: Length::from_steps(53_207)
             })
         );
         // Negative sign: towards −X.
         let p = passes(RUNOUT, Some("-00112500"))[0];
-        assert_eq!(p.exit.unwrap().offset, Length(-53_207));
+        assert_eq!(p.exit.unwrap().offset, Length::from_steps(-53_207));
         // Parameter mode R04 = -120.000: axis X, 20° towards −X: 2·12·tan 20° = 8.7353.
         let p = passes(&format!("N5 R04= -00120.000\n{RUNOUT}"), Some("04000000"))[0];
-        assert_eq!(p.exit.unwrap().offset, Length(-87_353));
+        assert_eq!(p.exit.unwrap().offset, Length::from_steps(-87_353));
         // Entry without its own parameter uses the runout parameter. **[decided]**
         let entry = "N5 R04=118.0\nN10 M04 S50\nN20 X71.798 Z-100.\nN30 Z3 F6.0 E12. G33\nN40\nN50 X64. Z3 G0\n";
         let p = passes(entry, Some("04000000"))[0];
-        assert_eq!(p.entry.unwrap().offset, Length(77_981));
+        assert_eq!(p.entry.unwrap().offset, Length::from_steps(77_981));
     }
 
     #[test]
@@ -905,7 +905,7 @@ mod tests {
         let p = passes(text, Some("15160000"))[0];
         let line_x = p.to.x.unwrap();
         assert!(
-            (line_x - Length::from_mm(64)).abs() <= Length(1),
+            (line_x - Length::from_mm(64)).abs() <= Length::from_steps(1),
             "{line_x}"
         );
         assert_eq!(p.to.z, Some(Length::from_mm(3)));

@@ -61,7 +61,7 @@ pub const FANR_INCH: Code = error(
 
 pub const FANR_INCH_ROUNDED: Code = warning(
     "FANR016",
-    "inch values rounded onto the 0.0001 mm grid (0.0001 in is 0.00254 mm)",
+    "inch values finer than 0.0001 in rounded onto the 0.00001 mm grid (0.0001 in is 0.00254 mm, held exactly)",
 );
 
 pub const FANR_NOT_RUN: Code = warning(

@@ -482,11 +482,12 @@ impl Emitter<'_> {
     /// `v` with a decimal point and at most 3 decimals (rounded with `--round`, or counted
     /// for one error).
     fn three(&mut self, item: &Item, what: &str, v: Length) -> String {
-        if v.0 % 10 == 0 {
+        if v.on_mm_decimals(3) {
             return v.mm_with_point();
         }
-        let rounded = Length(crate::fixed::div_round(v.0 as i128, 10) as i64 * 10);
-        self.inexact.note(item.span, what, v, rounded, Length(10));
+        let rounded = Length(crate::fixed::div_round(v.0 as i128, 100) as i64 * 100);
+        self.inexact
+            .note(item.span, what, v, rounded, Length::from_steps(10));
         rounded.mm_with_point()
     }
 
@@ -800,7 +801,7 @@ impl Emitter<'_> {
                         GcodeSystem::A => 'U',
                         GcodeSystem::B => 'X',
                     },
-                    Length(ms * 10).mm_with_point()
+                    Length::from_steps(ms * 10).mm_with_point()
                 ),
             ],
             comment,
@@ -938,7 +939,8 @@ impl Emitter<'_> {
         let words = self.axes(item, Pos::new(ex, ez));
         block.words.extend(words);
         let dx = cx - sx;
-        let on_grid = dx.0 % 20 == 0 && (cz - sz).0 % 10 == 0;
+        let on_grid =
+            Length(dx.0 / 2).on_mm_decimals(3) && dx.0 % 2 == 0 && (cz - sz).on_mm_decimals(3);
         // A centre off the grid (an R arc's, from the source's radius) is written as the R
         // the control takes, where the centre it finds from it stays within 0.0005 mm.
         if !on_grid
@@ -946,8 +948,9 @@ impl Emitter<'_> {
             && !lower::arc::over_half_turn((sx, sz), (ex, ez), (cx, cz), clockwise)
         {
             let (r1, _) = lower::arc::radii((sx, sz), (ex, ez), (cx, cz));
-            let r =
-                Length(crate::fixed::div_round(Length::from_mm_f64(r1).0 as i128, 10) as i64 * 10);
+            let r = Length(
+                crate::fixed::div_round(Length::from_mm_f64(r1).0 as i128, 100) as i64 * 100,
+            );
             let off =
                 lower::arc::centre_miss((sx, sz), (ex, ez), (cx, cz), r.to_mm_f64(), clockwise);
             if off <= 0.0005 && r.0 > 0 {
@@ -956,16 +959,16 @@ impl Emitter<'_> {
                 return;
             }
         }
-        let i = if dx.0 % 20 == 0 {
+        let i = if dx.0 % 2 == 0 && Length(dx.0 / 2).on_mm_decimals(3) {
             Length(dx.0 / 2).mm_with_point()
         } else {
-            let rounded = Length(crate::fixed::div_round(dx.0 as i128, 20) as i64 * 10);
+            let rounded = Length(crate::fixed::div_round(dx.0 as i128, 200) as i64 * 100);
             self.inexact.note(
                 item.span,
                 "I (as a diameter)",
                 dx,
                 rounded + rounded,
-                Length(20),
+                Length::from_steps(20),
             );
             rounded.mm_with_point()
         };
@@ -1065,7 +1068,7 @@ impl Emitter<'_> {
             };
             let drift = pass.lead.drift(lead, travel);
             self.inexact
-                .note_lead(item.span, "lead F", pass.lead, drift, Length(1));
+                .note_lead(item.span, "lead F", pass.lead, drift, Length::from_steps(1));
         }
         Some(lead)
     }
@@ -1115,6 +1118,7 @@ mod tests {
             dialect: crate::dialect::iso::ID,
             library: Vec::new(),
             number: None,
+            inch: false,
             items: kinds
                 .into_iter()
                 .map(|k| Item::new(k, Span::default()))
@@ -1253,13 +1257,13 @@ mod tests {
     fn a_pass_with_its_runout_is_one_chain_and_its_angle_is_q() {
         let pass = ThreadPass {
             to: Pos::new(mm(20), mm(-20)),
-            lead: Lead::from_length(Length(15_000)),
+            lead: Lead::from_length(Length::from_steps(15_000)),
             start: SyncStart::Index(Angle(180_000)),
             infeed: None,
             entry: None,
             exit: Some(crate::ir::Chamfer {
-                length: Length(15_000),
-                offset: Length(30_000),
+                length: Length::from_steps(15_000),
+                offset: Length::from_steps(30_000),
             }),
         };
         let (out, d) = write(vec![
@@ -1302,7 +1306,7 @@ mod tests {
         assert!(out.is_none());
         assert_eq!(d[0].code, codes::FANW_TOOL);
         let (out, d) = write(vec![ItemKind::Rapid {
-            to: Pos::new(Length(200_005), mm(5)),
+            to: Pos::new(Length::from_steps(200_005), mm(5)),
         }]);
         assert!(out.is_none());
         assert_eq!(d[0].code, codes::FANW_PRECISION);

@@ -427,10 +427,10 @@ impl FrontEnd<'_> {
             self.r.diags.push(
                 Diagnostic::new(
                     codes::FANR_INCH_ROUNDED,
-                    "inch values are rounded onto ncthread's 0.0001 mm grid (this is the first)",
+                    "inch values finer than 0.0001 in are rounded onto ncthread's 0.00001 mm grid (this is the first)",
                 )
                 .at(src, span)
-                .help("0.0001 in is 0.00254 mm: each value moves by at most 0.00005 mm"),
+                .help("0.0001 in is 0.00254 mm, held exactly; a finer value moves by at most 0.000005 mm"),
             );
         }
     }
@@ -647,7 +647,7 @@ mod tests {
             assert!(
                 items
                     .iter()
-                    .any(|i| matches!(i.kind, ItemKind::Feed { feed: f, .. } if f.0 == feed)),
+                    .any(|i| matches!(i.kind, ItemKind::Feed { feed: f, .. } if f.0 == feed * crate::fixed::Length::STEP)),
                 "{text}: {items:?}"
             );
         }
@@ -813,7 +813,8 @@ mod tests {
             first("G21\nG96 S200 M03\nG20\nG50 S2000\n"),
             ("FANR015", Some((3, 1)))
         );
-        assert_eq!(first("G20\nG00 X0.0001 Z1.\n"), ("FANR016", Some((2, 5))));
+        assert_eq!(first("G20\nG00 X0.00001 Z1.\n"), ("FANR016", Some((2, 5))));
+        assert!(read("G20\nG00 X0.0001 Z1.\n", "").1.is_empty());
         assert_eq!(first("G00 X20. X30.\n"), ("FANR008", Some((1, 10))));
     }
 

@@ -36,7 +36,7 @@ pub const ISOR_G76: Code = error(
 );
 pub const ISOR_ROUNDED: Code = warning(
     "ISOR010",
-    "a value is rounded onto the 0.0001 mm grid (inches, or more decimals)",
+    "a value is rounded onto the 0.00001 mm grid (more than five decimals of a millimetre, a computed value)",
 );
 pub const ISOR_RADIUS_MODE: Code = warning(
     "ISOR011",
@@ -103,6 +103,10 @@ pub const ISOW_INDEX_WAIT: Code = error(
     "ISOW006",
     "a pass that waits for the index pulse where another thread move ended (LinuxCNC would continue it)",
 );
+pub const ISOW_INCH_ROUNDED: Code = warning(
+    "ISOW007",
+    "an inch program's computed values written to 0.000001 in (between two 0.0001 in steps)",
+);
 
 /// The reader's codes, in the order README.md lists them.
 pub const READ: &[Code] = &[
@@ -137,4 +141,5 @@ pub const WRITE: &[Code] = &[
     ISOW_UNKNOWN_START,
     ISOW_BAD_MAPPING,
     ISOW_INDEX_WAIT,
+    ISOW_INCH_ROUNDED,
 ];

@@ -6,7 +6,7 @@ use crate::diag::{Code, Diagnostic};
 use crate::dialect::DialectId;
 use crate::dialect::iso::codes;
 use crate::dialect::write::Writer;
-use crate::fixed::{Angle, Decimal, Length};
+use crate::fixed::{Angle, Decimal, Lead, Length};
 use crate::ir::{
     Compensation, Coolant, EndCode, FeedMode, Item, ItemKind, MachineMove, Pos, Program,
     SpindleDirection, SpindleMode, SyncStart, TapCycle, ThreadCycle, ThreadPass,
@@ -39,8 +39,81 @@ struct Emitter<'a> {
     /// The spindle item after a G96 went on the G96 line.
     spindle_on_g96: bool,
     /// A surface speed in feet per minute is in force: a line with S is written under G20
-    /// (LinuxCNC takes G96's S in the units in force when S is set), then G21 again.
+    /// (LinuxCNC takes G96's S in the units in force when S is set), then G21 again (and
+    /// one in metres per minute under G21 in an inch program).
     surface_feet: bool,
+    /// G96 is in force (its S is a surface speed).
+    surface: bool,
+    /// The output's unit of length.
+    units: Units,
+}
+
+/// The output's unit of length: millimetres, or inches for a program written in inches.
+/// The grid holds 0.0001 in exactly; a value between (a computed point) is written to
+/// 0.000001 in, within 0.0000127 mm, and counted for one warning.
+#[derive(Debug, Default)]
+struct Units {
+    inch: bool,
+    rounded: usize,
+    largest: Length,
+    /// The first value rounded, and its item.
+    first: Option<String>,
+    span: Option<crate::source::Span>,
+}
+
+impl Units {
+    /// A length in the output's unit.
+    fn len(&mut self, v: Length) -> String {
+        if !self.inch {
+            return v.mm();
+        }
+        let (text, exact) = v.inches();
+        self.count(exact, v.inch_deviation(&text, false), &text);
+        text
+    }
+
+    /// Half a length (a diameter's radius) in the output's unit, exact to the grid's half
+    /// step in millimetres.
+    fn half(&mut self, v: Length) -> String {
+        if !self.inch {
+            return v.half_mm();
+        }
+        let (text, exact) = v.half_inches();
+        self.count(exact, v.inch_deviation(&text, true), &text);
+        text
+    }
+
+    /// A lead in the output's unit: in inches exact to 11 decimals (what the reader reads
+    /// back exactly).
+    fn lead(&mut self, l: Lead) -> String {
+        if !self.inch {
+            return l.mm();
+        }
+        let (text, _) = l.inches();
+        text
+    }
+
+    fn count(&mut self, exact: bool, deviation: Length, text: &str) {
+        if !exact {
+            self.rounded += 1;
+            self.largest = self.largest.max(deviation);
+            if self.first.is_none() {
+                self.first = Some(text.to_string());
+            }
+        }
+    }
+
+    /// `X… Z…` of a position.
+    fn axes(&mut self, to: Pos) -> String {
+        let mut s = String::new();
+        if let Some(x) = to.x {
+            let _ = write!(s, " X{}", self.len(x));
+        }
+        if let Some(z) = to.z {
+            let _ = write!(s, " Z{}", self.len(z));
+        }
+        s
+    }
 }
 
 /// Writes `program` (read from `src`) as ISO G-code. `None` when any
@@ -62,6 +135,11 @@ pub fn emit(
         turning: None,
         spindle_on_g96: false,
         surface_feet: false,
+        surface: false,
+        units: Units {
+            inch: program.inch,
+            ..Units::default()
+        },
     };
     e.w.out.push_str("%\n");
     // A program ncthread wrote keeps its header (where it came from), so that converting
@@ -90,10 +168,11 @@ pub fn emit(
     }
     // Arcs are written with I and K from their start (G91.1, LinuxCNC's start-up mode,
     // said where a machine's start-up codes might differ).
+    let unit = if program.inch { "G20" } else { "G21" };
     if items.iter().any(|i| matches!(i.kind, ItemKind::Arc { .. })) {
-        e.w.out.push_str("G7 G18 G21 G90 G91.1 G95\n");
+        let _ = writeln!(e.w.out, "G7 G18 {unit} G90 G91.1 G95");
     } else {
-        e.w.out.push_str("G7 G18 G21 G90 G95\n");
+        let _ = writeln!(e.w.out, "G7 G18 {unit} G90 G95");
     }
     // The header's modes, as the ISO reader reads them back: they are not written again.
     let mut skip_header_modes = true;
@@ -113,6 +192,21 @@ pub fn emit(
     }
     e.w.out.push_str("%\n");
     e.w.out = split_long_lines(&e.w.out);
+    if let Some(text) = e.units.first.take() {
+        let span = e.units.span.unwrap_or_default();
+        e.w.diags.push(
+            Diagnostic::new(
+                codes::ISOW_INCH_ROUNDED,
+                format!(
+                    "{} value(s) of this inch program lie between two 0.0001 in steps (computed points; the first is written {text}): written to 0.000001 in, each within {} mm",
+                    e.units.rounded,
+                    e.units.largest.mm()
+                ),
+            )
+            .at(src, span)
+            .help("half of 0.000001 in is 0.0000127 mm, far inside the 0.001 mm that `verify` allows; nothing to do"),
+        );
+    }
     e.w.finish()
 }
 
@@ -180,20 +274,22 @@ fn comment_text(text: &str) -> String {
 /// exact; for a tapered move the advance along its path with the fewest decimals (at least
 /// [`K_DECIMALS`]) that the iso reader turns back into exactly the same Z lead, so that a
 /// conversion read back (and `verify`, and ISO → ISO) holds the lead it was given.
-fn k_value(segment: &SyncSegment) -> String {
+fn k_value(segment: &SyncSegment, units: &mut Units) -> String {
     let trim = |text: String| text.trim_end_matches('0').trim_end_matches('.').to_string();
     let (Some(x0), Some(x1), Some(z0), Some(z1)) =
         (segment.from.x, segment.to.x, segment.from.z, segment.to.z)
     else {
-        return segment.lead.mm();
+        return units.lead(segment.lead);
     };
     if x0 == x1 || z0 == z1 {
-        return segment.lead.mm();
+        return units.lead(segment.lead);
     }
-    let k = segment.lead_along_path();
+    // The reader reads an inch K as K · 25.4 mm, in floating point.
+    let per_unit = if units.inch { 25.4 } else { 1.0 };
+    let k = segment.lead_along_path() / per_unit;
     let reads_back = |text: &str| {
         crate::fixed::Decimal::parse(text)
-            .and_then(|d| lower::z_lead_of_k(d.to_f64(), z1 - z0, x1 - x0))
+            .and_then(|d| lower::z_lead_of_k(d.to_f64() * per_unit, z1 - z0, x1 - x0))
             == Some(segment.lead)
     };
     for decimals in K_DECIMALS..=17 {
@@ -219,29 +315,23 @@ fn spindle_words(speed: Option<u32>, direction: Option<SpindleDirection>) -> Str
     s.trim_end().to_string()
 }
 
-fn axes(to: Pos) -> String {
-    let mut s = String::new();
-    if let Some(x) = to.x {
-        let _ = write!(s, " X{}", x.mm());
-    }
-    if let Some(z) = to.z {
-        let _ = write!(s, " Z{}", z.mm());
-    }
-    s
-}
-
 impl Emitter<'_> {
     /// A line that may set S: under a surface speed in feet per minute it stands between
     /// `G20` and `G21`, so that LinuxCNC takes its S in ft/min while every length of the
     /// program stays in millimetres.
     fn speed_line(&mut self, text: &str, sets_speed: bool) {
-        let feet = self.surface_feet && sets_speed;
-        if feet {
-            self.line("G20");
+        let other = sets_speed && self.surface && self.surface_feet != self.units.inch;
+        let (speed_unit, back) = if self.units.inch {
+            ("G21", "G20")
+        } else {
+            ("G20", "G21")
+        };
+        if other {
+            self.line(speed_unit);
         }
         self.line(text);
-        if feet {
-            self.line("G21");
+        if other {
+            self.line(back);
         }
     }
 
@@ -261,6 +351,14 @@ impl Emitter<'_> {
     }
 
     fn item(&mut self, item: &Item, next: Option<&Item>) {
+        let rounded = self.units.rounded;
+        self.item_words(item, next);
+        if self.units.rounded > rounded && self.units.span.is_none() {
+            self.units.span = Some(item.span);
+        }
+    }
+
+    fn item_words(&mut self, item: &Item, next: Option<&Item>) {
         let start = self.w.out.len();
         let m6_stopped = std::mem::take(&mut self.m6_stopped);
         // Only a comment line keeps a G33 chain going.
@@ -271,8 +369,14 @@ impl Emitter<'_> {
             self.sync_end = None;
         }
         match &item.kind {
-            ItemKind::Rapid { to } => self.line(&format!("G0{}", axes(*to))),
-            ItemKind::Feed { to, feed } => self.line(&format!("G1{} F{}", axes(*to), feed.mm())),
+            ItemKind::Rapid { to } => {
+                let text = format!("G0{}", self.units.axes(*to));
+                self.line(&text)
+            }
+            ItemKind::Feed { to, feed } => {
+                let text = format!("G1{} F{}", self.units.axes(*to), self.units.len(*feed));
+                self.line(&text)
+            }
             ItemKind::Arc {
                 to,
                 centre,
@@ -285,15 +389,22 @@ impl Emitter<'_> {
             // Written on the G96 line before it.
             ItemKind::Spindle { .. } if std::mem::take(&mut self.spindle_on_g96) => {}
             ItemKind::Spindle { speed, direction } => self.spindle(*speed, *direction),
-            ItemKind::FeedRate(f) => self.line(&format!("F{}", f.mm())),
+            ItemKind::FeedRate(f) => {
+                let text = format!("F{}", self.units.len(*f));
+                self.line(&text)
+            }
             ItemKind::SpindleMode(SpindleMode::Rpm) => {
                 self.surface_feet = false;
+                self.surface = false;
                 self.line("G97");
             }
             ItemKind::Compensation(c) => self.line(&compensation_words(c)),
             ItemKind::WorkOffset(n) => self.line(work_offset_word(*n)),
             // The motion mode after G53 is the line's G0/G1, as in the source.
-            ItemKind::MachineMove(m) => self.line(&machine_move_words(m)),
+            ItemKind::MachineMove(m) => {
+                let text = machine_move_words(m, &mut self.units);
+                self.line(&text)
+            }
             ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit, feet }) => {
                 if !self.surface_speed(item, *limit, *feet, next) {
                     return;
@@ -361,6 +472,7 @@ impl Emitter<'_> {
     ) -> bool {
         let limit = &limit;
         self.surface_feet = feet;
+        self.surface = true;
         let mut text = "G96".to_string();
         if let Some(d) = limit {
             let _ = write!(text, " D{d}");
@@ -498,13 +610,15 @@ impl Emitter<'_> {
             return;
         };
         let g = if clockwise { "G2" } else { "G3" };
-        self.line(&format!(
+        let u = &mut self.units;
+        let text = format!(
             "{g}{} I{} K{} F{}",
-            axes(to),
-            (cx - sx).half_mm(),
-            (cz - sz).mm(),
-            feed.mm()
-        ));
+            u.axes(to),
+            u.half(cx - sx),
+            u.len(cz - sz),
+            u.len(feed)
+        );
+        self.line(&text);
     }
 
     /// A thread cycle as the passes [`lower::expand`] gives, each introduced by a comment.
@@ -525,7 +639,8 @@ impl Emitter<'_> {
             match m {
                 lower::Move::Rapid(to) => {
                     self.sync_end = None;
-                    self.line(&format!("G0{}", axes(*to)))
+                    let text = format!("G0{}", self.units.axes(*to));
+                    self.line(&text)
                 }
                 lower::Move::Pass(pass) => self.thread_pass(item, pass),
             }
@@ -552,13 +667,15 @@ impl Emitter<'_> {
         } else {
             format!(" ({TAP_NOTE})")
         };
-        self.line(&format!(
+        let text = format!(
             "G33.1 Z{} K{}{note}",
-            tap.end_z.mm(),
-            tap.lead.mm()
-        ));
+            self.units.len(tap.end_z),
+            self.units.lead(tap.lead)
+        );
+        self.line(&text);
         if let Some(x) = tap.then_x {
-            self.line(&format!("G0 X{}", x.mm()));
+            let text = format!("G0 X{}", self.units.len(x));
+            self.line(&text);
         }
     }
 
@@ -603,10 +720,11 @@ impl Emitter<'_> {
             }
             SyncStart::Index(angle) => match lower::start_angle_as_shift(&mut segments, angle) {
                 Ok(Some((start, shift))) => {
-                    self.line(&format!(
+                    let text = format!(
                         "G0{} (start angle {angle}°: start {shift} mm earlier along the pass)",
-                        axes(start),
-                    ));
+                        self.units.axes(start),
+                    );
+                    self.line(&text);
                 }
                 Ok(None) => {}
                 Err(_) => {
@@ -621,7 +739,12 @@ impl Emitter<'_> {
             },
         }
         for seg in &segments {
-            self.line(&format!("G33{} K{}", axes(seg.to), k_value(seg)));
+            let text = format!(
+                "G33{} K{}",
+                self.units.axes(seg.to),
+                k_value(seg, &mut self.units)
+            );
+            self.line(&text);
         }
         self.sync_end = segments.last().map(|s| s.to);
     }
@@ -650,14 +773,18 @@ fn compensation_words(c: &Compensation) -> String {
 
 /// The words of a move in the machine's coordinates: G53 with its G0/G1, G28/G30 (via a
 /// point), or G28.1/G30.1.
-fn machine_move_words(m: &MachineMove) -> String {
+fn machine_move_words(m: &MachineMove, units: &mut Units) -> String {
     match m {
-        MachineMove::Machine { to, feed: None } => format!("G53 G0{}", axes(*to)),
+        MachineMove::Machine { to, feed: None } => format!("G53 G0{}", units.axes(*to)),
         MachineMove::Machine { to, feed: Some(f) } => {
-            format!("G53 G1{} F{}", axes(*to), f.mm())
+            format!("G53 G1{} F{}", units.axes(*to), units.len(*f))
         }
         MachineMove::Home { second, via } => {
-            format!("{}{}", if *second { "G30" } else { "G28" }, axes(*via))
+            format!(
+                "{}{}",
+                if *second { "G30" } else { "G28" },
+                units.axes(*via)
+            )
         }
         MachineMove::StoreHome { second } => (if *second { "G30.1" } else { "G28.1" }).to_string(),
     }
@@ -729,14 +856,41 @@ mod tests {
         let seg = SyncSegment {
             from: Pos::new(Length::from_mm(226), Length::from_mm(3)),
             to: Pos::new(Length::from_mm(246), Length::from_mm(-100)),
-            lead: crate::fixed::Lead::from_length(Length(15_000)),
+            lead: crate::fixed::Lead::from_length(Length::from_steps(15_000)),
         };
-        assert_eq!(k_value(&seg), "1.507052888241");
+        let mm = &mut Units::default();
+        assert_eq!(k_value(&seg, mm), "1.507052888241");
         let straight = SyncSegment {
             to: Pos::new(Length::from_mm(226), Length::from_mm(-100)),
             ..seg
         };
-        assert_eq!(k_value(&straight), "1.5");
+        assert_eq!(k_value(&straight, mm), "1.5");
+        // In an inch program: 20 threads per inch, exact; a taper's K reads back to the
+        // same lead along Z.
+        let inch = &mut Units {
+            inch: true,
+            ..Units::default()
+        };
+        let tpi20 = SyncSegment {
+            lead: crate::fixed::Lead::from_length(Length::from_steps(12_700)),
+            ..straight
+        };
+        assert_eq!(k_value(&tpi20, inch), "0.05");
+        let taper = SyncSegment {
+            lead: tpi20.lead,
+            ..seg
+        };
+        let k = k_value(&taper, inch);
+        let back = crate::fixed::Decimal::parse(&k).unwrap().to_f64() * 25.4;
+        assert_eq!(
+            lower::z_lead_of_k(back, Length::from_mm(-103), Length::from_mm(20)),
+            Some(tpi20.lead)
+        );
+        assert_eq!(inch.len(Length(254)), "0.0001");
+        assert_eq!(inch.half(Length(254)), "0.00005");
+        assert_eq!(inch.rounded, 0);
+        assert_eq!(inch.len(Length(100)), "0.000039");
+        assert_eq!(inch.rounded, 1);
     }
 
     #[test]
@@ -747,7 +901,7 @@ mod tests {
         let item = |kind| Item::new(kind, Span::default());
         // Depth 0.3 is less than the halving law needs for a first pass of 0.2 (0.3875).
         let cycle = ThreadCycle {
-            depth: Length(3_000),
+            depth: Length::from_steps(3_000),
             ..crate::lower::seed_m36_cycle(Schedule::Halving)
         };
         let program = Program {
@@ -761,6 +915,7 @@ mod tests {
             dialect: crate::dialect::nc31::ID,
             library: Vec::new(),
             number: None,
+            inch: false,
         };
         let (out, diags) = emit(&program, &src, &Profile::default());
         assert!(out.is_none());

@@ -139,8 +139,11 @@ struct FrontEnd<'a> {
     /// `#<_ccomp>`: 400, 410 or 420.
     ccomp: f64,
     /// G17 in force (the XY plane): lines along X and Z mean what they mean in G18, but an
-    /// arc, a G7x cycle and cutter compensation would work in XY.
+    /// arc, a G7x cycle and cutter compensation would work in XY. LinuxCNC starts in G17
+    /// unless the machine's start-up codes say G18 (a lathe configuration's do).
     plane_xy: bool,
+    /// The program has chosen its plane (G17 or G18).
+    plane_chosen: bool,
     /// G98 (true: canned cycles retract to the initial level) or G99 (to R, LinuxCNC's
     /// start-up mode).
     retract_old_z: bool,
@@ -449,8 +452,20 @@ pub(super) mod tests {
                 }
             }
         );
-        // 0.0001 inch is 0.00254 mm: rounded once, with one warning.
-        let (_, d) = run("G7 G20 G0 X0.0001\nG0 X0.0003\n");
+        // 0.0001 inch is 0.00254 mm: on the grid, exactly; a fifth decimal rounds, with
+        // one warning.
+        let (p, d) = run("G7 G20 G0 X0.0001\nG0 X0.0003\n");
+        assert!(d.is_empty(), "{d:?}");
+        assert_eq!(
+            kinds(&p)[0],
+            ItemKind::Rapid {
+                to: Pos {
+                    x: Some(Length(254)),
+                    z: None
+                }
+            }
+        );
+        let (_, d) = run("G7 G20 G0 X0.00001\nG0 X0.00003\n");
         assert_eq!(
             d.iter().filter(|d| d.code == codes::ISOR_ROUNDED).count(),
             1
@@ -497,7 +512,7 @@ pub(super) mod tests {
             }
         };
         // G91.1 (the start-up mode): I and K from the start, I in radius even under G7.
-        let (to, centre, cw) = arc("G7 G0 X20 Z0\nG3 X30 Z-5 I0 K-5 F1\n");
+        let (to, centre, cw) = arc("G18 G7 G0 X20 Z0\nG3 X30 Z-5 I0 K-5 F1\n");
         assert_eq!(
             (to, centre, cw),
             (
@@ -506,13 +521,13 @@ pub(super) mod tests {
                 false
             )
         );
-        let (_, centre, cw) = arc("G7 G0 X24 Z-20\nG3 X30 Z-23 K-3 F1\n");
+        let (_, centre, cw) = arc("G18 G7 G0 X24 Z-20\nG3 X30 Z-23 K-3 F1\n");
         assert_eq!((centre, cw), (Pos::new(mm(24.0), mm(-23.0)), false));
         // G90.1: I and K are the centre (I a radius).
-        let (_, centre, _) = arc("G7 G0 X30 Z-30\nG90.1 G2 X36 Z-33 I18 K-30 F1\n");
+        let (_, centre, _) = arc("G18 G7 G0 X30 Z-30\nG90.1 G2 X36 Z-33 I18 K-30 F1\n");
         assert_eq!(centre, Pos::new(mm(36.0), mm(-30.0)));
         // G8: X words are radii, I too.
-        let (to, centre, _) = arc("G8 G0 X15 Z-30\nG2 X18 Z-33 I3 K0 F1\n");
+        let (to, centre, _) = arc("G18 G8 G0 X15 Z-30\nG2 X18 Z-33 I3 K0 F1\n");
         assert_eq!(
             (to, centre),
             (Pos::new(mm(36.0), mm(-33.0)), Pos::new(mm(36.0), mm(-30.0)))
@@ -520,27 +535,27 @@ pub(super) mod tests {
         // R: G2 with R > 0 turns right of its chord (the short arc), R < 0 the long one;
         // the helper's reading of `arc_data_r`: from r10 Z0 to r15 Z-5 with R5, G2's
         // centre is r15 Z0 and G3's r10 Z-5.
-        let (_, centre, cw) = arc("G7 G0 X20 Z0\nG2 X30 Z-5 R5 F1\n");
+        let (_, centre, cw) = arc("G18 G7 G0 X20 Z0\nG2 X30 Z-5 R5 F1\n");
         assert_eq!((centre, cw), (Pos::new(mm(30.0), mm(0.0)), true));
-        let (_, centre, _) = arc("G7 G0 X20 Z0\nG2 X30 Z-5 R-5 F1\n");
+        let (_, centre, _) = arc("G18 G7 G0 X20 Z0\nG2 X30 Z-5 R-5 F1\n");
         assert_eq!(centre, Pos::new(mm(20.0), mm(-5.0)));
-        let (_, centre, _) = arc("G7 G0 X20 Z0\nG3 X30 Z-5 R5 F1\n");
+        let (_, centre, _) = arc("G18 G7 G0 X20 Z0\nG3 X30 Z-5 R5 F1\n");
         assert_eq!(centre, Pos::new(mm(20.0), mm(-5.0)));
         // A semicircle whose R is short by less than 0.00127 mm is one.
-        let (_, centre, _) = arc("G7 G0 X0 Z0\nG2 Z-10 R4.9995 F1\n");
+        let (_, centre, _) = arc("G18 G7 G0 X0 Z0\nG2 Z-10 R4.9995 F1\n");
         assert_eq!(centre, Pos::new(mm(0.0), mm(-5.0)));
         // Inches: the centre in mm.
-        let (_, centre, _) = arc("G20 G7 G0 X1 Z0\nG3 X1 Z-1 K-0.5 F1\n");
+        let (_, centre, _) = arc("G18 G20 G7 G0 X1 Z0\nG3 X1 Z-1 K-0.5 F1\n");
         assert_eq!(centre, Pos::new(mm(25.4), mm(-12.7)));
         // P within 0.001 of 1 is one turn, as in LinuxCNC.
-        let (_, centre, _) = arc("G7 G0 X20 Z0\nG3 X30 Z-5 I0 K-5 P1.0005 F1\n");
+        let (_, centre, _) = arc("G18 G7 G0 X20 Z0\nG3 X30 Z-5 I0 K-5 P1.0005 F1\n");
         assert_eq!(centre, Pos::new(mm(20.0), mm(-5.0)));
         // The R centre is computed from the end as written, not from its rounding: near a
         // semicircle 0.00004 mm of X moves LinuxCNC's centre 0.007 mm along Z.
-        let (_, centre, _) = arc("G8 G0 X10 Z0\nG2 X20.00004 Z0 R5.00003 F1\n");
+        let (_, centre, _) = arc("G18 G8 G0 X10 Z0\nG2 X20.00004 Z0 R5.00003 F1\n");
         assert_eq!(centre, Pos::new(mm(30.0), mm(0.01)));
         // A full circle with I/K.
-        let (to, centre, _) = arc("G7 G0 X20 Z0\nG2 I-5 F1\n");
+        let (to, centre, _) = arc("G18 G7 G0 X20 Z0\nG2 I-5 F1\n");
         assert_eq!(
             (to, centre),
             (Pos::new(mm(20.0), mm(0.0)), Pos::new(mm(10.0), mm(0.0)))
@@ -551,7 +566,7 @@ pub(super) mod tests {
     /// 1.00004 mm end at 50.002 mm, not 50 mm.
     #[test]
     fn increments_do_not_accumulate_rounding() {
-        let text = format!("G7 G0 X10 Z0\nG91\n{}", "G1 Z-1.00004 F1\n".repeat(50));
+        let text = format!("G18 G7 G0 X10 Z0\nG91\n{}", "G1 Z-1.00004 F1\n".repeat(50));
         let (p, _) = run(&text);
         let end = p
             .items
@@ -578,7 +593,11 @@ pub(super) mod tests {
     #[test]
     fn refusals_name_the_word() {
         let cases: &[(&str, Code, &str)] = &[
-            ("G7 G0 X1\nG19 G1 X2 Z0 F1\n", codes::ISOR_NOT_LATHE, "G19"),
+            (
+                "G18 G7 G0 X1\nG19 G1 X2 Z0 F1\n",
+                codes::ISOR_NOT_LATHE,
+                "G19",
+            ),
             (
                 "G7 G17 G21 G95\nS400 M3\nG0 X20 Z2\nG2 X24 Z-2 K-2 F0.1\n",
                 codes::ISOR_ARC,
@@ -594,54 +613,70 @@ pub(super) mod tests {
                 codes::ISOR_COMPENSATION,
                 "G41",
             ),
-            ("G7 G0 X1 Z0\nG2 X2 Z-1 R1\n", codes::ISOR_WORD, "G2"),
-            ("G7 G0 X1 Z0\nG2 X2 Z-1 R1 I1 F1\n", codes::ISOR_ARC, "R1"),
-            ("G7 G0 X1 Z0\nG2 X2 Z-1 F1\n", codes::ISOR_ARC, "G2"),
-            ("G7 G0 X0 Z0\nG2 X0 Z-10 R4 F1\n", codes::ISOR_ARC, "R4"),
+            ("G18 G7 G0 X1 Z0\nG2 X2 Z-1 R1\n", codes::ISOR_WORD, "G2"),
             (
-                "G7 G0 X0 Z0\nG2 Z-10 R4.998 F1\n",
+                "G18 G7 G0 X1 Z0\nG2 X2 Z-1 R1 I1 F1\n",
+                codes::ISOR_ARC,
+                "R1",
+            ),
+            ("G18 G7 G0 X1 Z0\nG2 X2 Z-1 F1\n", codes::ISOR_ARC, "G2"),
+            ("G18 G7 G0 X0 Z0\nG2 X0 Z-10 R4 F1\n", codes::ISOR_ARC, "R4"),
+            (
+                "G18 G7 G0 X0 Z0\nG2 Z-10 R4.998 F1\n",
                 codes::ISOR_ARC,
                 "R4.998",
             ),
-            ("G7 G0 X0 Z0\nG3 X0 Z0 R5 F1\n", codes::ISOR_ARC, "R5"),
-            ("G7 G0 X0 Z0\nG3 R5 F1\n", codes::ISOR_ARC, "R5"),
-            ("G7 G0 X0 Z0\nG2 X0 Z-10 K-5.1 F1\n", codes::ISOR_ARC, "G2"),
-            ("G7 G0 X0 Z0\nG2 X0 Z-10 I0 F1\n", codes::ISOR_ARC, "G2"),
+            ("G18 G7 G0 X0 Z0\nG3 X0 Z0 R5 F1\n", codes::ISOR_ARC, "R5"),
+            ("G18 G7 G0 X0 Z0\nG3 R5 F1\n", codes::ISOR_ARC, "R5"),
             (
-                "G7 G0 X0 Z0\nG90.1 G2 X0 Z-10 K-5 F1\n",
+                "G18 G7 G0 X0 Z0\nG2 X0 Z-10 K-5.1 F1\n",
+                codes::ISOR_ARC,
+                "G2",
+            ),
+            ("G18 G7 G0 X0 Z0\nG2 X0 Z-10 I0 F1\n", codes::ISOR_ARC, "G2"),
+            (
+                "G18 G7 G0 X0 Z0\nG90.1 G2 X0 Z-10 K-5 F1\n",
                 codes::ISOR_ARC,
                 "G2",
             ),
             (
-                "G7 G0 X0 Z0\nG2 X0 Z-10 K-5 P2 F1\n",
+                "G18 G7 G0 X0 Z0\nG2 X0 Z-10 K-5 P2 F1\n",
                 codes::ISOR_UNSUPPORTED,
                 "P2",
             ),
-            ("G7 G0 X0 Z0\nG2 X0 Z-10 K-5 P0 F1\n", codes::ISOR_ARC, "P0"),
-            ("G2 X0 Z-10 K-5 F1\n", codes::ISOR_UNKNOWN_POSITION, "G2"),
+            (
+                "G18 G7 G0 X0 Z0\nG2 X0 Z-10 K-5 P0 F1\n",
+                codes::ISOR_ARC,
+                "P0",
+            ),
+            (
+                "G18\nG2 X0 Z-10 K-5 F1\n",
+                codes::ISOR_UNKNOWN_POSITION,
+                "G2",
+            ),
             // Findings of the differential arc campaign against rs274.
             (
-                "G7 G0 X20 Z0\nG2 X30 Z-5 R1000000000000000 F1\n",
+                "G18 G7 G0 X20 Z0\nG2 X30 Z-5 R1000000000000000 F1\n",
                 codes::ISOR_NUMBER,
                 "R1000000000000000",
             ),
             (
-                "G8 G0 X10 Z0\nG2 X10 Z-0.002 R0.001 F1\n",
+                "G18 G8 G0 X10 Z0\nG2 X10 Z-0.002 R0.001 F1\n",
                 codes::ISOR_ARC,
                 "R0.001",
             ),
             (
-                "G7 G0 X20 Z0\nG2 G4 X30 Z-5 R5 P1 F1\n",
+                "G18 G7 G0 X20 Z0\nG2 G4 X30 Z-5 R5 P1 F1\n",
                 codes::ISOR_ARC,
                 "G4",
             ),
             (
-                "G7 G0 X20 Z0\nG90.1 G91.1 G2 X30 Z-5 I0 K-5 F1\n",
+                "G18 G7 G0 X20 Z0\nG90.1 G91.1 G2 X30 Z-5 I0 K-5 F1\n",
                 codes::ISOR_CONFLICT,
                 "G91.1",
             ),
             (
-                "G7 G0 X20 Z0\nG2 X30 Z-5 I0 K-5 P1.4 F1\n",
+                "G18 G7 G0 X20 Z0\nG2 X30 Z-5 I0 K-5 P1.4 F1\n",
                 codes::ISOR_ARC,
                 "P1.4",
             ),
@@ -650,14 +685,9 @@ pub(super) mod tests {
                 codes::ISOR_ARC,
                 "G2",
             ),
-            (
-                "G8 G0 X10 Z0\nG2 X17.09106 Z-17.09106 I0 K-10 F1\n",
-                codes::ISOR_ARC,
-                "G2",
-            ),
             // An I/K arc whose end rounds onto its start would become a full circle.
             (
-                "G7 G0 X20 Z0\nG2 X20 Z-0.00001 I5 K0 F1\n",
+                "G18 G7 G0 X20 Z0\nG2 X20 Z-0.000001 I5 K0 F1\n",
                 codes::ISOR_ARC,
                 "G2",
             ),
@@ -665,22 +695,38 @@ pub(super) mod tests {
             ("G7 S100 M3\nG96 D2500\n", codes::ISOR_WORD, "G96"),
             ("G7 S100 M3\nG96 D0 S200\n", codes::ISOR_WORD, "G96"),
             ("G7\nG53 X10\n", codes::ISOR_WORD, "G53"),
-            ("G7 G0 X1 Z0\nG41.1 L3\n", codes::ISOR_WORD, "G41.1"),
-            ("G7 G0 X1 Z0\nG41\nG42\n", codes::ISOR_COMPENSATION, "G42"),
-            ("G7 G0 X1 Z0\nG41\nT2 M6\n", codes::ISOR_COMPENSATION, "M6"),
-            ("G7 G0 X1 Z0\nG41\nG28\n", codes::ISOR_COMPENSATION, "G28"),
-            ("G7 G0 X1 Z0\nG41\nG55\n", codes::ISOR_COMPENSATION, "G55"),
+            ("G18 G7 G0 X1 Z0\nG41.1 L3\n", codes::ISOR_WORD, "G41.1"),
             (
-                "G7 S100 M3\nG0 X10 Z1\nG41\nG33 Z-10 K1\n",
+                "G18 G7 G0 X1 Z0\nG41\nG42\n",
+                codes::ISOR_COMPENSATION,
+                "G42",
+            ),
+            (
+                "G18 G7 G0 X1 Z0\nG41\nT2 M6\n",
+                codes::ISOR_COMPENSATION,
+                "M6",
+            ),
+            (
+                "G18 G7 G0 X1 Z0\nG41\nG28\n",
+                codes::ISOR_COMPENSATION,
+                "G28",
+            ),
+            (
+                "G18 G7 G0 X1 Z0\nG41\nG55\n",
+                codes::ISOR_COMPENSATION,
+                "G55",
+            ),
+            (
+                "G18 G7 S100 M3\nG0 X10 Z1\nG41\nG33 Z-10 K1\n",
                 codes::ISOR_COMPENSATION,
                 "G33",
             ),
             (
-                "G7 S100 M3\nG0 X10 Z1\nG41\nG76 P1 Z-10 I-1 J0.1 K1\n",
+                "G18 G7 S100 M3\nG0 X10 Z1\nG41\nG76 P1 Z-10 I-1 J0.1 K1\n",
                 codes::ISOR_COMPENSATION,
                 "G76",
             ),
-            ("G7 G0 X1 Z0\nG19\n", codes::ISOR_NOT_LATHE, "G19"),
+            ("G18 G7 G0 X1 Z0\nG19\n", codes::ISOR_NOT_LATHE, "G19"),
             ("G0 Y1\n", codes::ISOR_NOT_LATHE, "Y1"),
             ("G0 X[1/0]\n", codes::ISOR_EVAL, "1/0"),
             ("G0 X#<nope>\n", codes::ISOR_EVAL, "#<nope>"),

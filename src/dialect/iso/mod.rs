@@ -146,6 +146,10 @@ impl Dialect for Iso {
         true
     }
 
+    fn says_inches(&self) -> bool {
+        true
+    }
+
     fn output_feed_mode(&self) -> Option<crate::ir::FeedMode> {
         // The header: `G7 G18 G21 G90 G95`.
         Some(crate::ir::FeedMode::PerRev)

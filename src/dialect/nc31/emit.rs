@@ -825,7 +825,7 @@ impl Emitter<'_> {
                 span,
                 "arc radius (where it crosses a quadrant)",
                 Length::ZERO,
-                Length::from_mm_f64((r - radius.to_mm_f64()).abs()).max(Length(1)),
+                Length::from_mm_f64((r - radius.to_mm_f64()).abs()).max(Length::from_steps(1)),
                 self.profile.linear_unit,
             );
         }
@@ -933,6 +933,7 @@ mod tests {
             dialect: crate::dialect::iso::ID,
             library: Vec::new(),
             number: None,
+            inch: false,
         };
         // As a conversion does: legalisation for the НЦ-31, then the writer.
         let mut diags =
@@ -967,7 +968,7 @@ mod tests {
                 x: None,
                 z: Some(z),
             },
-            lead: crate::fixed::Lead::from_length(Length(15_000)),
+            lead: crate::fixed::Lead::from_length(Length::from_steps(15_000)),
             start: crate::ir::SyncStart::Index(Angle::ZERO),
             infeed: None,
             entry: None,
@@ -1100,7 +1101,7 @@ mod tests {
                         x: Some(mm(30)),
                         z: None,
                     },
-                    feed: Length(3_000),
+                    feed: Length::from_steps(3_000),
                 },
             ],
             WriteOptions::default(),
@@ -1117,9 +1118,9 @@ mod tests {
         let items = || {
             vec![
                 turning(),
-                at(Length(266_180), mm(3)),
+                at(Length::from_steps(266_180), mm(3)),
                 ItemKind::pass(pass(mm(-9))),
-                at(Length(264_180), mm(3)),
+                at(Length::from_steps(264_180), mm(3)),
             ]
         };
         let (out, diags) = write(items(), WriteOptions::default());
@@ -1153,13 +1154,13 @@ mod tests {
         // thread's end: 1.5005 → F1501 (0.001 mm units), 0.0005·14/1.5005 = 0.00467 mm.
         let src = SourceFile::new("t", "");
         let mut profile = Profile::default();
-        profile.nc31.lead_unit = Length(10);
+        profile.nc31.lead_unit = Length::from_steps(10);
         let program = Program {
             items: vec![turning(), at(mm(20), mm(5)), ItemKind::pass(pass(mm(-9)))]
                 .into_iter()
                 .map(|mut k| {
                     if let ItemKind::ThreadPass(p) = &mut k {
-                        p.lead = crate::fixed::Lead::from_length(Length(15_005));
+                        p.lead = crate::fixed::Lead::from_length(Length::from_steps(15_005));
                     }
                     Item::new(k, Span::default())
                 })
@@ -1167,6 +1168,7 @@ mod tests {
             dialect: crate::dialect::iso::ID,
             library: Vec::new(),
             number: None,
+            inch: false,
         };
         let (out, diags) = emit(
             &program,
@@ -1223,7 +1225,7 @@ mod tests {
         let tap = |then_x| {
             ItemKind::TapCycle(TapCycle {
                 end_z: mm(-25),
-                lead: crate::fixed::Lead::from_length(Length(17_500)),
+                lead: crate::fixed::Lead::from_length(Length::from_steps(17_500)),
                 then_x,
             })
         };
@@ -1276,10 +1278,10 @@ mod tests {
         let (out, _) = write(
             vec![
                 turning(),
-                at(Length(200_050), mm(0)),
+                at(Length::from_steps(200_050), mm(0)),
                 ItemKind::Feed {
-                    to: Pos::new(Length(300_050), mm(5)),
-                    feed: Length(2_000),
+                    to: Pos::new(Length::from_steps(300_050), mm(5)),
+                    feed: Length::from_steps(2_000),
                 },
             ],
             WriteOptions {
@@ -1295,11 +1297,11 @@ mod tests {
                 at(mm(20), mm(0)),
                 ItemKind::Feed {
                     to: Pos::new(mm(30), mm(5)),
-                    feed: Length(2_000),
+                    feed: Length::from_steps(2_000),
                 },
                 ItemKind::Feed {
-                    to: Pos::new(Length(300_100), Length(50_050)),
-                    feed: Length(2_000),
+                    to: Pos::new(Length::from_steps(300_100), Length::from_steps(50_050)),
+                    feed: Length::from_steps(2_000),
                 },
             ]
             .into_iter()
@@ -1308,6 +1310,7 @@ mod tests {
             dialect: crate::dialect::iso::ID,
             library: Vec::new(),
             number: None,
+            inch: false,
         };
         let (out, _) = emit(
             &program,

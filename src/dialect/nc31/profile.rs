@@ -60,12 +60,12 @@ pub enum Nc31ArcDirection {
 impl Default for Nc31Profile {
     fn default() -> Self {
         Nc31Profile {
-            linear_unit: Length(100),
-            lead_unit: Length(1),
-            feed_unit: Length(100),
+            linear_unit: Length::from_steps(100),
+            lead_unit: Length::from_steps(1),
+            feed_unit: Length::from_steps(100),
             infeed_p6: 0,
             runout_p7: 0,
-            retract: Length(5_000),
+            retract: Length::from_steps(5_000),
             schedule: Schedule::Halving,
             gear_range_mcodes: vec![38, 39, 40, 41],
             coolant: false,

@@ -12,7 +12,7 @@ use crate::ir::{Chamfer, Pos, SyncStart, ThreadPass};
 use crate::source::{Line, Span};
 
 /// The largest lead `F` may give directly. **\[seed\]** 99.99 mm.
-const MAX_DIRECT_LEAD: Length = Length(999_900);
+const MAX_DIRECT_LEAD: Length = Length::from_steps(999_900);
 /// The largest runout/entry angle. **\[seed\]** 60°.
 const MAX_ANGLE: Angle = Angle(60_000);
 

@@ -768,7 +768,10 @@ mod tests {
             ItemKind::ThreadPass(p) => p.exit,
             _ => None,
         });
-        assert_eq!(exit.map(|e| e.length.0), Some(15_000));
+        assert_eq!(
+            exit.map(|e| e.length.0 / crate::fixed::Length::STEP),
+            Some(15_000)
+        );
         let (_, d) = read("G00 X26. Z5.\nG92 X19.4 Z-20. F1.5\n");
         assert_eq!(errors(&d), [("FANR004", 6)]);
     }
@@ -784,7 +787,7 @@ mod tests {
             .count();
         assert_eq!(kept, 3);
         assert!(items.iter().any(
-            |i| matches!(i.kind, ItemKind::Rapid { to } if to.x.is_some_and(|x| x.0 == 1_100_000))
+            |i| matches!(i.kind, ItemKind::Rapid { to } if to.x.is_some_and(|x| x.0 == 1_100_000 * crate::fixed::Length::STEP))
         ));
     }
 }

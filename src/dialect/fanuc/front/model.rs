@@ -25,7 +25,7 @@ use crate::source::{Line, Span};
 
 /// The feed of a contour move whose F the contour does not write: G71/G72 rough at their own
 /// feed; G70 takes its block's F, else it is not expanded.
-const UNSET_FEED: Length = Length(-1);
+const UNSET_FEED: Length = Length::from_steps(-1);
 
 /// A G71/G72's depth and retract, or a G73's relief and passes (its first block), and the F
 /// written there.
@@ -280,7 +280,7 @@ impl FrontEnd<'_> {
         let n = self
             .whole(line, w)
             .ok_or_else(|| format!("its {c} cannot be read"))?;
-        Ok(Length(n.saturating_mul(10)))
+        Ok(Length::from_steps(n.saturating_mul(10)))
     }
 
     /// G74/G75's first block: `R e`, the retract after each peck.
@@ -889,7 +889,10 @@ mod tests {
             .iter()
             .fold(Pos::UNKNOWN, |at, i| i.kind.end_position(at));
         assert_eq!(
-            end.known().map(|(x, z)| (x.0, z.0)),
+            end.known().map(|(x, z)| (
+                x.0 / crate::fixed::Length::STEP,
+                z.0 / crate::fixed::Length::STEP
+            )),
             Some((520_000, 20_000))
         );
     }
@@ -966,9 +969,10 @@ mod tests {
         );
         assert_eq!(said(&d), [], "{d:?}");
         let machine = |m: &ItemKind| match m {
-            ItemKind::MachineMove(crate::ir::MachineMove::Machine { to, .. }) => {
-                Some((to.x.map(|x| x.0), to.z.map(|z| z.0)))
-            }
+            ItemKind::MachineMove(crate::ir::MachineMove::Machine { to, .. }) => Some((
+                to.x.map(|x| x.0 / crate::fixed::Length::STEP),
+                to.z.map(|z| z.0 / crate::fixed::Length::STEP),
+            )),
             _ => None,
         };
         let cycles: Vec<_> = items
@@ -989,7 +993,7 @@ mod tests {
         assert_eq!(machine(&cycles[2].moves[0]), Some((Some(2_500_000), None)));
         // X60.: a rapid there first, then both axes home.
         assert!(
-            matches!(&cycles[3].moves[0], ItemKind::Rapid { to } if to.x.unwrap().0 == 600_000)
+            matches!(&cycles[3].moves[0], ItemKind::Rapid { to } if to.x.unwrap().0 == 600_000 * crate::fixed::Length::STEP)
         );
         assert_eq!(
             machine(&cycles[3].moves[1]),
@@ -1043,7 +1047,9 @@ mod tests {
                 _ => None,
             })
             .unwrap();
-        assert!(matches!(&moves[0], ItemKind::Rapid { to } if to.x.unwrap().0 == 480_000));
+        assert!(
+            matches!(&moves[0], ItemKind::Rapid { to } if to.x.unwrap().0 == 480_000 * crate::fixed::Length::STEP)
+        );
         assert!(matches!(&moves[2], ItemKind::Rapid { .. }), "{moves:?}");
     }
 

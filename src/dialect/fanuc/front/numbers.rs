@@ -100,18 +100,21 @@ impl FrontEnd<'_> {
         Some(value)
     }
 
-    /// A length word (X Z U W I K R, a feed) on the 0.0001 mm grid, from mm or inches.
+    /// A length word (X Z U W I K R, a feed): millimetres on the 0.0001 mm step, inches exact
+    /// to 0.0001 in.
     pub(super) fn length(&mut self, line: Line<'_>, word: &Word, unit: Unit) -> Option<Length> {
         let value = self.mm_value(line, word, unit)?;
+        self.r.saw_length(self.inch);
         if self.inch {
-            // mm = in · 25.4: in 0.0001 mm units, mantissa · 254000 / 10^scale.
+            // mm = in · 25.4: in grid units, mantissa · 2,540,000 / 10^scale (exact to
+            // 0.0001 in).
             let den = 10i128.checked_pow(value.scale)?;
-            let Some(num) = value.mantissa.checked_mul(254_000) else {
+            let Some(num) = value.mantissa.checked_mul(2_540_000) else {
                 self.number_error(line, word, NumberError::TooLarge, "");
                 return None;
             };
             let units = div_round(num, den);
-            if units.abs() > 1 << 50 {
+            if units.abs() > (1 << 50) * Length::STEP as i128 {
                 self.number_error(line, word, NumberError::TooLarge, "");
                 return None;
             }
@@ -125,7 +128,7 @@ impl FrontEnd<'_> {
             Ok(v) => value
                 .to_length()
                 .ok()
-                .or(Some(Length(v * 10i64.pow(4 - grid)))),
+                .or(Some(Length::from_steps(v * 10i64.pow(4 - grid)))),
             Err(e) => {
                 let g = if grid == 3 { "0.001 mm" } else { "0.0001 mm" };
                 self.number_error(line, word, e, g);

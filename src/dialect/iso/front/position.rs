@@ -12,7 +12,9 @@ impl FrontEnd<'_> {
     /// position, else the known position.
     pub(super) fn exact_start(&self) -> (Option<f64>, Option<f64>) {
         let pick = |exact: Option<f64>, known: Option<Length>| match (exact, known) {
-            (Some(e), Some(k)) if (Length::from_mm_f64(e) - k).abs() <= Length(1) => Some(e),
+            (Some(e), Some(k)) if (Length::from_mm_f64(e) - k).abs() <= Length::from_steps(1) => {
+                Some(e)
+            }
             (_, k) => k.map(Length::to_mm_f64),
         };
         (

@@ -7,7 +7,8 @@ use crate::fixed::{Lead, Length, div_round};
 use crate::source::Line;
 
 impl FrontEnd<'_> {
-    /// A length word in program units → mm on the grid; warns once when it rounds.
+    /// A length word in program units → a length on the grid: millimetres exact to 0.00001
+    /// mm, inches to 0.0001 in; warns once when it rounds.
     pub(super) fn length(&mut self, line: Line<'_>, w: &Word) -> Option<Length> {
         self.length_times(line, w, 1)
     }
@@ -15,35 +16,42 @@ impl FrontEnd<'_> {
     /// `times` the word's length, rounded once (an arc's I, a radius, as a diameter).
     pub(super) fn length_times(&mut self, line: Line<'_>, w: &Word, times: i128) -> Option<Length> {
         let d = w.value;
-        let factor: i128 = if self.inch { 254_000 } else { 10_000 } * times;
+        self.r.saw_length(self.inch);
+        // Grid units per program unit (1 in = 2,540,000).
+        let per_unit = if self.inch {
+            Length::PER_INCH
+        } else {
+            Length::PER_MM
+        } as i128;
         let den = 10i128.checked_pow(d.scale);
-        let num = d.mantissa.checked_mul(factor);
+        let num = d.mantissa.checked_mul(per_unit * times);
         let (Some(num), Some(den)) = (num, den) else {
             self.too_large(line, w);
             return None;
         };
         let v = div_round(num, den);
-        if v.abs() > 1 << 50 {
+        if v.abs() > (1 << 50) * Length::STEP as i128 {
             self.too_large(line, w);
             return None;
         }
+        let length = Length(v as i64);
         if num % den != 0 && !self.warned_rounding {
             self.warned_rounding = true;
-            let exact = num as f64 / den as f64 / 10_000.0;
+            let exact = num as f64 / den as f64 / Length::PER_MM as f64;
             self.diag(
                 codes::ISOR_ROUNDED,
                 line,
                 w.range.clone(),
                 format!(
-                    "`{}` is {exact} mm{}, rounded to {} mm (ncthread computes on a 0.0001 mm grid; later values that round are not reported again)",
+                    "`{}` is {exact} mm{}, rounded to {} mm (ncthread holds lengths to 0.00001 mm; later values that round are not reported again)",
                     &line.text[w.range.clone()],
                     if times == 2 { " as a diameter" } else { "" },
-                    Length(v as i64).mm()
+                    length.mm(),
                 ),
-                "the rounding is at most 0.00005 mm, far inside the 0.001 mm that `verify` allows",
+                "the rounding is at most 0.000005 mm, far inside the 0.001 mm that `verify` allows",
             );
         }
-        Some(Length(v as i64))
+        Some(length)
     }
 
     /// A lead word (K, G76's P) in program units → a [`Lead`], exact to 10⁻¹² mm.

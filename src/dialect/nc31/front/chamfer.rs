@@ -167,7 +167,7 @@ impl FrontEnd<'_> {
         let end = if af.word().letter == 'X' {
             let ex = self.coordinate(af, Some(sx))?;
             let travel = ex.0.checked_sub(sx.0);
-            if travel.is_some_and(|d| d % 2 != 0) {
+            if travel.is_some_and(|d| d % (2 * Length::STEP) != 0) {
                 self.word_error(
                     codes::NCR_CHAMFER,
                     af,

@@ -443,7 +443,7 @@ fn chamfers_move_the_other_axis_by_the_same_radial_amount() {
     assert_eq!(chamfer("Z-200@-45*\nF20\n"), [feed(16.0, -2.0, 0.2)]);
     // With a unit of 0.0001 mm half a diameter change can be off the grid: refused.
     let fine = Nc31Profile {
-        linear_unit: Length(1),
+        linear_unit: Length::from_steps(1),
         ..Default::default()
     };
     let text = "M3\nS500\nX200000 ~ *\nZ0 ~\nN7 X200001+45 *\nF20\n";
@@ -458,7 +458,7 @@ fn chamfers_move_the_other_axis_by_the_same_radial_amount() {
     assert_eq!(
         program.items.last().map(|i| &i.kind),
         Some(&ItemKind::Feed {
-            to: Pos::new(Length(200_002), Length(1)),
+            to: Pos::new(Length::from_steps(200_002), Length::from_steps(1)),
             feed: mm(0.2)
         })
     );
@@ -705,8 +705,8 @@ fn a_repeat_reports_what_is_new_once() {
 #[test]
 fn units_come_from_the_profile() {
     let profile = Nc31Profile {
-        linear_unit: Length(10),
-        feed_unit: Length(10),
+        linear_unit: Length::from_steps(10),
+        feed_unit: Length::from_steps(10),
         ..Default::default()
     };
     let (program, diags) = run_with("F300\nX36000 *\nZ4500\n", &profile, Unsupported::Error);
