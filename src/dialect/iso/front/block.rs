@@ -388,9 +388,11 @@ impl FrontEnd<'_> {
                 );
             }
             self.plane_xy = true;
+            self.plane_chosen = true;
         }
         if b.asks.plane_zx {
             self.plane_xy = false;
+            self.plane_chosen = true;
         }
     }
 
@@ -408,8 +410,8 @@ impl FrontEnd<'_> {
                 codes::ISOR_COMPENSATION,
                 line,
                 w.range.clone(),
-                format!("`{text}` while G17 is in force: LinuxCNC would compensate in the XY plane, which a lathe has not"),
-                "select G18 before cutter compensation",
+                format!("`{text}` while G17 is in force{}: LinuxCNC would compensate in the XY plane, which a lathe has not", self.g17_why()),
+                "select G18 before cutter compensation (a lathe program says G18 at its start)",
             );
             return ControlFlow::Break(());
         }
@@ -586,6 +588,16 @@ impl FrontEnd<'_> {
             );
             return None;
         };
+        // G91 on the line, or in force: LinuxCNC refuses (`check_g_codes`).
+        if self.incremental {
+            self.missing(
+                line,
+                w,
+                "G53 under G91 (LinuxCNC: \"Cannot use g53 incremental\")".into(),
+                "G53's X and Z are machine coordinates: write G90 before the G53 line",
+            );
+            return None;
+        }
         // Machine coordinates: no G52/G92 offset.
         let offset = std::mem::take(&mut self.axis_offset);
         let to = self.target(line, &mut b.words);

@@ -102,7 +102,8 @@ impl<'a> FrontEnd<'a> {
             ccomp: 400.0,
             not_lathe_reported: false,
             contour: None,
-            plane_xy: false,
+            plane_xy: true,
+            plane_chosen: false,
             retract_old_z: false,
             drill: super::drilling::DrillState::default(),
             motion_before_line: None,
@@ -278,6 +279,11 @@ impl<'a> FrontEnd<'a> {
         self.line(line, block, &mut st.params);
         // A G70–G72 line calls its contour subroutine, as `o<Q> call` there would.
         if let Some(call) = self.cycle_call.take() {
+            if self.stop_beside_cycle(items_before) {
+                self.contour = None;
+                self.stopped = true;
+                return ControlFlow::Break(());
+            }
             return self.call_contour(runs, st, here, &call, diags_before);
         }
         self.name_call_chain(diags_before, &st.params, runs);
@@ -500,6 +506,28 @@ impl<'a> FrontEnd<'a> {
             }
         }
         ControlFlow::Continue(())
+    }
+
+    /// M0, M1, M2 or M30 on the line of a roughing cycle whose contour is a subroutine:
+    /// LinuxCNC stops after the cycle, ncthread's items would stand before its moves; refused
+    /// (a real program stops on a line of its own). `true` after the refusal.
+    fn stop_beside_cycle(&mut self, items_before: usize) -> bool {
+        let stop = self.r.items[items_before..]
+            .iter()
+            .find(|i| matches!(i.kind, ItemKind::Stop { .. } | ItemKind::ProgramEnd(_)));
+        let Some(stop) = stop else {
+            return false;
+        };
+        let span = stop.span;
+        self.r.diags.push(
+            Diagnostic::new(
+                codes::ISOR_CONFLICT,
+                "a stop or the program's end (M0, M1, M2, M30) on the line of a roughing cycle: LinuxCNC stops after the cycle's cuts, which ncthread does not read on one line",
+            )
+            .at(self.r.src, span)
+            .help("put M0/M1/M2/M30 on a line of its own after the cycle"),
+        );
+        true
     }
 
     /// After the run: a contour subroutine that never returned, a program without its end
