@@ -142,6 +142,13 @@ impl Length {
         decimal_of(self.0 as i128, Self::PER_INCH as i128, 0, 6)
     }
 
+    /// The value in inches with a decimal point (`1.`, `0.0625`), when it lies on the
+    /// 0.0001 in step.
+    pub fn inches_with_point(self) -> Option<String> {
+        (self.0 % Self::INCH_STEP == 0)
+            .then(|| format_scaled(self.0 / Self::INCH_STEP, 4, Trailing::Point))
+    }
+
     /// Half of this length in inches (a diameter's radius), as [`Length::inches`].
     pub fn half_inches(self) -> (String, bool) {
         decimal_of(self.0 as i128, 2 * Self::PER_INCH as i128, 0, 6)
@@ -294,6 +301,18 @@ impl Lead {
         let den = self.0 as i128 * Length::STEP as i128;
         let steps = ((num + den - 1) / den).min(i64::MAX as i128 / Length::STEP as i128);
         Length::from_steps(steps as i64)
+    }
+
+    /// The lead in inches with at most `decimals` decimals and a decimal point, and the lead
+    /// that text is (rounded half away from zero where it is not exact).
+    pub fn inches_to(self, decimals: u32) -> (String, Lead) {
+        // Inch · 25.4 · 10¹² = units: an inch decimal of `decimals` places is
+        // n · 254 · 10^(11 − decimals) units.
+        let per = 254 * 10i128.pow(11u32.saturating_sub(decimals));
+        let n = div_round(self.0 as i128, per);
+        let text = format_wide(n, decimals);
+        let text = if text.contains('.') { text } else { text + "." };
+        (text, Lead((n * per).clamp(0, Self::MAX.0 as i128) as i64))
     }
 
     /// The lead in inches, exact to 11 decimals (what a reader of inch leads holds), else

@@ -42,3 +42,62 @@ fn converting_twice_gives_the_same_text() {
     }
     assert!(checked > 60, "only {checked} conversions checked");
 }
+
+/// A program ncthread wrote (its header says so) converts to its own dialect byte for byte:
+/// the inch ISO program stays `G20` with every value as it was (issue 32).
+#[test]
+fn a_program_ncthread_wrote_converts_to_itself() {
+    let mut checked = 0;
+    for case in common::corpus_cases() {
+        // Programs in a legacy encoding are not ncthread's ISO or FANUC output.
+        let Ok(text) = std::fs::read_to_string(&case.path) else {
+            continue;
+        };
+        let header = text.lines().nth(1).unwrap_or("");
+        if case.profile.is_some() || !header.ends_with(", converted by ncthread)") {
+            continue;
+        }
+        let out = common::convert_case(&case, case.from).output;
+        assert_eq!(out.as_deref(), Some(text.as_str()), "{}", case.name);
+        checked += 1;
+    }
+    assert!(checked >= 1, "no program ncthread wrote in the corpus");
+}
+
+/// A program whose every length is in inches is written in inches by ISO and FANUC (`G20`
+/// in the modes line, no `G21`), and in millimetres by the targets that cannot say inches.
+#[test]
+fn an_inch_program_stays_in_inches() {
+    let mut checked = 0;
+    for name in [
+        "iso/inch-canonical.ngc",
+        "iso/inch-radius-mode.ngc",
+        "iso/drill-g83-inch.ngc",
+        "fanuc/inch-g20.nc",
+        "fanuc/haas-inch-part.nc",
+    ] {
+        let case = common::corpus_cases()
+            .into_iter()
+            .find(|c| c.path.ends_with(name) && c.profile.is_none())
+            .unwrap_or_else(|| panic!("{name} not in the corpus"));
+        for to in [ncthread::dialect::iso::ID, ncthread::dialect::fanuc::ID] {
+            let out = common::convert_case(&case, to)
+                .output
+                .unwrap_or_else(|| panic!("{name} → {to} refused"));
+            let modes = out.lines().find(|l| l.starts_with('G')).unwrap_or("");
+            assert!(modes.contains("G20"), "{name} → {to}: {modes}");
+            let code = |l: &&str| !l.starts_with('(');
+            assert!(
+                !out.lines().filter(code).any(|l| l.contains("G21")),
+                "{name} → {to}:\n{out}"
+            );
+            checked += 1;
+        }
+        for to in [ncthread::dialect::czech::ID, ncthread::dialect::nc31::ID] {
+            if let Some(out) = common::convert_case(&case, to).output {
+                assert!(!out.contains("G20"), "{name} → {to}:\n{out}");
+            }
+        }
+    }
+    assert_eq!(checked, 10);
+}

@@ -66,6 +66,8 @@ struct Emitter<'a> {
     script: Transliterated,
     inexact: Inexact,
     round: bool,
+    /// The program is written in inches (G20): lengths to 0.0001 in, leads to 0.000001 in.
+    inch: bool,
 }
 
 /// The diameter signs a comment may use (`Ø20`, `⌀20`, `∅20`): written `D`, as ncthread's own
@@ -219,11 +221,14 @@ pub fn emit(
         script: Transliterated::default(),
         inexact: Inexact::default(),
         round,
+        inch: program.inch,
     };
     let items = e.header(program, src, &program.items);
+    let unit = if program.inch { "G20" } else { "G21" };
+    e.w.out.push_str(unit);
     e.w.out.push_str(match profile.fanuc.gcode_system {
-        GcodeSystem::A => "G21 G99\n",
-        GcodeSystem::B => "G21 G90 G95\n",
+        GcodeSystem::A => " G99\n",
+        GcodeSystem::B => " G90 G95\n",
     });
     let (head, tail) = header_feed_mode(items, keep);
     let groups: Vec<&[Item]> = write::blocks(&head, keep)
@@ -340,20 +345,38 @@ impl Emitter<'_> {
     /// The diagnostics that sum up the program: values rounded (or too fine), comment text
     /// transliterated or romanised.
     fn closing_diagnostics(&mut self, src: &SourceFile) {
+        let (grid, decimals) = if self.inch {
+            (
+                "0.0001 in, leads and feeds 0.000001 in",
+                "lengths take 4 decimals of an inch, leads and feeds 6",
+            )
+        } else {
+            (
+                "0.001 mm, leads and feeds 0.0001 mm",
+                "lengths take 3 decimals, leads and feeds 4",
+            )
+        };
+        // The grid a value missed, as the program says it.
+        let unit = |grid: &str| match grid {
+            "0.00254" => "0.0001 in".to_string(),
+            "0.00508" => "0.0002 in (I as a diameter)".to_string(),
+            "0.00001" => "0.000001 in".to_string(),
+            g => format!("{g} mm"),
+        };
         let summary = self.inexact.diagnostic(
             src,
             self.round,
             |s| {
                 Diagnostic::new(
                     codes::FANW_ROUNDED,
-                    format!("{} value(s) rounded to the FANUC program's grid (0.001 mm, leads and feeds 0.0001 mm), the first {}; the largest deviation is {} mm", s.count, s.what, s.largest),
+                    format!("{} value(s) rounded to the FANUC program's grid ({grid}), the first {}; the largest deviation is {} mm", s.count, s.what, s.largest),
                 )
                 .help("a thread's start keeps its start angle Q")
             },
             |s| {
                 Diagnostic::new(
                     codes::FANW_PRECISION,
-                    format!("{} is finer than the FANUC program's {} mm ({} value(s) in this program are; lengths take 3 decimals, leads and feeds 4)", s.what, s.grid, s.count),
+                    format!("{} is finer than the FANUC program's {} ({} value(s) in this program are; {decimals})", s.what, unit(&s.grid), s.count),
                 )
                 .help(format!("pass --round to round them (largest deviation {} mm, for a lead its drift at the thread's end)", s.largest))
             },
@@ -482,13 +505,38 @@ impl Emitter<'_> {
     /// `v` with a decimal point and at most 3 decimals (rounded with `--round`, or counted
     /// for one error).
     fn three(&mut self, item: &Item, what: &str, v: Length) -> String {
-        if v.on_mm_decimals(3) {
-            return v.mm_with_point();
+        let grid = self.grid();
+        let rounded = Length(crate::fixed::div_round(v.0 as i128, grid.0 as i128) as i64 * grid.0);
+        if rounded != v {
+            self.inexact.note(item.span, what, v, rounded, grid);
         }
-        let rounded = Length(crate::fixed::div_round(v.0 as i128, 100) as i64 * 100);
-        self.inexact
-            .note(item.span, what, v, rounded, Length::from_steps(10));
-        rounded.mm_with_point()
+        self.text(rounded)
+    }
+
+    /// The least input increment of a length: 0.001 mm, or 0.0001 in.
+    fn grid(&self) -> Length {
+        if self.inch {
+            Length(Length::INCH_STEP)
+        } else {
+            Length::from_steps(10)
+        }
+    }
+
+    /// A length on the grid, with a decimal point, in the program's unit.
+    fn text(&self, v: Length) -> String {
+        match self.inch {
+            true => v.inches_with_point().unwrap_or_else(|| v.inches().0),
+            false => v.mm_with_point(),
+        }
+    }
+
+    /// A lead (or a feed) with a decimal point: mm to 0.0001, or inches to 0.000001.
+    fn lead_text(&self, lead: Lead) -> String {
+        if self.inch {
+            lead.inches_to(6).0
+        } else {
+            lead.mm_with_point()
+        }
     }
 
     /// The axis words of a move to `to`.
@@ -520,7 +568,12 @@ impl Emitter<'_> {
     fn feed_word(&mut self, feed: Length, block: &mut Block) {
         let lead = Lead::from_length(feed);
         if self.f != Some((lead, false)) {
-            block.words.push(format!("F{}", feed.mm_with_point()));
+            let text = if self.inch {
+                lead.inches_to(6).0
+            } else {
+                feed.mm_with_point()
+            };
+            block.words.push(format!("F{text}"));
             self.f = Some((lead, false));
         }
     }
@@ -684,12 +737,21 @@ impl Emitter<'_> {
                 self.speed_word = Some(item.clone());
                 true
             }
-            SpindleMode::SurfaceSpeed { feet: true, .. } => {
+            SpindleMode::SurfaceSpeed { feet: true, .. } if !self.inch => {
                 self.diag(
                     codes::FANW_NO_EQUIVALENT,
                     item,
                     "a surface speed in feet per minute (G96 under G20): the FANUC program is written in millimetres (G21), where G96's S is m/min, and the unit cannot change after its start".to_string(),
                     "program the surface speed in m/min (G21) in the source, or cut at a speed in rpm (G97)",
+                );
+                false
+            }
+            SpindleMode::SurfaceSpeed { feet: false, .. } if self.inch => {
+                self.diag(
+                    codes::FANW_NO_EQUIVALENT,
+                    item,
+                    "a surface speed in metres per minute (G96 under G21) in a program written in inches: the FANUC program is in inches (G20), where G96's S is ft/min, and the unit cannot change after its start".to_string(),
+                    "program the surface speed in ft/min (G20) in the source, or cut at a speed in rpm (G97)",
                 );
                 false
             }
@@ -939,8 +1001,8 @@ impl Emitter<'_> {
         let words = self.axes(item, Pos::new(ex, ez));
         block.words.extend(words);
         let dx = cx - sx;
-        let on_grid =
-            Length(dx.0 / 2).on_mm_decimals(3) && dx.0 % 2 == 0 && (cz - sz).on_mm_decimals(3);
+        let grid = self.grid();
+        let on_grid = dx.0 % (2 * grid.0) == 0 && (cz - sz).0 % grid.0 == 0;
         // A centre off the grid (an R arc's, from the source's radius) is written as the R
         // the control takes, where the centre it finds from it stays within 0.0005 mm.
         if !on_grid
@@ -949,28 +1011,30 @@ impl Emitter<'_> {
         {
             let (r1, _) = lower::arc::radii((sx, sz), (ex, ez), (cx, cz));
             let r = Length(
-                crate::fixed::div_round(Length::from_mm_f64(r1).0 as i128, 100) as i64 * 100,
+                crate::fixed::div_round(Length::from_mm_f64(r1).0 as i128, grid.0 as i128) as i64
+                    * grid.0,
             );
             let off =
                 lower::arc::centre_miss((sx, sz), (ex, ez), (cx, cz), r.to_mm_f64(), clockwise);
             if off <= 0.0005 && r.0 > 0 {
-                block.words.push(format!("R{}", r.mm_with_point()));
+                block.words.push(format!("R{}", self.text(r)));
                 self.feed_word(feed, block);
                 return;
             }
         }
-        let i = if dx.0 % 2 == 0 && Length(dx.0 / 2).on_mm_decimals(3) {
-            Length(dx.0 / 2).mm_with_point()
+        let i = if dx.0 % (2 * grid.0) == 0 {
+            self.text(Length(dx.0 / 2))
         } else {
-            let rounded = Length(crate::fixed::div_round(dx.0 as i128, 200) as i64 * 100);
+            let rounded =
+                Length(crate::fixed::div_round(dx.0 as i128, 2 * grid.0 as i128) as i64 * grid.0);
             self.inexact.note(
                 item.span,
                 "I (as a diameter)",
                 dx,
                 rounded + rounded,
-                Length::from_steps(20),
+                grid + grid,
             );
-            rounded.mm_with_point()
+            self.text(rounded)
         };
         let k = self.three(item, "K", cz - sz);
         block.words.push(format!("I{i}"));
@@ -1023,7 +1087,7 @@ impl Emitter<'_> {
             let words = self.axes(item, seg.to);
             block.words.extend(words);
             if (n == 0 && angle.is_some()) || self.f != Some((lead, true)) {
-                block.words.push(format!("F{}", lead.mm_with_point()));
+                block.words.push(format!("F{}", self.lead_text(lead)));
                 self.f = Some((lead, true));
             }
             if n == 0
@@ -1044,9 +1108,14 @@ impl Emitter<'_> {
         pass: &ThreadPass,
         segments: &[lower::SyncSegment],
     ) -> Option<Lead> {
-        let (units, exact) = pass.lead.in_units(4);
-        let lead = Lead::from_units(units, 4);
-        if units <= 0 {
+        let (lead, exact) = if self.inch {
+            let (_, lead) = pass.lead.inches_to(6);
+            (lead, lead == pass.lead)
+        } else {
+            let (units, exact) = pass.lead.in_units(4);
+            (Lead::from_units(units, 4), exact)
+        };
+        if lead.0 <= 0 {
             self.diag(
                 codes::FANW_PRECISION,
                 item,
@@ -1067,8 +1136,10 @@ impl Emitter<'_> {
                 _ => Length::ZERO,
             };
             let drift = pass.lead.drift(lead, travel);
+            // The grid a lead misses: 0.0001 mm, or 0.000001 in (said by `unit`).
+            let grid = Length(if self.inch { 1 } else { Length::STEP });
             self.inexact
-                .note_lead(item.span, "lead F", pass.lead, drift, Length::from_steps(1));
+                .note_lead(item.span, "lead F", pass.lead, drift, grid);
         }
         Some(lead)
     }

@@ -143,6 +143,10 @@ impl Dialect for Fanuc {
         })
     }
 
+    fn says_inches(&self) -> bool {
+        true
+    }
+
     fn output_feed_mode(&self) -> Option<crate::ir::FeedMode> {
         // The header: `G21 G99`.
         Some(crate::ir::FeedMode::PerRev)

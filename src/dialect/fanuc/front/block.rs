@@ -753,17 +753,7 @@ impl FrontEnd<'_> {
             );
             return None;
         }
-        if surface && self.inch {
-            let text = &line.text[w.range.clone()];
-            self.error(
-                codes::FANR_UNSUPPORTED,
-                line,
-                w.range.clone(),
-                format!("`{text}` in inches: a surface speed in feet per minute is not read"),
-                "program the speed in rpm (G97 S…)",
-            );
-            return None;
-        }
+        // Under G20 the surface speed is in feet per minute, as in LinuxCNC.
         self.surface_speed = surface;
         Some(Some(if surface {
             SpindleMode::SurfaceSpeed {
