@@ -267,20 +267,25 @@ impl FrontEnd<'_> {
         moves.into()
     }
 
-    /// A word of G76 written in least input increments (0.001 mm), without a decimal point.
+    /// A word of G74–G76 written in least input increments (0.001 mm, or 0.0001 in under
+    /// G20), without a decimal point.
     fn microns(&mut self, line: Line<'_>, words: &Words<'_>, c: char) -> Result<Length, String> {
         let Some(w) = words.get(c) else {
             return Ok(Length::ZERO);
         };
         if w.value.has_point {
             return Err(format!(
-                "its {c} has a decimal point: G76's P and Q are in 0.001 mm"
+                "its {c} has a decimal point: the cycle's P and Q are in least input increments (0.001 mm, 0.0001 in)"
             ));
         }
         let n = self
             .whole(line, w)
             .ok_or_else(|| format!("its {c} cannot be read"))?;
-        Ok(Length::from_steps(n.saturating_mul(10)))
+        Ok(if self.inch {
+            Length(n.saturating_mul(Length::INCH_STEP))
+        } else {
+            Length::from_steps(n.saturating_mul(10))
+        })
     }
 
     /// G74/G75's first block: `R e`, the retract after each peck.
@@ -302,12 +307,6 @@ impl FrontEnd<'_> {
         let moves = (|| {
             if ['I', 'K', 'D'].iter().any(|&c| words.get(c).is_some()) {
                 return Err("Haas's one-block form takes its retract from the machine's Settings, which the model does not hold".to_string());
-            }
-            if self.inch {
-                return Err(
-                    "an inch cycle's P and Q are in 0.0001 in, which this version does not expand"
-                        .to_string(),
-                );
             }
             let retract = self
                 .peck_retract
@@ -347,12 +346,6 @@ impl FrontEnd<'_> {
     /// G76's first block: `P mmrraa Q Δdmin R d`.
     fn thread_setup(&mut self, line: Line<'_>, words: &Words<'_>) -> Expansion {
         let setup = (|| {
-            if self.inch {
-                return Err(
-                    "an inch G76's P and Q are in 0.0001 in, which this version does not expand"
-                        .to_string(),
-                );
-            }
             let p = match words.get('P') {
                 Some(w) => self.whole(line, w).ok_or("its P cannot be read")?,
                 None => return Err("it has no P (mm rr aa)".into()),
@@ -1055,6 +1048,48 @@ mod tests {
 
     /// A model the profile names that ncthread does not know, and a bad value, are refused
     /// at their line.
+    /// An inch G76 (and G75) cuts what the same cycle in millimetres cuts: its P and Q are in 0.0001 in
+    /// (least input increments), the rest in inches. Every value is a multiple of 0.005 in,
+    /// exact in 0.001 mm.
+    #[test]
+    fn inch_g75_and_g76_are_the_millimetre_ones_in_inches() {
+        let run = |text: &str| {
+            let profile = Profile::from_toml(&SourceFile::new("p.toml", GSK)).unwrap();
+            let (p, d) = super::super::parse(
+                &SourceFile::new("t", text),
+                &profile.fanuc,
+                Unsupported::Error,
+            );
+            assert_eq!(said(&d), [], "{d:?}");
+            let moves: Vec<ItemKind> = p
+                .items
+                .iter()
+                .filter_map(|i| match &i.kind {
+                    ItemKind::ModelCycle(c) => Some(c.moves.clone()),
+                    _ => None,
+                })
+                .flatten()
+                .collect();
+            assert!(moves.len() > 4, "{moves:?}");
+            moves
+        };
+        let inch = run(
+            "G20 G99\nT0101\nG97 S600 M03\nG00 X1.1 Z0.25\nG76 P010060 Q0050 R0.005\nG76 X0.9 Z-1. P0500 Q0200 F0.125\nM30\n",
+        );
+        let mm = run(
+            "G21 G99\nT0101\nG97 S600 M03\nG00 X27.94 Z6.35\nG76 P010060 Q127 R0.127\nG76 X22.86 Z-25.4 P1270 Q508 F3.175\nM30\n",
+        );
+        assert_eq!(inch, mm);
+        // G75 likewise: P and Q in 0.0001 in, R and the axes in inches.
+        let inch = run(
+            "G20 G99\nT0101\nG97 S600 M03\nG00 X1.1 Z-1.\nG75 R0.01\nG75 X0.75 Z-1.625 P0500 Q1250 F0.004\nM30\n",
+        );
+        let mm = run(
+            "G21 G99\nT0101\nG97 S600 M03\nG00 X27.94 Z-25.4\nG75 R0.254\nG75 X19.05 Z-41.275 P1270 Q3175 F0.1016\nM30\n",
+        );
+        assert_eq!(inch, mm);
+    }
+
     #[test]
     fn the_profile_names_a_known_model_and_values() {
         for (toml, key) in [
