@@ -188,7 +188,7 @@ pub(crate) fn read(
         profile,
         unsupported,
         motion: Motion::Rapid,
-        inch: false,
+        inch: profile.inch,
         per_minute: false,
         surface_speed: false,
         limit: None,
@@ -406,7 +406,7 @@ impl FrontEnd<'_> {
             let (message, help) = match self.profile.decimal_point {
                 DecimalPoint::Increment => (
                     format!(
-                        "`{word}` and other words without a decimal point are read in least input increments (0.001 mm), the profile's `decimal_point = \"increment\"` (FANUC parameter 3401#0 = 0)"
+                        "`{word}` and other words without a decimal point are read in least input increments (0.001 mm, or 0.0001 in under G20), the profile's `decimal_point = \"increment\"` (FANUC parameter 3401#0 = 0)"
                     ),
                     "if the machine reads such words as millimetres (3401#0 = 1), set `decimal_point = \"calculator\"` in the profile's [fanuc] section",
                 ),

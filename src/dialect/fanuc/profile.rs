@@ -9,6 +9,7 @@
 //! nose_radius_in_offsets = false  # the offset page holds nose radius and tip: G41/G42 may be written
 //! mist = false                    # the machine has M07
 //! gcode_system = "A"              # "A", or "B" (G33 threads, G90/G91, G94/G95, G92 S, G77–G79)
+//! units = "mm"                    # the unit the machine starts in (a program without G20/G21): "mm" or "inch"
 //! cycle_model = "gsk-980tdi"      # expand the canned cycles into moves as this control makes them
 //! g71_retract = "feed"            # or one open point at a time: the 45° retract after a G71 layer
 //! g71_layers_from = "shifted-start" # layers counted from the start shifted by the allowance, or "start"
@@ -180,6 +181,9 @@ pub struct FanucProfile {
     pub gcode_system: GcodeSystem,
     /// How the machine runs its canned cycles, where the profile says.
     pub cycle_model: CycleModel,
+    /// The machine starts in inches (a Haas lathe's Setting 9, FANUC parameter 0#2): a
+    /// program that says neither G20 nor G21 is read in inches. **\[decided\]** millimetres.
+    pub inch: bool,
 }
 
 impl Default for FanucProfile {
@@ -193,6 +197,7 @@ impl Default for FanucProfile {
             mist: false,
             gcode_system: GcodeSystem::A,
             cycle_model: CycleModel::default(),
+            inch: false,
         }
     }
 }
@@ -207,6 +212,7 @@ pub(crate) struct Raw {
     nose_radius_in_offsets: Option<bool>,
     mist: Option<bool>,
     gcode_system: Option<toml::Spanned<String>>,
+    units: Option<toml::Spanned<String>>,
     cycle_model: Option<toml::Spanned<String>>,
     g71_retract: Option<toml::Spanned<String>>,
     g71_layers_from: Option<toml::Spanned<String>>,
@@ -289,6 +295,20 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut FanucProfile, diags: &mut
     }
     if let Some(v) = raw.gcode_system {
         gcode_system(src, v, p, diags);
+    }
+    if let Some(v) = raw.units {
+        let span = src.span_of(v.span());
+        match v.into_inner().as_str() {
+            "mm" => p.inch = false,
+            "inch" => p.inch = true,
+            other => diags.push(bad_value(
+                src,
+                span,
+                "units",
+                format!("`{other}` is not a unit the machine starts in"),
+                "\"mm\" (G21 at power-on) or \"inch\" (G20 at power-on: a Haas lathe's Setting 9 = INCH)",
+            )),
+        }
     }
     let keys = ModelKeys {
         cycle_model: raw.cycle_model,
@@ -514,5 +534,37 @@ mod tests {
         assert!(c[0].message.contains("system C is not read yet"), "{c:?}");
         assert!(system("D").is_err());
         assert_eq!(Profile::default().fanuc.gcode_system, GcodeSystem::A);
+    }
+
+    /// The unit the machine starts in: millimetres unless the profile says inches.
+    #[test]
+    fn the_machine_starts_in_mm_or_inches() {
+        let units = |v: &str| {
+            Profile::from_toml(&SourceFile::new(
+                "p.toml",
+                format!("[fanuc]\nunits = \"{v}\"\n"),
+            ))
+            .map(|p| p.fanuc.inch)
+        };
+        assert!(units("inch").unwrap());
+        assert!(!units("mm").unwrap());
+        assert!(units("feet").is_err());
+        assert!(!Profile::default().fanuc.inch);
+        // A program without G20 or G21 is then read in inches and written in inches.
+        let profile =
+            Profile::from_toml(&SourceFile::new("p.toml", "[fanuc]\nunits = \"inch\"\n")).unwrap();
+        let (p, d) = crate::dialect::fanuc::front::parse(
+            &SourceFile::new("t", "G99\nG00 X1. Z0.1\nM30\n"),
+            &profile.fanuc,
+            crate::dialect::Unsupported::Error,
+        );
+        assert!(d.iter().all(|d| !d.is_error()), "{d:?}");
+        assert!(p.inch);
+        assert!(
+            p.items
+                .iter()
+                .any(|i| matches!(&i.kind, crate::ir::ItemKind::Rapid { to }
+            if to.x == Some(crate::fixed::Length::from_mm_f64(25.4))))
+        );
     }
 }
