@@ -594,11 +594,13 @@ fn fanuc_program() -> impl Strategy<Value = Input> {
         prop::sample::select(vec![0u32, 10, 15]),
         any::<bool>(),
         any::<bool>(),
+        prop::bool::weighted(0.25),
     )
-        .prop_map(|(blocks, chamfer, numbered, model)| {
+        .prop_map(|(blocks, chamfer, numbered, model, inch)| {
+            // A quarter in inches: the same numbers, read (and written back) in inches.
             let mut lines = vec![
                 "O0001 (FUZZ)".to_string(),
-                "G21 G99".into(),
+                if inch { "G20 G99" } else { "G21 G99" }.into(),
                 "G97 S500 M03".into(),
                 "G00 X130. Z20.".into(),
             ];
