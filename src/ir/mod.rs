@@ -147,10 +147,11 @@ pub enum Compensation {
     Off,
     /// G41 / G42 (`right`), with the tool table's entry `D` (default: the tool in use).
     FromTool { right: bool, tool: Option<u32> },
-    /// G41.1 / G42.1 (`right`): diameter `D` and lathe orientation `L`, as written.
+    /// G41.1 / G42.1 (`right`): the tool's diameter `D` (in mm, as every length) and lathe
+    /// orientation `L`.
     Dynamic {
         right: bool,
-        diameter: Decimal,
+        diameter: crate::fixed::Length,
         orientation: Option<u32>,
     },
 }

@@ -864,7 +864,7 @@ pub fn judge(expected: &[Segment], canon: &[Canon]) -> Judgement {
             Motion::State(super::MachineState {
                 compensation: Some(crate::ir::Compensation::Dynamic { diameter, .. }),
                 ..
-            }) if diameter.mantissa != 0
+            }) if diameter.0 != 0
         )
     });
     let stripped: Vec<Segment> = expected[..compensated.unwrap_or(expected.len())]

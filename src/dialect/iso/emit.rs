@@ -398,7 +398,10 @@ impl Emitter<'_> {
                 self.surface = false;
                 self.line("G97");
             }
-            ItemKind::Compensation(c) => self.line(&compensation_words(c)),
+            ItemKind::Compensation(c) => {
+                let text = compensation_words(c, &mut self.units);
+                self.line(&text)
+            }
             ItemKind::WorkOffset(n) => self.line(work_offset_word(*n)),
             // The motion mode after G53 is the line's G0/G1, as in the source.
             ItemKind::MachineMove(m) => {
@@ -752,7 +755,7 @@ impl Emitter<'_> {
 
 /// The words of a cutter radius compensation: G40, G41/G42 (with the tool table entry D),
 /// or G41.1/G42.1 with its diameter (and orientation L).
-fn compensation_words(c: &Compensation) -> String {
+fn compensation_words(c: &Compensation, units: &mut Units) -> String {
     match c {
         Compensation::Off => "G40".to_string(),
         Compensation::FromTool { right, tool } => {
@@ -766,7 +769,7 @@ fn compensation_words(c: &Compensation) -> String {
         } => {
             let g = if *right { "G42.1" } else { "G41.1" };
             let l = orientation.map_or(String::new(), |l| format!(" L{l}"));
-            format!("{g} D{diameter}{l}")
+            format!("{g} D{}{l}", units.len(*diameter))
         }
     }
 }

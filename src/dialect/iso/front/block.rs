@@ -458,9 +458,11 @@ impl FrontEnd<'_> {
                         Some(l) => self.whole(line, l, "tool orientation (L)"),
                         None => None,
                     };
+                    // In the units in force, as every length.
+                    let diameter = self.length(line, d)?;
                     Some(Compensation::Dynamic {
                         right,
-                        diameter: d.value,
+                        diameter,
                         orientation,
                     })
                 }

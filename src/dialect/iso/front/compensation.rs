@@ -988,8 +988,10 @@ impl FrontEnd<'_> {
                 right,
                 diameter,
                 orientation,
-            } if !was_on && diameter.mantissa > 0 => {
-                let radius = diameter.to_f64() / 2.0;
+            } if !was_on && diameter.0 > 0 => {
+                // The model works in program units, as LinuxCNC.
+                let unit = if self.inch { 25.4 } else { 1.0 };
+                let radius = diameter.to_mm_f64() / unit / 2.0;
                 let orientation = orientation.map_or(0, i64::from);
                 self.comp_model().on(!right, radius, orientation);
             }
