@@ -943,13 +943,18 @@ pub fn known_prefix(segments: &[Segment]) -> usize {
 }
 
 /// `segments` without a first rapid from an unknown place to X0 Z0 (see `judge`).
+///
+/// The first move, after the events before it: a G0 or a G1 from nowhere to rs274's start
+/// point, X0 Z0, is also what rs274 prints for a `G1` without axes before any move (LinuxCNC
+/// moves to where it stands, which it takes for X0 Z0), where ncthread, not knowing the
+/// place, moves nowhere. Left out on both sides, like the rapid.
 fn without_rapid_to_rs274_start(mut segments: Vec<Segment>) -> Vec<Segment> {
-    if let Some(first) = segments.first()
-        && first.motion == Motion::Rapid
-        && first.from == Pos::UNKNOWN
-        && first.to == Pos::new(Length::ZERO, Length::ZERO)
+    if let Some(i) = segments.iter().position(|s| s.motion.moves())
+        && matches!(segments[i].motion, Motion::Rapid | Motion::Feed { .. })
+        && segments[i].from == Pos::UNKNOWN
+        && segments[i].to == Pos::new(Length::ZERO, Length::ZERO)
     {
-        segments.remove(0);
+        segments.remove(i);
     }
     segments
 }

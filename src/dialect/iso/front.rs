@@ -139,11 +139,8 @@ struct FrontEnd<'a> {
     /// `#<_ccomp>`: 400, 410 or 420.
     ccomp: f64,
     /// G17 in force (the XY plane): lines along X and Z mean what they mean in G18, but an
-    /// arc, a G7x cycle and cutter compensation would work in XY. LinuxCNC starts in G17
-    /// unless the machine's start-up codes say G18 (a lathe configuration's do).
+    /// arc, a G7x cycle and cutter compensation would work in XY.
     plane_xy: bool,
-    /// The program has chosen its plane (G17 or G18).
-    plane_chosen: bool,
     /// G98 (true: canned cycles retract to the initial level) or G99 (to R, LinuxCNC's
     /// start-up mode).
     retract_old_z: bool,

@@ -388,11 +388,9 @@ impl FrontEnd<'_> {
                 );
             }
             self.plane_xy = true;
-            self.plane_chosen = true;
         }
         if b.asks.plane_zx {
             self.plane_xy = false;
-            self.plane_chosen = true;
         }
     }
 
@@ -410,8 +408,8 @@ impl FrontEnd<'_> {
                 codes::ISOR_COMPENSATION,
                 line,
                 w.range.clone(),
-                format!("`{text}` while G17 is in force{}: LinuxCNC would compensate in the XY plane, which a lathe has not", self.g17_why()),
-                "select G18 before cutter compensation (a lathe program says G18 at its start)",
+                format!("`{text}` while G17 is in force: LinuxCNC would compensate in the XY plane, which a lathe has not"),
+                "select G18 before cutter compensation",
             );
             return ControlFlow::Break(());
         }

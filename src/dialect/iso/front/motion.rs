@@ -65,8 +65,8 @@ impl FrontEnd<'_> {
                 self.arc_error(
                     line,
                     code_word,
-                    format!("{g} while G17 is in force{}: LinuxCNC cuts the arc in the XY plane, which a lathe has not", self.g17_why()),
-                    "select G18 before the arc (a lathe's arcs are in ZX; a lathe program says G18 at its start)",
+                    format!("{g} while G17 is in force: LinuxCNC cuts the arc in the XY plane, which a lathe has not"),
+                    "select G18 before the arc (a lathe's arcs are in ZX)",
                 );
             }
             Motion::Arc { clockwise } => self.arc(line, words, code_word, span, clockwise),
@@ -137,15 +137,6 @@ impl FrontEnd<'_> {
     }
 
     /// A roughing cycle in G17, which LinuxCNC refuses.
-    /// Why G17 is in force when the program has not said it: LinuxCNC's start-up plane.
-    pub(super) fn g17_why(&self) -> &'static str {
-        if self.plane_chosen {
-            ""
-        } else {
-            " (the program has not chosen a plane, and LinuxCNC starts in G17 unless the machine's start-up codes say G18)"
-        }
-    }
-
     fn roughing_in_xy(
         &mut self,
         line: Line<'_>,
@@ -160,8 +151,8 @@ impl FrontEnd<'_> {
                 codes::ISOR_ROUGHING,
                 line,
                 at.range.clone(),
-                format!("{name} while G17 is in force{} (LinuxCNC: \"G{}.{} can only be used in XZ plane (G18)\")", self.g17_why(), code / 10, code % 10),
-                "select G18 before the cycle (a lathe program says G18 at its start)",
+                format!("{name} while G17 is in force (LinuxCNC: \"G{}.{} can only be used in XZ plane (G18)\")", code / 10, code % 10),
+                "select G18 before the cycle",
             );
         }
     }
