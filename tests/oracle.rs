@@ -540,14 +540,18 @@ fn rs274_runs_the_iso_output_as_it_runs_the_iso_source() {
                 .unwrap_or_else(|e| panic!("{}: {e}", case.name))
         };
         let (theirs, ours) = (run(&source), run(&ngc));
-        // rs274 starts at X0 Z0: a rapid there before any other move (a `G0` without axes)
-        // moves nothing.
+        // rs274 starts at X0 Z0: a rapid or a feed there before any other move (a `G0` or
+        // `G1` without axes) moves nothing.
         let moves = |canon: &[common::Canon]| {
+            use ncthread::sim::Motion;
             let origin = ncthread::ir::Pos::new(Default::default(), Default::default());
-            let segments: Vec<_> = common::rs274_segments(canon)
-                .into_iter()
-                .skip_while(|s| matches!(s.motion, ncthread::sim::Motion::Rapid) && s.to == origin)
-                .collect();
+            let mut segments = common::rs274_segments(canon);
+            while let Some(i) = segments.iter().position(|s| s.motion.moves())
+                && matches!(segments[i].motion, Motion::Rapid | Motion::Feed { .. })
+                && segments[i].to == origin
+            {
+                segments.remove(i);
+            }
             normalise(&segments)
         };
         let (a, b) = (moves(&theirs), moves(&ours));
