@@ -24,8 +24,8 @@ pub fn check(program: &Program, src: &SourceFile, to: Option<DialectId>) -> Vec<
     let mut speed: Option<u32> = None;
     let mut feed_mode: Option<FeedMode> = None;
     let said = cycle_blocks_said(program);
-    // The output's unit: inches for an inch program whose target can say them.
-    let inch = program.inch && to.is_some_and(|t| dialect::get(t).says_inches());
+    // The target, and whether its output is in inches.
+    let to = (to, output_in_inches(program, to));
     for (index, item) in program.items.iter().enumerate() {
         let refusal = match &item.kind {
             ItemKind::Spindle {
@@ -58,24 +58,6 @@ pub fn check(program: &Program, src: &SourceFile, to: Option<DialectId>) -> Vec<
             {
                 Some(feed_without_spindle(turning, speed))
             }
-            // A cycle kept whole for its own dialect: the same rules over its moves.
-            ItemKind::ModelCycle(c)
-                if !turning && c.moves.iter().any(|m| matches!(m, ItemKind::ThreadPass(_))) =>
-            {
-                c.moves
-                    .iter()
-                    .find(|m| matches!(m, ItemKind::ThreadPass(_)))
-                    .map(thread_without_spindle)
-            }
-            ItemKind::ModelCycle(c)
-                if feed_mode != Some(FeedMode::PerMin)
-                    && (!turning || speed.unwrap_or(0) == 0)
-                    && c.moves
-                        .iter()
-                        .any(|m| matches!(m, ItemKind::Feed { .. } | ItemKind::Arc { .. })) =>
-            {
-                Some(feed_without_spindle(turning, speed))
-            }
             ItemKind::Opaque {
                 dialect,
                 text,
@@ -84,14 +66,14 @@ pub fn check(program: &Program, src: &SourceFile, to: Option<DialectId>) -> Vec<
                 text,
                 *dialect,
                 context,
-                (to, inch),
+                to,
                 feed_mode,
                 said.contains(&index),
             ),
-            // Whole only for its own dialect (`lower::unroll`): copied where it means the same.
-            ItemKind::ModelCycle(c) => {
-                kept_block_moves(&c.text, c.dialect, &c.context, (to, inch), feed_mode, true)
-            }
+            // A cycle kept whole for its own dialect: the same rules over its moves, and
+            // copied where it means the same (`lower::unroll`).
+            ItemKind::ModelCycle(c) => cycle_without_spindle(c, turning, speed, feed_mode)
+                .or_else(|| kept_block_moves(&c.text, c.dialect, &c.context, to, feed_mode, true)),
             _ => None,
         };
         if let Some(d) = refusal {
@@ -99,6 +81,29 @@ pub fn check(program: &Program, src: &SourceFile, to: Option<DialectId>) -> Vec<
         }
     }
     diags
+}
+
+/// LG001/LG002 inside a cycle kept whole: a thread pass while the spindle is not turning, or
+/// a feed per revolution without a turning spindle with a speed.
+fn cycle_without_spindle(
+    c: &crate::ir::ModelCycle,
+    turning: bool,
+    speed: Option<u32>,
+    feed_mode: Option<FeedMode>,
+) -> Option<Diagnostic> {
+    let thread = c
+        .moves
+        .iter()
+        .find(|m| matches!(m, ItemKind::ThreadPass(_)));
+    if let Some(pass) = thread.filter(|_| !turning) {
+        return Some(thread_without_spindle(pass));
+    }
+    let feeds = c
+        .moves
+        .iter()
+        .any(|m| matches!(m, ItemKind::Feed { .. } | ItemKind::Arc { .. }));
+    (feeds && feed_mode != Some(FeedMode::PerMin) && (!turning || speed.unwrap_or(0) == 0))
+        .then(|| feed_without_spindle(turning, speed))
 }
 
 /// LG001: a thread pass, thread cycle or tap while the spindle is not turning.
@@ -131,6 +136,11 @@ fn feed_without_spindle(turning: bool, speed: Option<u32>) -> Diagnostic {
     .help(
         "start the spindle with S and M3/M4 before the feed, or program the feed per minute (G94)",
     )
+}
+
+/// The output's unit: inches for an inch program whose target can say them.
+fn output_in_inches(program: &Program, to: Option<DialectId>) -> bool {
+    program.inch && to.is_some_and(|t| dialect::get(t).says_inches())
 }
 
 /// The blocks kept as a cycle at which another target's refusal is said: in each run of

@@ -67,6 +67,12 @@ fn xz(p: Pos) -> Option<(f64, f64)> {
 
 /// Whether `b` lies on the line through `a` and `c` (within the tolerance).
 fn collinear(a: Pos, b: Pos, c: Pos) -> bool {
+    collinear_within(a, b, c, TOLERANCE)
+}
+
+/// [`collinear`] within `tol`: rs274's inches are printed to 0.0001 in, so a point LinuxCNC
+/// computed on a line is printed off it by up to 0.00127 mm (X a radius there).
+fn collinear_within(a: Pos, b: Pos, c: Pos, tol: Length) -> bool {
     let (Some(a), Some(b), Some(c)) = (xz(a), xz(b), xz(c)) else {
         return false;
     };
@@ -76,7 +82,7 @@ fn collinear(a: Pos, b: Pos, c: Pos) -> bool {
         return false;
     }
     let cross = dx * (b.1 - a.1) - dz * (b.0 - a.0);
-    (cross / len).abs() <= TOLERANCE.to_mm_f64()
+    (cross / len).abs() <= tol.to_mm_f64()
 }
 
 /// Whether `segments[k]` and the feed after it, of the same feed, run from where the first
@@ -298,7 +304,7 @@ fn sync_start_ok(a: &Segment, b: &Segment, lead: Lead, tol: Length) -> bool {
     let earlier = Length(towards * (az - bz).0);
     earlier.0 > 0
         && (earlier.0 as i128) * (Lead::PER_LENGTH as i128) < lead.0 as i128
-        && collinear(b.from, a.from, a.to)
+        && collinear_within(b.from, a.from, a.to, tol)
 }
 
 /// The largest deviation between two equivalent normalised motions, segment by segment:

@@ -297,18 +297,7 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut FanucProfile, diags: &mut
         gcode_system(src, v, p, diags);
     }
     if let Some(v) = raw.units {
-        let span = src.span_of(v.span());
-        match v.into_inner().as_str() {
-            "mm" => p.inch = false,
-            "inch" => p.inch = true,
-            other => diags.push(bad_value(
-                src,
-                span,
-                "units",
-                format!("`{other}` is not a unit the machine starts in"),
-                "\"mm\" (G21 at power-on) or \"inch\" (G20 at power-on: a Haas lathe's Setting 9 = INCH)",
-            )),
-        }
+        units(src, v, p, diags);
     }
     let keys = ModelKeys {
         cycle_model: raw.cycle_model,
@@ -484,6 +473,27 @@ fn choice<T: Copy>(
         ));
     }
     found
+}
+
+/// `units`: the unit the machine starts in, "mm" or "inch".
+fn units(
+    src: &SourceFile,
+    v: toml::Spanned<String>,
+    p: &mut FanucProfile,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let span = src.span_of(v.span());
+    match v.into_inner().as_str() {
+        "mm" => p.inch = false,
+        "inch" => p.inch = true,
+        other => diags.push(bad_value(
+            src,
+            span,
+            "units",
+            format!("`{other}` is not a unit the machine starts in"),
+            "\"mm\" (G21 at power-on) or \"inch\" (G20 at power-on: a Haas lathe's Setting 9 = INCH)",
+        )),
+    }
 }
 
 /// `gcode_system`: "A" or "B"; "C" is refused with its reason.

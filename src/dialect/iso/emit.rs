@@ -93,6 +93,23 @@ impl Units {
         text
     }
 
+    /// The one warning of the values written between two 0.0001 in steps.
+    fn diagnostic(&self, src: &SourceFile) -> Option<Diagnostic> {
+        let text = self.first.as_ref()?;
+        Some(
+            Diagnostic::new(
+                codes::ISOW_INCH_ROUNDED,
+                format!(
+                    "{} value(s) of this inch program lie between two 0.0001 in steps (computed points; the first is written {text}): written to 0.000001 in, each within {} mm",
+                    self.rounded,
+                    self.largest.mm()
+                ),
+            )
+            .at(src, self.span.unwrap_or_default())
+            .help("half of 0.000001 in is 0.0000127 mm, far inside the 0.001 mm that `verify` allows; nothing to do"),
+        )
+    }
+
     fn count(&mut self, exact: bool, deviation: Length, text: &str) {
         if !exact {
             self.rounded += 1;
@@ -192,21 +209,7 @@ pub fn emit(
     }
     e.w.out.push_str("%\n");
     e.w.out = split_long_lines(&e.w.out);
-    if let Some(text) = e.units.first.take() {
-        let span = e.units.span.unwrap_or_default();
-        e.w.diags.push(
-            Diagnostic::new(
-                codes::ISOW_INCH_ROUNDED,
-                format!(
-                    "{} value(s) of this inch program lie between two 0.0001 in steps (computed points; the first is written {text}): written to 0.000001 in, each within {} mm",
-                    e.units.rounded,
-                    e.units.largest.mm()
-                ),
-            )
-            .at(src, span)
-            .help("half of 0.000001 in is 0.0000127 mm, far inside the 0.001 mm that `verify` allows; nothing to do"),
-        );
-    }
+    e.w.diags.extend(e.units.diagnostic(src));
     e.w.finish()
 }
 
@@ -350,6 +353,12 @@ impl Emitter<'_> {
         self.w.out.push('\n');
     }
 
+    /// A line whose words say lengths in the output's unit.
+    fn unit_line(&mut self, words: impl FnOnce(&mut Units) -> String) {
+        let text = words(&mut self.units);
+        self.line(&text);
+    }
+
     fn item(&mut self, item: &Item, next: Option<&Item>) {
         let rounded = self.units.rounded;
         self.item_words(item, next);
@@ -369,13 +378,9 @@ impl Emitter<'_> {
             self.sync_end = None;
         }
         match &item.kind {
-            ItemKind::Rapid { to } => {
-                let text = format!("G0{}", self.units.axes(*to));
-                self.line(&text)
-            }
+            ItemKind::Rapid { to } => self.unit_line(|u| format!("G0{}", u.axes(*to))),
             ItemKind::Feed { to, feed } => {
-                let text = format!("G1{} F{}", self.units.axes(*to), self.units.len(*feed));
-                self.line(&text)
+                self.unit_line(|u| format!("G1{} F{}", u.axes(*to), u.len(*feed)))
             }
             ItemKind::Arc {
                 to,
@@ -389,25 +394,16 @@ impl Emitter<'_> {
             // Written on the G96 line before it.
             ItemKind::Spindle { .. } if std::mem::take(&mut self.spindle_on_g96) => {}
             ItemKind::Spindle { speed, direction } => self.spindle(*speed, *direction),
-            ItemKind::FeedRate(f) => {
-                let text = format!("F{}", self.units.len(*f));
-                self.line(&text)
-            }
+            ItemKind::FeedRate(f) => self.unit_line(|u| format!("F{}", u.len(*f))),
             ItemKind::SpindleMode(SpindleMode::Rpm) => {
                 self.surface_feet = false;
                 self.surface = false;
                 self.line("G97");
             }
-            ItemKind::Compensation(c) => {
-                let text = compensation_words(c, &mut self.units);
-                self.line(&text)
-            }
+            ItemKind::Compensation(c) => self.unit_line(|u| compensation_words(c, u)),
             ItemKind::WorkOffset(n) => self.line(work_offset_word(*n)),
             // The motion mode after G53 is the line's G0/G1, as in the source.
-            ItemKind::MachineMove(m) => {
-                let text = machine_move_words(m, &mut self.units);
-                self.line(&text)
-            }
+            ItemKind::MachineMove(m) => self.unit_line(|u| machine_move_words(m, u)),
             ItemKind::SpindleMode(SpindleMode::SurfaceSpeed { limit, feet }) => {
                 if !self.surface_speed(item, *limit, *feet, next) {
                     return;

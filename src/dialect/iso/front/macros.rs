@@ -292,12 +292,32 @@ impl OLine<'_, '_> {
         )
     }
 
-    /// An `if`, `do`, `repeat` or opening `while` reached: its label takes this place in
+    /// The checks of a line reached: what follows its words, and its label's place.
+    /// Whether it was reached by skipping to its label (LinuxCNC's `skipping_o`).
+    fn enter(&self, flow: Option<&Flow>, params: &mut Params) -> Result<bool, StructureError> {
+        let skipped = std::mem::take(&mut params.skipping);
+        if !skipped && params.testing != Some(self.at) {
+            self.tail()?;
+        }
+        self.opened(flow, params)?;
+        Ok(skipped)
+    }
+
+    /// An `if`, `do`, `repeat` or opening `while` reached (`flow` says whether a `while`
+    /// opens a loop): its label takes this place in
     /// the subroutine running (or the program) for the rest of the run, as in LinuxCNC's
     /// `offset_map`. A label that already has another place there is refused: LinuxCNC
     /// stops at an `if`, `while` or `repeat` ("duplicate O-word label"), and sends the
     /// `while` of a `do` back to the earlier place.
-    fn opened(&self, params: &mut Params) -> Result<(), StructureError> {
+    fn opened(&self, flow: Option<&Flow>, params: &mut Params) -> Result<(), StructureError> {
+        let opens = matches!(
+            (self.o.keyword, flow),
+            (Keyword::If | Keyword::Do | Keyword::Repeat, _)
+                | (Keyword::While, Some(Flow::While { .. }))
+        );
+        if !opens {
+            return Ok(());
+        }
         let scope = params.frames.last().map(|f| f.name.clone());
         let here = (self.file, self.at);
         let place = *params
@@ -811,18 +831,7 @@ impl FrontEnd<'_> {
     ) -> Result<Jump, StructureError> {
         let l = OLine { at, file, o, runs };
         let flow = runs[file].structure.flow.get(&at);
-        // Reached by skipping to this label (LinuxCNC's `skipping_o`)?
-        let skipped = std::mem::take(&mut params.skipping);
-        if !skipped && params.testing != Some(at) {
-            l.tail()?;
-        }
-        if matches!(
-            (o.keyword, flow),
-            (Keyword::If | Keyword::Do | Keyword::Repeat, _)
-                | (Keyword::While, Some(Flow::While { .. }))
-        ) {
-            l.opened(params)?;
-        }
+        let skipped = l.enter(flow, params)?;
         match (o.keyword, flow) {
             (Keyword::Sub, Some(Flow::Sub { end })) => l.o_sub(*end, params),
             (Keyword::EndSub | Keyword::Return, _) => self.o_endsub(&l, params),
