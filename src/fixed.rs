@@ -149,6 +149,17 @@ impl Length {
             .then(|| format_scaled(self.0 / Self::INCH_STEP, 4, Trailing::Point))
     }
 
+    /// The length that [`Length::inches`]'s text reads back as, on the grid: itself on the
+    /// 0.0001 in step, else the 0.000001 in value rounded to the grid unit (as a reader
+    /// rounds it).
+    pub fn inch_read_back(self) -> Length {
+        if self.0 % Self::INCH_STEP == 0 {
+            return self;
+        }
+        let n = div_round(self.0 as i128 * 100, Self::INCH_STEP as i128);
+        Length(div_round(n * Self::INCH_STEP as i128, 100) as i64)
+    }
+
     /// Half of this length in inches (a diameter's radius), as [`Length::inches`].
     pub fn half_inches(self) -> (String, bool) {
         decimal_of(self.0 as i128, 2 * Self::PER_INCH as i128, 0, 6)

@@ -120,6 +120,18 @@ impl Units {
         }
     }
 
+    /// Where a position written in the output's unit is read back: in inches, a point
+    /// between two 0.0001 in steps is written to 0.000001 in, and read as that.
+    fn read_back(&self, p: Pos) -> Pos {
+        if !self.inch {
+            return p;
+        }
+        Pos {
+            x: p.x.map(Length::inch_read_back),
+            z: p.z.map(Length::inch_read_back),
+        }
+    }
+
     /// `X… Z…` of a position.
     fn axes(&mut self, to: Pos) -> String {
         let mut s = String::new();
@@ -365,6 +377,8 @@ impl Emitter<'_> {
         if self.units.rounded > rounded && self.units.span.is_none() {
             self.units.span = Some(item.span);
         }
+        // The next line starts where LinuxCNC reads this one's end.
+        self.w.pos = self.units.read_back(self.w.pos);
     }
 
     fn item_words(&mut self, item: &Item, next: Option<&Item>) {
@@ -737,15 +751,24 @@ impl Emitter<'_> {
                 }
             },
         }
+        // Each K from where the move starts as it is read back (in inches, a point between
+        // two 0.0001 in steps), so that the same lead reads back and converting again
+        // writes the same K.
+        let mut from = segments.first().map(|s| self.units.read_back(s.from));
         for seg in &segments {
+            let read = lower::SyncSegment {
+                from: from.unwrap_or(seg.from),
+                ..*seg
+            };
             let text = format!(
                 "G33{} K{}",
                 self.units.axes(seg.to),
-                k_value(seg, &mut self.units)
+                k_value(&read, &mut self.units)
             );
             self.line(&text);
+            from = Some(self.units.read_back(seg.to));
         }
-        self.sync_end = segments.last().map(|s| s.to);
+        self.sync_end = segments.last().map(|s| self.units.read_back(s.to));
     }
 }
 
