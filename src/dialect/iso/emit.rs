@@ -751,14 +751,15 @@ impl Emitter<'_> {
                 }
             },
         }
-        // Each K from where the move starts as it is read back (in inches, a point between
-        // two 0.0001 in steps), so that the same lead reads back and converting again
-        // writes the same K.
+        // Each K from where the move starts and ends as they are read back (in inches, a
+        // point between two 0.0001 in steps), so that the same lead reads back and
+        // converting again writes the same K.
         let mut from = segments.first().map(|s| self.units.read_back(s.from));
         for seg in &segments {
             let read = lower::SyncSegment {
                 from: from.unwrap_or(seg.from),
-                ..*seg
+                to: self.units.read_back(seg.to),
+                lead: seg.lead,
             };
             let text = format!(
                 "G33{} K{}",
