@@ -186,7 +186,7 @@ impl Dialect for Fanuc {
     fn capabilities(&self, profile: &Profile) -> Capabilities {
         Capabilities {
             rows: [thread_rows(), machine_rows(profile)].concat(),
-            numbers: "lengths to 0.001 mm (X a diameter, I a radius), leads and feeds to 0.0001 mm, a decimal point on every length; `--round` rounds, reporting the largest deviation",
+            numbers: "lengths to 0.001 mm (X a diameter, I a radius), leads and feeds to 0.0001 mm, an inch program's in inches (0.0001 in, leads and feeds 0.000001 in), a decimal point on every length; `--round` rounds, reporting the largest deviation",
         }
     }
 

@@ -250,7 +250,7 @@ impl Dialect for Iso {
                 row(Repeat, Read::No, Write::As("writes the repeated moves out")),
                 row(Comments, Read::Yes("`( )`, `;`"), Write::Yes("`( )`")),
             ],
-            numbers: "lengths to 0.0001 mm, leads exact (a taper's K with the digits that read back to 10⁻¹² mm)",
+            numbers: "lengths to 0.00001 mm, an inch program's in inches (0.0001 in; a computed point to 0.000001 in, ISOW007), leads exact (a taper's K with the digits that read back to 10⁻¹² mm)",
         }
     }
 
