@@ -853,7 +853,13 @@ pub enum Judgement {
 /// start that reads like a rapid from an unknown place to X0 Z0. A first rapid to X0 Z0 is
 /// therefore left out on both sides: rs274's output cannot tell it from no move.
 pub fn judge(expected: &[Segment], canon: &[Canon]) -> Judgement {
-    let mut theirs = without_rapid_to_rs274_start(super::normalise(&segments(canon)));
+    let inch = canon.iter().any(|c| matches!(c, Canon::Inches(true)));
+    let tolerance = if inch {
+        super::TOLERANCE + Length::from_steps(26)
+    } else {
+        super::TOLERANCE
+    };
+    let mut theirs = without_rapid_to_rs274_start(as_printed(&segments(canon), tolerance));
     // rs274 prints nothing for cutter compensation: ncthread's record of it is compared
     // between conversions, not here. With a tool radius the judge's tool table does not
     // have (G41.1/G42.1 D), LinuxCNC cuts the compensated path, which ncthread does not
@@ -881,7 +887,7 @@ pub fn judge(expected: &[Segment], canon: &[Canon]) -> Judgement {
         })
         .collect();
     let cut = compensated.is_some();
-    let expected = &without_rapid_to_rs274_start(super::normalise(&stripped));
+    let expected = &without_rapid_to_rs274_start(as_printed(&stripped, tolerance));
     // Where ncthread stops knowing the position (a move in machine coordinates, to the
     // reference point), LinuxCNC's run is judged up to there.
     let mut known = known_prefix(expected);
@@ -906,12 +912,6 @@ pub fn judge(expected: &[Segment], canon: &[Canon]) -> Judgement {
         theirs.truncate(known);
     }
     let expected = &expected[..known];
-    let inch = canon.iter().any(|c| matches!(c, Canon::Inches(true)));
-    let tolerance = if inch {
-        super::TOLERANCE + Length::from_steps(26)
-    } else {
-        super::TOLERANCE
-    };
     let slack = phase_uncertainty(canon);
     if slack >= 180.0 {
         return Judgement::CannotJudge(format!(
@@ -940,6 +940,26 @@ pub fn known_prefix(segments: &[Segment]) -> usize {
                     || (s.from.known().is_none() && s.motion != Motion::Rapid))
         })
         .unwrap_or(segments.len())
+}
+
+/// `segments` normalised without the straight moves (rapids and feeds, after rapids merged)
+/// that go no more than `tol` along each axis: rs274 prints four decimals of a radius, so
+/// that a move shorter than a printed step is nothing on its side (a G71 layer's retract
+/// over the last 0.00005 mm of material), and at the judge's tolerance such a move is
+/// nothing on either side. So is a run of rapids that ends where it began (to the
+/// reference point and back), which LinuxCNC prints and ncthread may not know.
+pub fn as_printed(segments: &[Segment], tol: Length) -> Vec<Segment> {
+    let mut out = super::normalise(segments);
+    out.retain(|s| {
+        let short = |a: Option<Length>, b: Option<Length>| match (a, b) {
+            (Some(a), Some(b)) => (a - b).abs() <= tol,
+            _ => false,
+        };
+        !(matches!(s.motion, Motion::Rapid | Motion::Feed { .. })
+            && short(s.from.x, s.to.x)
+            && short(s.from.z, s.to.z))
+    });
+    super::normalise(&out)
 }
 
 /// `segments` without a first rapid from an unknown place to X0 Z0 (see `judge`).
@@ -1125,6 +1145,57 @@ mod tests {
             Some(Canon::SyncStart { k: 1.25 })
         );
         assert_eq!(parse_canon("   16 N..... STRAIGHT_FEED()"), None);
+    }
+
+    #[test]
+    fn a_retract_shorter_than_a_printed_step_is_no_move() {
+        // Fuzz run 13: ncthread's G71 layer retracts 0.0001 mm on the diameter where rs274
+        // prints a traverse to where the tool stands, then both feed on.
+        let feed = Motion::Feed {
+            feed: Length::from_mm_f64(0.2),
+            per_minute: false,
+        };
+        let at = |x: f64, z: f64| Pos::new(Length::from_mm_f64(x), Length::from_mm_f64(z));
+        let seg = |motion, from, to| Segment {
+            motion,
+            from,
+            to,
+            line: 1,
+            pass: None,
+        };
+        let ours = [
+            seg(Motion::Rapid, Pos::UNKNOWN, at(17.0, -5.0)),
+            seg(feed, at(17.0, -5.0), at(17.0, -5.0273)),
+            seg(Motion::Rapid, at(17.0, -5.0273), at(17.0001, -5.0273)),
+            seg(feed, at(17.0001, -5.0273), at(25.9235, -8.0341)),
+        ];
+        let canon = [
+            Canon::FeedPerRev(true),
+            Canon::FeedRate(0.2),
+            Canon::Traverse { x: 17.0, z: -5.0 },
+            Canon::Feed {
+                x: 17.0,
+                z: -5.0273,
+            },
+            Canon::Traverse {
+                x: 17.0,
+                z: -5.0273,
+            },
+            Canon::Feed {
+                x: 25.9236,
+                z: -8.0341,
+            },
+        ];
+        assert!(
+            matches!(judge(&ours, &canon), Judgement::Agrees { .. }),
+            "{:?}",
+            judge(&ours, &canon)
+        );
+        // A retract the tolerance sees is a move.
+        let mut longer = ours;
+        longer[2].to = at(17.0011, -5.0273);
+        longer[3].from = longer[2].to;
+        assert!(matches!(judge(&longer, &canon), Judgement::Differs(_)));
     }
 
     #[test]
