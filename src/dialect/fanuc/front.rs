@@ -42,6 +42,12 @@ const UNSUPPORTED: UnsupportedWording = UnsupportedWording {
     keep_help: "the block is kept as written; only the fanuc writer can write it back, and positions after it are unknown",
 };
 
+/// The machine builder's M codes, kept as written in every mode.
+const BUILDER: UnsupportedWording = UnsupportedWording {
+    keep_help: "kept as written in its block: a FANUC output says it, another control's output refuses it; positions after it are unknown (it may move the machine)",
+    ..UNSUPPORTED
+};
+
 /// The G codes ncthread reads, for "did you mean".
 const KNOWN_G: [&str; 24] = [
     "G00", "G01", "G02", "G03", "G04", "G18", "G20", "G21", "G32", "G40", "G41", "G42", "G50",

@@ -31,7 +31,7 @@
 //! block's order (`M05 M09` stops the spindle first), and each M code written acts (`M05
 //! M05` stops twice, `M02 M30` ends twice), where `Switches` holds one of each.
 
-use super::{FRegister, FrontEnd, KNOWN_G, Motion, UNSUPPORTED, Unit};
+use super::{BUILDER, FRegister, FrontEnd, KNOWN_G, Motion, UNSUPPORTED, Unit};
 use crate::dialect::Unsupported;
 use crate::dialect::fanuc::codes;
 use crate::dialect::fanuc::profile::GcodeSystem;
@@ -48,6 +48,10 @@ use crate::source::{Line, Span};
 pub(super) struct Words<'w> {
     /// What ncthread does not read, each with what to say about it, in the block's order.
     unsupported: Vec<(Span, String)>,
+    /// The machine builder's M codes among `unsupported`: when they are all the block has
+    /// that ncthread does not read, the block is read and they are kept as written, in
+    /// every mode.
+    builder: Vec<&'w Word>,
     /// The first modal code ncthread does not read (a cycle: the blocks after it repeat it).
     modal_unsupported: Option<&'w Word>,
     /// A code refused by name, its diagnostic said.
@@ -187,7 +191,7 @@ impl FrontEnd<'_> {
         } else {
             block
         };
-        let words = self.sort_words(line, block)?;
+        let mut words = self.sort_words(line, block)?;
         if words.refused_by_name {
             return None;
         }
@@ -195,12 +199,29 @@ impl FrontEnd<'_> {
         let motion = words.motion.map_or(self.motion, |(m, _)| m);
         // F is a lead, and X / U the thread's, in a G32 or G92 block (not beside G04).
         let threads = matches!(motion, Motion::Thread | Motion::Cycle) && words.dwell.is_none();
+        let thread = threads && words.moves();
+        let builder = std::mem::take(&mut words.builder);
         if !words.unsupported.is_empty() {
-            let thread = threads && words.moves();
-            self.refuse_unsupported(line, block, words, thread);
-            return None;
+            // A builder's M code (a chip conveyor, a door, a tailstock…) alone, outside a
+            // thread's block, is kept as written in every mode, and the block read.
+            if thread || builder.len() < words.unsupported.len() {
+                self.refuse_unsupported(line, block, words, thread);
+                return None;
+            }
+            let found = std::mem::take(&mut words.unsupported);
+            self.r.unsupported(&BUILDER, found, true, false);
         }
         if self.cycle_step(line, block, &words) {
+            if let Some(w) = builder.first() {
+                let text = &line.text[w.range.clone()];
+                self.error(
+                    codes::FANR_CYCLE,
+                    line,
+                    w.range.clone(),
+                    format!("`{text}` in the block of a cycle, which ncthread keeps as written"),
+                    "write the machine builder's M code in a block of its own, before or after the cycle",
+                );
+            }
             return None;
         }
         if let Some(w) = words.get('O') {
@@ -239,8 +260,33 @@ impl FrontEnd<'_> {
             None => self.motion_step(line, &words, lead, feed, code_span)?,
         }
         self.stops(&words, code_span);
+        self.builder_codes(line, &builder);
         self.program_end(&words, code_span);
         Some(())
+    }
+
+    /// The machine builder's M codes of a block, kept as written after its other items (the
+    /// FANUC writer puts them back in its block); what they do is the machine's, so that
+    /// positions after them are unknown.
+    fn builder_codes(&mut self, line: Line<'_>, codes: &[&Word]) {
+        for w in codes {
+            let span = self.span(line, w.range.clone());
+            self.r.keep_opaque(
+                line.text[w.range.clone()].to_string(),
+                span,
+                None,
+                crate::ir::ModalContext {
+                    inch: self.inch,
+                    diameter: true,
+                    incremental: false,
+                    per_minute: Some(self.per_minute),
+                    moves: true,
+                    cycle: false,
+                },
+            );
+            self.sync_end = None;
+            self.moved = true;
+        }
     }
 
     /// What a block means beside FANUC's cycles: a cycle kept as written (`front/cycles.rs`),
@@ -463,9 +509,13 @@ impl FrontEnd<'_> {
                 "`{text}`: mist coolant is not supported (set `mist = true` in the profile's [fanuc] section if the machine has it)"
             ),
             29 => format!("`{text}`: rigid tapping (M29) is not read"),
-            _ => format!(
-                "`{text}` is not supported: M codes other than M00–M05, M08, M09, M30 and the gear ranges M41–M44 are the machine builder's"
-            ),
+            98 | 99 => format!("`{text}`: a subprogram call or return is not read here"),
+            _ => {
+                words.builder.push(w);
+                format!(
+                    "`{text}` is the machine builder's M code (FANUC's own are M00–M05, M08, M09, M30 and the gear ranges M41–M44): what it does is the machine's"
+                )
+            }
         };
         words
             .unsupported
@@ -894,7 +944,7 @@ impl FrontEnd<'_> {
     }
 
     /// Stop: M05, M09, M00 and M01, after the motion, in the block's order.
-    fn stops(&mut self, words: &Words<'_>, code_span: Span) {
+    pub(super) fn stops(&mut self, words: &Words<'_>, code_span: Span) {
         for (m, _) in &words.m_codes {
             match m {
                 5 => self.push(ItemKind::SpindleStop, code_span),

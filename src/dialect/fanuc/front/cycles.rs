@@ -186,12 +186,7 @@ impl FrontEnd<'_> {
         if !self.model_block(line, block, words, g, second) {
             self.keep_cycle_block(line, block, second);
         }
-        if words.m(9).is_some() {
-            self.push(
-                crate::ir::ItemKind::Coolant(crate::ir::Coolant::Off),
-                code_span,
-            );
-        }
+        self.stops(words, code_span);
         self.after_cycle(line, words, g, second);
         if (70..=73).contains(&g) && second {
             self.cycle_references(line, words, g, start);
@@ -277,11 +272,12 @@ impl FrontEnd<'_> {
         what: &str,
     ) -> bool {
         let homing = matches!(g, 28 | 30 | 53);
-        // Coolant may stand beside a cycle (M07/M08 act before it, M09 after).
+        // Coolant may stand beside a cycle (M07/M08 act before it, M09 after), and a
+        // spindle stop beside a move home (after it, as in any block: `G53 G00 Z0 M05`).
         let other = words
             .m_codes
             .iter()
-            .filter(|(m, _)| !matches!(m, 7..=9))
+            .filter(|(m, _)| !matches!(m, 7..=9) && !(homing && *m == 5))
             .map(|(_, w)| *w)
             .chain(
                 words
@@ -436,12 +432,13 @@ impl FrontEnd<'_> {
         self.sync_end = None;
     }
 
-    /// A cycle block's code as written, but for its coolant words and S (read, and written,
-    /// as items of their own).
+    /// A cycle block's code as written, but for its coolant words, a spindle stop and S
+    /// (read, and written, as items of their own).
     pub(super) fn cycle_text(&self, line: Line<'_>, block: &Block) -> String {
         let mut code = self.kept_text(line, block);
         for w in block.words.iter().rev() {
-            if (w.letter == 'M' && matches!(w.value.to_whole(), Ok(7..=9))) || w.letter == 'S' {
+            if (w.letter == 'M' && matches!(w.value.to_whole(), Ok(5 | 7..=9))) || w.letter == 'S'
+            {
                 let text = &line.text[w.range.clone()];
                 if let Some(at) = code.rfind(text) {
                     code.replace_range(at..at + text.len(), "");
