@@ -56,6 +56,11 @@ struct Emitter<'a> {
     /// The last S written, and a G96/G97 of this block that still needs its S.
     speed: Option<u32>,
     speed_word: Option<Item>,
+    /// The spindle turns in the output (M03/M04 written, no M05 since).
+    turning: bool,
+    /// A G97 was written without S while the spindle stood: the rpm the control keeps is
+    /// its own, so that the next start says its S.
+    speed_unsaid: bool,
     /// Comments met inside a G32 chain (with the span of their item), written after it.
     deferred: Vec<(String, Span)>,
     /// The span of the item being written: where a comment's transliteration is reported.
@@ -215,6 +220,8 @@ pub fn emit(
         surface_speed: false,
         speed: None,
         speed_word: None,
+        turning: false,
+        speed_unsaid: false,
         deferred: Vec::new(),
         at: Span::default(),
         latin: Transliterated::default(),
@@ -637,7 +644,10 @@ impl Emitter<'_> {
             // Refused by legalisation (no rigid tapping, no machine coordinates).
             ItemKind::TapCycle(_) | ItemKind::MachineMove(_) | ItemKind::Roughing(_) => {}
             ItemKind::Spindle { speed, direction } => self.spindle(*speed, *direction, block),
-            ItemKind::SpindleStop => block.words.push("M05".into()),
+            ItemKind::SpindleStop => {
+                self.turning = false;
+                block.words.push("M05".into());
+            }
             ItemKind::SpindleMode(mode) => return self.spindle_mode(item, mode, block),
             ItemKind::Tool { number, offset } => self.tool(item, *number, *offset, block),
             // The same machine's gear range: its M code.
@@ -715,10 +725,16 @@ impl Emitter<'_> {
         direction: Option<SpindleDirection>,
         block: &mut Block,
     ) {
+        // After a bare G97 the start says the speed the program has (`speed_unsaid`).
+        let speed = speed.or(self.speed.filter(|_| direction.is_some() && self.speed_unsaid));
         if let Some(s) = speed {
             block.words.push(format!("S{s}"));
             self.speed = Some(s);
             self.speed_word = None;
+            self.speed_unsaid = false;
+        }
+        if direction.is_some() {
+            self.turning = true;
         }
         match direction {
             Some(SpindleDirection::Clockwise) => block.words.push("M03".into()),
@@ -731,6 +747,14 @@ impl Emitter<'_> {
     /// the surface speed is refused.
     fn spindle_mode(&mut self, item: &Item, mode: &SpindleMode, block: &mut Block) -> bool {
         match mode {
+            // While the spindle stands, a G97 needs no S: nothing runs at the rpm the
+            // control keeps, and the next start says its S (the reader reads it back).
+            SpindleMode::Rpm if !self.turning && self.surface_speed => {
+                self.surface_speed = false;
+                block.words.push("G97".into());
+                self.speed_unsaid = true;
+                true
+            }
             SpindleMode::Rpm => {
                 self.surface_speed = false;
                 block.words.push("G97".into());

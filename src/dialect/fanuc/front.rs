@@ -165,6 +165,20 @@ struct FrontEnd<'a> {
     contours: model::Contours,
     /// Under a machine model: the last G90/G94's end and taper (a repeat block keeps them).
     turning: Option<(crate::lower::fanuc::Point, Length)>,
+    /// A `G97` without S that ended a surface speed, while its speed is not known
+    /// (`front/block.rs`, `bare_g97`).
+    bare_g97: Option<BareG97>,
+}
+
+/// A `G97` without S after G96: the rpm the control keeps is not settled by any source
+/// ncthread holds. Read where that speed is never used: an S comes before any move, or the
+/// spindle stops (M05) first and starts again with an S. **\[decided\]**
+#[derive(Clone, Copy)]
+struct BareG97 {
+    /// The `G97` word.
+    span: Span,
+    /// M05 stopped the spindle after it (the mode is written after the stop).
+    stopped: bool,
 }
 
 /// Reads a FANUC program. The program holds every item that could be read; it is usable
@@ -220,6 +234,7 @@ pub(crate) fn read(
         capturing: None,
         contours: model::Contours::new(),
         turning: None,
+        bare_g97: None,
     };
     match &loaded {
         Some(loaded) => fe.macro_lines(src, loaded),

@@ -211,6 +211,7 @@ impl FrontEnd<'_> {
             let found = std::mem::take(&mut words.unsupported);
             self.r.unsupported(&BUILDER, found, true, false);
         }
+        self.bare_g97_used(&words, code_span)?;
         if self.cycle_step(line, block, &words) {
             if let Some(w) = builder.first() {
                 let text = &line.text[w.range.clone()];
@@ -263,6 +264,40 @@ impl FrontEnd<'_> {
         self.builder_codes(line, &builder);
         self.program_end(&words, code_span);
         Some(())
+    }
+
+    /// A bare G97's speed used (`bare_g97`): a move, a cycle or a thread while the spindle
+    /// turns at it, or M03/M04 without S after M05 stopped it. Refused at the G97 (or the M
+    /// code), which is then done with.
+    fn bare_g97_used(&mut self, words: &Words<'_>, code_span: Span) -> Option<()> {
+        let Some(bare) = self.bare_g97 else {
+            return Some(());
+        };
+        let speed = words.get('S').is_some() && words.limit.is_none();
+        let used = !speed
+            && if bare.stopped {
+                words.direction().is_some()
+            } else {
+                words.moves() || words.cycle.is_some()
+            };
+        if !used {
+            return Some(());
+        }
+        self.bare_g97 = None;
+        let (message, help) = if bare.stopped {
+            (
+                "the spindle starts again without S after a `G97` without S: which rpm the control keeps is not settled by any source ncthread holds",
+                "write the speed with the M03/M04: `S800 M03`",
+            )
+        } else {
+            (
+                "`G97` without S, and the spindle turns on at the rpm it keeps: which speed the control keeps when the mode changes is not settled by any source ncthread holds",
+                "write the speed in the same block: `G97 S800`, or stop the spindle (M05) before the next move",
+            )
+        };
+        let at = if bare.stopped { code_span } else { bare.span };
+        self.r.error(codes::FANR_UNSUPPORTED, at, message, help);
+        None
     }
 
     /// The machine builder's M codes of a block, kept as written after its other items (the
@@ -788,8 +823,27 @@ impl FrontEnd<'_> {
     /// G96 (a surface speed, with the limit G50 set) or G97 (rpm), each with its S.
     fn speed_mode(&mut self, line: Line<'_>, words: &Words<'_>) -> Option<Option<SpindleMode>> {
         let Some((surface, w)) = words.speed_mode else {
+            // An S after a bare G97: the rpm from here on, the mode with it.
+            if words.get('S').is_some()
+                && let Some(bare) = self.bare_g97.take()
+            {
+                return Some((!bare.stopped).then_some(SpindleMode::Rpm));
+            }
             return Some(None);
         };
+        // A G96 or G97 with S after a bare G97: the bare one's speed was never used.
+        if words.get('S').is_some() {
+            self.bare_g97 = None;
+        }
+        if words.get('S').is_none() && !surface && self.surface_speed {
+            // Read where its speed is never used (`bare_g97`).
+            self.surface_speed = false;
+            self.bare_g97 = Some(super::BareG97 {
+                span: self.span(line, w.range.clone()),
+                stopped: false,
+            });
+            return Some(None);
+        }
         if words.get('S').is_none() && (surface || self.surface_speed) {
             // What G96 or G97 keeps without S (the last G96 S? the rpm the surface speed ran
             // at?) no source ncthread holds settles.
@@ -947,7 +1001,15 @@ impl FrontEnd<'_> {
     pub(super) fn stops(&mut self, words: &Words<'_>, code_span: Span) {
         for (m, _) in &words.m_codes {
             match m {
-                5 => self.push(ItemKind::SpindleStop, code_span),
+                5 => {
+                    self.push(ItemKind::SpindleStop, code_span);
+                    // A bare G97's mode, once the spindle stands (`bare_g97`).
+                    if let Some(bare) = self.bare_g97.as_mut().filter(|b| !b.stopped) {
+                        bare.stopped = true;
+                        let span = bare.span;
+                        self.push(ItemKind::SpindleMode(SpindleMode::Rpm), span);
+                    }
+                }
                 9 => self.push(ItemKind::Coolant(Coolant::Off), code_span),
                 0 => self.push(ItemKind::Stop { optional: false }, code_span),
                 1 => self.push(ItemKind::Stop { optional: true }, code_span),
