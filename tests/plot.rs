@@ -350,6 +350,11 @@ fn check_arcs(drawn_paths: &[(String, String)], moves: &[Move], here: &str) -> u
             "{here}: drawn {} ({d})",
             if clockwise_drawn { "G2" } else { "G3" }
         );
+        // An arc whose ends lie within a pixel of each other (a fuzz finding's 0.004 mm
+        // chord) keeps only its sense in two decimals: its centre cannot be read back.
+        if m.from != m.to && (z1 - z0).hypot(r1 - r0) * scale < 1.0 {
+            continue;
+        }
         assert!(
             (turned_drawn.abs() - turned).abs() <= angle_tol,
             "{here}: turns {turned:.3}° but is drawn turning {:.3}° ({d})",

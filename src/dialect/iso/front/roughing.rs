@@ -165,6 +165,8 @@ struct ContourWords<'b> {
     words: BTreeMap<char, &'b Word>,
     /// G0–G3 as 0–3, when the line has one.
     motion: Option<u8>,
+    /// A J (of the XY plane): an arc's line runs without it, a G0/G1 line is refused.
+    j: Option<&'b Word>,
 }
 
 impl ContourWords<'_> {
@@ -176,10 +178,12 @@ impl ContourWords<'_> {
         self.words.get(&letter).map(|w| w.range.clone())
     }
 
-    /// The arc word (I, K or R) the line has, the first of them in that order.
+    /// The arc word (I, J, K or R) the line has, the first of them in that order (as
+    /// LinuxCNC checks a line's words).
     fn arc_word(&self) -> Option<&&Word> {
         self.words
             .get(&'I')
+            .or(self.j.as_ref())
             .or(self.words.get(&'K'))
             .or(self.words.get(&'R'))
     }
@@ -432,8 +436,11 @@ impl FrontEnd<'_> {
                 line,
                 w.range.clone(),
                 format!("`{text}` on a {code} line of a contour (LinuxCNC: \"{} word with no G2, G3… to use it\")", w.letter),
-                "I, K and R belong to arcs (G2, G3)",
+                "I, K and R belong to arcs (G2, G3), and J to none on a lathe",
             );
+        }
+        if let Some(j) = words.j {
+            self.report_ignored_contour_words(line, &[j], &name, &label);
         }
         let Some((start, end, centre)) = self.contour_end(line, &words) else {
             return;
@@ -467,7 +474,7 @@ impl FrontEnd<'_> {
     ) -> Option<ContourWords<'b>> {
         let mut words: BTreeMap<char, &Word> = Default::default();
         let mut ignored: Vec<&Word> = Vec::new();
-        let mut motion = None;
+        let (mut motion, mut j) = (None, None);
         for w in &block.words {
             match w.letter {
                 'G' => {
@@ -479,8 +486,10 @@ impl FrontEnd<'_> {
                     self.unknown_in_contour(line, w, "Unknown m code used", (name, label));
                     return None;
                 }
-                // J (of the XY plane) too: rs274 runs a contour's `G2 X30 J0 Z-10 R5`.
-                'M' | 'S' | 'T' | 'F' | 'J' => ignored.push(w),
+                // J (of the XY plane) too: rs274 runs a contour's `G2 X30 J0 Z-10 R5` (and
+                // refuses `J0 G0 X0 Z-10`, below).
+                'J' => j = Some(w),
+                'M' | 'S' | 'T' | 'F' => ignored.push(w),
                 'X' | 'Z' | 'U' | 'W' | 'I' | 'K' | 'R' | 'A' | 'C' => {
                     if let Some(first) = words.insert(w.letter, w) {
                         let first = line.text[first.range.clone()].to_string();
@@ -510,7 +519,7 @@ impl FrontEnd<'_> {
             }
         }
         self.report_ignored_contour_words(line, &ignored, name, label);
-        Some(ContourWords { words, motion })
+        Some(ContourWords { words, motion, j })
     }
 
     /// A G word of a contour line: its motion (one per line), or a code the cycle does not
