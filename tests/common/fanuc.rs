@@ -183,6 +183,10 @@ pub fn translate(fanuc: &str, calculator: bool) -> Result<String, String> {
                 2 | 30 => after.push(format!("M{m}")),
                 // A gear range: LinuxCNC has none, and it moves nothing.
                 41..=44 => {}
+                // The machine builder's: kept as written, what it does is the machine's.
+                m if !matches!(m, 6 | 7 | 29 | 98 | 99) => {
+                    return Err(format!("skip: M{m} is the machine builder's"));
+                }
                 _ => return Err(format!("M{m} is not in the subset")),
             }
         }

@@ -726,7 +726,9 @@ impl Emitter<'_> {
         block: &mut Block,
     ) {
         // After a bare G97 the start says the speed the program has (`speed_unsaid`).
-        let speed = speed.or(self.speed.filter(|_| direction.is_some() && self.speed_unsaid));
+        let speed = speed.or(self
+            .speed
+            .filter(|_| direction.is_some() && self.speed_unsaid));
         if let Some(s) = speed {
             block.words.push(format!("S{s}"));
             self.speed = Some(s);

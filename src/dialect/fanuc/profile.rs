@@ -18,6 +18,7 @@
 //! g76_min_cut = "formula"         # G76's Δdmin counts from Δd√(n−1), or "accumulated"
 //! g76_pass_end = "end-line"       # G76's passes end on the end line, or "shifted"
 //! reference_point = { x = 250.0, z = 300.0 }  # G28's point in machine coordinates (X a diameter)
+//! haas_setting_73 = 0.05          # Haas's one-block G71/G72: the retract after a layer (Setting 73, 287 on the NGC), in the machine's unit
 //! ```
 
 use serde::Deserialize;
@@ -143,6 +144,10 @@ pub struct CycleModel {
     pub g76_pass_end: Option<PassEnd>,
     /// The reference point G28 returns to, in machine coordinates (X a diameter).
     pub reference_point: Option<(Length, Length)>,
+    /// Haas's one-block G71/G72 (`G71 P Q U W D F`): the retract after each layer, the
+    /// machine's Setting 73 (287 on Haas's Next Generation Control). `None`: not said, so
+    /// such a cycle is kept as written.
+    pub haas_setting_73: Option<Length>,
 }
 
 impl CycleModel {
@@ -157,6 +162,7 @@ impl CycleModel {
             g76_min_cut: Some(MinCut::Formula),
             g76_pass_end: Some(PassEnd::EndLine),
             reference_point: None,
+            haas_setting_73: None,
         }
     }
 }
@@ -221,6 +227,7 @@ pub(crate) struct Raw {
     g76_min_cut: Option<toml::Spanned<String>>,
     g76_pass_end: Option<toml::Spanned<String>>,
     reference_point: Option<toml::Spanned<RawPoint>>,
+    haas_setting_73: Option<toml::Spanned<f64>>,
 }
 
 /// `reference_point = { x = 250.0, z = 300.0 }`.
@@ -308,6 +315,7 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut FanucProfile, diags: &mut
         g76_min_cut: raw.g76_min_cut,
         g76_pass_end: raw.g76_pass_end,
         reference_point: raw.reference_point,
+        haas_setting_73: raw.haas_setting_73,
     };
     model_keys(src, keys, p, diags);
 }
@@ -322,6 +330,7 @@ struct ModelKeys {
     g76_min_cut: Option<toml::Spanned<String>>,
     g76_pass_end: Option<toml::Spanned<String>>,
     reference_point: Option<toml::Spanned<RawPoint>>,
+    haas_setting_73: Option<toml::Spanned<f64>>,
 }
 
 /// The machine model: `cycle_model` first, each open point's own key over it, and the
@@ -335,6 +344,9 @@ fn model_keys(
     cycle_model(src, keys.cycle_model, p, diags);
     if let Some(v) = keys.reference_point {
         p.cycle_model.reference_point = reference_point(src, v, diags);
+    }
+    if let Some(v) = keys.haas_setting_73 {
+        p.cycle_model.haas_setting_73 = haas_length(src, v, p.inch, "haas_setting_73", diags);
     }
     let m = &mut p.cycle_model;
     let own = keys.g71_retract.is_some()
@@ -402,6 +414,35 @@ fn model_keys(
         diags,
         m.g73_divisor,
     );
+}
+
+/// A Haas Setting's length, in the machine's unit (`units`): 0 or more, below 1 m; on the
+/// grid of that unit (0.0001 in is exact).
+fn haas_length(
+    src: &SourceFile,
+    v: toml::Spanned<f64>,
+    inch: bool,
+    key: &str,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Length> {
+    let span = src.span_of(v.span());
+    let x = v.into_inner();
+    let mm = if inch { x * 25.4 } else { x };
+    if x.is_finite() && (0.0..1000.0).contains(&mm) {
+        return Some(if inch {
+            Length((x * 10_000.0).round() as i64 * Length::INCH_STEP)
+        } else {
+            Length::from_mm_f64(x)
+        });
+    }
+    diags.push(bad_value(
+        src,
+        span,
+        key,
+        format!("`{x}` is not a retract"),
+        "copy the machine's Setting, in the machine's unit (`units`): 0.05 is 0.05 in on an inch machine",
+    ));
+    None
 }
 
 /// `reference_point = { x = …, z = … }`: millimetres, x a diameter.
@@ -576,5 +617,24 @@ mod tests {
                 .any(|i| matches!(&i.kind, crate::ir::ItemKind::Rapid { to }
             if to.x == Some(crate::fixed::Length::from_mm_f64(25.4))))
         );
+    }
+
+    #[test]
+    fn haas_setting_73_is_in_the_machines_unit() {
+        let read = |text: &str| {
+            Profile::from_toml(&SourceFile::new("p.toml", text))
+                .map(|p| p.fanuc.cycle_model.haas_setting_73)
+        };
+        // 0.05 in is 1.27 mm, exactly (0.0001 in is 254 grid units).
+        assert_eq!(
+            read("[fanuc]\nunits = \"inch\"\nhaas_setting_73 = 0.05\n").unwrap(),
+            Some(crate::fixed::Length(500 * crate::fixed::Length::INCH_STEP))
+        );
+        assert_eq!(
+            read("[fanuc]\nhaas_setting_73 = 1.0\n").unwrap(),
+            Some(crate::fixed::Length::from_mm(1))
+        );
+        assert!(read("[fanuc]\nhaas_setting_73 = -1.0\n").is_err());
+        assert_eq!(read("[fanuc]\n").unwrap(), None);
     }
 }

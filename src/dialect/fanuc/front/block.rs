@@ -824,10 +824,12 @@ impl FrontEnd<'_> {
     fn speed_mode(&mut self, line: Line<'_>, words: &Words<'_>) -> Option<Option<SpindleMode>> {
         let Some((surface, w)) = words.speed_mode else {
             // An S after a bare G97: the rpm from here on, the mode with it.
+            // (At the G97's place: the writer keeps it on its line.)
             if words.get('S').is_some()
                 && let Some(bare) = self.bare_g97.take()
+                && !bare.stopped
             {
-                return Some((!bare.stopped).then_some(SpindleMode::Rpm));
+                self.push(ItemKind::SpindleMode(SpindleMode::Rpm), bare.span);
             }
             return Some(None);
         };

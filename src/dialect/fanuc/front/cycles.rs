@@ -277,7 +277,7 @@ impl FrontEnd<'_> {
         let other = words
             .m_codes
             .iter()
-            .filter(|(m, _)| !matches!(m, 7..=9) && !(homing && *m == 5))
+            .filter(|(m, _)| !(matches!(m, 7..=9) || homing && *m == 5))
             .map(|(_, w)| *w)
             .chain(
                 words
@@ -437,8 +437,7 @@ impl FrontEnd<'_> {
     pub(super) fn cycle_text(&self, line: Line<'_>, block: &Block) -> String {
         let mut code = self.kept_text(line, block);
         for w in block.words.iter().rev() {
-            if (w.letter == 'M' && matches!(w.value.to_whole(), Ok(5 | 7..=9))) || w.letter == 'S'
-            {
+            if (w.letter == 'M' && matches!(w.value.to_whole(), Ok(5 | 7..=9))) || w.letter == 'S' {
                 let text = &line.text[w.range.clone()];
                 if let Some(at) = code.rfind(text) {
                     code.replace_range(at..at + text.len(), "");

@@ -559,15 +559,48 @@ impl FrontEnd<'_> {
         }
     }
 
+    /// Haas's one-block G71/G72 (`G71 P Q U W D F`): D the depth of cut (a radius for
+    /// G71), the retract the machine's Setting 73 (`haas_setting_73`). Its I and K (a rough
+    /// pass allowance) and G73's one-block form are not expanded.
+    fn haas_setup(&mut self, line: Line<'_>, words: &Words<'_>, g: i64) -> Result<Setup, String> {
+        if g == 73 {
+            return Err(
+                "Haas's one-block G73 (D the number of passes) is not expanded by this version"
+                    .into(),
+            );
+        }
+        if words.get('I').is_some() || words.get('K').is_some() {
+            return Err(
+                "Haas's rough pass allowance (I, K) is not expanded by this version".into(),
+            );
+        }
+        let retract = self.profile.cycle_model.haas_setting_73.ok_or(
+            "Haas's one-block form takes its retract after each layer from the machine's Setting 73 (287 on the NGC), which the profile does not give (`haas_setting_73`)",
+        )?;
+        let depth = self.axis(line, words, 'D')?;
+        if depth <= Length::ZERO {
+            return Err("its D, the depth of cut, is not positive".into());
+        }
+        self.setup = None;
+        Ok(Setup {
+            g,
+            depth,
+            retract,
+            relief: (Length::ZERO, Length::ZERO),
+            passes: 0,
+            feed: None,
+        })
+    }
+
     /// A G71/G72's second block: its words now, its moves when its contour has been read.
     fn roughing(&mut self, line: Line<'_>, words: &Words<'_>, g: i64) -> Expansion {
         let pending = (|| {
-            if words.get('D').is_some() {
-                return Err("Haas's one-block form takes its depth and retract from the machine's Settings, which the model does not hold".to_string());
-            }
-            let setup = self.setup.take().filter(|s| s.g == g).ok_or(
-                "its first block (the depth of cut and the retract) is not right before it",
-            )?;
+            let setup = match words.get('D') {
+                Some(_) => self.haas_setup(line, words, g)?,
+                None => self.setup.take().filter(|s| s.g == g).ok_or(
+                    "its first block (the depth of cut and the retract) is not right before it",
+                )?,
+            };
             let start = self.start()?;
             let (p, q) = self.p_q(line, words).ok_or("its P or Q cannot be read")?;
             let allowance = (self.axis(line, words, 'U')?, self.axis(line, words, 'W')?);
