@@ -631,6 +631,19 @@ mod tests {
     }
 
     #[test]
+    fn a_speed_with_a_point_and_no_fraction_is_that_speed() {
+        let (items, d) = read("G50 S3000.\nG97 S1500.0 M03\n", "");
+        assert!(d.is_empty(), "{d:?}");
+        assert!(items.iter().any(|i| i.kind
+            == ItemKind::Spindle {
+                speed: Some(1500),
+                direction: Some(SpindleDirection::Clockwise)
+            }));
+        let (_, d) = read("G97 S1500.5 M03\n", "");
+        assert_eq!(codes(&d), ["FANR006"]);
+    }
+
+    #[test]
     fn increments_and_the_decimal_point_rule() {
         let (items, d) = read("G00 X20000 Z5.\nU-1000 W-5.\n", "");
         assert_eq!(codes(&d), ["FANR013"]);

@@ -26,10 +26,13 @@ impl FrontEnd<'_> {
         );
     }
 
-    /// A whole number without a decimal point (G, M, S, T, P, Q).
+    /// A whole number without a decimal point (G, M, S, T, P, Q). An S may have one where
+    /// nothing follows it but zeros (`S3000.`, as Haas programs write it): the speed is the
+    /// same whole number. **\[decided\]**
     pub(super) fn whole(&mut self, line: Line<'_>, word: &Word) -> Option<i64> {
         let text = &line.text[word.range.clone()];
-        if word.value.has_point {
+        let whole_speed = word.letter == 'S' && word.value.to_whole().is_ok();
+        if word.value.has_point && !whole_speed {
             self.error(
                 codes::FANR_NUMBER,
                 line,
