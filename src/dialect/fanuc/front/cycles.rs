@@ -25,7 +25,9 @@ fn form(g: i64, second: bool) -> &'static str {
     match g {
         // U, W and D as Haas's own example programs write them; S the speed it runs at.
         70 => "PQFUWDS",
-        71..=73 if second => "PQUWDFS",
+        // Haas's one-block forms: G71/G72 D the depth, I K a rough pass allowance; G73 I K
+        // the relief, D the passes.
+        71..=73 if second => "PQUWDFSIK",
         // The first block: the depth of cut (U for G71, W for G72) and the retract; F there
         // too in real programs.
         71 => "URF",
@@ -80,7 +82,17 @@ impl Check {
 /// The words of cycle `g` whose values are checked.
 fn value_checks(g: i64, second: bool) -> &'static [(char, Check)] {
     match (g, second) {
-        (70..=73, true) => &[('P', Check::Block), ('Q', Check::Block)],
+        (71 | 72, true) => &[
+            ('P', Check::Block),
+            ('Q', Check::Block),
+            ('D', Check::Depth),
+        ],
+        (73, true) => &[
+            ('P', Check::Block),
+            ('Q', Check::Block),
+            ('D', Check::Passes),
+        ],
+        (70, true) => &[('P', Check::Block), ('Q', Check::Block)],
         (71, false) => &[('U', Check::Depth)],
         (72, false) => &[('W', Check::Depth)],
         (73, false) => &[('R', Check::Passes)],

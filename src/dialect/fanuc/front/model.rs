@@ -559,15 +559,27 @@ impl FrontEnd<'_> {
         }
     }
 
-    /// Haas's one-block G71/G72 (`G71 P Q U W D F`): D the depth of cut (a radius for
-    /// G71), the retract the machine's Setting 73 (`haas_setting_73`). Its I and K (a rough
-    /// pass allowance) and G73's one-block form are not expanded.
+    /// Haas's one-block forms: G71/G72 (`G71 P Q U W D F`), D the depth of cut (a radius
+    /// for G71), the retract the machine's Setting 73 (`haas_setting_73`), its I and K (a
+    /// rough pass allowance) not expanded; G73 (`G73 P Q U W I K D F`), I and K the relief
+    /// from the first pass to the last (I a radius), D the number of passes.
     fn haas_setup(&mut self, line: Line<'_>, words: &Words<'_>, g: i64) -> Result<Setup, String> {
+        self.setup = None;
         if g == 73 {
-            return Err(
-                "Haas's one-block G73 (D the number of passes) is not expanded by this version"
-                    .into(),
-            );
+            let d = words.get('D').ok_or("it has no D, the number of passes")?;
+            let passes = (!d.value.has_point)
+                .then(|| d.value.to_whole().ok())
+                .flatten()
+                .and_then(|n| u32::try_from(n).ok())
+                .ok_or("its D (the number of passes) is not a whole number")?;
+            return Ok(Setup {
+                g,
+                depth: Length::ZERO,
+                retract: Length::ZERO,
+                relief: (self.axis(line, words, 'I')?, self.axis(line, words, 'K')?),
+                passes,
+                feed: None,
+            });
         }
         if words.get('I').is_some() || words.get('K').is_some() {
             return Err(
@@ -581,7 +593,6 @@ impl FrontEnd<'_> {
         if depth <= Length::ZERO {
             return Err("its D, the depth of cut, is not positive".into());
         }
-        self.setup = None;
         Ok(Setup {
             g,
             depth,
