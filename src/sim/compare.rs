@@ -435,29 +435,10 @@ pub fn compare_within(
                 });
             }
         };
-        // Two feeds on one side that the other has as one: their meeting point lies within
-        // the tolerance of the line on one side and just outside it on the other (rs274's
-        // printed digits), so `normalise` merged them on one side only.
-        if a.motion == b.motion
-            && matches!(a.motion, Motion::Feed { .. })
-            && close_pos(a.from, b.from, tol)
-            && !close_pos(a.to, b.to, tol)
-        {
-            if two_feeds_as_one(left, i, b.to, tol) {
-                i += 2;
-                j += 1;
-                continue;
-            }
-            if two_feeds_as_one(right, j, a.to, tol) {
-                i += 1;
-                j += 2;
-                continue;
-            }
-            if joint_slides(left, i, right, j, tol) {
-                i += 2;
-                j += 2;
-                continue;
-            }
+        if let Some((di, dj)) = feeds_joined_otherwise(left, i, right, j, tol) {
+            i += di;
+            j += dj;
+            continue;
         }
         let next = (left.get(i + 1), right.get(j + 1));
         if let Some(what) = judge.pair(a, b, next) {
@@ -481,6 +462,36 @@ pub fn compare_within(
         }
         i += 1;
         j += 1;
+    }
+}
+
+/// Two feeds on one side that the other has as one (their meeting point lies within the
+/// tolerance of the line on one side and just outside it on the other: rs274's printed
+/// digits, so `normalise` merged them on one side only), or a joint between two feeds in
+/// different places: how many segments each side's pair takes.
+fn feeds_joined_otherwise(
+    left: &[Segment],
+    i: usize,
+    right: &[Segment],
+    j: usize,
+    tol: Length,
+) -> Option<(usize, usize)> {
+    let (a, b) = (&left[i], &right[j]);
+    if !(a.motion == b.motion
+        && matches!(a.motion, Motion::Feed { .. })
+        && close_pos(a.from, b.from, tol)
+        && !close_pos(a.to, b.to, tol))
+    {
+        return None;
+    }
+    if two_feeds_as_one(left, i, b.to, tol) {
+        Some((2, 1))
+    } else if two_feeds_as_one(right, j, a.to, tol) {
+        Some((1, 2))
+    } else if joint_slides(left, i, right, j, tol) {
+        Some((2, 2))
+    } else {
+        None
     }
 }
 

@@ -644,10 +644,7 @@ impl Emitter<'_> {
             // Refused by legalisation (no rigid tapping, no machine coordinates).
             ItemKind::TapCycle(_) | ItemKind::MachineMove(_) | ItemKind::Roughing(_) => {}
             ItemKind::Spindle { speed, direction } => self.spindle(*speed, *direction, block),
-            ItemKind::SpindleStop => {
-                self.turning = false;
-                block.words.push("M05".into());
-            }
+            ItemKind::SpindleStop => self.spindle_stop(block),
             ItemKind::SpindleMode(mode) => return self.spindle_mode(item, mode, block),
             ItemKind::Tool { number, offset } => self.tool(item, *number, *offset, block),
             // The same machine's gear range: its M code.
@@ -716,6 +713,12 @@ impl Emitter<'_> {
             comment: Some(text),
             ..Block::default()
         });
+    }
+
+    /// M05: the spindle stands from here on.
+    fn spindle_stop(&mut self, block: &mut Block) {
+        self.turning = false;
+        block.words.push("M05".into());
     }
 
     /// The spindle's speed and direction words.

@@ -238,18 +238,7 @@ impl FrontEnd<'_> {
         };
         sw.spindle_mode(&mut self.r, None);
         self.tool(line, &words, code_span)?;
-        // M41–M44, the gear (speed) range, before the spindle turns in it.
-        for (m, _) in &words.m_codes {
-            if (41..=44).contains(m) {
-                self.push(
-                    ItemKind::GearRange {
-                        code: *m as u32,
-                        machine: crate::dialect::fanuc::ID,
-                    },
-                    code_span,
-                );
-            }
-        }
+        self.gear_ranges(&words, code_span);
         sw.spindle = Some((self.speed(line, &words)?, words.direction(), code_span));
         sw.spindle(&mut self.r, None);
         sw.coolant = words.coolant_on(code_span);
@@ -264,6 +253,21 @@ impl FrontEnd<'_> {
         self.builder_codes(line, &builder);
         self.program_end(&words, code_span);
         Some(())
+    }
+
+    /// M41–M44, the gear (speed) range, before the spindle turns in it.
+    fn gear_ranges(&mut self, words: &Words<'_>, code_span: Span) {
+        for (m, _) in &words.m_codes {
+            if (41..=44).contains(m) {
+                self.push(
+                    ItemKind::GearRange {
+                        code: *m as u32,
+                        machine: crate::dialect::fanuc::ID,
+                    },
+                    code_span,
+                );
+            }
+        }
     }
 
     /// A bare G97's speed used (`bare_g97`): a move, a cycle or a thread while the spindle
