@@ -36,7 +36,7 @@ struct Emitter<'a> {
     /// The last speed and the direction while the spindle turns.
     speed: Option<u32>,
     turning: Option<SpindleDirection>,
-    /// The spindle item after a G96 went on the G96 line.
+    /// The spindle item after a G96 or a G97 went on the mode's line.
     spindle_on_g96: bool,
     /// A surface speed in feet per minute is in force: a line with S is written under G20
     /// (LinuxCNC takes G96's S in the units in force when S is set), then G21 again (and
@@ -409,11 +409,7 @@ impl Emitter<'_> {
             ItemKind::Spindle { .. } if std::mem::take(&mut self.spindle_on_g96) => {}
             ItemKind::Spindle { speed, direction } => self.spindle(*speed, *direction),
             ItemKind::FeedRate(f) => self.unit_line(|u| format!("F{}", u.len(*f))),
-            ItemKind::SpindleMode(SpindleMode::Rpm) => {
-                self.surface_feet = false;
-                self.surface = false;
-                self.line("G97");
-            }
+            ItemKind::SpindleMode(SpindleMode::Rpm) => self.rpm_mode(next),
             ItemKind::Compensation(c) => self.unit_line(|u| compensation_words(c, u)),
             ItemKind::WorkOffset(n) => self.line(work_offset_word(*n)),
             // The motion mode after G53 is the line's G0/G1, as in the source.
@@ -472,6 +468,29 @@ impl Emitter<'_> {
         }
         let text = spindle_words(speed, direction);
         self.speed_line(&text, speed.is_some());
+    }
+
+    /// G97, with the speed that follows it on its line (`G97 S800 M3`): LinuxCNC sets the
+    /// mode, then the speed, in one block, where a `G97` of its own would turn the spindle
+    /// at the surface speed's S as rpm until the next line.
+    fn rpm_mode(&mut self, next: Option<&Item>) {
+        self.surface_feet = false;
+        self.surface = false;
+        match next.map(|n| &n.kind) {
+            Some(ItemKind::Spindle {
+                speed: Some(s),
+                direction,
+            }) => {
+                self.speed = Some(*s);
+                if direction.is_some() {
+                    self.turning = *direction;
+                }
+                let text = format!("G97 {}", spindle_words(Some(*s), *direction));
+                self.spindle_on_g96 = true;
+                self.speed_line(&text, true);
+            }
+            _ => self.line("G97"),
+        }
     }
 
     /// G96 with its limit D. LinuxCNC wants S on the G96 line: the speed item that follows
