@@ -168,6 +168,8 @@ struct FrontEnd<'a> {
     /// A `G97` without S that ended a surface speed, while its speed is not known
     /// (`front/block.rs`, `bare_g97`).
     bare_g97: Option<BareG97>,
+    /// M03/M04 read, and no M05 since.
+    spindle_on: bool,
 }
 
 /// A `G97` without S after G96: the rpm the control keeps is not settled by any source
@@ -235,6 +237,7 @@ pub(crate) fn read(
         contours: model::Contours::new(),
         turning: None,
         bare_g97: None,
+        spindle_on: false,
     };
     match &loaded {
         Some(loaded) => fe.macro_lines(src, loaded),

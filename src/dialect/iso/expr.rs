@@ -3,6 +3,8 @@
 //! precedence, and its functions. Values are f64 as in LinuxCNC; a value that becomes a
 //! coordinate is rounded once onto the IR's grid by the front end.
 
+use super::long_double;
+
 use std::ops::Range;
 
 /// A binary operator, in LinuxCNC's precedence classes (`precedence()`): `**` 6; `*`, `/`,
@@ -193,7 +195,7 @@ impl Expr {
             ExprKind::Exists(name) => f64::from(u8::from(env.exists(name))),
             ExprKind::Atan(y, x) => {
                 let (y, x) = (y.eval(env)?, x.eval(env)?);
-                y.atan2(x).to_degrees()
+                long_double::degrees(y.atan2(x))
             }
             ExprKind::Unary(f, e) => {
                 let v = e.eval(env)?;
@@ -229,11 +231,17 @@ impl Expr {
                     "the argument of ACOS and ASIN is −1 … 1",
                 ));
             }
-            Func::Acos => v.acos().to_degrees(),
-            Func::Asin => v.asin().to_degrees(),
-            Func::Cos => v.to_radians().cos(),
-            Func::Sin => v.to_radians().sin(),
-            Func::Tan => v.to_radians().tan(),
+            Func::Acos => long_double::degrees(v.acos()),
+            Func::Asin => long_double::degrees(v.asin()),
+            Func::Cos | Func::Sin | Func::Tan if v.abs() >= long_double::TRIG_LIMIT => {
+                return Err(self.fail(
+                    format!("an angle of {v}° for {}: LinuxCNC computes its radians in 80-bit precision, which a 64-bit float does not reproduce past 1e9°", format!("{f:?}").to_ascii_uppercase()),
+                    "reduce the angle below 1e9° (a turn is 360°)",
+                ));
+            }
+            Func::Cos => long_double::radians(v).cos(),
+            Func::Sin => long_double::radians(v).sin(),
+            Func::Tan => long_double::radians(v).tan(),
             Func::Exp => v.exp(),
             Func::Fix => v.floor(),
             Func::Fup => v.ceil(),

@@ -7,6 +7,7 @@ mod emit;
 pub(crate) mod expr;
 mod front;
 mod gcode;
+mod long_double;
 pub mod profile;
 mod syntax;
 

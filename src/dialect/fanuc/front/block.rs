@@ -240,6 +240,9 @@ impl FrontEnd<'_> {
         self.tool(line, &words, code_span)?;
         self.gear_ranges(&words, code_span);
         sw.spindle = Some((self.speed(line, &words)?, words.direction(), code_span));
+        if words.direction().is_some() {
+            self.spindle_on = true;
+        }
         sw.spindle(&mut self.r, None);
         sw.coolant = words.coolant_on(code_span);
         sw.coolant_on(&mut self.r, None);
@@ -842,13 +845,14 @@ impl FrontEnd<'_> {
             self.bare_g97 = None;
         }
         if words.get('S').is_none() && !surface && self.surface_speed {
-            // Read where its speed is never used (`bare_g97`).
+            // Read where its speed is never used (`bare_g97`); while the spindle stands, the
+            // mode is here and the next start must say its S.
             self.surface_speed = false;
             self.bare_g97 = Some(super::BareG97 {
                 span: self.span(line, w.range.clone()),
-                stopped: false,
+                stopped: !self.spindle_on,
             });
-            return Some(None);
+            return Some((!self.spindle_on).then_some(SpindleMode::Rpm));
         }
         if words.get('S').is_none() && (surface || self.surface_speed) {
             // What G96 or G97 keeps without S (the last G96 S? the rpm the surface speed ran
@@ -1008,6 +1012,7 @@ impl FrontEnd<'_> {
         for (m, _) in &words.m_codes {
             match m {
                 5 => {
+                    self.spindle_on = false;
                     self.push(ItemKind::SpindleStop, code_span);
                     // A bare G97's mode, once the spindle stands (`bare_g97`).
                     if let Some(bare) = self.bare_g97.as_mut().filter(|b| !b.stopped) {

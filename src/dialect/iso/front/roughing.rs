@@ -475,6 +475,12 @@ impl FrontEnd<'_> {
         let mut words: BTreeMap<char, &Word> = Default::default();
         let mut ignored: Vec<&Word> = Vec::new();
         let (mut motion, mut j) = (None, None);
+        // G41.1/G42.1 take D and L: LinuxCNC reads them with it (and runs none of them in
+        // the contour).
+        let dynamic_comp = block
+            .words
+            .iter()
+            .any(|w| w.letter == 'G' && matches!(w.value.to_scaled(1), Ok(411 | 421)));
         for w in &block.words {
             match w.letter {
                 'G' => {
@@ -490,6 +496,7 @@ impl FrontEnd<'_> {
                 // refuses `J0 G0 X0 Z-10`, below).
                 'J' => j = Some(w),
                 'M' | 'S' | 'T' | 'F' => ignored.push(w),
+                'D' | 'L' if dynamic_comp => ignored.push(w),
                 'X' | 'Z' | 'U' | 'W' | 'I' | 'K' | 'R' | 'A' | 'C' => {
                     if let Some(first) = words.insert(w.letter, w) {
                         let first = line.text[first.range.clone()].to_string();
