@@ -844,6 +844,23 @@ impl FrontEnd<'_> {
         if words.get('S').is_some() {
             self.bare_g97 = None;
         }
+        if words.get('S').is_none()
+            && !surface
+            && self.surface_speed
+            && self.spindle_on
+            && words.moves()
+        {
+            // The block's own move runs at the rpm the control keeps.
+            let text = &line.text[w.range.clone()];
+            self.error(
+                codes::FANR_UNSUPPORTED,
+                line,
+                w.range.clone(),
+                format!("`{text}` without S, and the block moves at the rpm it keeps: which speed the control keeps when the mode changes is not settled by any source ncthread holds"),
+                "write the speed in the same block: `G97 S800`",
+            );
+            return None;
+        }
         if words.get('S').is_none() && !surface && self.surface_speed {
             // Read where its speed is never used (`bare_g97`); while the spindle stands, the
             // mode is here and the next start must say its S.
