@@ -200,7 +200,12 @@ fn kept_block_moves(
     }
     let why = match to {
         Some(to) if to != dialect => Some(format!(
-            "it may move the machine and only the {dialect} control can say it; the output is {to}"
+            "{}only the {dialect} control can say it; the output is {to}",
+            if context.moves {
+                "it may move the machine and "
+            } else {
+                ""
+            }
         )),
         Some(_) => context
             .differs_from_output(inch)

@@ -48,6 +48,12 @@ const BUILDER: UnsupportedWording = UnsupportedWording {
     ..UNSUPPORTED
 };
 
+/// The machine builder's M codes the profile says move no axis (`still_m_codes`).
+const BUILDER_STILL: UnsupportedWording = UnsupportedWording {
+    keep_help: "kept as written in its block: a FANUC output says it, another control's output refuses it; the profile says it moves no axis (`still_m_codes`)",
+    ..UNSUPPORTED
+};
+
 /// The G codes ncthread reads, for "did you mean".
 const KNOWN_G: [&str; 24] = [
     "G00", "G01", "G02", "G03", "G04", "G18", "G20", "G21", "G32", "G40", "G41", "G42", "G50",

@@ -8,6 +8,7 @@
 //! program_number = 1              # O0001 (default: a FANUC source's own number, else 1)
 //! nose_radius_in_offsets = false  # the offset page holds nose radius and tip: G41/G42 may be written
 //! mist = false                    # the machine has M07
+//! still_m_codes = [31, 33]        # the builder's M codes that move no axis (a chip conveyor): the position stays known
 //! gcode_system = "A"              # "A", or "B" (G33 threads, G90/G91, G94/G95, G92 S, G77–G79)
 //! units = "mm"                    # the unit the machine starts in (a program without G20/G21): "mm" or "inch"
 //! cycle_model = "gsk-980tdi"      # expand the canned cycles into moves as this control makes them
@@ -183,6 +184,10 @@ pub struct FanucProfile {
     pub nose_radius_in_offsets: bool,
     /// The machine has mist coolant on `M07`.
     pub mist: bool,
+    /// The machine builder's M codes that move no axis (a chip conveyor, a door): kept as
+    /// written like any builder's code, the position known after them. **\[decided\]** none:
+    /// an M code can call a macro.
+    pub still_m_codes: Vec<u32>,
     /// The G-code system the machine reads and ncthread writes.
     pub gcode_system: GcodeSystem,
     /// How the machine runs its canned cycles, where the profile says.
@@ -201,6 +206,7 @@ impl Default for FanucProfile {
             program_number: None,
             nose_radius_in_offsets: false,
             mist: false,
+            still_m_codes: Vec::new(),
             gcode_system: GcodeSystem::A,
             cycle_model: CycleModel::default(),
             inch: false,
@@ -217,6 +223,7 @@ pub(crate) struct Raw {
     program_number: Option<toml::Spanned<i64>>,
     nose_radius_in_offsets: Option<bool>,
     mist: Option<bool>,
+    still_m_codes: Option<Vec<u32>>,
     gcode_system: Option<toml::Spanned<String>>,
     units: Option<toml::Spanned<String>>,
     cycle_model: Option<toml::Spanned<String>>,
@@ -299,6 +306,9 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut FanucProfile, diags: &mut
     }
     if let Some(b) = raw.mist {
         p.mist = b;
+    }
+    if let Some(codes) = raw.still_m_codes {
+        p.still_m_codes = codes;
     }
     if let Some(v) = raw.gcode_system {
         gcode_system(src, v, p, diags);

@@ -209,7 +209,14 @@ impl FrontEnd<'_> {
                 return None;
             }
             let found = std::mem::take(&mut words.unsupported);
-            self.r.unsupported(&BUILDER, found, true, false);
+            let (still, moving): (Vec<_>, Vec<_>) = found
+                .into_iter()
+                .zip(&builder)
+                .partition(|(_, w)| self.still(w));
+            let strip = |v: Vec<((Span, String), &&Word)>| v.into_iter().map(|(f, _)| f).collect();
+            self.r.unsupported(&BUILDER, strip(moving), true, false);
+            self.r
+                .unsupported(&super::BUILDER_STILL, strip(still), true, false);
         }
         self.bare_g97_used(&words, code_span)?;
         if self.cycle_step(line, block, &words) {
@@ -307,11 +314,19 @@ impl FrontEnd<'_> {
         None
     }
 
+    /// A builder's M code the profile says moves no axis (`still_m_codes`).
+    fn still(&self, w: &Word) -> bool {
+        w.value
+            .to_whole()
+            .is_ok_and(|m| u32::try_from(m).is_ok_and(|m| self.profile.still_m_codes.contains(&m)))
+    }
+
     /// The machine builder's M codes of a block, kept as written after its other items (the
     /// FANUC writer puts them back in its block); what they do is the machine's, so that
     /// positions after them are unknown.
     fn builder_codes(&mut self, line: Line<'_>, codes: &[&Word]) {
         for w in codes {
+            let still = self.still(w);
             let span = self.span(line, w.range.clone());
             self.r.keep_opaque(
                 line.text[w.range.clone()].to_string(),
@@ -322,7 +337,7 @@ impl FrontEnd<'_> {
                     diameter: true,
                     incremental: false,
                     per_minute: Some(self.per_minute),
-                    moves: true,
+                    moves: !still,
                     cycle: false,
                 },
             );
