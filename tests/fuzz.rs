@@ -826,7 +826,9 @@ fn roughing_refusal_to_check(diagnostics: &[ncthread::diag::Diagnostic]) -> bool
     let Some(first) = errors.next() else {
         return false;
     };
-    // Four refusals are ncthread's own: a cycle LinuxCNC never ends; a G70 under
+    // Five refusals are ncthread's own: a cycle under an F given in the other unit before
+    // a G20/G21 (rs274 keeps F's number, a machine feeding per minute its speed: which one a
+    // machine runs is not known); a cycle LinuxCNC never ends; a G70 under
     // compensation, which LinuxCNC 2.9 runs along another path; a cycle or thread code on
     // a contour's line, of which LinuxCNC's cycle makes no element while its motion mode
     // stays in force for the lines after it (ncthread does not follow a cycle code there);
@@ -839,6 +841,7 @@ fn roughing_refusal_to_check(diagnostics: &[ncthread::diag::Diagnostic]) -> bool
                 .contains("takes the contour's end for the tool's position")
             || d.message.contains("makes no element of it")
             || d.message.contains("LinuxCNC then cuts nothing")
+            || d.message.contains("so the feed is not known")
     };
     first.code.id == "ISOR019" && !own(first) && errors.all(|d| d.code.id == "ISOR019")
 }

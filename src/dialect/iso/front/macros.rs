@@ -979,6 +979,24 @@ impl FrontEnd<'_> {
                 "define the subroutine before the closing `%`",
             ));
         }
+        // LinuxCNC knows a definition it has passed; any other it seeks from the call on,
+        // so that one earlier in the file that the run skipped (inside an `if` not taken)
+        // is not found.
+        if let Some((k, start)) = found
+            && k == file
+            && start < l.at
+            && !params.passed.contains(&(k, start))
+        {
+            return Err(l.error(
+                o.range.clone(),
+                format!(
+                    "{} is defined before this call where the run never passed it (an `if` or a loop skipped it): LinuxCNC seeks it from the call on (\"Failed to find sub '{}' before EOF\")",
+                    o.label,
+                    o.label.to_string().to_uppercase()
+                ),
+                "define the subroutine at the program's top level, before the program calls it",
+            ));
+        }
         let Some((sub_file, start)) = found else {
             return Err(l.error(
                 o.range.clone(),
