@@ -301,15 +301,7 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut FanucProfile, diags: &mut
             )),
         }
     }
-    if let Some(b) = raw.nose_radius_in_offsets {
-        p.nose_radius_in_offsets = b;
-    }
-    if let Some(b) = raw.mist {
-        p.mist = b;
-    }
-    if let Some(codes) = raw.still_m_codes {
-        p.still_m_codes = codes;
-    }
+    flags(raw.nose_radius_in_offsets, raw.mist, raw.still_m_codes, p);
     if let Some(v) = raw.gcode_system {
         gcode_system(src, v, p, diags);
     }
@@ -328,6 +320,24 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut FanucProfile, diags: &mut
         haas_setting_73: raw.haas_setting_73,
     };
     model_keys(src, keys, p, diags);
+}
+
+/// The keys that take any value of their type.
+fn flags(
+    nose_radius_in_offsets: Option<bool>,
+    mist: Option<bool>,
+    still_m_codes: Option<Vec<u32>>,
+    p: &mut FanucProfile,
+) {
+    if let Some(b) = nose_radius_in_offsets {
+        p.nose_radius_in_offsets = b;
+    }
+    if let Some(b) = mist {
+        p.mist = b;
+    }
+    if let Some(codes) = still_m_codes {
+        p.still_m_codes = codes;
+    }
 }
 
 /// The keys of the machine model of the canned cycles.

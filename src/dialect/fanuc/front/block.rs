@@ -209,14 +209,7 @@ impl FrontEnd<'_> {
                 return None;
             }
             let found = std::mem::take(&mut words.unsupported);
-            let (still, moving): (Vec<_>, Vec<_>) = found
-                .into_iter()
-                .zip(&builder)
-                .partition(|(_, w)| self.still(w));
-            let strip = |v: Vec<((Span, String), &&Word)>| v.into_iter().map(|(f, _)| f).collect();
-            self.r.unsupported(&BUILDER, strip(moving), true, false);
-            self.r
-                .unsupported(&super::BUILDER_STILL, strip(still), true, false);
+            self.builder_warnings(found, &builder);
         }
         self.bare_g97_used(&words, code_span)?;
         if self.cycle_step(line, block, &words) {
@@ -312,6 +305,19 @@ impl FrontEnd<'_> {
         let at = if bare.stopped { code_span } else { bare.span };
         self.r.error(codes::FANR_UNSUPPORTED, at, message, help);
         None
+    }
+
+    /// The warnings of a block's builder M codes (`found`, one per code of `builder`): kept
+    /// as written, and whether the profile says each moves no axis.
+    fn builder_warnings(&mut self, found: Vec<(Span, String)>, builder: &[&Word]) {
+        let (still, moving): (Vec<_>, Vec<_>) = found
+            .into_iter()
+            .zip(builder)
+            .partition(|(_, w)| self.still(w));
+        let strip = |v: Vec<((Span, String), &&Word)>| v.into_iter().map(|(f, _)| f).collect();
+        self.r.unsupported(&BUILDER, strip(moving), true, false);
+        self.r
+            .unsupported(&super::BUILDER_STILL, strip(still), true, false);
     }
 
     /// A builder's M code the profile says moves no axis (`still_m_codes`).

@@ -360,6 +360,51 @@ impl OLine<'_, '_> {
     }
 }
 
+/// A definition of the called subroutine that LinuxCNC does not find (`found`: its file and
+/// line): after the program's closing `%`, where the file ends; or earlier in the calling
+/// file where the run never passed (inside an `if` not taken), as LinuxCNC knows the
+/// definitions it has passed and seeks any other from the call on.
+fn unreachable_definition(
+    l: &OLine<'_, '_>,
+    params: &Params,
+    found: Option<(usize, usize)>,
+) -> Option<StructureError> {
+    let (o, runs, file) = (l.o, l.runs, l.file);
+    // A definition after the program's closing `%` is never read: the file ends there.
+    if let Some((k, start)) = found
+        && runs[k].closing_percent().is_some_and(|c| start > c)
+    {
+        return Some(l.error(
+                o.range.clone(),
+                format!(
+                    "{} is defined after the program's closing `%`, where LinuxCNC's file ends (\"Failed to find sub '{}' before EOF\")",
+                    o.label,
+                    o.label.to_string().to_uppercase()
+                ),
+                "define the subroutine before the closing `%`",
+            ));
+    }
+    // LinuxCNC knows a definition it has passed; any other it seeks from the call on,
+    // so that one earlier in the file that the run skipped (inside an `if` not taken)
+    // is not found.
+    if let Some((k, start)) = found
+        && k == file
+        && start < l.at
+        && !params.passed.contains(&(k, start))
+    {
+        return Some(l.error(
+                o.range.clone(),
+                format!(
+                    "{} is defined before this call where the run never passed it (an `if` or a loop skipped it): LinuxCNC seeks it from the call on (\"Failed to find sub '{}' before EOF\")",
+                    o.label,
+                    o.label.to_string().to_uppercase()
+                ),
+                "define the subroutine at the program's top level, before the program calls it",
+            ));
+    }
+    None
+}
+
 /// `endwhile` and `endrepeat` (LinuxCNC's `O_endwhile`/`O_endrepeat`): reached by
 /// skipping, the loop ends, unless a `continue` is pending (then the loop goes round, and
 /// the flag is cleared); reached in sequence, back to the loop's first line.
@@ -965,37 +1010,8 @@ impl FrontEnd<'_> {
         let found = std::iter::once(file)
             .chain(0..runs.len())
             .find_map(|k| runs[k].structure.subs.get(&o.label).map(|&l| (k, l)));
-        // A definition after the program's closing `%` is never read: the file ends there.
-        if let Some((k, start)) = found
-            && runs[k].closing_percent().is_some_and(|c| start > c)
-        {
-            return Err(l.error(
-                o.range.clone(),
-                format!(
-                    "{} is defined after the program's closing `%`, where LinuxCNC's file ends (\"Failed to find sub '{}' before EOF\")",
-                    o.label,
-                    o.label.to_string().to_uppercase()
-                ),
-                "define the subroutine before the closing `%`",
-            ));
-        }
-        // LinuxCNC knows a definition it has passed; any other it seeks from the call on,
-        // so that one earlier in the file that the run skipped (inside an `if` not taken)
-        // is not found.
-        if let Some((k, start)) = found
-            && k == file
-            && start < l.at
-            && !params.passed.contains(&(k, start))
-        {
-            return Err(l.error(
-                o.range.clone(),
-                format!(
-                    "{} is defined before this call where the run never passed it (an `if` or a loop skipped it): LinuxCNC seeks it from the call on (\"Failed to find sub '{}' before EOF\")",
-                    o.label,
-                    o.label.to_string().to_uppercase()
-                ),
-                "define the subroutine at the program's top level, before the program calls it",
-            ));
+        if let Some(e) = unreachable_definition(l, params, found) {
+            return Err(e);
         }
         let Some((sub_file, start)) = found else {
             return Err(l.error(

@@ -549,6 +549,19 @@ impl FrontEnd<'_> {
                 *motion = Some((g / 10) as u8);
                 None
             }
+            // G10 (LinuxCNC reads its L and P on the line, and refuses it without them):
+            // not read by ncthread anywhere, in a contour neither.
+            100 => {
+                let text = &line.text[w.range.clone()];
+                self.diag(
+                    codes::ISOR_UNSUPPORTED,
+                    line,
+                    w.range.clone(),
+                    format!("`{text}` in the contour of a {name} ({label}): changes of the coordinate systems (G10) are not read by ncthread"),
+                    "a contour is made of G0, G1, G2 and G3 moves",
+                );
+                return false;
+            }
             g if makes_no_element(g) => {
                 let text = &line.text[w.range.clone()];
                 Some((
