@@ -474,16 +474,13 @@ impl Emitter<'_> {
     /// mode, then the speed, in one block, where a `G97` of its own would turn the spindle
     /// at the surface speed's S as rpm until the next line.
     fn rpm_mode(&mut self, next: Option<&Item>) {
-        // A surface speed in the other unit than the output's: the S after it is written on
-        // a line of its own, as the reader reads S before the mode on one line there.
-        let other_unit = self.surface && self.surface_feet != self.units.inch;
         self.surface_feet = false;
         self.surface = false;
         match next.map(|n| &n.kind) {
             Some(ItemKind::Spindle {
                 speed: Some(s),
                 direction,
-            }) if !other_unit => {
+            }) => {
                 self.speed = Some(*s);
                 if direction.is_some() {
                     self.turning = *direction;

@@ -200,9 +200,11 @@ impl FrontEnd<'_> {
                 feet: inch_before,
             };
             self.spindle_mode_item(mode, span);
-        } else if self.surface_speed && self.surface.1 != inch_before && has_s {
+        } else if self.surface_speed && self.surface.1 != inch_before && has_s && !b.asks.rpm {
             // A new S under the surface speed, in other units than its G96's: the mode again,
-            // in the S's units (the limit stands).
+            // in the S's units (the limit stands). Not beside a G97: LinuxCNC sets the mode
+            // before the speed (`convert_spindle_mode`, then `convert_speed`), so that the S
+            // is rpm.
             self.surface.1 = inch_before;
             let mode = SpindleMode::SurfaceSpeed {
                 limit: self.surface.0,
