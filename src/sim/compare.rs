@@ -330,15 +330,11 @@ pub fn largest_deviation(left: &[Segment], right: &[Segment]) -> Length {
         if judge
             .pair(a, b, (left.get(i + 1), right.get(j + 1)))
             .is_some()
+            && let Some((di, dj)) = judge.short_moves_passed(left, i, right, j)
         {
-            if let Some(n) = judge.one_sided_short_moves(left, i, b, right.get(j + 1)) {
-                i += n;
-                continue;
-            }
-            if let Some(n) = judge.one_sided_short_moves(right, j, a, left.get(i + 1)) {
-                j += n;
-                continue;
-            }
+            i += di;
+            j += dj;
+            continue;
         }
         i += 1;
         j += 1;
@@ -445,12 +441,9 @@ pub fn compare_within(
             // Short moves on one side only, where the other side goes on: what a printed
             // reading drops near the tolerance (a layer's retract over the last material,
             // 0.0011 mm on one side, 0.001 mm printed on the other).
-            if let Some(n) = judge.one_sided_short_moves(left, i, b, right.get(j + 1)) {
-                i += n;
-                continue;
-            }
-            if let Some(n) = judge.one_sided_short_moves(right, j, a, left.get(i + 1)) {
-                j += n;
+            if let Some((di, dj)) = judge.short_moves_passed(left, i, right, j) {
+                i += di;
+                j += dj;
                 continue;
             }
             return Some(Difference {
@@ -516,6 +509,23 @@ struct Judge {
 const SHORT_RUN: usize = 4;
 
 impl Judge {
+    /// How many segments each side passes over where `left[i]` and `right[j]` do not pair:
+    /// a run of short moves on one side only ([`Judge::one_sided_short_moves`]).
+    fn short_moves_passed(
+        &self,
+        left: &[Segment],
+        i: usize,
+        right: &[Segment],
+        j: usize,
+    ) -> Option<(usize, usize)> {
+        let (a, b) = (&left[i], &right[j]);
+        if let Some(n) = self.one_sided_short_moves(left, i, b, right.get(j + 1)) {
+            return Some((n, 0));
+        }
+        self.one_sided_short_moves(right, j, a, left.get(i + 1))
+            .map(|n| (0, n))
+    }
+
     /// How many straight moves (rapids, feeds) from `side[k]` on go less than the tolerance
     /// and two grid steps along each axis, on this side only: the segment after them pairs
     /// with `other` (whose next is `other_next`). `None` when there is no such run.

@@ -37,7 +37,7 @@ struct Emitter<'a> {
     speed: Option<u32>,
     turning: Option<SpindleDirection>,
     /// The spindle item after a G96 or a G97 went on the mode's line.
-    spindle_on_g96: bool,
+    spindle_on_mode_line: bool,
     /// A surface speed in feet per minute is in force: a line with S is written under G20
     /// (LinuxCNC takes G96's S in the units in force when S is set), then G21 again (and
     /// one in metres per minute under G21 in an inch program).
@@ -162,7 +162,7 @@ pub fn emit(
         m6_stopped: false,
         speed: None,
         turning: None,
-        spindle_on_g96: false,
+        spindle_on_mode_line: false,
         surface_feet: false,
         surface: false,
         units: Units {
@@ -405,8 +405,8 @@ impl Emitter<'_> {
             ItemKind::ThreadPass(pass) => self.thread_pass(item, pass),
             ItemKind::ThreadCycle(cycle) => self.thread_cycle(item, cycle),
             ItemKind::TapCycle(tap) => self.tap_cycle(item, tap),
-            // Written on the G96 line before it.
-            ItemKind::Spindle { .. } if std::mem::take(&mut self.spindle_on_g96) => {}
+            // Written on the G96 or G97 line before it.
+            ItemKind::Spindle { .. } if std::mem::take(&mut self.spindle_on_mode_line) => {}
             ItemKind::Spindle { speed, direction } => self.spindle(*speed, *direction),
             ItemKind::FeedRate(f) => self.unit_line(|u| format!("F{}", u.len(*f))),
             ItemKind::SpindleMode(SpindleMode::Rpm) => self.rpm_mode(next),
@@ -476,21 +476,28 @@ impl Emitter<'_> {
     fn rpm_mode(&mut self, next: Option<&Item>) {
         self.surface_feet = false;
         self.surface = false;
-        match next.map(|n| &n.kind) {
-            Some(ItemKind::Spindle {
-                speed: Some(s),
-                direction,
-            }) => {
-                self.speed = Some(*s);
-                if direction.is_some() {
-                    self.turning = *direction;
-                }
-                let text = format!("G97 {}", spindle_words(Some(*s), *direction));
-                self.spindle_on_g96 = true;
-                self.speed_line(&text, true);
-            }
-            _ => self.line("G97"),
+        match self.speed_on_mode_line(next) {
+            Some(words) => self.speed_line(&format!("G97 {words}"), true),
+            None => self.line("G97"),
         }
+    }
+
+    /// The words of the speed item `next`, when it gives S, for the line of the G96 or G97
+    /// before it (which then writes it, `spindle_on_mode_line`); its speed and direction taken.
+    fn speed_on_mode_line(&mut self, next: Option<&Item>) -> Option<String> {
+        let Some(ItemKind::Spindle {
+            speed: Some(s),
+            direction,
+        }) = next.map(|n| &n.kind)
+        else {
+            return None;
+        };
+        self.speed = Some(*s);
+        if direction.is_some() {
+            self.turning = *direction;
+        }
+        self.spindle_on_mode_line = true;
+        Some(spindle_words(Some(*s), *direction))
     }
 
     /// G96 with its limit D. LinuxCNC wants S on the G96 line: the speed item that follows
@@ -509,19 +516,11 @@ impl Emitter<'_> {
         if let Some(d) = limit {
             let _ = write!(text, " D{d}");
         }
-        match next.map(|n| &n.kind) {
-            Some(ItemKind::Spindle {
-                speed: Some(s),
-                direction,
-            }) => {
-                self.speed = Some(*s);
-                if direction.is_some() {
-                    self.turning = *direction;
-                }
-                let _ = write!(text, " {}", spindle_words(Some(*s), *direction));
-                self.spindle_on_g96 = true;
+        match self.speed_on_mode_line(next) {
+            Some(words) => {
+                let _ = write!(text, " {words}");
             }
-            _ => match self.speed {
+            None => match self.speed {
                 Some(s) => {
                     let _ = write!(text, " S{s}");
                 }

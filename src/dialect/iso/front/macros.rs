@@ -370,39 +370,32 @@ fn unreachable_definition(
     found: Option<(usize, usize)>,
 ) -> Option<StructureError> {
     let (o, runs, file) = (l.o, l.runs, l.file);
-    // A definition after the program's closing `%` is never read: the file ends there.
-    if let Some((k, start)) = found
-        && runs[k].closing_percent().is_some_and(|c| start > c)
-    {
-        return Some(l.error(
-                o.range.clone(),
-                format!(
-                    "{} is defined after the program's closing `%`, where LinuxCNC's file ends (\"Failed to find sub '{}' before EOF\")",
-                    o.label,
-                    o.label.to_string().to_uppercase()
-                ),
-                "define the subroutine before the closing `%`",
-            ));
-    }
-    // LinuxCNC knows a definition it has passed; any other it seeks from the call on,
-    // so that one earlier in the file that the run skipped (inside an `if` not taken)
-    // is not found.
-    if let Some((k, start)) = found
-        && k == file
-        && start < l.at
-        && !params.passed.contains(&(k, start))
-    {
-        return Some(l.error(
-                o.range.clone(),
-                format!(
-                    "{} is defined before this call where the run never passed it (an `if` or a loop skipped it): LinuxCNC seeks it from the call on (\"Failed to find sub '{}' before EOF\")",
-                    o.label,
-                    o.label.to_string().to_uppercase()
-                ),
-                "define the subroutine at the program's top level, before the program calls it",
-            ));
-    }
-    None
+    let (k, start) = found?;
+    let (why, help) = if runs[k].closing_percent().is_some_and(|c| start > c) {
+        // A definition after the program's closing `%` is never read: the file ends there.
+        (
+            "after the program's closing `%`, where LinuxCNC's file ends",
+            "define the subroutine before the closing `%`",
+        )
+    } else if k == file && start < l.at && !params.passed.contains(&(k, start)) {
+        // LinuxCNC knows a definition it has passed; any other it seeks from the call on,
+        // so that one earlier in the file that the run skipped is not found.
+        (
+            "before this call where the run never passed it (an `if` or a loop skipped it): LinuxCNC seeks it from the call on",
+            "define the subroutine at the program's top level, before the program calls it",
+        )
+    } else {
+        return None;
+    };
+    Some(l.error(
+        o.range.clone(),
+        format!(
+            "{} is defined {why} (\"Failed to find sub '{}' before EOF\")",
+            o.label,
+            o.label.to_string().to_uppercase()
+        ),
+        help,
+    ))
 }
 
 /// `endwhile` and `endrepeat` (LinuxCNC's `O_endwhile`/`O_endrepeat`): reached by
