@@ -6,8 +6,9 @@ import re
 
 root = os.path.join(os.path.dirname(__file__), "..")
 files = {"crate::diag::codes": "src/diag/codes.rs"}
-for d in ("czech", "nc31", "iso", "fanuc"):
-    files[d + "::codes"] = f"src/dialect/{d}/codes.rs"
+for d in sorted(os.listdir(os.path.join(root, "src/dialect"))):
+    if os.path.exists(os.path.join(root, f"src/dialect/{d}/codes.rs")):
+        files[d + "::codes"] = f"src/dialect/{d}/codes.rs"
 byname = {}
 lists = {}
 for module, path in files.items():

@@ -268,6 +268,7 @@ mod tests {
             library: Vec::new(),
             number: None,
             inch: false,
+            name: None,
             items: kinds
                 .into_iter()
                 .map(|k| Item::new(k, Span::default()))

@@ -1352,6 +1352,7 @@ pub fn unroll(
         dialect: program.dialect,
         library: Vec::new(),
         number: program.number,
+        name: program.name.clone(),
         inch: program.inch,
     })
 }

@@ -863,6 +863,7 @@ fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, Strin
         ncthread::dialect::czech::ID,
         ncthread::dialect::nc31::ID,
         ncthread::dialect::fanuc::ID,
+        ncthread::dialect::siemens::ID,
     ] {
         for round in [false, true] {
             let opts = options(input.from, to, &profile, round);
@@ -934,9 +935,18 @@ fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, Strin
             }
             // A FANUC output through the test side's translation: rs274 must cut what
             // ncthread's simulation of the source cuts.
-            if to == ncthread::dialect::fanuc::ID
-                && let Some(rs274) = rs274
-                && let Ok(ngc) = common::fanuc::translate(&output, false)
+            // A SINUMERIK output likewise, through its translation.
+            let translation = match to {
+                t if t == ncthread::dialect::fanuc::ID => {
+                    common::fanuc::translate(&output, false).ok()
+                }
+                t if t == ncthread::dialect::siemens::ID => {
+                    common::siemens::translate(&output).ok()
+                }
+                _ => None,
+            };
+            if let Some(rs274) = rs274
+                && let Some(ngc) = translation
             {
                 let canon = match rs274.run(&ngc) {
                     Ok(canon) => Some(canon),

@@ -203,6 +203,7 @@ fn program(steps: &[Step], chains: bool) -> Program {
         dialect: ncthread::dialect::iso::ID,
         library: Vec::new(),
         number: None,
+        name: None,
         inch: false,
     }
 }
@@ -304,6 +305,7 @@ proptest! {
             dialect: p.dialect,
             library: Vec::new(),
             number: None,
+            name: None,
             inch: false,
             items: p
                 .items

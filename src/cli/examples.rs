@@ -68,6 +68,11 @@ pub(crate) const CONVERT_EXAMPLES: &[Example] = &[
         true,
     ),
     ex(
+        "ncthread convert P0001.NC --from czech --to siemens -o SHAFT.MPF",
+        "a SINUMERIK main program, named after the source (`%_N_NC_P0001_MPF`)",
+        false,
+    ),
+    ex(
         "ncthread convert P0001.NC --from czech --to nc31 --round",
         "round what the НЦ-31's 0.01 mm cannot hold, with one warning",
         false,

@@ -11,6 +11,7 @@ pub(crate) mod lex;
 pub(crate) mod machine;
 pub mod nc31;
 pub(crate) mod read;
+pub mod siemens;
 pub(crate) mod write;
 
 pub use read::Unsupported;
@@ -37,10 +38,12 @@ pub fn all_codes() -> &'static [crate::diag::Code] {
                 crate::diag::codes::PROFILE,
                 iso::codes::READ,
                 fanuc::codes::READ,
+                siemens::codes::READ,
                 czech::codes::WRITE,
                 iso::codes::WRITE,
                 nc31::codes::WRITE,
                 fanuc::codes::WRITE,
+                siemens::codes::WRITE,
                 crate::diag::codes::SHARED,
             ]
             .concat()
@@ -49,7 +52,13 @@ pub fn all_codes() -> &'static [crate::diag::Code] {
 }
 
 /// Every dialect, in the order ncthread lists them.
-pub static ALL: [&'static dyn Dialect; 4] = [&czech::Czech, &nc31::Nc31, &iso::Iso, &fanuc::Fanuc];
+pub static ALL: [&'static dyn Dialect; 5] = [
+    &czech::Czech,
+    &nc31::Nc31,
+    &iso::Iso,
+    &fanuc::Fanuc,
+    &siemens::Siemens,
+];
 
 /// The dialect with this id (`czech`, `nc31`, `iso`), when there is one.
 /// The dialect whose programs alone are called `*.ext` (case-insensitive): `ngc` is iso's;
@@ -103,7 +112,7 @@ impl std::error::Error for UnknownDialect {}
 /// let id: DialectId = "FANUC".parse().unwrap();
 /// assert_eq!(id, ncthread::dialect::fanuc::ID);
 /// let err = "fanux".parse::<DialectId>().unwrap_err();
-/// assert_eq!(err.to_string(), "unknown dialect `fanux`: the dialects are czech, nc31, iso, fanuc");
+/// assert_eq!(err.to_string(), "unknown dialect `fanux`: the dialects are czech, nc31, iso, fanuc, siemens");
 /// ```
 impl std::str::FromStr for DialectId {
     type Err = UnknownDialect;

@@ -262,6 +262,8 @@ pub(crate) struct Reader<'a> {
     warned_after_end: bool,
     /// The program's number (FANUC's `O0100`), when the source gives one.
     pub number: Option<u32>,
+    /// The program's name (SINUMERIK's `%_N_SHAFT_MPF`), when the source gives one.
+    pub name: Option<String>,
     /// The units the program's length words were written in: `None` before any, then
     /// `Some(true)` for inches throughout, `Some(false)` for millimetres or both.
     units: Option<bool>,
@@ -281,6 +283,7 @@ impl<'a> Reader<'a> {
             dialect,
             warned_after_end: false,
             number: None,
+            name: None,
             units: None,
         }
     }
@@ -299,6 +302,7 @@ impl<'a> Reader<'a> {
                 dialect: self.dialect,
                 library: Vec::new(),
                 number: self.number,
+                name: self.name,
                 inch: self.units == Some(true),
             },
             self.diags,

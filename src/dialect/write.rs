@@ -207,6 +207,7 @@ mod tests {
             library: Vec::new(),
             number: None,
             inch: false,
+            name: None,
             items: vec![on(1), on(1), on(2), on(3), on(3)],
         };
         let sizes = |keep| {

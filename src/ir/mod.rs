@@ -47,6 +47,9 @@ pub struct Program {
     /// The program's number as the source gives it (FANUC's `O0100`): a writer of the same
     /// dialect keeps it.
     pub number: Option<u32>,
+    /// The program's name as the source gives it (SINUMERIK's `%_N_SHAFT_MPF`): a writer of
+    /// the same dialect keeps it.
+    pub name: Option<String>,
     /// Every length of the program was written in inches (G20): a target that can say
     /// inches writes them in inches (the items hold millimetres, as always).
     pub inch: bool,

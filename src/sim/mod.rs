@@ -963,6 +963,7 @@ mod tests {
             library: Vec::new(),
             number: None,
             inch: false,
+            name: None,
             items: kinds
                 .into_iter()
                 .enumerate()

@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod fanuc;
+pub mod siemens;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -18,6 +19,7 @@ pub const TARGETS: &[DialectId] = &[
     ncthread::dialect::czech::ID,
     ncthread::dialect::nc31::ID,
     ncthread::dialect::fanuc::ID,
+    ncthread::dialect::siemens::ID,
 ];
 
 pub fn root() -> PathBuf {
@@ -53,6 +55,8 @@ pub fn corpus_cases() -> Vec<Case> {
         ("fuzz/nc31", ncthread::dialect::nc31::ID),
         ("fuzz/iso", ncthread::dialect::iso::ID),
         ("fuzz/fanuc", ncthread::dialect::fanuc::ID),
+        ("siemens", ncthread::dialect::siemens::ID),
+        ("bad/siemens", ncthread::dialect::siemens::ID),
     ] {
         let ext = extension(from);
         let dir = root().join("corpus").join(folder);
@@ -89,6 +93,7 @@ pub fn corpus_cases() -> Vec<Case> {
 pub fn extension(d: DialectId) -> &'static str {
     match d {
         ncthread::dialect::iso::ID => "ngc",
+        ncthread::dialect::siemens::ID => "mpf",
         _ => "nc",
     }
 }

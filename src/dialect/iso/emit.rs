@@ -957,6 +957,7 @@ mod tests {
             library: Vec::new(),
             number: None,
             inch: false,
+            name: None,
         };
         let (out, diags) = emit(&program, &src, &Profile::default());
         assert!(out.is_none());

@@ -934,6 +934,7 @@ mod tests {
             library: Vec::new(),
             number: None,
             inch: false,
+            name: None,
         };
         // As a conversion does: legalisation for the НЦ-31, then the writer.
         let mut diags =
@@ -1169,6 +1170,7 @@ mod tests {
             library: Vec::new(),
             number: None,
             inch: false,
+            name: None,
         };
         let (out, diags) = emit(
             &program,
@@ -1311,6 +1313,7 @@ mod tests {
             library: Vec::new(),
             number: None,
             inch: false,
+            name: None,
         };
         let (out, _) = emit(
             &program,

@@ -1,0 +1,853 @@
+//! IR → SINUMERIK native turning (siemens.md "Writing").
+//!
+//! The frame: `%_N_<NAME>_MPF`, `;$PATH=/_N_MPF_DIR`, a comment saying where the program came
+//! from, `N10 G18 G90 G71 G95 G40 DIAMON` (G71 is millimetres here, X a diameter), the
+//! program, its end (`M30`, `M2`) where the source has one: M30 stops the spindle and the
+//! coolant, which a program without an end does not (siemens.md says "the end M30"; see
+//! ARCHITECTURE.md). Every block is numbered
+//! (`N10, N20, …`); comments are `;` to the line's end, in ASCII. X Z I K take 3 decimals (I a
+//! radius value, as K, increments from the arc's start), F and K 4, `SF=` 3. A thread pass is
+//! one `G33 Z… K<lead> SF=<angle>` block (X too on a taper), `SF=` on every G33 block; cycles
+//! are written as their passes. What the writer does not write (chains of G33 blocks, steep
+//! tapers, compensation, tapping, machine coordinates) is refused by the capability table.
+
+use std::fmt::Write as _;
+
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::siemens::codes;
+use crate::dialect::write::{self, Writer};
+use crate::dialect::{Inexact, Renumber, one_line};
+use crate::fixed::{Angle, Decimal, Lead, Length, div_round};
+use crate::ir::{
+    Compensation, Coolant, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection,
+    SpindleMode, SyncStart, ThreadCycle, ThreadPass,
+};
+use crate::lower;
+use crate::source::{SourceFile, Span};
+
+/// How the header comment of a program ncthread wrote ends.
+pub(crate) const HEADER_END: &str = ", converted by ncthread";
+
+/// The modes line every program starts with.
+const MODES: &str = "G18 G90 G71 G95 G40 DIAMON";
+
+#[derive(Default)]
+struct Block {
+    words: Vec<String>,
+    comment: Option<String>,
+    /// The block holds a motion (a second motion starts a new block).
+    moves: bool,
+    /// The comment is ncthread's own (a cycle's summary): not counted as transliterated.
+    own_comment: bool,
+}
+
+struct Emitter<'a> {
+    w: Writer<'a>,
+    keep: bool,
+    number: u32,
+    step: u32,
+    motion: Option<&'static str>,
+    f: Option<Length>,
+    feed_mode: FeedMode,
+    compensation_off: bool,
+    /// G96 in force, with the LIMS written.
+    surface_speed: bool,
+    limit: Option<i64>,
+    /// The last S written, and a G96/G97 of this block that still needs its S.
+    speed: Option<u32>,
+    speed_word: Option<Item>,
+    /// The spindle turns in the output (M3/M4 written, no M5 since).
+    turning: bool,
+    /// A G97 was written without S while the spindle stood: the next start says its S.
+    speed_unsaid: bool,
+    /// The last motion was a G33 (a G33 now would continue it: refused by the table).
+    after_thread: bool,
+    at: Span,
+    transliterated: Option<(Span, String, String)>,
+    transliterated_count: usize,
+    inexact: Inexact,
+    round: bool,
+}
+
+/// The program's name for `%_N_<NAME>_MPF`: the source's own (a SINUMERIK program's), else
+/// the file's stem in upper case, letters, digits and `_` only, starting with two letters.
+fn program_name(program: &Program, src: &SourceFile) -> String {
+    if program.dialect == super::ID
+        && let Some(name) = &program.name
+    {
+        return name.clone();
+    }
+    let stem = std::path::Path::new(&src.name)
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("");
+    let mut name: String = deunicode::deunicode(stem)
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_uppercase()
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if !name.chars().take(2).all(|c| c.is_ascii_alphabetic()) || name.len() < 2 {
+        name.insert_str(0, "NC_");
+    }
+    name.truncate(24);
+    name.trim_end_matches('_').to_string()
+}
+
+/// A comment's text in ASCII on one line (deunicode's transliteration, `?` where it has
+/// none; the diameter sign `D`), and whether anything changed.
+pub(crate) fn comment_text(text: &str) -> (String, bool) {
+    let mut changed = false;
+    let mut ascii = String::new();
+    for c in one_line(text).chars() {
+        if c.is_ascii() && !c.is_ascii_control() {
+            ascii.push(c);
+        } else if c.is_ascii_control() {
+            ascii.push(' ');
+        } else if matches!(c, 'Ø' | 'ø' | '⌀' | '∅') {
+            ascii.push('D');
+        } else {
+            changed = true;
+            ascii.push_str(
+                deunicode::deunicode_char(c)
+                    .filter(|t| t.is_ascii())
+                    .unwrap_or("?"),
+            );
+        }
+    }
+    (ascii.trim().to_string(), changed)
+}
+
+/// Writes `program` (read from `src`) as a SINUMERIK program. `None` when any item cannot be
+/// expressed; the diagnostics say why.
+pub fn emit(
+    program: &Program,
+    src: &SourceFile,
+    renumber: Renumber,
+    round: bool,
+) -> (Option<String>, Vec<Diagnostic>) {
+    let program = &*lower::unroll(program, Some(super::ID));
+    let mut e = Emitter {
+        w: Writer::new(src),
+        keep: program.dialect == super::ID,
+        number: renumber.start,
+        step: renumber.step.max(1),
+        motion: None,
+        f: None,
+        feed_mode: FeedMode::PerRev,
+        compensation_off: true,
+        surface_speed: false,
+        limit: None,
+        speed: None,
+        speed_word: None,
+        turning: false,
+        speed_unsaid: false,
+        after_thread: false,
+        at: Span::default(),
+        transliterated: None,
+        transliterated_count: 0,
+        inexact: Inexact::default(),
+        round,
+    };
+    let _ = writeln!(e.w.out, "%_N_{}_MPF", program_name(program, src));
+    e.w.out.push_str(";$PATH=/_N_MPF_DIR\n");
+    let items = e.header_comment(program, src);
+    e.write(Block {
+        words: vec![MODES.into()],
+        ..Block::default()
+    });
+    let groups: Vec<&[Item]> = write::blocks(items, e.keep).collect();
+    e.groups(&groups);
+    e.closing_diagnostics(src);
+    e.w.finish()
+}
+
+impl Emitter<'_> {
+    /// The header comment: the source's own (a program ncthread wrote), or the file's name
+    /// and dialect. The items after it.
+    fn header_comment<'i>(&mut self, program: &'i Program, src: &SourceFile) -> &'i [Item] {
+        let mut items = &program.items[..];
+        while let Some((first, rest)) = items.split_first()
+            && first.kind == ItemKind::Delimiter
+        {
+            items = rest;
+        }
+        if let Some((first, rest)) = items.split_first()
+            && let ItemKind::Comment(c) = &first.kind
+            && comment_text(c).0.ends_with(HEADER_END)
+        {
+            let _ = writeln!(self.w.out, "; {}", comment_text(c).0);
+            return rest;
+        }
+        let file = std::path::Path::new(&src.name)
+            .file_name()
+            .map_or(src.name.as_str(), |n| n.to_str().unwrap_or(&src.name));
+        let _ = writeln!(
+            self.w.out,
+            "; {}, dialect {}{HEADER_END}",
+            comment_text(file).0,
+            program.dialect
+        );
+        items
+    }
+
+    fn closing_diagnostics(&mut self, src: &SourceFile) {
+        let summary = self.inexact.diagnostic(
+            src,
+            self.round,
+            |s| {
+                Diagnostic::new(
+                    codes::SINW_ROUNDED,
+                    format!("{} value(s) rounded to the SINUMERIK program's grid (0.001 mm, leads and feeds 0.0001 mm), the first {}; the largest deviation is {} mm", s.count, s.what, s.largest),
+                )
+                .help("a thread's start keeps its start angle SF=")
+            },
+            |s| {
+                Diagnostic::new(
+                    codes::SINW_PRECISION,
+                    format!("{} is finer than the SINUMERIK program's {} mm ({} value(s) in this program are; lengths take 3 decimals, leads and feeds 4)", s.what, s.grid, s.count),
+                )
+                .help(format!("pass --round to round them (largest deviation {} mm, for a lead its drift at the thread's end)", s.largest))
+            },
+        );
+        self.w.diags.extend(summary);
+        if let Some((at, text, ascii)) = self.transliterated.take() {
+            let many = match self.transliterated_count {
+                1 => String::new(),
+                n => format!(" ({n} comments, the first shown)"),
+            };
+            self.w.diags.push(
+                Diagnostic::new(
+                    codes::SINW_TRANSLITERATED,
+                    format!("comment text transliterated to ASCII: `{text}` → `{ascii}`{many}"),
+                )
+                .at(src, at)
+                .help("ncthread writes SINUMERIK comments in ASCII, which every control version shows: a letter loses its accent, other scripts are romanised, the diameter sign is `D`"),
+            );
+        }
+    }
+
+    fn diag(&mut self, code: Code, item: &Item, message: String, help: &str) {
+        self.w.error(code, item.span, message, help);
+    }
+
+    /// A comment's ASCII text, its transliteration counted.
+    fn comment(&mut self, text: &str) -> String {
+        let (ascii, changed) = comment_text(text);
+        if changed {
+            self.transliterated_count += 1;
+            if self.transliterated.is_none() {
+                self.transliterated = Some((self.at, one_line(text), ascii.clone()));
+            }
+        }
+        ascii
+    }
+
+    fn write(&mut self, block: Block) {
+        let comment = block
+            .comment
+            .map(|c| {
+                if block.own_comment {
+                    comment_text(&c).0
+                } else {
+                    self.comment(&c)
+                }
+            })
+            .filter(|c| !c.is_empty());
+        let mut line = String::new();
+        if !block.words.is_empty() {
+            let _ = write!(line, "N{} {}", self.number, block.words.join(" "));
+            self.number = self.number.saturating_add(self.step);
+        }
+        if let Some(c) = comment {
+            if !line.is_empty() {
+                line.push(' ');
+            }
+            let _ = write!(line, "; {c}");
+        }
+        if !line.is_empty() {
+            self.w.out.push_str(&line);
+            self.w.out.push('\n');
+        }
+    }
+
+    fn flush(&mut self, block: &mut Block) {
+        if !block.words.is_empty() || block.comment.is_some() {
+            let b = std::mem::take(block);
+            self.write(b);
+        }
+    }
+
+    /// Writes the groups of items block by block. A speed mode and the spindle item after
+    /// it are one block: `G96 S200 LIMS=3000 M3`.
+    fn groups(&mut self, groups: &[&[Item]]) {
+        let mut i = 0;
+        while i < groups.len() {
+            let group = groups[i];
+            if !self.keep
+                && matches!(group[0].kind, ItemKind::SpindleMode(_))
+                && let Some(next) = groups.get(i + 1)
+                && matches!(next[0].kind, ItemKind::Spindle { .. })
+                && next[0].comment.is_none()
+            {
+                let both = [group[0].clone(), next[0].clone()];
+                self.group(&both);
+                i += 2;
+                continue;
+            }
+            self.group(group);
+            i += 1;
+        }
+    }
+
+    fn group(&mut self, items: &[Item]) {
+        self.at = items[0].span;
+        let mut block = Block {
+            comment: items[0].comment.as_deref().map(str::to_string),
+            ..Block::default()
+        };
+        for item in items {
+            self.at = item.span;
+            if self.kind(item, &mut block) {
+                self.w.pos = item.kind.end_position(self.w.pos);
+            }
+        }
+        // A G96 or G97 says its speed: SINUMERIK's G97 without S keeps the rpm the spindle
+        // turns at, where the source's S register holds the speed.
+        if let Some(item) = self.speed_word.take() {
+            match self.speed {
+                Some(s) => block.words.push(format!("S{s}")),
+                None => self.diag(
+                    codes::SINW_NO_EQUIVALENT,
+                    &item,
+                    "a change of spindle speed mode (G96/G97) before any speed is set: the SINUMERIK block says the speed with it".into(),
+                    "give the speed (S) in the source before or with G96/G97",
+                ),
+            }
+        }
+        self.flush(&mut block);
+    }
+
+    /// `v` on the 0.001 mm grid (rounded with `--round`, or counted for one error).
+    fn three(&mut self, item: &Item, what: &str, v: Length) -> String {
+        let grid = Length::from_steps(10);
+        let rounded = Length(div_round(v.0 as i128, grid.0 as i128) as i64 * grid.0);
+        if rounded != v {
+            self.inexact.note(item.span, what, v, rounded, grid);
+        }
+        rounded.mm()
+    }
+
+    fn axes(&mut self, item: &Item, to: Pos) -> Vec<String> {
+        let mut words = Vec::new();
+        if let Some(x) = to.x {
+            words.push(format!("X{}", self.three(item, "X", x)));
+        }
+        if let Some(z) = to.z {
+            words.push(format!("Z{}", self.three(item, "Z", z)));
+        }
+        words
+    }
+
+    fn motion_block(&mut self, block: &mut Block, g: &'static str) {
+        if block.moves {
+            self.flush(block);
+        }
+        block.moves = true;
+        if self.motion != Some(g) {
+            block.words.push(g.to_string());
+            self.motion = Some(g);
+        }
+    }
+
+    /// A feed or a lead on the 0.0001 mm grid.
+    fn four(&mut self, item: &Item, what: &str, lead: Lead, travel: Length) -> Option<Lead> {
+        let (units, exact) = lead.in_units(4);
+        let written = Lead::from_units(units, 4);
+        if written.0 <= 0 {
+            self.diag(
+                codes::SINW_PRECISION,
+                item,
+                format!(
+                    "{what} {} mm rounds to 0 in the program's 0.0001 mm",
+                    lead.mm()
+                ),
+                "a feed or a lead needs a value the control can hold",
+            );
+            return None;
+        }
+        if !exact {
+            let drift = lead.drift(written, travel);
+            self.inexact
+                .note_lead(item.span, what, lead, drift, Length::from_steps(1));
+        }
+        Some(written)
+    }
+
+    fn feed_word(&mut self, item: &Item, feed: Length, block: &mut Block) {
+        if self.f == Some(feed) {
+            return;
+        }
+        let Some(written) = self.four(item, "F", Lead::from_length(feed), Length::ZERO) else {
+            return;
+        };
+        block.words.push(format!("F{}", written.mm()));
+        self.f = Some(feed);
+    }
+
+    /// Writes an item into `block` (or into blocks of its own): one arm per kind of item.
+    /// `false` when it is refused (a diagnostic says why).
+    fn kind(&mut self, item: &Item, block: &mut Block) -> bool {
+        match &item.kind {
+            ItemKind::Rapid { to } => {
+                self.after_thread = false;
+                self.motion_block(block, "G0");
+                let words = self.axes(item, *to);
+                block.words.extend(words);
+            }
+            ItemKind::Feed { to, feed } => {
+                self.after_thread = false;
+                self.motion_block(block, "G1");
+                let words = self.axes(item, *to);
+                block.words.extend(words);
+                self.feed_word(item, *feed, block);
+            }
+            ItemKind::Arc {
+                to,
+                centre,
+                clockwise,
+                feed,
+            } => {
+                self.after_thread = false;
+                return self.arc(item, *to, **centre, *clockwise, *feed, block);
+            }
+            ItemKind::ThreadPass(pass) => return self.thread_pass(item, pass, block),
+            ItemKind::ThreadCycle(cycle) => {
+                self.flush(block);
+                self.thread_cycle(item, cycle);
+            }
+            // Refused by legalisation (the table's rows).
+            ItemKind::TapCycle(_) | ItemKind::MachineMove(_) | ItemKind::Roughing(_) => {}
+            ItemKind::ModelCycle(_) => {}
+            ItemKind::Spindle { speed, direction } => self.spindle(*speed, *direction, block),
+            ItemKind::SpindleStop => {
+                self.turning = false;
+                block.words.push("M5".into());
+            }
+            ItemKind::SpindleMode(mode) => return self.spindle_mode(item, mode, block),
+            ItemKind::Tool { number, offset } => {
+                if let Some(t) = number {
+                    block.words.push(format!("T{t}"));
+                }
+                if let Some(d) = offset {
+                    block.words.push(format!("D{d}"));
+                }
+            }
+            ItemKind::GearRange { code, machine } => self.as_comment(
+                item,
+                block,
+                &format!("M{code}: gear range of the {machine} machine"),
+            ),
+            ItemKind::FeedMode(mode) => {
+                if *mode != self.feed_mode {
+                    block.words.push(
+                        if *mode == FeedMode::PerRev {
+                            "G95"
+                        } else {
+                            "G94"
+                        }
+                        .into(),
+                    );
+                    self.feed_mode = *mode;
+                    // F is written again after every change of mode (siemens.md).
+                    self.f = None;
+                }
+            }
+            ItemKind::ProgramEnd(end) => {
+                block.words.push(
+                    match end {
+                        EndCode::M2 => "M2",
+                        EndCode::M30 => "M30",
+                    }
+                    .into(),
+                );
+            }
+            ItemKind::Comment(text) => {
+                if !block.words.is_empty() || block.comment.is_some() {
+                    self.flush(block);
+                }
+                block.comment = Some(text.to_string());
+            }
+            ItemKind::ParamAssign { number, value } => {
+                self.flush(block);
+                self.write(Block {
+                    comment: Some(format!("parameter {number} = {value}")),
+                    own_comment: true,
+                    ..Block::default()
+                });
+            }
+            ItemKind::Opaque { dialect, text, .. } => {
+                self.as_comment(item, block, &format!("{dialect}: {text}"));
+            }
+            ItemKind::Delimiter => {}
+            ItemKind::Coolant(Coolant::Flood) => block.words.push("M8".into()),
+            ItemKind::Coolant(Coolant::Off) => block.words.push("M9".into()),
+            // Refused by the table (mist is the machine builder's M code).
+            ItemKind::Coolant(Coolant::Mist) => {}
+            ItemKind::Stop { optional } => {
+                block.words.push(if *optional { "M1" } else { "M0" }.into())
+            }
+            ItemKind::Dwell { seconds } => return self.dwell(item, *seconds, block),
+            ItemKind::Compensation(Compensation::Off) => {
+                if !self.compensation_off {
+                    block.words.push("G40".into());
+                    self.compensation_off = true;
+                }
+            }
+            // Refused by the table.
+            ItemKind::Compensation(_) => {}
+            ItemKind::WorkOffset(n) => {
+                if (1..=4).contains(n) {
+                    block.words.push(format!("G{}", 53 + u32::from(*n)));
+                } else {
+                    self.diag(
+                        codes::SINW_NO_EQUIVALENT,
+                        item,
+                        format!("work offset {n}: ncthread writes G54–G57, the settable offsets every SINUMERIK has (G58/G59 are programmable offsets there, not work offsets)"),
+                        "use G54–G57 in the source",
+                    );
+                    return false;
+                }
+            }
+            ItemKind::FeedRate(feed) => {
+                if self.f != Some(*feed) {
+                    self.feed_word(item, *feed, block);
+                }
+            }
+        }
+        true
+    }
+
+    fn as_comment(&mut self, item: &Item, block: &mut Block, text: &str) {
+        self.flush(block);
+        self.write(Block {
+            comment: Some(format!("{text} (not converted)")),
+            ..Block::default()
+        });
+        self.w.report(
+            Diagnostic::new(
+                codes::SINW_COMMENT,
+                format!("`{text}` has no SINUMERIK equivalent; it is written as a comment"),
+            )
+            .at(self.w.src, item.span)
+            .help("check the SINUMERIK program by hand where this matters"),
+        );
+    }
+
+    /// The spindle's speed and direction words.
+    fn spindle(
+        &mut self,
+        speed: Option<u32>,
+        direction: Option<SpindleDirection>,
+        block: &mut Block,
+    ) {
+        // After a bare G97 the start says the speed the program has (`speed_unsaid`).
+        let speed = speed.or(self
+            .speed
+            .filter(|_| direction.is_some() && self.speed_unsaid));
+        if let Some(s) = speed {
+            block.words.push(format!("S{s}"));
+            self.speed = Some(s);
+            self.speed_word = None;
+            self.speed_unsaid = false;
+        }
+        match direction {
+            Some(SpindleDirection::Clockwise) => block.words.push("M3".into()),
+            Some(SpindleDirection::CounterClockwise) => block.words.push("M4".into()),
+            None => {}
+        }
+        if direction.is_some() {
+            self.turning = true;
+        }
+    }
+
+    /// G97 S, or G96 S LIMS= (the S the spindle item's that follows in the block, or the
+    /// speed the program has).
+    fn spindle_mode(&mut self, item: &Item, mode: &SpindleMode, block: &mut Block) -> bool {
+        match mode {
+            // While the spindle stands, a G97 needs no S: the next start says its S.
+            SpindleMode::Rpm if !self.turning && self.surface_speed => {
+                block.words.push("G97".into());
+                self.surface_speed = false;
+                self.speed_unsaid = true;
+            }
+            SpindleMode::Rpm => {
+                block.words.push("G97".into());
+                self.surface_speed = false;
+                self.speed_word = Some(item.clone());
+            }
+            SpindleMode::SurfaceSpeed { feet: true, .. } => {
+                self.diag(
+                    codes::SINW_NO_EQUIVALENT,
+                    item,
+                    "a surface speed in feet per minute (G96 under G20): the SINUMERIK program is written in millimetres (G71), where G96's S is m/min".into(),
+                    "program the surface speed in m/min in the source, or cut at a speed in rpm (G97)",
+                );
+                return false;
+            }
+            SpindleMode::SurfaceSpeed { limit, .. } => {
+                let limit = match limit.map(Decimal::to_whole) {
+                    None => None,
+                    Some(Ok(n)) if n > 0 => Some(n),
+                    Some(_) => {
+                        self.diag(
+                            codes::SINW_PRECISION,
+                            item,
+                            format!("the surface speed's limit of {} rpm is not a whole number of rpm, which LIMS= takes", limit.map(|d| d.to_string()).unwrap_or_default()),
+                            "write the limit in whole rpm in the source",
+                        );
+                        return false;
+                    }
+                };
+                if limit.is_none() && self.limit.is_some() {
+                    self.diag(
+                        codes::SINW_NO_EQUIVALENT,
+                        item,
+                        "a surface speed without a speed limit after one with a limit: LIMS= stays in force, and the program cannot lift it".into(),
+                        "give this G96 a limit in the source (G96 … D)",
+                    );
+                    return false;
+                }
+                block.words.push("G96".into());
+                if let Some(n) = limit {
+                    block.words.push(format!("LIMS={n}"));
+                    self.limit = Some(n);
+                }
+                self.surface_speed = true;
+                self.speed_word = Some(item.clone());
+            }
+        }
+        true
+    }
+
+    /// `G4 F<s>` in a block of its own.
+    fn dwell(&mut self, item: &Item, seconds: Decimal, block: &mut Block) -> bool {
+        let Ok(ms) = seconds.to_scaled(3) else {
+            self.diag(
+                codes::SINW_PRECISION,
+                item,
+                format!("the dwell of {seconds} s needs more than the 0.001 s G4 F takes"),
+                "write the dwell in whole milliseconds in the source",
+            );
+            return false;
+        };
+        self.flush(block);
+        let comment = block.comment.take();
+        self.write(Block {
+            words: vec![
+                "G4".into(),
+                format!("F{}", Length::from_steps(ms * 10).mm()),
+            ],
+            comment,
+            ..Block::default()
+        });
+        true
+    }
+
+    /// `G2`/`G3 X Z I K F`: I and K the centre's offset from the start, I a radius value.
+    fn arc(
+        &mut self,
+        item: &Item,
+        to: Pos,
+        centre: Pos,
+        clockwise: bool,
+        feed: Length,
+        block: &mut Block,
+    ) -> bool {
+        let (Some((sx, sz)), Some((cx, cz)), Some((ex, ez))) =
+            (self.w.pos.known(), centre.known(), to.known())
+        else {
+            self.diag(
+                codes::SINW_NO_EQUIVALENT,
+                item,
+                "an arc from a position that is not known: its centre cannot be written".into(),
+                "move to an absolute X and Z before the arc",
+            );
+            return false;
+        };
+        self.motion_block(block, if clockwise { "G2" } else { "G3" });
+        let words = self.axes(item, Pos::new(ex, ez));
+        block.words.extend(words);
+        let grid = Length::from_steps(10);
+        let dx = cx - sx;
+        let on_grid = dx.0 % (2 * grid.0) == 0 && (cz - sz).0 % grid.0 == 0;
+        // A centre off the grid (an R arc's, from the source's radius) is written as the CR=
+        // the control takes, where the centre it finds from it stays within 0.0005 mm.
+        if !on_grid && (sx, sz) != (ex, ez) {
+            let over = lower::arc::over_half_turn((sx, sz), (ex, ez), (cx, cz), clockwise);
+            let (r1, _) = lower::arc::radii((sx, sz), (ex, ez), (cx, cz));
+            let r = Length(
+                div_round(Length::from_mm_f64(r1).0 as i128, grid.0 as i128) as i64 * grid.0,
+            );
+            let signed = if over { -r.to_mm_f64() } else { r.to_mm_f64() };
+            let off = lower::arc::centre_miss((sx, sz), (ex, ez), (cx, cz), signed, clockwise);
+            if off <= 0.0005 && r.0 > 0 {
+                let text = if over { format!("-{}", r.mm()) } else { r.mm() };
+                block.words.push(format!("CR={text}"));
+                self.feed_word(item, feed, block);
+                return true;
+            }
+        }
+        let half = Length(div_round(dx.0 as i128, 2 * grid.0 as i128) as i64 * grid.0);
+        if half + half != dx {
+            self.inexact
+                .note(item.span, "I (as a diameter)", dx, half + half, grid + grid);
+        }
+        let k = self.three(item, "K", cz - sz);
+        block.words.push(format!("I{}", half.mm()));
+        block.words.push(format!("K{k}"));
+        self.feed_word(item, feed, block);
+        true
+    }
+
+    /// One pass: `G33 [X] Z K SF=`.
+    fn thread_pass(&mut self, item: &Item, pass: &ThreadPass, block: &mut Block) -> bool {
+        let end = pass.end_position(self.w.pos);
+        let Ok(segments) = lower::pass_segments(self.w.pos, pass) else {
+            self.diag(
+                codes::SINW_NO_EQUIVALENT,
+                item,
+                "this thread pass needs its start point, which is not known".into(),
+                "move to the start of the thread with X and Z first",
+            );
+            return false;
+        };
+        // Chains, entries, runouts and steep moves are refused by the table; the position
+        // goes on, so that what follows reads right.
+        let SyncStart::Index(angle) = pass.start else {
+            self.w.pos = end;
+            return false;
+        };
+        if segments.len() != 1
+            || self.after_thread
+            || segments.iter().any(lower::SyncSegment::is_steep)
+        {
+            self.w.pos = end;
+            return false;
+        }
+        if self.surface_speed {
+            self.diag(
+                codes::SINW_NO_EQUIVALENT,
+                item,
+                "a thread cut under constant surface speed (G96): ncthread writes SINUMERIK threads under G97, at a speed in rpm".into(),
+                "set the spindle speed in rpm (G97 S…) before the thread in the source",
+            );
+            return false;
+        }
+        let seg = &segments[0];
+        if let (Some(a), Some(b)) = (seg.from.known(), seg.to.known())
+            && near_45((b.0 - a.0).abs(), (b.1 - a.1).abs())
+        {
+            self.diag(
+                codes::SINW_NO_EQUIVALENT,
+                item,
+                "a taper pass within 1° of 45°: the control takes K along Z only while Z travels farther than X (as a radius), a comparison the rounding of the written values can turn".into(),
+                "cut the taper at an angle farther from 45° in the source, or convert it by hand",
+            );
+            return false;
+        }
+        let travel = match (seg.from.z, seg.to.z) {
+            (Some(a), Some(b)) => (b - a).abs(),
+            _ => Length::ZERO,
+        };
+        let Some(lead) = self.four(item, "lead K", pass.lead, travel) else {
+            return false;
+        };
+        self.motion_block(block, "G33");
+        let mut to = seg.to;
+        if seg.from.x == to.x {
+            to.x = None;
+        }
+        let words = self.axes(item, to);
+        block.words.extend(words);
+        block.words.push(format!("K{}", lead.mm()));
+        let angle = Angle(angle.0.rem_euclid(360_000));
+        block.words.push(format!("SF={}", angle_text(angle)));
+        self.after_thread = true;
+        true
+    }
+
+    fn thread_cycle(&mut self, item: &Item, cycle: &ThreadCycle) {
+        let Some(steps) = self.w.cycle_steps(cycle, item.span, "D") else {
+            return;
+        };
+        for step in steps {
+            match step {
+                write::CycleStep::Comment(comment) => self.write(Block {
+                    comment: Some(comment),
+                    own_comment: true,
+                    ..Block::default()
+                }),
+                write::CycleStep::Move(moved) => {
+                    let mut block = Block::default();
+                    if self.kind(&moved, &mut block) {
+                        self.w.pos = moved.kind.end_position(self.w.pos);
+                    }
+                    self.flush(&mut block);
+                }
+            }
+        }
+    }
+}
+
+/// Whether a move of `dx` on the diameter and `dz` along Z is within 1° of 45° (the radial
+/// travel at least tan 44° of the Z travel).
+fn near_45(dx: Length, dz: Length) -> bool {
+    let (radial, along) = (dx.to_mm_f64() / 2.0, dz.to_mm_f64());
+    along > 0.0 && radial >= along * 44f64.to_radians().tan()
+}
+
+/// An angle in degrees with as few decimals as needed (`0`, `90`, `120.5`).
+fn angle_text(a: Angle) -> String {
+    let (whole, frac) = (a.0 / 1000, a.0 % 1000);
+    if frac == 0 {
+        whole.to_string()
+    } else {
+        format!("{whole}.{frac:03}")
+            .trim_end_matches('0')
+            .to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_the_controls_and_angles_are_short() {
+        let program = Program {
+            items: Vec::new(),
+            dialect: crate::dialect::iso::ID,
+            library: Vec::new(),
+            number: None,
+            name: None,
+            inch: false,
+        };
+        let name = |file: &str| program_name(&program, &SourceFile::new(file, String::new()));
+        assert_eq!(name("corpus/czech/seed-g33.nc"), "SEED_G33");
+        assert_eq!(name("12-shaft.ngc"), "NC_12_SHAFT");
+        assert_eq!(name("Řez závitu.nc"), "REZ_ZAVITU");
+        assert_eq!(angle_text(Angle(0)), "0");
+        assert_eq!(angle_text(Angle(120_500)), "120.5");
+        assert_eq!(angle_text(Angle(90_000)), "90");
+        let mm = |v: i64| Length::from_mm(v);
+        assert!(near_45(mm(20), mm(10)));
+        assert!(near_45(mm(19_400), mm(10_000)));
+        assert!(!near_45(mm(19_300), mm(10_000)));
+        assert!(!near_45(mm(2), mm(30)));
+    }
+}

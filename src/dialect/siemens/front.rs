@@ -1,0 +1,1282 @@
+//! SINUMERIK native turning → IR: what the writer writes (so that `verify` proves a
+//! conversion), `=AC()`/`=IC()`, `G91`, `G70` inch, `G94`, `M30`/`M2`/`M17`; everything else is
+//! refused by name (siemens.md "Reading").
+//!
+//! A block runs in one order **\[decided\]**, as the other controls' readers do: its modes
+//! (units, G90/G91, DIAMON/DIAMOF, G94/G95, G40, the work offset), the tool, the speed mode and
+//! the spindle, coolant on, the motion or dwell, then coolant off, M5, stops and the end.
+//! What depends on a machine setting the program has not stated is refused: X before DIAMON or
+//! DIAMOF, a feed before G94 or G95, a G33 without `SF=`.
+
+use std::ops::Range;
+
+use super::codes;
+use super::syntax::{self, Block, Value, Word};
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::machine::Switches;
+use crate::dialect::read::{Keep, Reader};
+use crate::fixed::{Angle, Decimal, Lead, Length};
+use crate::ir::{
+    Compensation, Coolant, EndCode, FeedMode, ItemKind, Pos, Program, SpindleDirection,
+    SpindleMode, SyncStart, ThreadPass,
+};
+use crate::lower;
+use crate::source::{Line, SourceFile, Span};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Motion {
+    Rapid,
+    Feed,
+    Arc { clockwise: bool },
+    Thread,
+}
+
+struct FrontEnd<'a> {
+    r: Reader<'a>,
+    /// G90 (the vendor's reset state) or G91.
+    absolute: bool,
+    /// DIAMON (X a diameter) or DIAMOF; `None` until the program says.
+    diameter: Option<bool>,
+    /// G70: lengths in inches.
+    inch: bool,
+    /// G95 or G94; `None` until the program says.
+    per_rev: Option<bool>,
+    motion: Option<Motion>,
+    f: Option<Length>,
+    /// G96 is in force, with this LIMS.
+    surface: bool,
+    /// The last motion was a G33: a G33 now would continue it.
+    after_thread: bool,
+    ended: bool,
+    warned_ramp: bool,
+}
+
+/// Reads a SINUMERIK program.
+pub(crate) fn read(src: &SourceFile, keep: Keep) -> (Program, Vec<Diagnostic>) {
+    let mut fe = FrontEnd {
+        r: Reader::new(src, super::ID, keep),
+        absolute: true,
+        diameter: None,
+        inch: false,
+        per_rev: None,
+        motion: None,
+        f: None,
+        surface: false,
+        after_thread: false,
+        ended: false,
+        warned_ramp: false,
+    };
+    let mut first = true;
+    for line in src.lines() {
+        fe.r.items.line_read();
+        if line.text.trim().is_empty() {
+            continue;
+        }
+        match syntax::parse_line(line.text) {
+            Ok(block) => {
+                let at_start = std::mem::take(&mut first);
+                fe.line(line, &block, at_start);
+            }
+            Err(e) => {
+                first = false;
+                fe.r.syntax_error(codes::SINR_SYNTAX, line, e.offset, e.message, e.help);
+            }
+        }
+    }
+    fe.r.finish()
+}
+
+/// Whether a block's comment is the `;$PATH=…` line that stands under the program's name.
+fn path_line(block: &Block) -> bool {
+    block.words.is_empty()
+        && block.number.is_none()
+        && block
+            .comment
+            .as_deref()
+            .is_some_and(|c| c.starts_with("$PATH="))
+}
+
+impl FrontEnd<'_> {
+    fn span(&self, line: Line<'_>, range: Range<usize>) -> Span {
+        self.r.span(line, range)
+    }
+
+    fn error(
+        &mut self,
+        code: Code,
+        line: Line<'_>,
+        range: Range<usize>,
+        message: impl Into<String>,
+        help: impl Into<String>,
+    ) {
+        let span = self.span(line, range);
+        self.r.error(code, span, message, help);
+    }
+
+    fn line(&mut self, line: Line<'_>, block: &Block, at_start: bool) {
+        if let Some((name, _)) = &block.header {
+            if at_start {
+                self.r.name = Some(name.clone());
+            } else {
+                let whole = 0..line.text.len();
+                self.error(
+                    codes::SINR_SYNTAX,
+                    line,
+                    whole,
+                    "a program's name (`%_N_…_MPF`) after its first line".to_string(),
+                    "a file holds one program: its name stands on the first line",
+                );
+            }
+            return;
+        }
+        if path_line(block) && self.r.items.is_empty() {
+            return;
+        }
+        if self.ended {
+            // A comment after the end is kept, as every reader keeps it.
+            if block.words.is_empty() {
+                if let Some(c) = block.comment.clone() {
+                    let span = self.span(line, 0..line.text.len());
+                    self.r.push(ItemKind::Comment(c), span, block.number);
+                }
+            } else {
+                let span = self.span(line, block.code_range.clone());
+                self.r.after_end(
+                    codes::SINR_AFTER_END,
+                    span,
+                    "blocks after the program's end (M30, M2, M17) are not run and not converted",
+                    "remove them, or move the end to after them",
+                );
+            }
+            return;
+        }
+        let first = self.r.items.len();
+        let span = self.span(line, block.code_range.clone());
+        if let Some(range) = block.block_delete.clone() {
+            self.error(
+                codes::SINR_UNSUPPORTED,
+                line,
+                range,
+                "`/` (block skip): whether the block runs is the operator's switch, which the program does not state",
+                "remove the `/`, or the block",
+            );
+        } else if !block.words.is_empty() {
+            self.block(line, block, span);
+        }
+        self.ended = self.r.ends_program(first);
+        self.r
+            .stamp_block(first, block.number, block.comment.clone(), span, false);
+    }
+}
+
+/// The words of one block, sorted by what they do.
+#[derive(Default)]
+struct Words<'b> {
+    g: Vec<(u32, &'b Word)>,
+    m: Vec<(u32, &'b Word)>,
+    letters: Vec<&'b Word>,
+    diam: Option<(bool, &'b Word)>,
+}
+
+impl<'b> Words<'b> {
+    fn get(&self, name: &str) -> Option<&'b Word> {
+        self.letters.iter().copied().find(|w| w.name == name)
+    }
+
+    fn has_g(&self, g: u32) -> bool {
+        self.g.iter().any(|(n, _)| *n == g)
+    }
+}
+
+/// The letters and names a block may hold (besides G, M and DIAMON/DIAMOF).
+const LETTERS: &[&str] = &["X", "Z", "I", "K", "F", "S", "T", "D", "SF", "CR", "LIMS"];
+
+/// What a name the reader does not read is, for its refusal.
+fn refused_name(name: &str, text: &str) -> String {
+    let digits_after = |p: &str| {
+        name.strip_prefix(p)
+            .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+    };
+    if name.starts_with("CYCLE") {
+        format!(
+            "`{name}`: SINUMERIK's cycles are not read (no pass or infeed law of theirs is published); write the passes as G33 blocks"
+        )
+    } else if digits_after("R") {
+        format!("`{name}`: R parameters are not read")
+    } else if matches!(name, "DEF" | "DEFINE") {
+        format!("`{name}`: variables are not read")
+    } else if matches!(
+        name,
+        "GOTO"
+            | "GOTOF"
+            | "GOTOB"
+            | "GOTOC"
+            | "IF"
+            | "ELSE"
+            | "ENDIF"
+            | "WHILE"
+            | "ENDWHILE"
+            | "LOOP"
+            | "ENDLOOP"
+            | "FOR"
+            | "ENDFOR"
+            | "REPEAT"
+            | "UNTIL"
+            | "CASE"
+    ) {
+        format!("`{name}`: program jumps and loops are not read")
+    } else if name == "L" || digits_after("L") {
+        format!("`{text}`: subprogram calls are not read")
+    } else if matches!(name, "CHF" | "CHR" | "RND" | "RNDM") {
+        format!(
+            "`{name}`: chamfer and rounding words are not read (where the corner goes depends on the next block's path)"
+        )
+    } else if matches!(name, "DIAM90" | "DIAMCYCOF") {
+        format!("`{name}`: only DIAMON and DIAMOF are read")
+    } else if name.len() == 1 {
+        format!("address `{name}` is not read (`{text}`)")
+    } else {
+        format!("`{name}` is not read")
+    }
+}
+
+impl FrontEnd<'_> {
+    /// Sorts the block's words; `None` when one is refused (reported).
+    fn sort<'b>(&mut self, line: Line<'_>, block: &'b Block) -> Option<Words<'b>> {
+        let mut words = Words::default();
+        let mut ok = true;
+        for w in &block.words {
+            let range = w.range.clone();
+            match (w.name.as_str(), &w.value) {
+                ("G" | "M", Value::Plain(d)) if !w.assigned => {
+                    match d.to_whole().ok().and_then(|n| u32::try_from(n).ok()) {
+                        Some(n) if !d.has_point => {
+                            if w.name == "G" {
+                                words.g.push((n, w));
+                            } else {
+                                words.m.push((n, w));
+                            }
+                        }
+                        _ => {
+                            ok = false;
+                            self.error(
+                                codes::SINR_NUMBER,
+                                line,
+                                range,
+                                format!(
+                                    "`{}`: a G or M code is a whole number",
+                                    &line.text[w.range.clone()]
+                                ),
+                                "write the code without a decimal point (`G33`, `M30`)",
+                            );
+                        }
+                    }
+                }
+                ("DIAMON" | "DIAMOF", Value::None) => {
+                    if words.diam.is_some() {
+                        ok = false;
+                        self.error(
+                            codes::SINR_CONFLICT,
+                            line,
+                            range,
+                            "DIAMON and DIAMOF twice in one block",
+                            "say once whether X is a diameter",
+                        );
+                    }
+                    words.diam = Some((w.name == "DIAMON", w));
+                }
+                ("DITS" | "DITE", Value::Plain(_)) if w.assigned => {
+                    if !std::mem::replace(&mut self.warned_ramp, true) {
+                        let span = self.span(line, range);
+                        self.r.diags.push(
+                            Diagnostic::new(
+                                codes::SINR_RAMP,
+                                format!("`{}` changes the thread's run-in or run-out ramp, not its path: it is not converted", &line.text[w.range.clone()]),
+                            )
+                            .at(self.r.src, span)
+                            .help("check the thread's run-in and run-out on the target machine"),
+                        );
+                    }
+                }
+                (name, Value::None) if name.len() == 1 && LETTERS.contains(&name) => {
+                    ok = false;
+                    self.error(
+                        codes::SINR_SYNTAX,
+                        line,
+                        range,
+                        format!("address `{name}` is not followed by a number"),
+                        "write the value after the address (`X26.618`, `X=AC(20)`)",
+                    );
+                }
+                (name, Value::Plain(_) | Value::Absolute(_) | Value::Incremental(_))
+                    if LETTERS.contains(&name) && (name.len() == 1 || w.assigned) =>
+                {
+                    if words.get(name).is_some() {
+                        ok = false;
+                        self.error(
+                            codes::SINR_CONFLICT,
+                            line,
+                            range,
+                            format!("`{name}` twice in one block"),
+                            "give each address once per block",
+                        );
+                    } else if !matches!(w.value, Value::Plain(_)) && !matches!(name, "X" | "Z") {
+                        ok = false;
+                        self.error(
+                            codes::SINR_UNSUPPORTED,
+                            line,
+                            range,
+                            format!("`{}`: AC(…) and IC(…) are read on X and Z only", &line.text[w.range.clone()]),
+                            "write the value as a number (an arc's I and K are increments from its start, as radius values)",
+                        );
+                    } else {
+                        words.letters.push(w);
+                    }
+                }
+                (name, _) => {
+                    ok = false;
+                    self.error(
+                        codes::SINR_UNSUPPORTED,
+                        line,
+                        range,
+                        refused_name(name, &line.text[w.range.clone()]),
+                        "convert this part by hand, or remove it from the source",
+                    );
+                }
+            }
+        }
+        ok.then_some(words)
+    }
+
+    fn block(&mut self, line: Line<'_>, block: &Block, span: Span) {
+        let Some(words) = self.sort(line, block) else {
+            return;
+        };
+        let mut motion = None;
+        let mut dwell = false;
+        let mut switches = Switches::default();
+        let mut modes: Vec<(ItemKind, Span)> = Vec::new();
+        for &(g, w) in &words.g {
+            let at = self.span(line, w.range.clone());
+            let range = w.range.clone();
+            let new_motion = match g {
+                0 => Some(Motion::Rapid),
+                1 => Some(Motion::Feed),
+                2 => Some(Motion::Arc { clockwise: true }),
+                3 => Some(Motion::Arc { clockwise: false }),
+                33 => Some(Motion::Thread),
+                _ => None,
+            };
+            if let Some(m) = new_motion {
+                if motion.is_some() || dwell {
+                    return self.error(
+                        codes::SINR_CONFLICT,
+                        line,
+                        range,
+                        format!("`G{g}` beside another motion or G4 in one block"),
+                        "give one motion per block",
+                    );
+                }
+                motion = Some(m);
+                continue;
+            }
+            match g {
+                4 => {
+                    if motion.is_some() {
+                        return self.error(
+                            codes::SINR_CONFLICT,
+                            line,
+                            range,
+                            "G4 beside a motion: the dwell stands in a block of its own",
+                            "put G4 F… in a block of its own",
+                        );
+                    }
+                    dwell = true;
+                }
+                18 | 90 | 91 | 70 | 71 => {}
+                94 | 95 => modes.push((
+                    ItemKind::FeedMode(if g == 95 {
+                        FeedMode::PerRev
+                    } else {
+                        FeedMode::PerMin
+                    }),
+                    at,
+                )),
+                96 | 97 => {}
+                40 => modes.push((ItemKind::Compensation(Compensation::Off), at)),
+                54..=57 => modes.push((ItemKind::WorkOffset((g - 53) as u8), at)),
+                _ => {
+                    let why = match g {
+                        17 | 19 => "the plane of a lathe program is G18",
+                        41 | 42 => {
+                            "cutter radius compensation is not read (its radius and tip are in the tool's data, which the program does not state)"
+                        }
+                        53 | 153 | 500 | 74 | 75 => {
+                            "machine coordinates, frames and reference moves are not read"
+                        }
+                        331 | 332 | 63 => "tapping is not read",
+                        34 | 35 => "threads of increasing or decreasing lead are not read",
+                        9 | 60 | 64 | 641 | 642 | 645 => {
+                            "exact stop and continuous-path modes are not read (G64 rounds corners)"
+                        }
+                        700 | 710 => "G700/G710 are not read (G70/G71 are)",
+                        _ => "it is not a G code ncthread reads in a SINUMERIK program",
+                    };
+                    return self.error(
+                        codes::SINR_UNSUPPORTED,
+                        line,
+                        range,
+                        format!("`G{g}`: {why}"),
+                        "convert this part by hand, or remove it from the source",
+                    );
+                }
+            }
+        }
+        // The modes of the whole block first.
+        let pairs = [(90, 91), (70, 71), (94, 95), (96, 97)];
+        for (a, b) in pairs {
+            if words.has_g(a) && words.has_g(b) {
+                return self.error(
+                    codes::SINR_CONFLICT,
+                    line,
+                    block.code_range.clone(),
+                    format!("G{a} and G{b} in one block"),
+                    "give one of them",
+                );
+            }
+        }
+        if words.has_g(90) {
+            self.absolute = true;
+        }
+        if words.has_g(91) {
+            self.absolute = false;
+        }
+        if words.has_g(70) {
+            self.inch = true;
+        }
+        if words.has_g(71) {
+            self.inch = false;
+        }
+        if let Some((on, _)) = words.diam {
+            self.diameter = Some(on);
+        }
+        let was = self.per_rev;
+        if words.has_g(95) {
+            self.per_rev = Some(true);
+        }
+        if words.has_g(94) {
+            self.per_rev = Some(false);
+        }
+        if self.per_rev != was {
+            // What F holds across a change of mode is not stated by the sources: the feed
+            // is given again (the writer does).
+            self.f = None;
+        }
+        for (kind, at) in modes {
+            self.r.push(kind, at, None);
+        }
+        let mut stops = Vec::new();
+        let Some(()) = self.machine_words(line, &words, &mut switches, &mut stops, span) else {
+            return;
+        };
+        switches.before_motion(&mut self.r, None);
+        if dwell {
+            let Some(()) = self.dwell(line, &words, span) else {
+                return;
+            };
+        } else {
+            if let Some(m) = motion {
+                self.motion = Some(m);
+            }
+            let Some(()) = self.motion(line, &words, block, span) else {
+                return;
+            };
+        }
+        // M5, M9, M0 and M1 act after the block's motion, as the other readers decide.
+        switches.coolant_off(&mut self.r, None);
+        switches.spindle_stop(&mut self.r, None);
+        for (optional, at) in stops {
+            self.r.push(ItemKind::Stop { optional }, at, None);
+        }
+        switches.program_end(&mut self.r, None);
+    }
+
+    /// T, D, S, LIMS and the M codes into `switches` (and the tool item).
+    fn machine_words(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        switches: &mut Switches,
+        stops: &mut Vec<(bool, Span)>,
+        span: Span,
+    ) -> Option<()> {
+        for &(m, w) in &words.m {
+            let at = self.span(line, w.range.clone());
+            match m {
+                3 | 4 => {
+                    let direction = if m == 3 {
+                        SpindleDirection::Clockwise
+                    } else {
+                        SpindleDirection::CounterClockwise
+                    };
+                    switches.spindle = Some((None, Some(direction), at));
+                }
+                5 => switches.spindle_stop = Some(at),
+                8 => switches.coolant.push((Coolant::Flood, at)),
+                9 => switches.coolant.push((Coolant::Off, at)),
+                0 | 1 => stops.push((m == 1, at)),
+                2 | 17 => switches.end = Some((EndCode::M2, at)),
+                30 => switches.end = Some((EndCode::M30, at)),
+                _ => {
+                    self.error(
+                        codes::SINR_UNSUPPORTED,
+                        line,
+                        w.range.clone(),
+                        format!("`M{m}`: not an M code ncthread reads in a SINUMERIK program (M6, M7, gear stages and the machine builder's codes are the machine's)"),
+                        "convert this part by hand, or remove it from the source",
+                    );
+                    return None;
+                }
+            }
+        }
+        let (t, d) = (words.get("T"), words.get("D"));
+        if t.is_some() || d.is_some() {
+            let number = match t {
+                Some(w) => Some(self.whole(line, w, "a tool number")?),
+                None => None,
+            };
+            let offset = match d {
+                Some(w) => Some(self.whole(line, w, "a cutting edge (D) number")?),
+                None => None,
+            };
+            self.r.push(ItemKind::Tool { number, offset }, span, None);
+        }
+        self.spindle_words(line, words, switches, span)
+    }
+
+    fn spindle_words(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        switches: &mut Switches,
+        span: Span,
+    ) -> Option<()> {
+        let lims = words.get("LIMS");
+        if words.has_g(96) {
+            let limit = match lims {
+                Some(w) => {
+                    let d = w.plain()?;
+                    if d.is_negative() || d.to_whole().is_err() {
+                        self.error(
+                            codes::SINR_NUMBER,
+                            line,
+                            w.range.clone(),
+                            "LIMS is a whole number of rpm",
+                            "write the limit in whole rpm",
+                        );
+                        return None;
+                    }
+                    Some(d)
+                }
+                None => None,
+            };
+            switches.spindle_mode = Some((
+                SpindleMode::SurfaceSpeed {
+                    limit,
+                    feet: self.inch,
+                },
+                span,
+            ));
+            self.surface = true;
+        } else if let Some(w) = lims {
+            self.error(
+                codes::SINR_UNSUPPORTED,
+                line,
+                w.range.clone(),
+                "LIMS without G96 in its block is not read",
+                "write the limit beside G96: `G96 S200 LIMS=3000`",
+            );
+            return None;
+        }
+        if words.has_g(97) {
+            switches.spindle_mode = Some((SpindleMode::Rpm, span));
+            self.surface = false;
+        }
+        if let Some(w) = words.get("S") {
+            let s = self.whole(line, w, "a spindle speed")?;
+            let direction = switches.spindle.and_then(|(_, d, _)| d);
+            let at = self.span(line, w.range.clone());
+            switches.spindle = Some((Some(s), direction, at));
+        }
+        Some(())
+    }
+
+    /// A whole number of at most 9 digits (S, T, D).
+    fn whole(&mut self, line: Line<'_>, w: &Word, what: &str) -> Option<u32> {
+        match w
+            .plain()
+            .and_then(|d| d.to_whole().ok())
+            .and_then(|n| u32::try_from(n).ok())
+            .filter(|n| *n < 1_000_000_000)
+        {
+            Some(n) => Some(n),
+            None => {
+                self.error(
+                    codes::SINR_NUMBER,
+                    line,
+                    w.range.clone(),
+                    format!(
+                        "`{}`: {what} is a whole number from 0",
+                        &line.text[w.range.clone()]
+                    ),
+                    "write it without a fraction",
+                );
+                None
+            }
+        }
+    }
+
+    /// `G4 F<seconds>`.
+    fn dwell(&mut self, line: Line<'_>, words: &Words<'_>, span: Span) -> Option<()> {
+        if let Some(w) = words.letters.iter().find(|w| w.name != "F") {
+            self.error(
+                codes::SINR_CONFLICT,
+                line,
+                w.range.clone(),
+                format!(
+                    "`{}` beside G4: the dwell is G4 F<seconds> in a block of its own",
+                    &line.text[w.range.clone()]
+                ),
+                "write the dwell in seconds, `G4 F2.5`, in a block of its own",
+            );
+            return None;
+        }
+        let Some(f) = words.get("F") else {
+            self.error(
+                codes::SINR_CONFLICT,
+                line,
+                0..line.text.len(),
+                "G4 without F: the dwell's time in seconds",
+                "write `G4 F2.5`",
+            );
+            return None;
+        };
+        let seconds = f.plain().filter(|d| !d.is_negative());
+        let Some(seconds) = seconds.filter(|d| d.to_scaled(3).is_ok()) else {
+            self.error(
+                codes::SINR_NUMBER,
+                line,
+                f.range.clone(),
+                "a dwell is from 0 s, to 0.001 s",
+                "write the dwell in seconds with at most 3 decimals",
+            );
+            return None;
+        };
+        // G4's F is the dwell's alone: the feed stays (siemens.md).
+        self.r.push(ItemKind::Dwell { seconds }, span, None);
+        Some(())
+    }
+}
+
+impl FrontEnd<'_> {
+    /// A length word in the program's unit: mm to 0.0001, inches to 0.0001 in.
+    fn length_of(&mut self, line: Line<'_>, w: &Word, d: Decimal) -> Option<Length> {
+        self.r.saw_length(self.inch);
+        let value = if self.inch {
+            let den = 10i128.checked_pow(d.scale);
+            let num = d.mantissa.checked_mul(Length::PER_INCH as i128);
+            match (num, den) {
+                (Some(n), Some(den)) if n % den == 0 && (n / den).abs() < 1 << 55 => {
+                    Some(Length((n / den) as i64))
+                }
+                _ => None,
+            }
+        } else {
+            d.to_length().ok().filter(|l| l.0.abs() < 1 << 55)
+        };
+        if value.is_none() {
+            let unit = if self.inch { "0.0001 in" } else { "0.0001 mm" };
+            self.error(
+                codes::SINR_NUMBER,
+                line,
+                w.range.clone(),
+                format!(
+                    "`{}` is too large or finer than {unit}",
+                    &line.text[w.range.clone()]
+                ),
+                "write the value with at most 4 decimals",
+            );
+        }
+        value
+    }
+
+    /// The lead K in the program's unit, exactly.
+    fn lead_of(&mut self, line: Line<'_>, w: &Word) -> Option<Lead> {
+        let d = w.plain()?;
+        let lead = if self.inch {
+            let per = 254i128 * 10i128.pow(11);
+            let den = 10i128.checked_pow(d.scale)?;
+            d.mantissa
+                .checked_mul(per)
+                .filter(|n| n % den == 0)
+                .map(|n| n / den)
+                .and_then(|v| i64::try_from(v).ok())
+                .map(Lead)
+        } else {
+            d.to_lead().ok()
+        };
+        match lead.filter(|l| l.0 > 0 && *l <= Lead::MAX) {
+            Some(l) => Some(l),
+            None => {
+                self.error(
+                    codes::SINR_NUMBER,
+                    line,
+                    w.range.clone(),
+                    format!(
+                        "`{}`: a lead is positive, at most 12 decimals of a mm",
+                        &line.text[w.range.clone()]
+                    ),
+                    "write the thread's lead along Z, `K1.5`",
+                );
+                None
+            }
+        }
+    }
+
+    /// Where the block's X and Z words go: `None` when refused (reported); the axes not
+    /// written stay as they are.
+    fn target(&mut self, line: Line<'_>, words: &Words<'_>) -> Option<Pos> {
+        let mut to = Pos::UNKNOWN;
+        for name in ["X", "Z"] {
+            let Some(w) = words.get(name) else { continue };
+            let (d, absolute) = match w.value {
+                Value::Plain(d) => (d, self.absolute),
+                Value::Absolute(d) => (d, true),
+                Value::Incremental(d) => (d, false),
+                _ => continue,
+            };
+            let mut v = self.length_of(line, w, d)?;
+            let current = if name == "X" {
+                self.r.pos.x
+            } else {
+                self.r.pos.z
+            };
+            if name == "X" {
+                match self.diameter {
+                    Some(true) => {}
+                    Some(false) => v = v + v,
+                    None => {
+                        self.error(
+                            codes::SINR_MODE_UNKNOWN,
+                            line,
+                            w.range.clone(),
+                            "X before DIAMON or DIAMOF: whether X is a diameter is the machine's setting until the program says",
+                            "write DIAMON (X a diameter) or DIAMOF at the program's start",
+                        );
+                        return None;
+                    }
+                }
+            }
+            let value = if absolute {
+                v
+            } else {
+                match current {
+                    Some(c) => c + v,
+                    None => {
+                        self.error(
+                            codes::SINR_UNKNOWN_POSITION,
+                            line,
+                            w.range.clone(),
+                            format!("an incremental {name} from a position that is not known yet"),
+                            "move to an absolute X and Z first",
+                        );
+                        return None;
+                    }
+                }
+            };
+            if name == "X" {
+                to.x = Some(value);
+            } else {
+                to.z = Some(value);
+            }
+        }
+        Some(to)
+    }
+
+    /// The block's motion (or none: a block of modes, a feed alone).
+    fn motion(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        block: &Block,
+        span: Span,
+    ) -> Option<()> {
+        let axes = words.get("X").is_some() || words.get("Z").is_some();
+        let motion = self.motion;
+        let allowed: &[&str] = match motion {
+            Some(Motion::Thread) if axes => &["SF", "K", "I"],
+            Some(Motion::Arc { .. }) if axes => &["I", "K", "CR"],
+            _ => &[],
+        };
+        if let Some(w) = ["SF", "K", "I", "CR"]
+            .iter()
+            .filter(|n| !allowed.contains(n))
+            .find_map(|n| words.get(n))
+        {
+            self.error(
+                codes::SINR_CONFLICT,
+                line,
+                w.range.clone(),
+                format!(
+                    "`{}` in a block that cuts no thread or arc",
+                    &line.text[w.range.clone()]
+                ),
+                "write it in the G33, G2 or G3 block it belongs to",
+            );
+            return None;
+        }
+        if let Some(w) = words.get("F") {
+            let feed = self.feed(line, w)?;
+            self.f = Some(feed);
+            if !axes || motion == Some(Motion::Thread) || motion == Some(Motion::Rapid) {
+                self.r.push(ItemKind::FeedRate(feed), span, None);
+            }
+        }
+        if !axes {
+            return Some(());
+        }
+        let Some(motion) = motion else {
+            self.error(
+                codes::SINR_MODE_UNKNOWN,
+                line,
+                block.code_range.clone(),
+                "an axis move before any G0, G1, G2, G3 or G33: the motion in force is the machine's setting",
+                "write the motion (`G0 X… Z…`)",
+            );
+            return None;
+        };
+        let from = self.r.pos;
+        // The axes written (a move keeps them so), and where the tool ends.
+        let written = self.target(line, words)?;
+        let to = Pos {
+            x: written.x.or(from.x),
+            z: written.z.or(from.z),
+        };
+        match motion {
+            Motion::Rapid => {
+                self.r.push(ItemKind::Rapid { to: written }, span, None);
+            }
+            Motion::Feed => {
+                let feed = self.feed_in_force(line, block)?;
+                self.r
+                    .push(ItemKind::Feed { to: written, feed }, span, None);
+            }
+            Motion::Arc { clockwise } => {
+                let feed = self.feed_in_force(line, block)?;
+                let (to, centre) = self.arc(line, words, from, to, clockwise, block)?;
+                self.r.push(
+                    ItemKind::Arc {
+                        to,
+                        centre: Box::new(centre),
+                        clockwise,
+                        feed,
+                    },
+                    span,
+                    None,
+                );
+            }
+            Motion::Thread => self.thread(line, words, from, to, block, span)?,
+        }
+        self.after_thread = motion == Motion::Thread;
+        self.r.pos = to;
+        Some(())
+    }
+
+    fn feed(&mut self, line: Line<'_>, w: &Word) -> Option<Length> {
+        let d = w.plain()?;
+        let feed = if d.is_negative() {
+            None
+        } else {
+            self.length_of(line, w, d)
+        };
+        if feed.is_none() && !d.is_negative() {
+            return None;
+        }
+        if feed.is_none() {
+            self.error(
+                codes::SINR_NUMBER,
+                line,
+                w.range.clone(),
+                "a feed is positive",
+                "write the feed per revolution (G95) or per minute (G94)",
+            );
+        }
+        feed
+    }
+
+    fn feed_in_force(&mut self, line: Line<'_>, block: &Block) -> Option<Length> {
+        if self.per_rev.is_none() {
+            self.error(
+                codes::SINR_MODE_UNKNOWN,
+                line,
+                block.code_range.clone(),
+                "a feed move before G94 or G95: whether F is per revolution or per minute is the machine's setting until the program says",
+                "write G95 (mm/rev) or G94 (mm/min) at the program's start",
+            );
+            return None;
+        }
+        match self.f {
+            Some(f) if f.0 > 0 => Some(f),
+            _ => {
+                self.error(
+                    codes::SINR_MODE_UNKNOWN,
+                    line,
+                    block.code_range.clone(),
+                    "a feed move without a feed: F is not set since the program's start or the last G94/G95",
+                    "write F in this block",
+                );
+                None
+            }
+        }
+    }
+
+    fn arc(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        from: Pos,
+        to: Pos,
+        clockwise: bool,
+        block: &Block,
+    ) -> Option<(Pos, Pos)> {
+        let code = if clockwise { "G2" } else { "G3" };
+        let whole = block.code_range.clone();
+        let (Some((sx, sz)), Some((ex, ez))) = (from.known(), to.known()) else {
+            self.error(
+                codes::SINR_UNKNOWN_POSITION,
+                line,
+                whole,
+                format!("{code} from a position that is not known yet: the arc's centre cannot be placed"),
+                "move to an absolute X and Z before the arc",
+            );
+            return None;
+        };
+        let (i, k, cr) = (words.get("I"), words.get("K"), words.get("CR"));
+        let centre = match (cr, i.or(k)) {
+            (Some(w), Some(_)) => {
+                self.error(
+                    codes::SINR_CONFLICT,
+                    line,
+                    w.range.clone(),
+                    "CR= with I or K: give the centre one way",
+                    "write either I and K, or CR=",
+                );
+                return None;
+            }
+            (None, None) => {
+                self.error(
+                    codes::SINR_ARC,
+                    line,
+                    whole,
+                    format!("{code} without I, K or CR="),
+                    "write the centre (I and K from the arc's start, radius values) or the radius CR=",
+                );
+                return None;
+            }
+            (Some(w), None) => {
+                let r = self.length_of(line, w, w.plain()?)?;
+                if r.0 == 0 || (sx, sz) == (ex, ez) {
+                    self.error(
+                        codes::SINR_ARC,
+                        line,
+                        w.range.clone(),
+                        format!(
+                            "{code} with CR=: a zero radius, or an arc that ends where it starts"
+                        ),
+                        "write the arc with I and K",
+                    );
+                    return None;
+                }
+                match lower::arc::centre_from_radius(
+                    (sx, sz),
+                    (ex, ez),
+                    r.to_mm_f64(),
+                    clockwise,
+                    0.001,
+                ) {
+                    Ok(c) => c,
+                    Err(chord) => {
+                        self.error(
+                            codes::SINR_ARC,
+                            line,
+                            w.range.clone(),
+                            format!("`{}` is too small for the arc: its end is {chord:.4} mm from its start", &line.text[w.range.clone()]),
+                            "the radius must be at least half the distance from the start to the end",
+                        );
+                        return None;
+                    }
+                }
+            }
+            (None, Some(_)) => {
+                let mut offset = |w: Option<&Word>| -> Option<Length> {
+                    match w {
+                        Some(w) => self.length_of(line, w, w.plain()?),
+                        None => Some(Length::ZERO),
+                    }
+                };
+                let (iv, kv) = (offset(i)?, offset(k)?);
+                Pos::new(sx + iv + iv, sz + kv)
+            }
+        };
+        let (cx, cz) = centre.known()?;
+        let (r1, r2) = lower::arc::radii((sx, sz), (ex, ez), (cx, cz));
+        if r1 < 0.001 || r2 < 0.001 || (r1 - r2).abs() > 0.002 {
+            self.error(
+                codes::SINR_ARC,
+                line,
+                whole,
+                format!(
+                    "{code}'s end is not on its circle, or its radius is zero: {} mm at the start, {} mm at the end",
+                    Length::from_mm_f64(r1).mm(),
+                    Length::from_mm_f64(r2).mm()
+                ),
+                "check I and K (increments from the arc's start, I a radius value)",
+            );
+            return None;
+        }
+        Some((to, centre))
+    }
+
+    /// `G33 X Z K SF=`: one pass that waits for the index pulse, then `SF` degrees.
+    fn thread(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        from: Pos,
+        to: Pos,
+        block: &Block,
+        span: Span,
+    ) -> Option<()> {
+        let whole = block.code_range.clone();
+        let refuse = |fe: &mut Self, range: Range<usize>, message: &str, help: &str| {
+            fe.error(codes::SINR_THREAD, line, range, message.to_string(), help);
+        };
+        if let Some(w) = words.get("I") {
+            refuse(
+                self,
+                w.range.clone(),
+                "G33 with I: a lead along X is not read",
+                "cut the thread with Z as the long axis and its lead K",
+            );
+            return None;
+        }
+        if self.after_thread {
+            refuse(
+                self,
+                whole,
+                "a G33 block that continues the G33 before it: the chain's meaning is not in the sources ncthread holds",
+                "retract between the two thread moves (G0), and start each with its own SF=",
+            );
+            return None;
+        }
+        if self.surface {
+            refuse(
+                self,
+                whole,
+                "G33 under G96: the thread's lead needs the spindle at a speed in rpm",
+                "write G97 S… before the thread",
+            );
+            return None;
+        }
+        let Some(k) = words.get("K") else {
+            refuse(
+                self,
+                whole,
+                "G33 without K: the thread's lead along Z",
+                "write `G33 Z… K<lead> SF=<angle>`",
+            );
+            return None;
+        };
+        let lead = self.lead_of(line, k)?;
+        let Some(sf) = words.get("SF") else {
+            self.error(
+                codes::SINR_MODE_UNKNOWN,
+                line,
+                whole,
+                "G33 without SF=: the start angle is then the machine's setting",
+                "write the start angle on every G33 block: `SF=0`",
+            );
+            return None;
+        };
+        let angle = sf
+            .plain()
+            .and_then(|d| d.to_angle().ok())
+            .filter(|a| (0..360_000).contains(&a.0));
+        let Some(angle) = angle else {
+            self.error(
+                codes::SINR_NUMBER,
+                line,
+                sf.range.clone(),
+                format!(
+                    "`{}`: SF= is from 0 to 359.999°",
+                    &line.text[sf.range.clone()]
+                ),
+                "write the start angle in degrees, at most 3 decimals",
+            );
+            return None;
+        };
+        // A thread along Z needs only its end Z; one that moves X needs its start.
+        let moves_x = words.get("X").is_some() && to.x != from.x;
+        if to.z.is_none() || (moves_x && from.known().is_none()) {
+            self.error(
+                codes::SINR_UNKNOWN_POSITION,
+                line,
+                whole,
+                "G33 from a position that is not known yet",
+                "move to the thread's start with X and Z first",
+            );
+            return None;
+        }
+        let steep = match (from.known(), to.known()) {
+            (Some(a), Some(b)) => (b.0 - a.0).0.unsigned_abs() >= 2 * (b.1 - a.1).0.unsigned_abs(),
+            _ => from.z == to.z,
+        };
+        if steep {
+            refuse(
+                self,
+                whole,
+                "this G33 moves X (as a radius) as much as Z or more: its K would be along X, which is not read",
+                "cut the thread with Z as the long axis",
+            );
+            return None;
+        }
+        let pass = ThreadPass {
+            to,
+            lead,
+            start: SyncStart::Index(Angle(angle.0)),
+            infeed: None,
+            entry: None,
+            exit: None,
+        };
+        self.r.push(ItemKind::pass(pass), span, None);
+        Some(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixed::Decimal;
+
+    fn read_text(text: &str) -> (Vec<ItemKind>, Vec<&'static str>) {
+        let (p, d) = read(&SourceFile::new("t.mpf", text), Keep::Program);
+        (
+            p.items.into_iter().map(|i| i.kind).collect(),
+            d.iter().map(|d| d.code.id).collect(),
+        )
+    }
+
+    fn mm(v: &str) -> Length {
+        Decimal::parse(v)
+            .and_then(|d| d.to_length().ok())
+            .expect("a length")
+    }
+
+    const HEAD: &str = "%_N_T_MPF\n;$PATH=/_N_MPF_DIR\nN10 G18 G90 G71 G95 G40 DIAMON\n";
+
+    #[test]
+    fn a_pass_waits_for_the_index_pulse_and_sf_degrees() {
+        let (items, codes) = read_text(&format!(
+            "{HEAD}N20 S800 M3\nN30 G0 X29.2 Z5\nN40 G33 Z-30 K3 SF=180\n"
+        ));
+        assert!(codes.is_empty(), "{codes:?}");
+        let pass = items.iter().find_map(|k| match k {
+            ItemKind::ThreadPass(p) => Some(p),
+            _ => None,
+        });
+        let pass = pass.expect("a pass");
+        assert_eq!(pass.to, Pos::new(mm("29.2"), mm("-30")));
+        assert_eq!(pass.start, SyncStart::Index(Angle(180_000)));
+        assert_eq!(pass.lead, Decimal::parse("3").unwrap().to_lead().unwrap());
+    }
+
+    #[test]
+    fn absolute_and_incremental_words_and_radius_x() {
+        let (items, codes) = read_text(&format!(
+            "{HEAD}N20 G0 X40 Z5\nN30 G91 X-2 Z=AC(1)\nN40 X=AC(30) Z-1\nN50 DIAMOF G90 X10\n"
+        ));
+        assert!(codes.is_empty(), "{codes:?}");
+        let rapids: Vec<Pos> = items
+            .iter()
+            .filter_map(|k| match k {
+                ItemKind::Rapid { to } => Some(*to),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(
+            rapids,
+            [
+                Pos::new(mm("40"), mm("5")),
+                Pos::new(mm("38"), mm("1")),
+                Pos::new(mm("30"), mm("0")),
+                Pos {
+                    x: Some(mm("20")),
+                    z: None
+                },
+            ]
+        );
+    }
+
+    #[test]
+    fn what_a_machine_setting_decides_is_refused_until_the_program_says() {
+        let (_, codes) = read_text("N10 G90 G95\nN20 G0 X20 Z5\n");
+        assert_eq!(codes, ["SINR006"]);
+        let (_, codes) = read_text("N10 DIAMON\nN20 G0 X20 Z5\nN30 G1 Z-5 F0.2\n");
+        assert_eq!(codes, ["SINR006"]);
+        let (_, codes) = read_text(&format!("{HEAD}N20 G0 X20 Z5\nN30 G33 Z-5 K1\n"));
+        assert_eq!(codes, ["SINR006"]);
+        // A feed after a change of mode is given again; the same mode restated keeps it.
+        let (_, codes) = read_text(&format!(
+            "{HEAD}N20 G0 X20 Z5\nN30 G1 Z-5 F0.2\nN40 G95\nN50 Z-6\nN60 G94\nN70 Z-7\n"
+        ));
+        assert_eq!(codes, ["SINR006"]);
+    }
+
+    #[test]
+    fn what_is_not_read_is_named() {
+        for (text, code) in [
+            ("N20 CYCLE97(1,2)\n", "SINR002"),
+            ("N20 R1=2\n", "SINR002"),
+            ("N20 GOTOF END\n", "SINR002"),
+            ("N20 G64\n", "SINR002"),
+            ("N20 M6\n", "SINR002"),
+            (
+                "N20 G0 X20 Z5\nN30 G33 Z-5 K1 SF=0\nN40 Z-8 K1 SF=0\n",
+                "SINR008",
+            ),
+            ("N20 G0 X20 Z5\nN30 G1 X30 F0.1 SF=5\n", "SINR005"),
+            ("N20 G0 X20 Z5\nN30 G2 X30 Z0 CR=1 F0.1\n", "SINR007"),
+        ] {
+            let (_, codes) = read_text(&format!("{HEAD}{text}"));
+            assert_eq!(codes.first(), Some(&code), "{text}: {codes:?}");
+        }
+    }
+
+    #[test]
+    fn an_inch_program_is_held_exactly() {
+        let (items, codes) = read_text(
+            "N10 G18 G90 G70 G95 DIAMON\nN20 G0 X0.6 Z0.2\nN30 G33 Z-0.75 K0.0769 SF=0\n",
+        );
+        assert!(codes.is_empty(), "{codes:?}");
+        assert_eq!(
+            items[1],
+            ItemKind::Rapid {
+                to: Pos::new(mm("15.24"), mm("5.08"))
+            }
+        );
+        match &items[2] {
+            ItemKind::ThreadPass(p) => assert_eq!(p.lead.mm(), "1.95326"),
+            other => panic!("{other:?}"),
+        }
+    }
+}

@@ -1,0 +1,262 @@
+//! The SINUMERIK block syntax (`grammar/siemens.pest`): one line in, one [`Block`] out.
+
+use std::ops::Range;
+
+use pest::Parser;
+use pest_derive::Parser;
+
+use crate::fixed::Decimal;
+
+#[derive(Parser)]
+#[grammar = "../grammar/siemens.pest"]
+struct SiemensParser;
+
+/// What follows a word's name.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Value {
+    /// `X20`, `X=20`, `SF=90`.
+    Plain(Decimal),
+    /// `X=AC(20)`: absolute whatever G90/G91 say.
+    Absolute(Decimal),
+    /// `X=IC(-2)`: incremental whatever G90/G91 say.
+    Incremental(Decimal),
+    /// A name alone: `DIAMON`, `GOTOF`.
+    None,
+    /// A name with an argument list: `CYCLE97(…)`.
+    Call,
+}
+
+/// One element of a block: its name in upper case (`X`, `SF`, `DIAMON`), what follows it,
+/// whether it was written `name=value`, and its byte range.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Word {
+    pub name: String,
+    pub value: Value,
+    pub assigned: bool,
+    pub range: Range<usize>,
+}
+
+impl Word {
+    /// The number of a plain word (`X20`, `SF=90`).
+    pub fn plain(&self) -> Option<Decimal> {
+        match self.value {
+            Value::Plain(d) => Some(d),
+            _ => None,
+        }
+    }
+}
+
+/// Everything a line holds, in the order written.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Block {
+    /// `%_N_NAME_MPF`: the name and whether it is a subprogram (`_SPF`).
+    pub header: Option<(String, bool)>,
+    pub number: Option<u32>,
+    pub words: Vec<Word>,
+    pub comment: Option<String>,
+    /// A `/` (block skip) in front.
+    pub block_delete: Option<Range<usize>>,
+    /// The range of the block without its comment and trailing blanks.
+    pub code_range: Range<usize>,
+}
+
+/// Why a line could not be read: the byte offset and what was found there.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SyntaxError {
+    pub offset: usize,
+    pub message: String,
+    pub help: String,
+}
+
+const HELP: &str = "a SINUMERIK block is `N<number>`, then words (`X26.618`, `G33`, `X=AC(20)`, `SF=90`), with a `;` comment to the line's end";
+
+/// Parses one line (without its line ending).
+pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
+    let mut pairs = SiemensParser::parse(Rule::line, line).map_err(|e| syntax_error(line, &e))?;
+    let mut block = Block::default();
+    let Some(line_pair) = pairs.next() else {
+        return Ok(block);
+    };
+    let first = line.len() - line.trim_start_matches([' ', '\t', '\r']).len();
+    let mut code_end = first;
+    for pair in line_pair.into_inner() {
+        match pair.as_rule() {
+            Rule::header => {
+                let mut inner = pair.into_inner();
+                let name = inner.next().map_or("", |p| p.as_str()).to_ascii_uppercase();
+                let sub = inner
+                    .next()
+                    .is_some_and(|k| k.as_str().eq_ignore_ascii_case("SPF"));
+                block.header = Some((name, sub));
+            }
+            Rule::block => {
+                for part in pair.into_inner() {
+                    let span = part.as_span();
+                    let range = span.start()..span.end();
+                    match part.as_rule() {
+                        Rule::block_delete => {
+                            block.block_delete = Some(range);
+                            code_end = span.end();
+                        }
+                        Rule::block_number => {
+                            code_end = span.end();
+                            let digits = part.into_inner().next().map_or("", |d| d.as_str());
+                            block.number = Some(
+                                digits
+                                    .parse()
+                                    .ok()
+                                    .filter(|n| *n <= 999_999_999)
+                                    .ok_or_else(|| SyntaxError {
+                                        offset: span.start(),
+                                        message: format!(
+                                            "`{}` is too large for a block number",
+                                            span.as_str()
+                                        ),
+                                        help: "block numbers are N1 to N999999999".into(),
+                                    })?,
+                            );
+                        }
+                        Rule::word | Rule::assignment | Rule::call | Rule::keyword => {
+                            code_end = span.end();
+                            block.words.push(word(part, range)?);
+                        }
+                        Rule::comment => {
+                            let text = part.into_inner().next().map_or("", |t| t.as_str());
+                            block.comment = crate::dialect::comment_text(text);
+                        }
+                        _ => {}
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    block.code_range = first..code_end.max(first);
+    Ok(block)
+}
+
+fn number(text: &str, offset: usize) -> Result<Decimal, SyntaxError> {
+    Decimal::parse(text).ok_or_else(|| SyntaxError {
+        offset,
+        message: format!("`{text}` has too many digits"),
+        help: "numbers are at most 30 digits long".into(),
+    })
+}
+
+fn word(part: pest::iterators::Pair<'_, Rule>, range: Range<usize>) -> Result<Word, SyntaxError> {
+    let rule = part.as_rule();
+    let start = range.start;
+    let whole = part.as_str();
+    let mut inner = part.into_inner();
+    let (name, value) = match rule {
+        Rule::keyword => (whole.to_string(), Value::None),
+        Rule::call => (
+            inner.next().map_or("", |p| p.as_str()).to_string(),
+            Value::Call,
+        ),
+        Rule::word => {
+            let name = inner.next().map_or("", |p| p.as_str()).to_string();
+            let text = inner.next().map_or("", |p| p.as_str());
+            (name, Value::Plain(number(text, start)?))
+        }
+        _ => {
+            let name = inner.next().map_or("", |p| p.as_str()).to_string();
+            let value = match inner.next() {
+                Some(v) if v.as_rule() == Rule::number => Value::Plain(number(v.as_str(), start)?),
+                Some(v) => {
+                    let absolute = v.as_rule() == Rule::absolute;
+                    let text = v.into_inner().next().map_or("", |n| n.as_str());
+                    let d = number(text, start)?;
+                    if absolute {
+                        Value::Absolute(d)
+                    } else {
+                        Value::Incremental(d)
+                    }
+                }
+                None => Value::None,
+            };
+            (name, value)
+        }
+    };
+    Ok(Word {
+        name: name.to_ascii_uppercase(),
+        value,
+        assigned: rule == Rule::assignment,
+        range,
+    })
+}
+
+fn syntax_error(line: &str, e: &pest::error::Error<Rule>) -> SyntaxError {
+    let offset = crate::dialect::pest_error_offset(line, e);
+    let rest = &line[offset..];
+    let (message, help) = match rest.chars().next() {
+        None => (
+            "the block ends where a value was expected".to_string(),
+            HELP.to_string(),
+        ),
+        Some(c) if c.is_ascii_digit() || c == '.' || c == '-' || c == '+' => (
+            format!(
+                "number `{}` does not belong to an address",
+                rest.split([' ', '\t']).next().unwrap_or(rest)
+            ),
+            HELP.to_string(),
+        ),
+        Some('=') => (
+            "a value that is not a number, AC(…) or IC(…): expressions and variables are not read"
+                .to_string(),
+            "write the value as a number (`X=20.5`, `X=AC(20.5)`)".to_string(),
+        ),
+        Some(':') => (
+            "a label or a main block number (`:10`): jumps and labels are not read".to_string(),
+            HELP.to_string(),
+        ),
+        Some(c) => (format!("unexpected character `{c}`"), HELP.to_string()),
+    };
+    SyntaxError {
+        offset,
+        message,
+        help,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn words_assignments_keywords_and_comments() {
+        let b = parse_line("N20 g33 Z-20 K1.5 SF=90 X=AC(20) Z=IC(-2.5) DIAMON ; pass 1").unwrap();
+        assert_eq!(b.number, Some(20));
+        let names: Vec<&str> = b.words.iter().map(|w| w.name.as_str()).collect();
+        assert_eq!(names, ["G", "Z", "K", "SF", "X", "Z", "DIAMON"]);
+        assert_eq!(b.words[3].plain(), Decimal::parse("90"));
+        assert!(matches!(b.words[4].value, Value::Absolute(_)));
+        assert!(matches!(b.words[5].value, Value::Incremental(_)));
+        assert_eq!(b.words[6].value, Value::None);
+        assert_eq!(b.comment.as_deref(), Some("pass 1"));
+        assert_eq!(&"N20 g33"[b.code_range.start..7], "N20 g33");
+    }
+
+    #[test]
+    fn the_header_names_the_program() {
+        let b = parse_line("%_N_SHAFT_2_MPF").unwrap();
+        assert_eq!(b.header, Some(("SHAFT_2".into(), false)));
+        let b = parse_line("%_N_THREAD_spf").unwrap();
+        assert_eq!(b.header, Some(("THREAD".into(), true)));
+        assert!(parse_line("%").is_err());
+    }
+
+    #[test]
+    fn what_the_front_end_names_is_read_and_the_rest_is_a_syntax_error() {
+        let b = parse_line("CYCLE97(1.5,,0,-20) R1=2 GOTOF END L10").unwrap();
+        let names: Vec<&str> = b.words.iter().map(|w| w.name.as_str()).collect();
+        assert_eq!(names, ["CYCLE97", "R1", "GOTOF", "END", "L"]);
+        assert_eq!(b.words[0].value, Value::Call);
+        assert!(b.words[1].assigned);
+        assert!(parse_line("X=R1+2").is_err());
+        // An address without its number is a name here; the front end says what is missing.
+        assert_eq!(parse_line("G0 X").unwrap().words[1].value, Value::None);
+        assert!(parse_line("G0 Ž").is_err());
+        assert!(parse_line("LABEL1: G0 X1").is_err());
+    }
+}
