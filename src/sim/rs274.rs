@@ -77,14 +77,26 @@ pub enum Canon {
 
 /// The calls with every G52/G92 offset added back into the coordinates: what the tool does in
 /// the work coordinates, whatever offsets the program set.
+///
+/// The machine holds an offset in its own units from the moment it is set (LinuxCNC's canon
+/// layer converts it then): after a change of units the calls' coordinates are in the new
+/// unit, the offset is not, so it is held in millimetres here and added in the unit in force.
 pub fn without_axis_offsets(canon: impl IntoIterator<Item = Canon>) -> Vec<Canon> {
+    let (mut x_mm, mut z_mm) = (0.0, 0.0);
+    let mut scale = 1.0;
     let (mut dx, mut dz) = (0.0, 0.0);
     let mut out = Vec::new();
     for c in canon {
         out.push(match c {
             Canon::AxisOffset { x, z } => {
+                (x_mm, z_mm) = (x * scale, z * scale);
                 (dx, dz) = (x, z);
                 continue;
+            }
+            Canon::Inches(inch) => {
+                scale = if inch { 25.4 } else { 1.0 };
+                (dx, dz) = (x_mm / scale, z_mm / scale);
+                Canon::Inches(inch)
             }
             Canon::Traverse { x, z } => Canon::Traverse {
                 x: x + dx,
@@ -982,6 +994,25 @@ fn without_rapid_to_rs274_start(mut segments: Vec<Segment>) -> Vec<Segment> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A G92 offset set in millimetres stays those millimetres after G20: LinuxCNC's canon
+    /// layer holds it in the machine's units, and rs274 prints the later moves in inches
+    /// without it (found by the fuzz harness, `corpus/fuzz/iso/g20-after-a-g92-offset.ngc`).
+    #[test]
+    fn an_axis_offset_keeps_the_unit_it_was_set_in() {
+        let canon = without_axis_offsets([
+            Canon::AxisOffset { x: 40.0, z: 10.0 },
+            Canon::Inches(true),
+            Canon::Feed { x: -12.0, z: -20.0 },
+        ]);
+        match canon[1] {
+            Canon::Feed { x, z } => {
+                assert!((x - (-12.0 + 40.0 / 25.4)).abs() < 1e-9, "{x}");
+                assert!((z - (-20.0 + 10.0 / 25.4)).abs() < 1e-9, "{z}");
+            }
+            ref other => panic!("{other:?}"),
+        }
+    }
 
     /// G18 goes first, or after the `%` that opens a program (blank lines before it kept), so
     /// that rs274 still takes the `%` for the program's opening.

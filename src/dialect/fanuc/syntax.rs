@@ -73,7 +73,7 @@ fn fast_line(line: &str) -> Option<Block> {
     let mut block = Block::default();
     if c.delimiter(blank_tab_or_cr)? {
         block.delimiter = true;
-        block.code_range = first..first;
+        block.code_range = c.pos..c.pos;
         return Some(block);
     }
     let mut code_end = first;
@@ -131,11 +131,17 @@ fn parse_with_grammar(line: &str) -> Result<Block, SyntaxError> {
     };
     let mut block = Block::default();
     let mut comments: Vec<String> = Vec::new();
-    let first = line.len() - line.trim_start_matches([' ', '\t', '\r']).len();
+    let mut first = line.len() - line.trim_start_matches([' ', '\t', '\r']).len();
     let mut code_end = first;
     for pair in line_pair.into_inner() {
         match pair.as_rule() {
-            Rule::delimiter => block.delimiter = true,
+            // The block on a `%` line (`%O1200 (NAME)`) starts after the `%`: a block kept
+            // as written is its words, never the tape's delimiter.
+            Rule::delimiter => {
+                block.delimiter = true;
+                first = pair.as_span().end();
+                code_end = first;
+            }
             Rule::block => {
                 for part in pair.into_inner() {
                     let span = part.as_span();
@@ -273,6 +279,7 @@ mod tests {
         assert_eq!(b.get('O').map(|w| w.value.to_whole()), Some(Ok(100)));
         let b = parse_line("%O1200(TOKARKA)").unwrap();
         assert!(b.delimiter);
+        assert_eq!(b.code_range, 1..6);
         assert_eq!(b.get('O').map(|w| w.value.to_whole()), Some(Ok(1200)));
         assert_eq!(b.comment.as_deref(), Some("TOKARKA"));
         let b = parse_line(" ％ ").unwrap();

@@ -560,7 +560,12 @@ impl FrontEnd<'_> {
     fn sort_m<'w>(&mut self, line: Line<'_>, w: &'w Word, words: &mut Words<'w>) -> Option<()> {
         let text = &line.text[w.range.clone()];
         let why = match self.whole(line, w)? {
+            // The same code twice (`M30 M30`) is a slip whose count the control does not
+            // define: refused, as a letter written twice is.
             m @ (0 | 1 | 2 | 30 | 3 | 4 | 5 | 8 | 9 | 41..=44) => {
+                if words.m(m).is_some() {
+                    words.conflict.get_or_insert(w);
+                }
                 words.m_codes.push((m, w));
                 return Some(());
             }
