@@ -29,6 +29,10 @@
 //! thread_chamfer_0p1_lead = 10  # G92's chamfer (parameter 5130); needed to read G92
 //! tool_offset = "same"          # T0303 for tool 3 without an offset; "none": T0300
 //! program_number = 1            # O0001
+//!
+//! [siemens]
+//! initial_diameter = "DIAMON"   # X a diameter until the program says (or "DIAMOF")
+//! initial_feed_mode = "G95"     # F per revolution until the program says (or "G94")
 //! ```
 
 use serde::Deserialize;
@@ -38,6 +42,7 @@ use crate::dialect::czech::profile as czech;
 use crate::dialect::fanuc::profile as fanuc;
 use crate::dialect::iso::profile as iso;
 use crate::dialect::nc31::profile as nc31;
+use crate::dialect::siemens::profile as siemens;
 use crate::source::{SourceFile, Span};
 
 pub(crate) mod value;
@@ -48,6 +53,7 @@ pub use crate::dialect::czech::profile::{
 pub use crate::dialect::fanuc::profile::{DecimalPoint, FanucProfile, GcodeSystem, ToolOffset};
 pub use crate::dialect::iso::profile::{BlockDelete, IsoProfile, ToolChange};
 pub use crate::dialect::nc31::profile::{Nc31ArcDirection, Nc31Profile};
+pub use crate::dialect::siemens::profile::SiemensProfile;
 
 /// Machine constants. `Profile::default()` holds the seeds' values.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -58,6 +64,7 @@ pub struct Profile {
     pub nc31: Nc31Profile,
     pub iso: IsoProfile,
     pub fanuc: FanucProfile,
+    pub siemens: SiemensProfile,
 }
 
 /// Why a profile file cannot be used.
@@ -120,6 +127,8 @@ struct RawProfile {
     iso: iso::Raw,
     #[serde(default)]
     fanuc: fanuc::Raw,
+    #[serde(default)]
+    siemens: siemens::Raw,
 }
 
 impl Profile {
@@ -160,6 +169,7 @@ impl Profile {
         nc31::read(src, raw.nc31, &mut profile.nc31, &mut diags);
         iso::read(src, raw.iso, &mut profile.iso, &mut diags);
         fanuc::read(src, raw.fanuc, &mut profile.fanuc, &mut diags);
+        siemens::read(src, raw.siemens, &mut profile.siemens, &mut diags);
         if diags.is_empty() {
             Ok(profile)
         } else {

@@ -168,25 +168,7 @@ fn parse_with_grammar(line: &str) -> Result<Block, SyntaxError> {
                         }
                         Rule::word => {
                             code_end = span.end();
-                            let mut inner = part.into_inner();
-                            let letter = match inner.next().and_then(|a| a.as_str().chars().next())
-                            {
-                                // ISO code's program number: `:0100` is `O0100`.
-                                Some(':') => 'O',
-                                c => c.unwrap_or('?').to_ascii_uppercase(),
-                            };
-                            let text = inner.next().map_or("", |n| n.as_str());
-                            let value = Decimal::parse(text).ok_or_else(|| SyntaxError {
-                                offset: span.start(),
-                                message: format!("`{}` has too many digits", span.as_str()),
-                                help: "numbers are at most 30 digits long".into(),
-                                number_too_large: true,
-                            })?;
-                            block.words.push(Word {
-                                letter,
-                                value,
-                                range: span.start()..span.end(),
-                            });
+                            block.words.push(grammar_word(part)?);
                         }
                         Rule::comment => {
                             let text = part.into_inner().next().map_or("", |t| t.as_str());
@@ -206,6 +188,29 @@ fn parse_with_grammar(line: &str) -> Result<Block, SyntaxError> {
     }
     block.code_range = first..code_end.max(first);
     Ok(block)
+}
+
+/// A word the grammar read: its letter (`:0100`, ISO code's program number, is `O0100`) and
+/// its number.
+fn grammar_word(part: pest::iterators::Pair<'_, Rule>) -> Result<Word, SyntaxError> {
+    let span = part.as_span();
+    let mut inner = part.into_inner();
+    let letter = match inner.next().and_then(|a| a.as_str().chars().next()) {
+        Some(':') => 'O',
+        c => c.unwrap_or('?').to_ascii_uppercase(),
+    };
+    let text = inner.next().map_or("", |n| n.as_str());
+    let value = Decimal::parse(text).ok_or_else(|| SyntaxError {
+        offset: span.start(),
+        message: format!("`{}` has too many digits", span.as_str()),
+        help: "numbers are at most 30 digits long".into(),
+        number_too_large: true,
+    })?;
+    Ok(Word {
+        letter,
+        value,
+        range: span.start()..span.end(),
+    })
 }
 
 fn syntax_error(line: &str, e: &pest::error::Error<Rule>) -> SyntaxError {

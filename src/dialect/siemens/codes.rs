@@ -38,6 +38,10 @@ pub const SINR_RAMP: Code = warning(
     "SINR010",
     "DITS/DITE: the thread's run-in and run-out ramps change the acceleration, not the path",
 );
+pub const SINR_NO_MOTION: Code = warning(
+    "SINR011",
+    "a statement that moves nothing, kept as a comment or left out: MSG (the operator's message, kept as a comment), STOPRE (a stop of the look-ahead)",
+);
 
 // writer
 pub const SINW_PRECISION: Code = error(
@@ -73,6 +77,7 @@ pub const READ: &[Code] = &[
     SINR_THREAD,
     SINR_AFTER_END,
     SINR_RAMP,
+    SINR_NO_MOTION,
 ];
 
 /// The writer's codes, in the order README.md lists them.

@@ -11,6 +11,7 @@
 use std::ops::Range;
 
 use super::codes;
+use super::profile::SiemensProfile;
 use super::syntax::{self, Block, Value, Word};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::machine::Switches;
@@ -49,23 +50,39 @@ struct FrontEnd<'a> {
     after_thread: bool,
     ended: bool,
     warned_ramp: bool,
+    /// The statements that move nothing already warned of (MSG, STOPRE).
+    warned_no_motion: Vec<String>,
+    /// The unstated machine settings already reported (one error each is enough: every
+    /// later word that depends on it is the same mistake).
+    reported_mode: Vec<&'static str>,
 }
 
 /// Reads a SINUMERIK program.
-pub(crate) fn read(src: &SourceFile, keep: Keep) -> (Program, Vec<Diagnostic>) {
+pub(crate) fn read(
+    src: &SourceFile,
+    profile: &SiemensProfile,
+    keep: Keep,
+) -> (Program, Vec<Diagnostic>) {
     let mut fe = FrontEnd {
         r: Reader::new(src, super::ID, keep),
         absolute: true,
-        diameter: None,
+        diameter: profile.initial_diameter,
         inch: false,
-        per_rev: None,
+        per_rev: profile.initial_per_rev,
         motion: None,
         f: None,
         surface: false,
         after_thread: false,
         ended: false,
         warned_ramp: false,
+        warned_no_motion: Vec::new(),
+        reported_mode: Vec::new(),
     };
+    // The profile's feed per minute at the start (the IR starts per revolution).
+    if profile.initial_per_rev == Some(false) {
+        let span = fe.r.src.line_span(fe.r.src.line(1));
+        fe.r.push(ItemKind::FeedMode(FeedMode::PerMin), span, None);
+    }
     let mut first = true;
     for line in src.lines() {
         fe.r.items.line_read();
@@ -93,12 +110,34 @@ fn path_line(block: &Block) -> bool {
         && block
             .comment
             .as_deref()
-            .is_some_and(|c| c.starts_with("$PATH="))
+            .is_some_and(|c| c.to_ascii_uppercase().starts_with("$PATH="))
 }
 
 impl FrontEnd<'_> {
     fn span(&self, line: Line<'_>, range: Range<usize>) -> Span {
         self.r.span(line, range)
+    }
+
+    /// An unstated machine setting `what`, reported at its first use only.
+    fn mode_unknown(
+        &mut self,
+        what: &'static str,
+        line: Line<'_>,
+        range: Range<usize>,
+        message: &str,
+        help: &str,
+    ) {
+        // The program is refused at the first; the later uses are the same mistake.
+        if !self.reported_mode.contains(&what) {
+            self.reported_mode.push(what);
+            self.error(
+                codes::SINR_MODE_UNKNOWN,
+                line,
+                range,
+                message.to_string(),
+                help,
+            );
+        }
     }
 
     fn error(
@@ -164,8 +203,16 @@ impl FrontEnd<'_> {
             self.block(line, block, span);
         }
         self.ended = self.r.ends_program(first);
-        self.r
-            .stamp_block(first, block.number, block.comment.clone(), span, false);
+        // A block of messages alone keeps its own comment as one more comment.
+        let only_comments = self.r.items.get(first..).is_some_and(|items| {
+            !items.is_empty() && items.iter().all(|i| matches!(i.kind, ItemKind::Comment(_)))
+        });
+        match block.comment.clone() {
+            Some(c) if only_comments => self.r.push(ItemKind::Comment(c), span, block.number),
+            comment => self
+                .r
+                .stamp_block(first, block.number, comment, span, false),
+        }
     }
 }
 
@@ -176,6 +223,8 @@ struct Words<'b> {
     m: Vec<(u32, &'b Word)>,
     letters: Vec<&'b Word>,
     diam: Option<(bool, &'b Word)>,
+    /// MSG("…") texts, kept as comments.
+    messages: Vec<(String, Span)>,
 }
 
 impl<'b> Words<'b> {
@@ -245,6 +294,7 @@ impl FrontEnd<'_> {
     fn sort<'b>(&mut self, line: Line<'_>, block: &'b Block) -> Option<Words<'b>> {
         let mut words = Words::default();
         let mut ok = true;
+        let mut skip_target = false;
         for w in &block.words {
             let range = w.range.clone();
             match (w.name.as_str(), &w.value) {
@@ -333,13 +383,42 @@ impl FrontEnd<'_> {
                         words.letters.push(w);
                     }
                 }
-                (name, _) => {
+                ("STOPRE", Value::None) => self.no_motion(
+                    line,
+                    w,
+                    "STOPRE stops the look-ahead, not the machine: left out",
+                ),
+                ("MSG", Value::Call) => {
+                    let text = &line.text[w.range.clone()];
+                    let message = text
+                        .split_once('(')
+                        .map_or("", |(_, m)| m.trim_end().trim_end_matches(')'))
+                        .trim()
+                        .trim_matches('"');
+                    if let Some(m) = crate::dialect::comment_text(message) {
+                        words.messages.push((m, self.span(line, w.range.clone())));
+                    }
+                    self.no_motion(
+                        line,
+                        w,
+                        "MSG shows the operator a message: kept as a comment",
+                    );
+                }
+                // The jump's target is the jump's: one refusal.
+                (_, Value::None) if skip_target => skip_target = false,
+                (name, value) => {
                     ok = false;
+                    skip_target = *value == Value::None && name.starts_with("GOTO");
+                    let what = if *value == Value::Label {
+                        format!("`{name}:`: labels and program jumps are not read")
+                    } else {
+                        refused_name(name, &line.text[w.range.clone()])
+                    };
                     self.error(
                         codes::SINR_UNSUPPORTED,
                         line,
                         range,
-                        refused_name(name, &line.text[w.range.clone()]),
+                        what,
                         "convert this part by hand, or remove it from the source",
                     );
                 }
@@ -352,6 +431,9 @@ impl FrontEnd<'_> {
         let Some(words) = self.sort(line, block) else {
             return;
         };
+        for (text, at) in &words.messages {
+            self.r.push(ItemKind::Comment(text.clone()), *at, None);
+        }
         let mut motion = None;
         let mut dwell = false;
         let mut switches = Switches::default();
@@ -636,6 +718,19 @@ impl FrontEnd<'_> {
         }
     }
 
+    /// A statement that moves nothing: its warning, once per program.
+    fn no_motion(&mut self, line: Line<'_>, w: &Word, what: &str) {
+        if !self.warned_no_motion.contains(&w.name) {
+            self.warned_no_motion.push(w.name.clone());
+            let span = self.span(line, w.range.clone());
+            self.r.diags.push(
+                Diagnostic::new(codes::SINR_NO_MOTION, what.to_string())
+                    .at(self.r.src, span)
+                    .help("it moves nothing; check the converted program where the operator relies on it"),
+            );
+        }
+    }
+
     /// `G4 F<seconds>`.
     fn dwell(&mut self, line: Line<'_>, words: &Words<'_>, span: Span) -> Option<()> {
         if let Some(w) = words.letters.iter().find(|w| w.name != "F") {
@@ -766,12 +861,12 @@ impl FrontEnd<'_> {
                     Some(true) => {}
                     Some(false) => v = v + v,
                     None => {
-                        self.error(
-                            codes::SINR_MODE_UNKNOWN,
+                        self.mode_unknown(
+                            "diameter",
                             line,
                             w.range.clone(),
                             "X before DIAMON or DIAMOF: whether X is a diameter is the machine's setting until the program says",
-                            "write DIAMON (X a diameter) or DIAMOF at the program's start",
+                            "write DIAMON (X a diameter) or DIAMOF at the program's start, or give the machine's reset state in the profile: `initial_diameter = \"DIAMON\"` (or \"DIAMOF\") in [siemens]",
                         );
                         return None;
                     }
@@ -846,8 +941,8 @@ impl FrontEnd<'_> {
             return Some(());
         }
         let Some(motion) = motion else {
-            self.error(
-                codes::SINR_MODE_UNKNOWN,
+            self.mode_unknown(
+                "motion",
                 line,
                 block.code_range.clone(),
                 "an axis move before any G0, G1, G2, G3 or G33: the motion in force is the machine's setting",
@@ -916,12 +1011,12 @@ impl FrontEnd<'_> {
 
     fn feed_in_force(&mut self, line: Line<'_>, block: &Block) -> Option<Length> {
         if self.per_rev.is_none() {
-            self.error(
-                codes::SINR_MODE_UNKNOWN,
+            self.mode_unknown(
+                "feed mode",
                 line,
                 block.code_range.clone(),
                 "a feed move before G94 or G95: whether F is per revolution or per minute is the machine's setting until the program says",
-                "write G95 (mm/rev) or G94 (mm/min) at the program's start",
+                "write G95 (mm/rev) or G94 (mm/min) at the program's start, or give the machine's reset state in the profile: `initial_feed_mode = \"G95\"` (or \"G94\") in [siemens]",
             );
             return None;
         }
@@ -1169,7 +1264,11 @@ mod tests {
     use crate::fixed::Decimal;
 
     fn read_text(text: &str) -> (Vec<ItemKind>, Vec<&'static str>) {
-        let (p, d) = read(&SourceFile::new("t.mpf", text), Keep::Program);
+        read_with(text, &SiemensProfile::default())
+    }
+
+    fn read_with(text: &str, profile: &SiemensProfile) -> (Vec<ItemKind>, Vec<&'static str>) {
+        let (p, d) = read(&SourceFile::new("t.mpf", text), profile, Keep::Program);
         (
             p.items.into_iter().map(|i| i.kind).collect(),
             d.iter().map(|d| d.code.id).collect(),
@@ -1260,6 +1359,36 @@ mod tests {
             let (_, codes) = read_text(&format!("{HEAD}{text}"));
             assert_eq!(codes.first(), Some(&code), "{text}: {codes:?}");
         }
+    }
+
+    #[test]
+    fn the_profile_gives_the_reset_state_and_each_unstated_one_is_said_once() {
+        let text = "G0 X10 Z5\nG1 X12 F0.2\nX14\nG1 Z-5\n";
+        let (_, codes) = read_text(text);
+        assert_eq!(codes, ["SINR006", "SINR006"]);
+        let profile = SiemensProfile {
+            initial_diameter: Some(false),
+            initial_per_rev: Some(false),
+        };
+        let (items, codes) = read_with(text, &profile);
+        assert!(codes.is_empty(), "{codes:?}");
+        assert_eq!(items[0], ItemKind::FeedMode(FeedMode::PerMin));
+        assert_eq!(
+            items[1],
+            ItemKind::Rapid {
+                to: Pos::new(mm("20"), mm("5"))
+            }
+        );
+    }
+
+    #[test]
+    fn messages_are_comments_and_stopre_is_nothing() {
+        let (items, codes) = read_text(&format!(
+            "{HEAD}MSG(\"ROUGH\") ; first\nSTOPRE\nN20 G0 X20 Z5\nSKOK1: G0 X30\n"
+        ));
+        assert_eq!(codes, ["SINR011", "SINR011", "SINR002"]);
+        assert!(items.contains(&ItemKind::Comment("ROUGH".into())));
+        assert!(items.contains(&ItemKind::Comment("first".into())));
     }
 
     #[test]

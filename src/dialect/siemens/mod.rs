@@ -7,6 +7,7 @@
 pub mod codes;
 mod emit;
 mod front;
+pub mod profile;
 pub mod syntax;
 
 use super::capabilities::{Capabilities, Capability, Construct, Read, Write, row};
@@ -90,19 +91,19 @@ impl Dialect for Siemens {
     fn read(
         &self,
         src: &SourceFile,
-        _profile: &Profile,
+        profile: &Profile,
         _unsupported: Unsupported,
     ) -> (Program, Vec<Diagnostic>) {
-        front::read(src, Keep::Program)
+        front::read(src, &profile.siemens, Keep::Program)
     }
 
     fn diagnostics(
         &self,
         src: &SourceFile,
-        _profile: &Profile,
+        profile: &Profile,
         _unsupported: Unsupported,
     ) -> Vec<Diagnostic> {
-        front::read(src, Keep::Diagnostics).1
+        front::read(src, &profile.siemens, Keep::Diagnostics).1
     }
 
     fn capabilities(&self, _profile: &Profile) -> Capabilities {

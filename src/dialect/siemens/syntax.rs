@@ -22,8 +22,10 @@ pub enum Value {
     Incremental(Decimal),
     /// A name alone: `DIAMON`, `GOTOF`.
     None,
-    /// A name with an argument list: `CYCLE97(…)`.
+    /// A name with an argument list: `CYCLE97(…)`, `MSG("…")`.
     Call,
+    /// A jump's target: `SKOK1:`.
+    Label,
 }
 
 /// One element of a block: its name in upper case (`X`, `SF`, `DIAMON`), what follows it,
@@ -116,7 +118,11 @@ pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
                                     })?,
                             );
                         }
-                        Rule::word | Rule::assignment | Rule::call | Rule::keyword => {
+                        Rule::word
+                        | Rule::assignment
+                        | Rule::call
+                        | Rule::keyword
+                        | Rule::label => {
                             code_end = span.end();
                             block.words.push(word(part, range)?);
                         }
@@ -150,6 +156,10 @@ fn word(part: pest::iterators::Pair<'_, Rule>, range: Range<usize>) -> Result<Wo
     let mut inner = part.into_inner();
     let (name, value) = match rule {
         Rule::keyword => (whole.to_string(), Value::None),
+        Rule::label => (
+            inner.next().map_or("", |p| p.as_str()).to_string(),
+            Value::Label,
+        ),
         Rule::call => (
             inner.next().map_or("", |p| p.as_str()).to_string(),
             Value::Call,
@@ -189,6 +199,14 @@ fn word(part: pest::iterators::Pair<'_, Rule>, range: Range<usize>) -> Result<Wo
 fn syntax_error(line: &str, e: &pest::error::Error<Rule>) -> SyntaxError {
     let offset = crate::dialect::pest_error_offset(line, e);
     let rest = &line[offset..];
+    let before = line[..offset].trim_end();
+    if before.ends_with(['=', '(', '+', '-', '*', '/']) && !rest.is_empty() {
+        return SyntaxError {
+            offset,
+            message: "a value that is not a number, AC(…) or IC(…): expressions, R parameters and variables are not read".into(),
+            help: "write the value as a number (`X=20.5`, `X=AC(20.5)`)".into(),
+        };
+    }
     let (message, help) = match rest.chars().next() {
         None => (
             "the block ends where a value was expected".to_string(),
@@ -257,6 +275,9 @@ mod tests {
         // An address without its number is a name here; the front end says what is missing.
         assert_eq!(parse_line("G0 X").unwrap().words[1].value, Value::None);
         assert!(parse_line("G0 Ž").is_err());
-        assert!(parse_line("LABEL1: G0 X1").is_err());
+        let b = parse_line("PROGR: G0 X1").unwrap();
+        assert_eq!(b.words[0].value, Value::Label);
+        let e = parse_line("N10 G0 X=R04+20").unwrap_err();
+        assert!(e.message.contains("expressions"), "{}", e.message);
     }
 }
