@@ -5,13 +5,18 @@
 //! translation. Its motion must equal ncthread's simulation of the SINUMERIK program.
 mod common;
 
-use common::siemens::translate;
+use common::siemens::{translate, translate_from};
 use common::{Case, convert_case, corpus_cases, rs274, run_rs274};
 use ncthread::sim::rs274::Judgement;
 use ncthread::source::SourceFile;
 
-fn judge(name: &str, text: &str, cmd: &std::path::Path) -> Result<bool, String> {
-    let ngc = match translate(text) {
+fn judge(
+    name: &str,
+    text: &str,
+    profile: &ncthread::profile::Profile,
+    cmd: &std::path::Path,
+) -> Result<bool, String> {
+    let ngc = match translate_from(text, &profile.siemens) {
         Ok(ngc) => ngc,
         Err(why) if why.starts_with("skip:") => {
             eprintln!("{name}: not judged ({why})");
@@ -25,7 +30,7 @@ fn judge(name: &str, text: &str, cmd: &std::path::Path) -> Result<bool, String> 
     let (program, diags) = ncthread::parse(
         &src,
         ncthread::dialect::siemens::ID,
-        &Default::default(),
+        profile,
         ncthread::Unsupported::Error,
     );
     if diags.iter().any(|d| d.is_error()) {
@@ -73,7 +78,7 @@ fn rs274_runs_siemens_programs_as_ncthread_simulates_them() {
     {
         if case.from == ncthread::dialect::siemens::ID && !common::reader_refuses(&case) {
             let text = std::fs::read_to_string(common::root().join(&case.path)).unwrap();
-            match judge(&case.name, &text, cmd) {
+            match judge(&case.name, &text, &profile_of(&case), cmd) {
                 Ok(true) => agreed += 1,
                 Ok(false) => {}
                 Err(e) => failures.push(e),
@@ -82,7 +87,12 @@ fn rs274_runs_siemens_programs_as_ncthread_simulates_them() {
         let Some(out) = convert_case(&case, ncthread::dialect::siemens::ID).output else {
             continue;
         };
-        match judge(&format!("{} → siemens", case.name), &out, cmd) {
+        match judge(
+            &format!("{} → siemens", case.name),
+            &out,
+            &Default::default(),
+            cmd,
+        ) {
             Ok(true) => agreed += 1,
             Ok(false) => {}
             Err(e) => failures.push(e),

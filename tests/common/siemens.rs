@@ -34,20 +34,52 @@ fn words(code: &str) -> Vec<(String, String)> {
     out
 }
 
+/// The code without its `MSG("…")` statements (an operator's message moves nothing).
+fn without_messages(code: &str) -> String {
+    let up = code.to_ascii_uppercase();
+    match up.find("MSG(") {
+        Some(i) => {
+            let end = code[i..].find(')').map_or(code.len(), |j| i + j + 1);
+            format!("{}{}", &code[..i], without_messages(&code[end..]))
+        }
+        None => code.to_string(),
+    }
+}
+
 /// The translation of a SINUMERIK program of ncthread's subset into LinuxCNC ISO, or why not.
 pub fn translate(text: &str) -> Result<String, String> {
+    translate_from(text, &Default::default())
+}
+
+/// [`translate`] for a machine whose reset state the profile gives (X a radius or a diameter,
+/// F per revolution or per minute, until the program says).
+pub fn translate_from(
+    text: &str,
+    start: &ncthread::profile::SiemensProfile,
+) -> Result<String, String> {
     let mut out = vec!["G18 G91.1".to_string()];
+    if start.initial_diameter.is_some() {
+        out.push("G7".into());
+    }
+    match start.initial_per_rev {
+        Some(true) => out.push("G95".into()),
+        Some(false) => out.push("G94".into()),
+        None => {}
+    }
     let (mut x, mut z): (Option<f64>, Option<f64>) = (None, None);
     let mut motion = 0u32;
     let mut feed: Option<f64> = None;
     let mut turning: Option<&str> = None;
-    let mut per_minute: Option<bool> = None;
+    let mut per_minute: Option<bool> = start.initial_per_rev.map(|r| !r);
     let mut speed: Option<String> = None;
     // DIAMOF: X (not I) a radius, written here as a diameter under G7; G91 increments.
-    let mut radius = false;
+    let mut radius = start.initial_diameter == Some(false);
     let mut incremental = false;
     for line in text.lines() {
-        let code = line.split(';').next().unwrap_or("").trim();
+        let code = without_messages(line.split(';').next().unwrap_or(""))
+            .trim()
+            .to_string();
+        let code = code.as_str();
         if code.is_empty() || code.starts_with('%') {
             continue;
         }
@@ -100,7 +132,8 @@ pub fn translate(text: &str) -> Result<String, String> {
                     radius = true;
                     now.push("G7".into())
                 }
-                ("DITS" | "DITE", _) => {}
+                // They move nothing: a comment, a stop of the look-ahead.
+                ("DITS" | "DITE" | "STOPRE", _) => {}
                 ("M", m) => match m {
                     "3" => {
                         turning = Some("M3");

@@ -433,6 +433,20 @@ impl Emitter<'_> {
             // Refused by legalisation (the table's rows).
             ItemKind::TapCycle(_) | ItemKind::MachineMove(_) | ItemKind::Roughing(_) => {}
             ItemKind::ModelCycle(_) => {}
+            ItemKind::Comment(_)
+            | ItemKind::ParamAssign { .. }
+            | ItemKind::Opaque { .. }
+            | ItemKind::GearRange { .. }
+            | ItemKind::Delimiter => self.note(item, block),
+            _ => return self.setting(item, block),
+        }
+        true
+    }
+
+    /// An item that moves nothing and is no comment: its words in `block`; `false` when
+    /// refused.
+    fn setting(&mut self, item: &Item, block: &mut Block) -> bool {
+        match &item.kind {
             ItemKind::Spindle { speed, direction } => self.spindle(*speed, *direction, block),
             ItemKind::SpindleStop => {
                 self.turning = false;
@@ -447,25 +461,16 @@ impl Emitter<'_> {
                     block.words.push(format!("D{d}"));
                 }
             }
-            ItemKind::GearRange { code, machine } => self.as_comment(
-                item,
-                block,
-                &format!("M{code}: gear range of the {machine} machine"),
-            ),
-            ItemKind::FeedMode(mode) => {
-                if *mode != self.feed_mode {
-                    block.words.push(
-                        if *mode == FeedMode::PerRev {
-                            "G95"
-                        } else {
-                            "G94"
-                        }
-                        .into(),
-                    );
-                    self.feed_mode = *mode;
-                    // F is written again after every change of mode (siemens.md).
-                    self.f = None;
-                }
+            ItemKind::FeedMode(mode) if *mode != self.feed_mode => {
+                let g = if *mode == FeedMode::PerRev {
+                    "G95"
+                } else {
+                    "G94"
+                };
+                block.words.push(g.into());
+                self.feed_mode = *mode;
+                // F is written again after every change of mode (siemens.md).
+                self.f = None;
             }
             ItemKind::ProgramEnd(end) => {
                 block.words.push(
@@ -476,6 +481,44 @@ impl Emitter<'_> {
                     .into(),
                 );
             }
+            ItemKind::Coolant(Coolant::Flood) => block.words.push("M8".into()),
+            ItemKind::Coolant(Coolant::Off) => block.words.push("M9".into()),
+            // Refused by the table (mist is the machine builder's M code).
+            ItemKind::Coolant(Coolant::Mist) => {}
+            ItemKind::Stop { optional } => {
+                block.words.push(if *optional { "M1" } else { "M0" }.into())
+            }
+            ItemKind::Dwell { seconds } => return self.dwell(item, *seconds, block),
+            ItemKind::Compensation(Compensation::Off) if !self.compensation_off => {
+                block.words.push("G40".into());
+                self.compensation_off = true;
+            }
+            // Refused by the table.
+            ItemKind::Compensation(_) => {}
+            ItemKind::WorkOffset(n) => {
+                if (1..=4).contains(n) {
+                    block.words.push(format!("G{}", 53 + u32::from(*n)));
+                } else {
+                    self.diag(
+                        codes::SINW_NO_EQUIVALENT,
+                        item,
+                        format!("work offset {n}: ncthread writes G54–G57, the settable offsets every SINUMERIK has (G58/G59 are programmable offsets there, not work offsets)"),
+                        "use G54–G57 in the source",
+                    );
+                    return false;
+                }
+            }
+            ItemKind::FeedRate(feed) if self.f != Some(*feed) => {
+                self.feed_word(item, *feed, block);
+            }
+            _ => {}
+        }
+        true
+    }
+
+    /// A comment, or what is written as one (parameters, another control's words).
+    fn note(&mut self, item: &Item, block: &mut Block) {
+        match &item.kind {
             ItemKind::Comment(text) => {
                 if !block.words.is_empty() || block.comment.is_some() {
                     self.flush(block);
@@ -493,43 +536,13 @@ impl Emitter<'_> {
             ItemKind::Opaque { dialect, text, .. } => {
                 self.as_comment(item, block, &format!("{dialect}: {text}"));
             }
-            ItemKind::Delimiter => {}
-            ItemKind::Coolant(Coolant::Flood) => block.words.push("M8".into()),
-            ItemKind::Coolant(Coolant::Off) => block.words.push("M9".into()),
-            // Refused by the table (mist is the machine builder's M code).
-            ItemKind::Coolant(Coolant::Mist) => {}
-            ItemKind::Stop { optional } => {
-                block.words.push(if *optional { "M1" } else { "M0" }.into())
-            }
-            ItemKind::Dwell { seconds } => return self.dwell(item, *seconds, block),
-            ItemKind::Compensation(Compensation::Off) => {
-                if !self.compensation_off {
-                    block.words.push("G40".into());
-                    self.compensation_off = true;
-                }
-            }
-            // Refused by the table.
-            ItemKind::Compensation(_) => {}
-            ItemKind::WorkOffset(n) => {
-                if (1..=4).contains(n) {
-                    block.words.push(format!("G{}", 53 + u32::from(*n)));
-                } else {
-                    self.diag(
-                        codes::SINW_NO_EQUIVALENT,
-                        item,
-                        format!("work offset {n}: ncthread writes G54–G57, the settable offsets every SINUMERIK has (G58/G59 are programmable offsets there, not work offsets)"),
-                        "use G54–G57 in the source",
-                    );
-                    return false;
-                }
-            }
-            ItemKind::FeedRate(feed) => {
-                if self.f != Some(*feed) {
-                    self.feed_word(item, *feed, block);
-                }
-            }
+            ItemKind::GearRange { code, machine } => self.as_comment(
+                item,
+                block,
+                &format!("M{code}: gear range of the {machine} machine"),
+            ),
+            _ => {}
         }
-        true
     }
 
     fn as_comment(&mut self, item: &Item, block: &mut Block, text: &str) {

@@ -237,6 +237,32 @@ impl<'b> Words<'b> {
     }
 }
 
+/// What a block's G codes say: its motion, or a dwell, and the items of its modes.
+#[derive(Default)]
+struct GCodes {
+    motion: Option<Motion>,
+    dwell: bool,
+    modes: Vec<(ItemKind, Span)>,
+}
+
+/// Why a G code is not read.
+fn refused_g(g: u32) -> &'static str {
+    match g {
+        17 | 19 => "the plane of a lathe program is G18",
+        41 | 42 => {
+            "cutter radius compensation is not read (its radius and tip are in the tool's data, which the program does not state)"
+        }
+        53 | 153 | 500 | 74 | 75 => "machine coordinates, frames and reference moves are not read",
+        331 | 332 | 63 => "tapping is not read",
+        34 | 35 => "threads of increasing or decreasing lead are not read",
+        9 | 60 | 64 | 641 | 642 | 645 => {
+            "exact stop and continuous-path modes are not read (G64 rounds corners)"
+        }
+        700 | 710 => "G700/G710 are not read (G70/G71 are)",
+        _ => "it is not a G code ncthread reads in a SINUMERIK program",
+    }
+}
+
 /// The letters and names a block may hold (besides G, M and DIAMON/DIAMOF).
 const LETTERS: &[&str] = &["X", "Z", "I", "K", "F", "S", "T", "D", "SF", "CR", "LIMS"];
 
@@ -296,135 +322,176 @@ impl FrontEnd<'_> {
         let mut ok = true;
         let mut skip_target = false;
         for w in &block.words {
-            let range = w.range.clone();
-            match (w.name.as_str(), &w.value) {
-                ("G" | "M", Value::Plain(d)) if !w.assigned => {
-                    match d.to_whole().ok().and_then(|n| u32::try_from(n).ok()) {
-                        Some(n) if !d.has_point => {
-                            if w.name == "G" {
-                                words.g.push((n, w));
-                            } else {
-                                words.m.push((n, w));
-                            }
-                        }
-                        _ => {
-                            ok = false;
-                            self.error(
-                                codes::SINR_NUMBER,
-                                line,
-                                range,
-                                format!(
-                                    "`{}`: a G or M code is a whole number",
-                                    &line.text[w.range.clone()]
-                                ),
-                                "write the code without a decimal point (`G33`, `M30`)",
-                            );
-                        }
-                    }
-                }
-                ("DIAMON" | "DIAMOF", Value::None) => {
-                    if words.diam.is_some() {
-                        ok = false;
-                        self.error(
-                            codes::SINR_CONFLICT,
-                            line,
-                            range,
-                            "DIAMON and DIAMOF twice in one block",
-                            "say once whether X is a diameter",
-                        );
-                    }
-                    words.diam = Some((w.name == "DIAMON", w));
-                }
-                ("DITS" | "DITE", Value::Plain(_)) if w.assigned => {
-                    if !std::mem::replace(&mut self.warned_ramp, true) {
-                        let span = self.span(line, range);
-                        self.r.diags.push(
-                            Diagnostic::new(
-                                codes::SINR_RAMP,
-                                format!("`{}` changes the thread's run-in or run-out ramp, not its path: it is not converted", &line.text[w.range.clone()]),
-                            )
-                            .at(self.r.src, span)
-                            .help("check the thread's run-in and run-out on the target machine"),
-                        );
-                    }
-                }
-                (name, Value::None) if name.len() == 1 && LETTERS.contains(&name) => {
-                    ok = false;
-                    self.error(
-                        codes::SINR_SYNTAX,
-                        line,
-                        range,
-                        format!("address `{name}` is not followed by a number"),
-                        "write the value after the address (`X26.618`, `X=AC(20)`)",
+            ok &= self.sort_word(line, w, &mut words, &mut skip_target);
+        }
+        ok.then_some(words)
+    }
+
+    /// One word into `words`; `false` when it is refused (reported). `skip_target`: the
+    /// word after a refused jump is its target, refused with it.
+    fn sort_word<'b>(
+        &mut self,
+        line: Line<'_>,
+        w: &'b Word,
+        words: &mut Words<'b>,
+        skip_target: &mut bool,
+    ) -> bool {
+        let text = &line.text[w.range.clone()];
+        let refuse = |fe: &mut Self, code: Code, message: String, help: &str| {
+            fe.error(code, line, w.range.clone(), message, help);
+            false
+        };
+        match (w.name.as_str(), &w.value) {
+            ("G" | "M", Value::Plain(d)) if !w.assigned => self.code(line, w, *d, words),
+            ("DIAMON" | "DIAMOF", Value::None) => {
+                if words.diam.replace((w.name == "DIAMON", w)).is_some() {
+                    return refuse(
+                        self,
+                        codes::SINR_CONFLICT,
+                        "DIAMON and DIAMOF twice in one block".into(),
+                        "say once whether X is a diameter",
                     );
                 }
-                (name, Value::Plain(_) | Value::Absolute(_) | Value::Incremental(_))
-                    if LETTERS.contains(&name) && (name.len() == 1 || w.assigned) =>
-                {
-                    if words.get(name).is_some() {
-                        ok = false;
-                        self.error(
-                            codes::SINR_CONFLICT,
-                            line,
-                            range,
-                            format!("`{name}` twice in one block"),
-                            "give each address once per block",
-                        );
-                    } else if !matches!(w.value, Value::Plain(_)) && !matches!(name, "X" | "Z") {
-                        ok = false;
-                        self.error(
-                            codes::SINR_UNSUPPORTED,
-                            line,
-                            range,
-                            format!("`{}`: AC(…) and IC(…) are read on X and Z only", &line.text[w.range.clone()]),
-                            "write the value as a number (an arc's I and K are increments from its start, as radius values)",
-                        );
-                    } else {
-                        words.letters.push(w);
-                    }
-                }
-                ("STOPRE", Value::None) => self.no_motion(
+                true
+            }
+            ("DITS" | "DITE", Value::Plain(_)) if w.assigned => {
+                self.ramp(line, w);
+                true
+            }
+            (name, Value::None) if name.len() == 1 && LETTERS.contains(&name) => refuse(
+                self,
+                codes::SINR_SYNTAX,
+                format!("address `{name}` is not followed by a number"),
+                "write the value after the address (`X26.618`, `X=AC(20)`)",
+            ),
+            (name, Value::Plain(_) | Value::Absolute(_) | Value::Incremental(_))
+                if LETTERS.contains(&name) && (name.len() == 1 || w.assigned) =>
+            {
+                self.letter(line, w, words)
+            }
+            ("STOPRE", Value::None) => {
+                self.no_motion(
                     line,
                     w,
                     "STOPRE stops the look-ahead, not the machine: left out",
-                ),
-                ("MSG", Value::Call) => {
-                    let text = &line.text[w.range.clone()];
-                    let message = text
-                        .split_once('(')
-                        .map_or("", |(_, m)| m.trim_end().trim_end_matches(')'))
-                        .trim()
-                        .trim_matches('"');
-                    if let Some(m) = crate::dialect::comment_text(message) {
-                        words.messages.push((m, self.span(line, w.range.clone())));
-                    }
-                    self.no_motion(
-                        line,
-                        w,
-                        "MSG shows the operator a message: kept as a comment",
-                    );
-                }
-                // The jump's target is the jump's: one refusal.
-                (_, Value::None) if skip_target => skip_target = false,
-                (name, value) => {
-                    ok = false;
-                    skip_target = *value == Value::None && name.starts_with("GOTO");
-                    let what = if *value == Value::Label {
-                        format!("`{name}:`: labels and program jumps are not read")
-                    } else {
-                        refused_name(name, &line.text[w.range.clone()])
-                    };
-                    self.error(
-                        codes::SINR_UNSUPPORTED,
-                        line,
-                        range,
-                        what,
-                        "convert this part by hand, or remove it from the source",
-                    );
-                }
+                );
+                true
+            }
+            ("MSG", Value::Call) => {
+                self.message(line, w, words);
+                true
+            }
+            // The jump's target is the jump's: one refusal.
+            (_, Value::None) if *skip_target => {
+                *skip_target = false;
+                false
+            }
+            (name, value) => {
+                *skip_target = *value == Value::None && name.starts_with("GOTO");
+                let what = if *value == Value::Label {
+                    format!("`{name}:`: labels and program jumps are not read")
+                } else {
+                    refused_name(name, text)
+                };
+                refuse(
+                    self,
+                    codes::SINR_UNSUPPORTED,
+                    what,
+                    "convert this part by hand, or remove it from the source",
+                )
             }
         }
-        ok.then_some(words)
+    }
+
+    /// A G or M code, a whole number, into `words`; `false` when refused.
+    fn code<'b>(&mut self, line: Line<'_>, w: &'b Word, d: Decimal, words: &mut Words<'b>) -> bool {
+        match d.to_whole().ok().and_then(|n| u32::try_from(n).ok()) {
+            Some(n) if !d.has_point => {
+                let codes = if w.name == "G" {
+                    &mut words.g
+                } else {
+                    &mut words.m
+                };
+                codes.push((n, w));
+                true
+            }
+            _ => {
+                self.error(
+                    codes::SINR_NUMBER,
+                    line,
+                    w.range.clone(),
+                    format!(
+                        "`{}`: a G or M code is a whole number",
+                        &line.text[w.range.clone()]
+                    ),
+                    "write the code without a decimal point (`G33`, `M30`)",
+                );
+                false
+            }
+        }
+    }
+
+    /// DITS/DITE: a warning, once.
+    fn ramp(&mut self, line: Line<'_>, w: &Word) {
+        if !std::mem::replace(&mut self.warned_ramp, true) {
+            let span = self.span(line, w.range.clone());
+            let text = &line.text[w.range.clone()];
+            self.r.diags.push(
+                Diagnostic::new(
+                    codes::SINR_RAMP,
+                    format!("`{text}` changes the thread's run-in or run-out ramp, not its path: it is not converted"),
+                )
+                .at(self.r.src, span)
+                .help("check the thread's run-in and run-out on the target machine"),
+            );
+        }
+    }
+
+    /// `MSG("…")`: its text kept as a comment, with a warning.
+    fn message<'b>(&mut self, line: Line<'_>, w: &'b Word, words: &mut Words<'b>) {
+        let message = line.text[w.range.clone()]
+            .split_once('(')
+            .map_or("", |(_, m)| m.trim_end().trim_end_matches(')'))
+            .trim()
+            .trim_matches('"');
+        if let Some(m) = crate::dialect::comment_text(message) {
+            words.messages.push((m, self.span(line, w.range.clone())));
+        }
+        self.no_motion(
+            line,
+            w,
+            "MSG shows the operator a message: kept as a comment",
+        );
+    }
+
+    /// An address letter (or `SF=`, `CR=`, `LIMS=`) into `words`; `false` when refused.
+    fn letter<'b>(&mut self, line: Line<'_>, w: &'b Word, words: &mut Words<'b>) -> bool {
+        let name = w.name.as_str();
+        if words.get(name).is_some() {
+            self.error(
+                codes::SINR_CONFLICT,
+                line,
+                w.range.clone(),
+                format!("`{name}` twice in one block"),
+                "give each address once per block",
+            );
+            return false;
+        }
+        if !matches!(w.value, Value::Plain(_)) && !matches!(name, "X" | "Z") {
+            self.error(
+                codes::SINR_UNSUPPORTED,
+                line,
+                w.range.clone(),
+                format!(
+                    "`{}`: AC(…) and IC(…) are read on X and Z only",
+                    &line.text[w.range.clone()]
+                ),
+                "write the value as a number (an arc's I and K are increments from its start, as radius values)",
+            );
+            return false;
+        }
+        words.letters.push(w);
+        true
     }
 
     fn block(&mut self, line: Line<'_>, block: &Block, span: Span) {
@@ -434,140 +501,27 @@ impl FrontEnd<'_> {
         for (text, at) in &words.messages {
             self.r.push(ItemKind::Comment(text.clone()), *at, None);
         }
-        let mut motion = None;
-        let mut dwell = false;
-        let mut switches = Switches::default();
-        let mut modes: Vec<(ItemKind, Span)> = Vec::new();
-        for &(g, w) in &words.g {
-            let at = self.span(line, w.range.clone());
-            let range = w.range.clone();
-            let new_motion = match g {
-                0 => Some(Motion::Rapid),
-                1 => Some(Motion::Feed),
-                2 => Some(Motion::Arc { clockwise: true }),
-                3 => Some(Motion::Arc { clockwise: false }),
-                33 => Some(Motion::Thread),
-                _ => None,
-            };
-            if let Some(m) = new_motion {
-                if motion.is_some() || dwell {
-                    return self.error(
-                        codes::SINR_CONFLICT,
-                        line,
-                        range,
-                        format!("`G{g}` beside another motion or G4 in one block"),
-                        "give one motion per block",
-                    );
-                }
-                motion = Some(m);
-                continue;
-            }
-            match g {
-                4 => {
-                    if motion.is_some() {
-                        return self.error(
-                            codes::SINR_CONFLICT,
-                            line,
-                            range,
-                            "G4 beside a motion: the dwell stands in a block of its own",
-                            "put G4 F… in a block of its own",
-                        );
-                    }
-                    dwell = true;
-                }
-                18 | 90 | 91 | 70 | 71 => {}
-                94 | 95 => modes.push((
-                    ItemKind::FeedMode(if g == 95 {
-                        FeedMode::PerRev
-                    } else {
-                        FeedMode::PerMin
-                    }),
-                    at,
-                )),
-                96 | 97 => {}
-                40 => modes.push((ItemKind::Compensation(Compensation::Off), at)),
-                54..=57 => modes.push((ItemKind::WorkOffset((g - 53) as u8), at)),
-                _ => {
-                    let why = match g {
-                        17 | 19 => "the plane of a lathe program is G18",
-                        41 | 42 => {
-                            "cutter radius compensation is not read (its radius and tip are in the tool's data, which the program does not state)"
-                        }
-                        53 | 153 | 500 | 74 | 75 => {
-                            "machine coordinates, frames and reference moves are not read"
-                        }
-                        331 | 332 | 63 => "tapping is not read",
-                        34 | 35 => "threads of increasing or decreasing lead are not read",
-                        9 | 60 | 64 | 641 | 642 | 645 => {
-                            "exact stop and continuous-path modes are not read (G64 rounds corners)"
-                        }
-                        700 | 710 => "G700/G710 are not read (G70/G71 are)",
-                        _ => "it is not a G code ncthread reads in a SINUMERIK program",
-                    };
-                    return self.error(
-                        codes::SINR_UNSUPPORTED,
-                        line,
-                        range,
-                        format!("`G{g}`: {why}"),
-                        "convert this part by hand, or remove it from the source",
-                    );
-                }
-            }
-        }
-        // The modes of the whole block first.
-        let pairs = [(90, 91), (70, 71), (94, 95), (96, 97)];
-        for (a, b) in pairs {
-            if words.has_g(a) && words.has_g(b) {
-                return self.error(
-                    codes::SINR_CONFLICT,
-                    line,
-                    block.code_range.clone(),
-                    format!("G{a} and G{b} in one block"),
-                    "give one of them",
-                );
-            }
-        }
-        if words.has_g(90) {
-            self.absolute = true;
-        }
-        if words.has_g(91) {
-            self.absolute = false;
-        }
-        if words.has_g(70) {
-            self.inch = true;
-        }
-        if words.has_g(71) {
-            self.inch = false;
-        }
-        if let Some((on, _)) = words.diam {
-            self.diameter = Some(on);
-        }
-        let was = self.per_rev;
-        if words.has_g(95) {
-            self.per_rev = Some(true);
-        }
-        if words.has_g(94) {
-            self.per_rev = Some(false);
-        }
-        if self.per_rev != was {
-            // What F holds across a change of mode is not stated by the sources: the feed
-            // is given again (the writer does).
-            self.f = None;
-        }
-        for (kind, at) in modes {
+        let Some(g) = self.g_codes(line, &words) else {
+            return;
+        };
+        let Some(()) = self.modes(line, block, &words) else {
+            return;
+        };
+        for (kind, at) in g.modes {
             self.r.push(kind, at, None);
         }
+        let mut switches = Switches::default();
         let mut stops = Vec::new();
         let Some(()) = self.machine_words(line, &words, &mut switches, &mut stops, span) else {
             return;
         };
         switches.before_motion(&mut self.r, None);
-        if dwell {
+        if g.dwell {
             let Some(()) = self.dwell(line, &words, span) else {
                 return;
             };
         } else {
-            if let Some(m) = motion {
+            if let Some(m) = g.motion {
                 self.motion = Some(m);
             }
             let Some(()) = self.motion(line, &words, block, span) else {
@@ -581,6 +535,97 @@ impl FrontEnd<'_> {
             self.r.push(ItemKind::Stop { optional }, at, None);
         }
         switches.program_end(&mut self.r, None);
+    }
+
+    /// The block's G codes: its motion or dwell, and the items of its modes; `None` when one
+    /// is refused (reported).
+    fn g_codes(&mut self, line: Line<'_>, words: &Words<'_>) -> Option<GCodes> {
+        let mut g_codes = GCodes::default();
+        for &(g, w) in &words.g {
+            let at = self.span(line, w.range.clone());
+            let range = w.range.clone();
+            let new_motion = match g {
+                0 => Some(Motion::Rapid),
+                1 => Some(Motion::Feed),
+                2 => Some(Motion::Arc { clockwise: true }),
+                3 => Some(Motion::Arc { clockwise: false }),
+                33 => Some(Motion::Thread),
+                _ => None,
+            };
+            if new_motion.is_some() || g == 4 {
+                if g_codes.motion.is_some() || g_codes.dwell {
+                    self.error(
+                        codes::SINR_CONFLICT,
+                        line,
+                        range,
+                        format!("`G{g}` beside another motion or G4 in one block"),
+                        "give one motion per block; G4 F… stands in a block of its own",
+                    );
+                    return None;
+                }
+                g_codes.motion = new_motion;
+                g_codes.dwell = g == 4;
+                continue;
+            }
+            let mode = match g {
+                18 | 90 | 91 | 70 | 71 | 96 | 97 => None,
+                94 => Some(ItemKind::FeedMode(FeedMode::PerMin)),
+                95 => Some(ItemKind::FeedMode(FeedMode::PerRev)),
+                40 => Some(ItemKind::Compensation(Compensation::Off)),
+                54..=57 => Some(ItemKind::WorkOffset((g - 53) as u8)),
+                _ => {
+                    self.error(
+                        codes::SINR_UNSUPPORTED,
+                        line,
+                        range,
+                        format!("`G{g}`: {}", refused_g(g)),
+                        "convert this part by hand, or remove it from the source",
+                    );
+                    return None;
+                }
+            };
+            g_codes.modes.extend(mode.map(|m| (m, at)));
+        }
+        Some(g_codes)
+    }
+
+    /// The block's modes for the whole block first: G90/G91, G70/G71, DIAMON/DIAMOF,
+    /// G94/G95.
+    fn modes(&mut self, line: Line<'_>, block: &Block, words: &Words<'_>) -> Option<()> {
+        for (a, b) in [(90, 91), (70, 71), (94, 95), (96, 97)] {
+            if words.has_g(a) && words.has_g(b) {
+                self.error(
+                    codes::SINR_CONFLICT,
+                    line,
+                    block.code_range.clone(),
+                    format!("G{a} and G{b} in one block"),
+                    "give one of them",
+                );
+                return None;
+            }
+        }
+        let set = |on: bool, off: bool, now: Option<bool>| {
+            if on {
+                Some(true)
+            } else if off {
+                Some(false)
+            } else {
+                now
+            }
+        };
+        self.absolute = set(words.has_g(90), words.has_g(91), Some(self.absolute)) == Some(true);
+        self.inch = set(words.has_g(70), words.has_g(71), Some(self.inch)) == Some(true);
+        if let Some((on, _)) = words.diam {
+            self.diameter = Some(on);
+        }
+        let was = self.per_rev;
+        self.per_rev = set(words.has_g(95), words.has_g(94), self.per_rev);
+        if self.per_rev != was {
+            // What F holds across a change of mode is not stated by the sources: the feed
+            // is given again (the writer does).
+            self.f = None;
+        }
+        Some(())
     }
 
     /// T, D, S, LIMS and the M codes into `switches` (and the tool item).
@@ -908,28 +953,7 @@ impl FrontEnd<'_> {
     ) -> Option<()> {
         let axes = words.get("X").is_some() || words.get("Z").is_some();
         let motion = self.motion;
-        let allowed: &[&str] = match motion {
-            Some(Motion::Thread) if axes => &["SF", "K", "I"],
-            Some(Motion::Arc { .. }) if axes => &["I", "K", "CR"],
-            _ => &[],
-        };
-        if let Some(w) = ["SF", "K", "I", "CR"]
-            .iter()
-            .filter(|n| !allowed.contains(n))
-            .find_map(|n| words.get(n))
-        {
-            self.error(
-                codes::SINR_CONFLICT,
-                line,
-                w.range.clone(),
-                format!(
-                    "`{}` in a block that cuts no thread or arc",
-                    &line.text[w.range.clone()]
-                ),
-                "write it in the G33, G2 or G3 block it belongs to",
-            );
-            return None;
-        }
+        self.words_of_motion(line, words, motion, axes)?;
         if let Some(w) = words.get("F") {
             let feed = self.feed(line, w)?;
             self.f = Some(feed);
@@ -984,6 +1008,39 @@ impl FrontEnd<'_> {
         }
         self.after_thread = motion == Motion::Thread;
         self.r.pos = to;
+        Some(())
+    }
+
+    /// SF, K, I and CR belong to a G33, G2 or G3 block that moves: elsewhere refused.
+    fn words_of_motion(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        motion: Option<Motion>,
+        axes: bool,
+    ) -> Option<()> {
+        let allowed: &[&str] = match motion {
+            Some(Motion::Thread) if axes => &["SF", "K", "I"],
+            Some(Motion::Arc { .. }) if axes => &["I", "K", "CR"],
+            _ => &[],
+        };
+        if let Some(w) = ["SF", "K", "I", "CR"]
+            .iter()
+            .filter(|n| !allowed.contains(n))
+            .find_map(|n| words.get(n))
+        {
+            self.error(
+                codes::SINR_CONFLICT,
+                line,
+                w.range.clone(),
+                format!(
+                    "`{}` in a block that cuts no thread or arc",
+                    &line.text[w.range.clone()]
+                ),
+                "write it in the G33, G2 or G3 block it belongs to",
+            );
+            return None;
+        }
         Some(())
     }
 
@@ -1078,40 +1135,7 @@ impl FrontEnd<'_> {
                 );
                 return None;
             }
-            (Some(w), None) => {
-                let r = self.length_of(line, w, w.plain()?)?;
-                if r.0 == 0 || (sx, sz) == (ex, ez) {
-                    self.error(
-                        codes::SINR_ARC,
-                        line,
-                        w.range.clone(),
-                        format!(
-                            "{code} with CR=: a zero radius, or an arc that ends where it starts"
-                        ),
-                        "write the arc with I and K",
-                    );
-                    return None;
-                }
-                match lower::arc::centre_from_radius(
-                    (sx, sz),
-                    (ex, ez),
-                    r.to_mm_f64(),
-                    clockwise,
-                    0.001,
-                ) {
-                    Ok(c) => c,
-                    Err(chord) => {
-                        self.error(
-                            codes::SINR_ARC,
-                            line,
-                            w.range.clone(),
-                            format!("`{}` is too small for the arc: its end is {chord:.4} mm from its start", &line.text[w.range.clone()]),
-                            "the radius must be at least half the distance from the start to the end",
-                        );
-                        return None;
-                    }
-                }
-            }
+            (Some(w), None) => self.radius_centre(line, w, (sx, sz), (ex, ez), clockwise)?,
             (None, Some(_)) => {
                 let mut offset = |w: Option<&Word>| -> Option<Length> {
                     match w {
@@ -1142,17 +1166,52 @@ impl FrontEnd<'_> {
         Some((to, centre))
     }
 
-    /// `G33 X Z K SF=`: one pass that waits for the index pulse, then `SF` degrees.
-    fn thread(
+    /// The centre of an arc of radius `CR=` (negative beyond half a circle).
+    fn radius_centre(
+        &mut self,
+        line: Line<'_>,
+        w: &Word,
+        (sx, sz): (Length, Length),
+        (ex, ez): (Length, Length),
+        clockwise: bool,
+    ) -> Option<Pos> {
+        let code = if clockwise { "G2" } else { "G3" };
+        let r = self.length_of(line, w, w.plain()?)?;
+        if r.0 == 0 || (sx, sz) == (ex, ez) {
+            self.error(
+                codes::SINR_ARC,
+                line,
+                w.range.clone(),
+                format!("{code} with CR=: a zero radius, or an arc that ends where it starts"),
+                "write the arc with I and K",
+            );
+            return None;
+        }
+        match lower::arc::centre_from_radius((sx, sz), (ex, ez), r.to_mm_f64(), clockwise, 0.001) {
+            Ok(c) => Some(c),
+            Err(chord) => {
+                self.error(
+                    codes::SINR_ARC,
+                    line,
+                    w.range.clone(),
+                    format!(
+                        "`{}` is too small for the arc: its end is {chord:.4} mm from its start",
+                        &line.text[w.range.clone()]
+                    ),
+                    "the radius must be at least half the distance from the start to the end",
+                );
+                None
+            }
+        }
+    }
+
+    /// A G33's lead K, where the block is one ncthread reads: no I, no chain, no G96.
+    fn thread_lead(
         &mut self,
         line: Line<'_>,
         words: &Words<'_>,
-        from: Pos,
-        to: Pos,
-        block: &Block,
-        span: Span,
-    ) -> Option<()> {
-        let whole = block.code_range.clone();
+        whole: Range<usize>,
+    ) -> Option<Lead> {
         let refuse = |fe: &mut Self, range: Range<usize>, message: &str, help: &str| {
             fe.error(codes::SINR_THREAD, line, range, message.to_string(), help);
         };
@@ -1192,7 +1251,16 @@ impl FrontEnd<'_> {
             );
             return None;
         };
-        let lead = self.lead_of(line, k)?;
+        self.lead_of(line, k)
+    }
+
+    /// `SF=`, the start angle every G33 block states: 0 to 359.999°.
+    fn start_angle(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        whole: Range<usize>,
+    ) -> Option<Angle> {
         let Some(sf) = words.get("SF") else {
             self.error(
                 codes::SINR_MODE_UNKNOWN,
@@ -1207,7 +1275,7 @@ impl FrontEnd<'_> {
             .plain()
             .and_then(|d| d.to_angle().ok())
             .filter(|a| (0..360_000).contains(&a.0));
-        let Some(angle) = angle else {
+        if angle.is_none() {
             self.error(
                 codes::SINR_NUMBER,
                 line,
@@ -1218,8 +1286,26 @@ impl FrontEnd<'_> {
                 ),
                 "write the start angle in degrees, at most 3 decimals",
             );
-            return None;
+        }
+        angle
+    }
+
+    /// `G33 X Z K SF=`: one pass that waits for the index pulse, then `SF` degrees.
+    fn thread(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        from: Pos,
+        to: Pos,
+        block: &Block,
+        span: Span,
+    ) -> Option<()> {
+        let whole = block.code_range.clone();
+        let refuse = |fe: &mut Self, range: Range<usize>, message: &str, help: &str| {
+            fe.error(codes::SINR_THREAD, line, range, message.to_string(), help);
         };
+        let lead = self.thread_lead(line, words, whole.clone())?;
+        let angle = self.start_angle(line, words, whole.clone())?;
         // A thread along Z needs only its end Z; one that moves X needs its start.
         let moves_x = words.get("X").is_some() && to.x != from.x;
         if to.z.is_none() || (moves_x && from.known().is_none()) {
