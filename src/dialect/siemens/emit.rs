@@ -592,11 +592,12 @@ impl Emitter<'_> {
     /// speed the program has).
     fn spindle_mode(&mut self, item: &Item, mode: &SpindleMode, block: &mut Block) -> bool {
         match mode {
-            // While the spindle stands, a G97 needs no S: the next start says its S.
-            SpindleMode::Rpm if !self.turning && self.surface_speed => {
+            // While the spindle stands, a G97 needs no S: the next start says its S. Under
+            // G97 already, it changes nothing.
+            SpindleMode::Rpm if !self.turning || !self.surface_speed => {
                 block.words.push("G97".into());
+                self.speed_unsaid |= self.surface_speed;
                 self.surface_speed = false;
-                self.speed_unsaid = true;
             }
             SpindleMode::Rpm => {
                 block.words.push("G97".into());
