@@ -634,6 +634,84 @@ fn fanuc_program() -> impl Strategy<Value = Input> {
 }
 
 // ---------------------------------------------------------------------------------------
+// Generated SINUMERIK programs
+
+fn siemens_block() -> impl Strategy<Value = Vec<String>> {
+    let x = length(10, 120, 3);
+    let z = length(-150, 30, 3);
+    let lead = length(1, 8, 4);
+    prop_oneof![
+        4 => (x.clone(), z.clone()).prop_map(|(x, z)| vec![format!("G0 X{x} Z{z}")]),
+        2 => x.clone().prop_map(|x| vec![format!("G0 X=AC({x})")]),
+        2 => (x.clone(), z.clone(), prop::sample::select(vec!["0.1", "0.25", "0.05"])).prop_map(|(x, z, f)| vec![format!("G1 X{x} Z{z} F{f}")]),
+        1 => (length(-20, 20, 3), length(-20, 20, 3)).prop_map(|(u, w)| vec![format!("G1 X=IC({u}) Z=IC({w}) F0.2")]),
+        1 => (length(-10, 10, 3), length(-10, 10, 3)).prop_map(|(u, w)| vec![format!("G91 G1 X{u} Z{w} F0.2"), "G90".into()]),
+        // An arc of radius 200 (every chord here is shorter than 400), either way round.
+        2 => (x.clone(), z.clone(), any::<bool>(), any::<bool>(), any::<bool>()).prop_map(|(x, z, cw, over, radius_x)| {
+            let g = if cw { "G2" } else { "G3" };
+            let cr = if over { "-200" } else { "200" };
+            let mut v = vec![format!("{g} X{x} Z{z} CR={cr} F0.1")];
+            if radius_x {
+                v.insert(0, "DIAMOF".into());
+                v[1] = format!("{g} X{:.4} Z{z} CR={cr} F0.1", x.parse::<f64>().unwrap_or(20.0) / 2.0);
+                v.push("DIAMON".into());
+            }
+            v
+        }),
+        // A pass: to its diameter, the thread (a start angle, a taper), out and back.
+        6 => (x.clone(), length(-100, -5, 3), lead.clone(), 0u32..360_000, prop::option::of(length(-2, 2, 3)))
+            .prop_map(|(x, z, k, sf, taper)| {
+                let end_x = match &taper {
+                    Some(t) => format!("X{:.3} ", x.parse::<f64>().unwrap_or(20.0) + t.parse::<f64>().unwrap_or(0.0)),
+                    None => String::new(),
+                };
+                vec![
+                    "G0 Z10".to_string(),
+                    format!("X{x}"),
+                    format!("G33 {end_x}Z{z} K{k} SF={}.{:03}", sf / 1000, sf % 1000),
+                    "G0 X130".into(),
+                    "Z10".into(),
+                ]
+            }),
+        1 => Just(vec!["M5".to_string()]),
+        1 => (100u32..2000, any::<bool>()).prop_map(|(s, ccw)| vec![format!("G97 S{s} {}", if ccw { "M4" } else { "M3" })]),
+        1 => (100u32..300, 1000u32..3000).prop_map(|(v, l)| vec![format!("G96 S{v} LIMS={l} M3")]),
+        1 => prop::sample::select(vec!["M8", "M9", "G4 F0.5", "G94 F200", "G95 F0.2", "STOPRE", "MSG(\"FUZZ\")", "DITS=1"]).prop_map(|c| vec![c.to_string()]),
+        1 => comment_text().prop_map(|c| vec![format!("; {c}")]),
+        1 => (1u32..12, 1u32..4).prop_map(|(t, d)| vec![format!("T{t} D{d}")]),
+    ]
+}
+
+fn siemens_program() -> impl Strategy<Value = Input> {
+    (prop::collection::vec(siemens_block(), 1..10), any::<bool>()).prop_map(|(blocks, numbered)| {
+        let mut lines = vec![
+            "G18 G90 G71 G95 G40 DIAMON".to_string(),
+            "G97 S500 M3".into(),
+            "G0 X130 Z20".into(),
+        ];
+        lines.extend(blocks.into_iter().flatten());
+        lines.push("M5".into());
+        lines.push("M30".into());
+        let body: String = lines
+            .iter()
+            .enumerate()
+            .map(|(i, l)| {
+                if numbered && !l.starts_with(';') {
+                    format!("N{} {l}\n", (i + 1) * 10)
+                } else {
+                    format!("{l}\n")
+                }
+            })
+            .collect();
+        Input {
+            from: ncthread::dialect::siemens::ID,
+            bytes: format!("%_N_FUZZ_MPF\n;$PATH=/_N_MPF_DIR\n{body}").into_bytes(),
+            profile: None,
+        }
+    })
+}
+
+// ---------------------------------------------------------------------------------------
 // Mutations of corpus files, and arbitrary bytes
 
 fn corpus_files() -> Vec<(DialectId, Vec<u8>, Option<String>)> {
@@ -1182,6 +1260,21 @@ fn generated_fanuc_programs() {
     assert!(t.tally.proved > 0, "no generated FANUC program converted");
     if common::rs274().is_some() {
         assert!(t.tally.rs274 > 0, "rs274 judged no generated FANUC program");
+    }
+}
+
+#[test]
+fn generated_siemens_programs() {
+    let t = run("siemens", siemens_program(), interpreter());
+    assert!(
+        t.tally.proved > 0,
+        "no generated SINUMERIK program converted"
+    );
+    if common::rs274().is_some() {
+        assert!(
+            t.tally.rs274 > 0,
+            "rs274 judged no generated SINUMERIK program"
+        );
     }
 }
 
