@@ -104,8 +104,8 @@ pub fn translate_from(
                     18 => now.push("G18".into()),
                     90 => incremental = false,
                     91 => incremental = true,
-                    71 => now.push("G21".into()),
-                    70 => now.push("G20".into()),
+                    71 | 710 => now.push("G21".into()),
+                    70 | 700 => now.push("G20".into()),
                     40 => now.push("G40".into()),
                     g @ 54..=57 => now.push(format!("G{g}")),
                     // LinuxCNC sets F to 0 on every G94/G95: said only where the mode changes.
@@ -115,13 +115,22 @@ pub fn translate_from(
                             now.push(format!("G{g}"));
                         }
                     }
-                    // LinuxCNC's G96 says its S on its line.
-                    96 => {
-                        let d = get("LIMS").map(|l| format!(" D{l}")).unwrap_or_default();
-                        let s = get("S").or(speed.clone()).ok_or("G96 before any S")?;
-                        now.push(format!("G96{d} S{s}"));
+                    // G96/G97 say a feed per revolution, G961/G971 per minute; LinuxCNC's
+                    // G96 says its S on its line.
+                    g @ (96 | 97 | 961 | 971) => {
+                        let per_rev = g < 100;
+                        if per_minute != Some(!per_rev) {
+                            per_minute = Some(!per_rev);
+                            now.push(if per_rev { "G95" } else { "G94" }.into());
+                        }
+                        if matches!(g, 96 | 961) {
+                            let d = get("LIMS").map(|l| format!(" D{l}")).unwrap_or_default();
+                            let s = get("S").or(speed.clone()).ok_or("G96 before any S")?;
+                            now.push(format!("G96{d} S{s}"));
+                        } else {
+                            now.push("G97".into());
+                        }
                     }
-                    97 => now.push("G97".into()),
                     g => return Err(format!("G{g} is not in the subset")),
                 },
                 ("DIAMON", "") => {
@@ -154,7 +163,10 @@ pub fn translate_from(
                 },
                 ("S", s) => {
                     speed = Some(s.to_string());
-                    if !ws.iter().any(|(l, v)| l == "G" && v == "96") {
+                    if !ws
+                        .iter()
+                        .any(|(l, v)| l == "G" && (v == "96" || v == "961"))
+                    {
                         now.push(format!("S{s}"));
                     }
                 }

@@ -1,7 +1,8 @@
 //! IR → SINUMERIK native turning (siemens.md "Writing").
 //!
 //! The frame: `%_N_<NAME>_MPF`, `;$PATH=/_N_MPF_DIR`, a comment saying where the program came
-//! from, `N10 G18 G90 G71 G95 G40 DIAMON` (G71 is millimetres here, X a diameter), the
+//! from, `N10 G18 G90 G710 G95 G40 DIAMON` (G710: lengths and feeds in millimetres whatever the
+//! machine's basic system; X a diameter), the
 //! program, its end (`M30`, `M2`) where the source has one: M30 stops the spindle and the
 //! coolant, which a program without an end does not (siemens.md says "the end M30"; see
 //! ARCHITECTURE.md). Every block is numbered
@@ -29,7 +30,7 @@ use crate::source::{SourceFile, Span};
 pub(crate) const HEADER_END: &str = ", converted by ncthread";
 
 /// The modes line every program starts with.
-const MODES: &str = "G18 G90 G71 G95 G40 DIAMON";
+const MODES: &str = "G18 G90 G710 G95 G40 DIAMON";
 
 #[derive(Default)]
 struct Block {
@@ -55,7 +56,7 @@ struct Emitter<'a> {
     limit: Option<i64>,
     /// The last S written, and a G96/G97 of this block that still needs its S.
     speed: Option<u32>,
-    speed_word: Option<Item>,
+    speed_word: Option<(Item, usize)>,
     /// The spindle turns in the output (M3/M4 written, no M5 since).
     turning: bool,
     /// A G97 was written without S while the spindle stood: the next start says its S.
@@ -318,9 +319,9 @@ impl Emitter<'_> {
         }
         // A G96 or G97 says its speed: SINUMERIK's G97 without S keeps the rpm the spindle
         // turns at, where the source's S register holds the speed.
-        if let Some(item) = self.speed_word.take() {
+        if let Some((item, at)) = self.speed_word.take() {
             match self.speed {
-                Some(s) => block.words.push(format!("S{s}")),
+                Some(s) => block.words.insert(at.min(block.words.len()), format!("S{s}")),
                 None => self.diag(
                     codes::SINW_NO_EQUIVALENT,
                     &item,
@@ -447,7 +448,9 @@ impl Emitter<'_> {
     /// refused.
     fn setting(&mut self, item: &Item, block: &mut Block) -> bool {
         match &item.kind {
-            ItemKind::Spindle { speed, direction } => self.spindle(*speed, *direction, block),
+            ItemKind::Spindle { speed, direction } => {
+                return self.spindle(item, *speed, *direction, block);
+            }
             ItemKind::SpindleStop => {
                 self.turning = false;
                 block.words.push("M5".into());
@@ -462,13 +465,20 @@ impl Emitter<'_> {
                 }
             }
             ItemKind::FeedMode(mode) if *mode != self.feed_mode => {
-                let g = if *mode == FeedMode::PerRev {
-                    "G95"
-                } else {
-                    "G94"
-                };
-                block.words.push(g.into());
                 self.feed_mode = *mode;
+                // G94/G95 are of G96's group: under a surface speed the feed's kind is said
+                // with it (G961 is G96 with a feed per minute), and its S again.
+                if self.surface_speed {
+                    block.words.push(self.speed_code(true).into());
+                    self.speed_word = Some((item.clone(), block.words.len()));
+                } else {
+                    let g = if *mode == FeedMode::PerRev {
+                        "G95"
+                    } else {
+                        "G94"
+                    };
+                    block.words.push(g.into());
+                }
                 // F is written again after every change of mode (siemens.md).
                 self.f = None;
             }
@@ -561,13 +571,38 @@ impl Emitter<'_> {
         );
     }
 
-    /// The spindle's speed and direction words.
+    /// The code of a spindle speed mode, which says the feed's kind too (one G group):
+    /// G96/G97 with a feed per revolution, G961/G971 per minute.
+    fn speed_code(&self, surface: bool) -> &'static str {
+        match (surface, self.feed_mode) {
+            (true, FeedMode::PerRev) => "G96",
+            (true, FeedMode::PerMin) => "G961",
+            (false, FeedMode::PerRev) => "G97",
+            (false, FeedMode::PerMin) => "G971",
+        }
+    }
+
+    /// The spindle's speed and direction words; `false` when refused.
     fn spindle(
         &mut self,
+        item: &Item,
         speed: Option<u32>,
         direction: Option<SpindleDirection>,
         block: &mut Block,
-    ) {
+    ) -> bool {
+        // LIMS limits G97 too: a speed above it would not be the speed.
+        if let (Some(s), Some(l)) = (speed, self.limit)
+            && !self.surface_speed
+            && i64::from(s) > l
+        {
+            self.diag(
+                codes::SINW_NO_EQUIVALENT,
+                item,
+                format!("S{s} rpm above the speed limit LIMS={l} in force: on a SINUMERIK LIMS limits G97 too, where the source's limit was its surface speed's only"),
+                "lower the speed to the limit in the source, or raise the surface speed's limit",
+            );
+            return false;
+        }
         // After a bare G97 the start says the speed the program has (`speed_unsaid`).
         let speed = speed.or(self
             .speed
@@ -586,6 +621,7 @@ impl Emitter<'_> {
         if direction.is_some() {
             self.turning = true;
         }
+        true
     }
 
     /// G97 S, or G96 S LIMS= (the S the spindle item's that follows in the block, or the
@@ -595,20 +631,23 @@ impl Emitter<'_> {
             // While the spindle stands, a G97 needs no S: the next start says its S. Under
             // G97 already, it changes nothing.
             SpindleMode::Rpm if !self.turning || !self.surface_speed => {
-                block.words.push("G97".into());
+                let code = self.speed_code(false);
+                if block.words.last().map(String::as_str) != Some(code) {
+                    block.words.push(code.into());
+                }
                 self.speed_unsaid |= self.surface_speed;
                 self.surface_speed = false;
             }
             SpindleMode::Rpm => {
-                block.words.push("G97".into());
+                block.words.push(self.speed_code(false).into());
                 self.surface_speed = false;
-                self.speed_word = Some(item.clone());
+                self.speed_word = Some((item.clone(), block.words.len()));
             }
             SpindleMode::SurfaceSpeed { feet: true, .. } => {
                 self.diag(
                     codes::SINW_NO_EQUIVALENT,
                     item,
-                    "a surface speed in feet per minute (G96 under G20): the SINUMERIK program is written in millimetres (G71), where G96's S is m/min".into(),
+                    "a surface speed in feet per minute (G96 under G20): the SINUMERIK program is written in millimetres (G710), where G96's S is m/min".into(),
                     "program the surface speed in m/min in the source, or cut at a speed in rpm (G97)",
                 );
                 return false;
@@ -632,17 +671,21 @@ impl Emitter<'_> {
                         codes::SINW_NO_EQUIVALENT,
                         item,
                         "a surface speed without a speed limit after one with a limit: LIMS= stays in force, and the program cannot lift it".into(),
-                        "give this G96 a limit in the source (G96 … D)",
+                        "give this surface speed a limit in the source (LinuxCNC's G96 … D, FANUC's G50 S)",
                     );
                     return false;
                 }
-                block.words.push("G96".into());
-                if let Some(n) = limit {
+                // A change of the feed's kind in the same block said it already.
+                let code = self.speed_code(true);
+                if block.words.last().map(String::as_str) != Some(code) {
+                    block.words.push(code.into());
+                }
+                if let Some(n) = limit.filter(|n| self.limit != Some(*n)) {
                     block.words.push(format!("LIMS={n}"));
                     self.limit = Some(n);
                 }
                 self.surface_speed = true;
-                self.speed_word = Some(item.clone());
+                self.speed_word = Some((item.clone(), block.words.len()));
             }
         }
         true
@@ -789,7 +832,11 @@ impl Emitter<'_> {
         let words = self.axes(item, to);
         block.words.extend(words);
         block.words.push(format!("K{}", lead.mm()));
-        let angle = Angle(angle.0.rem_euclid(360_000));
+        let angle = Angle(
+            start_on_grid(seg.from.z, seg.to.z, pass.lead, angle)
+                .0
+                .rem_euclid(360_000),
+        );
         block.words.push(format!("SF={}", angle_text(angle)));
         self.after_thread = true;
         true
@@ -816,6 +863,22 @@ impl Emitter<'_> {
             }
         }
     }
+}
+
+/// The start angle of a pass that starts where the output's move before it left the tool:
+/// its start Z on the 0.001 mm grid (rounded with `--round`). The helix is the same: the
+/// angle runs on by the turns between the exact start and the written one.
+fn start_on_grid(from: Option<Length>, to: Option<Length>, lead: Lead, angle: Angle) -> Angle {
+    let (Some(z), Some(end)) = (from, to) else {
+        return angle;
+    };
+    let written = Length(div_round(z.0 as i128, 100) as i64 * 100);
+    let later = (end - z).signum() * (written - z).0;
+    let turn = div_round(
+        later as i128 * 360_000 * Lead::PER_LENGTH as i128,
+        lead.0.max(1) as i128,
+    ) as i64;
+    Angle(angle.0 + turn)
 }
 
 /// Whether a move of `dx` on the diameter and `dz` along Z is within 1° of 45° (the radial

@@ -38,8 +38,19 @@ struct FrontEnd<'a> {
     absolute: bool,
     /// DIAMON (X a diameter) or DIAMOF; `None` until the program says.
     diameter: Option<bool>,
-    /// G70: lengths in inches.
+    /// G70/G700: lengths in inches.
     inch: bool,
+    /// G700: feeds in inches too (G70 leaves F in the machine's basic system, which
+    /// ncthread takes as metric **\[decided\]**).
+    inch_feed: bool,
+    /// The spindle turns (M3/M4 since the last M5).
+    turning: bool,
+    /// The last surface speed (S under G96/G961), which a G96 without S takes again.
+    cutting: Option<u32>,
+    /// LIMS in force: it limits G97 too.
+    lims: Option<u32>,
+    /// The profile's feed per minute at the start, pushed before the first block's items.
+    start_per_minute: bool,
     /// G95 or G94; `None` until the program says.
     per_rev: Option<bool>,
     motion: Option<Motion>,
@@ -68,6 +79,11 @@ pub(crate) fn read(
         absolute: true,
         diameter: profile.initial_diameter,
         inch: false,
+        inch_feed: false,
+        turning: false,
+        cutting: None,
+        lims: None,
+        start_per_minute: profile.initial_per_rev == Some(false),
         per_rev: profile.initial_per_rev,
         motion: None,
         f: None,
@@ -78,11 +94,6 @@ pub(crate) fn read(
         warned_no_motion: Vec::new(),
         reported_mode: Vec::new(),
     };
-    // The profile's feed per minute at the start (the IR starts per revolution).
-    if profile.initial_per_rev == Some(false) {
-        let span = fe.r.src.line_span(fe.r.src.line(1));
-        fe.r.push(ItemKind::FeedMode(FeedMode::PerMin), span, None);
-    }
     let mut first = true;
     for line in src.lines() {
         fe.r.items.line_read();
@@ -258,7 +269,6 @@ fn refused_g(g: u32) -> &'static str {
         9 | 60 | 64 | 641 | 642 | 645 => {
             "exact stop and continuous-path modes are not read (G64 rounds corners)"
         }
-        700 | 710 => "G700/G710 are not read (G70/G71 are)",
         _ => "it is not a G code ncthread reads in a SINUMERIK program",
     }
 }
@@ -495,6 +505,12 @@ impl FrontEnd<'_> {
     }
 
     fn block(&mut self, line: Line<'_>, block: &Block, span: Span) {
+        // The profile's feed per minute at the start (the IR starts per revolution), before
+        // the first block's items (the header lines stay the header's).
+        if std::mem::take(&mut self.start_per_minute) {
+            self.r
+                .push(ItemKind::FeedMode(FeedMode::PerMin), span, None);
+        }
         let Some(words) = self.sort(line, block) else {
             return;
         };
@@ -568,9 +584,8 @@ impl FrontEnd<'_> {
                 continue;
             }
             let mode = match g {
-                18 | 90 | 91 | 70 | 71 | 96 | 97 => None,
-                94 => Some(ItemKind::FeedMode(FeedMode::PerMin)),
-                95 => Some(ItemKind::FeedMode(FeedMode::PerRev)),
+                // The feed's kind and the spindle's mode (one G group): `modes`.
+                18 | 90 | 91 | 70 | 71 | 700 | 710 | 94 | 95 | 96 | 97 | 961 | 971 => None,
                 40 => Some(ItemKind::Compensation(Compensation::Off)),
                 54..=57 => Some(ItemKind::WorkOffset((g - 53) as u8)),
                 _ => {
@@ -589,41 +604,78 @@ impl FrontEnd<'_> {
         Some(g_codes)
     }
 
-    /// The block's modes for the whole block first: G90/G91, G70/G71, DIAMON/DIAMOF,
-    /// G94/G95.
+    /// The block's modes for the whole block first: G90/G91, the units (G70/G71 lengths,
+    /// G700/G710 lengths and feeds), DIAMON/DIAMOF, and the feed's kind, which G94/G95 and
+    /// the spindle's modes G96/G97 (per revolution) and G961/G971 (per minute) say: one G
+    /// group, one of them per block.
     fn modes(&mut self, line: Line<'_>, block: &Block, words: &Words<'_>) -> Option<()> {
-        for (a, b) in [(90, 91), (70, 71), (94, 95), (96, 97)] {
-            if words.has_g(a) && words.has_g(b) {
+        let one_of = |group: &[u32]| -> Vec<u32> {
+            words
+                .g
+                .iter()
+                .map(|(g, _)| *g)
+                .filter(|g| group.contains(g))
+                .collect()
+        };
+        let feed_kind = one_of(&[94, 95, 96, 97, 961, 971]);
+        for group in [
+            one_of(&[90, 91]),
+            one_of(&[70, 71, 700, 710]),
+            feed_kind.clone(),
+        ] {
+            if let [a, b, ..] = group[..] {
                 self.error(
                     codes::SINR_CONFLICT,
                     line,
                     block.code_range.clone(),
-                    format!("G{a} and G{b} in one block"),
+                    format!("G{a} and G{b} in one block: one G group"),
                     "give one of them",
                 );
                 return None;
             }
         }
-        let set = |on: bool, off: bool, now: Option<bool>| {
-            if on {
-                Some(true)
-            } else if off {
-                Some(false)
-            } else {
-                now
-            }
-        };
-        self.absolute = set(words.has_g(90), words.has_g(91), Some(self.absolute)) == Some(true);
-        self.inch = set(words.has_g(70), words.has_g(71), Some(self.inch)) == Some(true);
+        if words.has_g(90) || words.has_g(91) {
+            self.absolute = words.has_g(90);
+        }
+        if let [g] = one_of(&[70, 71, 700, 710])[..] {
+            self.inch = matches!(g, 70 | 700);
+            self.inch_feed = g == 700;
+        }
         if let Some((on, _)) = words.diam {
             self.diameter = Some(on);
         }
-        let was = self.per_rev;
-        self.per_rev = set(words.has_g(95), words.has_g(94), self.per_rev);
-        if self.per_rev != was {
-            // What F holds across a change of mode is not stated by the sources: the feed
-            // is given again (the writer does).
-            self.f = None;
+        let Some(&g) = feed_kind.first() else {
+            return Some(());
+        };
+        if self.surface && matches!(g, 94 | 95) {
+            self.error(
+                codes::SINR_UNSUPPORTED,
+                line,
+                block.code_range.clone(),
+                format!("G{g} under G96: it ends the surface speed (one G group) at a spindle speed the program does not say"),
+                "write G97 S… first, or G961/G96 to change the feed's kind under the surface speed",
+            );
+            return None;
+        }
+        let per_rev = matches!(g, 95..=97);
+        if self.per_rev != Some(per_rev) || matches!(g, 94 | 95) {
+            // What F holds across a change of kind is not stated by the sources: the feed is
+            // given again (the writer does).
+            if self.per_rev != Some(per_rev) {
+                self.f = None;
+            }
+            self.per_rev = Some(per_rev);
+            let at = words
+                .g
+                .iter()
+                .find(|(c, _)| *c == g)
+                .map_or(Span::default(), |(_, w)| self.span(line, w.range.clone()));
+            let mode = if per_rev {
+                FeedMode::PerRev
+            } else {
+                FeedMode::PerMin
+            };
+            self.r.push(ItemKind::FeedMode(mode), at, None);
         }
         Some(())
     }
@@ -637,6 +689,20 @@ impl FrontEnd<'_> {
         stops: &mut Vec<(bool, Span)>,
         span: Span,
     ) -> Option<()> {
+        // One of each function per block: the spindle (M3, M4, M5) and the coolant (M8, M9).
+        for group in [[3, 4, 5].as_slice(), &[8, 9]] {
+            let mut found = words.m.iter().filter(|(m, _)| group.contains(m));
+            if let (Some((a, _)), Some((b, w))) = (found.next(), found.next()) {
+                self.error(
+                    codes::SINR_CONFLICT,
+                    line,
+                    w.range.clone(),
+                    format!("M{b} beside M{a} in one block: one of them"),
+                    "write each spindle and coolant command in a block of its own",
+                );
+                return None;
+            }
+        }
         for &(m, w) in &words.m {
             let at = self.span(line, w.range.clone());
             match m {
@@ -647,8 +713,12 @@ impl FrontEnd<'_> {
                         SpindleDirection::CounterClockwise
                     };
                     switches.spindle = Some((None, Some(direction), at));
+                    self.turning = true;
                 }
-                5 => switches.spindle_stop = Some(at),
+                5 => {
+                    switches.spindle_stop = Some(at);
+                    self.turning = false;
+                }
                 8 => switches.coolant.push((Coolant::Flood, at)),
                 9 => switches.coolant.push((Coolant::Off, at)),
                 0 | 1 => stops.push((m == 1, at)),
@@ -688,54 +758,125 @@ impl FrontEnd<'_> {
         switches: &mut Switches,
         span: Span,
     ) -> Option<()> {
-        let lims = words.get("LIMS");
-        if words.has_g(96) {
-            let limit = match lims {
-                Some(w) => {
-                    let d = w.plain()?;
-                    if d.is_negative() || d.to_whole().is_err() {
-                        self.error(
-                            codes::SINR_NUMBER,
-                            line,
-                            w.range.clone(),
-                            "LIMS is a whole number of rpm",
-                            "write the limit in whole rpm",
-                        );
-                        return None;
-                    }
-                    Some(d)
-                }
-                None => None,
-            };
-            switches.spindle_mode = Some((
-                SpindleMode::SurfaceSpeed {
-                    limit,
-                    feet: self.inch,
-                },
-                span,
-            ));
-            self.surface = true;
-        } else if let Some(w) = lims {
-            self.error(
-                codes::SINR_UNSUPPORTED,
-                line,
-                w.range.clone(),
-                "LIMS without G96 in its block is not read",
-                "write the limit beside G96: `G96 S200 LIMS=3000`",
-            );
-            return None;
-        }
-        if words.has_g(97) {
+        let whole = 0..line.text.len();
+        let surface = words.has_g(96) || words.has_g(961);
+        let rpm = words.has_g(97) || words.has_g(971);
+        let lims = match words.get("LIMS") {
+            Some(w) if surface => Some(self.limit_word(line, w)?),
+            Some(w) => {
+                self.error(
+                    codes::SINR_UNSUPPORTED,
+                    line,
+                    w.range.clone(),
+                    "LIMS without G96 in its block is not read",
+                    "write the limit beside G96: `G96 S200 LIMS=3000`",
+                );
+                return None;
+            }
+            None => None,
+        };
+        let s = match words.get("S") {
+            Some(w) => Some((self.whole(line, w, "a spindle speed")?, w)),
+            None => None,
+        };
+        if surface {
+            self.surface_speed(line, s.map(|(v, _)| v), lims, switches, span)?;
+        } else if rpm {
+            if s.is_none() && self.surface && self.turning {
+                self.error(
+                    codes::SINR_MODE_UNKNOWN,
+                    line,
+                    whole,
+                    "G97 without S while the spindle turns under G96: the control keeps the rpm it turns at, which depends on the diameter",
+                    "write the speed with G97: `G97 S800`",
+                );
+                return None;
+            }
             switches.spindle_mode = Some((SpindleMode::Rpm, span));
             self.surface = false;
         }
-        if let Some(w) = words.get("S") {
-            let s = self.whole(line, w, "a spindle speed")?;
+        if let Some((v, w)) = s {
+            if self.surface {
+                self.cutting = Some(v);
+            } else if let Some(l) = self.lims.filter(|l| v > *l) {
+                self.error(
+                    codes::SINR_UNSUPPORTED,
+                    line,
+                    w.range.clone(),
+                    format!("S{v} above LIMS={l}: LIMS limits G97 too, so the spindle would turn at {l} rpm"),
+                    "lower the speed to the limit, or raise LIMS with a G96 block",
+                );
+                return None;
+            }
             let direction = switches.spindle.and_then(|(_, d, _)| d);
             let at = self.span(line, w.range.clone());
-            switches.spindle = Some((Some(s), direction, at));
+            switches.spindle = Some((Some(v), direction, at));
         }
         Some(())
+    }
+
+    /// G96 (or G961): the surface speed S, else the last one; the LIMS given, else the one
+    /// in force.
+    fn surface_speed(
+        &mut self,
+        line: Line<'_>,
+        s: Option<u32>,
+        lims: Option<u32>,
+        switches: &mut Switches,
+        span: Span,
+    ) -> Option<()> {
+        let whole = 0..line.text.len();
+        // A G96 without S takes the last surface speed again, never an rpm.
+        let speed = match (s, self.cutting) {
+            (Some(v), _) | (None, Some(v)) => v,
+            (None, None) => {
+                self.error(
+                    codes::SINR_MODE_UNKNOWN,
+                    line,
+                    whole,
+                    "G96 without S before any surface speed",
+                    "write the surface speed with G96: `G96 S200 LIMS=3000`",
+                );
+                return None;
+            }
+        };
+        if let Some(l) = lims {
+            self.lims = Some(l);
+        }
+        let limit = self.lims.and_then(|l| Decimal::parse(&l.to_string()));
+        switches.spindle_mode = Some((
+            SpindleMode::SurfaceSpeed {
+                limit,
+                feet: self.inch,
+            },
+            span,
+        ));
+        let direction = switches.spindle.and_then(|(_, d, _)| d);
+        switches.spindle = Some((Some(speed), direction, span));
+        self.surface = true;
+        self.cutting = Some(speed);
+        Some(())
+    }
+
+    /// LIMS: a whole number of rpm, from 1.
+    fn limit_word(&mut self, line: Line<'_>, w: &Word) -> Option<u32> {
+        match w
+            .plain()
+            .and_then(|d| d.to_whole().ok())
+            .and_then(|n| u32::try_from(n).ok())
+        {
+            Some(n) if n > 0 => Some(n),
+            _ => {
+                self.error(
+                    codes::SINR_NUMBER,
+                    line,
+                    w.range.clone(),
+                    "LIMS is a whole number of rpm, from 1",
+                    "write the limit in whole rpm",
+                );
+                None
+            }
+        }
     }
 
     /// A whole number of at most 9 digits (S, T, D).
@@ -1049,7 +1190,11 @@ impl FrontEnd<'_> {
         let feed = if d.is_negative() {
             None
         } else {
-            self.length_of(line, w, d)
+            // G70 leaves F in the basic system (metric **\[decided\]**); G700 makes it inch.
+            let inch = std::mem::replace(&mut self.inch, self.inch_feed);
+            let feed = self.length_of(line, w, d);
+            self.inch = inch;
+            feed
         };
         if feed.is_none() && !d.is_negative() {
             return None;
@@ -1345,153 +1490,4 @@ impl FrontEnd<'_> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::fixed::Decimal;
-
-    fn read_text(text: &str) -> (Vec<ItemKind>, Vec<&'static str>) {
-        read_with(text, &SiemensProfile::default())
-    }
-
-    fn read_with(text: &str, profile: &SiemensProfile) -> (Vec<ItemKind>, Vec<&'static str>) {
-        let (p, d) = read(&SourceFile::new("t.mpf", text), profile, Keep::Program);
-        (
-            p.items.into_iter().map(|i| i.kind).collect(),
-            d.iter().map(|d| d.code.id).collect(),
-        )
-    }
-
-    fn mm(v: &str) -> Length {
-        Decimal::parse(v)
-            .and_then(|d| d.to_length().ok())
-            .expect("a length")
-    }
-
-    const HEAD: &str = "%_N_T_MPF\n;$PATH=/_N_MPF_DIR\nN10 G18 G90 G71 G95 G40 DIAMON\n";
-
-    #[test]
-    fn a_pass_waits_for_the_index_pulse_and_sf_degrees() {
-        let (items, codes) = read_text(&format!(
-            "{HEAD}N20 S800 M3\nN30 G0 X29.2 Z5\nN40 G33 Z-30 K3 SF=180\n"
-        ));
-        assert!(codes.is_empty(), "{codes:?}");
-        let pass = items.iter().find_map(|k| match k {
-            ItemKind::ThreadPass(p) => Some(p),
-            _ => None,
-        });
-        let pass = pass.expect("a pass");
-        assert_eq!(pass.to, Pos::new(mm("29.2"), mm("-30")));
-        assert_eq!(pass.start, SyncStart::Index(Angle(180_000)));
-        assert_eq!(pass.lead, Decimal::parse("3").unwrap().to_lead().unwrap());
-    }
-
-    #[test]
-    fn absolute_and_incremental_words_and_radius_x() {
-        let (items, codes) = read_text(&format!(
-            "{HEAD}N20 G0 X40 Z5\nN30 G91 X-2 Z=AC(1)\nN40 X=AC(30) Z-1\nN50 DIAMOF G90 X10\n"
-        ));
-        assert!(codes.is_empty(), "{codes:?}");
-        let rapids: Vec<Pos> = items
-            .iter()
-            .filter_map(|k| match k {
-                ItemKind::Rapid { to } => Some(*to),
-                _ => None,
-            })
-            .collect();
-        assert_eq!(
-            rapids,
-            [
-                Pos::new(mm("40"), mm("5")),
-                Pos::new(mm("38"), mm("1")),
-                Pos::new(mm("30"), mm("0")),
-                Pos {
-                    x: Some(mm("20")),
-                    z: None
-                },
-            ]
-        );
-    }
-
-    #[test]
-    fn what_a_machine_setting_decides_is_refused_until_the_program_says() {
-        let (_, codes) = read_text("N10 G90 G95\nN20 G0 X20 Z5\n");
-        assert_eq!(codes, ["SINR006"]);
-        let (_, codes) = read_text("N10 DIAMON\nN20 G0 X20 Z5\nN30 G1 Z-5 F0.2\n");
-        assert_eq!(codes, ["SINR006"]);
-        let (_, codes) = read_text(&format!("{HEAD}N20 G0 X20 Z5\nN30 G33 Z-5 K1\n"));
-        assert_eq!(codes, ["SINR006"]);
-        // A feed after a change of mode is given again; the same mode restated keeps it.
-        let (_, codes) = read_text(&format!(
-            "{HEAD}N20 G0 X20 Z5\nN30 G1 Z-5 F0.2\nN40 G95\nN50 Z-6\nN60 G94\nN70 Z-7\n"
-        ));
-        assert_eq!(codes, ["SINR006"]);
-    }
-
-    #[test]
-    fn what_is_not_read_is_named() {
-        for (text, code) in [
-            ("N20 CYCLE97(1,2)\n", "SINR002"),
-            ("N20 R1=2\n", "SINR002"),
-            ("N20 GOTOF END\n", "SINR002"),
-            ("N20 G64\n", "SINR002"),
-            ("N20 M6\n", "SINR002"),
-            (
-                "N20 G0 X20 Z5\nN30 G33 Z-5 K1 SF=0\nN40 Z-8 K1 SF=0\n",
-                "SINR008",
-            ),
-            ("N20 G0 X20 Z5\nN30 G1 X30 F0.1 SF=5\n", "SINR005"),
-            ("N20 G0 X20 Z5\nN30 G2 X30 Z0 CR=1 F0.1\n", "SINR007"),
-        ] {
-            let (_, codes) = read_text(&format!("{HEAD}{text}"));
-            assert_eq!(codes.first(), Some(&code), "{text}: {codes:?}");
-        }
-    }
-
-    #[test]
-    fn the_profile_gives_the_reset_state_and_each_unstated_one_is_said_once() {
-        let text = "G0 X10 Z5\nG1 X12 F0.2\nX14\nG1 Z-5\n";
-        let (_, codes) = read_text(text);
-        assert_eq!(codes, ["SINR006", "SINR006"]);
-        let profile = SiemensProfile {
-            initial_diameter: Some(false),
-            initial_per_rev: Some(false),
-        };
-        let (items, codes) = read_with(text, &profile);
-        assert!(codes.is_empty(), "{codes:?}");
-        assert_eq!(items[0], ItemKind::FeedMode(FeedMode::PerMin));
-        assert_eq!(
-            items[1],
-            ItemKind::Rapid {
-                to: Pos::new(mm("20"), mm("5"))
-            }
-        );
-    }
-
-    #[test]
-    fn messages_are_comments_and_stopre_is_nothing() {
-        let (items, codes) = read_text(&format!(
-            "{HEAD}MSG(\"ROUGH\") ; first\nSTOPRE\nN20 G0 X20 Z5\nSKOK1: G0 X30\n"
-        ));
-        assert_eq!(codes, ["SINR011", "SINR011", "SINR002"]);
-        assert!(items.contains(&ItemKind::Comment("ROUGH".into())));
-        assert!(items.contains(&ItemKind::Comment("first".into())));
-    }
-
-    #[test]
-    fn an_inch_program_is_held_exactly() {
-        let (items, codes) = read_text(
-            "N10 G18 G90 G70 G95 DIAMON\nN20 G0 X0.6 Z0.2\nN30 G33 Z-0.75 K0.0769 SF=0\n",
-        );
-        assert!(codes.is_empty(), "{codes:?}");
-        assert_eq!(
-            items[1],
-            ItemKind::Rapid {
-                to: Pos::new(mm("15.24"), mm("5.08"))
-            }
-        );
-        match &items[2] {
-            ItemKind::ThreadPass(p) => assert_eq!(p.lead.mm(), "1.95326"),
-            other => panic!("{other:?}"),
-        }
-    }
-}
+mod tests;
