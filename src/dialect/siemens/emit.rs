@@ -73,16 +73,15 @@ struct Emitter<'a> {
 /// The program's name for `%_N_<NAME>_MPF`: the source's own (a SINUMERIK program's), else
 /// the file's stem in upper case, letters, digits and `_` only, starting with two letters.
 fn program_name(program: &Program, src: &SourceFile) -> String {
-    if program.dialect == super::ID
-        && let Some(name) = &program.name
-    {
-        return name.clone();
-    }
     let stem = std::path::Path::new(&src.name)
         .file_stem()
         .and_then(|s| s.to_str())
         .unwrap_or("");
-    let mut name: String = deunicode::deunicode(stem)
+    let raw = match &program.name {
+        Some(name) if program.dialect == super::ID => name.as_str(),
+        _ => stem,
+    };
+    let mut name: String = deunicode::deunicode(raw)
         .chars()
         .map(|c| {
             if c.is_ascii_alphanumeric() {
