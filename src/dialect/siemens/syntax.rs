@@ -275,6 +275,9 @@ mod tests {
         // An address without its number is a name here; the front end says what is missing.
         assert_eq!(parse_line("G0 X").unwrap().words[1].value, Value::None);
         assert!(parse_line("G0 Ž").is_err());
+        let b = parse_line("MSG(\"A;B (C)\") ; note").unwrap();
+        assert_eq!(b.words[0].name, "MSG");
+        assert_eq!(b.comment.as_deref(), Some("note"));
         let b = parse_line("PROGR: G0 X1").unwrap();
         assert_eq!(b.words[0].value, Value::Label);
         let e = parse_line("N10 G0 X=R04+20").unwrap_err();
