@@ -27,6 +27,33 @@ pub(crate) fn blocks(items: &[Item], keep: bool) -> impl Iterator<Item = &[Item]
     })
 }
 
+/// The groups to write a block each, where a speed mode and the spindle item after it are
+/// one block (`G96 S200 M3`: the mode says its speed), when the writer does not keep the
+/// source's blocks (`keep`).
+pub(crate) fn speed_with_its_mode<'a>(
+    groups: &'a [&'a [Item]],
+    keep: bool,
+) -> impl Iterator<Item = std::borrow::Cow<'a, [Item]>> {
+    let mut i = 0;
+    std::iter::from_fn(move || {
+        let group = *groups.get(i)?;
+        if !keep
+            && matches!(group[0].kind, crate::ir::ItemKind::SpindleMode(_))
+            && let Some(next) = groups.get(i + 1)
+            && matches!(next[0].kind, crate::ir::ItemKind::Spindle { .. })
+            && next[0].comment.is_none()
+        {
+            i += 2;
+            return Some(std::borrow::Cow::Owned(vec![
+                group[0].clone(),
+                next[0].clone(),
+            ]));
+        }
+        i += 1;
+        Some(std::borrow::Cow::Borrowed(group))
+    })
+}
+
 /// Values a target cannot hold on its grid, gathered for one diagnostic per program (an
 /// error, or with `--round` a warning): how many, the largest deviation, and the first.
 #[derive(Debug, Default)]

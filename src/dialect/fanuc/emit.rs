@@ -327,25 +327,11 @@ impl Emitter<'_> {
         items
     }
 
-    /// Writes the groups of items block by block. A speed mode and the spindle item after
-    /// it are one block: `G96 S200 M03`.
+    /// Writes the groups of items block by block ([`write::speed_with_its_mode`]:
+    /// `G96 S200 M03`).
     fn groups(&mut self, groups: &[&[Item]]) {
-        let mut i = 0;
-        while i < groups.len() {
-            let group = groups[i];
-            if !self.keep
-                && matches!(group[0].kind, ItemKind::SpindleMode(_))
-                && let Some(next) = groups.get(i + 1)
-                && matches!(next[0].kind, ItemKind::Spindle { .. })
-                && next[0].comment.is_none()
-            {
-                let both = [group[0].clone(), next[0].clone()];
-                self.group(&both);
-                i += 2;
-                continue;
-            }
-            self.group(group);
-            i += 1;
+        for group in write::speed_with_its_mode(groups, self.keep) {
+            self.group(&group);
         }
     }
 
