@@ -296,6 +296,15 @@ impl Lead {
         ) as i64)
     }
 
+    /// The spindle's turn, in 0.001°, while a thread of this lead advances `travel` along Z
+    /// (the inverse of [`Lead::of_angle`]), rounded once.
+    pub fn turn_over(self, travel: Length) -> i64 {
+        div_round(
+            travel.0 as i128 * 360_000 * Self::PER_LENGTH as i128,
+            self.0.max(1) as i128,
+        ) as i64
+    }
+
     /// The axial shift that stands for a start angle: `lead · angle / 360°`, on the grid.
     pub fn of_angle(self, angle: Angle) -> Length {
         self.length_times(angle.0, 360_000)

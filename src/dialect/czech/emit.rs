@@ -911,14 +911,8 @@ impl Emitter<'_> {
             return start_angle;
         }
         let towards = (end_z - z).signum();
-        let angle_for = |c: Length| {
-            let later = Length(towards * (c - z).0);
-            let turn = crate::fixed::div_round(
-                later.0 as i128 * 360_000 * Lead::PER_LENGTH as i128,
-                pass.lead.0.max(1) as i128,
-            ) as i64;
-            start_angle.0 + turn
-        };
+        let angle_for =
+            |c: Length| start_angle.0 + pass.lead.turn_over(Length(towards * (c - z).0));
         let nearest = Length(crate::fixed::div_round(z.0 as i128, 100) as i64 * 100);
         let other = if nearest < z {
             nearest + Length::from_steps(10)

@@ -204,7 +204,7 @@ impl Emitter<'_> {
                     codes::SINW_ROUNDED,
                     format!("{} value(s) rounded to the SINUMERIK program's grid (0.001 mm, leads and feeds 0.0001 mm), the first {}; the largest deviation is {} mm", s.count, s.what, s.largest),
                 )
-                .help("a thread's start keeps its start angle SF=")
+                .help("a thread's start rounded onto the grid keeps its helix: its SF= moves with it")
             },
             |s| {
                 Diagnostic::new(
@@ -858,12 +858,7 @@ fn start_on_grid(from: Option<Length>, to: Option<Length>, lead: Lead, angle: An
         return angle;
     };
     let written = Length(div_round(z.0 as i128, 100) as i64 * 100);
-    let later = (end - z).signum() * (written - z).0;
-    let turn = div_round(
-        later as i128 * 360_000 * Lead::PER_LENGTH as i128,
-        lead.0.max(1) as i128,
-    ) as i64;
-    Angle(angle.0 + turn)
+    Angle(angle.0 + lead.turn_over(Length((end - z).signum() * (written - z).0)))
 }
 
 /// Whether a move of `dx` on the diameter and `dz` along Z is within 1° of 45° (the radial
@@ -911,5 +906,14 @@ mod tests {
         assert!(near_45(mm(19_400), mm(10_000)));
         assert!(!near_45(mm(19_300), mm(10_000)));
         assert!(!near_45(mm(2), mm(30)));
+        // A start 0.0005 mm off the grid, written 0.0005 mm farther from the end: the tool
+        // meets the helix 0.18° of a turn later at lead 1, so SF starts 0.18° earlier.
+        let lead = Lead::from_length(Length::from_mm(1));
+        let start = start_on_grid(Some(Length(500_050)), Some(mm(-10)), lead, Angle(0));
+        assert_eq!(start, Angle(-180));
+        assert_eq!(
+            start_on_grid(Some(mm(5)), Some(mm(-10)), lead, Angle(90_000)),
+            Angle(90_000)
+        );
     }
 }
