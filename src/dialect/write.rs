@@ -2,7 +2,7 @@
 //! refusal, and the one summary of the values a target's grid cannot hold.
 
 use crate::diag::{Code, Diagnostic, codes};
-use crate::fixed::{Lead, Length};
+use crate::fixed::{Angle, Lead, Length, div_round};
 use crate::ir::{Item, Pos, ThreadCycle};
 use crate::lower::{self, Expansion};
 use crate::source::{SourceFile, Span};
@@ -122,6 +122,112 @@ impl Inexact {
             self.first = Some((span, format!("{what} {} mm", lead.mm()), grid.mm()));
         }
     }
+}
+
+/// A comment's text in ASCII on one line (deunicode's transliteration, `?` where it has
+/// none; the diameter sign `D`), and whether anything changed.
+pub(crate) fn ascii_comment(text: &str) -> (String, bool) {
+    let mut changed = false;
+    let mut ascii = String::new();
+    for c in crate::dialect::one_line(text).chars() {
+        if c.is_ascii() && !c.is_ascii_control() {
+            ascii.push(c);
+        } else if c.is_ascii_control() {
+            ascii.push(' ');
+        } else if matches!(c, 'Ø' | 'ø' | '⌀' | '∅') {
+            ascii.push('D');
+        } else {
+            changed = true;
+            ascii.push_str(
+                deunicode::deunicode_char(c)
+                    .filter(|t| t.is_ascii())
+                    .unwrap_or("?"),
+            );
+        }
+    }
+    (ascii.trim().to_string(), changed)
+}
+
+/// The start angle of a pass that starts where the output's move before it left the tool:
+/// its start Z on the 0.001 mm grid (rounded with `--round`). The helix is the same: the
+/// angle runs on by the turns between the exact start and the written one.
+pub(crate) fn start_on_grid(
+    from: Option<Length>,
+    to: Option<Length>,
+    lead: Lead,
+    angle: Angle,
+) -> Angle {
+    let (Some(z), Some(end)) = (from, to) else {
+        return angle;
+    };
+    let written = Length(div_round(z.0 as i128, 100) as i64 * 100);
+    Angle(angle.0 + lead.turn_over(Length((end - z).signum() * (written - z).0)))
+}
+
+/// An angle in degrees with as few decimals as needed (`0`, `90`, `120.5`).
+pub(crate) fn angle_text(a: Angle) -> String {
+    let (whole, frac) = (a.0 / 1000, a.0 % 1000);
+    if frac == 0 {
+        whole.to_string()
+    } else {
+        format!("{whole}.{frac:03}")
+            .trim_end_matches('0')
+            .to_string()
+    }
+}
+
+/// The comments a writer transliterated to ASCII ([`ascii_comment`]): how many, and the first
+/// with its place, for one warning per program.
+#[derive(Debug, Default)]
+pub(crate) struct AsciiComments {
+    first: Option<(Span, String, String)>,
+    count: usize,
+}
+
+impl AsciiComments {
+    /// The ASCII text of the comment `text` of the item at `at`, its transliteration counted.
+    pub fn text(&mut self, at: Span, text: &str) -> String {
+        let (ascii, changed) = ascii_comment(text);
+        if changed {
+            self.count += 1;
+            if self.first.is_none() {
+                self.first = Some((at, crate::dialect::one_line(text), ascii.clone()));
+            }
+        }
+        ascii
+    }
+
+    /// The one warning (`code`) of the comments transliterated, for a `control`'s program.
+    pub fn diagnostic(
+        &mut self,
+        src: &SourceFile,
+        code: Code,
+        control: &str,
+    ) -> Option<Diagnostic> {
+        let (at, text, ascii) = self.first.take()?;
+        let many = match self.count {
+            1 => String::new(),
+            n => format!(" ({n} comments, the first shown)"),
+        };
+        Some(
+            Diagnostic::new(
+                code,
+                format!("comment text transliterated to ASCII: `{text}` → `{ascii}`{many}"),
+            )
+            .at(src, at)
+            .help(format!("ncthread writes {control} comments in ASCII, which every control version shows: a letter loses its accent, other scripts are romanised, the diameter sign is `D`")),
+        )
+    }
+}
+
+/// `v` on the 0.001 mm grid, its rounding noted in `inexact` at `span` as `what`.
+pub(crate) fn on_micron_grid(inexact: &mut Inexact, span: Span, what: &str, v: Length) -> Length {
+    let grid = Length::from_steps(10);
+    let rounded = Length(crate::fixed::div_round(v.0 as i128, grid.0 as i128) as i64 * grid.0);
+    if rounded != v {
+        inexact.note(span, what, v, rounded, grid);
+    }
+    rounded
 }
 
 /// A line of a cycle written out ([`Writer::cycle_steps`]).

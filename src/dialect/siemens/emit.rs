@@ -17,7 +17,7 @@ use std::fmt::Write as _;
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::siemens::codes;
 use crate::dialect::write::{self, Writer};
-use crate::dialect::{Inexact, Renumber, one_line};
+use crate::dialect::{Inexact, Renumber};
 use crate::fixed::{Angle, Decimal, Lead, Length, div_round};
 use crate::ir::{
     Compensation, Coolant, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection,
@@ -64,8 +64,7 @@ struct Emitter<'a> {
     /// The last motion was a G33 (a G33 now would continue it: refused by the table).
     after_thread: bool,
     at: Span,
-    transliterated: Option<(Span, String, String)>,
-    transliterated_count: usize,
+    comments: write::AsciiComments,
     inexact: Inexact,
     round: bool,
 }
@@ -98,30 +97,6 @@ fn program_name(program: &Program, src: &SourceFile) -> String {
     name.trim_end_matches('_').to_string()
 }
 
-/// A comment's text in ASCII on one line (deunicode's transliteration, `?` where it has
-/// none; the diameter sign `D`), and whether anything changed.
-pub(crate) fn comment_text(text: &str) -> (String, bool) {
-    let mut changed = false;
-    let mut ascii = String::new();
-    for c in one_line(text).chars() {
-        if c.is_ascii() && !c.is_ascii_control() {
-            ascii.push(c);
-        } else if c.is_ascii_control() {
-            ascii.push(' ');
-        } else if matches!(c, 'Ø' | 'ø' | '⌀' | '∅') {
-            ascii.push('D');
-        } else {
-            changed = true;
-            ascii.push_str(
-                deunicode::deunicode_char(c)
-                    .filter(|t| t.is_ascii())
-                    .unwrap_or("?"),
-            );
-        }
-    }
-    (ascii.trim().to_string(), changed)
-}
-
 /// Writes `program` (read from `src`) as a SINUMERIK program. `None` when any item cannot be
 /// expressed; the diagnostics say why.
 pub fn emit(
@@ -148,8 +123,7 @@ pub fn emit(
         speed_unsaid: false,
         after_thread: false,
         at: Span::default(),
-        transliterated: None,
-        transliterated_count: 0,
+        comments: write::AsciiComments::default(),
         inexact: Inexact::default(),
         round,
     };
@@ -178,9 +152,9 @@ impl Emitter<'_> {
         }
         if let Some((first, rest)) = items.split_first()
             && let ItemKind::Comment(c) = &first.kind
-            && comment_text(c).0.ends_with(HEADER_END)
+            && write::ascii_comment(c).0.ends_with(HEADER_END)
         {
-            let _ = writeln!(self.w.out, "; {}", comment_text(c).0);
+            let _ = writeln!(self.w.out, "; {}", write::ascii_comment(c).0);
             return rest;
         }
         let file = std::path::Path::new(&src.name)
@@ -189,7 +163,7 @@ impl Emitter<'_> {
         let _ = writeln!(
             self.w.out,
             "; {}, dialect {}{HEADER_END}",
-            comment_text(file).0,
+            write::ascii_comment(file).0,
             program.dialect
         );
         items
@@ -215,20 +189,10 @@ impl Emitter<'_> {
             },
         );
         self.w.diags.extend(summary);
-        if let Some((at, text, ascii)) = self.transliterated.take() {
-            let many = match self.transliterated_count {
-                1 => String::new(),
-                n => format!(" ({n} comments, the first shown)"),
-            };
-            self.w.diags.push(
-                Diagnostic::new(
-                    codes::SINW_TRANSLITERATED,
-                    format!("comment text transliterated to ASCII: `{text}` → `{ascii}`{many}"),
-                )
-                .at(src, at)
-                .help("ncthread writes SINUMERIK comments in ASCII, which every control version shows: a letter loses its accent, other scripts are romanised, the diameter sign is `D`"),
-            );
-        }
+        let ascii = self
+            .comments
+            .diagnostic(src, codes::SINW_TRANSLITERATED, "SINUMERIK");
+        self.w.diags.extend(ascii);
     }
 
     fn diag(&mut self, code: Code, item: &Item, message: String, help: &str) {
@@ -237,14 +201,7 @@ impl Emitter<'_> {
 
     /// A comment's ASCII text, its transliteration counted.
     fn comment(&mut self, text: &str) -> String {
-        let (ascii, changed) = comment_text(text);
-        if changed {
-            self.transliterated_count += 1;
-            if self.transliterated.is_none() {
-                self.transliterated = Some((self.at, one_line(text), ascii.clone()));
-            }
-        }
-        ascii
+        self.comments.text(self.at, text)
     }
 
     fn write(&mut self, block: Block) {
@@ -252,7 +209,7 @@ impl Emitter<'_> {
             .comment
             .map(|c| {
                 if block.own_comment {
-                    comment_text(&c).0
+                    write::ascii_comment(&c).0
                 } else {
                     self.comment(&c)
                 }
@@ -320,12 +277,7 @@ impl Emitter<'_> {
 
     /// `v` on the 0.001 mm grid (rounded with `--round`, or counted for one error).
     fn three(&mut self, item: &Item, what: &str, v: Length) -> String {
-        let grid = Length::from_steps(10);
-        let rounded = Length(div_round(v.0 as i128, grid.0 as i128) as i64 * grid.0);
-        if rounded != v {
-            self.inexact.note(item.span, what, v, rounded, grid);
-        }
-        rounded.mm()
+        write::on_micron_grid(&mut self.inexact, item.span, what, v).mm()
     }
 
     fn axes(&mut self, item: &Item, to: Pos) -> Vec<String> {
@@ -818,11 +770,11 @@ impl Emitter<'_> {
         block.words.extend(words);
         block.words.push(format!("K{}", lead.mm()));
         let angle = Angle(
-            start_on_grid(seg.from.z, seg.to.z, pass.lead, angle)
+            write::start_on_grid(seg.from.z, seg.to.z, pass.lead, angle)
                 .0
                 .rem_euclid(360_000),
         );
-        block.words.push(format!("SF={}", angle_text(angle)));
+        block.words.push(format!("SF={}", write::angle_text(angle)));
         self.after_thread = true;
         true
     }
@@ -850,34 +802,11 @@ impl Emitter<'_> {
     }
 }
 
-/// The start angle of a pass that starts where the output's move before it left the tool:
-/// its start Z on the 0.001 mm grid (rounded with `--round`). The helix is the same: the
-/// angle runs on by the turns between the exact start and the written one.
-fn start_on_grid(from: Option<Length>, to: Option<Length>, lead: Lead, angle: Angle) -> Angle {
-    let (Some(z), Some(end)) = (from, to) else {
-        return angle;
-    };
-    let written = Length(div_round(z.0 as i128, 100) as i64 * 100);
-    Angle(angle.0 + lead.turn_over(Length((end - z).signum() * (written - z).0)))
-}
-
 /// Whether a move of `dx` on the diameter and `dz` along Z is within 1° of 45° (the radial
 /// travel at least tan 44° of the Z travel).
 fn near_45(dx: Length, dz: Length) -> bool {
     let (radial, along) = (dx.to_mm_f64() / 2.0, dz.to_mm_f64());
     along > 0.0 && radial >= along * 44f64.to_radians().tan()
-}
-
-/// An angle in degrees with as few decimals as needed (`0`, `90`, `120.5`).
-fn angle_text(a: Angle) -> String {
-    let (whole, frac) = (a.0 / 1000, a.0 % 1000);
-    if frac == 0 {
-        whole.to_string()
-    } else {
-        format!("{whole}.{frac:03}")
-            .trim_end_matches('0')
-            .to_string()
-    }
 }
 
 #[cfg(test)]
@@ -898,9 +827,9 @@ mod tests {
         assert_eq!(name("corpus/czech/seed-g33.nc"), "SEED_G33");
         assert_eq!(name("12-shaft.ngc"), "NC_12_SHAFT");
         assert_eq!(name("Řez závitu.nc"), "REZ_ZAVITU");
-        assert_eq!(angle_text(Angle(0)), "0");
-        assert_eq!(angle_text(Angle(120_500)), "120.5");
-        assert_eq!(angle_text(Angle(90_000)), "90");
+        assert_eq!(write::angle_text(Angle(0)), "0");
+        assert_eq!(write::angle_text(Angle(120_500)), "120.5");
+        assert_eq!(write::angle_text(Angle(90_000)), "90");
         let mm = |v: i64| Length::from_mm(v);
         assert!(near_45(mm(20), mm(10)));
         assert!(near_45(mm(19_400), mm(10_000)));
@@ -909,10 +838,10 @@ mod tests {
         // A start 0.0005 mm off the grid, written 0.0005 mm farther from the end: the tool
         // meets the helix 0.18° of a turn later at lead 1, so SF starts 0.18° earlier.
         let lead = Lead::from_length(Length::from_mm(1));
-        let start = start_on_grid(Some(Length(500_050)), Some(mm(-10)), lead, Angle(0));
+        let start = write::start_on_grid(Some(Length(500_050)), Some(mm(-10)), lead, Angle(0));
         assert_eq!(start, Angle(-180));
         assert_eq!(
-            start_on_grid(Some(mm(5)), Some(mm(-10)), lead, Angle(90_000)),
+            write::start_on_grid(Some(mm(5)), Some(mm(-10)), lead, Angle(90_000)),
             Angle(90_000)
         );
     }
