@@ -932,7 +932,7 @@ fn help_is_short_or_long_with_examples_and_the_man_pages_read_as_man_pages() {
     let convert = text(&ncthread(&["convert", "--help"], None).stdout);
     let round = convert.split("--round").nth(1).unwrap();
     assert!(
-        round.contains("czech, fanuc and siemens: lengths to 0.001 mm")
+        round.contains("czech, fanuc, siemens and heidenhain: lengths to 0.001 mm")
             && round.contains("nc31: whole units"),
         "{round}"
     );

@@ -58,7 +58,7 @@ fn a_dialect_name_in_any_case_is_that_dialect_and_a_typo_is_an_error() {
     let err = "fanuk".parse::<DialectId>().unwrap_err();
     assert_eq!(
         err.to_string(),
-        "unknown dialect `fanuk`: the dialects are czech, nc31, iso, fanuc, siemens"
+        "unknown dialect `fanuk`: the dialects are czech, nc31, iso, fanuc, siemens, heidenhain"
     );
     let src = program("corpus/czech/ex3-taper.nc");
     let c = convert(

@@ -412,7 +412,7 @@ pub(crate) struct TargetArgs {
     /// Round values the target cannot hold onto its grid, with one warning giving the
     /// largest deviation, instead of refusing them.
     ///
-    /// czech, fanuc and siemens: lengths to 0.001 mm, leads and feeds to 0.0001 mm; nc31: whole units
+    /// czech, fanuc, siemens and heidenhain: lengths to 0.001 mm, leads and feeds to 0.0001 mm; nc31: whole units
     /// of the profile (0.01 mm, leads 0.0001 mm); iso holds every value and never rounds. A
     /// rounded lead's deviation is its drift at the thread's end; a czech thread start moved
     /// onto the grid changes its start angle I so that the pass cuts the same helix; an arc

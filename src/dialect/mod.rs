@@ -6,6 +6,7 @@ pub mod capabilities;
 pub mod czech;
 pub mod detect;
 pub mod fanuc;
+pub mod heidenhain;
 pub mod iso;
 pub(crate) mod lex;
 pub(crate) mod machine;
@@ -39,11 +40,13 @@ pub fn all_codes() -> &'static [crate::diag::Code] {
                 iso::codes::READ,
                 fanuc::codes::READ,
                 siemens::codes::READ,
+                heidenhain::codes::READ,
                 czech::codes::WRITE,
                 iso::codes::WRITE,
                 nc31::codes::WRITE,
                 fanuc::codes::WRITE,
                 siemens::codes::WRITE,
+                heidenhain::codes::WRITE,
                 crate::diag::codes::SHARED,
             ]
             .concat()
@@ -52,12 +55,13 @@ pub fn all_codes() -> &'static [crate::diag::Code] {
 }
 
 /// Every dialect, in the order ncthread lists them.
-pub static ALL: [&'static dyn Dialect; 5] = [
+pub static ALL: [&'static dyn Dialect; 6] = [
     &czech::Czech,
     &nc31::Nc31,
     &iso::Iso,
     &fanuc::Fanuc,
     &siemens::Siemens,
+    &heidenhain::Heidenhain,
 ];
 
 /// The dialect with this id (`czech`, `nc31`, `iso`), when there is one.
@@ -112,7 +116,7 @@ impl std::error::Error for UnknownDialect {}
 /// let id: DialectId = "FANUC".parse().unwrap();
 /// assert_eq!(id, ncthread::dialect::fanuc::ID);
 /// let err = "fanux".parse::<DialectId>().unwrap_err();
-/// assert_eq!(err.to_string(), "unknown dialect `fanux`: the dialects are czech, nc31, iso, fanuc, siemens");
+/// assert_eq!(err.to_string(), "unknown dialect `fanux`: the dialects are czech, nc31, iso, fanuc, siemens, heidenhain");
 /// ```
 impl std::str::FromStr for DialectId {
     type Err = UnknownDialect;

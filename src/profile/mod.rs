@@ -33,6 +33,12 @@
 //! [siemens]
 //! initial_diameter = "DIAMON"   # X a diameter until the program says (or "DIAMOF")
 //! initial_feed_mode = "G95"     # F per revolution until the program says (or "G94")
+//!
+//! [heidenhain]
+//! keywords = "de"               # section keywords on disk: BEARBEITUNG/ENDE ("en": MACHINING/END)
+//! arc_direction = "iso"         # G2/G12 as LinuxCNC's G2 ("front-tool": as its G3)
+//! c_sense = "spindle"           # G33's C counts with the spindle's turn ("against")
+//! b_along = "z"                 # G33's run-in B is measured along Z ("path")
 //! ```
 
 use serde::Deserialize;
@@ -40,6 +46,7 @@ use serde::Deserialize;
 use crate::diag::{Diagnostic, codes};
 use crate::dialect::czech::profile as czech;
 use crate::dialect::fanuc::profile as fanuc;
+use crate::dialect::heidenhain::profile as heidenhain;
 use crate::dialect::iso::profile as iso;
 use crate::dialect::nc31::profile as nc31;
 use crate::dialect::siemens::profile as siemens;
@@ -51,6 +58,9 @@ pub use crate::dialect::czech::profile::{
     AngleSource, Constant8, CzechArcs, CzechDwell, CzechProfile, InitialMotion,
 };
 pub use crate::dialect::fanuc::profile::{DecimalPoint, FanucProfile, GcodeSystem, ToolOffset};
+pub use crate::dialect::heidenhain::profile::{
+    BAlong, CSense, HeidenhainArcDirection, HeidenhainProfile, SectionKeywords,
+};
 pub use crate::dialect::iso::profile::{BlockDelete, IsoProfile, ToolChange};
 pub use crate::dialect::nc31::profile::{Nc31ArcDirection, Nc31Profile};
 pub use crate::dialect::siemens::profile::SiemensProfile;
@@ -65,6 +75,7 @@ pub struct Profile {
     pub iso: IsoProfile,
     pub fanuc: FanucProfile,
     pub siemens: SiemensProfile,
+    pub heidenhain: HeidenhainProfile,
 }
 
 /// Why a profile file cannot be used.
@@ -129,6 +140,8 @@ struct RawProfile {
     fanuc: fanuc::Raw,
     #[serde(default)]
     siemens: siemens::Raw,
+    #[serde(default)]
+    heidenhain: heidenhain::Raw,
 }
 
 impl Profile {
@@ -170,6 +183,7 @@ impl Profile {
         iso::read(src, raw.iso, &mut profile.iso, &mut diags);
         fanuc::read(src, raw.fanuc, &mut profile.fanuc, &mut diags);
         siemens::read(src, raw.siemens, &mut profile.siemens, &mut diags);
+        heidenhain::read(src, raw.heidenhain, &mut profile.heidenhain, &mut diags);
         if diags.is_empty() {
             Ok(profile)
         } else {

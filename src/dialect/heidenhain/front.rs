@@ -1,0 +1,1253 @@
+//! HEIDENHAIN DIN → IR: what the writer writes (so that `verify` proves a conversion), plus
+//! `Xi`/`Zi` increments, `G2`/`G3` with the incremental centre, `R` arcs, `G40`, the
+//! `N 13` of the manuals' examples; everything else is refused by name (heidenhain.md
+//! "Reading").
+//!
+//! The sections: `BEARBEITUNG`/`MACHINING` (and blocks before any section) are read;
+//! `ENDE`/`END` ends the program; the sections that describe (the program head, the turret
+//! table, the blank and the finished part, the auxiliary contours) move nothing and are
+//! passed over with a warning; subprograms are refused.
+//!
+//! A block runs in one order **\[decided\]**, as the other readers' blocks do: the tool, the
+//! feed and speed modes, the spindle, coolant on, the motion or dwell, then coolant off, M5,
+//! stops and the end. What depends on a point the vendor leaves to the machine is refused
+//! unless the profile declares it: an arc's direction, G33's start angle C in any sense but
+//! 0°/180°, its run-in B on a taper, a feed before G94 or G95, a G33 without B.
+
+use std::ops::Range;
+
+use super::codes;
+use super::profile::{BAlong, CSense, HeidenhainArcDirection, HeidenhainProfile};
+use super::syntax::{self, Block, Value, Word};
+use crate::diag::Code;
+use crate::dialect::machine::Switches;
+use crate::dialect::read::{Keep, Reader};
+use crate::fixed::{Angle, Decimal, Lead, Length};
+use crate::ir::{
+    Coolant, EndCode, FeedMode, ItemKind, Pos, Program, SpindleDirection, SpindleMode, SyncStart,
+    ThreadPass,
+};
+use crate::lower;
+use crate::source::{Line, SourceFile, Span};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Motion {
+    Rapid,
+    Feed,
+    /// G2/G3 (`absolute`: G12/G13), clockwise as the vendor draws it.
+    Arc {
+        g2: bool,
+        absolute: bool,
+    },
+    Thread,
+}
+
+/// Where in the program a line stands.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Section {
+    /// Before any section line, or in the machining section: blocks are read.
+    Machining,
+    /// A section that describes (its keyword): passed over.
+    Describing(&'static str),
+    /// After ENDE/END.
+    Ended,
+}
+
+struct FrontEnd<'a> {
+    r: Reader<'a>,
+    profile: &'a HeidenhainProfile,
+    section: Section,
+    /// G95 or G94; `None` until the program says.
+    per_rev: Option<bool>,
+    motion: Option<Motion>,
+    f: Option<Length>,
+    /// G96 is in force.
+    surface: bool,
+    /// The G26 limit in force.
+    limit: Option<u32>,
+    /// The last motion was a G33.
+    after_thread: bool,
+    /// The unstated machine settings already reported (one error each is enough).
+    reported: Vec<&'static str>,
+}
+
+/// Reads a HEIDENHAIN DIN program.
+pub(crate) fn read(
+    src: &SourceFile,
+    profile: &HeidenhainProfile,
+    keep: Keep,
+) -> (Program, Vec<crate::diag::Diagnostic>) {
+    let mut fe = FrontEnd {
+        r: Reader::new(src, super::ID, keep),
+        profile,
+        section: Section::Machining,
+        per_rev: None,
+        motion: None,
+        f: None,
+        surface: false,
+        limit: None,
+        after_thread: false,
+        reported: Vec::new(),
+    };
+    let mut first = true;
+    for line in src.lines() {
+        fe.r.items.line_read();
+        if line.text.trim().is_empty() {
+            continue;
+        }
+        let at_start = std::mem::take(&mut first);
+        fe.line(line, at_start);
+    }
+    fe.r.finish()
+}
+
+impl FrontEnd<'_> {
+    fn span(&self, line: Line<'_>, range: Range<usize>) -> Span {
+        self.r.span(line, range)
+    }
+
+    fn error(
+        &mut self,
+        code: Code,
+        line: Line<'_>,
+        range: Range<usize>,
+        message: impl Into<String>,
+        help: impl Into<String>,
+    ) {
+        let span = self.span(line, range);
+        self.r.error(code, span, message, help);
+    }
+
+    /// A point the program leaves to the machine, reported at its first use only.
+    fn unknown(
+        &mut self,
+        what: &'static str,
+        line: Line<'_>,
+        range: Range<usize>,
+        message: &str,
+        help: &str,
+    ) {
+        if !self.reported.contains(&what) {
+            self.reported.push(what);
+            self.error(codes::HEIR_PROFILE, line, range, message, help);
+        }
+    }
+
+    fn line(&mut self, line: Line<'_>, at_start: bool) {
+        let whole = 0..line.text.trim_end().len();
+        if super::is_name_line(line.text) {
+            if at_start {
+                let name = line.text.trim()[1..]
+                    .rsplit_once('.')
+                    .map_or("", |(n, _)| n);
+                self.r.name = Some(name.to_ascii_uppercase());
+            } else {
+                self.error(
+                    codes::HEIR_SYNTAX,
+                    line,
+                    whole,
+                    "a program's name (`%….nc`) after its first line",
+                    "a file holds one program: its name stands on the first line",
+                );
+            }
+            return;
+        }
+        if let Some(section) = super::section_of(line.text) {
+            self.section_line(line, section, whole);
+            return;
+        }
+        if matches!(self.section, Section::Describing(_)) {
+            return;
+        }
+        let block = match syntax::parse_line(line.text) {
+            Ok(block) => block,
+            Err(e) => {
+                self.r
+                    .syntax_error(codes::HEIR_SYNTAX, line, e.offset, e.message, e.help);
+                return;
+            }
+        };
+        if self.section == Section::Ended {
+            if block.words.is_empty() {
+                if let Some(c) = block.comment.clone() {
+                    let span = self.span(line, whole);
+                    self.r.push(ItemKind::Comment(c), span, block.number);
+                }
+            } else {
+                let span = self.span(line, block.code_range.clone());
+                self.r.after_end(
+                    codes::HEIR_AFTER_END,
+                    span,
+                    "blocks after the program's end (ENDE, END) are not run and not converted",
+                    "remove them, or move the end to after them",
+                );
+            }
+            return;
+        }
+        let first = self.r.items.len();
+        let span = self.span(line, block.code_range.clone());
+        if let Some(range) = block.block_delete.clone() {
+            self.error(
+                codes::HEIR_UNSUPPORTED,
+                line,
+                range,
+                "`/` (block skip): whether the block runs is the operator's switch, which the program does not state",
+                "remove the `/`, or the block",
+            );
+        } else if !block.words.is_empty() {
+            self.block(line, &block, span);
+        }
+        self.r
+            .stamp_block(first, block.number, block.comment.clone(), span, false);
+    }
+
+    fn section_line(&mut self, line: Line<'_>, section: &'static str, whole: Range<usize>) {
+        if self.section == Section::Ended {
+            let span = self.span(line, whole);
+            self.r.after_end(
+                codes::HEIR_AFTER_END,
+                span,
+                "sections after the program's end (ENDE, END) are not run and not converted",
+                "remove them, or move the end to after them",
+            );
+            return;
+        }
+        self.section = match section {
+            "BEARBEITUNG" | "MACHINING" => Section::Machining,
+            "ENDE" | "END" => Section::Ended,
+            "UNTERPROGRAMM" | "SUBPROGRAM" | "RETURN" => {
+                self.error(
+                    codes::HEIR_UNSUPPORTED,
+                    line,
+                    whole,
+                    format!("`{section}`: subprograms are not read"),
+                    "write the subprogram's blocks into the machining section",
+                );
+                Section::Describing(section)
+            }
+            _ => {
+                let span = self.span(line, whole);
+                self.r.diags.push(
+                    crate::diag::Diagnostic::new(
+                        codes::HEIR_SECTION,
+                        format!("the section `{section}` describes the program, the tools or the part and moves nothing: its lines are passed over"),
+                    )
+                    .at(self.r.src, span)
+                    .help("the machining section's blocks are converted; check the tool pockets and the unit on the machine"),
+                );
+                Section::Describing(section)
+            }
+        };
+    }
+}
+
+/// The words of one block, sorted by what they do.
+#[derive(Default)]
+struct Words<'b> {
+    g: Vec<(u32, &'b Word)>,
+    m: Vec<(u32, &'b Word)>,
+    letters: Vec<&'b Word>,
+}
+
+impl<'b> Words<'b> {
+    fn get(&self, name: &str) -> Option<&'b Word> {
+        self.letters.iter().copied().find(|w| w.name == name)
+    }
+}
+
+/// The addresses a block may hold besides G and M.
+const LETTERS: &[&str] = &[
+    "X", "XI", "Z", "ZI", "I", "K", "R", "F", "B", "P", "C", "H", "E", "S", "T",
+];
+
+/// Why a G code is not read.
+fn refused_g(g: u32) -> &'static str {
+    match g {
+        31 => {
+            "G31 (thread cycle): its passes' infeed, flank offset and start order are published as prose only; ncthread reads it under no model yet"
+        }
+        32 | 35 => "thread cycles are not read; write the passes as G33 blocks",
+        36 | 37 => "tapping is not read",
+        41 | 42 => {
+            "cutter radius compensation is not read (its radius and tip are in the tool's data, which the program does not state)"
+        }
+        14 => {
+            "the tool change point (G14) is the machine's position, which the program does not state"
+        }
+        51 | 53..=56 | 59 => "zero point shifts are not read",
+        701 => "moves in machine coordinates are not read",
+        800..=899 => "contour cycles are not read (their passes follow the contour sections)",
+        352 => "the API thread cycle (G352) is not read",
+        _ => "it is not a G code ncthread reads in a HEIDENHAIN DIN program",
+    }
+}
+
+/// What an address the reader does not read is, for its refusal.
+fn refused_letter(w: &Word) -> String {
+    match w.name.as_str() {
+        "BR" | "BE" | "RB" => format!(
+            "`{}`: chamfer and rounding words are not read (where the corner goes depends on the next block's path)",
+            w.name
+        ),
+        "AN" | "Q" | "A" => format!(
+            "`{}`: a move given by its angle or intersection is not read",
+            w.name
+        ),
+        "ID" => "`ID`: a tool's name belongs in the turret table".into(),
+        "D" => "`D`: a dwell in revolutions (G4 D) is not read".into(),
+        name => format!("address `{name}` is not read"),
+    }
+}
+
+impl FrontEnd<'_> {
+    /// Sorts the block's words; `None` when one is refused (reported).
+    fn sort<'b>(&mut self, line: Line<'_>, block: &'b Block) -> Option<Words<'b>> {
+        let mut words = Words::default();
+        let mut ok = true;
+        for w in &block.words {
+            let text = &line.text[w.range.clone()];
+            if w.value == Value::Unknown {
+                self.error(
+                    codes::HEIR_UNSUPPORTED,
+                    line,
+                    w.range.clone(),
+                    format!(
+                        "`{text}`: a value the control finds from the contour (`?`) is not read"
+                    ),
+                    "write the value as a number",
+                );
+                ok = false;
+                continue;
+            }
+            match w.name.as_str() {
+                "G" | "M" => match w.number().and_then(|d| d.to_whole().ok()) {
+                    Some(n) if (0..10_000).contains(&n) => {
+                        let list = if w.name == "G" {
+                            &mut words.g
+                        } else {
+                            &mut words.m
+                        };
+                        list.push((n as u32, w));
+                    }
+                    _ => {
+                        self.error(
+                            codes::HEIR_NUMBER,
+                            line,
+                            w.range.clone(),
+                            format!("`{text}`: a G or M code is a whole number"),
+                            "write the code as `G1`, `M3`",
+                        );
+                        ok = false;
+                    }
+                },
+                name if LETTERS.contains(&name) => {
+                    let same = |n: &str| {
+                        n == name
+                            || n.trim_end_matches('I') == name.trim_end_matches('I')
+                                && matches!(name, "X" | "XI" | "Z" | "ZI")
+                    };
+                    if let Some(other) = words.letters.iter().find(|o| same(&o.name)) {
+                        let was = &line.text[other.range.clone()];
+                        self.error(
+                            codes::HEIR_CONFLICT,
+                            line,
+                            w.range.clone(),
+                            format!("`{text}` after `{was}` in the same block"),
+                            "give each address once in a block",
+                        );
+                        ok = false;
+                    } else {
+                        words.letters.push(w);
+                    }
+                }
+                _ => {
+                    self.error(
+                        codes::HEIR_UNSUPPORTED,
+                        line,
+                        w.range.clone(),
+                        refused_letter(w),
+                        "write the block with the words ncthread reads (README.md, section HEIDENHAIN)",
+                    );
+                    ok = false;
+                }
+            }
+        }
+        ok.then_some(words)
+    }
+
+    fn block(&mut self, line: Line<'_>, block: &Block, span: Span) {
+        let Some(words) = self.sort(line, block) else {
+            return;
+        };
+        let Some(g) = self.g_codes(line, &words) else {
+            return;
+        };
+        let mut switches = Switches::default();
+        let mut stops = Vec::new();
+        let Some(()) = self.machine_words(line, &words, &g, &mut switches, &mut stops, span) else {
+            return;
+        };
+        switches.before_motion(&mut self.r, None);
+        if g.dwell {
+            let Some(()) = self.dwell(line, &words, span) else {
+                return;
+            };
+        } else {
+            if let Some(m) = g.motion {
+                self.motion = Some(m);
+            }
+            let Some(()) = self.motion(line, &words, &g, block, span) else {
+                return;
+            };
+        }
+        // M5, M9, M0 and M1 act after the block's motion, as the other readers decide.
+        switches.coolant_off(&mut self.r, None);
+        switches.spindle_stop(&mut self.r, None);
+        for (optional, at) in stops {
+            self.r.push(ItemKind::Stop { optional }, at, None);
+        }
+        switches.program_end(&mut self.r, None);
+    }
+}
+
+/// What a block's G codes say.
+#[derive(Default)]
+struct GCodes {
+    motion: Option<Motion>,
+    dwell: bool,
+    /// G94 (false) or G95 (true).
+    feed_mode: Option<bool>,
+    /// G96 (true) or G97 (false).
+    speed_mode: Option<bool>,
+    limit: bool,
+}
+
+impl FrontEnd<'_> {
+    /// The block's G codes; `None` when one is refused (reported).
+    fn g_codes(&mut self, line: Line<'_>, words: &Words<'_>) -> Option<GCodes> {
+        let mut g = GCodes::default();
+        let mut ok = true;
+        for &(n, w) in &words.g {
+            let motion = match n {
+                0 => Some(Motion::Rapid),
+                1 => Some(Motion::Feed),
+                2 | 3 => Some(Motion::Arc {
+                    g2: n == 2,
+                    absolute: false,
+                }),
+                12 | 13 => Some(Motion::Arc {
+                    g2: n == 12,
+                    absolute: true,
+                }),
+                33 => Some(Motion::Thread),
+                _ => None,
+            };
+            let conflict = match n {
+                _ if motion.is_some() => {
+                    let was = g.motion.is_some() || g.dwell;
+                    g.motion = motion;
+                    was
+                }
+                4 => std::mem::replace(&mut g.dwell, true) || g.motion.is_some(),
+                94 | 95 => g.feed_mode.replace(n == 95).is_some(),
+                96 | 97 => g.speed_mode.replace(n == 96).is_some(),
+                26 => std::mem::replace(&mut g.limit, true),
+                40 => false,
+                _ => {
+                    self.error(
+                        codes::HEIR_UNSUPPORTED,
+                        line,
+                        w.range.clone(),
+                        format!("`G{n}`: {}", refused_g(n)),
+                        "write the block with the G codes ncthread reads (README.md, section HEIDENHAIN)",
+                    );
+                    ok = false;
+                    continue;
+                }
+            };
+            if conflict {
+                self.error(
+                    codes::HEIR_CONFLICT,
+                    line,
+                    w.range.clone(),
+                    format!("`G{n}` with another G code of its kind in the same block"),
+                    "give one motion, one feed mode and one speed mode per block",
+                );
+                ok = false;
+            }
+        }
+        // S is G26's, G96's or G97's parameter: one of them per block.
+        if g.limit && g.speed_mode.is_some() {
+            let at = words
+                .g
+                .iter()
+                .find(|(n, _)| *n == 26)
+                .map(|(_, w)| w.range.clone());
+            self.error(
+                codes::HEIR_CONFLICT,
+                line,
+                at.unwrap_or(0..0),
+                "G26 with G96 or G97 in one block: S is the parameter of each",
+                "write the speed limit G26 S in a block of its own",
+            );
+            ok = false;
+        }
+        ok.then_some(g)
+    }
+
+    /// T, the modes, S, M: what the block switches; `None` when refused (reported).
+    fn machine_words(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        g: &GCodes,
+        switches: &mut Switches,
+        stops: &mut Vec<(bool, Span)>,
+        span: Span,
+    ) -> Option<()> {
+        if let Some(w) = words.get("T") {
+            let t = self.whole(line, w, "a tool (turret pocket) number")?;
+            self.r.push(
+                ItemKind::Tool {
+                    number: Some(t),
+                    offset: None,
+                },
+                span,
+                None,
+            );
+        }
+        if let Some(per_rev) = g.feed_mode {
+            self.per_rev = Some(per_rev);
+            let mode = if per_rev {
+                FeedMode::PerRev
+            } else {
+                FeedMode::PerMin
+            };
+            self.r.push(ItemKind::FeedMode(mode), span, None);
+            self.f = None;
+        }
+        let speed = match words.get("S") {
+            Some(w) => Some((self.whole(line, w, "a speed")?, w)),
+            None => None,
+        };
+        if g.limit {
+            let Some((s, _)) = speed else {
+                self.error(
+                    codes::HEIR_NUMBER,
+                    line,
+                    0..line.text.len(),
+                    "G26 without S: the speed limit is its S",
+                    "write `G26 S<rpm>`",
+                );
+                return None;
+            };
+            if self.surface {
+                self.error(
+                    codes::HEIR_UNSUPPORTED,
+                    line,
+                    0..line.text.len(),
+                    "G26 while G96 is in force: ncthread reads a speed limit set before the G96 it limits",
+                    "write G26 S before the G96 block",
+                );
+                return None;
+            }
+            self.limit = Some(s);
+        }
+        let mut speed_word = speed.filter(|_| !g.limit).map(|(s, _)| s);
+        if let Some(surface) = g.speed_mode {
+            let Some(s) = speed_word else {
+                self.error(
+                    codes::HEIR_NUMBER,
+                    line,
+                    0..line.text.len(),
+                    format!(
+                        "G{} without S: S is its parameter",
+                        if surface { 96 } else { 97 }
+                    ),
+                    "write the speed with it: `G96 S200`, `G97 S1000`",
+                );
+                return None;
+            };
+            self.surface = surface;
+            let mode = if surface {
+                SpindleMode::SurfaceSpeed {
+                    limit: self.limit.map(|l| Decimal {
+                        mantissa: i128::from(l),
+                        scale: 0,
+                        has_point: false,
+                    }),
+                    feet: false,
+                }
+            } else {
+                SpindleMode::Rpm
+            };
+            switches.spindle_mode = Some((mode, span));
+            speed_word = Some(s);
+        }
+        if let (Some(s), Some(l), false) = (speed_word, self.limit, self.surface)
+            && s > l
+        {
+            self.error(
+                codes::HEIR_UNSUPPORTED,
+                line,
+                0..line.text.len(),
+                format!("S{s} rpm above the speed limit G26 S{l}: whether G26 limits a constant speed (G97) is not published"),
+                "keep the speed within the limit, or set the limit after the speed",
+            );
+            return None;
+        }
+        let mut direction = None;
+        for &(m, w) in &words.m {
+            match m {
+                3 | 4 => {
+                    direction = Some(if m == 3 {
+                        SpindleDirection::Clockwise
+                    } else {
+                        SpindleDirection::CounterClockwise
+                    })
+                }
+                5 => switches.spindle_stop = Some(span),
+                8 => switches.coolant.push((Coolant::Flood, span)),
+                9 => switches.coolant.push((Coolant::Off, span)),
+                0 | 1 => stops.push((m == 1, span)),
+                30 => switches.end = Some((EndCode::M30, span)),
+                _ => {
+                    self.error(
+                        codes::HEIR_UNSUPPORTED,
+                        line,
+                        w.range.clone(),
+                        format!("`M{m}`: the machine builder's M codes are not read (ncthread reads M0, M1, M3, M4, M5, M8, M9, M30)"),
+                        "remove the M code, or convert the block by hand",
+                    );
+                    return None;
+                }
+            }
+        }
+        if speed_word.is_some() || direction.is_some() {
+            switches.spindle = Some((speed_word, direction, span));
+        }
+        Some(())
+    }
+
+    fn whole(&mut self, line: Line<'_>, w: &Word, what: &str) -> Option<u32> {
+        let n = w
+            .number()
+            .and_then(|d| d.to_whole().ok())
+            .and_then(|n| u32::try_from(n).ok());
+        if n.is_none() {
+            self.error(
+                codes::HEIR_NUMBER,
+                line,
+                w.range.clone(),
+                format!(
+                    "`{}`: {what} is a whole number",
+                    &line.text[w.range.clone()]
+                ),
+                "write it without a fraction",
+            );
+        }
+        n
+    }
+
+    /// `G4 F<s>`.
+    fn dwell(&mut self, line: Line<'_>, words: &Words<'_>, span: Span) -> Option<()> {
+        let seconds = words
+            .get("F")
+            .and_then(|w| w.number())
+            .filter(|d| !d.is_negative());
+        let Some(seconds) = seconds else {
+            self.error(
+                codes::HEIR_NUMBER,
+                line,
+                0..line.text.len(),
+                "G4 without its time F (seconds)",
+                "write `G4 F<seconds>`",
+            );
+            return None;
+        };
+        if let Some(w) = words
+            .letters
+            .iter()
+            .find(|w| !matches!(w.name.as_str(), "F" | "S" | "T"))
+        {
+            self.error(
+                codes::HEIR_CONFLICT,
+                line,
+                w.range.clone(),
+                "a dwell (G4) with an axis or arc word: ncthread reads the dwell in a block of its own",
+                "move in one block and dwell in the next",
+            );
+            return None;
+        }
+        self.r.push(ItemKind::Dwell { seconds }, span, None);
+        Some(())
+    }
+
+    fn length_of(&mut self, line: Line<'_>, w: &Word) -> Option<Length> {
+        let value = w
+            .number()
+            .and_then(|d| d.to_length().ok())
+            .filter(|l| l.0.abs() < 1 << 55);
+        if value.is_none() {
+            self.error(
+                codes::HEIR_NUMBER,
+                line,
+                w.range.clone(),
+                format!(
+                    "`{}` is too large or finer than 0.0001 mm",
+                    &line.text[w.range.clone()]
+                ),
+                "write the value with at most 4 decimals",
+            );
+        }
+        value
+    }
+
+    /// Where the block's X/Xi and Z/Zi go (Xi a diameter increment); `None` when refused.
+    fn target(&mut self, line: Line<'_>, words: &Words<'_>) -> Option<Pos> {
+        let from = self.r.pos;
+        let mut to = Pos::UNKNOWN;
+        for (abs, inc, from_axis, axis) in [
+            ("X", "XI", from.x, &mut to.x),
+            ("Z", "ZI", from.z, &mut to.z),
+        ] {
+            if let Some(w) = words.get(abs) {
+                *axis = Some(self.length_of(line, w)?);
+            } else if let Some(w) = words.get(inc) {
+                let d = self.length_of(line, w)?;
+                let Some(start) = from_axis else {
+                    self.error(
+                        codes::HEIR_UNKNOWN_POSITION,
+                        line,
+                        w.range.clone(),
+                        format!(
+                            "`{}` from a position that is not known yet",
+                            &line.text[w.range.clone()]
+                        ),
+                        "move to an absolute position first",
+                    );
+                    return None;
+                };
+                *axis = Some(start + d);
+            }
+        }
+        Some(to)
+    }
+
+    /// The feed in force: F of this block, else the last; `None` when unknown (reported).
+    fn feed(&mut self, line: Line<'_>, words: &Words<'_>, block: &Block) -> Option<Length> {
+        if let Some(w) = words.get("F") {
+            let feed = self.length_of(line, w).filter(|f| f.0 > 0);
+            if feed.is_none() {
+                self.error(
+                    codes::HEIR_NUMBER,
+                    line,
+                    w.range.clone(),
+                    "a feed is positive",
+                    "write the feed, `F0.2`",
+                );
+                return None;
+            }
+            if self.per_rev.is_none() {
+                self.unknown(
+                    "feed mode",
+                    line,
+                    w.range.clone(),
+                    "a feed before G94 or G95: whether F is per revolution or per minute is the machine's setting",
+                    "write `G95 F…` (per revolution) or `G94 F…` (per minute) with the first feed",
+                );
+                return None;
+            }
+            self.f = feed;
+        }
+        if self.f.is_none() {
+            self.error(
+                codes::HEIR_UNKNOWN_POSITION,
+                line,
+                block.code_range.clone(),
+                "a feed move without a feed: no F since the program's start, a change of G94/G95, or a G33 (whose F is its lead)",
+                "write the feed with the move, `G1 X… F0.2`",
+            );
+        }
+        self.f
+    }
+
+    fn motion(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        g: &GCodes,
+        block: &Block,
+        span: Span,
+    ) -> Option<()> {
+        let axes = ["X", "XI", "Z", "ZI"]
+            .iter()
+            .any(|a| words.get(a).is_some());
+        let motion = self.motion;
+        if let Some(w) = ["I", "K", "R", "B", "P", "C", "H", "E"]
+            .iter()
+            .filter_map(|a| words.get(a))
+            .find(|w| !word_of(motion, &w.name) || !axes)
+        {
+            self.error(
+                codes::HEIR_UNSUPPORTED,
+                line,
+                w.range.clone(),
+                format!("`{}` outside the motion it belongs to (I, K and R to an arc, B, P, C, H and E to G33)", &line.text[w.range.clone()]),
+                "write the word in the arc or G33 block that moves",
+            );
+            return None;
+        }
+        if !axes {
+            if let Some(w) = words.get("F") {
+                if g.motion == Some(Motion::Thread) {
+                    return Some(());
+                }
+                let feed = self.feed(line, words, block)?;
+                self.r.push(
+                    ItemKind::FeedRate(feed),
+                    self.span(line, w.range.clone()),
+                    None,
+                );
+            }
+            return Some(());
+        }
+        let Some(motion) = motion else {
+            self.unknown(
+                "motion",
+                line,
+                block.code_range.clone(),
+                "an axis move before any G0, G1, G2, G3, G12, G13 or G33: the motion in force is the machine's setting",
+                "write the motion (`G0 X… Z…`)",
+            );
+            return None;
+        };
+        let from = self.r.pos;
+        let written = self.target(line, words)?;
+        let to = Pos {
+            x: written.x.or(from.x),
+            z: written.z.or(from.z),
+        };
+        match motion {
+            Motion::Rapid => {
+                if let Some(w) = words.get("F") {
+                    let feed = self.feed(line, words, block)?;
+                    self.r.push(
+                        ItemKind::FeedRate(feed),
+                        self.span(line, w.range.clone()),
+                        None,
+                    );
+                }
+                self.r.push(ItemKind::Rapid { to: written }, span, None);
+            }
+            Motion::Feed => {
+                let feed = self.feed(line, words, block)?;
+                self.r
+                    .push(ItemKind::Feed { to: written, feed }, span, None);
+            }
+            Motion::Arc { g2, absolute } => {
+                let feed = self.feed(line, words, block)?;
+                let (centre, clockwise) = self.arc(line, words, from, to, g2, absolute, block)?;
+                self.r.push(
+                    ItemKind::Arc {
+                        to,
+                        centre: Box::new(centre),
+                        clockwise,
+                        feed,
+                    },
+                    span,
+                    None,
+                );
+            }
+            Motion::Thread => self.thread(line, words, from, to, block, span)?,
+        }
+        self.after_thread = motion == Motion::Thread;
+        if self.after_thread {
+            // Whether G33's F (its lead) is the feed's F too is not published.
+            self.f = None;
+        }
+        self.r.pos = to;
+        Some(())
+    }
+
+    /// An arc's centre and its direction in LinuxCNC's sense.
+    #[allow(clippy::too_many_arguments)]
+    fn arc(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        from: Pos,
+        to: Pos,
+        g2: bool,
+        absolute: bool,
+        block: &Block,
+    ) -> Option<(Pos, bool)> {
+        let code = match (g2, absolute) {
+            (true, false) => "G2",
+            (false, false) => "G3",
+            (true, true) => "G12",
+            (false, true) => "G13",
+        };
+        let whole = block.code_range.clone();
+        let Some(direction) = self.profile.arc_direction else {
+            self.unknown(
+                "arc direction",
+                line,
+                whole,
+                &format!("{code}: which way it turns on the machine the vendor shows only in a help graphic"),
+                "declare `arc_direction = \"iso\"` (G2/G12 as LinuxCNC's G2) or `\"front-tool\"` in the profile's [heidenhain] section",
+            );
+            return None;
+        };
+        let clockwise = g2 == (direction == HeidenhainArcDirection::Iso);
+        let (Some((sx, sz)), Some((ex, ez))) = (from.known(), to.known()) else {
+            self.error(
+                codes::HEIR_UNKNOWN_POSITION,
+                line,
+                whole,
+                format!("{code} from a position that is not known yet: the arc's centre cannot be placed"),
+                "move to an absolute X and Z before the arc",
+            );
+            return None;
+        };
+        let (i, k, r) = (words.get("I"), words.get("K"), words.get("R"));
+        let centre = match (r, i.or(k)) {
+            (Some(w), Some(_)) => {
+                self.error(
+                    codes::HEIR_CONFLICT,
+                    line,
+                    w.range.clone(),
+                    "R with I or K: give the centre one way",
+                    "write either I and K, or R",
+                );
+                return None;
+            }
+            (None, None) => {
+                self.error(
+                    codes::HEIR_ARC,
+                    line,
+                    whole,
+                    format!("{code} without I, K or R"),
+                    "write the centre (I a radius value, K) or the radius R",
+                );
+                return None;
+            }
+            (Some(w), None) => {
+                let radius = self.length_of(line, w)?;
+                if radius.0 <= 0 || (sx, sz) == (ex, ez) {
+                    self.error(
+                        codes::HEIR_ARC,
+                        line,
+                        w.range.clone(),
+                        format!("{code} with R: a radius that is not positive, or an arc that ends where it starts"),
+                        "write the arc with I and K",
+                    );
+                    return None;
+                }
+                match lower::arc::centre_from_radius(
+                    (sx, sz),
+                    (ex, ez),
+                    radius.to_mm_f64(),
+                    clockwise,
+                    0.001,
+                ) {
+                    Ok(c) => c,
+                    Err(chord) => {
+                        self.error(
+                            codes::HEIR_ARC,
+                            line,
+                            w.range.clone(),
+                            format!("`{}` is too small for the arc: its end is {chord:.4} mm from its start", &line.text[w.range.clone()]),
+                            "the radius must be at least half the distance from the start to the end",
+                        );
+                        return None;
+                    }
+                }
+            }
+            (None, Some(_)) => {
+                let (bx, bz) = if absolute {
+                    (Length::ZERO, Length::ZERO)
+                } else {
+                    (sx, sz)
+                };
+                let (i, k) = match (i, k) {
+                    (Some(i), Some(k)) => (self.length_of(line, i)?, self.length_of(line, k)?),
+                    _ if absolute => {
+                        self.error(
+                            codes::HEIR_ARC,
+                            line,
+                            whole,
+                            format!(
+                                "{code} with only one of I and K: the absolute centre needs both"
+                            ),
+                            "write I (the centre's X as a radius value) and K",
+                        );
+                        return None;
+                    }
+                    (i, k) => (
+                        match i {
+                            Some(w) => self.length_of(line, w)?,
+                            None => Length::ZERO,
+                        },
+                        match k {
+                            Some(w) => self.length_of(line, w)?,
+                            None => Length::ZERO,
+                        },
+                    ),
+                };
+                Pos::new(bx + i + i, bz + k)
+            }
+        };
+        let (cx, cz) = centre.known()?;
+        let (r1, r2) = lower::arc::radii((sx, sz), (ex, ez), (cx, cz));
+        if r1 < 0.001 || r2 < 0.001 || (r1 - r2).abs() > 0.002 {
+            self.error(
+                codes::HEIR_ARC,
+                line,
+                whole,
+                format!(
+                    "{code}'s end is not on its circle, or its radius is zero: {} mm at the start, {} mm at the end",
+                    Length::from_mm_f64(r1).mm(),
+                    Length::from_mm_f64(r2).mm()
+                ),
+                "check I and K (I a radius value)",
+            );
+            return None;
+        }
+        Some((centre, clockwise))
+    }
+
+    /// `G33 X Z F B P C H`: one pass whose spindle angle at its start follows from C at the
+    /// end of the run-in B.
+    fn thread(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        from: Pos,
+        to: Pos,
+        block: &Block,
+        span: Span,
+    ) -> Option<()> {
+        let whole = block.code_range.clone();
+        let refuse = |fe: &mut Self, range: Range<usize>, message: &str, help: &str| {
+            fe.error(codes::HEIR_THREAD, line, range, message.to_string(), help);
+        };
+        for (name, what) in [
+            (
+                "H",
+                "H1 and H3 (a lead along X or along the path) are not read",
+            ),
+            ("E", "a variable pitch E is not read"),
+        ] {
+            if let Some(w) = words.get(name)
+                && w.number().is_none_or(|d| d.mantissa != 0)
+            {
+                refuse(
+                    self,
+                    w.range.clone(),
+                    what,
+                    "cut the thread with its lead along Z: H0",
+                );
+                return None;
+            }
+        }
+        if let Some(w) = words.get("P")
+            && w.number().is_some_and(|d| d.mantissa == 0)
+        {
+            refuse(
+                self,
+                w.range.clone(),
+                "P0: a G33 that a successive G33 continues (a chain) is not read",
+                "end each pass with a run-out P>0 and retract",
+            );
+            return None;
+        }
+        if self.surface {
+            refuse(
+                self,
+                whole,
+                "a thread under constant surface speed (G96) is not read",
+                "set the speed in rpm (G97 S…) before the thread",
+            );
+            return None;
+        }
+        let lead = self.lead(line, words, whole.clone())?;
+        // X is modal: a pass along Z needs only its Z; one that moves X, its start.
+        let moves_x = to.x != from.x;
+        let (Some(z0), Some(z1)) = (from.z, to.z) else {
+            self.error(
+                codes::HEIR_UNKNOWN_POSITION,
+                line,
+                whole,
+                "G33 from a position that is not known yet",
+                "move to the thread's start with X and Z first",
+            );
+            return None;
+        };
+        let dr = match (from.x, to.x) {
+            (Some(x0), Some(x1)) => (x1 - x0).0.unsigned_abs(),
+            _ if !moves_x => 0,
+            _ => {
+                self.error(
+                    codes::HEIR_UNKNOWN_POSITION,
+                    line,
+                    whole,
+                    "a taper G33 from an X that is not known yet",
+                    "move to the thread's start with X and Z first",
+                );
+                return None;
+            }
+        };
+        let dz = (z1 - z0).0.unsigned_abs();
+        if dr > 2 * dz || dz == 0 {
+            refuse(
+                self,
+                whole,
+                "this G33 moves X (as a radius) more than Z: H0's lead along Z is for tapers up to 45°",
+                "cut the thread with Z as the long axis",
+            );
+            return None;
+        }
+        let angle = self.start_angle(line, words, lead, moves_x.then_some((dr, dz)), whole)?;
+        let pass = ThreadPass {
+            to,
+            lead,
+            start: SyncStart::Index(angle),
+            infeed: None,
+            entry: None,
+            exit: None,
+        };
+        self.r.push(ItemKind::pass(pass), span, None);
+        Some(())
+    }
+
+    fn lead(&mut self, line: Line<'_>, words: &Words<'_>, whole: Range<usize>) -> Option<Lead> {
+        let Some(w) = words.get("F") else {
+            self.error(
+                codes::HEIR_THREAD,
+                line,
+                whole,
+                "G33 without F, its lead",
+                "write the thread's lead along Z: `F1.5`",
+            );
+            return None;
+        };
+        let lead = w
+            .number()
+            .and_then(|d| d.to_lead().ok())
+            .filter(|l| l.0 > 0 && *l <= Lead::MAX);
+        if lead.is_none() {
+            self.error(
+                codes::HEIR_NUMBER,
+                line,
+                w.range.clone(),
+                format!(
+                    "`{}`: a lead is positive, at most 12 decimals of a mm",
+                    &line.text[w.range.clone()]
+                ),
+                "write the thread's lead along Z, `F1.5`",
+            );
+        }
+        lead
+    }
+
+    /// The spindle's angle at the pass's start: C (as the profile's `c_sense` counts it) less
+    /// the turn over the run-in B (along Z, or along the path of a taper `(dr, dz)` as
+    /// `b_along` says).
+    fn start_angle(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        lead: Lead,
+        taper: Option<(u64, u64)>,
+        whole: Range<usize>,
+    ) -> Option<Angle> {
+        let Some(b) = words.get("B") else {
+            self.unknown(
+                "run-in",
+                line,
+                whole,
+                "G33 without B: the run-in, at whose end the spindle is at C, is then a machine parameter",
+                "write the run-in on every G33 block: `B1.5`",
+            );
+            return None;
+        };
+        let b_len = self.length_of(line, b).filter(|l| l.0 >= 0);
+        let Some(b_len) = b_len else {
+            self.error(
+                codes::HEIR_NUMBER,
+                line,
+                b.range.clone(),
+                "the run-in B is not negative",
+                "write `B1.5`",
+            );
+            return None;
+        };
+        let c = match words.get("C") {
+            Some(w) => {
+                let c = w.number().and_then(|d| d.to_angle().ok());
+                let Some(c) = c else {
+                    self.error(
+                        codes::HEIR_NUMBER,
+                        line,
+                        w.range.clone(),
+                        "C is an angle in degrees, at most 3 decimals",
+                        "write `C90`",
+                    );
+                    return None;
+                };
+                Some((c, w.range.clone()))
+            }
+            None => None,
+        };
+        let c_angle = c.as_ref().map_or(Angle::ZERO, |(a, _)| *a);
+        let c_spindle = match self.profile.c_sense {
+            Some(CSense::Against) => Angle(-c_angle.0),
+            Some(CSense::Spindle) => c_angle,
+            None if c_angle.0 % 180_000 == 0 => c_angle,
+            None => {
+                let range = c.map_or(whole.clone(), |(_, r)| r);
+                self.unknown(
+                    "c sense",
+                    line,
+                    range,
+                    "C other than 0° or 180°: whether G33's start angle counts with the spindle or against it is not published",
+                    "declare `c_sense = \"spindle\"` or `\"against\"` in the profile's [heidenhain] section, as a test cut shows",
+                );
+                return None;
+            }
+        };
+        let turn = match (taper, self.profile.b_along) {
+            (None, _) | (Some(_), Some(BAlong::Z)) => lead.turn_over(b_len),
+            (Some((dr, dz)), Some(BAlong::Path)) => {
+                // B along the path: its Z share is B·dz/L (rounded once onto the grid).
+                let (r, z) = (dr as f64 / 2.0, dz as f64);
+                let along = b_len.to_mm_f64() * z / r.hypot(z);
+                lead.turn_over(Length::from_mm_f64(along))
+            }
+            (Some(_), None) => {
+                self.unknown(
+                    "b measure",
+                    line,
+                    b.range.clone(),
+                    "B on a taper G33: whether the run-in is measured along Z or along the path is not published, and the start angle depends on it",
+                    "declare `b_along = \"z\"` or `\"path\"` in the profile's [heidenhain] section, as a test cut shows",
+                );
+                return None;
+            }
+        };
+        Some(Angle((c_spindle.0 - turn).rem_euclid(360_000)))
+    }
+}
+
+/// Whether the address `name` belongs to the motion `motion`.
+fn word_of(motion: Option<Motion>, name: &str) -> bool {
+    match motion {
+        Some(Motion::Arc { .. }) => matches!(name, "I" | "K" | "R"),
+        Some(Motion::Thread) => matches!(name, "B" | "P" | "C" | "H" | "E" | "I"),
+        _ => false,
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,121 @@
+use super::*;
+use crate::profile::Profile;
+
+fn read_with(text: &str, profile: &HeidenhainProfile) -> (Program, Vec<crate::diag::Diagnostic>) {
+    read(&SourceFile::new("t.nc", text), profile, Keep::Program)
+}
+
+fn full() -> HeidenhainProfile {
+    HeidenhainProfile {
+        arc_direction: Some(HeidenhainArcDirection::Iso),
+        c_sense: Some(CSense::Spindle),
+        b_along: Some(BAlong::Z),
+        ..Default::default()
+    }
+}
+
+fn codes_of(diags: &[crate::diag::Diagnostic]) -> Vec<&str> {
+    diags.iter().map(|d| d.code.id).collect()
+}
+
+#[test]
+fn c_at_the_end_of_the_run_in_gives_the_start_angle() {
+    // B = one lead: the spindle is at C one turn after the start, so at C at the start.
+    let (p, d) = read_with(
+        "%T.nc\nBEARBEITUNG\nN1 G0 X20 Z5\nN2 G33 X20 Z-20 F1.5 B1.5 P1.5 C90 H0\nENDE\n",
+        &full(),
+    );
+    assert!(d.is_empty(), "{d:?}");
+    let ItemKind::ThreadPass(pass) = &p.items[1].kind else {
+        panic!("{:?}", p.items)
+    };
+    assert_eq!(pass.start, SyncStart::Index(Angle(90_000)));
+    // A quarter lead of run-in: a quarter turn before C.
+    let (p, _) = read_with("G0 X20 Z5\nG33 X20 Z-20 F2 B0.5 C90\n", &full());
+    let ItemKind::ThreadPass(pass) = &p.items[1].kind else {
+        panic!()
+    };
+    assert_eq!(pass.start, SyncStart::Index(Angle(0)));
+    // Counted against the spindle: C90 is 270° of its turn.
+    let against = HeidenhainProfile {
+        c_sense: Some(CSense::Against),
+        ..full()
+    };
+    let (p, _) = read_with("G0 X20 Z5\nG33 X20 Z-20 F2 B2 C90\n", &against);
+    let ItemKind::ThreadPass(pass) = &p.items[1].kind else {
+        panic!()
+    };
+    assert_eq!(pass.start, SyncStart::Index(Angle(270_000)));
+    assert_eq!(p.name, None);
+}
+
+#[test]
+fn what_the_vendor_leaves_to_the_machine_is_refused_without_the_profile() {
+    let none = HeidenhainProfile::default();
+    let (_, d) = read_with("G0 X20 Z5\nG33 X20 Z-20 F2 B2 C90\n", &none);
+    assert_eq!(codes_of(&d), ["HEIR006"]);
+    let (_, d) = read_with("G0 X20 Z5\nG33 X20 Z-20 F2 B2 C180\n", &none);
+    assert!(d.is_empty(), "{d:?}");
+    let (_, d) = read_with("G0 X20 Z5\nG33 X20 Z-20 F2\n", &full());
+    assert_eq!(codes_of(&d), ["HEIR006"]);
+    let (_, d) = read_with("G0 X20 Z5\nG33 X24 Z-20 F2 B2\n", &none);
+    assert_eq!(codes_of(&d), ["HEIR006"]);
+    let (_, d) = read_with("G0 X20 Z5\nG95 G2 X30 Z0 I5 K0 F0.1\n", &none);
+    assert_eq!(codes_of(&d), ["HEIR006"]);
+    let (_, d) = read_with("G0 X20 Z5\nG1 X30 F0.1\n", &full());
+    assert_eq!(codes_of(&d), ["HEIR006"]);
+}
+
+#[test]
+fn increments_arcs_sections_and_the_end() {
+    let text = "%SHAFT.nc\nPROGRAMMKOPF\n#EINHEIT METRISCH\nREVOLVER\nT1 ID\"342-300.1\"\nBEARBEITUNG\nN 1 T1 G97 S1000 M3\nN2 G0 X20 Z2\nN3 G95 G1 Zi-7 F0.2\nN4 G2 Xi10 Z-10 I5 K0 [arc]\nN5 G13 X20 Z-15 I15 K-15\nN6 M30\nENDE\n";
+    let (p, d) = read_with(text, &full());
+    assert_eq!(codes_of(&d), ["HEIR010", "HEIR010"]);
+    assert_eq!(p.name.as_deref(), Some("SHAFT"));
+    let arcs: Vec<(Pos, Pos, bool)> = p
+        .items
+        .iter()
+        .filter_map(|i| match &i.kind {
+            ItemKind::Arc {
+                to,
+                centre,
+                clockwise,
+                ..
+            } => Some((*to, **centre, *clockwise)),
+            _ => None,
+        })
+        .collect();
+    let at = |x: i64, z: i64| Pos::new(Length::from_mm(x), Length::from_mm(z));
+    assert_eq!(
+        arcs,
+        [
+            (at(30, -10), at(30, -5), true),
+            (at(20, -15), at(30, -15), false)
+        ]
+    );
+    assert!(
+        p.items
+            .iter()
+            .any(|i| i.kind == ItemKind::ProgramEnd(EndCode::M30))
+    );
+    let (_, d) = read_with("G0 X1 Z1\nENDE\nG0 X2\n", &full());
+    assert_eq!(codes_of(&d), ["HEIR009"]);
+    let _ = Profile::default();
+}
+
+#[test]
+fn refusals_name_what_is_not_read() {
+    for (text, code) in [
+        ("G0 X20 Z2\nG31 X20 Z-20 F1.5\n", "HEIR002"),
+        ("G0 X20 Z2\nG1 X30 BR1 F0.2\n", "HEIR002"),
+        ("G0 X? Z2\n", "HEIR002"),
+        ("G0 X20 Z2\nG33 X20 Z-20 F1.5 B1.5 P0\n", "HEIR008"),
+        ("G0 X20 Z2\nG33 X20 Z-20 F1.5 B1.5 H1\n", "HEIR008"),
+        ("M13\n", "HEIR002"),
+        ("G0 X1 Xi2\n", "HEIR005"),
+        ("UNTERPROGRAMM\n", "HEIR002"),
+    ] {
+        let (_, d) = read_with(text, &full());
+        assert_eq!(codes_of(&d), [code], "{text}");
+    }
+}
