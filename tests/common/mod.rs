@@ -20,6 +20,7 @@ pub const TARGETS: &[DialectId] = &[
     ncthread::dialect::nc31::ID,
     ncthread::dialect::fanuc::ID,
     ncthread::dialect::siemens::ID,
+    ncthread::dialect::heidenhain::ID,
 ];
 
 pub fn root() -> PathBuf {
@@ -57,6 +58,8 @@ pub fn corpus_cases() -> Vec<Case> {
         ("fuzz/fanuc", ncthread::dialect::fanuc::ID),
         ("siemens", ncthread::dialect::siemens::ID),
         ("bad/siemens", ncthread::dialect::siemens::ID),
+        ("heidenhain", ncthread::dialect::heidenhain::ID),
+        ("bad/heidenhain", ncthread::dialect::heidenhain::ID),
     ] {
         let ext = extension(from);
         let dir = root().join("corpus").join(folder);

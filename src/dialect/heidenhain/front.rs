@@ -260,6 +260,9 @@ const LETTERS: &[&str] = &[
     "X", "XI", "Z", "ZI", "I", "K", "R", "F", "B", "P", "C", "H", "E", "S", "T",
 ];
 
+/// The G codes the reader reads.
+const KNOWN_G: &[i64] = &[0, 1, 2, 3, 4, 12, 13, 26, 33, 40, 94, 95, 96, 97];
+
 /// Why a G code is not read.
 fn refused_g(g: u32) -> &'static str {
     match g {
@@ -294,6 +297,7 @@ fn refused_letter(w: &Word) -> String {
             w.name
         ),
         "ID" => "`ID`: a tool's name belongs in the turret table".into(),
+        "L" => "`L`: subprogram calls are not read".into(),
         "D" => "`D`: a dwell in revolutions (G4 D) is not read".into(),
         name => format!("address `{name}` is not read"),
     }
@@ -376,6 +380,26 @@ impl FrontEnd<'_> {
     }
 
     fn block(&mut self, line: Line<'_>, block: &Block, span: Span) {
+        // A cycle brings words of its own: the cycle is what is not read.
+        if let Some((g, w)) = block
+            .words
+            .iter()
+            .filter(|w| w.name == "G")
+            .filter_map(|w| Some((w.number()?.to_whole().ok()?, w)))
+            .find(|(g, _)| !KNOWN_G.contains(g))
+        {
+            self.error(
+                codes::HEIR_UNSUPPORTED,
+                line,
+                w.range.clone(),
+                format!(
+                    "`G{g}`: {}",
+                    refused_g(u32::try_from(g).unwrap_or(u32::MAX))
+                ),
+                "write the block with the G codes ncthread reads (README.md, section HEIDENHAIN)",
+            );
+            return;
+        }
         let Some(words) = self.sort(line, block) else {
             return;
         };

@@ -59,6 +59,11 @@ pub(crate) const SECTIONS: &[&str] = &[
 /// after it allowed.
 pub(crate) fn section_of(line: &str) -> Option<&'static str> {
     let code = line.split('[').next().unwrap_or("").trim();
+    // `UNTERPROGRAMM "NAME"`: a subprogram's section names it.
+    let code = match code.split_once('"') {
+        Some((head, _)) => head.trim(),
+        None => code,
+    };
     let code = code.split_whitespace().collect::<Vec<_>>().join(" ");
     SECTIONS
         .iter()

@@ -1,0 +1,8 @@
+%CHAIN.nc
+[REFUSED: P0, a G33 continued by the next (a chain)]
+BEARBEITUNG
+N1 G97 S600 M3
+N2 G0 X19 Z3
+N3 G33 X19 Z-10 F2 B2 P0 C0
+N4 G33 X22 Z-12 F2 P2
+ENDE
