@@ -541,6 +541,10 @@ impl Emitter<'_> {
     /// `G97 S`, or `G26 S<limit>` in a block before `G96 S` (both words are S).
     fn spindle_mode(&mut self, item: &Item, mode: &SpindleMode, block: &mut Block) -> bool {
         match mode {
+            // Before any speed, the first S says G97 (a program's header `G97` has no S yet).
+            SpindleMode::Rpm if self.speed.is_none() && !self.surface_speed => {
+                self.speed_mode_said = false;
+            }
             SpindleMode::Rpm => {
                 self.speed_mode_said = true;
                 if !block.words.iter().any(|w| w == "G97") {
