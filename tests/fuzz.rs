@@ -924,6 +924,22 @@ fn roughing_refusal_to_check(diagnostics: &[ncthread::diag::Diagnostic]) -> bool
     first.code.id == "ISOR019" && !own(first) && errors.all(|d| d.code.id == "ISOR019")
 }
 
+/// A HEIDENHAIN machine with its unpublished points declared, one of eight by `n`.
+fn heidenhain_machine(n: usize) -> ncthread::profile::HeidenhainProfile {
+    use ncthread::profile::{BAlong, CSense, HeidenhainArcDirection, SectionKeywords};
+    ncthread::profile::HeidenhainProfile {
+        keywords: [SectionKeywords::German, SectionKeywords::English][n % 2],
+        arc_direction: Some(
+            [
+                HeidenhainArcDirection::Iso,
+                HeidenhainArcDirection::FrontTool,
+            ][n / 2 % 2],
+        ),
+        c_sense: Some([CSense::Spindle, CSense::Against][n / 4 % 2]),
+        b_along: Some([BAlong::Z, BAlong::Path][n / 8 % 2]),
+    }
+}
+
 /// Every property for one input; `Err` says what broke.
 fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, String> {
     let profile = match &input.profile {
@@ -936,15 +952,27 @@ fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, Strin
     let _ = ncthread::check(&src, input.from, &profile, Unsupported::Error);
     let _ = ncthread::check(&src, input.from, &profile, Unsupported::Warn);
     let mut tally = Tally::default();
+    // A HEIDENHAIN output under a machine whose unpublished points are declared, each way in
+    // turn (the source's own profile, if any, kept).
+    let mut declared = profile.clone();
+    if input.from != ncthread::dialect::heidenhain::ID {
+        declared.heidenhain = heidenhain_machine(input.bytes.len());
+    }
     for to in [
         ncthread::dialect::iso::ID,
         ncthread::dialect::czech::ID,
         ncthread::dialect::nc31::ID,
         ncthread::dialect::fanuc::ID,
         ncthread::dialect::siemens::ID,
+        ncthread::dialect::heidenhain::ID,
     ] {
+        let profile = if to == ncthread::dialect::heidenhain::ID {
+            &declared
+        } else {
+            &profile
+        };
         for round in [false, true] {
-            let opts = options(input.from, to, &profile, round);
+            let opts = options(input.from, to, profile, round);
             let conversion = ncthread::convert(&src, &opts);
             let Some(output) = conversion.output else {
                 // A roughing cycle ncthread refuses as LinuxCNC would: LinuxCNC refuses it too.
