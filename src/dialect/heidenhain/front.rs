@@ -813,12 +813,29 @@ impl FrontEnd<'_> {
             .filter_map(|a| words.get(a))
             .find(|w| !word_of(motion, &w.name) || !axes)
         {
+            let text = &line.text[w.range.clone()];
+            let chamfer = w.name == "B" && matches!(motion, Some(Motion::Rapid | Motion::Feed));
+            let (message, help) = if chamfer {
+                (
+                    format!(
+                        "`{text}` on a line: a chamfer (B<0) or a rounding (B>0) at its end point is not read (where the corner goes depends on the next block's path)"
+                    ),
+                    "write the chamfer or the rounding as its own moves",
+                )
+            } else {
+                (
+                    format!(
+                        "`{text}` outside the motion it belongs to (I, K and R to an arc, B, P, C, H and E to G33)"
+                    ),
+                    "write the word in the arc or G33 block that moves",
+                )
+            };
             self.error(
                 codes::HEIR_UNSUPPORTED,
                 line,
                 w.range.clone(),
-                format!("`{}` outside the motion it belongs to (I, K and R to an arc, B, P, C, H and E to G33)", &line.text[w.range.clone()]),
-                "write the word in the arc or G33 block that moves",
+                message,
+                help,
             );
             return None;
         }
