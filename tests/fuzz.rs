@@ -1041,13 +1041,16 @@ fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, Strin
             }
             // A FANUC output through the test side's translation: rs274 must cut what
             // ncthread's simulation of the source cuts.
-            // A SINUMERIK output likewise, through its translation.
+            // A SINUMERIK or HEIDENHAIN output likewise, through its translation.
             let translation = match to {
                 t if t == ncthread::dialect::fanuc::ID => {
                     common::fanuc::translate(&output, false).ok()
                 }
                 t if t == ncthread::dialect::siemens::ID => {
                     common::siemens::translate(&output).ok()
+                }
+                t if t == ncthread::dialect::heidenhain::ID => {
+                    common::heidenhain::translate(&output, &profile.heidenhain).ok()
                 }
                 _ => None,
             };
@@ -1068,7 +1071,7 @@ fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, Strin
                 };
                 if let Some(canon) = canon {
                     let (program, _) =
-                        ncthread::parse(&src, input.from, &profile, Unsupported::Error);
+                        ncthread::parse(&src, input.from, profile, Unsupported::Error);
                     let sim = ncthread::sim::simulate(&program);
                     match ncthread::sim::rs274::judge(&sim.segments, &canon) {
                         ncthread::sim::rs274::Judgement::Differs(d) => {
@@ -1083,7 +1086,7 @@ fn properties(input: &Input, rs274: Option<&Interpreter>) -> Result<Tally, Strin
             }
             let again = ncthread::convert(
                 &SourceFile::new("fuzz", output.clone()),
-                &options(to, to, &profile, false),
+                &options(to, to, profile, false),
             );
             match again.output {
                 Some(second) if second == output => {}

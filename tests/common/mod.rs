@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod fanuc;
+pub mod heidenhain;
 pub mod siemens;
 
 use std::path::{Path, PathBuf};
