@@ -712,6 +712,90 @@ fn siemens_program() -> impl Strategy<Value = Input> {
 }
 
 // ---------------------------------------------------------------------------------------
+// Generated HEIDENHAIN programs
+
+fn heidenhain_block() -> impl Strategy<Value = Vec<String>> {
+    let x = length(10, 120, 3);
+    let z = length(-150, 30, 3);
+    let lead = length(1, 8, 4);
+    prop_oneof![
+        4 => (x.clone(), z.clone()).prop_map(|(x, z)| vec![format!("G0 X{x} Z{z}")]),
+        2 => (x.clone(), z.clone(), prop::sample::select(vec!["0.1", "0.25", "0.05"])).prop_map(|(x, z, f)| vec![format!("G1 X{x} Z{z} F{f}")]),
+        1 => (length(-20, 20, 3), length(-20, 20, 3)).prop_map(|(u, w)| vec![format!("G1 Xi{u} Zi{w} F0.2")]),
+        // An arc of radius 200 (every chord here is shorter than 400), either way round.
+        2 => (x.clone(), z.clone(), 0usize..4).prop_map(|(x, z, g)| {
+            vec![format!("{} X{x} Z{z} R200 F0.1", ["G2", "G3", "G12", "G13"][g])]
+        }),
+        // A pass: to its diameter, the thread (a run-in, a start angle, a taper), out and back.
+        6 => (x.clone(), length(-100, -5, 3), lead.clone(), length(0, 10, 3), 0u32..360_000, prop::option::of(length(-2, 2, 3)))
+            .prop_map(|(x, z, f, b, c, taper)| {
+                let end_x = match &taper {
+                    Some(t) => format!("{:.3}", x.parse::<f64>().unwrap_or(20.0) + t.parse::<f64>().unwrap_or(0.0)),
+                    None => x.clone(),
+                };
+                vec![
+                    "G0 Z10".to_string(),
+                    format!("X{x}"),
+                    format!("G33 X{end_x} Z{z} F{f} B{b} P1 C{}.{:03} H0", c / 1000, c % 1000),
+                    "G0 X130".into(),
+                    "Z10".into(),
+                ]
+            }),
+        1 => Just(vec!["M5".to_string()]),
+        1 => (100u32..2000, any::<bool>()).prop_map(|(s, ccw)| vec![format!("G97 S{s} {}", if ccw { "M4" } else { "M3" })]),
+        1 => (100u32..300, 1000u32..3000).prop_map(|(v, l)| vec![format!("G26 S{l}"), format!("G96 S{v} M3")]),
+        1 => prop::sample::select(vec!["M8", "M9", "G4 F0.5", "G94 F200", "G95 F0.2", "G40", "M0", "M1"]).prop_map(|c| vec![c.to_string()]),
+        1 => comment_text().prop_map(|c| vec![format!("[{}]", c.replace(']', ")"))]),
+        1 => (1u32..12).prop_map(|t| vec![format!("T{t}")]),
+    ]
+}
+
+fn heidenhain_program() -> impl Strategy<Value = Input> {
+    (
+        prop::collection::vec(heidenhain_block(), 1..10),
+        0usize..16,
+        any::<bool>(),
+    )
+        .prop_map(|(blocks, machine, spaced)| {
+            let mut lines = vec!["G97 S500 M3".to_string(), "G95 G0 X130 Z20 F0.2".into()];
+            lines.extend(blocks.into_iter().flatten());
+            lines.push("M5".into());
+            lines.push("M30".into());
+            let body: String = lines
+                .iter()
+                .enumerate()
+                .map(|(i, l)| {
+                    let n = if spaced { " " } else { "" };
+                    if l.starts_with('[') {
+                        format!("{l}\n")
+                    } else {
+                        format!("N{n}{} {l}\n", i + 1)
+                    }
+                })
+                .collect();
+            let (machining, end) = if machine % 2 == 0 {
+                ("BEARBEITUNG", "ENDE")
+            } else {
+                ("MACHINING", "END")
+            };
+            let profile = format!(
+                "[heidenhain]\narc_direction = \"{}\"\nc_sense = \"{}\"\nb_along = \"{}\"\n",
+                ["iso", "front-tool"][machine / 2 % 2],
+                ["spindle", "against"][machine / 4 % 2],
+                ["z", "path"][machine / 8 % 2],
+            );
+            Input {
+                from: ncthread::dialect::heidenhain::ID,
+                bytes: format!(
+                    "%FUZZ.nc\nPROGRAMMKOPF\n#EINHEIT METRISCH\n{machining}\n{body}{end}\n"
+                )
+                .into_bytes(),
+                profile: Some(profile),
+            }
+        })
+}
+
+// ---------------------------------------------------------------------------------------
 // Mutations of corpus files, and arbitrary bytes
 
 fn corpus_files() -> Vec<(DialectId, Vec<u8>, Option<String>)> {
@@ -1291,6 +1375,21 @@ fn generated_fanuc_programs() {
     assert!(t.tally.proved > 0, "no generated FANUC program converted");
     if common::rs274().is_some() {
         assert!(t.tally.rs274 > 0, "rs274 judged no generated FANUC program");
+    }
+}
+
+#[test]
+fn generated_heidenhain_programs() {
+    let t = run("heidenhain", heidenhain_program(), interpreter());
+    assert!(
+        t.tally.proved > 0,
+        "no generated HEIDENHAIN program converted"
+    );
+    if common::rs274().is_some() {
+        assert!(
+            t.tally.rs274 > 0,
+            "rs274 judged no generated HEIDENHAIN program"
+        );
     }
 }
 

@@ -57,6 +57,7 @@ pub fn corpus_cases() -> Vec<Case> {
         ("fuzz/nc31", ncthread::dialect::nc31::ID),
         ("fuzz/iso", ncthread::dialect::iso::ID),
         ("fuzz/fanuc", ncthread::dialect::fanuc::ID),
+        ("fuzz/heidenhain", ncthread::dialect::heidenhain::ID),
         ("siemens", ncthread::dialect::siemens::ID),
         ("bad/siemens", ncthread::dialect::siemens::ID),
         ("heidenhain", ncthread::dialect::heidenhain::ID),

@@ -72,6 +72,7 @@ pub fn translate_from(
     let mut turning: Option<&str> = None;
     let mut per_minute: Option<bool> = start.initial_per_rev.map(|r| !r);
     let mut speed: Option<String> = None;
+    let mut lims: Option<String> = None;
     // DIAMOF: X (not I) a radius, written here as a diameter under G7; G91 increments.
     let mut radius = start.initial_diameter == Some(false);
     let mut incremental = false;
@@ -124,7 +125,11 @@ pub fn translate_from(
                             now.push(if per_rev { "G95" } else { "G94" }.into());
                         }
                         if matches!(g, 96 | 961) {
-                            let d = get("LIMS").map(|l| format!(" D{l}")).unwrap_or_default();
+                            // LIMS stays in force until another is written.
+                            if let Some(l) = get("LIMS") {
+                                lims = Some(l);
+                            }
+                            let d = lims.as_ref().map(|l| format!(" D{l}")).unwrap_or_default();
                             let s = get("S").or(speed.clone()).ok_or("G96 before any S")?;
                             now.push(format!("G96{d} S{s}"));
                         } else {
