@@ -109,6 +109,51 @@ fn the_translation_starts_the_pass_where_c_and_b_put_the_spindle() {
     assert!(ngc.contains("G2 X30 Z-20 I0 K-5 F0.1"), "{ngc}");
     assert!(translate("G0 X20 Z0\nG33 X40 Z-5 F1 B1\n", machine).is_err());
     assert!(translate("G31 X20 Z-20 F1.5\n", machine).is_err());
+    // A taper: ΔX/2 = 3, ΔZ = −4, the path 5; K along the path 2·5/4 = 2.5. B2.5 along Z is
+    // 1.25 turns, C0 then 270° at the start: 1.5 along Z earlier, 1.5·3/4 = 1.125 on the radius.
+    let taper = "N 10 G0 X20 Z0\nN 20 G33 X26 Z-4 F2 B2.5 P2 C0 H0\n";
+    let ngc = translate(taper, machine).unwrap();
+    assert!(ngc.contains("G0 X17.75 Z1.5\nG33 X26 Z-4 K2.5"), "{ngc}");
+    // B2.5 along the path is 2 along Z, one whole turn: the pass starts at the index pulse.
+    let path = HeidenhainProfile {
+        b_along: Some(BAlong::Path),
+        ..machine.clone()
+    };
+    let ngc = translate(taper, &path).unwrap();
+    assert!(ngc.ends_with("G0 X20 Z0\nG33 X26 Z-4 K2.5\n"), "{ngc}");
+    assert!(translate("G0 X20 Z5\nG33 X20 Z-20 F2 B2 C0 H1\n", machine).is_err());
+    // G13 from the front of the turning centre is LinuxCNC's G2.
+    let front = HeidenhainProfile {
+        arc_direction: Some(HeidenhainArcDirection::FrontTool),
+        ..machine.clone()
+    };
+    let ngc = translate("G0 X30 Z-10\nG95 G13 X40 Z-15 I20 K-10 F0.1\n", &front).unwrap();
+    assert!(ngc.contains("G2 X40 Z-15 I5 K0 F0.1"), "{ngc}");
+    let no_direction = HeidenhainProfile {
+        arc_direction: None,
+        ..machine.clone()
+    };
+    let arc = "G0 X30 Z-10\nG95 G13 X40 Z-15 I20 K-10 F0.1\n";
+    assert!(
+        translate(arc, &no_direction).is_err_and(|e| e.contains("arc_direction")),
+        "{arc}"
+    );
+    // F is the feed where G94/G95 is said, and said again after a G33 or a G4.
+    assert!(translate("G0 X20 Z5\nG1 Z-5 F0.2\n", machine).is_err());
+    let pass = "G0 X20 Z5\nG95 G1 Z0 F0.2\nG33 Z-20 F2 B2 C0 H0\nG0 X24\n";
+    assert!(translate(&format!("{pass}G1 Z5\n"), machine).is_err());
+    assert!(translate(&format!("{pass}G1 Z5 F0.3\n"), machine).is_ok());
+    assert!(translate("G95 G1 X20 Z5 F0.2\nG4 F1\nG1 Z0\n", machine).is_err());
+    // G26 is G96's D; a G26 while G96 is in force limits it at once.
+    let ngc = translate(
+        "N10 G26 S3000\nN20 G96 S200 M3\nN30 G26 S2500\nN40 G4 F2.5\nN50 G97 S800\nN60 M30\n",
+        machine,
+    )
+    .unwrap();
+    assert!(
+        ngc.ends_with("G96 D3000 S200\nM3\nG96 D2500 S200\nG4 P2.5\nG97\nS800\nM30\n"),
+        "{ngc}"
+    );
 }
 
 /// Every HEIDENHAIN corpus program, and every corpus program converted to HEIDENHAIN for each

@@ -12,9 +12,12 @@
 //! on its own line by the Z travel of the spindle's angle at the block's start, which is
 //! "C at the end of the run-in B": C (−C when C counts against the spindle) less 360°·B_z/F,
 //! B_z = B along Z, or its Z share on a taper when B is measured along the path; `G4 F<s>` →
-//! `G4 P<s>`; `G26 S` the limit `D` of the next `G96 S`; `T<n>` → `T<n> M6 G43` (M6 stops
-//! LinuxCNC's spindle, a turret does not: the spindle is started again); M5, M9, M0, M1 and
-//! M30 after the block's motion (ncthread's decision), on the next line.
+//! `G4 P<s>`; F the feed only where G94/G95 has been said, and said again after a G94/G95, a
+//! G4 or a G33 (whose F is the time, the lead: whether it is the feed too is not published);
+//! `G26 S` the limit `D` of the next `G96 S` (and `G96 D S` at once while G96 is in force);
+//! `T<n>` → `T<n> M6 G43` (M6 stops LinuxCNC's spindle, a turret does not: the spindle is
+//! started again); M5, M9, M0, M1 and M30 after the block's motion (ncthread's decision), on
+//! the next line.
 
 use ncthread::profile::{BAlong, CSense, HeidenhainArcDirection, HeidenhainProfile};
 
@@ -75,6 +78,8 @@ pub fn translate(text: &str, profile: &HeidenhainProfile) -> Result<String, Stri
     let mut turning: Option<&str> = None;
     let mut per_minute: Option<bool> = None;
     let mut limit: Option<String> = None;
+    // The surface speed while G96 is in force (a later G26 limits it at once).
+    let mut surface: Option<String> = None;
     let mut describing = false;
     for line in text.lines() {
         let trimmed = line.trim();
@@ -117,19 +122,31 @@ pub fn translate(text: &str, profile: &HeidenhainProfile) -> Result<String, Stri
                     4 => dwell = true,
                     40 => now.push("G40".into()),
                     // LinuxCNC sets F to 0 on every G94/G95: said only where the mode changes.
+                    // F is their parameter: the feed is said again after either.
                     g @ (94 | 95) => {
+                        feed = None;
                         if per_minute != Some(g == 94) {
                             per_minute = Some(g == 94);
                             now.push(format!("G{g}"));
                         }
                     }
-                    26 => limit = Some(get("S").ok_or("G26 without S")?),
+                    26 => {
+                        let l = get("S").ok_or("G26 without S")?;
+                        if let Some(s) = surface.as_ref().filter(|_| !has_g("96")) {
+                            now.push(format!("G96 D{l} S{s}"));
+                        }
+                        limit = Some(l);
+                    }
                     96 => {
                         let d = limit.as_ref().map(|l| format!(" D{l}")).unwrap_or_default();
                         let s = get("S").ok_or("G96 without S")?;
                         now.push(format!("G96{d} S{s}"));
+                        surface = Some(s);
                     }
-                    97 => now.push("G97".into()),
+                    97 => {
+                        surface = None;
+                        now.push("G97".into())
+                    }
                     g => return Err(format!("G{g} is not in the subset")),
                 },
                 ("M", m) => match m {
@@ -151,6 +168,9 @@ pub fn translate(text: &str, profile: &HeidenhainProfile) -> Result<String, Stri
                 },
                 ("S", s) => {
                     if !has_g("96") && !has_g("26") {
+                        if surface.is_some() {
+                            surface = Some(s.to_string());
+                        }
                         now.push(format!("S{s}"));
                     }
                 }
@@ -169,6 +189,8 @@ pub fn translate(text: &str, profile: &HeidenhainProfile) -> Result<String, Stri
         if dwell {
             let s = num("F")?.ok_or("G4 without F")?;
             now.push(format!("G4 P{}", n(s)));
+            // F is the dwell's time: whether it is the feed too is not published.
+            feed = None;
             out.extend(now);
             out.extend(after);
             continue;
@@ -177,6 +199,9 @@ pub fn translate(text: &str, profile: &HeidenhainProfile) -> Result<String, Stri
         if !(motion == 33 && moves)
             && let Some(f) = num("F")?
         {
+            if per_minute.is_none() {
+                return Err("a feed before G94 or G95 (the machine's setting)".into());
+            }
             feed = Some(f);
             if !moves || motion == 0 {
                 now.push(format!("F{}", n(f)));
@@ -210,6 +235,12 @@ pub fn translate(text: &str, profile: &HeidenhainProfile) -> Result<String, Stri
                 }
                 s
             };
+            if matches!(motion, 1 | 2 | 3 | 12 | 13) && feed.is_none() {
+                return Err(
+                    "a feed move without its F (none since the start, a G94/G95, a G4 or a G33)"
+                        .into(),
+                );
+            }
             let f = |feed: Option<f64>| feed.map(|f| format!(" F{}", n(f))).unwrap_or_default();
             match motion {
                 0 => now.push(format!("G0{}", axes(nx, nz))),
@@ -242,7 +273,11 @@ pub fn translate(text: &str, profile: &HeidenhainProfile) -> Result<String, Stri
                         f(feed)
                     ));
                 }
-                33 => now.extend(thread(&get, &num, profile, (x, z), (nx, nz))?),
+                33 => {
+                    now.extend(thread(&get, &num, profile, (x, z), (nx, nz))?);
+                    // F is the lead: whether it is the feed too is not published.
+                    feed = None;
+                }
                 m => return Err(format!("motion G{m}")),
             }
             x = nx;

@@ -172,7 +172,7 @@ impl Emitter<'_> {
             .map_or(src.name.as_str(), |n| n.to_str().unwrap_or(&src.name));
         let _ = writeln!(
             self.w.out,
-            "[{}, dialect {}{HEADER_END}]",
+            "[{}, dialect {}, in mm{HEADER_END}]",
             bracket_text(file).0,
             program.dialect
         );
@@ -629,6 +629,8 @@ impl Emitter<'_> {
             return true;
         }
         self.flush(block);
+        // Whether G4's F is the feed's F too is not published: the next feed says its F.
+        self.f = None;
         let comment = block.comment.take();
         self.write(Block {
             words: vec![
@@ -772,8 +774,10 @@ impl Emitter<'_> {
             "H0".into(),
         ]);
         self.after_thread = true;
-        // Whether G33's F is the feed's F too is not published: the next feed says its F.
+        // Whether G33's F is the feed's F (and leaves its G94/G95) is not published: the
+        // next feed says its mode and its F.
         self.f = None;
+        self.mode_said = false;
         true
     }
 

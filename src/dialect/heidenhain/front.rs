@@ -65,6 +65,9 @@ struct FrontEnd<'a> {
     surface: bool,
     /// The G26 limit in force.
     limit: Option<u32>,
+    /// G96 or G97 said (the reset state is not published), and the last S under G97.
+    speed_mode_said: bool,
+    rpm: Option<u32>,
     /// The last motion was a G33.
     after_thread: bool,
     /// The unstated machine settings already reported (one error each is enough).
@@ -86,6 +89,8 @@ pub(crate) fn read(
         f: None,
         surface: false,
         limit: None,
+        speed_mode_said: false,
+        rpm: None,
         after_thread: false,
         reported: Vec::new(),
     };
@@ -156,7 +161,20 @@ impl FrontEnd<'_> {
             self.section_line(line, section, whole);
             return;
         }
-        if matches!(self.section, Section::Describing(_)) {
+        if let Section::Describing(section) = self.section {
+            // The program head's unit: ncthread reads and writes millimetres only.
+            let up = line.text.to_ascii_uppercase();
+            if matches!(section, "PROGRAMMKOPF" | "PROGRAM HEAD")
+                && (up.contains("ZOLL") || up.contains("INCH"))
+            {
+                self.error(
+                    codes::HEIR_UNSUPPORTED,
+                    line,
+                    whole,
+                    "a program in inches (its head's unit): ncthread reads HEIDENHAIN programs in millimetres",
+                    "convert the program on the control to a metric one, or convert it by hand",
+                );
+            }
             return;
         }
         let block = match syntax::parse_line(line.text) {
@@ -531,10 +549,11 @@ impl FrontEnd<'_> {
     ) -> Option<()> {
         if let Some(w) = words.get("T") {
             let t = self.whole(line, w, "a tool (turret pocket) number")?;
+            // The pocket's tool with its own data: its offset too.
             self.r.push(
                 ItemKind::Tool {
                     number: Some(t),
-                    offset: None,
+                    offset: Some(t),
                 },
                 span,
                 None,
@@ -575,6 +594,16 @@ impl FrontEnd<'_> {
                 );
                 return None;
             }
+            if let Some(rpm) = self.rpm.filter(|r| *r > s && !self.surface) {
+                self.error(
+                    codes::HEIR_UNSUPPORTED,
+                    line,
+                    0..line.text.len(),
+                    format!("G26 S{s} below the {rpm} rpm the spindle turns at under G97: whether G26 limits a constant speed is not published"),
+                    "set the limit before the speed, or at least as high",
+                );
+                return None;
+            }
             self.limit = Some(s);
         }
         let mut speed_word = speed.filter(|_| !g.limit).map(|(s, _)| s);
@@ -607,6 +636,23 @@ impl FrontEnd<'_> {
             };
             switches.spindle_mode = Some((mode, span));
             speed_word = Some(s);
+        }
+        if g.speed_mode.is_some() {
+            self.speed_mode_said = true;
+        } else if let (Some(_), false) = (speed_word, self.speed_mode_said) {
+            self.unknown(
+                "speed mode",
+                line,
+                0..line.text.len(),
+                "an S before G96 or G97: whether S is a surface speed or rpm at the start is the machine's state",
+                "write the mode with the first speed: `G97 S1000` (rpm) or `G96 S200` (m/min)",
+            );
+            return None;
+        }
+        if !self.surface
+            && let Some(s) = speed_word
+        {
+            self.rpm = Some(s);
         }
         if let (Some(s), Some(l), false) = (speed_word, self.limit, self.surface)
             && s > l
@@ -704,6 +750,8 @@ impl FrontEnd<'_> {
             return None;
         }
         self.r.push(ItemKind::Dwell { seconds }, span, None);
+        // G4's F is its time: whether it is the feed's F too is not published.
+        self.f = None;
         Some(())
     }
 
@@ -752,7 +800,21 @@ impl FrontEnd<'_> {
                     );
                     return None;
                 };
-                *axis = Some(start + d);
+                let to = start + d;
+                if to.0.abs() >= 1 << 55 {
+                    self.error(
+                        codes::HEIR_NUMBER,
+                        line,
+                        w.range.clone(),
+                        format!(
+                            "`{}` moves past the largest position ncthread holds",
+                            &line.text[w.range.clone()]
+                        ),
+                        "check the increments",
+                    );
+                    return None;
+                }
+                *axis = Some(to);
             }
         }
         Some(to)
@@ -1100,6 +1162,15 @@ impl FrontEnd<'_> {
                 w.range.clone(),
                 "P0: a G33 that a successive G33 continues (a chain) is not read",
                 "end each pass with a run-out P>0 and retract",
+            );
+            return None;
+        }
+        if self.after_thread {
+            refuse(
+                self,
+                whole,
+                "a G33 right after another: the vendor's successive G33 blocks are one thread run on, whose synchronisation is not published",
+                "retract (G0) between two passes",
             );
             return None;
         }
