@@ -518,7 +518,7 @@ impl Emitter<'_> {
             self.diag(
                 codes::HEIW_NO_EQUIVALENT,
                 item,
-                format!("S{s} rpm above the speed limit G26 S{l} in force: whether G26 limits a constant speed (G97) too is not published, where the source's limit was its surface speed's only"),
+                format!("S{s} rpm above the speed limit G26 S{l} in force: the maximum speed limits a constant speed (G97) too (MANUALplus 4110 manual), where the source's limit was its surface speed's only"),
                 "lower the speed to the limit in the source, or raise the surface speed's limit",
             );
             return false;

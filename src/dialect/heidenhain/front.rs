@@ -599,7 +599,7 @@ impl FrontEnd<'_> {
                     codes::HEIR_UNSUPPORTED,
                     line,
                     0..line.text.len(),
-                    format!("G26 S{s} below the {rpm} rpm the spindle turns at under G97: whether G26 limits a constant speed is not published"),
+                    format!("G26 S{s} below the {rpm} rpm the spindle turns at under G97: the maximum speed limits a constant speed too (MANUALplus 4110 manual)"),
                     "set the limit before the speed, or at least as high",
                 );
                 return None;
@@ -661,7 +661,7 @@ impl FrontEnd<'_> {
                 codes::HEIR_UNSUPPORTED,
                 line,
                 0..line.text.len(),
-                format!("S{s} rpm above the speed limit G26 S{l}: whether G26 limits a constant speed (G97) is not published"),
+                format!("S{s} rpm above the speed limit G26 S{l}: the maximum speed limits a constant speed too (MANUALplus 4110 manual)"),
                 "keep the speed within the limit, or set the limit after the speed",
             );
             return None;
