@@ -717,36 +717,10 @@ impl Emitter<'_> {
             self.w.pos = end;
             return false;
         }
-        if self.surface_speed {
-            self.diag(
-                codes::HEIW_NO_EQUIVALENT,
-                item,
-                "a thread cut under constant surface speed (G96): ncthread writes HEIDENHAIN threads under G97, at a speed in rpm".into(),
-                "set the spindle speed in rpm (G97 S…) before the thread in the source",
-            );
-            return false;
-        }
         let seg = &segments[0];
-        // X is modal (as G1's): a pass along Z from an X not known keeps it.
-        let (Some(z0), Some(z1)) = (seg.from.z, seg.to.z) else {
-            self.diag(
-                codes::HEIW_NO_EQUIVALENT,
-                item,
-                "a thread pass from a Z that is not known".into(),
-                "move to an absolute Z before the thread",
-            );
+        let Some(travel) = self.pass_travel(item, pass, seg) else {
             return false;
         };
-        let travel = (z1 - z0).abs();
-        if travel < pass.lead.length_times(2, 1) {
-            self.diag(
-                codes::HEIW_NO_EQUIVALENT,
-                item,
-                format!("a thread pass of {} mm along Z, shorter than two leads ({} mm): ncthread writes the run-in B and the run-out P one lead each", travel.mm(), pass.lead.mm()),
-                "lengthen the pass in the source, or convert it by hand",
-            );
-            return false;
-        }
         // A taper without B's measure is refused by the table.
         if seg.from.x != seg.to.x && self.profile.b_along != Some(BAlong::Z) {
             return false;
@@ -779,6 +753,46 @@ impl Emitter<'_> {
         self.f = None;
         self.mode_said = false;
         true
+    }
+
+    /// The pass's travel along Z, where it can be written as one G33: not under G96, from a
+    /// known Z, two leads long (`None`: a diagnostic said why).
+    fn pass_travel(
+        &mut self,
+        item: &Item,
+        pass: &ThreadPass,
+        seg: &lower::SyncSegment,
+    ) -> Option<Length> {
+        if self.surface_speed {
+            self.diag(
+                codes::HEIW_NO_EQUIVALENT,
+                item,
+                "a thread cut under constant surface speed (G96): ncthread writes HEIDENHAIN threads under G97, at a speed in rpm".into(),
+                "set the spindle speed in rpm (G97 S…) before the thread in the source",
+            );
+            return None;
+        }
+        // X is modal (as G1's): a pass along Z from an X not known keeps it.
+        let (Some(z0), Some(z1)) = (seg.from.z, seg.to.z) else {
+            self.diag(
+                codes::HEIW_NO_EQUIVALENT,
+                item,
+                "a thread pass from a Z that is not known".into(),
+                "move to an absolute Z before the thread",
+            );
+            return None;
+        };
+        let travel = (z1 - z0).abs();
+        if travel < pass.lead.length_times(2, 1) {
+            self.diag(
+                codes::HEIW_NO_EQUIVALENT,
+                item,
+                format!("a thread pass of {} mm along Z, shorter than two leads ({} mm): ncthread writes the run-in B and the run-out P one lead each", travel.mm(), pass.lead.mm()),
+                "lengthen the pass in the source, or convert it by hand",
+            );
+            return None;
+        }
+        Some(travel)
     }
 
     /// `C` for a pass whose spindle angle at the start (and one lead later) is `phase`, as

@@ -547,6 +547,23 @@ impl FrontEnd<'_> {
         stops: &mut Vec<(bool, Span)>,
         span: Span,
     ) -> Option<()> {
+        self.tool_and_feed_mode(line, words, g, span)?;
+        let speed = self.speed_words(line, words, g, switches, span)?;
+        let direction = self.m_words(line, words, switches, stops, span)?;
+        if speed.is_some() || direction.is_some() {
+            switches.spindle = Some((speed, direction, span));
+        }
+        Some(())
+    }
+
+    /// T (the pocket's tool with its own data) and G94/G95.
+    fn tool_and_feed_mode(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        g: &GCodes,
+        span: Span,
+    ) -> Option<()> {
         if let Some(w) = words.get("T") {
             let t = self.whole(line, w, "a tool (turret pocket) number")?;
             // The pocket's tool with its own data: its offset too.
@@ -569,44 +586,26 @@ impl FrontEnd<'_> {
             self.r.push(ItemKind::FeedMode(mode), span, None);
             self.f = None;
         }
+        Some(())
+    }
+
+    /// S with G26, G96 or G97 (or alone): the speed of the block's spindle item, if any.
+    fn speed_words(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        g: &GCodes,
+        switches: &mut Switches,
+        span: Span,
+    ) -> Option<Option<u32>> {
         let speed = match words.get("S") {
-            Some(w) => Some((self.whole(line, w, "a speed")?, w)),
+            Some(w) => Some(self.whole(line, w, "a speed")?),
             None => None,
         };
         if g.limit {
-            let Some((s, _)) = speed else {
-                self.error(
-                    codes::HEIR_NUMBER,
-                    line,
-                    0..line.text.len(),
-                    "G26 without S: the speed limit is its S",
-                    "write `G26 S<rpm>`",
-                );
-                return None;
-            };
-            if self.surface {
-                self.error(
-                    codes::HEIR_UNSUPPORTED,
-                    line,
-                    0..line.text.len(),
-                    "G26 while G96 is in force: ncthread reads a speed limit set before the G96 it limits",
-                    "write G26 S before the G96 block",
-                );
-                return None;
-            }
-            if let Some(rpm) = self.rpm.filter(|r| *r > s && !self.surface) {
-                self.error(
-                    codes::HEIR_UNSUPPORTED,
-                    line,
-                    0..line.text.len(),
-                    format!("G26 S{s} below the {rpm} rpm the spindle turns at under G97: the maximum speed limits a constant speed too (MANUALplus 4110 manual)"),
-                    "set the limit before the speed, or at least as high",
-                );
-                return None;
-            }
-            self.limit = Some(s);
+            self.limit_word(line, speed)?;
         }
-        let mut speed_word = speed.filter(|_| !g.limit).map(|(s, _)| s);
+        let mut speed_word = speed.filter(|_| !g.limit);
         if let Some(surface) = g.speed_mode {
             let Some(s) = speed_word else {
                 self.error(
@@ -666,6 +665,54 @@ impl FrontEnd<'_> {
             );
             return None;
         }
+        Some(speed_word)
+    }
+
+    /// `G26 S`: the limit of the next G96 (and of G97's speed).
+    fn limit_word(&mut self, line: Line<'_>, speed: Option<u32>) -> Option<()> {
+        let Some(s) = speed else {
+            self.error(
+                codes::HEIR_NUMBER,
+                line,
+                0..line.text.len(),
+                "G26 without S: the speed limit is its S",
+                "write `G26 S<rpm>`",
+            );
+            return None;
+        };
+        if self.surface {
+            self.error(
+                codes::HEIR_UNSUPPORTED,
+                line,
+                0..line.text.len(),
+                "G26 while G96 is in force: ncthread reads a speed limit set before the G96 it limits",
+                "write G26 S before the G96 block",
+            );
+            return None;
+        }
+        if let Some(rpm) = self.rpm.filter(|r| *r > s && !self.surface) {
+            self.error(
+                codes::HEIR_UNSUPPORTED,
+                line,
+                0..line.text.len(),
+                format!("G26 S{s} below the {rpm} rpm the spindle turns at under G97: the maximum speed limits a constant speed too (MANUALplus 4110 manual)"),
+                "set the limit before the speed, or at least as high",
+            );
+            return None;
+        }
+        self.limit = Some(s);
+        Some(())
+    }
+
+    /// M3/M4 (the direction, returned), M5, M8/M9, M0/M1, M30.
+    fn m_words(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        switches: &mut Switches,
+        stops: &mut Vec<(bool, Span)>,
+        span: Span,
+    ) -> Option<Option<SpindleDirection>> {
         let mut direction = None;
         for &(m, w) in &words.m {
             match m {
@@ -693,10 +740,7 @@ impl FrontEnd<'_> {
                 }
             }
         }
-        if speed_word.is_some() || direction.is_some() {
-            switches.spindle = Some((speed_word, direction, span));
-        }
-        Some(())
+        Some(direction)
     }
 
     fn whole(&mut self, line: Line<'_>, w: &Word, what: &str) -> Option<u32> {
@@ -870,50 +914,9 @@ impl FrontEnd<'_> {
             .iter()
             .any(|a| words.get(a).is_some());
         let motion = self.motion;
-        if let Some(w) = ["I", "K", "R", "B", "P", "C", "H", "E"]
-            .iter()
-            .filter_map(|a| words.get(a))
-            .find(|w| !word_of(motion, &w.name) || !axes)
-        {
-            let text = &line.text[w.range.clone()];
-            let chamfer = w.name == "B" && matches!(motion, Some(Motion::Rapid | Motion::Feed));
-            let (message, help) = if chamfer {
-                (
-                    format!(
-                        "`{text}` on a line: a chamfer (B<0) or a rounding (B>0) at its end point is not read (where the corner goes depends on the next block's path)"
-                    ),
-                    "write the chamfer or the rounding as its own moves",
-                )
-            } else {
-                (
-                    format!(
-                        "`{text}` outside the motion it belongs to (I, K and R to an arc, B, P, C, H and E to G33)"
-                    ),
-                    "write the word in the arc or G33 block that moves",
-                )
-            };
-            self.error(
-                codes::HEIR_UNSUPPORTED,
-                line,
-                w.range.clone(),
-                message,
-                help,
-            );
-            return None;
-        }
+        self.stray_words(line, words, motion, axes)?;
         if !axes {
-            if let Some(w) = words.get("F") {
-                if g.motion == Some(Motion::Thread) {
-                    return Some(());
-                }
-                let feed = self.feed(line, words, block)?;
-                self.r.push(
-                    ItemKind::FeedRate(feed),
-                    self.span(line, w.range.clone()),
-                    None,
-                );
-            }
-            return Some(());
+            return self.feed_alone(line, words, g, block);
         }
         let Some(motion) = motion else {
             self.unknown(
@@ -970,6 +973,70 @@ impl FrontEnd<'_> {
             self.f = None;
         }
         self.r.pos = to;
+        Some(())
+    }
+
+    /// An F in a block that does not move: the feed from here on (a G33's F is its lead).
+    fn feed_alone(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        g: &GCodes,
+        block: &Block,
+    ) -> Option<()> {
+        if let Some(w) = words.get("F") {
+            if g.motion == Some(Motion::Thread) {
+                return Some(());
+            }
+            let feed = self.feed(line, words, block)?;
+            self.r.push(
+                ItemKind::FeedRate(feed),
+                self.span(line, w.range.clone()),
+                None,
+            );
+        }
+        Some(())
+    }
+
+    /// I, K, R belong to an arc and B, P, C, H, E to a G33 that moves: elsewhere refused.
+    fn stray_words(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        motion: Option<Motion>,
+        axes: bool,
+    ) -> Option<()> {
+        if let Some(w) = ["I", "K", "R", "B", "P", "C", "H", "E"]
+            .iter()
+            .filter_map(|a| words.get(a))
+            .find(|w| !word_of(motion, &w.name) || !axes)
+        {
+            let text = &line.text[w.range.clone()];
+            let chamfer = w.name == "B" && matches!(motion, Some(Motion::Rapid | Motion::Feed));
+            let (message, help) = if chamfer {
+                (
+                    format!(
+                        "`{text}` on a line: a chamfer (B<0) or a rounding (B>0) at its end point is not read (where the corner goes depends on the next block's path)"
+                    ),
+                    "write the chamfer or the rounding as its own moves",
+                )
+            } else {
+                (
+                    format!(
+                        "`{text}` outside the motion it belongs to (I, K and R to an arc, B, P, C, H and E to G33)"
+                    ),
+                    "write the word in the arc or G33 block that moves",
+                )
+            };
+            self.error(
+                codes::HEIR_UNSUPPORTED,
+                line,
+                w.range.clone(),
+                message,
+                help,
+            );
+            return None;
+        }
         Some(())
     }
 
@@ -1035,72 +1102,26 @@ impl FrontEnd<'_> {
                 );
                 return None;
             }
-            (Some(w), None) => {
-                let radius = self.length_of(line, w)?;
-                if radius.0 <= 0 || (sx, sz) == (ex, ez) {
-                    self.error(
-                        codes::HEIR_ARC,
-                        line,
-                        w.range.clone(),
-                        format!("{code} with R: a radius that is not positive, or an arc that ends where it starts"),
-                        "write the arc with I and K",
-                    );
-                    return None;
-                }
-                match lower::arc::centre_from_radius(
-                    (sx, sz),
-                    (ex, ez),
-                    radius.to_mm_f64(),
-                    clockwise,
-                    0.001,
-                ) {
-                    Ok(c) => c,
-                    Err(chord) => {
-                        self.error(
-                            codes::HEIR_ARC,
-                            line,
-                            w.range.clone(),
-                            format!("`{}` is too small for the arc: its end is {chord:.4} mm from its start", &line.text[w.range.clone()]),
-                            "the radius must be at least half the distance from the start to the end",
-                        );
-                        return None;
-                    }
-                }
-            }
+            (Some(w), None) => self.radius_centre(line, w, code, (sx, sz), (ex, ez), clockwise)?,
             (None, Some(_)) => {
-                let (bx, bz) = if absolute {
-                    (Length::ZERO, Length::ZERO)
-                } else {
-                    (sx, sz)
-                };
-                let (i, k) = match (i, k) {
-                    (Some(i), Some(k)) => (self.length_of(line, i)?, self.length_of(line, k)?),
-                    _ if absolute => {
-                        self.error(
-                            codes::HEIR_ARC,
-                            line,
-                            whole,
-                            format!(
-                                "{code} with only one of I and K: the absolute centre needs both"
-                            ),
-                            "write I (the centre's X as a radius value) and K",
-                        );
-                        return None;
-                    }
-                    (i, k) => (
-                        match i {
-                            Some(w) => self.length_of(line, w)?,
-                            None => Length::ZERO,
-                        },
-                        match k {
-                            Some(w) => self.length_of(line, w)?,
-                            None => Length::ZERO,
-                        },
-                    ),
-                };
-                Pos::new(bx + i + i, bz + k)
+                let start = if absolute { None } else { Some((sx, sz)) };
+                self.ik_centre(line, (i, k), code, start, whole.clone())?
             }
         };
+        self.on_its_circle(line, code, whole, (sx, sz), (ex, ez), centre)?;
+        Some((centre, clockwise))
+    }
+
+    /// Whether the arc's end is on the circle through its start (within 0.002 mm).
+    fn on_its_circle(
+        &mut self,
+        line: Line<'_>,
+        code: &str,
+        whole: Range<usize>,
+        (sx, sz): (Length, Length),
+        (ex, ez): (Length, Length),
+        centre: Pos,
+    ) -> Option<()> {
         let (cx, cz) = centre.known()?;
         let (r1, r2) = lower::arc::radii((sx, sz), (ex, ez), (cx, cz));
         if r1 < 0.001 || r2 < 0.001 || (r1 - r2).abs() > 0.002 {
@@ -1117,7 +1138,92 @@ impl FrontEnd<'_> {
             );
             return None;
         }
-        Some((centre, clockwise))
+        Some(())
+    }
+
+    /// The centre of an arc of radius `R` (up to half a circle).
+    #[allow(clippy::too_many_arguments)]
+    fn radius_centre(
+        &mut self,
+        line: Line<'_>,
+        w: &Word,
+        code: &str,
+        (sx, sz): (Length, Length),
+        (ex, ez): (Length, Length),
+        clockwise: bool,
+    ) -> Option<Pos> {
+        let radius = self.length_of(line, w)?;
+        if radius.0 <= 0 || (sx, sz) == (ex, ez) {
+            self.error(
+                codes::HEIR_ARC,
+                line,
+                w.range.clone(),
+                format!("{code} with R: a radius that is not positive, or an arc that ends where it starts"),
+                "write the arc with I and K",
+            );
+            return None;
+        }
+        match lower::arc::centre_from_radius(
+            (sx, sz),
+            (ex, ez),
+            radius.to_mm_f64(),
+            clockwise,
+            0.001,
+        ) {
+            Ok(c) => Some(c),
+            Err(chord) => {
+                self.error(
+                    codes::HEIR_ARC,
+                    line,
+                    w.range.clone(),
+                    format!(
+                        "`{}` is too small for the arc: its end is {chord:.4} mm from its start",
+                        &line.text[w.range.clone()]
+                    ),
+                    "the radius must be at least half the distance from the start to the end",
+                );
+                None
+            }
+        }
+    }
+
+    /// The centre from I (a radius value) and K: from the arc's `start` (G2/G3), or absolute
+    /// (G12/G13, `start` none: both words needed).
+    fn ik_centre(
+        &mut self,
+        line: Line<'_>,
+        (i, k): (Option<&Word>, Option<&Word>),
+        code: &str,
+        start: Option<(Length, Length)>,
+        whole: Range<usize>,
+    ) -> Option<Pos> {
+        let absolute = start.is_none();
+        let (sx, sz) = start.unwrap_or((Length::ZERO, Length::ZERO));
+        let (bx, bz) = (sx, sz);
+        let (i, k) = match (i, k) {
+            (Some(i), Some(k)) => (self.length_of(line, i)?, self.length_of(line, k)?),
+            _ if absolute => {
+                self.error(
+                    codes::HEIR_ARC,
+                    line,
+                    whole,
+                    format!("{code} with only one of I and K: the absolute centre needs both"),
+                    "write I (the centre's X as a radius value) and K",
+                );
+                return None;
+            }
+            (i, k) => (
+                match i {
+                    Some(w) => self.length_of(line, w)?,
+                    None => Length::ZERO,
+                },
+                match k {
+                    Some(w) => self.length_of(line, w)?,
+                    None => Length::ZERO,
+                },
+            ),
+        };
+        Some(Pos::new(bx + i + i, bz + k))
     }
 
     /// `G33 X Z F B P C H`: one pass whose spindle angle at its start follows from C at the
@@ -1132,6 +1238,68 @@ impl FrontEnd<'_> {
         span: Span,
     ) -> Option<()> {
         let whole = block.code_range.clone();
+        self.thread_not_read(line, words, whole.clone())?;
+        let refuse = |fe: &mut Self, range: Range<usize>, message: &str, help: &str| {
+            fe.error(codes::HEIR_THREAD, line, range, message.to_string(), help);
+        };
+        let lead = self.lead(line, words, whole.clone())?;
+        // X is modal: a pass along Z needs only its Z; one that moves X, its start.
+        let moves_x = to.x != from.x;
+        let (Some(z0), Some(z1)) = (from.z, to.z) else {
+            self.error(
+                codes::HEIR_UNKNOWN_POSITION,
+                line,
+                whole,
+                "G33 from a position that is not known yet",
+                "move to the thread's start with X and Z first",
+            );
+            return None;
+        };
+        let dr = match (from.x, to.x) {
+            (Some(x0), Some(x1)) => (x1 - x0).0.unsigned_abs(),
+            _ if !moves_x => 0,
+            _ => {
+                self.error(
+                    codes::HEIR_UNKNOWN_POSITION,
+                    line,
+                    whole,
+                    "a taper G33 from an X that is not known yet",
+                    "move to the thread's start with X and Z first",
+                );
+                return None;
+            }
+        };
+        let dz = (z1 - z0).0.unsigned_abs();
+        if dr > 2 * dz || dz == 0 {
+            refuse(
+                self,
+                whole,
+                "this G33 moves X (as a radius) more than Z: H0's lead along Z is for tapers up to 45°",
+                "cut the thread with Z as the long axis",
+            );
+            return None;
+        }
+        let angle = self.start_angle(line, words, lead, moves_x.then_some((dr, dz)), whole)?;
+        let pass = ThreadPass {
+            to,
+            lead,
+            start: SyncStart::Index(angle),
+            infeed: None,
+            entry: None,
+            exit: None,
+        };
+        self.r.push(ItemKind::pass(pass), span, None);
+        Some(())
+    }
+
+    /// What makes a G33 one the reader does not read: H1/H3, E, P0, a G33 right after another,
+    /// G96.
+    fn thread_not_read(
+        &mut self,
+        line: Line<'_>,
+        words: &Words<'_>,
+        whole: Range<usize>,
+    ) -> Option<()> {
         let refuse = |fe: &mut Self, range: Range<usize>, message: &str, help: &str| {
             fe.error(codes::HEIR_THREAD, line, range, message.to_string(), help);
         };
@@ -1183,53 +1351,6 @@ impl FrontEnd<'_> {
             );
             return None;
         }
-        let lead = self.lead(line, words, whole.clone())?;
-        // X is modal: a pass along Z needs only its Z; one that moves X, its start.
-        let moves_x = to.x != from.x;
-        let (Some(z0), Some(z1)) = (from.z, to.z) else {
-            self.error(
-                codes::HEIR_UNKNOWN_POSITION,
-                line,
-                whole,
-                "G33 from a position that is not known yet",
-                "move to the thread's start with X and Z first",
-            );
-            return None;
-        };
-        let dr = match (from.x, to.x) {
-            (Some(x0), Some(x1)) => (x1 - x0).0.unsigned_abs(),
-            _ if !moves_x => 0,
-            _ => {
-                self.error(
-                    codes::HEIR_UNKNOWN_POSITION,
-                    line,
-                    whole,
-                    "a taper G33 from an X that is not known yet",
-                    "move to the thread's start with X and Z first",
-                );
-                return None;
-            }
-        };
-        let dz = (z1 - z0).0.unsigned_abs();
-        if dr > 2 * dz || dz == 0 {
-            refuse(
-                self,
-                whole,
-                "this G33 moves X (as a radius) more than Z: H0's lead along Z is for tapers up to 45°",
-                "cut the thread with Z as the long axis",
-            );
-            return None;
-        }
-        let angle = self.start_angle(line, words, lead, moves_x.then_some((dr, dz)), whole)?;
-        let pass = ThreadPass {
-            to,
-            lead,
-            start: SyncStart::Index(angle),
-            infeed: None,
-            entry: None,
-            exit: None,
-        };
-        self.r.push(ItemKind::pass(pass), span, None);
         Some(())
     }
 
@@ -1261,6 +1382,33 @@ impl FrontEnd<'_> {
             );
         }
         lead
+    }
+
+    /// C as an angle of the spindle's turn: as the profile's `c_sense` counts it; without
+    /// it only 0° and 180°, which read the same both ways.
+    fn c_in_spindle_sense(
+        &mut self,
+        line: Line<'_>,
+        c: Option<(Angle, Range<usize>)>,
+        whole: Range<usize>,
+    ) -> Option<Angle> {
+        let c_angle = c.as_ref().map_or(Angle::ZERO, |(a, _)| *a);
+        match self.profile.c_sense {
+            Some(CSense::Against) => Some(Angle(-c_angle.0)),
+            Some(CSense::Spindle) => Some(c_angle),
+            None if c_angle.0 % 180_000 == 0 => Some(c_angle),
+            None => {
+                let range = c.map_or(whole, |(_, r)| r);
+                self.unknown(
+                    "c sense",
+                    line,
+                    range,
+                    "C other than 0° or 180°: whether G33's start angle counts with the spindle or against it is not published",
+                    "declare `c_sense = \"spindle\"` or `\"against\"` in the profile's [heidenhain] section, as a test cut shows",
+                );
+                None
+            }
+        }
     }
 
     /// The spindle's angle at the pass's start: C (as the profile's `c_sense` counts it) less
@@ -1312,23 +1460,7 @@ impl FrontEnd<'_> {
             }
             None => None,
         };
-        let c_angle = c.as_ref().map_or(Angle::ZERO, |(a, _)| *a);
-        let c_spindle = match self.profile.c_sense {
-            Some(CSense::Against) => Angle(-c_angle.0),
-            Some(CSense::Spindle) => c_angle,
-            None if c_angle.0 % 180_000 == 0 => c_angle,
-            None => {
-                let range = c.map_or(whole.clone(), |(_, r)| r);
-                self.unknown(
-                    "c sense",
-                    line,
-                    range,
-                    "C other than 0° or 180°: whether G33's start angle counts with the spindle or against it is not published",
-                    "declare `c_sense = \"spindle\"` or `\"against\"` in the profile's [heidenhain] section, as a test cut shows",
-                );
-                return None;
-            }
-        };
+        let c_spindle = self.c_in_spindle_sense(line, c, whole)?;
         let turn = match (taper, self.profile.b_along) {
             (None, _) | (Some(_), Some(BAlong::Z)) => lead.turn_over(b_len),
             (Some((dr, dz)), Some(BAlong::Path)) => {
