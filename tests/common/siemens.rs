@@ -8,7 +8,7 @@
 //! K` with K along the path (K is the lead along Z), the pass started `K·SF/360°` earlier along
 //! its line (a `G0` there first); `G4 F<s>` → `G4 P<s>`; `G96 S LIMS=` → `G96 D S`; `T<n>` →
 //! `T<n> M6 G43` (M6 stops LinuxCNC's spindle, a turret does not: the spindle is started
-//! again), `D` dropped; M5, M9, M0, M1, M2 and M30 after the block's motion (ncthread's
+//! again), `D1` its own offset (G43), `D0` none (G49); M5, M9, M0, M1, M2 and M30 after the block's motion (ncthread's
 //! decision), on the next line.
 
 fn n(v: f64) -> String {
@@ -181,7 +181,14 @@ pub fn translate_from(
                         now.push(dir.to_string());
                     }
                 }
-                ("X" | "Z" | "I" | "K" | "F" | "SF" | "CR" | "LIMS" | "D", _) => {}
+                // D is a cutting edge of the tool in use: D1 its own offset, D0 none.
+                ("D", "0") => now.push("G49".into()),
+                ("D", "1") => {
+                    if get("T").is_none() {
+                        now.push("G43".into());
+                    }
+                }
+                ("X" | "Z" | "I" | "K" | "F" | "SF" | "CR" | "LIMS", _) => {}
                 (name, value) => return Err(format!("{name}{value} is not in the subset")),
             }
         }

@@ -67,6 +67,8 @@ struct Emitter<'a> {
     comments: write::AsciiComments,
     inexact: Inexact,
     round: bool,
+    /// The tool in use (D is one of its cutting edges).
+    tool: Option<u32>,
 }
 
 /// The program's name for `%_N_<NAME>_MPF`: the source's own (a SINUMERIK program's), else
@@ -126,6 +128,7 @@ pub fn emit(
         comments: write::AsciiComments::default(),
         inexact: Inexact::default(),
         round,
+        tool: None,
     };
     let _ = writeln!(e.w.out, "%_N_{}_MPF", program_name(program, src));
     e.w.out.push_str(";$PATH=/_N_MPF_DIR\n");
@@ -393,14 +396,7 @@ impl Emitter<'_> {
                 block.words.push("M5".into());
             }
             ItemKind::SpindleMode(mode) => return self.spindle_mode(item, mode, block),
-            ItemKind::Tool { number, offset } => {
-                if let Some(t) = number {
-                    block.words.push(format!("T{t}"));
-                }
-                if let Some(d) = offset {
-                    block.words.push(format!("D{d}"));
-                }
-            }
+            ItemKind::Tool { number, offset } => return self.tool(item, *number, *offset, block),
             ItemKind::FeedMode(mode) if *mode != self.feed_mode => {
                 self.feed_mode = *mode;
                 // G94/G95 are of G96's group: under a surface speed the feed's kind is said
@@ -459,6 +455,43 @@ impl Emitter<'_> {
                 self.feed_word(item, *feed, block);
             }
             _ => {}
+        }
+        true
+    }
+
+    /// `T<n>` and its cutting edge: `D1` for the tool's own offset, `D0` for none (D is an
+    /// edge of the tool in use, so another tool's offset is refused); a T alone takes D1.
+    fn tool(
+        &mut self,
+        item: &Item,
+        number: Option<u32>,
+        offset: Option<u32>,
+        block: &mut Block,
+    ) -> bool {
+        let tool = number.or(self.tool);
+        let edge = match offset {
+            None if number.is_some() => None,
+            None => return true,
+            Some(0) => Some(0),
+            // A T takes its D1 itself.
+            Some(d) if Some(d) == number => None,
+            Some(d) if Some(d) == tool => Some(1),
+            Some(d) => {
+                self.diag(
+                    codes::SINW_NO_EQUIVALENT,
+                    item,
+                    format!("the offset {d} with tool {}: a SINUMERIK D is a cutting edge of the tool in use, not another tool's offset", tool.map_or("(none)".into(), |t| t.to_string())),
+                    "use each tool with its own offset in the source",
+                );
+                return false;
+            }
+        };
+        if let Some(t) = number {
+            block.words.push(format!("T{t}"));
+            self.tool = Some(t);
+        }
+        if let Some(d) = edge {
+            block.words.push(format!("D{d}"));
         }
         true
     }

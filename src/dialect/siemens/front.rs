@@ -23,6 +23,7 @@ use crate::ir::{
 };
 use crate::lower;
 use crate::source::{Line, SourceFile, Span};
+use names::{LETTERS, refused_g, refused_name};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Motion {
@@ -66,6 +67,8 @@ struct FrontEnd<'a> {
     /// The unstated machine settings already reported (one error each is enough: every
     /// later word that depends on it is the same mistake).
     reported_mode: Vec<&'static str>,
+    /// The tool in use (its D numbers are its cutting edges).
+    tool: Option<u32>,
 }
 
 /// Reads a SINUMERIK program.
@@ -93,6 +96,7 @@ pub(crate) fn read(
         warned_ramp: false,
         warned_no_motion: Vec::new(),
         reported_mode: Vec::new(),
+        tool: None,
     };
     let mut first = true;
     for line in src.lines() {
@@ -254,75 +258,6 @@ struct GCodes {
     motion: Option<Motion>,
     dwell: bool,
     modes: Vec<(ItemKind, Span)>,
-}
-
-/// Why a G code is not read.
-fn refused_g(g: u32) -> &'static str {
-    match g {
-        17 | 19 => "the plane of a lathe program is G18",
-        41 | 42 => {
-            "cutter radius compensation is not read (its radius and tip are in the tool's data, which the program does not state)"
-        }
-        53 | 153 | 500 | 74 | 75 => "machine coordinates, frames and reference moves are not read",
-        331 | 332 | 63 => "tapping is not read",
-        34 | 35 => "threads of increasing or decreasing lead are not read",
-        9 | 60 | 64 | 641 | 642 | 645 => {
-            "exact stop and continuous-path modes are not read (G64 rounds corners)"
-        }
-        _ => "it is not a G code ncthread reads in a SINUMERIK program",
-    }
-}
-
-/// The letters and names a block may hold (besides G, M and DIAMON/DIAMOF).
-const LETTERS: &[&str] = &["X", "Z", "I", "K", "F", "S", "T", "D", "SF", "CR", "LIMS"];
-
-/// What a name the reader does not read is, for its refusal.
-fn refused_name(name: &str, text: &str) -> String {
-    let digits_after = |p: &str| {
-        name.strip_prefix(p)
-            .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
-    };
-    if name.starts_with("CYCLE") {
-        format!(
-            "`{name}`: SINUMERIK's cycles are not read (no pass or infeed law of theirs is published); write the passes as G33 blocks"
-        )
-    } else if digits_after("R") {
-        format!("`{name}`: R parameters are not read")
-    } else if matches!(name, "DEF" | "DEFINE") {
-        format!("`{name}`: variables are not read")
-    } else if matches!(
-        name,
-        "GOTO"
-            | "GOTOF"
-            | "GOTOB"
-            | "GOTOC"
-            | "IF"
-            | "ELSE"
-            | "ENDIF"
-            | "WHILE"
-            | "ENDWHILE"
-            | "LOOP"
-            | "ENDLOOP"
-            | "FOR"
-            | "ENDFOR"
-            | "REPEAT"
-            | "UNTIL"
-            | "CASE"
-    ) {
-        format!("`{name}`: program jumps and loops are not read")
-    } else if name == "L" || digits_after("L") {
-        format!("`{text}`: subprogram calls are not read")
-    } else if matches!(name, "CHF" | "CHR" | "RND" | "RNDM") {
-        format!(
-            "`{name}`: chamfer and rounding words are not read (where the corner goes depends on the next block's path)"
-        )
-    } else if matches!(name, "DIAM90" | "DIAMCYCOF") {
-        format!("`{name}`: only DIAMON and DIAMOF are read")
-    } else if name.len() == 1 {
-        format!("address `{name}` is not read (`{text}`)")
-    } else {
-        format!("`{name}` is not read")
-    }
 }
 
 impl FrontEnd<'_> {
@@ -742,13 +677,51 @@ impl FrontEnd<'_> {
                 Some(w) => Some(self.whole(line, w, "a tool number")?),
                 None => None,
             };
-            let offset = match d {
-                Some(w) => Some(self.whole(line, w, "a cutting edge (D) number")?),
+            let edge = match d {
+                Some(w) => Some((self.whole(line, w, "a cutting edge (D) number")?, w)),
                 None => None,
             };
+            let offset = self.cutting_edge(line, number, edge)?;
+            self.tool = number.or(self.tool);
             self.r.push(ItemKind::Tool { number, offset }, span, None);
         }
         self.spindle_words(line, words, switches, span)
+    }
+
+    /// The offset a T/D pair selects: D is a cutting edge of the tool (the SINUMERIK 808D
+    /// manual: "If a D word is not written, D1 is automatically effective. If D0 is
+    /// programmed, the offsets for the tool are ineffective"), so D1 (or none, after T) is
+    /// the tool's own offset and D0 none; another edge has no equivalent in the IR's offsets.
+    fn cutting_edge(
+        &mut self,
+        line: Line<'_>,
+        number: Option<u32>,
+        edge: Option<(u32, &Word)>,
+    ) -> Option<Option<u32>> {
+        let tool = number.or(self.tool);
+        match (edge, tool) {
+            (None, _) => Some(number),
+            (Some((0, _)), _) => Some(Some(0)),
+            (Some((1, _)), Some(t)) => Some(Some(t)),
+            (Some((d, w)), _) => {
+                let message = match tool {
+                    Some(t) => format!(
+                        "`D{d}`: cutting edge {d} of tool {t}; ncthread reads a tool's first edge (D1) and D0 (offsets off), as other controls' offsets hold one edge per tool"
+                    ),
+                    None => {
+                        format!("`D{d}` before any tool: its cutting edge is of the tool in use")
+                    }
+                };
+                self.error(
+                    codes::SINR_UNSUPPORTED,
+                    line,
+                    w.range.clone(),
+                    message,
+                    "program each edge as a tool of its own (T with D1) in the source",
+                );
+                None
+            }
+        }
     }
 
     fn spindle_words(
@@ -1489,5 +1462,6 @@ impl FrontEnd<'_> {
     }
 }
 
+mod names;
 #[cfg(test)]
 mod tests;
