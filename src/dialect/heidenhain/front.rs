@@ -29,6 +29,7 @@ use crate::ir::{
 };
 use crate::lower;
 use crate::source::{Line, SourceFile, Span};
+use names::{KNOWN_G, LETTERS, refused_g, refused_letter};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Motion {
@@ -70,6 +71,8 @@ struct FrontEnd<'a> {
     rpm: Option<u32>,
     /// The last motion was a G33.
     after_thread: bool,
+    /// M30 ended the program, and no ENDE/END has followed yet.
+    m30: bool,
     /// The unstated machine settings already reported (one error each is enough).
     reported: Vec<&'static str>,
 }
@@ -92,6 +95,7 @@ pub(crate) fn read(
         speed_mode_said: false,
         rpm: None,
         after_thread: false,
+        m30: false,
         reported: Vec::new(),
     };
     let mut first = true;
@@ -186,20 +190,7 @@ impl FrontEnd<'_> {
             }
         };
         if self.section == Section::Ended {
-            if block.words.is_empty() {
-                if let Some(c) = block.comment.clone() {
-                    let span = self.span(line, whole);
-                    self.r.push(ItemKind::Comment(c), span, block.number);
-                }
-            } else {
-                let span = self.span(line, block.code_range.clone());
-                self.r.after_end(
-                    codes::HEIR_AFTER_END,
-                    span,
-                    "blocks after the program's end (ENDE, END) are not run and not converted",
-                    "remove them, or move the end to after them",
-                );
-            }
+            self.after_end(line, &block, whole);
             return;
         }
         let first = self.r.items.len();
@@ -217,10 +208,37 @@ impl FrontEnd<'_> {
         }
         self.r
             .stamp_block(first, block.number, block.comment.clone(), span, false);
+        // M30 ends the program: the blocks after it are not run (ENDE closes it).
+        if self.r.ends_program(first) {
+            self.section = Section::Ended;
+            self.m30 = true;
+        }
+    }
+
+    /// A line after the program's end: a comment is kept, a block warned of.
+    fn after_end(&mut self, line: Line<'_>, block: &Block, whole: Range<usize>) {
+        if block.words.is_empty() {
+            if let Some(c) = block.comment.clone() {
+                let span = self.span(line, whole);
+                self.r.push(ItemKind::Comment(c), span, block.number);
+            }
+        } else {
+            let span = self.span(line, block.code_range.clone());
+            self.r.after_end(
+                codes::HEIR_AFTER_END,
+                span,
+                "blocks after the program's end (M30, ENDE, END) are not run and not converted",
+                "remove them, or move the end to after them",
+            );
+        }
     }
 
     fn section_line(&mut self, line: Line<'_>, section: &'static str, whole: Range<usize>) {
         if self.section == Section::Ended {
+            // The end section after M30 closes the program as it should.
+            if std::mem::take(&mut self.m30) && matches!(section, "ENDE" | "END") {
+                return;
+            }
             let span = self.span(line, whole);
             self.r.after_end(
                 codes::HEIR_AFTER_END,
@@ -270,54 +288,6 @@ struct Words<'b> {
 impl<'b> Words<'b> {
     fn get(&self, name: &str) -> Option<&'b Word> {
         self.letters.iter().copied().find(|w| w.name == name)
-    }
-}
-
-/// The addresses a block may hold besides G and M.
-const LETTERS: &[&str] = &[
-    "X", "XI", "Z", "ZI", "I", "K", "R", "F", "B", "P", "C", "H", "E", "S", "T",
-];
-
-/// The G codes the reader reads.
-const KNOWN_G: &[i64] = &[0, 1, 2, 3, 4, 12, 13, 26, 33, 40, 94, 95, 96, 97];
-
-/// Why a G code is not read.
-fn refused_g(g: u32) -> &'static str {
-    match g {
-        31 => {
-            "G31 (thread cycle): its passes' infeed, flank offset and start order are published as prose only; ncthread reads it under no model yet"
-        }
-        32 | 35 => "thread cycles are not read; write the passes as G33 blocks",
-        36 | 37 => "tapping is not read",
-        41 | 42 => {
-            "cutter radius compensation is not read (its radius and tip are in the tool's data, which the program does not state)"
-        }
-        14 => {
-            "the tool change point (G14) is the machine's position, which the program does not state"
-        }
-        51 | 53..=56 | 59 => "zero point shifts are not read",
-        701 => "moves in machine coordinates are not read",
-        800..=899 => "contour cycles are not read (their passes follow the contour sections)",
-        352 => "the API thread cycle (G352) is not read",
-        _ => "it is not a G code ncthread reads in a HEIDENHAIN DIN program",
-    }
-}
-
-/// What an address the reader does not read is, for its refusal.
-fn refused_letter(w: &Word) -> String {
-    match w.name.as_str() {
-        "BR" | "BE" | "RB" => format!(
-            "`{}`: chamfer and rounding words are not read (where the corner goes depends on the next block's path)",
-            w.name
-        ),
-        "AN" | "Q" | "A" => format!(
-            "`{}`: a move given by its angle or intersection is not read",
-            w.name
-        ),
-        "ID" => "`ID`: a tool's name belongs in the turret table".into(),
-        "L" => "`L`: subprogram calls are not read".into(),
-        "D" => "`D`: a dwell in revolutions (G4 D) is not read".into(),
-        name => format!("address `{name}` is not read"),
     }
 }
 
@@ -1493,5 +1463,6 @@ fn word_of(motion: Option<Motion>, name: &str) -> bool {
     }
 }
 
+mod names;
 #[cfg(test)]
 mod tests;

@@ -100,6 +100,16 @@ fn increments_arcs_sections_and_the_end() {
     );
     let (_, d) = read_with("G0 X1 Z1\nENDE\nG0 X2\n", &full());
     assert_eq!(codes_of(&d), ["HEIR009"]);
+    // M30 ends the program: a block after it is not run; the ENDE after it is its close.
+    let (p, d) = read_with("G0 X1 Z1\nM30\nM30\nENDE\n", &full());
+    assert_eq!(codes_of(&d), ["HEIR009"]);
+    let ends = p
+        .items
+        .iter()
+        .filter(|i| matches!(i.kind, ItemKind::ProgramEnd(_)));
+    assert_eq!(ends.count(), 1);
+    let (_, d) = read_with("G0 X1 Z1\nM30\nENDE\n", &full());
+    assert!(d.is_empty(), "{d:?}");
     let _ = Profile::default();
 }
 
