@@ -7,6 +7,7 @@
 use std::ops::Range;
 
 use crate::diag::{Code, Diagnostic};
+use crate::fixed::Length;
 use crate::ir::{DialectId, Item, ItemKind, ModalContext, Pos, Program};
 use crate::source::{Line, SourceFile, Span};
 
@@ -331,6 +332,72 @@ impl<'a> Reader<'a> {
     ) {
         self.diags
             .push(Diagnostic::new(code, message).at(self.src, span).help(help));
+    }
+
+    /// Whether an arc `name` (`G2`) from `start` to `end` ((X diameter, Z)) around `centre`
+    /// ends on its circle (within 0.002 mm) with a radius; else the error `code` at `span`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn arc_on_circle(
+        &mut self,
+        code: Code,
+        span: Span,
+        name: &str,
+        start: (Length, Length),
+        end: (Length, Length),
+        centre: (Length, Length),
+        help: &str,
+    ) -> Option<()> {
+        let (r1, r2) = crate::lower::arc::radii(start, end, centre);
+        if r1 < 0.001 || r2 < 0.001 || (r1 - r2).abs() > 0.002 {
+            self.error(
+                code,
+                span,
+                format!(
+                    "{name}'s end is not on its circle, or its radius is zero: {} mm at the start, {} mm at the end",
+                    Length::from_mm_f64(r1).mm(),
+                    Length::from_mm_f64(r2).mm()
+                ),
+                help,
+            );
+            return None;
+        }
+        Some(())
+    }
+
+    /// The centre of the arc of signed `radius` (negative beyond half a circle) from `start`
+    /// to `end`; when the radius is too short for the chord, the error `code` at `span`, the
+    /// radius word `text`'s.
+    #[allow(clippy::too_many_arguments)]
+    pub fn centre_of_radius(
+        &mut self,
+        code: Code,
+        span: Span,
+        text: &str,
+        start: (Length, Length),
+        end: (Length, Length),
+        radius: Length,
+        clockwise: bool,
+    ) -> Option<Pos> {
+        match crate::lower::arc::centre_from_radius(
+            start,
+            end,
+            radius.to_mm_f64(),
+            clockwise,
+            0.001,
+        ) {
+            Ok(c) => Some(c),
+            Err(chord) => {
+                self.error(
+                    code,
+                    span,
+                    format!(
+                        "`{text}` is too small for the arc: its end is {chord:.4} mm from its start"
+                    ),
+                    "the radius must be at least half the distance from the start to the end",
+                );
+                None
+            }
+        }
     }
 
     /// A syntax error at the character that starts at byte `offset` of `line`.

@@ -230,6 +230,68 @@ pub(crate) fn on_micron_grid(inexact: &mut Inexact, span: Span, what: &str, v: L
     rounded
 }
 
+/// A feed or a lead on the 0.0001 mm grid (its rounding noted in `inexact`, as the drift it
+/// causes over `travel`); `None` after the error `code` when it rounds to nothing.
+pub(crate) fn lead_on_grid(
+    w: &mut Writer<'_>,
+    inexact: &mut Inexact,
+    code: Code,
+    span: Span,
+    what: &str,
+    (lead, travel): (Lead, Length),
+) -> Option<Lead> {
+    let (units, exact) = lead.in_units(4);
+    let written = Lead::from_units(units, 4);
+    if written.0 <= 0 {
+        w.error(
+            code,
+            span,
+            format!(
+                "{what} {} mm rounds to 0 in the program's 0.0001 mm",
+                lead.mm()
+            ),
+            "a feed or a lead needs a value the control can hold",
+        );
+        return None;
+    }
+    if !exact {
+        let drift = lead.drift(written, travel);
+        inexact.note_lead(span, what, lead, drift, Length::from_steps(1));
+    }
+    Some(written)
+}
+
+/// The one diagnostic of a program's values off a `control`'s grid of 0.001 mm (leads and
+/// feeds 0.0001 mm): the warning `rounded` (its help `rounded_help`) with `--round`, else the
+/// error `refused`.
+pub(crate) fn grid_diagnostic(
+    inexact: &mut Inexact,
+    src: &SourceFile,
+    round: bool,
+    control: &str,
+    (rounded, refused): (Code, Code),
+    rounded_help: &str,
+) -> Option<Diagnostic> {
+    inexact.diagnostic(
+        src,
+        round,
+        |s| {
+            Diagnostic::new(
+                rounded,
+                format!("{} value(s) rounded to the {control} program's grid (0.001 mm, leads and feeds 0.0001 mm), the first {}; the largest deviation is {} mm", s.count, s.what, s.largest),
+            )
+            .help(rounded_help)
+        },
+        |s| {
+            Diagnostic::new(
+                refused,
+                format!("{} is finer than the {control} program's {} mm ({} value(s) in this program are; lengths take 3 decimals, leads and feeds 4)", s.what, s.grid, s.count),
+            )
+            .help(format!("pass --round to round them (largest deviation {} mm, for a lead its drift at the thread's end)", s.largest))
+        },
+    )
+}
+
 /// A line of a cycle written out ([`Writer::cycle_steps`]).
 pub(crate) enum CycleStep {
     Comment(String),

@@ -180,23 +180,13 @@ impl Emitter<'_> {
     }
 
     fn closing_diagnostics(&mut self, src: &SourceFile) {
-        let summary = self.inexact.diagnostic(
+        let summary = write::grid_diagnostic(
+            &mut self.inexact,
             src,
             self.round,
-            |s| {
-                Diagnostic::new(
-                    codes::HEIW_ROUNDED,
-                    format!("{} value(s) rounded to the HEIDENHAIN program's grid (0.001 mm, leads and feeds 0.0001 mm), the first {}; the largest deviation is {} mm", s.count, s.what, s.largest),
-                )
-                .help("a thread's start rounded onto the grid keeps its helix: its C moves with it")
-            },
-            |s| {
-                Diagnostic::new(
-                    codes::HEIW_PRECISION,
-                    format!("{} is finer than the HEIDENHAIN program's {} mm ({} value(s) in this program are; lengths take 3 decimals, leads and feeds 4)", s.what, s.grid, s.count),
-                )
-                .help(format!("pass --round to round them (largest deviation {} mm, for a lead its drift at the thread's end)", s.largest))
-            },
+            "HEIDENHAIN",
+            (codes::HEIW_ROUNDED, codes::HEIW_PRECISION),
+            "a thread's start rounded onto the grid keeps its helix: its C moves with it",
         );
         self.w.diags.extend(summary);
         let ascii = self
@@ -308,26 +298,15 @@ impl Emitter<'_> {
 
     /// A feed or a lead on the 0.0001 mm grid.
     fn four(&mut self, item: &Item, what: &str, lead: Lead, travel: Length) -> Option<Lead> {
-        let (units, exact) = lead.in_units(4);
-        let written = Lead::from_units(units, 4);
-        if written.0 <= 0 {
-            self.diag(
-                codes::HEIW_PRECISION,
-                item,
-                format!(
-                    "{what} {} mm rounds to 0 in the program's 0.0001 mm",
-                    lead.mm()
-                ),
-                "a feed or a lead needs a value the control can hold",
-            );
-            return None;
-        }
-        if !exact {
-            let drift = lead.drift(written, travel);
-            self.inexact
-                .note_lead(item.span, what, lead, drift, Length::from_steps(1));
-        }
-        Some(written)
+        let code = codes::HEIW_PRECISION;
+        write::lead_on_grid(
+            &mut self.w,
+            &mut self.inexact,
+            code,
+            item.span,
+            what,
+            (lead, travel),
+        )
     }
 
     /// `F`, with `G94`/`G95` before it after a change of mode (F is their parameter).

@@ -27,7 +27,6 @@ use crate::ir::{
     Coolant, EndCode, FeedMode, ItemKind, Pos, Program, SpindleDirection, SpindleMode, SyncStart,
     ThreadPass,
 };
-use crate::lower;
 use crate::source::{Line, SourceFile, Span};
 use names::{KNOWN_G, LETTERS, refused_g, refused_letter};
 
@@ -1092,23 +1091,16 @@ impl FrontEnd<'_> {
         (ex, ez): (Length, Length),
         centre: Pos,
     ) -> Option<()> {
-        let (cx, cz) = centre.known()?;
-        let (r1, r2) = lower::arc::radii((sx, sz), (ex, ez), (cx, cz));
-        if r1 < 0.001 || r2 < 0.001 || (r1 - r2).abs() > 0.002 {
-            self.error(
-                codes::HEIR_ARC,
-                line,
-                whole,
-                format!(
-                    "{code}'s end is not on its circle, or its radius is zero: {} mm at the start, {} mm at the end",
-                    Length::from_mm_f64(r1).mm(),
-                    Length::from_mm_f64(r2).mm()
-                ),
-                "check I and K (I a radius value)",
-            );
-            return None;
-        }
-        Some(())
+        let span = self.span(line, whole);
+        self.r.arc_on_circle(
+            codes::HEIR_ARC,
+            span,
+            code,
+            (sx, sz),
+            (ex, ez),
+            centre.known()?,
+            "check I and K (I a radius value)",
+        )
     }
 
     /// The centre of an arc of radius `R` (up to half a circle).
@@ -1133,28 +1125,17 @@ impl FrontEnd<'_> {
             );
             return None;
         }
-        match lower::arc::centre_from_radius(
+        let span = self.span(line, w.range.clone());
+        let text = &line.text[w.range.clone()];
+        self.r.centre_of_radius(
+            codes::HEIR_ARC,
+            span,
+            text,
             (sx, sz),
             (ex, ez),
-            radius.to_mm_f64(),
+            radius,
             clockwise,
-            0.001,
-        ) {
-            Ok(c) => Some(c),
-            Err(chord) => {
-                self.error(
-                    codes::HEIR_ARC,
-                    line,
-                    w.range.clone(),
-                    format!(
-                        "`{}` is too small for the arc: its end is {chord:.4} mm from its start",
-                        &line.text[w.range.clone()]
-                    ),
-                    "the radius must be at least half the distance from the start to the end",
-                );
-                None
-            }
-        }
+        )
     }
 
     /// The centre from I (a radius value) and K: from the arc's `start` (G2/G3), or absolute

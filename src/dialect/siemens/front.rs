@@ -21,7 +21,6 @@ use crate::ir::{
     Compensation, Coolant, EndCode, FeedMode, ItemKind, Pos, Program, SpindleDirection,
     SpindleMode, SyncStart, ThreadPass,
 };
-use crate::lower;
 use crate::source::{Line, SourceFile, Span};
 use names::{LETTERS, refused_g, refused_name};
 
@@ -1265,22 +1264,16 @@ impl FrontEnd<'_> {
                 Pos::new(sx + iv + iv, sz + kv)
             }
         };
-        let (cx, cz) = centre.known()?;
-        let (r1, r2) = lower::arc::radii((sx, sz), (ex, ez), (cx, cz));
-        if r1 < 0.001 || r2 < 0.001 || (r1 - r2).abs() > 0.002 {
-            self.error(
-                codes::SINR_ARC,
-                line,
-                whole,
-                format!(
-                    "{code}'s end is not on its circle, or its radius is zero: {} mm at the start, {} mm at the end",
-                    Length::from_mm_f64(r1).mm(),
-                    Length::from_mm_f64(r2).mm()
-                ),
-                "check I and K (increments from the arc's start, I a radius value)",
-            );
-            return None;
-        }
+        let span = self.span(line, whole);
+        self.r.arc_on_circle(
+            codes::SINR_ARC,
+            span,
+            code,
+            (sx, sz),
+            (ex, ez),
+            centre.known()?,
+            "check I and K (increments from the arc's start, I a radius value)",
+        )?;
         Some((to, centre))
     }
 
@@ -1305,22 +1298,17 @@ impl FrontEnd<'_> {
             );
             return None;
         }
-        match lower::arc::centre_from_radius((sx, sz), (ex, ez), r.to_mm_f64(), clockwise, 0.001) {
-            Ok(c) => Some(c),
-            Err(chord) => {
-                self.error(
-                    codes::SINR_ARC,
-                    line,
-                    w.range.clone(),
-                    format!(
-                        "`{}` is too small for the arc: its end is {chord:.4} mm from its start",
-                        &line.text[w.range.clone()]
-                    ),
-                    "the radius must be at least half the distance from the start to the end",
-                );
-                None
-            }
-        }
+        let span = self.span(line, w.range.clone());
+        let text = &line.text[w.range.clone()];
+        self.r.centre_of_radius(
+            codes::SINR_ARC,
+            span,
+            text,
+            (sx, sz),
+            (ex, ez),
+            r,
+            clockwise,
+        )
     }
 
     /// A G33's lead K, where the block is one ncthread reads: no I, no chain, no G96.

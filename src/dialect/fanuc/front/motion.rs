@@ -762,27 +762,16 @@ impl FrontEnd<'_> {
             );
             return None;
         }
-        match lower::arc::centre_from_radius(
+        let span = self.span(line, w.range.clone());
+        self.r.centre_of_radius(
+            codes::FANR_ARC,
+            span,
+            text,
             (sx, sz),
             (ex, ez),
-            radius.to_mm_f64(),
+            radius,
             clockwise,
-            0.001,
-        ) {
-            Ok(c) => Some(c),
-            Err(chord) => {
-                self.error(
-                    codes::FANR_ARC,
-                    line,
-                    w.range.clone(),
-                    format!(
-                        "`{text}` is too small for the arc: its end is {chord:.4} mm from its start"
-                    ),
-                    "the radius must be at least half the distance from the start to the end",
-                );
-                None
-            }
-        }
+        )
     }
 }
 
