@@ -62,6 +62,7 @@ pub mod explain;
 pub mod files;
 #[doc(hidden)]
 pub mod fixed;
+pub mod frontend;
 pub mod ir;
 #[doc(hidden)]
 pub mod legalise;
@@ -72,6 +73,9 @@ pub mod profile;
 pub mod sim;
 pub mod source;
 pub mod text;
+
+/// The crate's version, as Cargo.toml gives it.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 
 use diag::Diagnostic;
 pub use dialect::{DialectId, Unsupported};

@@ -61,17 +61,7 @@ pub(crate) fn render(
     if format == DiagnosticsFormat::Json {
         return diag::render_all(diags, Format::Json, false);
     }
-    let (kept, hidden) = diag::cap(diags, max_errors);
-    let mut text = String::new();
-    for d in kept {
-        text.push_str(&d.render(color));
-        text.push_str("\n\n");
-    }
-    for (file, count) in hidden {
-        text.push_str(&diag::more_errors(&file, count));
-        text.push('\n');
-    }
-    text
+    ncthread::frontend::render_diagnostics(diags, max_errors, color)
 }
 
 /// Diagnostics on stderr (see [`render`]).
@@ -140,31 +130,11 @@ pub(crate) fn decode_source(
     encoding: Option<TextEncoding>,
     profile: &Profile,
 ) -> (SourceFile, DialectId, ncthread::text::Decoded) {
-    let mut decoded = ncthread::text::decode_program(
-        bytes,
-        from.known(),
-        encoding,
-        Some(std::path::Path::new(&name)),
-    );
-    // Which variant of the dialect it reads the program in, where the dialect has some.
-    let variant = decoded
-        .detection
-        .as_ref()
-        .and_then(|d| ncthread::dialect::get(d.dialect).auto_note(profile))
-        .map_or(String::new(), |v| format!(", {v}"));
-    match decoded.detection.as_ref() {
-        Some(d) if !d.certain => note(format!(
-            "ncthread: --from auto: reading {name} as {} ({}){variant}; give --from to be sure",
-            d.dialect, d.reason
-        )),
-        Some(d) if !variant.is_empty() => note(format!(
-            "ncthread: --from auto: reading {name} as {}{variant}",
-            d.dialect
-        )),
-        _ => {}
+    let read = ncthread::frontend::read(name, bytes, from.known(), encoding);
+    if let Some(text) = read.auto_note(profile, false) {
+        note(format!("ncthread: {text}"));
     }
-    let text = std::mem::take(&mut decoded.text);
-    (SourceFile::new(name, text), decoded.dialect, decoded)
+    (read.src, read.from, read.decoded)
 }
 
 /// The note of a legacy encoding chosen from a file's bytes (printed), or its refusal.

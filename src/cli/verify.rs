@@ -93,51 +93,18 @@ fn find_interpreter() -> Result<ncthread::sim::rs274::Interpreter, Fatal> {
     })
 }
 
-/// A segment of a difference as the verdict prints it.
-fn segment_text(s: &Option<ncthread::sim::Segment>) -> String {
-    s.map_or("(nothing: the program has ended)".to_string(), |s| {
-        s.to_text()
-    })
-}
-
 /// The verdict's first lines and the exit code it gives.
 fn verdict(outcome: &Outcome, sides: &Sides) -> (String, ExitCode) {
-    let Sides {
-        src,
-        from,
-        other,
-        to,
-    } = sides;
-    match outcome {
-        Outcome::Equivalent {
-            segments,
-            deviation,
-            tolerance,
-        } => (
-            format!(
-                "equivalent: {} ({from}) and {other} ({to}) make the same motion ({segments} segments after normalising; largest deviation {} mm; tolerance {} mm, 0.01°)\n",
-                src.name,
-                deviation.mm(),
-                tolerance.mm()
-            ),
-            ExitCode::SUCCESS,
-        ),
-        Outcome::Different(d) => (
-            format!(
-                "DIFFERENT: {}\n  {} ({from}): {}\n  {other} ({to}): {}\n  first difference: {d}\n",
-                d.what,
-                src.name,
-                segment_text(&d.left),
-                segment_text(&d.right),
-            ),
-            ExitCode::from(1),
-        ),
-        Outcome::Refused => (
-            "not verified: a program could not be read or converted (see the errors above)\n"
-                .to_string(),
-            ExitCode::from(1),
-        ),
-    }
+    let (text, passes) =
+        ncthread::frontend::verdict(outcome, sides.src, sides.from, &sides.other, sides.to);
+    (
+        text,
+        if passes {
+            ExitCode::SUCCESS
+        } else {
+            ExitCode::from(1)
+        },
+    )
 }
 
 /// The SVG of `--plot`: both motions, and the first difference marked.
@@ -187,8 +154,8 @@ fn oracle_line(check: &OracleCheck, text: &mut String) -> bool {
                 "rs274 DISAGREES: {}: {}\n  ncthread: {}\n  LinuxCNC: {}\n",
                 check.what,
                 d.what,
-                segment_text(&d.left),
-                segment_text(&d.right)
+                ncthread::frontend::segment_text(&d.left),
+                ncthread::frontend::segment_text(&d.right)
             ));
             false
         }

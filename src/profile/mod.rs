@@ -54,6 +54,11 @@ use crate::source::{SourceFile, Span};
 
 pub(crate) mod value;
 
+/// Every key of a profile with its values and defaults, as a commented TOML file (README's
+/// "Machine profile" block, which a test keeps equal to it): the help of the browser page's
+/// profile editor.
+pub const KEYS: &str = include_str!("keys.toml");
+
 pub use crate::dialect::czech::profile::{
     AngleSource, Constant8, CzechArcs, CzechDwell, CzechProfile, InitialMotion,
 };
@@ -209,6 +214,23 @@ mod tests {
 
     fn load(text: &str) -> Result<Profile, Vec<Diagnostic>> {
         Profile::from_toml(&SourceFile::new("p.toml", text))
+    }
+
+    #[test]
+    fn the_keys_help_is_readmes_block_and_a_profile() {
+        let readme = include_str!("../../README.md");
+        assert!(
+            readme.contains("## Machine profile") && readme.contains(KEYS),
+            "README's profile block and src/profile/keys.toml differ"
+        );
+        // Every key it shows reads (a key it names but the reader refuses would mislead).
+        let src = SourceFile::new("keys.toml", KEYS);
+        if let Err(diags) = Profile::from_toml(&src) {
+            panic!(
+                "{}",
+                crate::diag::render_all(&diags, crate::diag::Format::Human, false)
+            );
+        }
     }
 
     #[test]
