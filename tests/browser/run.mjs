@@ -228,6 +228,35 @@ const fromButton = await openPage(buttonLink);
 compare(`${G31} → fanuc (Share button)`, await shown(fromButton), G31, "fanuc");
 await fromButton.close();
 
+// Files dropped on the page, in legacy encodings: decoded from their bytes as the CLI decodes
+// them, and written back in the encoding the CLI writes.
+const LEGACY = ["corpus/czech/windows-1250.nc", "corpus/nc31/pc-archive-cp866-crlf.nc"];
+await page.evaluate(() => {
+  const s = window.ncthreadPage.state;
+  s.programs.length = 0;
+  s.current = -1;
+  document.getElementById("profile-clear").click();
+});
+const dropped = await page.evaluateHandle(
+  (files) => {
+    const dt = new DataTransfer();
+    for (const f of files) dt.items.add(new File([new Uint8Array(f.bytes)], f.name));
+    return dt;
+  },
+  LEGACY.map((p) => ({ name: basename(p), bytes: [...readFileSync(join(root, p))] })),
+);
+await page.dispatchEvent("body", "drop", { dataTransfer: dropped });
+await page.waitForFunction((n) => window.ncthreadPage.state.programs.length === n, LEGACY.length);
+for (const [i, program] of LEGACY.entries()) {
+  await page.click(`#tabs button:nth-child(${i + 1})`);
+  for (const t of ["iso", program.includes("czech") ? "czech" : "nc31"]) {
+    await page.selectOption("#to", t);
+    compare(`${program} → ${t} (dropped)`, await shown(page), program, t);
+  }
+  const text = await page.$eval("#source", (e) => e.value);
+  check(/[^\x00-\x7f]/.test(text) && !text.includes("\ufffd"), `${program}: the page shows its text decoded`);
+}
+
 // A diagnostic's location is a link to its line in the source.
 await page.setInputFiles("#files", [join(root, "corpus/czech/ex6-entry-param.nc")]);
 await page.selectOption("#to", "iso");
@@ -254,7 +283,7 @@ check(plotted, "the G31 program is plotted");
 check(/operation 1: G31/.test(explained) || explained.includes("pass"), "the G31 program is explained");
 check(verdict.startsWith("equivalent:"), `the G31 program verifies: ${verdict}`);
 if (screenshot) {
-  await fresh.screenshot({ path: screenshot, fullPage: false });
+  await fresh.screenshot({ path: screenshot, fullPage: true });
   console.log(`screenshot: ${screenshot}`);
 }
 await fresh.close();
