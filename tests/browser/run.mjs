@@ -271,6 +271,21 @@ if (link) {
   check(selected.length > 0 && lineText.endsWith(selected), `the link selects line ${line} (${JSON.stringify(selected)})`);
 }
 
+// A bad profile: its diagnostic (the CLI's PF001) links to the line in the profile editor.
+await page.evaluate(() => {
+  const p = document.getElementById("profile");
+  p.value = "[czech]\nbogus = 1\n";
+  p.dispatchEvent(new Event("input"));
+});
+await page.waitForFunction(() => document.getElementById("note").textContent.includes("has errors"));
+const profileLink = await page.$("#diagnostics a.line-link");
+check(profileLink !== null && (await profileLink.textContent()) === "profile.toml:2:1", "a profile's diagnostic names its line");
+if (profileLink) {
+  await profileLink.click();
+  const selected = await page.$eval("#profile", (e) => e.value.slice(e.selectionStart, e.selectionEnd));
+  check(selected === "bogus = 1", `a profile's diagnostic selects its line in the profile (${JSON.stringify(selected)})`);
+}
+
 // The first conversion of the seed G31 program on a freshly loaded page.
 const fresh = await openPage(`${origin}/`);
 await fresh.setInputFiles("#files", [join(root, G31)]);

@@ -302,7 +302,10 @@
         a.textContent = `${at[2]}:${at[3]}:${at[4]}`;
         a.addEventListener("click", (e) => {
           e.preventDefault();
-          showLine(Number(at[3]), Number(at[4]));
+          // A profile's diagnostic points into the profile, any other into the program.
+          const inProfile = at[2] === (state.profileName || "profile.toml") && $("profile").value.trim() !== "";
+          if (inProfile) $("profile-pane").open = true;
+          showLine(inProfile ? $("profile") : $("source"), Number(at[3]), Number(at[4]));
         });
         pre.append(a, "\n");
       } else if (level && (level[1] === "error" || level[1] === "warning")) {
@@ -317,9 +320,8 @@
     while (pre.lastChild && /^\n*$/.test(pre.lastChild.textContent)) pre.lastChild.remove();
   }
 
-  /** Selects line `line` (1-based) at `column` of the source and scrolls it into view. */
-  function showLine(line, column) {
-    const source = $("source");
+  /** Selects line `line` (1-based) from `column` of a text field and scrolls it into view. */
+  function showLine(source, line, column) {
     const lines = source.value.split("\n");
     let start = 0;
     for (let i = 0; i < line - 1 && i < lines.length; i++) start += lines[i].length + 1;
