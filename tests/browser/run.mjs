@@ -257,6 +257,18 @@ for (const [i, program] of LEGACY.entries()) {
   check(/[^\x00-\x7f]/.test(text) && !text.includes("\ufffd"), `${program}: the page shows its text decoded`);
 }
 
+// The Examples menu: each example (a corpus program with its sidecar profile) converts as
+// the CLI converts that file.
+const examples = await page.$$eval("#examples option", (os) => os.slice(1).map((o) => [o.value, o.textContent]));
+check(examples.length >= 6, `the page offers ${examples.length} examples`);
+for (const [value, name] of examples) {
+  const program = spawnSync("git", ["ls-files", `corpus/*/${name}`], { cwd: root }).stdout.toString().trim().split("\n")[0];
+  await page.selectOption("#examples", value);
+  await page.waitForFunction((n) => window.ncthreadPage.state.programs[window.ncthreadPage.state.current]?.name === n, name);
+  await page.selectOption("#to", "iso");
+  compare(`example ${program} → iso`, await shown(page), program, "iso");
+}
+
 // A diagnostic's location is a link to its line in the source.
 await page.setInputFiles("#files", [join(root, "corpus/czech/ex6-entry-param.nc")]);
 await page.selectOption("#to", "iso");
@@ -318,7 +330,7 @@ const outside = requests.filter(
   (u) => !(u.startsWith(origin + "/") || u.startsWith(pathToFileURL(web).href + "/") || u.startsWith("blob:") || u.startsWith("data:")),
 );
 check(outside.length === 0, `requests outside the page's folder: ${outside.join(", ")}`);
-const foreign = served.filter((p) => !["/", "/index.html", "/style.css", "/app.js", "/ncthread.js", "/ncthread-wasm.js"].includes(p.split("?")[0]));
+const foreign = served.filter((p) => !["/", "/index.html", "/style.css", "/app.js", "/ncthread.js", "/ncthread-wasm.js", "/examples.js"].includes(p.split("?")[0]));
 check(foreign.length === 0, `the server was asked for files the page does not have: ${foreign.join(", ")}`);
 check(pageErrors.length === 0, `errors in the page: ${pageErrors.join("; ")}`);
 

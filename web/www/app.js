@@ -80,6 +80,26 @@
     profileChanged();
   }
 
+  // The examples (examples.js: corpus programs with their profiles).
+  for (const [i, [name]] of (window.NCTHREAD_EXAMPLES || []).entries()) {
+    $("examples").add(new Option(name, String(i)));
+  }
+  $("examples").addEventListener("change", (e) => {
+    const example = (window.NCTHREAD_EXAMPLES || [])[Number(e.target.value)];
+    e.target.value = "";
+    if (!example) return;
+    const [name, program, profileName, profile] = example;
+    setProfile(profileName, new TextDecoder().decode(base64Bytes(profile)), false);
+    addProgram(name, base64Bytes(program));
+  });
+
+  function base64Bytes(text) {
+    const raw = atob(text);
+    const bytes = new Uint8Array(raw.length);
+    for (let i = 0; i < raw.length; i++) bytes[i] = raw.charCodeAt(i);
+    return bytes;
+  }
+
   // ---- programs -------------------------------------------------------------------------
 
   function addProgram(name, bytes) {
