@@ -177,6 +177,13 @@ pub fn occurrences(program: &Program) -> Vec<Occurrence> {
             ItemKind::Compensation(c) if *c != crate::ir::Compensation::Off => {
                 found.push((Construct::CutterCompensation, None))
             }
+            // A G41/G42 kept as written in a cycle's contour.
+            ItemKind::Opaque { block: Some(c), .. } if c.compensation => {
+                found.push((Construct::CutterCompensation, None))
+            }
+            ItemKind::ModelCycle(m) if m.context.compensation => {
+                found.push((Construct::CutterCompensation, None))
+            }
             ItemKind::WorkOffset(n) if *n != 1 => found.push((Construct::WorkOffset, None)),
             ItemKind::MachineMove(_) => found.push((Construct::MachineCoordinates, None)),
             ItemKind::Dwell { .. } => found.push((Construct::Dwell, None)),

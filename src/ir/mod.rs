@@ -99,6 +99,9 @@ pub struct ModalContext {
     /// reader read and checked, kept as written because no machine model says its moves: not
     /// an unsupported block kept under `--unsupported warn`.
     pub cycle: bool,
+    /// The kept block turns tool nose radius compensation on (a G41/G42 in a cycle's
+    /// contour): a target must be able to say compensation to keep it.
+    pub compensation: bool,
 }
 
 impl ModalContext {

@@ -106,7 +106,8 @@ pub fn translate(fanuc: &str, calculator: bool) -> Result<String, String> {
         let mut now: Vec<String> = Vec::new();
         let mut after: Vec<String> = Vec::new();
         let moves = ['X', 'Z', 'U', 'W'].iter().any(|&c| get(c).is_some());
-        if !matches!(gs.as_slice(), [] | [_] | [_, _] | [_, _, _]) {
+        // A Haas heading (`G18 G21 G40 G80 G97 G99`) has six, one of each group.
+        if gs.len() > 6 {
             return Err(format!("too many G codes: {line}"));
         }
         let mut dwell = false;
@@ -132,6 +133,9 @@ pub fn translate(fanuc: &str, calculator: bool) -> Result<String, String> {
                     limit = get('S');
                 }
                 40 => now.push("G40".into()),
+                // The lathe plane, and no canned cycle: LinuxCNC's lathe starts in both.
+                18 => now.push("G18".into()),
+                80 => now.push("G80".into()),
                 54..=59 => now.push(format!("G{g}")),
                 70..=76 | 90 | 94 | 28 | 30 | 53 => {
                     return Err(format!(

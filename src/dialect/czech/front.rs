@@ -293,6 +293,7 @@ impl<'a> FrontEnd<'a> {
             // The reader cannot tell: positions after the block are unknown.
             moves: true,
             cycle: false,
+            compensation: false,
         };
         self.r
             .keep_opaque(code.to_string(), code_span, None, context);

@@ -739,8 +739,9 @@ impl Emitter<'_> {
     fn spindle_mode(&mut self, item: &Item, mode: &SpindleMode, block: &mut Block) -> bool {
         match mode {
             // While the spindle stands, a G97 needs no S: nothing runs at the rpm the
-            // control keeps, and the next start says its S (the reader reads it back).
-            SpindleMode::Rpm if !self.turning && self.surface_speed => {
+            // control keeps, and the next start says its S (the reader reads it back). So
+            // too before any speed (`G18 G20 G40 G80 G97 G99` heading a program).
+            SpindleMode::Rpm if !self.turning && (self.surface_speed || self.speed.is_none()) => {
                 self.surface_speed = false;
                 block.words.push("G97".into());
                 self.speed_unsaid = true;

@@ -602,6 +602,7 @@ impl FrontEnd<'_> {
                 per_minute: Some(self.per_minute),
                 moves: true,
                 cycle: false,
+                compensation: false,
             },
         );
         self.sync_end = None;

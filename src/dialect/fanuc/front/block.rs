@@ -345,6 +345,7 @@ impl FrontEnd<'_> {
                     per_minute: Some(self.per_minute),
                     moves: !still,
                     cycle: false,
+                    compensation: false,
                 },
             );
             self.sync_end = None;

@@ -439,6 +439,7 @@ impl FrontEnd<'_> {
                 per_minute: Some(self.per_minute),
                 moves,
                 cycle: true,
+                compensation: turns_compensation_on(block),
             },
         );
         self.sync_end = None;
@@ -655,6 +656,14 @@ impl FrontEnd<'_> {
             );
         }
     }
+}
+
+/// Whether a kept block says G41 or G42 (tool nose radius compensation on).
+pub(super) fn turns_compensation_on(block: &Block) -> bool {
+    block
+        .words
+        .iter()
+        .any(|w| w.letter == 'G' && !w.value.has_point && matches!(w.value.to_whole(), Ok(41 | 42)))
 }
 
 #[cfg(test)]

@@ -198,6 +198,7 @@ impl FrontEnd<'_> {
                 per_minute: Some(self.per_minute),
                 moves: !moves.is_empty(),
                 cycle: true,
+                compensation: super::cycles::turns_compensation_on(block),
             },
             code: format!("G{g}"),
             facing,

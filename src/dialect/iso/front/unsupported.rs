@@ -310,6 +310,7 @@ impl FrontEnd<'_> {
             per_minute: Some(self.feed_mode != Some(FeedMode::PerRev)),
             moves: may_move(line, block),
             cycle: false,
+            compensation: false,
         };
         let text = line.text.trim().to_string();
         self.r

@@ -133,6 +133,7 @@ impl FrontEnd<'_> {
             // The reader cannot tell: positions after the block are unknown.
             moves: true,
             cycle: false,
+            compensation: false,
         };
         self.r
             .keep_opaque(text, span, frames[0].frame.number, context);
