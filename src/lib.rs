@@ -48,8 +48,9 @@
 //! ```
 //!
 //! The modules a user needs are [`diag`], [`dialect`] (ids and the capability tables),
-//! [`ir`], [`profile`], [`source`], [`sim`], [`explain`], [`plot`], [`batch`] and
-//! [`text`] (decoding legacy encodings). `fixed`, `files`, `legalise` and `lower` are the
+//! [`ir`], [`profile`], [`source`], [`sim`], [`explain`], [`plot`], [`batch`],
+//! [`text`] (decoding legacy encodings) and [`frontend`] (a program's bytes read as the CLI
+//! reads them, and its diagnostics and verdict as the CLI prints them). `fixed`, `files`, `legalise` and `lower` are the
 //! implementation, public only for the crate's own tests, benchmarks and binary: they are
 //! hidden from the documentation and may change without notice.
 
