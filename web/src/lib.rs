@@ -65,7 +65,7 @@ struct Request<'a> {
 /// A program read for a request, with its profile and the options of its conversion.
 struct Ready {
     read: Read,
-    profile: Profile,
+    /// The conversion's options, the profile among them.
     options: ConvertOptions,
     /// What `--from auto` chose, and why.
     note: Option<String>,
@@ -130,13 +130,12 @@ fn ready(r: &Request) -> Result<Ready, Stop> {
     let note = read.auto_note(&profile, true);
     let options = ConvertOptions {
         round: r.round,
-        profile: profile.clone(),
+        profile,
         unsupported: Unsupported::Error,
         ..ConvertOptions::new(read.from, to)
     };
     Ok(Ready {
         read,
-        profile,
         options,
         note,
         diagnostics,
@@ -278,6 +277,7 @@ pub fn look(
         name,
         bytes,
         from,
+        // Explain and plot read the program only: any target will do.
         to: "iso",
         profile_name,
         profile,
@@ -293,12 +293,12 @@ pub fn look(
 fn looked(r: Ready, operation: usize) -> Value {
     let Ready {
         read,
-        profile,
+        options,
         note,
         mut diagnostics,
-        ..
     } = r;
-    let (program, mut parsed) = ncthread::parse(&read.src, read.from, &profile, Unsupported::Error);
+    let (program, mut parsed) =
+        ncthread::parse(&read.src, read.from, &options.profile, Unsupported::Error);
     diagnostics.append(&mut parsed);
     diag::sort(&mut diagnostics);
     if diag::has_errors(&diagnostics) {

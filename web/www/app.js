@@ -9,14 +9,14 @@
   const loadStart = performance.now();
   const wasm = wasm_bindgen;
 
-  /** The bytes of the WebAssembly module, from its base64 text (ncthread-wasm.js). */
-  function wasmBytes() {
-    const text = atob(NCTHREAD_WASM);
-    const bytes = new Uint8Array(text.length);
-    for (let i = 0; i < text.length; i++) bytes[i] = text.charCodeAt(i);
+  /** The bytes of base64 text (the module in ncthread-wasm.js, the examples, share links). */
+  function base64Bytes(text) {
+    const raw = atob(text);
+    const bytes = new Uint8Array(raw.length);
+    for (let i = 0; i < raw.length; i++) bytes[i] = raw.charCodeAt(i);
     return bytes;
   }
-  wasm.initSync({ module: wasmBytes() });
+  wasm.initSync({ module: base64Bytes(NCTHREAD_WASM) });
 
   const DIALECTS = JSON.parse(wasm.dialects());
   const state = {
@@ -93,12 +93,6 @@
     addProgram(name, base64Bytes(program));
   });
 
-  function base64Bytes(text) {
-    const raw = atob(text);
-    const bytes = new Uint8Array(raw.length);
-    for (let i = 0; i < raw.length; i++) bytes[i] = raw.charCodeAt(i);
-    return bytes;
-  }
 
   // ---- programs -------------------------------------------------------------------------
 
@@ -363,10 +357,7 @@
   }
 
   function fromBase64Url(text) {
-    const raw = atob(text.replace(/-/g, "+").replace(/_/g, "/"));
-    const bytes = new Uint8Array(raw.length);
-    for (let i = 0; i < raw.length; i++) bytes[i] = raw.charCodeAt(i);
-    return bytes;
+    return base64Bytes(text.replace(/-/g, "+").replace(/_/g, "/"));
   }
 
   async function pipe(bytes, stream) {
