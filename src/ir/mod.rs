@@ -663,6 +663,14 @@ pub enum ItemKind {
         code: u32,
         machine: DialectId,
     },
+    /// An M code whose action the machine's builder (or integrator) defines, and which
+    /// moves no axis: a FANUC builder's code the profile names in `still_m_codes` (a chip
+    /// conveyor), LinuxCNC's user M100–M199. Its number, and the machine (dialect) whose
+    /// code it is.
+    MachineCode {
+        code: u32,
+        machine: DialectId,
+    },
     FeedMode(FeedMode),
     ProgramEnd(EndCode),
     /// A comment on a line of its own.
@@ -716,6 +724,12 @@ pub enum ItemKind {
     /// A block of a canned cycle under the profile's declared machine model: kept as written
     /// for its own dialect, its moves for every other target ([`crate::lower::unroll`]).
     ModelCycle(Box<ModelCycle>),
+}
+
+/// How a target that cannot say another machine's own M code ([`ItemKind::MachineCode`])
+/// names it in the comment it writes instead.
+pub fn machine_code_note(code: u32, machine: DialectId) -> String {
+    format!("M{code}: the {machine} machine's own M code")
 }
 
 impl ItemKind {

@@ -21,7 +21,7 @@
 //! repeat_g25 = false            # read (unroll) `G25 *`, `P<from><to> *`, `P<count>`
 //!
 //! [iso]
-//! mcodes = { 42 = "M142" }      # legacy M codes → LinuxCNC M words
+//! mcodes = { 42 = "M142" }      # other machines' M codes → LinuxCNC user M words
 //! tool_change = "m6"            # "m6" writes `T9 M6`, "t" writes `T9` alone
 //!
 //! [fanuc]
@@ -255,6 +255,9 @@ mod tests {
         assert_eq!(e[0].code, codes::PF_CONSTANT8);
         assert_eq!(e[0].location.as_ref().unwrap().line, 3);
         let e = load("[iso]\nmcodes = { 42 = \"G1\" }\n").unwrap_err();
+        assert_eq!(e[0].code, crate::dialect::iso::codes::ISOW_BAD_MAPPING);
+        // Only a user M code: M3 would start the spindle.
+        let e = load("[iso]\nmcodes = { 42 = \"M3\" }\n").unwrap_err();
         assert_eq!(e[0].code, crate::dialect::iso::codes::ISOW_BAD_MAPPING);
     }
 

@@ -407,7 +407,7 @@ impl Interpreter {
             .map_err(|e| cannot(format!("cannot make a temporary folder: {e}")))?;
         let switch = switches(settings, dir.path())?;
         let file = dir.path().join("program.ngc");
-        std::fs::write(&file, as_lathe_starts(program))
+        std::fs::write(&file, as_lathe_starts(&without_user_m_codes(program)))
             .map_err(|e| cannot(format!("cannot write {}: {e}", file.display())))?;
         let tools = dir.path().join("tools.tbl");
         if let Interpreter::Binary(_) = self {
@@ -488,6 +488,56 @@ fn as_lathe_starts(program: &str) -> String {
     out.push_str("G18\n");
     out.push_str(rest);
     out
+}
+
+/// `program` without its user M codes (M100–M199), each word blanked out where it stands.
+/// On a machine LinuxCNC runs each as a program of its configuration (`USER_M_PATH`), which
+/// moves no axis; the standalone rs274 has no configuration and refuses them ("Unknown m
+/// code used"), and cannot take them as remaps either. Comments and `<…>` names are left as
+/// they are.
+fn without_user_m_codes(program: &str) -> std::borrow::Cow<'_, str> {
+    let bytes = program.as_bytes();
+    let mut blank: Vec<std::ops::Range<usize>> = Vec::new();
+    let (mut i, mut comment, mut name, mut line_comment) = (0, false, false, false);
+    while i < bytes.len() {
+        let b = bytes[i];
+        match b {
+            b'\n' => (comment, name, line_comment) = (false, false, false),
+            _ if line_comment => {}
+            b'(' if !name => comment = true,
+            b')' if comment => comment = false,
+            b';' if !comment && !name => line_comment = true,
+            b'<' if !comment => name = true,
+            b'>' if name => name = false,
+            b'M' | b'm' if !comment && !name => {
+                let mut end = i + 1;
+                while end < bytes.len() && matches!(bytes[end], b' ' | b'\t') {
+                    end += 1;
+                }
+                let digits = end;
+                while end < bytes.len() && bytes[end].is_ascii_digit() {
+                    end += 1;
+                }
+                let value: Option<u32> = program[digits..end].parse().ok();
+                let fraction = bytes.get(end) == Some(&b'.');
+                if value.is_some_and(|v| (100..=199).contains(&v)) && !fraction {
+                    blank.push(i..end);
+                }
+                i = end.max(i + 1);
+                continue;
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    if blank.is_empty() {
+        return std::borrow::Cow::Borrowed(program);
+    }
+    let mut out = program.as_bytes().to_vec();
+    for range in blank {
+        out[range].fill(b' ');
+    }
+    std::borrow::Cow::Owned(String::from_utf8(out).unwrap_or_else(|_| program.to_string()))
 }
 
 /// The switches of an rs274 run with `settings`: `-b` for the block delete switch, and
@@ -994,6 +1044,21 @@ fn without_rapid_to_rs274_start(mut segments: Vec<Segment>) -> Vec<Segment> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The judge runs a program without its user M codes (the standalone rs274 has no
+    /// configuration to run them), and leaves every other M code, comment and name alone.
+    #[test]
+    fn user_m_codes_are_blanked_for_the_judge() {
+        let program = "M131\nG0 X1 m 142 (M150)\nM3 M99 M200 M131.5 ; M110\no<m120> call\n";
+        assert_eq!(
+            without_user_m_codes(program),
+            "    \nG0 X1       (M150)\nM3 M99 M200 M131.5 ; M110\no<m120> call\n"
+        );
+        assert!(matches!(
+            without_user_m_codes("G0 X1\n"),
+            std::borrow::Cow::Borrowed(_)
+        ));
+    }
 
     /// A G92 offset set in millimetres stays those millimetres after G20: LinuxCNC's canon
     /// layer holds it in the machine's units, and rs274 prints the later moves in inches

@@ -469,6 +469,9 @@ impl Emitter<'_> {
                 block.words.extend(offset.map(|d| format!("D{d}")));
             }
             ItemKind::GearRange { code: m, machine } => self.gear_range(item, *m, *machine, block),
+            ItemKind::MachineCode { code, machine } => {
+                self.as_comment(item, block, &crate::ir::machine_code_note(*code, *machine))
+            }
             ItemKind::FeedMode(FeedMode::PerRev) => block.words.push("G95".into()),
             ItemKind::FeedMode(FeedMode::PerMin) => block.words.push("G94".into()),
             ItemKind::ProgramEnd(end) => {

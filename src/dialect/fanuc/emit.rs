@@ -645,6 +645,14 @@ impl Emitter<'_> {
                     &format!("M{code}: gear range of the source machine"),
                 );
             }
+            // The same machine's builder code, back in its block.
+            ItemKind::MachineCode {
+                code,
+                machine: super::ID,
+            } => block.words.push(format!("M{code:02}")),
+            ItemKind::MachineCode { code, machine } => {
+                self.as_comment(item, block, &crate::ir::machine_code_note(*code, *machine));
+            }
             ItemKind::FeedMode(mode) => self.feed_mode(*mode, block),
             ItemKind::ProgramEnd(EndCode::M2) => block.words.push("M02".into()),
             ItemKind::ProgramEnd(EndCode::M30) => block.words.push("M30".into()),

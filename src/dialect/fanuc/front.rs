@@ -50,7 +50,7 @@ const BUILDER: UnsupportedWording = UnsupportedWording {
 
 /// The machine builder's M codes the profile says move no axis (`still_m_codes`).
 const BUILDER_STILL: UnsupportedWording = UnsupportedWording {
-    keep_help: "kept as written in its block: a FANUC output says it, another control's output refuses it; the profile says it moves no axis (`still_m_codes`)",
+    keep_help: "the profile says it moves no axis (`still_m_codes`): a FANUC output writes it back; a LinuxCNC output writes the M word the profile's `[iso] mcodes` maps it to, and every other output a comment",
     ..UNSUPPORTED
 };
 

@@ -427,6 +427,7 @@ impl Emitter<'_> {
             }
             ItemKind::Tool { number, offset } => self.tool(*number, *offset, next),
             ItemKind::GearRange { code: m, .. } => self.gear_range(item, *m),
+            ItemKind::MachineCode { code, machine } => self.machine_code(item, *code, *machine),
             ItemKind::FeedMode(FeedMode::PerRev) => self.line("G95"),
             ItemKind::FeedMode(FeedMode::PerMin) => self.line("G94"),
             ItemKind::ProgramEnd(EndCode::M2) => self.line("M2"),
@@ -571,21 +572,45 @@ impl Emitter<'_> {
 
     /// A gear range: its M code as the profile maps it, else a comment (and why).
     fn gear_range(&mut self, item: &Item, m: u32) {
-        match self.profile.iso.mcodes.get(&m) {
-            Some(word) => {
-                let word = word.clone();
-                self.line(&word);
-            }
-            None => {
-                self.line(&format!("(M{m}: gear range, not converted)"));
-                self.diag(
-                codes::ISOW_MCODE,
+        self.mapped_mcode(item, m, "selects a gear range", "gear range");
+    }
+
+    /// A machine's own M code: LinuxCNC's user M code as it is, another machine's as the
+    /// profile maps it, else a comment (and why). It moves no axis either way.
+    fn machine_code(&mut self, item: &Item, m: u32, machine: DialectId) {
+        if machine == super::ID {
+            self.line(&format!("M{m}"));
+        } else {
+            let what = format!("is the {machine} machine's own M code (it moves no axis)");
+            self.mapped_mcode(
                 item,
-                format!("M{m} selects a gear range; LinuxCNC has no such M code, so it is written as a comment"),
-                format!("map it in the profile if the machine needs it: [iso] mcodes = {{ {m} = \"M1{m:02}\" }}"),
+                m,
+                &what,
+                &format!("the {machine} machine's own M code"),
             );
-            }
         }
+    }
+
+    /// Another machine's M code `m`: the LinuxCNC M word the profile's `[iso] mcodes` maps
+    /// it to, else a comment naming it (`note`) and a warning saying what it `is`.
+    fn mapped_mcode(&mut self, item: &Item, m: u32, is: &str, note: &str) {
+        if let Some(word) = self.profile.iso.mcodes.get(&m) {
+            let word = word.clone();
+            self.line(&word);
+            return;
+        }
+        self.line(&format!("(M{m}: {note}, not converted)"));
+        let suggestion = if m < 100 {
+            format!("M1{m:02}")
+        } else {
+            "M100".to_string()
+        };
+        self.diag(
+            codes::ISOW_MCODE,
+            item,
+            format!("M{m} {is}; LinuxCNC has no such M code, so it is written as a comment"),
+            format!("map it in the profile if the machine needs it: [iso] mcodes = {{ {m} = \"{suggestion}\" }}"),
+        );
     }
 
     /// Another dialect's word or block ncthread keeps without modelling it: a comment,

@@ -9,7 +9,7 @@ use crate::source::SourceFile;
 
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct IsoProfile {
-    /// Source M code → the M word LinuxCNC should get instead (e.g. a user M code).
+    /// Another machine's M code → the user M code (M100–M199) LinuxCNC gets instead.
     pub mcodes: IndexMap<u32, String>,
     pub tool_change: ToolChange,
     /// The block delete switch the program runs with: lines that start with `/` are
@@ -72,9 +72,13 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut IsoProfile, diags: &mut V
     for (key, value) in raw.mcodes.unwrap_or_default() {
         let span = src.span_of(value.span());
         let word = value.into_inner();
+        // One of LinuxCNC's user M codes: any other M word has a meaning of LinuxCNC's own
+        // (M3 starts the spindle) that the source's code does not have.
         let valid_word = word
             .strip_prefix(['M', 'm'])
-            .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()));
+            .filter(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+            .and_then(|n| n.parse::<u32>().ok())
+            .is_some_and(|n| (100..=199).contains(&n));
         match key.trim_start_matches(['M', 'm']).parse::<u32>() {
             Ok(code) if valid_word => {
                 p.mcodes.insert(code, word.to_ascii_uppercase());
@@ -82,7 +86,7 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut IsoProfile, diags: &mut V
             _ => diags.push(
                 Diagnostic::new(codes::ISOW_BAD_MAPPING, format!("`{key} = \"{word}\"` is not an M code mapping"))
                     .at(src, span)
-                    .help("write the source M number as the key and one LinuxCNC M word as the value, e.g. `42 = \"M142\"`"),
+                    .help("write the source M number as the key and one of LinuxCNC's user M codes (M100–M199) as the value, e.g. `42 = \"M142\"`"),
             ),
         }
     }

@@ -490,6 +490,12 @@ impl Emitter<'_> {
             ItemKind::GearRange { code: m, machine } => {
                 self.gear_range(item, *m, *machine, group)
             }
+            ItemKind::MachineCode { code, machine } => self.not_written(
+                item,
+                &crate::ir::machine_code_note(*code, *machine),
+                "what it does is the source machine's; add the НЦ-31's own code by hand if the machine needs it",
+                group,
+            ),
             ItemKind::FeedMode(mode) => {
                 self.per_minute = *mode == FeedMode::PerMin;
             }

@@ -357,6 +357,7 @@ impl Emitter<'_> {
             | ItemKind::ParamAssign { .. }
             | ItemKind::Opaque { .. }
             | ItemKind::GearRange { .. }
+            | ItemKind::MachineCode { .. }
             | ItemKind::Delimiter => self.note(item, block),
             _ => return self.setting(item, block),
         }
@@ -500,6 +501,9 @@ impl Emitter<'_> {
                 block,
                 &format!("M{code}: gear range of the {machine} machine"),
             ),
+            ItemKind::MachineCode { code, machine } => {
+                self.as_comment(item, block, &crate::ir::machine_code_note(*code, *machine))
+            }
             _ => {}
         }
     }

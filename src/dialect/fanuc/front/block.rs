@@ -327,13 +327,27 @@ impl FrontEnd<'_> {
             .is_ok_and(|m| u32::try_from(m).is_ok_and(|m| self.profile.still_m_codes.contains(&m)))
     }
 
-    /// The machine builder's M codes of a block, kept as written after its other items (the
-    /// FANUC writer puts them back in its block); what they do is the machine's, so that
-    /// positions after them are unknown.
+    /// The machine builder's M codes of a block, after its other items (the FANUC writer
+    /// puts them back in its block). One the profile says moves no axis is the machine's
+    /// own code ([`ItemKind::MachineCode`]); any other is kept as written, and what it does
+    /// is the machine's, so that positions after it are unknown.
     fn builder_codes(&mut self, line: Line<'_>, codes: &[&Word]) {
         for w in codes {
             let still = self.still(w);
             let span = self.span(line, w.range.clone());
+            let code = w.value.to_whole().ok().and_then(|m| u32::try_from(m).ok());
+            if let Some(code) = code.filter(|_| still) {
+                self.push(
+                    ItemKind::MachineCode {
+                        code,
+                        machine: crate::dialect::fanuc::ID,
+                    },
+                    span,
+                );
+                self.sync_end = None;
+                self.moved = true;
+                continue;
+            }
             self.r.keep_opaque(
                 line.text[w.range.clone()].to_string(),
                 span,
@@ -343,7 +357,7 @@ impl FrontEnd<'_> {
                     diameter: true,
                     incremental: false,
                     per_minute: Some(self.per_minute),
-                    moves: !still,
+                    moves: true,
                     cycle: false,
                     compensation: false,
                 },

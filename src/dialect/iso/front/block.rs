@@ -106,6 +106,7 @@ impl FrontEnd<'_> {
         self.step_tool(b);
         self.step_spindle(b);
         self.step_coolant(b);
+        self.step_user_m(b);
         self.step_dwell(b);
         self.step_diameter_mode(b);
         self.step_kept(b);
@@ -330,6 +331,34 @@ impl FrontEnd<'_> {
         };
         self.switch(Switches::coolant_on, &switches);
         self.switch(Switches::coolant_off, &switches);
+    }
+
+    /// M100–M199: the machine's own code, which moves no axis. Its P and Q go to the
+    /// machine's program: not read.
+    fn step_user_m(&mut self, b: &mut Interp<'_, '_>) {
+        let Some((code, w)) = b.asks.user else {
+            return;
+        };
+        for letter in ['P', 'Q'] {
+            if let Some(arg) = b.words.take(letter) {
+                let text = &b.line.text[w.range.clone()];
+                self.diag(
+                    codes::ISOR_UNSUPPORTED,
+                    b.line,
+                    arg.range.clone(),
+                    format!("`{letter}` beside the user M code `{text}`: its value goes to the machine's program — not read by ncthread"),
+                    "write the user M code without P and Q, or keep the line out of the program ncthread converts",
+                );
+            }
+        }
+        let at = self.r.span(b.line, w.range.clone());
+        self.push(
+            ItemKind::MachineCode {
+                code,
+                machine: crate::dialect::iso::ID,
+            },
+            at,
+        );
     }
 
     /// G4 P: a dwell of P seconds, 0 or more.

@@ -92,6 +92,13 @@ pub(super) fn changes_followed_state(w: &Word) -> bool {
     }
 }
 
+/// LinuxCNC's user M codes, M100–M199: each runs the program of that name in the
+/// configuration's USER_M_PATH and waits for it; none moves an axis (LinuxCNC G-code
+/// documentation, "M100 to M199 User Defined Commands"). **\[evidence\]**
+pub(super) const USER_M_FIRST: i64 = 100;
+/// The last of LinuxCNC's user M codes.
+pub(super) const USER_M_LAST: i64 = 199;
+
 /// Whether a line kept opaque may move the machine: an axis word (or an expression for
 /// one), a code that moves or changes the coordinates, a G or M code ncthread does not know,
 /// or an O-word. A line of modes and path settings (`/G64 P0.01`) cannot.
@@ -139,10 +146,10 @@ pub(super) fn may_move(line: Line<'_>, block: &Block) -> bool {
                     | G99
             )
         }),
-        'M' => w
-            .value
-            .to_whole()
-            .map_or(true, |m| !matches!(m, 0..=5 | 7..=9)),
+        'M' => w.value.to_whole().map_or(
+            true,
+            |m| !matches!(m, 0..=5 | 7..=9 | USER_M_FIRST..=USER_M_LAST),
+        ),
         _ => false,
     })
 }
@@ -153,6 +160,8 @@ pub(super) fn m_meaning(code: i64) -> Meaning {
         0..=9 | 30 => Meaning::Known,
         // Saving and restoring the modal state: the macro runner's (`front/macros.rs`).
         70..=73 => Meaning::Known,
+        // The user's M codes: programs of the machine's configuration (USER_M_PATH).
+        USER_M_FIRST..=USER_M_LAST => Meaning::Known,
         _ => Meaning::Unsupported("this M code"),
     }
 }

@@ -80,7 +80,7 @@ const G_GROUPS: [(&str, &[GCode], &str); 13] = [
 ];
 
 /// LinuxCNC's M code groups (`read_m`), one code of each per line.
-const M_GROUPS: [(&str, &[i64], &str); 4] = [
+const M_GROUPS: [(&str, &[i64], &str); 5] = [
     (
         "stopping",
         &[0, 1, 2, 30, 60],
@@ -93,7 +93,19 @@ const M_GROUPS: [(&str, &[i64], &str); 4] = [
         &[7, 8, 9],
         "one of M7, M8, M9 per line (M7 and M8 on two lines)",
     ),
+    ("user", &USER_CODES, "one of M100–M199 per line"),
 ];
+
+/// M100–M199 ([`super::unsupported::USER_M_FIRST`] …), for [`M_GROUPS`].
+const USER_CODES: [i64; 100] = {
+    let mut codes = [0; 100];
+    let mut i = 0;
+    while i < 100 {
+        codes[i] = 100 + i as i64;
+        i += 1;
+    }
+    codes
+};
 
 /// What one block asks, one entry per modal group (LinuxCNC's `block_struct`): the group's
 /// code on the line, with its word where a step reports at it. [`FrontEnd::sort_words`] has
@@ -147,6 +159,8 @@ pub(super) struct Asks<'b> {
     pub(super) machine: Option<(GCode, &'b Word)>,
     /// M0, M1, M2, M30.
     pub(super) stop: Option<(i64, &'b Word)>,
+    /// M100–M199.
+    pub(super) user: Option<(u32, &'b Word)>,
 }
 
 impl<'b> Asks<'b> {
@@ -209,6 +223,12 @@ impl<'b> Asks<'b> {
                 .iter()
                 .find(|(c, _)| matches!(c, 0 | 1 | 2 | 30))
                 .copied(),
+            user: words.m.iter().find_map(|&(c, w)| {
+                use super::unsupported::{USER_M_FIRST, USER_M_LAST};
+                let user = (USER_M_FIRST..=USER_M_LAST).contains(&c);
+                user.then(|| u32::try_from(c).ok().map(|c| (c, w)))
+                    .flatten()
+            }),
         }
     }
 
