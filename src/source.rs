@@ -45,6 +45,11 @@ impl SourceFile {
         }
     }
 
+    /// How many lines the text has.
+    pub fn line_count(&self) -> usize {
+        self.line_starts.len()
+    }
+
     /// Every line, LF or CRLF endings removed.
     pub fn lines(&self) -> impl Iterator<Item = Line<'_>> {
         (0..self.line_starts.len()).map(|i| self.line(i as u32 + 1))

@@ -108,7 +108,7 @@ fn iso(part: usize, out: &mut String) {
          o{o} endwhile\n\
          G0 X60 Z50\n",
         x = d + 4,
-        o = 100 + part % 100,
+        o = 100 + part,
     );
 }
 

@@ -408,7 +408,9 @@ pub type ReadLine = Option<Result<Block, SyntaxError>>;
 /// long straight program is never held as parsed blocks (issue 19).
 pub struct FileRun<'s> {
     pub src: &'s SourceFile,
-    pub lines: Vec<Line<'s>>,
+    /// How many lines the file has (each taken from `src` when asked: a table of them
+    /// would take four times the text's line index).
+    line_count: usize,
     /// The lines read up front; `Some(None)`: the line holds a NUL.
     read: Vec<Option<Box<ReadLine>>>,
     /// Lines of blanks only (skipped) and bare `%` lines.
@@ -418,12 +420,27 @@ pub struct FileRun<'s> {
 }
 
 impl<'s> FileRun<'s> {
+    /// Line `i` (0-based) of the file.
+    pub fn line(&self, i: usize) -> Line<'s> {
+        self.src.line(u32::try_from(i + 1).unwrap_or(u32::MAX))
+    }
+
+    /// Line `i` (0-based), when the file has it.
+    pub fn get_line(&self, i: usize) -> Option<Line<'s>> {
+        (i < self.line_count).then(|| self.line(i))
+    }
+
+    /// How many lines the file has.
+    pub fn line_count(&self) -> usize {
+        self.line_count
+    }
+
     /// The program's closing `%` line, when its first line (not blank) is a `%`: LinuxCNC's
     /// file ends there, so nothing after it is ever read, a definition included.
     /// **\[evidence\]** LinuxCNC `interp_read.cc` (`read_text`: a `%` line under the
     /// percent flag is the end of the file).
     pub fn closing_percent(&self) -> Option<usize> {
-        let mut lines = (0..self.lines.len()).filter(|&i| !self.blank[i] || self.percent[i]);
+        let mut lines = (0..self.line_count).filter(|&i| !self.blank[i] || self.percent[i]);
         let first = lines.next()?;
         if !self.percent[first] {
             return None;
@@ -432,17 +449,20 @@ impl<'s> FileRun<'s> {
     }
 
     pub fn new(src: &'s SourceFile) -> FileRun<'s> {
-        let lines: Vec<Line<'s>> = src.lines().collect();
+        let line_count = src.line_count();
         let parse = |l: &Line<'_>| (!l.text.contains('\0')).then(|| syntax::parse_line(l.text));
-        let mut read: Vec<Option<Box<ReadLine>>> = lines
-            .iter()
-            .map(|l| {
-                l.text
-                    .bytes()
-                    .any(|b| b == b'o' || b == b'O')
-                    .then(|| Box::new(parse(l)))
-            })
-            .collect();
+        let code = |text: &'s str| text.bytes().filter(|b| !matches!(b, b' ' | b'\t' | b'\r'));
+        // One pass over the lines: what is read up front, the blank lines and the `%` lines.
+        let mut read: Vec<Option<Box<ReadLine>>> = Vec::with_capacity(line_count);
+        let mut blank: Vec<bool> = Vec::with_capacity(line_count);
+        let mut percent: Vec<bool> = Vec::with_capacity(line_count);
+        for l in src.lines() {
+            let oword = l.text.bytes().any(|b| b == b'o' || b == b'O');
+            read.push(oword.then(|| Box::new(parse(&l))));
+            blank.push(code(l.text).next().is_none());
+            let mut c = code(l.text);
+            percent.push(c.next() == Some(b'%') && c.next().is_none());
+        }
         let structure = {
             let refs: Vec<Option<&Block>> = read
                 .iter()
@@ -461,27 +481,14 @@ impl<'s> FileRun<'s> {
                 Flow::Do { close } => (*flow.0, close),
                 _ => continue,
             };
-            for i in start..=end.min(lines.len().saturating_sub(1)) {
-                if read[i].is_none() {
-                    read[i] = Some(Box::new(parse(&lines[i])));
-                }
+            let body = read.iter_mut().enumerate().skip(start).take((end + 1).saturating_sub(start));
+            for (i, line) in body.filter(|(_, r)| r.is_none()) {
+                *line = Some(Box::new(parse(&src.line(i as u32 + 1))));
             }
         }
-        let code = |text: &'s str| text.bytes().filter(|b| !matches!(b, b' ' | b'\t' | b'\r'));
-        let blank = lines
-            .iter()
-            .map(|l| code(l.text).next().is_none())
-            .collect();
-        let percent = lines
-            .iter()
-            .map(|l| {
-                let mut c = code(l.text);
-                c.next() == Some(b'%') && c.next().is_none()
-            })
-            .collect();
         FileRun {
             src,
-            lines,
+            line_count,
             read,
             blank,
             percent,
@@ -494,7 +501,7 @@ impl<'s> FileRun<'s> {
         match self.read.get(i) {
             Some(Some(b)) => std::borrow::Cow::Borrowed(&**b),
             _ => {
-                let text = self.lines.get(i).map_or("", |l| l.text);
+                let text = self.get_line(i).map_or("", |l| l.text);
                 std::borrow::Cow::Owned((!text.contains('\0')).then(|| syntax::parse_line(text)))
             }
         }
@@ -508,7 +515,7 @@ impl<'s> FileRun<'s> {
             return None;
         }
         let mut i = 0;
-        while i < self.lines.len() {
+        while i < self.line_count {
             if let Some(Flow::Sub { end }) = self.structure.flow.get(&i) {
                 i = end + 1;
                 continue;
@@ -529,7 +536,7 @@ impl<'s> FileRun<'s> {
         subs.sort();
         Some(
             subs.into_iter()
-                .map(|(line, name)| (name, self.src.line_span(self.lines[line])))
+                .map(|(line, name)| (name, self.src.line_span(self.line(line))))
                 .collect(),
         )
     }

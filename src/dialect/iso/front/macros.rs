@@ -247,8 +247,7 @@ impl OLine<'_, '_> {
         };
         // The argument with its brackets.
         let text = self.runs[self.file]
-            .lines
-            .get(self.at)
+            .get_line(self.at)
             .map_or("", |l| l.text);
         let (start, end) = (extra.range.start, extra.range.end);
         let start = text
@@ -280,7 +279,7 @@ impl OLine<'_, '_> {
     /// A `break` or `continue` of a `repeat` (the loop starting at line `start`), which
     /// LinuxCNC refuses when it reaches it.
     fn not_a_loop(&self, start: usize) -> StructureError {
-        let line = self.runs[self.file].lines[start].number;
+        let line = self.runs[self.file].line(start).number;
         self.error(
             self.o.range.clone(),
             format!(
@@ -328,8 +327,7 @@ impl OLine<'_, '_> {
             return Ok(());
         }
         let line = self.runs[place.0]
-            .lines
-            .get(place.1)
+            .get_line(place.1)
             .map_or(0, |l| l.number);
         Err(self.error(
             self.o.range.clone(),
@@ -981,7 +979,7 @@ impl FrontEnd<'_> {
         params.numbered[1..=30].copy_from_slice(&frame.saved);
         // M73 in the subroutine: its saved state comes back with the return.
         if let Some((saved, true)) = params.contexts.remove(&level) {
-            let line = l.runs[l.file].lines[l.at];
+            let line = l.runs[l.file].line(l.at);
             self.restore(line, o.range.clone(), &saved);
         }
         params.contexts.remove(&level);
@@ -1131,7 +1129,7 @@ impl FrontEnd<'_> {
     /// Names the call chain in the diagnostics made since `from` while a subroutine runs.
     pub(super) fn name_call_chain(&mut self, from: usize, params: &Params, runs: &[FileRun<'_>]) {
         let Some(chain) = params.chain(|file, line| {
-            let number = runs[file].lines[line].number;
+            let number = runs[file].line(line).number;
             if file == 0 {
                 format!("line {number}")
             } else {

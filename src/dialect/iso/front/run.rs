@@ -137,7 +137,7 @@ impl<'a> FrontEnd<'a> {
             for e in &run.structure.errors {
                 self.diag(
                     codes::ISOR_CONTROL,
-                    run.lines[e.line],
+                    run.line(e.line),
                     e.range.clone(),
                     e.message.clone(),
                     e.help,
@@ -146,12 +146,12 @@ impl<'a> FrontEnd<'a> {
         }
         self.r.src = src;
         let mut reported: Vec<Vec<bool>> =
-            runs.iter().map(|r| vec![false; r.lines.len()]).collect();
+            runs.iter().map(|r| vec![false; r.line_count()]).collect();
         for (f, run) in runs.iter().enumerate() {
             self.r.src = run.src;
-            for (i, line) in run.lines.iter().enumerate() {
+            for (i, line) in (0..run.line_count()).map(|i| (i, run.line(i))) {
                 if run.unreadable_up_front(i) && control::looks_like_oword(line.text) {
-                    self.report_unreadable(*line, &run.block(i));
+                    self.report_unreadable(line, &run.block(i));
                     reported[f][i] = true;
                 }
             }
@@ -164,12 +164,12 @@ impl<'a> FrontEnd<'a> {
     fn run(&mut self, src: &'a SourceFile, runs: &[FileRun<'a>], st: &mut Run) {
         loop {
             let run = &runs[st.f];
-            if st.pc >= run.lines.len() {
+            if st.pc >= run.line_count() {
                 // The program's last line; or an external file ends without its `endsub`:
                 // the structure check said so.
                 break;
             }
-            let line = run.lines[st.pc];
+            let line = run.line(st.pc);
             let here = st.pc;
             st.pc += 1;
             if std::env::var("RUNDBG").is_ok() {
@@ -203,7 +203,7 @@ impl<'a> FrontEnd<'a> {
         here: usize,
         end: &str,
     ) {
-        let line = run.lines[here];
+        let line = run.line(here);
         // A subroutine defined after the end is called from before it (LinuxCNC looks
         // ahead for it): its definition is no line after the end.
         if let Some(control::Flow::Sub { end }) = run.structure.flow.get(&here) {
@@ -258,7 +258,7 @@ impl<'a> FrontEnd<'a> {
         here: usize,
     ) -> ControlFlow<()> {
         let run = &runs[st.f];
-        let line = run.lines[here];
+        let line = run.line(here);
         let diags_before = self.r.diags.len();
         // Nothing looks back past the line being read.
         self.r.items.line_read();
@@ -292,7 +292,7 @@ impl<'a> FrontEnd<'a> {
             let call = st
                 .params
                 .program_call_line()
-                .map(|l| src.line_span(runs[0].lines[l]));
+                .map(|l| src.line_span(runs[0].line(l)));
             if let Some(span) = call {
                 for item in &mut self.r.items[items_before..] {
                     item.span = span;
@@ -353,13 +353,13 @@ impl<'a> FrontEnd<'a> {
                 st.pc = target;
                 st.iterations += 1;
                 if st.iterations > LOOP_LIMIT {
-                    return self.endless_loop(runs, st, run.lines[here], o, diags_before);
+                    return self.endless_loop(runs, st, run.line(here), o, diags_before);
                 }
             }
             Err(e) => {
                 self.diag(
                     codes::ISOR_CONTROL,
-                    run.lines[e.line],
+                    run.line(e.line),
                     e.range,
                     e.message,
                     e.help,
@@ -402,7 +402,7 @@ impl<'a> FrontEnd<'a> {
     ) -> ControlFlow<()> {
         let run = &runs[st.f];
         for i in lines {
-            let Some(&line) = run.lines.get(i) else { break };
+            let Some(line) = run.get_line(i) else { break };
             if st.reported[st.f][i] {
                 continue;
             }
@@ -485,7 +485,7 @@ impl<'a> FrontEnd<'a> {
         call: &OWord,
         diags_before: usize,
     ) -> ControlFlow<()> {
-        let line = runs[st.f].lines[here];
+        let line = runs[st.f].line(here);
         let level = st.params.frames.len();
         if let Some(c) = &mut self.contour {
             c.level = level;
