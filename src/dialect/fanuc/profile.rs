@@ -184,9 +184,10 @@ pub struct FanucProfile {
     pub nose_radius_in_offsets: bool,
     /// The machine has mist coolant on `M07`.
     pub mist: bool,
-    /// The machine builder's M codes that move no axis (a chip conveyor, a door): kept as
-    /// written like any builder's code, the position known after them. **\[decided\]** none:
-    /// an M code can call a macro.
+    /// The machine builder's M codes that move no axis (a chip conveyor, a door): the
+    /// machine's own codes (`ItemKind::MachineCode`), the position known after them, written
+    /// back for FANUC and as a comment (or `[iso] mcodes`'s word) elsewhere.
+    /// **\[decided\]** none: an M code can call a macro.
     pub still_m_codes: Vec<u32>,
     /// The G-code system the machine reads and ncthread writes.
     pub gcode_system: GcodeSystem,

@@ -98,7 +98,10 @@ pub const ISOW_UNKNOWN_START: Code = error(
     "ISOW003",
     "a move that needs an unknown start point (a thread pass's start angle, entry or runout; an arc's centre)",
 );
-pub const ISOW_BAD_MAPPING: Code = error("ISOW005", "profile M code mapping is not an M word");
+pub const ISOW_BAD_MAPPING: Code = error(
+    "ISOW005",
+    "profile M code mapping is not one of LinuxCNC's user M codes (M100–M199)",
+);
 pub const ISOW_INDEX_WAIT: Code = error(
     "ISOW006",
     "a pass that waits for the index pulse where another thread move ended (LinuxCNC would continue it)",

@@ -481,7 +481,11 @@ impl<'s> FileRun<'s> {
                 Flow::Do { close } => (*flow.0, close),
                 _ => continue,
             };
-            let body = read.iter_mut().enumerate().skip(start).take((end + 1).saturating_sub(start));
+            let body = read
+                .iter_mut()
+                .enumerate()
+                .skip(start)
+                .take((end + 1).saturating_sub(start));
             for (i, line) in body.filter(|(_, r)| r.is_none()) {
                 *line = Some(Box::new(parse(&src.line(i as u32 + 1))));
             }

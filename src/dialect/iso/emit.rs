@@ -572,7 +572,8 @@ impl Emitter<'_> {
 
     /// A gear range: its M code as the profile maps it, else a comment (and why).
     fn gear_range(&mut self, item: &Item, m: u32) {
-        self.mapped_mcode(item, m, "selects a gear range", "gear range");
+        let why = format!("M{m} selects a gear range; LinuxCNC has no such M code");
+        self.mapped_mcode(item, m, &why, "gear range");
     }
 
     /// A machine's own M code: LinuxCNC's user M code as it is, another machine's as the
@@ -581,34 +582,33 @@ impl Emitter<'_> {
         if machine == super::ID {
             self.line(&format!("M{m}"));
         } else {
-            let what = format!("is the {machine} machine's own M code (it moves no axis)");
-            self.mapped_mcode(
-                item,
-                m,
-                &what,
-                &format!("the {machine} machine's own M code"),
+            let why = format!(
+                "M{m} is the {machine} machine's own M code (it moves no axis), which no LinuxCNC M code says"
             );
+            let note = format!("the {machine} machine's own M code");
+            self.mapped_mcode(item, m, &why, &note);
         }
     }
 
     /// Another machine's M code `m`: the LinuxCNC M word the profile's `[iso] mcodes` maps
-    /// it to, else a comment naming it (`note`) and a warning saying what it `is`.
-    fn mapped_mcode(&mut self, item: &Item, m: u32, is: &str, note: &str) {
+    /// it to, else a comment naming it (`note`) and a warning saying `why`.
+    fn mapped_mcode(&mut self, item: &Item, m: u32, why: &str, note: &str) {
         if let Some(word) = self.profile.iso.mcodes.get(&m) {
             let word = word.clone();
             self.line(&word);
             return;
         }
         self.line(&format!("(M{m}: {note}, not converted)"));
+        // A user M code (M100–M199) of the same number where there is one.
         let suggestion = if m < 100 {
             format!("M1{m:02}")
         } else {
-            "M100".to_string()
+            "M1…".to_string()
         };
         self.diag(
             codes::ISOW_MCODE,
             item,
-            format!("M{m} {is}; LinuxCNC has no such M code, so it is written as a comment"),
+            format!("{why}, so it is written as a comment"),
             format!("map it in the profile if the machine needs it: [iso] mcodes = {{ {m} = \"{suggestion}\" }}"),
         );
     }

@@ -84,7 +84,7 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut IsoProfile, diags: &mut V
                 p.mcodes.insert(code, word.to_ascii_uppercase());
             }
             _ => diags.push(
-                Diagnostic::new(codes::ISOW_BAD_MAPPING, format!("`{key} = \"{word}\"` is not an M code mapping"))
+                Diagnostic::new(codes::ISOW_BAD_MAPPING, format!("`{key} = \"{word}\"` is not an M code mapping to one of LinuxCNC's user M codes (M100–M199)"))
                     .at(src, span)
                     .help("write the source M number as the key and one of LinuxCNC's user M codes (M100–M199) as the value, e.g. `42 = \"M142\"`"),
             ),

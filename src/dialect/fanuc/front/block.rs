@@ -203,7 +203,8 @@ impl FrontEnd<'_> {
         let builder = std::mem::take(&mut words.builder);
         if !words.unsupported.is_empty() {
             // A builder's M code (a chip conveyor, a door, a tailstock…) alone, outside a
-            // thread's block, is kept as written in every mode, and the block read.
+            // thread's block, is read in every mode (the machine's own code when it moves
+            // nothing, else kept as written), and the block read.
             if thread || builder.len() < words.unsupported.len() {
                 self.refuse_unsupported(line, block, words, thread);
                 return None;
@@ -344,8 +345,8 @@ impl FrontEnd<'_> {
                     },
                     span,
                 );
-                self.sync_end = None;
-                self.moved = true;
+                // It moves nothing: a G32 chain across it is refused as across any other
+                // block between (FANR012), and a G20/G21 may still follow.
                 continue;
             }
             self.r.keep_opaque(

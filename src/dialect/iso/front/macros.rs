@@ -326,9 +326,7 @@ impl OLine<'_, '_> {
         if place == here {
             return Ok(());
         }
-        let line = self.runs[place.0]
-            .get_line(place.1)
-            .map_or(0, |l| l.number);
+        let line = self.runs[place.0].get_line(place.1).map_or(0, |l| l.number);
         Err(self.error(
             self.o.range.clone(),
             format!(
