@@ -341,6 +341,33 @@ pub fn uses_crlf(text: &str) -> bool {
 /// in the input's encoding ends with the input's end-of-file mark, as the input did. A
 /// character the encoding lacks is an error located in the output (`output_name`), unless
 /// transliterated.
+/// [`encode_output`] of a text the caller is done with: where encoding changes nothing (LF
+/// endings, no end-of-file mark to add, and ASCII or UTF-8 out) its bytes are handed over
+/// without a copy, which for a large output is as much memory again.
+pub fn encode_output_owned(
+    text: String,
+    output_name: &str,
+    options: &OutputOptions,
+    input: &Input,
+) -> Result<Vec<u8>, Box<Diagnostic>> {
+    let crlf = match options.eol {
+        Eol::Keep => input.crlf,
+        Eol::Lf => false,
+        Eol::CrLf => true,
+    };
+    let encoding = options.encoding_for(input);
+    let eof_mark =
+        input.same_dialect && input.encoding == Some(encoding) && !input.eof_mark.is_empty();
+    let unchanged = !crlf
+        && !eof_mark
+        && !text.contains('\r')
+        && (encoding == TextEncoding::UTF_8 || text.is_ascii());
+    if unchanged {
+        return Ok(text.into_bytes());
+    }
+    encode_output(&text, output_name, options, input)
+}
+
 pub fn encode_output(
     text: &str,
     output_name: &str,
@@ -535,6 +562,59 @@ mod tests {
             encode_output("\"ROZTOČENÍ\n", "o", &t, &lf).unwrap(),
             b"\"ROZTOCEN\xCD\n"
         );
+    }
+
+    /// The owned form hands the bytes over where encoding changes nothing, and encodes
+    /// exactly as [`encode_output`] everywhere: every combination of the cases below.
+    #[test]
+    fn the_owned_form_encodes_as_the_borrowed_one() {
+        let texts = [
+            "A\nB\n",
+            "A\nB",
+            "\"ROZTOČENÍ\n",
+            "N1\r\nN2\n",
+            "Č\rX\n",
+            "",
+        ];
+        let encodings = [
+            None,
+            Some(TextEncoding::UTF_8),
+            Some(TextEncoding::Ibm852),
+            TextEncoding::for_label("us-ascii"),
+        ];
+        let inputs = [
+            Input::default(),
+            Input {
+                crlf: true,
+                ..Input::default()
+            },
+            Input {
+                crlf: false,
+                encoding: Some(TextEncoding::Ibm852),
+                eof_mark: b"\x1a".to_vec(),
+                same_dialect: true,
+            },
+        ];
+        for text in texts {
+            for encoding in encodings {
+                for eol in [Eol::Keep, Eol::Lf, Eol::CrLf] {
+                    for input in &inputs {
+                        let options = OutputOptions {
+                            encoding,
+                            eol,
+                            ..OutputOptions::default()
+                        };
+                        let borrowed = encode_output(text, "o", &options, input);
+                        let owned = encode_output_owned(text.to_string(), "o", &options, input);
+                        assert_eq!(
+                            borrowed.map_err(|d| d.message),
+                            owned.map_err(|d| d.message),
+                            "{text:?} {encoding:?} {eol:?} {input:?}"
+                        );
+                    }
+                }
+            }
+        }
     }
 
     #[test]

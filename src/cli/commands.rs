@@ -25,13 +25,13 @@ pub(crate) fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
         .common
         .options(from, args.to.into(), profile, &args.target);
     let mut conversion = ncthread::convert(&src, &options);
-    let bytes = conversion.output.as_ref().map(|output| {
+    let bytes = conversion.output.take().map(|output| {
         let name = args
             .output
             .as_ref()
             .filter(|_| !is_stdio(&args.output))
             .map_or("<stdout>".to_string(), |p| p.display().to_string());
-        ncthread::text::encode_output(output, &name, &args.output_format.options(), &input)
+        ncthread::text::encode_output_owned(output, &name, &args.output_format.options(), &input)
     });
     let bytes = match bytes {
         Some(Ok(b)) => Some(b),
