@@ -442,7 +442,11 @@ pub fn split_sign(text: &str) -> Option<(bool, &str)> {
 }
 
 /// A number exactly as written in a program: `-00120.000`, `26.618`, `12`, `.5`.
+///
+/// Packed to 8-byte alignment: an `i128` would align every IR item that holds one to 16
+/// bytes, and [`crate::ir::Item`] with it (112 bytes instead of 96).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[repr(C, packed(8))]
 pub struct Decimal {
     /// All digits as one integer, sign included (`-00120.000` → -120000).
     pub mantissa: i128,
