@@ -633,25 +633,11 @@ impl Emitter<'_> {
             ItemKind::SpindleStop => self.spindle_stop(block),
             ItemKind::SpindleMode(mode) => return self.spindle_mode(item, mode, block),
             ItemKind::Tool { number, offset } => self.tool(item, *number, *offset, block),
-            // The same machine's gear range: its M code.
-            ItemKind::GearRange {
-                code,
-                machine: super::ID,
-            } => block.words.push(format!("M{code}")),
-            ItemKind::GearRange { code, .. } => {
-                self.as_comment(
-                    item,
-                    block,
-                    &format!("M{code}: gear range of the source machine"),
-                );
+            ItemKind::GearRange { code, machine } => {
+                self.machine_m(item, *code, *machine, true, block)
             }
-            // The same machine's builder code, back in its block.
-            ItemKind::MachineCode {
-                code,
-                machine: super::ID,
-            } => block.words.push(format!("M{code:02}")),
             ItemKind::MachineCode { code, machine } => {
-                self.as_comment(item, block, &crate::ir::machine_code_note(*code, *machine));
+                self.machine_m(item, *code, *machine, false, block)
             }
             ItemKind::FeedMode(mode) => self.feed_mode(*mode, block),
             ItemKind::ProgramEnd(EndCode::M2) => block.words.push("M02".into()),
@@ -683,6 +669,26 @@ impl Emitter<'_> {
             ItemKind::FeedRate(feed) => self.feed_rate(*feed, block),
         }
         true
+    }
+
+    /// A machine's M code (a gear range, or a code of the machine's own): the same
+    /// machine's back in its block, another machine's as a comment.
+    fn machine_m(
+        &mut self,
+        item: &Item,
+        code: u32,
+        machine: crate::ir::DialectId,
+        gear: bool,
+        block: &mut Block,
+    ) {
+        if machine == super::ID {
+            block.words.push(format!("M{code:02}"));
+        } else if gear {
+            let text = format!("M{code}: gear range of the source machine");
+            self.as_comment(item, block, &text);
+        } else {
+            self.as_comment(item, block, &crate::ir::machine_code_note(code, machine));
+        }
     }
 
     /// A FANUC block kept as written. A cycle may leave another motion code (G90, G94) and F

@@ -487,15 +487,8 @@ impl Emitter<'_> {
             }
             ItemKind::SpindleStop => group.push("M5".into()),
             ItemKind::Tool { number, offset } => self.tool(item, *number, *offset, group),
-            ItemKind::GearRange { code: m, machine } => {
-                self.gear_range(item, *m, *machine, group)
-            }
-            ItemKind::MachineCode { code, machine } => self.not_written(
-                item,
-                &crate::ir::machine_code_note(*code, *machine),
-                "what it does is the source machine's; add the НЦ-31's own code by hand if the machine needs it",
-                group,
-            ),
+            ItemKind::GearRange { code, machine } => self.gear_range(item, *code, *machine, group),
+            ItemKind::MachineCode { code, machine } => self.own_m(item, *code, *machine, group),
             ItemKind::FeedMode(mode) => {
                 self.per_minute = *mode == FeedMode::PerMin;
             }
@@ -576,6 +569,16 @@ impl Emitter<'_> {
                 group,
             );
         }
+    }
+
+    /// Another machine's own M code: left out, and said.
+    fn own_m(&mut self, item: &Item, m: u32, machine: DialectId, group: &mut Vec<String>) {
+        self.not_written(
+            item,
+            &crate::ir::machine_code_note(m, machine),
+            "what it does is the source machine's; add the НЦ-31's own code by hand if the machine needs it",
+            group,
+        );
     }
 
     /// Frames kept from an НЦ-31 source as they were, renumbered: the source's frame
