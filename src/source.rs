@@ -3,13 +3,26 @@
 use std::ops::Range;
 
 /// Where something stands in a source file: 1-based line and column (in characters) and the
-/// byte range in the whole text.
+/// byte range in the whole text. The offsets are 32-bit (every IR item holds a span; a text
+/// past 4 GiB has its spans there cut at its 4 GiB mark, which no program reaches).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Span {
     pub line: u32,
     pub column: u32,
-    pub start: usize,
-    pub end: usize,
+    pub start: u32,
+    pub end: u32,
+}
+
+impl Span {
+    /// The byte range in the whole text.
+    pub fn range(&self) -> Range<usize> {
+        self.start as usize..self.end as usize
+    }
+}
+
+/// A byte offset of a text as a span holds it.
+pub fn offset32(offset: usize) -> u32 {
+    u32::try_from(offset).unwrap_or(u32::MAX)
 }
 
 /// One program text with its name (a path, or `<stdin>`).
@@ -91,8 +104,8 @@ impl SourceFile {
         Span {
             line: line.number,
             column,
-            start: line.offset + start,
-            end: line.offset + end,
+            start: offset32(line.offset + start),
+            end: offset32(line.offset + end),
         }
     }
 
@@ -148,7 +161,7 @@ mod tests {
         let x = line.text.find('X').unwrap();
         let span = src.span_in_line(line, x..x + 2);
         assert_eq!((span.line, span.column), (1, 5));
-        assert_eq!(span.start, x);
+        assert_eq!(span.range().start, x);
         assert_eq!(src.span_of(x..x + 2), span);
         // A range inside a multi-byte character widens to the whole character.
         let accented = SourceFile::new("t", "é X");

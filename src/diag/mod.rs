@@ -85,10 +85,12 @@ impl Diagnostic {
     pub fn at(mut self, src: &SourceFile, span: Span) -> Diagnostic {
         let line = src.line(span.line);
         let text = line.text;
+        let range = span.range();
         let start =
-            text.floor_char_boundary(span.start.saturating_sub(line.offset).min(text.len()));
+            text.floor_char_boundary(range.start.saturating_sub(line.offset).min(text.len()));
         let end = text.ceil_char_boundary(
-            span.end
+            range
+                .end
                 .saturating_sub(line.offset)
                 .clamp(start, text.len()),
         );

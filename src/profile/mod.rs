@@ -202,7 +202,7 @@ fn key_on_line(src: &SourceFile, span: Span) -> Option<String> {
     let line = src.line(span.line);
     let (key, _) = line.text.split_once('=')?;
     let key = key.trim();
-    (span.start >= line.offset + key.len() && !key.is_empty() && !key.starts_with('['))
+    (span.range().start >= line.offset + key.len() && !key.is_empty() && !key.starts_with('['))
         .then(|| key.to_string())
 }
 

@@ -556,7 +556,8 @@ impl<'a> FrontEnd<'a> {
 }
 
 fn code_span_range(line: Line<'_>, span: Span) -> Range<usize> {
-    (span.start - line.offset)..(span.end - line.offset)
+    let range = span.range();
+    range.start.saturating_sub(line.offset)..range.end.saturating_sub(line.offset)
 }
 
 #[cfg(test)]

@@ -242,7 +242,8 @@ impl<'a> FrontEnd<'a> {
         let first = &frames[0];
         let mut span = self.span(first, first.frame.code_range.clone());
         if let Some(last) = frames.last() {
-            span.end = self.r.src.line(last.line).offset + last.frame.code_range.end;
+            let end = self.r.src.line(last.line).offset + last.frame.code_range.end;
+            span.end = crate::source::offset32(end);
         }
         span
     }

@@ -777,8 +777,9 @@ impl FrontEnd<'_> {
 
 /// The byte range in `line` of a span on it.
 fn code_range_of(line: Line<'_>, span: Span) -> Range<usize> {
-    let start = span.start.saturating_sub(line.offset).min(line.text.len());
-    let end = span
+    let range = span.range();
+    let start = range.start.saturating_sub(line.offset).min(line.text.len());
+    let end = range
         .end
         .saturating_sub(line.offset)
         .min(line.text.len())
