@@ -298,6 +298,8 @@ fn iso_line() -> impl Strategy<Value = Vec<String>> {
         2 => prop::sample::select(vec![
             "M7", "M8", "M9", "M0", "M1", "G96 D2500 S200", "G97 S800", "G40", "G41", "G42",
             "G54", "G55", "G28", "G53 G0 X100 Z50", "F0.2", "G90.1", "G91.1", "G42.1 D0.8 L3",
+            // LinuxCNC's user M codes (the machine's own; the judge blanks them).
+            "M101", "M150 G4 P0.5",
         ])
         .prop_map(|w| vec![w.to_string()]),
     ]
