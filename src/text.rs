@@ -341,45 +341,17 @@ pub fn uses_crlf(text: &str) -> bool {
 /// in the input's encoding ends with the input's end-of-file mark, as the input did. A
 /// character the encoding lacks is an error located in the output (`output_name`), unless
 /// transliterated.
-/// [`encode_output`] of a text the caller is done with: where encoding changes nothing (LF
-/// endings, no end-of-file mark to add, and ASCII or UTF-8 out) its bytes are handed over
-/// without a copy, which for a large output is as much memory again.
-pub fn encode_output_owned(
-    text: String,
-    output_name: &str,
-    options: &OutputOptions,
-    input: &Input,
-) -> Result<Vec<u8>, Box<Diagnostic>> {
-    let crlf = match options.eol {
-        Eol::Keep => input.crlf,
-        Eol::Lf => false,
-        Eol::CrLf => true,
-    };
-    let encoding = options.encoding_for(input);
-    let eof_mark =
-        input.same_dialect && input.encoding == Some(encoding) && !input.eof_mark.is_empty();
-    let unchanged = !crlf
-        && !eof_mark
-        && !text.contains('\r')
-        && (encoding == TextEncoding::UTF_8 || text.is_ascii());
-    if unchanged {
-        return Ok(text.into_bytes());
-    }
-    encode_output(&text, output_name, options, input)
-}
-
 pub fn encode_output(
     text: &str,
     output_name: &str,
     options: &OutputOptions,
     input: &Input,
 ) -> Result<Vec<u8>, Box<Diagnostic>> {
-    let crlf = match options.eol {
-        Eol::Keep => input.crlf,
-        Eol::Lf => false,
-        Eol::CrLf => true,
-    };
-    let encoding = options.encoding_for(input);
+    let Form {
+        crlf,
+        encoding,
+        eof_mark,
+    } = Form::of(options, input);
     let mut out = Vec::with_capacity(text.len() + text.len() / 16);
     for (index, line) in text.split_inclusive('\n').enumerate() {
         let body = line.strip_suffix('\n').unwrap_or(line);
@@ -394,10 +366,53 @@ pub fn encode_output(
             out.extend_from_slice(if crlf { b"\r\n" } else { b"\n" });
         }
     }
-    if input.same_dialect && input.encoding == Some(encoding) {
-        out.extend_from_slice(&input.eof_mark);
-    }
+    out.extend_from_slice(eof_mark);
     Ok(out)
+}
+
+/// [`encode_output`] of a text the caller is done with: where encoding changes nothing (LF
+/// endings, no end-of-file mark to add, and ASCII or UTF-8 out) its bytes are handed over
+/// without a copy, which for a large output is as much memory again.
+pub fn encode_output_owned(
+    text: String,
+    output_name: &str,
+    options: &OutputOptions,
+    input: &Input,
+) -> Result<Vec<u8>, Box<Diagnostic>> {
+    let form = Form::of(options, input);
+    let unchanged = !form.crlf
+        && form.eof_mark.is_empty()
+        && !text.contains('\r')
+        && (form.encoding == TextEncoding::UTF_8 || text.is_ascii());
+    if unchanged {
+        return Ok(text.into_bytes());
+    }
+    encode_output(&text, output_name, options, input)
+}
+
+/// What an output is written as: its line endings, its encoding, and the end-of-file mark
+/// it ends with (the input's, for a same-dialect output in the input's encoding; else none).
+struct Form<'a> {
+    crlf: bool,
+    encoding: TextEncoding,
+    eof_mark: &'a [u8],
+}
+
+impl<'a> Form<'a> {
+    fn of(options: &OutputOptions, input: &'a Input) -> Form<'a> {
+        let crlf = match options.eol {
+            Eol::Keep => input.crlf,
+            Eol::Lf => false,
+            Eol::CrLf => true,
+        };
+        let encoding = options.encoding_for(input);
+        let keeps_mark = input.same_dialect && input.encoding == Some(encoding);
+        Form {
+            crlf,
+            encoding,
+            eof_mark: if keeps_mark { &input.eof_mark } else { &[] },
+        }
+    }
 }
 
 /// Encodes one line's `body` (line `index` of `text`) character by character.

@@ -314,18 +314,17 @@ impl FrontEnd<'_> {
         let (still, moving): (Vec<_>, Vec<_>) = found
             .into_iter()
             .zip(builder)
-            .partition(|(_, w)| self.still(w));
+            .partition(|(_, w)| self.still(w).is_some());
         let strip = |v: Vec<((Span, String), &&Word)>| v.into_iter().map(|(f, _)| f).collect();
         self.r.unsupported(&BUILDER, strip(moving), true, false);
         self.r
             .unsupported(&super::BUILDER_STILL, strip(still), true, false);
     }
 
-    /// A builder's M code the profile says moves no axis (`still_m_codes`).
-    fn still(&self, w: &Word) -> bool {
-        w.value
-            .to_whole()
-            .is_ok_and(|m| u32::try_from(m).is_ok_and(|m| self.profile.still_m_codes.contains(&m)))
+    /// The number of a builder's M code the profile says moves no axis (`still_m_codes`).
+    fn still(&self, w: &Word) -> Option<u32> {
+        let m = u32::try_from(w.value.to_whole().ok()?).ok()?;
+        self.profile.still_m_codes.contains(&m).then_some(m)
     }
 
     /// The machine builder's M codes of a block, after its other items (the FANUC writer
@@ -334,10 +333,8 @@ impl FrontEnd<'_> {
     /// is the machine's, so that positions after it are unknown.
     fn builder_codes(&mut self, line: Line<'_>, codes: &[&Word]) {
         for w in codes {
-            let still = self.still(w);
             let span = self.span(line, w.range.clone());
-            let code = w.value.to_whole().ok().and_then(|m| u32::try_from(m).ok());
-            if let Some(code) = code.filter(|_| still) {
+            if let Some(code) = self.still(w) {
                 self.push(
                     ItemKind::MachineCode {
                         code,

@@ -3,6 +3,7 @@
 
 use super::super::gcode::*;
 use super::super::syntax::{Block, Word};
+use super::unsupported::{USER_M_FIRST, USER_M_LAST};
 use super::{FrontEnd, Motion};
 use crate::dialect::iso::codes;
 use crate::dialect::{Letters, WORD_REPORTS, budget};
@@ -96,12 +97,12 @@ const M_GROUPS: [(&str, &[i64], &str); 5] = [
     ("user", &USER_CODES, "one of M100–M199 per line"),
 ];
 
-/// M100–M199 ([`super::unsupported::USER_M_FIRST`] …), for [`M_GROUPS`].
-const USER_CODES: [i64; 100] = {
-    let mut codes = [0; 100];
+/// The user M codes ([`USER_M_FIRST`] to [`USER_M_LAST`]), for [`M_GROUPS`].
+const USER_CODES: [i64; (USER_M_LAST - USER_M_FIRST + 1) as usize] = {
+    let mut codes = [0; (USER_M_LAST - USER_M_FIRST + 1) as usize];
     let mut i = 0;
-    while i < 100 {
-        codes[i] = 100 + i as i64;
+    while i < codes.len() {
+        codes[i] = USER_M_FIRST + i as i64;
         i += 1;
     }
     codes
@@ -223,12 +224,11 @@ impl<'b> Asks<'b> {
                 .iter()
                 .find(|(c, _)| matches!(c, 0 | 1 | 2 | 30))
                 .copied(),
-            user: words.m.iter().find_map(|&(c, w)| {
-                use super::unsupported::{USER_M_FIRST, USER_M_LAST};
-                let user = (USER_M_FIRST..=USER_M_LAST).contains(&c);
-                user.then(|| u32::try_from(c).ok().map(|c| (c, w)))
-                    .flatten()
-            }),
+            user: words
+                .m
+                .iter()
+                .filter(|(c, _)| (USER_M_FIRST..=USER_M_LAST).contains(c))
+                .find_map(|&(c, w)| Some((u32::try_from(c).ok()?, w))),
         }
     }
 
