@@ -172,9 +172,6 @@ impl<'a> FrontEnd<'a> {
             let line = run.line(st.pc);
             let here = st.pc;
             st.pc += 1;
-            if std::env::var("RUNDBG").is_ok() {
-                eprintln!("run line {here} f{}", st.f);
-            }
             if run.blank[here] {
                 continue;
             }
