@@ -165,6 +165,42 @@ pub fn emit(
     src: &SourceFile,
     options: &ConvertOptions,
 ) -> (Option<String>, Vec<Diagnostic>) {
+    let (output, mut diags) = emit_output(program, src, options);
+    let output = output.and_then(|o| held(o, options, &mut diags));
+    (output, diags)
+}
+
+/// The whole text of a writer's `output`, or `None` with the error in `diags` when its
+/// temporary file could not be read back.
+fn held(
+    output: dialect::Output,
+    options: &ConvertOptions,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<String> {
+    output
+        .into_string()
+        .map_err(|e| {
+            diags.push(
+                Diagnostic::new(
+                    diag::codes::OUTPUT_UNREADABLE,
+                    format!(
+                        "the {} output could not be kept while it was written: its temporary file failed ({e})",
+                        options.to
+                    ),
+                )
+                .help("nothing is written; make room in the temporary folder (TMPDIR) and convert again"),
+            )
+        })
+        .ok()
+}
+
+/// [`emit`], with a large output left in the writer's temporary file until the caller has
+/// let go of the program.
+fn emit_output(
+    program: &Program,
+    src: &SourceFile,
+    options: &ConvertOptions,
+) -> (Option<dialect::Output>, Vec<Diagnostic>) {
     // Roughing cycles are legalised and written as their moves.
     let program = &*lower::unroll(program, Some(options.to));
     let shared = legalise::check(program, src, Some(options.to));
@@ -221,10 +257,12 @@ pub fn convert(src: &SourceFile, options: &ConvertOptions) -> Conversion {
             diagnostics,
         };
     }
-    let (mut output, more) = emit(&program, src, options);
+    let (output, more) = emit_output(&program, src, options);
     diagnostics.extend(more);
-    // The source's program is not needed again: the read-back's need not stand beside it.
+    // The source's program is not needed again: the whole output and the read-back's
+    // need not stand beside it.
     drop(program);
+    let mut output = output.and_then(|o| held(o, options, &mut diagnostics));
     // Never write what the target's reader refuses: a last check, which finds what the
     // writers' own checks miss (it names the output line).
     if !diag::has_errors(&diagnostics)

@@ -14,6 +14,7 @@ pub mod nc31;
 pub(crate) mod read;
 pub mod siemens;
 pub(crate) mod write;
+pub use write::Output;
 
 pub use read::Unsupported;
 pub(crate) use read::{
@@ -274,5 +275,5 @@ pub trait Dialect: Sync {
         src: &SourceFile,
         profile: &Profile,
         options: &WriteOptions,
-    ) -> (Option<String>, Vec<Diagnostic>);
+    ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>);
 }

@@ -298,14 +298,103 @@ pub(crate) enum CycleStep {
     Move(Item),
 }
 
+/// How much finished text a writer holds before it moves it to its spool ([`Writer::spill`]).
+const SPILL_AT: usize = 1 << 20;
+
+/// The text a writer has finished with, moved out of memory into an unnamed temporary file
+/// (gone when closed, whatever happens) once it passes [`SPILL_AT`] bytes: a program's
+/// items and its whole output are then never in memory together (issue 34). Where no
+/// temporary file can be made (the browser's WebAssembly) the text stays in memory.
+#[derive(Debug, Default)]
+struct Spool {
+    file: Option<std::fs::File>,
+    /// The bytes written to `file` whole.
+    len: u64,
+    /// Whether any of them is not a blank.
+    non_blank: bool,
+    /// No (more) spilling: no temporary file could be made, or a write to it failed.
+    off: bool,
+}
+
+impl Spool {
+    /// Appends `text` to the file (made on first use); false when it cannot, and from then
+    /// on the text stays in memory.
+    fn write(&mut self, text: &str) -> bool {
+        use std::io::Write as _;
+        if self.off {
+            return false;
+        }
+        if self.file.is_none() {
+            match tempfile::tempfile() {
+                Ok(f) => self.file = Some(f),
+                Err(_) => {
+                    self.off = true;
+                    return false;
+                }
+            }
+        }
+        let written = self
+            .file
+            .as_mut()
+            .is_some_and(|f| f.write_all(text.as_bytes()).is_ok());
+        if written {
+            self.len += text.len() as u64;
+            self.non_blank |= !text.trim().is_empty();
+        } else {
+            // The file keeps its first `len` bytes, which are whole; a part written after
+            // them is never read.
+            self.off = true;
+        }
+        written
+    }
+}
+
+/// A writer's text: what it spooled (in order) and what it still held at the end.
+#[derive(Debug)]
+pub struct Output {
+    spooled: Option<(std::fs::File, u64)>,
+    held: String,
+}
+
+impl Output {
+    /// The whole text. Fails only when the spool cannot be read back.
+    pub fn into_string(self) -> std::io::Result<String> {
+        use std::io::{Read as _, Seek as _};
+        let Some((mut file, len)) = self.spooled else {
+            return Ok(self.held);
+        };
+        let capacity = usize::try_from(len).unwrap_or(usize::MAX);
+        let mut bytes = Vec::with_capacity(capacity.saturating_add(self.held.len()));
+        file.rewind()?;
+        file.take(len).read_to_end(&mut bytes)?;
+        if bytes.len() as u64 != len {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::UnexpectedEof,
+                "the temporary file is shorter than what was written to it",
+            ));
+        }
+        bytes.extend_from_slice(self.held.as_bytes());
+        String::from_utf8(bytes)
+            .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidData, e))
+    }
+}
+
 /// The state every writer keeps: the source (for diagnostics), the text written so far,
 /// the diagnostics, and the tool's position as the output leaves it.
 pub(crate) struct Writer<'a> {
     pub src: &'a SourceFile,
+    /// The text written and not yet spilled ([`Writer::spill`]).
     pub out: String,
     pub diags: Vec<Diagnostic>,
     pub pos: Pos,
     seen: crate::diag::Seen,
+    spool: Spool,
+    /// What the target does to its finished lines before they leave (LinuxCNC's long lines
+    /// split): applied to whole lines, a part at a time, so it must give the same text
+    /// over a text's lines one part at a time as over the whole, and change nothing it gave.
+    pub post: Option<fn(String) -> String>,
+    /// [`SPILL_AT`], lower in tests.
+    spill_at: usize,
 }
 
 impl<'a> Writer<'a> {
@@ -316,7 +405,36 @@ impl<'a> Writer<'a> {
             diags: Vec::new(),
             pos: Pos::UNKNOWN,
             seen: Default::default(),
+            spool: Spool::default(),
+            post: None,
+            spill_at: SPILL_AT,
         }
+    }
+
+    /// Called between items, where nothing written will be changed again: once the text
+    /// held passes [`SPILL_AT`] bytes, its whole lines go to the spool.
+    pub fn spill(&mut self) {
+        if self.out.len() < self.spill_at || self.spool.off {
+            return;
+        }
+        let Some(end) = self.out.rfind('\n').map(|i| i + 1) else {
+            return;
+        };
+        let rest = self.out.split_off(end);
+        let lines = std::mem::replace(&mut self.out, rest);
+        let lines = match self.post {
+            Some(post) => post(lines),
+            None => lines,
+        };
+        if !self.spool.write(&lines) {
+            // Held again, before the rest (`post` changes nothing it gave).
+            self.out.insert_str(0, &lines);
+        }
+    }
+
+    /// Whether nothing but blanks was written.
+    pub fn is_blank(&self) -> bool {
+        !self.spool.non_blank && self.out.trim().is_empty()
     }
 
     /// Reports a problem at `span` once (a cycle's passes share the cycle's span).
@@ -379,9 +497,20 @@ impl<'a> Writer<'a> {
     }
 
     /// The text, when no diagnostic is an error, and the diagnostics.
-    pub fn finish(self) -> (Option<String>, Vec<Diagnostic>) {
-        let ok = !self.diags.iter().any(Diagnostic::is_error);
-        (ok.then_some(self.out), self.diags)
+    pub fn finish(self) -> (Option<Output>, Vec<Diagnostic>) {
+        if self.diags.iter().any(Diagnostic::is_error) {
+            return (None, self.diags);
+        }
+        let held = match self.post {
+            Some(post) => post(self.out),
+            None => self.out,
+        };
+        let spooled = self
+            .spool
+            .file
+            .filter(|_| self.spool.len > 0)
+            .map(|f| (f, self.spool.len));
+        (Some(Output { spooled, held }), self.diags)
     }
 }
 
@@ -389,6 +518,48 @@ impl<'a> Writer<'a> {
 mod tests {
     use super::*;
     use crate::ir::{ItemKind, Program};
+
+    /// Lines written past the spill size go to the spool whole, the post-pass sees each part,
+    /// and the text read back is the text written, in order.
+    #[test]
+    fn a_spilled_output_reads_back_as_written() {
+        fn shout(text: String) -> String {
+            text.to_uppercase()
+        }
+        let src = SourceFile::new("t", "");
+        let mut w = Writer::new(&src);
+        w.spill_at = 10;
+        w.post = Some(shout);
+        let mut whole = String::new();
+        for n in 0..50 {
+            let line = format!("line {n} ü\n");
+            w.out.push_str(&line);
+            whole.push_str(&line);
+            if n % 3 == 0 {
+                // A part of a line: it stays held until its line ends.
+                w.out.push_str("part ");
+                whole.push_str("part ");
+            }
+            w.spill();
+        }
+        assert!(w.spool.len > 0, "spilled");
+        assert!(!w.is_blank());
+        let (out, diags) = w.finish();
+        assert!(diags.is_empty());
+        assert_eq!(out.unwrap().into_string().unwrap(), whole.to_uppercase());
+    }
+
+    #[test]
+    fn blanks_spilled_are_still_blank() {
+        let src = SourceFile::new("t", "");
+        let mut w = Writer::new(&src);
+        w.spill_at = 1;
+        w.out.push_str("  \n\n");
+        w.spill();
+        assert!(w.spool.len > 0 && w.is_blank());
+        w.out.push_str("N1\n");
+        assert!(!w.is_blank());
+    }
 
     #[test]
     fn blocks_keep_the_items_of_one_source_line_together_only_when_asked() {

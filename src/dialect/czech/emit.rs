@@ -72,7 +72,7 @@ pub fn emit(
     profile: &Profile,
     renumber: Renumber,
     round: bool,
-) -> (Option<String>, Vec<Diagnostic>) {
+) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
     // Roughing cycles are written as their moves.
     let program = &*crate::lower::unroll(program, Some(super::ID));
     let mut params = BTreeMap::new();
@@ -103,6 +103,7 @@ pub fn emit(
     let reserved: Vec<u32> = params.keys().copied().collect();
     // Items of one source block stay one block when the source is czech.
     for block in write::blocks(&program.items, e.keep_numbers) {
+        e.w.spill();
         e.group(block, &reserved);
     }
     let summary = e.inexact.diagnostic(

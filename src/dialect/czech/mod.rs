@@ -192,7 +192,7 @@ impl Dialect for Czech {
         src: &SourceFile,
         profile: &Profile,
         options: &WriteOptions,
-    ) -> (Option<String>, Vec<Diagnostic>) {
+    ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
         emit::emit(program, src, profile, options.renumber, options.round)
     }
 }

@@ -206,7 +206,7 @@ pub fn emit(
     src: &SourceFile,
     profile: &Profile,
     round: bool,
-) -> (Option<String>, Vec<Diagnostic>) {
+) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
     let program = &*lower::unroll(program, Some(super::ID));
     let keep = program.dialect == super::ID;
     let mut e = Emitter {
@@ -331,6 +331,7 @@ impl Emitter<'_> {
     /// `G96 S200 M03`).
     fn groups(&mut self, groups: &[&[Item]]) {
         for group in write::speed_with_its_mode(groups, self.keep) {
+            self.w.spill();
             self.group(&group);
         }
     }
@@ -1208,6 +1209,17 @@ fn coolant_word(c: Coolant) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The writer's text as a string, as the tests read it.
+    fn emit(
+        program: &Program,
+        src: &SourceFile,
+        profile: &Profile,
+        round: bool,
+    ) -> (Option<String>, Vec<Diagnostic>) {
+        let (out, diags) = super::emit(program, src, profile, round);
+        (out.map(|o| o.into_string().expect("in memory")), diags)
+    }
     use crate::ir::{SpindleDirection, ThreadPass};
 
     fn mm(v: i64) -> Length {

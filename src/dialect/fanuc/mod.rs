@@ -238,7 +238,7 @@ impl Dialect for Fanuc {
         src: &SourceFile,
         profile: &Profile,
         options: &WriteOptions,
-    ) -> (Option<String>, Vec<Diagnostic>) {
+    ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
         emit::emit(program, src, profile, options.round)
     }
 }

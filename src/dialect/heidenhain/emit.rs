@@ -111,7 +111,7 @@ pub fn emit(
     profile: &HeidenhainProfile,
     renumber: Renumber,
     round: bool,
-) -> (Option<String>, Vec<Diagnostic>) {
+) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
     let program = &*lower::unroll(program, Some(super::ID));
     let mut e = Emitter {
         w: Writer::new(src),
@@ -143,6 +143,7 @@ pub fn emit(
     let _ = writeln!(e.w.out, "{machining}");
     let groups: Vec<&[Item]> = write::blocks(items, e.keep).collect();
     for group in write::speed_with_its_mode(&groups, e.keep) {
+        e.w.spill();
         e.group(&group);
     }
     let _ = writeln!(e.w.out, "{end}");

@@ -214,7 +214,7 @@ impl Dialect for Heidenhain {
         src: &SourceFile,
         profile: &Profile,
         options: &WriteOptions,
-    ) -> (Option<String>, Vec<Diagnostic>) {
+    ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
         emit::emit(
             program,
             src,

@@ -151,7 +151,7 @@ pub fn emit(
     program: &Program,
     src: &SourceFile,
     profile: &Profile,
-) -> (Option<String>, Vec<Diagnostic>) {
+) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
     // Roughing cycles are written as their moves.
     let program = &*crate::lower::unroll(program, Some(super::ID));
     let from = program.dialect;
@@ -170,6 +170,7 @@ pub fn emit(
             ..Units::default()
         },
     };
+    e.w.post = Some(split_long_lines);
     e.w.out.push_str("%\n");
     // A program ncthread wrote keeps its header (where it came from), so that converting
     // the output again gives the same text.
@@ -217,10 +218,10 @@ pub fn emit(
         if !matches!(item.kind, ItemKind::Comment(_) | ItemKind::Delimiter) {
             skip_header_modes = false;
         }
+        e.w.spill();
         e.item(item, items.get(i + 1));
     }
     e.w.out.push_str("%\n");
-    e.w.out = split_long_lines(&e.w.out);
     e.w.diags.extend(e.units.diagnostic(src));
     e.w.finish()
 }
@@ -228,10 +229,10 @@ pub fn emit(
 /// The output with every line LinuxCNC could not read ([`syntax::LINE_MAX`] bytes) split: a
 /// long comment goes on lines of its own after its block's code, in parts broken at a blank
 /// where one is near.
-fn split_long_lines(out: &str) -> String {
+fn split_long_lines(out: String) -> String {
     use super::syntax::LINE_MAX;
     if !out.lines().any(|l| l.len() > LINE_MAX) {
-        return out.to_string();
+        return out;
     }
     let mut split = String::with_capacity(out.len() + 64);
     for line in out.lines() {
@@ -883,13 +884,23 @@ fn coolant_word(c: Coolant) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The writer's text as a string, as the tests read it.
+    fn emit(
+        program: &Program,
+        src: &SourceFile,
+        profile: &Profile,
+    ) -> (Option<String>, Vec<Diagnostic>) {
+        let (out, diags) = super::emit(program, src, profile);
+        (out.map(|o| o.into_string().expect("in memory")), diags)
+    }
     use crate::fixed::Length;
 
     #[test]
     fn a_long_comment_is_split_onto_lines_linuxcnc_reads() {
         let words = ["WORD"; 70].join(" ");
         let wide = "Č".repeat(140);
-        let out = split_long_lines(&format!("%\n({words})\nT1 M6 ({wide})\nG0 X1\n%\n"));
+        let out = split_long_lines(format!("%\n({words})\nT1 M6 ({wide})\nG0 X1\n%\n"));
         assert!(
             out.lines()
                 .all(|l| l.len() <= super::super::syntax::LINE_MAX),

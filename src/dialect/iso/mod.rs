@@ -279,7 +279,7 @@ impl Dialect for Iso {
         src: &SourceFile,
         profile: &Profile,
         _options: &WriteOptions,
-    ) -> (Option<String>, Vec<Diagnostic>) {
+    ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
         emit::emit(program, src, profile)
     }
 }

@@ -47,7 +47,7 @@ pub fn emit(
     src: &SourceFile,
     profile: &Profile,
     options: &WriteOptions,
-) -> (Option<String>, Vec<Diagnostic>) {
+) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
     // Roughing cycles are written as their moves.
     let program = &*crate::lower::unroll(program, Some(super::ID));
     // An nc31 program's own groups and `(` comment lines are kept as they were.
@@ -67,6 +67,7 @@ pub fn emit(
     // itself (its items then share the source line): where the items start over (the
     // group's first item again, or a second move) a new group begins.
     for block in write::blocks(&program.items, own) {
+        e.w.spill();
         let mut group = Vec::new();
         let mut moved = false;
         for (i, item) in block.iter().enumerate() {
@@ -84,7 +85,7 @@ pub fn emit(
         e.write(&mut group);
     }
     e.finish();
-    if e.w.out.trim().is_empty() && !e.w.diags.iter().any(Diagnostic::is_error) {
+    if e.w.is_blank() && !e.w.diags.iter().any(Diagnostic::is_error) {
         let mut d = Diagnostic::new(
             codes::NCW_NOTHING,
             "nothing in this program is written as НЦ-31 frames: the output would be empty",
@@ -917,6 +918,17 @@ impl Emitter<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The writer's text as a string, as the tests read it.
+    fn emit(
+        program: &Program,
+        src: &SourceFile,
+        profile: &Profile,
+        options: &WriteOptions,
+    ) -> (Option<String>, Vec<Diagnostic>) {
+        let (out, diags) = super::emit(program, src, profile, options);
+        (out.map(|o| o.into_string().expect("in memory")), diags)
+    }
     use crate::diag::Severity;
     use crate::ir::{Chamfer, Schedule};
 

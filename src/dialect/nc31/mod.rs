@@ -187,7 +187,7 @@ impl Dialect for Nc31 {
         src: &SourceFile,
         profile: &Profile,
         options: &WriteOptions,
-    ) -> (Option<String>, Vec<Diagnostic>) {
+    ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
         emit::emit(program, src, profile, options)
     }
 }

@@ -106,7 +106,7 @@ pub fn emit(
     src: &SourceFile,
     renumber: Renumber,
     round: bool,
-) -> (Option<String>, Vec<Diagnostic>) {
+) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
     let program = &*lower::unroll(program, Some(super::ID));
     let mut e = Emitter {
         w: Writer::new(src),
@@ -236,6 +236,7 @@ impl Emitter<'_> {
     /// `G96 LIMS=3000 S200 M3`).
     fn groups(&mut self, groups: &[&[Item]]) {
         for group in write::speed_with_its_mode(groups, self.keep) {
+            self.w.spill();
             self.group(&group);
         }
     }

@@ -158,7 +158,7 @@ impl Dialect for Siemens {
         src: &SourceFile,
         _profile: &Profile,
         options: &WriteOptions,
-    ) -> (Option<String>, Vec<Diagnostic>) {
+    ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
         emit::emit(program, src, options.renumber, options.round)
     }
 }
