@@ -30,7 +30,62 @@ pub fn offset32(offset: usize) -> u32 {
 pub struct SourceFile {
     pub name: String,
     pub text: String,
-    line_starts: Vec<usize>,
+    line_starts: LineStarts,
+}
+
+/// Where each line of a text starts: 32-bit offsets for a text under 4 GiB (half the
+/// memory of a large program's line index), else full-width; sized to the text's lines.
+#[derive(Clone, Debug)]
+enum LineStarts {
+    Narrow(Vec<u32>),
+    Wide(Vec<usize>),
+}
+
+impl LineStarts {
+    fn of(text: &str) -> LineStarts {
+        let ends = text.bytes().filter(|&b| b == b'\n').count();
+        // A text ending in a line end has no line after it.
+        let count = 1 + ends - usize::from(text.ends_with('\n'));
+        let starts = std::iter::once(0).chain(
+            text.match_indices('\n')
+                .map(|(i, _)| i + 1)
+                .filter(|&i| i < text.len()),
+        );
+        match u32::try_from(text.len()) {
+            Ok(_) => {
+                let mut v = Vec::with_capacity(count);
+                v.extend(starts.map(|i| i as u32));
+                LineStarts::Narrow(v)
+            }
+            Err(_) => {
+                let mut v = Vec::with_capacity(count);
+                v.extend(starts);
+                LineStarts::Wide(v)
+            }
+        }
+    }
+
+    fn len(&self) -> usize {
+        match self {
+            LineStarts::Narrow(v) => v.len(),
+            LineStarts::Wide(v) => v.len(),
+        }
+    }
+
+    fn get(&self, i: usize) -> Option<usize> {
+        match self {
+            LineStarts::Narrow(v) => v.get(i).map(|&s| s as usize),
+            LineStarts::Wide(v) => v.get(i).copied(),
+        }
+    }
+
+    /// How many lines start at or before `offset`.
+    fn up_to(&self, offset: usize) -> usize {
+        match self {
+            LineStarts::Narrow(v) => v.partition_point(|&s| s as usize <= offset),
+            LineStarts::Wide(v) => v.partition_point(|&s| s <= offset),
+        }
+    }
 }
 
 /// One line of a source file, without its line ending.
@@ -46,11 +101,7 @@ pub struct Line<'a> {
 impl SourceFile {
     pub fn new(name: impl Into<String>, text: impl Into<String>) -> SourceFile {
         let text = text.into();
-        let mut line_starts = vec![0];
-        line_starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
-        if line_starts.last() == Some(&text.len()) && !text.is_empty() {
-            line_starts.pop();
-        }
+        let line_starts = LineStarts::of(&text);
         SourceFile {
             name: name.into(),
             text,
@@ -71,18 +122,14 @@ impl SourceFile {
     /// Line `number` (1-based). Out-of-range numbers give an empty line at the end.
     pub fn line(&self, number: u32) -> Line<'_> {
         let i = (number.max(1) - 1) as usize;
-        let Some(&start) = self.line_starts.get(i) else {
+        let Some(start) = self.line_starts.get(i) else {
             return Line {
                 number,
                 offset: self.text.len(),
                 text: "",
             };
         };
-        let end = self
-            .line_starts
-            .get(i + 1)
-            .copied()
-            .unwrap_or(self.text.len());
+        let end = self.line_starts.get(i + 1).unwrap_or(self.text.len());
         let text = &self.text[start..end];
         let text = text.strip_suffix('\n').unwrap_or(text);
         let text = text.strip_suffix('\r').unwrap_or(text);
@@ -122,10 +169,7 @@ impl SourceFile {
 
     /// The span of a byte range of the whole text (it should not cross a line end).
     pub fn span_of(&self, range: Range<usize>) -> Span {
-        let index = self
-            .line_starts
-            .partition_point(|&s| s <= range.start)
-            .max(1);
+        let index = self.line_starts.up_to(range.start).max(1);
         let line = self.line(index as u32);
         let start = range.start.saturating_sub(line.offset);
         let end = range.end.saturating_sub(line.offset).max(start);
@@ -141,6 +185,35 @@ impl SourceFile {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn lines_start_where_the_text_says_and_the_index_is_sized_to_them() {
+        for text in [
+            "",
+            "\n",
+            "a",
+            "a\n",
+            "a\nb",
+            "a\n\n",
+            "\r\nx\r\n",
+            "é\nü\n\nz",
+        ] {
+            let naive: Vec<&str> = if text.is_empty() {
+                vec![""]
+            } else {
+                text.split_inclusive('\n')
+                    .map(|l| l.trim_end_matches('\n').trim_end_matches('\r'))
+                    .collect()
+            };
+            let src = SourceFile::new("t", text);
+            let lines: Vec<&str> = src.lines().map(|l| l.text).collect();
+            assert_eq!(lines, naive, "{text:?}");
+            let LineStarts::Narrow(v) = &src.line_starts else {
+                panic!("a short text has 32-bit line starts");
+            };
+            assert_eq!(v.capacity(), v.len(), "{text:?}");
+        }
+    }
 
     #[test]
     fn splits_lf_and_crlf_lines() {

@@ -101,6 +101,8 @@ struct Open {
     line: usize,
     range: Range<usize>,
     branches: Vec<usize>,
+    /// Whether the last of `branches` is an `else`.
+    after_else: bool,
     /// `break`/`continue` lines inside this loop, resolved at its end.
     exits: Vec<(usize, bool)>,
 }
@@ -113,6 +115,7 @@ impl Open {
             line: i,
             range: o.range.clone(),
             branches: Vec::new(),
+            after_else: false,
             exits: Vec::new(),
         }
     }
@@ -126,19 +129,20 @@ fn top_is(stack: &[Open], k: Keyword, label: &Label) -> bool {
 }
 
 impl Structure {
-    /// The structure of `blocks` (one per line; `None` for a line that is not read).
-    pub fn of(blocks: &[Option<&Block>]) -> Structure {
+    /// The structure of a file's `blocks` (with their 0-based line numbers, in order; lines
+    /// without an O-word may be left out).
+    pub fn of<'b>(blocks: impl IntoIterator<Item = (usize, &'b Block)>) -> Structure {
         let mut s = Structure::default();
         let mut stack: Vec<Open> = Vec::new();
         let mut last: HashMap<Label, usize> = HashMap::new();
-        for (i, block) in blocks.iter().enumerate() {
-            let Some(o) = block.and_then(|b| b.oword.as_ref()) else {
+        for (i, block) in blocks {
+            let Some(o) = block.oword.as_ref() else {
                 continue;
             };
             if let Some(before) = last.insert(o.label.clone(), i) {
                 s.next_same.insert(before, i);
             }
-            s.line(blocks, &mut stack, i, o);
+            s.line(&mut stack, i, o);
         }
         for t in stack {
             s.errors.push(StructureError {
@@ -154,7 +158,7 @@ impl Structure {
 
     /// The O-word line `o` at line `i`, against the blocks open before it (`stack`): one
     /// step per keyword, each pairing the line with the open block it closes or belongs to.
-    fn line(&mut self, blocks: &[Option<&Block>], stack: &mut Vec<Open>, i: usize, o: &OWord) {
+    fn line(&mut self, stack: &mut Vec<Open>, i: usize, o: &OWord) {
         let label = &o.label;
         match o.keyword {
             Keyword::Sub => self.sub(stack, i, o),
@@ -190,7 +194,7 @@ impl Structure {
             }
             Keyword::If | Keyword::Do | Keyword::Repeat => self.open(stack, i, o),
             Keyword::While if !top_is(stack, Keyword::Do, label) => self.open(stack, i, o),
-            Keyword::ElseIf | Keyword::Else => self.branch(blocks, stack, i, o),
+            Keyword::ElseIf | Keyword::Else => self.branch(stack, i, o),
             Keyword::EndIf => self.endif(stack, i, o),
             // The `while` that closes a `do` of the same label.
             Keyword::While => {
@@ -265,15 +269,12 @@ impl Structure {
 
     /// `elseif` and `else`: a branch of the open `if` of the same label, none after its
     /// `else`.
-    fn branch(&mut self, blocks: &[Option<&Block>], stack: &mut [Open], i: usize, o: &OWord) {
+    fn branch(&mut self, stack: &mut [Open], i: usize, o: &OWord) {
         let label = &o.label;
         if top_is(stack, Keyword::If, label) {
             let t = stack.last_mut().expect("top");
-            let after_else = t.branches.last().is_some_and(|&b| {
-                blocks[b]
-                    .and_then(|b| b.oword.as_ref())
-                    .is_some_and(|o| o.keyword == Keyword::Else)
-            });
+            let after_else = t.after_else;
+            t.after_else = o.keyword == Keyword::Else;
             if after_else {
                 self.error(
                     i,
@@ -411,8 +412,10 @@ pub struct FileRun<'s> {
     /// How many lines the file has (each taken from `src` when asked: a table of them
     /// would take four times the text's line index).
     line_count: usize,
-    /// The lines read up front; `Some(None)`: the line holds a NUL.
-    read: Vec<Option<Box<ReadLine>>>,
+    /// The lines read up front (O-word lines, and the bodies of subroutines and loops,
+    /// which run again), by 0-based line, in order; `None`: the line holds a NUL. A long
+    /// straight program has few: a table of every line would cost 8 bytes a line.
+    read: Vec<(usize, Box<ReadLine>)>,
     /// Lines of blanks only (skipped) and bare `%` lines.
     pub blank: Vec<bool>,
     pub percent: Vec<bool>,
@@ -453,43 +456,41 @@ impl<'s> FileRun<'s> {
         let parse = |l: &Line<'_>| (!l.text.contains('\0')).then(|| syntax::parse_line(l.text));
         let code = |text: &'s str| text.bytes().filter(|b| !matches!(b, b' ' | b'\t' | b'\r'));
         // One pass over the lines: what is read up front, the blank lines and the `%` lines.
-        let mut read: Vec<Option<Box<ReadLine>>> = Vec::with_capacity(line_count);
+        let mut read: Vec<(usize, Box<ReadLine>)> = Vec::new();
         let mut blank: Vec<bool> = Vec::with_capacity(line_count);
         let mut percent: Vec<bool> = Vec::with_capacity(line_count);
-        for l in src.lines() {
-            let oword = l.text.bytes().any(|b| b == b'o' || b == b'O');
-            read.push(oword.then(|| Box::new(parse(&l))));
+        for (i, l) in src.lines().enumerate() {
+            if l.text.bytes().any(|b| b == b'o' || b == b'O') {
+                read.push((i, Box::new(parse(&l))));
+            }
             blank.push(code(l.text).next().is_none());
             let mut c = code(l.text);
             percent.push(c.next() == Some(b'%') && c.next().is_none());
         }
-        let structure = {
-            let refs: Vec<Option<&Block>> = read
-                .iter()
-                .map(|b| {
-                    b.as_deref()
-                        .and_then(|b| b.as_ref())
-                        .and_then(|b| b.as_ref().ok())
-                })
-                .collect();
-            Structure::of(&refs)
-        };
+        let structure = Structure::of(read.iter().filter_map(|(i, line)| {
+            let block = line.as_ref().as_ref()?.as_ref().ok()?;
+            Some((*i, block))
+        }));
         // Subroutine and loop bodies run again: read once.
+        let mut bodies: Vec<usize> = Vec::new();
         for flow in structure.flow.iter() {
             let (start, end) = match *flow.1 {
                 Flow::Sub { end } | Flow::While { end } | Flow::Repeat { end } => (*flow.0, end),
                 Flow::Do { close } => (*flow.0, close),
                 _ => continue,
             };
-            let body = read
-                .iter_mut()
-                .enumerate()
-                .skip(start)
-                .take((end + 1).saturating_sub(start));
-            for (i, line) in body.filter(|(_, r)| r.is_none()) {
-                *line = Some(Box::new(parse(&src.line(i as u32 + 1))));
+            bodies.extend(start..=end.min(line_count.saturating_sub(1)));
+        }
+        bodies.sort_unstable();
+        bodies.dedup();
+        let upfront = read.len();
+        for i in bodies {
+            if read[..upfront].binary_search_by_key(&i, |r| r.0).is_err() {
+                read.push((i, Box::new(parse(&src.line(i as u32 + 1)))));
             }
         }
+        read.sort_unstable_by_key(|r| r.0);
+        read.shrink_to_fit();
         FileRun {
             src,
             line_count,
@@ -502,9 +503,9 @@ impl<'s> FileRun<'s> {
 
     /// Line `i` read into a block; `None` when it holds a NUL.
     pub fn block(&self, i: usize) -> std::borrow::Cow<'_, ReadLine> {
-        match self.read.get(i) {
-            Some(Some(b)) => std::borrow::Cow::Borrowed(&**b),
-            _ => {
+        match self.read.binary_search_by_key(&i, |r| r.0) {
+            Ok(at) => std::borrow::Cow::Borrowed(&*self.read[at].1),
+            Err(_) => {
                 let text = self.get_line(i).map_or("", |l| l.text);
                 std::borrow::Cow::Owned((!text.contains('\0')).then(|| syntax::parse_line(text)))
             }
@@ -547,7 +548,9 @@ impl<'s> FileRun<'s> {
 
     /// Whether line `i` was read up front as a line that cannot be read.
     pub fn unreadable_up_front(&self, i: usize) -> bool {
-        matches!(self.read.get(i), Some(Some(b)) if matches!(**b, Some(Err(_))))
+        self.read
+            .binary_search_by_key(&i, |r| r.0)
+            .is_ok_and(|at| matches!(*self.read[at].1, Some(Err(_))))
     }
 }
 
@@ -801,8 +804,7 @@ mod tests {
 
     fn structure(text: &str) -> Structure {
         let blocks: Vec<Block> = text.lines().map(|l| parse_line(l).unwrap()).collect();
-        let refs: Vec<Option<&Block>> = blocks.iter().map(Some).collect();
-        Structure::of(&refs)
+        Structure::of(blocks.iter().enumerate())
     }
 
     #[test]
