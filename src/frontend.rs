@@ -22,12 +22,16 @@ pub struct Read {
 /// valid, else the dialect's legacy encoding.
 pub fn read(
     name: String,
-    bytes: &[u8],
+    bytes: Vec<u8>,
     from: Option<DialectId>,
     encoding: Option<TextEncoding>,
 ) -> Read {
-    let mut decoded =
-        crate::text::decode_program(bytes, from, encoding, Some(std::path::Path::new(&name)));
+    let mut decoded = crate::text::decode_program_owned(
+        bytes,
+        from,
+        encoding,
+        Some(std::path::Path::new(&name)),
+    );
     let text = std::mem::take(&mut decoded.text);
     Read {
         src: SourceFile::new(name, text),

@@ -232,20 +232,9 @@ pub fn decode_program(
         }
         None => {
             let (mut text, mut encoding_used, mut detection) = decode_detect_as(bytes, encoding);
-            let by_name = name
-                .and_then(|n| n.extension())
-                .and_then(|e| dialect::by_extension(&e.to_string_lossy()));
-            if let Some(d) = by_name.filter(|d| !detection.certain && *d != detection.dialect) {
-                (text, encoding_used) = decode_as(bytes, encoding, d);
-                detection = Detection {
-                    dialect: d,
-                    certain: false,
-                    reason: format!(
-                        "the text has no dialect's marks, and only {d}'s files are called .{}",
-                        name.and_then(|n| n.extension())
-                            .map_or(String::new(), |e| e.to_string_lossy().into_owned())
-                    ),
-                };
+            if let Some(by_name) = named(&detection, name) {
+                (text, encoding_used) = decode_as(bytes, encoding, by_name.dialect);
+                detection = by_name;
             }
             let encoding = encoding_used;
             Decoded {
@@ -264,6 +253,65 @@ pub fn decode_program(
         decoded.guessed = legacy_choice(body, decoded.dialect).1;
     }
     decoded
+}
+
+/// The dialect a file's name chooses where its text left the choice uncertain: an extension
+/// only one other dialect's files have (`.ngc`).
+fn named(detection: &Detection, name: Option<&std::path::Path>) -> Option<Detection> {
+    let extension = name.and_then(|n| n.extension())?.to_string_lossy();
+    let d = dialect::by_extension(&extension)?;
+    (!detection.certain && d != detection.dialect).then(|| Detection {
+        dialect: d,
+        certain: false,
+        reason: format!("the text has no dialect's marks, and only {d}'s files are called .{extension}"),
+    })
+}
+
+/// [`decode_program`] of bytes the caller is done with: a program in UTF-8 (no BOM, no
+/// encoding asked for) becomes its text without a copy, which for a large program is as much
+/// memory again; any other is decoded as [`decode_program`] does.
+pub fn decode_program_owned(
+    mut bytes: Vec<u8>,
+    from: Option<DialectId>,
+    encoding: Option<TextEncoding>,
+    name: Option<&std::path::Path>,
+) -> Decoded {
+    let (body, _) = split_eof_mark(&bytes);
+    let plain = encoding.is_none()
+        && without_bom(body).len() == body.len()
+        && binary_evidence(body).is_none()
+        && std::str::from_utf8(body).is_ok();
+    if !plain {
+        return decode_program(&bytes, from, encoding, name);
+    }
+    let n = body.len();
+    let eof_mark = bytes.split_off(n);
+    let text = match String::from_utf8(bytes) {
+        Ok(text) => text,
+        // Checked above; read as any other file should it not be.
+        Err(e) => {
+            let mut bytes = e.into_bytes();
+            bytes.extend_from_slice(&eof_mark);
+            return decode_program(&bytes, from, encoding, name);
+        }
+    };
+    let (dialect, detection) = match from {
+        Some(d) => (d, None),
+        None => {
+            let detected = detect(&text);
+            let detection = named(&detected, name).unwrap_or(detected);
+            (detection.dialect, Some(detection))
+        }
+    };
+    Decoded {
+        text,
+        encoding: TextEncoding::UTF_8,
+        dialect,
+        detection,
+        eof_mark,
+        guessed: None,
+        binary: None,
+    }
 }
 
 /// [`decode_detect_as`] without an encoding.
@@ -461,6 +509,41 @@ fn encode_line(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The owned decoding gives what the borrowing one gives, for every kind of file.
+    #[test]
+    fn decoding_owned_bytes_gives_what_decoding_borrowed_ones_gives() {
+        let files: [&[u8]; 8] = [
+            b"N10 G33 Z-20. K1.5\n",
+            b"\xEF\xBB\xBFN10 G00 X10.\n",
+            b"G0 X1\n\x1A\x00\x00",
+            "ROZTOČENÍ\n".as_bytes(),
+            b"N10 \xC8\n",
+            b"\x00\x01binary",
+            b"",
+            b"(no marks)\nX1\n",
+        ];
+        let froms = [None, Some(dialect::czech::ID), Some(dialect::iso::ID)];
+        let names = [None, Some(std::path::Path::new("p.ngc"))];
+        for bytes in files {
+            for from in froms {
+                for name in names {
+                    for encoding in [None, Some(TextEncoding::UTF_8)] {
+                        let a = decode_program(bytes, from, encoding, name);
+                        let b = decode_program_owned(bytes.to_vec(), from, encoding, name);
+                        let what = format!("{bytes:?} {from:?} {name:?} {encoding:?}");
+                        assert_eq!(a.text, b.text, "{what}");
+                        assert_eq!(a.encoding, b.encoding, "{what}");
+                        assert_eq!(a.dialect, b.dialect, "{what}");
+                        assert_eq!(a.detection, b.detection, "{what}");
+                        assert_eq!(a.eof_mark, b.eof_mark, "{what}");
+                        assert_eq!(a.guessed, b.guessed, "{what}");
+                        assert_eq!(a.binary, b.binary, "{what}");
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn decodes_utf8_with_and_without_bom_and_windows_1250() {

@@ -122,8 +122,8 @@ fn check_one(
     let (name, bytes) = read_input(file, args.stdin.stdin_filename.as_deref())?;
     // A profile with errors fails its program, not the run.
     let profile = args.common.profile_for(&args.stdin.named(file))?;
-    let decoded = ncthread::text::decode_program(
-        &bytes,
+    let decoded = ncthread::text::decode_program_owned(
+        bytes,
         from,
         args.common.encoding,
         Some(std::path::Path::new(&name)),

@@ -99,7 +99,7 @@ pub(crate) fn read_source(
     profile: &Profile,
 ) -> Result<(SourceFile, DialectId), Fatal> {
     let (name, bytes) = read_input(input, stdin.stdin_filename.as_deref())?;
-    let (src, from, decoded) = decode_source(name, &bytes, from, common.encoding, profile);
+    let (src, from, decoded) = decode_source(name, bytes, from, common.encoding, profile);
     encoding_checked(&src, &decoded, common.diagnostics)?;
     Ok((src, from))
 }
@@ -114,7 +114,7 @@ pub(crate) fn read_source_for(
     profile: &Profile,
 ) -> Result<(SourceFile, DialectId, ncthread::text::Input), Fatal> {
     let (name, bytes) = read_input(input, stdin.stdin_filename.as_deref())?;
-    let (src, from, decoded) = decode_source(name, &bytes, from, common.encoding, profile);
+    let (src, from, decoded) = decode_source(name, bytes, from, common.encoding, profile);
     encoding_checked(&src, &decoded, common.diagnostics)?;
     let kept =
         ncthread::text::Input::of(&src.text, decoded.encoding, &decoded.eof_mark, from == to);
@@ -125,7 +125,7 @@ pub(crate) fn read_source_for(
 /// stderr when unsure). Also returns the encoding used.
 pub(crate) fn decode_source(
     name: String,
-    bytes: &[u8],
+    bytes: Vec<u8>,
     from: SourceDialect,
     encoding: Option<TextEncoding>,
     profile: &Profile,

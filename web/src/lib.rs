@@ -115,7 +115,7 @@ fn ready(r: &Request) -> Result<Ready, Stop> {
     };
     let to = dialect_of(r.to, "--to")?;
     let profile = profile_of(r.profile_name, r.profile)?;
-    let read = frontend::read(r.name.to_string(), r.bytes, from, None);
+    let read = frontend::read(r.name.to_string(), r.bytes.to_vec(), from, None);
     let mut diagnostics = Vec::new();
     if let Some(d) = read.decoded.encoding_diagnostic(&read.src.name) {
         let refused = d.is_error();
