@@ -13,39 +13,103 @@
 use crate::diag::{Diagnostic, codes};
 use crate::dialect::capabilities::occurrences;
 use crate::dialect::{self, DialectId};
-use crate::ir::{FeedMode, ItemKind, Program};
+use crate::ir::{FeedMode, Item, ItemKind, Program};
 use crate::source::SourceFile;
 
 /// The diagnostics of the shared rules (errors). `to` is the target, when the program is to
 /// be written (`None`: `check`).
 pub fn check(program: &Program, src: &SourceFile, to: Option<DialectId>) -> Vec<Diagnostic> {
-    let mut diags = Vec::new();
-    let mut turning = false;
-    let mut speed: Option<u32> = None;
-    let mut feed_mode: Option<FeedMode> = None;
-    let said = cycle_blocks_said(program);
-    // The target, and whether its output is in inches.
-    let to = (to, output_in_inches(program, to));
-    for (index, item) in program.items.iter().enumerate() {
+    let mut rules = Shared::new(src, to, output_in_inches(program, to));
+    for item in &program.items {
+        rules.item(item);
+    }
+    rules.finish()
+}
+
+/// The shared rules over a program's items one at a time, in order ([`check`], and `check`'s
+/// streaming read): the spindle and feed mode they leave, and the run of blocks kept as a
+/// cycle being read (a refusal is said once per run, at the blocks [`said_in_run`] names).
+pub struct Shared<'s> {
+    src: &'s SourceFile,
+    /// The target, and whether its output is in inches.
+    to: (Option<DialectId>, bool),
+    turning: bool,
+    speed: Option<u32>,
+    feed_mode: Option<FeedMode>,
+    /// The cycle blocks kept as written (and comments between them) since the last item
+    /// that closes their run, with the feed mode each was read under.
+    run: Vec<(Item, Option<FeedMode>)>,
+    diags: Vec<Diagnostic>,
+}
+
+impl<'s> Shared<'s> {
+    /// For `to` (`None`: `check`), whose output is in inches when `inch`.
+    pub fn new(src: &'s SourceFile, to: Option<DialectId>, inch: bool) -> Self {
+        Shared {
+            src,
+            to: (to, inch),
+            turning: false,
+            speed: None,
+            feed_mode: None,
+            run: Vec::new(),
+            diags: Vec::new(),
+        }
+    }
+
+    /// The program's next item.
+    pub fn item(&mut self, item: &Item) {
+        match &item.kind {
+            ItemKind::Opaque { block: Some(c), .. } if c.cycle => {
+                self.run.push((item.clone(), self.feed_mode));
+                return;
+            }
+            ItemKind::Comment(_) if !self.run.is_empty() => return,
+            _ => self.close_run(),
+        }
+        self.rules(item, self.feed_mode, false);
+    }
+
+    /// Every diagnostic, once the last item is in.
+    pub fn finish(mut self) -> Vec<Diagnostic> {
+        self.close_run();
+        self.diags
+    }
+
+    /// The run of kept cycle blocks is over: each is checked, said where the run says it.
+    fn close_run(&mut self) {
+        if self.run.is_empty() {
+            return;
+        }
+        let run = std::mem::take(&mut self.run);
+        let said = said_in_run(&run);
+        for (i, (item, feed_mode)) in run.iter().enumerate() {
+            self.rules(item, *feed_mode, said.contains(&i));
+        }
+    }
+
+    /// The rules at one item, read under `feed_mode`; `said`: a kept cycle block at which
+    /// its run's refusal is said.
+    fn rules(&mut self, item: &Item, feed_mode: Option<FeedMode>, said: bool) {
+        let (turning, speed) = (self.turning, self.speed);
         let refusal = match &item.kind {
             ItemKind::Spindle {
                 speed: s,
                 direction,
             } => {
                 if s.is_some() {
-                    speed = *s;
+                    self.speed = *s;
                 }
                 if direction.is_some() {
-                    turning = true;
+                    self.turning = true;
                 }
                 None
             }
             ItemKind::SpindleStop | ItemKind::ProgramEnd(_) => {
-                turning = false;
+                self.turning = false;
                 None
             }
             ItemKind::FeedMode(mode) => {
-                feed_mode = Some(*mode);
+                self.feed_mode = Some(*mode);
                 None
             }
             ItemKind::ThreadPass(_) | ItemKind::ThreadCycle(_) | ItemKind::TapCycle(_)
@@ -62,25 +126,17 @@ pub fn check(program: &Program, src: &SourceFile, to: Option<DialectId>) -> Vec<
                 dialect,
                 text,
                 block: Some(context),
-            } => kept_block_moves(
-                text,
-                *dialect,
-                context,
-                to,
-                feed_mode,
-                said.contains(&index),
-            ),
+            } => kept_block_moves(text, *dialect, context, self.to, feed_mode, said),
             // A cycle kept whole for its own dialect: the same rules over its moves, and
             // copied where it means the same (`lower::unroll`).
             ItemKind::ModelCycle(c) => cycle_without_spindle(c, turning, speed, feed_mode)
-                .or_else(|| kept_block_moves(&c.text, c.dialect, &c.context, to, feed_mode, true)),
+                .or_else(|| kept_block_moves(&c.text, c.dialect, &c.context, self.to, feed_mode, true)),
             _ => None,
         };
         if let Some(d) = refusal {
-            diags.push(d.at(src, item.span));
+            self.diags.push(d.at(self.src, item.span));
         }
     }
-    diags
 }
 
 /// LG001/LG002 inside a cycle kept whole: a thread pass while the spindle is not turning, or
@@ -143,29 +199,20 @@ fn output_in_inches(program: &Program, to: Option<DialectId>) -> bool {
     program.inch && to.is_some_and(|t| dialect::get(t).says_inches())
 }
 
-/// The blocks kept as a cycle at which another target's refusal is said: in each run of
-/// them (a two-block form, a contour, comments between), every block that moves (a G71's
-/// second block, a G70), or the run's first block when none does (a first block alone).
-fn cycle_blocks_said(program: &Program) -> Vec<usize> {
-    let mut said = Vec::new();
-    let mut run: Vec<(usize, bool)> = Vec::new();
-    let mut close = |run: &mut Vec<(usize, bool)>| {
-        if run.iter().any(|&(_, moves)| moves) {
-            said.extend(run.iter().filter(|&&(_, moves)| moves).map(|&(i, _)| i));
-        } else {
-            said.extend(run.first().map(|&(i, _)| i));
-        }
-        run.clear();
-    };
-    for (i, item) in program.items.iter().enumerate() {
-        match &item.kind {
-            ItemKind::Opaque { block: Some(c), .. } if c.cycle => run.push((i, c.moves)),
-            ItemKind::Comment(_) => {}
-            _ => close(&mut run),
-        }
+/// The blocks of a run kept as a cycle at which another target's refusal is said (indices
+/// into the run, which holds them and the comments between them): every block that moves (a
+/// G71's second block, a G70), or the run's first block when none does (a first block alone).
+fn said_in_run(run: &[(Item, Option<FeedMode>)]) -> Vec<usize> {
+    let blocks = run.iter().enumerate().filter_map(|(i, (item, _))| match &item.kind {
+        ItemKind::Opaque { block: Some(c), .. } => Some((i, c.moves)),
+        _ => None,
+    });
+    let moving: Vec<usize> = blocks.clone().filter(|&(_, m)| m).map(|(i, _)| i).collect();
+    if moving.is_empty() {
+        blocks.map(|(i, _)| i).take(1).collect()
+    } else {
+        moving
     }
-    close(&mut run);
-    said
 }
 
 /// LG003: a block kept as written that would mean something else in the output: another

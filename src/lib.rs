@@ -132,13 +132,24 @@ pub fn parse(
     profile: &Profile,
     unsupported: Unsupported,
 ) -> (Program, Vec<Diagnostic>) {
-    let (program, mut diags) = dialect::get(from).read(src, profile, unsupported);
+    read(src, from, profile, unsupported, dialect::Keep::Program)
+}
+
+/// [`parse`], keeping what `keep` says (a streaming read hands each item on).
+fn read(
+    src: &SourceFile,
+    from: DialectId,
+    profile: &Profile,
+    unsupported: Unsupported,
+    keep: dialect::Keep<'_>,
+) -> (Program, Vec<Diagnostic>) {
+    let (program, mut diags) = dialect::get(from).read_keeping(src, profile, unsupported, keep);
     if diag::has_errors(&diags) {
         let detection = dialect::detect::detect(&src.text);
         let other = detection.dialect;
         if detection.certain
             && other != from
-            && !diag::has_errors(&dialect::get(other).read(src, profile, unsupported).1)
+            && !diag::has_errors(&dialect::get(other).diagnostics(src, profile, unsupported))
         {
             diags.push(
                 Diagnostic::new(
@@ -224,7 +235,12 @@ fn emit_output(
 /// INP001 when `src` holds no program: its reading made nothing (blank lines, an empty
 /// comment).
 fn empty_input(src: &SourceFile, program: &Program) -> Option<Diagnostic> {
-    (program.items.is_empty() && program.library.is_empty()).then(|| {
+    empty_read(src, program.items.len(), program)
+}
+
+/// [`empty_input`] of a read that made `items` items (a streaming read keeps none).
+fn empty_read(src: &SourceFile, items: usize, program: &Program) -> Option<Diagnostic> {
+    (items == 0 && program.library.is_empty()).then(|| {
         let what = if src.text.trim().is_empty() {
             "it is empty"
         } else {
@@ -355,18 +371,51 @@ pub fn check(
     profile: &Profile,
     unsupported: Unsupported,
 ) -> Vec<Diagnostic> {
-    let (program, mut diagnostics) = parse(src, from, profile, unsupported);
+    // The program is not kept: the shared rules and the simulator take each item as the
+    // reader lets go of it (their findings are used only if the read has no error).
+    let mut checker = Checker {
+        rules: legalise::Shared::new(src, None, false),
+        problems: sim::Problems::new(),
+        items: 0,
+    };
+    let (program, mut diagnostics) = read(
+        src,
+        from,
+        profile,
+        unsupported,
+        dialect::Keep::Stream(&mut checker),
+    );
     if !diag::has_errors(&diagnostics)
-        && let Some(empty) = empty_input(src, &program)
+        && let Some(empty) = empty_read(src, checker.items, &program)
     {
         diagnostics.push(empty.as_warning());
     }
     if !diag::has_errors(&diagnostics) {
-        diagnostics.extend(legalise::check(&lower::unroll(&program, None), src, None));
-        diagnostics.extend(sim::problems(&program).iter().map(|p| p.diagnostic(src)));
+        diagnostics.extend(checker.rules.finish());
+        let problems = checker.problems.finish();
+        diagnostics.extend(problems.iter().map(|p| p.diagnostic(src)));
     }
     diag::sort(&mut diagnostics);
     diagnostics
+}
+
+/// What `check` runs over each item of a streaming read: the shared rules over its moves
+/// (a cycle unrolled, as for any target) and the simulator over the item.
+struct Checker<'s> {
+    rules: legalise::Shared<'s>,
+    problems: sim::Problems,
+    items: usize,
+}
+
+impl dialect::ItemSink for Checker<'_> {
+    fn item(&mut self, item: ir::Item) {
+        self.items += 1;
+        self.problems.item(&item);
+        match lower::unrolled(&item, None) {
+            Some(moves) => moves.for_each(|m| self.rules.item(&m)),
+            None => self.rules.item(&item),
+        }
+    }
 }
 
 /// What `verify` found.

@@ -1323,28 +1323,15 @@ pub fn unroll(
     program: &crate::ir::Program,
     target: Option<crate::ir::DialectId>,
 ) -> std::borrow::Cow<'_, crate::ir::Program> {
-    use crate::ir::{Item, Program};
-    let replaced = |kind: &ItemKind| match kind {
-        ItemKind::Roughing(_) => true,
-        ItemKind::ModelCycle(cycle) => target != Some(cycle.dialect),
-        _ => false,
-    };
-    if !program.items.iter().any(|i| replaced(&i.kind)) {
+    use crate::ir::Program;
+    if !program.items.iter().any(|i| replaced(i, target)) {
         return std::borrow::Cow::Borrowed(program);
     }
     let mut items = Vec::with_capacity(program.items.len());
     for item in &program.items {
-        let Some(moves) = item.kind.cycle_moves().filter(|_| replaced(&item.kind)) else {
-            items.push(item.clone());
-            continue;
-        };
-        for (n, kind) in moves.iter().enumerate() {
-            items.push(Item {
-                kind: kind.clone(),
-                span: item.span,
-                block_number: item.block_number,
-                comment: if n == 0 { item.comment.clone() } else { None },
-            });
+        match unrolled(item, target) {
+            Some(moves) => items.extend(moves),
+            None => items.push(item.clone()),
         }
     }
     std::borrow::Cow::Owned(Program {
@@ -1355,4 +1342,33 @@ pub fn unroll(
         name: program.name.clone(),
         inch: program.inch,
     })
+}
+
+/// Whether [`unroll`] replaces `item` by its moves.
+fn replaced(item: &crate::ir::Item, target: Option<crate::ir::DialectId>) -> bool {
+    match &item.kind {
+        ItemKind::Roughing(_) => true,
+        ItemKind::ModelCycle(cycle) => target != Some(cycle.dialect),
+        _ => false,
+    }
+}
+
+/// What [`unroll`] makes of one item: the moves that replace it, as items at its line, or
+/// `None` when it stands as it is.
+pub fn unrolled(
+    item: &crate::ir::Item,
+    target: Option<crate::ir::DialectId>,
+) -> Option<impl Iterator<Item = crate::ir::Item> + '_> {
+    let moves = item.kind.cycle_moves().filter(|_| replaced(item, target))?;
+    Some(
+        moves
+            .iter()
+            .enumerate()
+            .map(|(n, kind)| crate::ir::Item {
+                kind: kind.clone(),
+                span: item.span,
+                block_number: item.block_number,
+                comment: if n == 0 { item.comment.clone() } else { None },
+            }),
+    )
 }

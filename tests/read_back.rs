@@ -29,3 +29,45 @@ fn reading_for_the_diagnostics_alone_reports_what_a_full_read_reports() {
     }
     assert!(compared > 1000, "only {compared} reads compared");
 }
+
+/// Collects what a streaming read hands on.
+#[derive(Default)]
+struct Collect(Vec<ncthread::ir::Item>);
+
+impl dialect::ItemSink for Collect {
+    fn item(&mut self, item: ncthread::ir::Item) {
+        self.0.push(item);
+    }
+}
+
+/// A streaming read (`check`, issue 34) hands on each line's items once the line is read:
+/// in order they must be the full read's items, its diagnostics the full read's, and the
+/// program it returns the full read's but for the items — for every corpus file read as every
+/// dialect, with and without `--unsupported warn`. (A FANUC G71 holds on to its item until
+/// its contour has been read: its moves are filled in then.)
+#[test]
+fn a_streaming_read_hands_on_the_full_reads_items_in_order() {
+    let mut compared = 0;
+    for case in common::corpus_cases() {
+        let src = common::case_source(&case);
+        let profile = case
+            .profile
+            .as_deref()
+            .map(common::load_profile)
+            .unwrap_or_default();
+        for d in dialect::ALL {
+            for unsupported in [Unsupported::Error, Unsupported::Warn] {
+                let (full, full_diags) = d.read(&src, &profile, unsupported);
+                let mut sink = Collect::default();
+                let (mut streamed, diags) = d.stream(&src, &profile, unsupported, &mut sink);
+                let what = format!("{} read as {}", case.name, d.id());
+                assert_eq!(diags, full_diags, "{what}");
+                assert!(streamed.items.is_empty(), "{what}: items kept");
+                streamed.items = sink.0;
+                assert_eq!(streamed, full, "{what}");
+                compared += 1;
+            }
+        }
+    }
+    assert!(compared > 1000, "only {compared} reads compared");
+}

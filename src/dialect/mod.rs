@@ -16,10 +16,8 @@ pub mod siemens;
 pub(crate) mod write;
 pub use write::Output;
 
-pub use read::Unsupported;
-pub(crate) use read::{
-    Keep, Letters, WORD_REPORTS, budget, comment_text, one_line, pest_error_offset,
-};
+pub use read::{ItemSink, Keep, Unsupported};
+pub(crate) use read::{Letters, WORD_REPORTS, budget, comment_text, one_line, pest_error_offset};
 pub(crate) use write::Inexact;
 
 use crate::diag::Diagnostic;
@@ -245,13 +243,25 @@ pub trait Dialect: Sync {
     fn output_feed_mode(&self) -> Option<crate::ir::FeedMode> {
         None
     }
+    /// Reads a program, keeping what `keep` says: the program, only its diagnostics (a
+    /// conversion's read-back), or nothing, each line's items handed to a sink once read.
+    /// The items and diagnostics are the same whatever it keeps.
+    fn read_keeping(
+        &self,
+        src: &SourceFile,
+        profile: &Profile,
+        unsupported: Unsupported,
+        keep: Keep<'_>,
+    ) -> (Program, Vec<Diagnostic>);
     /// Reads a program. It is usable only when no diagnostic is an error.
     fn read(
         &self,
         src: &SourceFile,
         profile: &Profile,
         unsupported: Unsupported,
-    ) -> (Program, Vec<Diagnostic>);
+    ) -> (Program, Vec<Diagnostic>) {
+        self.read_keeping(src, profile, unsupported, Keep::Program)
+    }
     /// The diagnostics of [`Dialect::read`] without the program: what a conversion's
     /// read-back of its output needs. A reader may let go of each line's items once read.
     fn diagnostics(
@@ -260,7 +270,19 @@ pub trait Dialect: Sync {
         profile: &Profile,
         unsupported: Unsupported,
     ) -> Vec<Diagnostic> {
-        self.read(src, profile, unsupported).1
+        self.read_keeping(src, profile, unsupported, Keep::Diagnostics)
+            .1
+    }
+    /// [`Dialect::read`], each item handed to `sink` once its line is read: the program
+    /// returned holds none (issue 34: a program need not be in memory whole).
+    fn stream(
+        &self,
+        src: &SourceFile,
+        profile: &Profile,
+        unsupported: Unsupported,
+        sink: &mut dyn ItemSink,
+    ) -> (Program, Vec<Diagnostic>) {
+        self.read_keeping(src, profile, unsupported, Keep::Stream(sink))
     }
     /// What it reads and writes, for the machine `profile` describes.
     fn capabilities(&self, profile: &Profile) -> capabilities::Capabilities;

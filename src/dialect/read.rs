@@ -163,26 +163,50 @@ pub(crate) fn pest_error_offset<R: pest::RuleType>(line: &str, e: &pest::error::
     }
 }
 
-/// What a read keeps: the program, or only its diagnostics.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Keep {
+/// Where a streaming read hands the items of the lines it is done with, in order
+/// ([`crate::dialect::Dialect::stream`]).
+pub trait ItemSink {
+    fn item(&mut self, item: Item);
+}
+
+/// What a read keeps: the program, only its diagnostics, or nothing, handing each line's
+/// items on.
+pub enum Keep<'s> {
     Program,
     /// A conversion's read-back of its output needs only the diagnostics: the reader lets go
     /// of each line's items once the line is read ([`Items::line_read`]).
     Diagnostics,
+    /// As [`Keep::Diagnostics`], each item handed to the sink as it is let go of: the items
+    /// and diagnostics are those of [`Keep::Program`], without the program in memory.
+    Stream(&'s mut dyn ItemSink),
+}
+
+impl<'s> Keep<'s> {
+    /// The same, for as long as a reader that lives shorter than the sink.
+    pub fn shorten<'t>(self) -> Keep<'t>
+    where
+        's: 't,
+    {
+        match self {
+            Keep::Program => Keep::Program,
+            Keep::Diagnostics => Keep::Diagnostics,
+            Keep::Stream(sink) => Keep::Stream(sink),
+        }
+    }
 }
 
 /// The items a reader has made. Front ends use them as a vector indexed from 0 (`len()`
-/// before a line, then `items[first..]`); under [`Keep::Diagnostics`] the items of the lines
-/// read are dropped and only counted, so that no front end may look back past the line it
-/// is reading.
-pub(crate) struct Items {
+/// before a line, then `items[first..]`); under [`Keep::Diagnostics`] and [`Keep::Stream`]
+/// the items of the lines read are let go of and only counted, so that no front end may look
+/// back past the line it is reading, except at an item it holds on to
+/// ([`Items::line_read_keeping`]).
+pub(crate) struct Items<'s> {
     held: Vec<Item>,
     dropped: usize,
-    keep: Keep,
+    keep: Keep<'s>,
 }
 
-impl Items {
+impl Items<'_> {
     pub fn len(&self) -> usize {
         self.dropped + self.held.len()
     }
@@ -218,17 +242,46 @@ impl Items {
         i.saturating_sub(self.dropped)
     }
 
-    /// A line is read, and nothing will look at its items again: they are dropped when
-    /// only the diagnostics are kept.
+    /// A line is read, and nothing will look at its items again: they are let go of when
+    /// the program is not kept.
     pub fn line_read(&mut self) {
-        if self.keep == Keep::Diagnostics {
-            self.dropped += self.held.len();
-            self.held.clear();
+        self.line_read_keeping(None);
+    }
+
+    /// [`Items::line_read`], holding on to item `kept` and those after it (a cycle whose
+    /// moves are filled in when its contour has been read).
+    pub fn line_read_keeping(&mut self, kept: Option<usize>) {
+        let n = kept.map_or(self.held.len(), |k| {
+            k.saturating_sub(self.dropped).min(self.held.len())
+        });
+        self.let_go(n);
+    }
+
+    /// Lets go of the first `n` items held.
+    fn let_go(&mut self, n: usize) {
+        match &mut self.keep {
+            Keep::Program => return,
+            Keep::Diagnostics => {
+                self.held.drain(..n);
+            }
+            Keep::Stream(sink) => {
+                for item in self.held.drain(..n) {
+                    sink.item(item);
+                }
+            }
         }
+        self.dropped += n;
+    }
+
+    /// The items still held when the read ends: the program's, or (streaming) none, each
+    /// handed on.
+    fn finish(mut self) -> Vec<Item> {
+        self.let_go(self.held.len());
+        self.held
     }
 }
 
-impl std::ops::Index<std::ops::RangeFrom<usize>> for Items {
+impl std::ops::Index<std::ops::RangeFrom<usize>> for Items<'_> {
     type Output = [Item];
 
     fn index(&self, range: std::ops::RangeFrom<usize>) -> &[Item] {
@@ -237,7 +290,7 @@ impl std::ops::Index<std::ops::RangeFrom<usize>> for Items {
 }
 
 #[cfg(test)]
-impl std::ops::Index<usize> for Items {
+impl std::ops::Index<usize> for Items<'_> {
     type Output = Item;
 
     fn index(&self, i: usize) -> &Item {
@@ -245,7 +298,7 @@ impl std::ops::Index<usize> for Items {
     }
 }
 
-impl std::ops::IndexMut<std::ops::RangeFrom<usize>> for Items {
+impl std::ops::IndexMut<std::ops::RangeFrom<usize>> for Items<'_> {
     fn index_mut(&mut self, range: std::ops::RangeFrom<usize>) -> &mut [Item] {
         let start = self.held_index(range.start);
         self.held.get_mut(start..).unwrap_or(&mut [])
@@ -256,7 +309,7 @@ impl std::ops::IndexMut<std::ops::RangeFrom<usize>> for Items {
 /// tool's position as far as it is known.
 pub(crate) struct Reader<'a> {
     pub src: &'a SourceFile,
-    pub items: Items,
+    pub items: Items<'a>,
     pub diags: Vec<Diagnostic>,
     pub pos: Pos,
     dialect: DialectId,
@@ -271,13 +324,13 @@ pub(crate) struct Reader<'a> {
 }
 
 impl<'a> Reader<'a> {
-    pub fn new(src: &'a SourceFile, dialect: DialectId, keep: Keep) -> Self {
+    pub fn new<'k: 'a>(src: &'a SourceFile, dialect: DialectId, keep: Keep<'k>) -> Self {
         Reader {
             src,
             items: Items {
                 held: Vec::new(),
                 dropped: 0,
-                keep,
+                keep: keep.shorten(),
             },
             diags: Vec::new(),
             pos: Pos::UNKNOWN,
@@ -299,7 +352,7 @@ impl<'a> Reader<'a> {
     pub fn finish(self) -> (Program, Vec<Diagnostic>) {
         (
             Program {
-                items: self.items.held,
+                items: self.items.finish(),
                 dialect: self.dialect,
                 library: Vec::new(),
                 number: self.number,

@@ -908,12 +908,37 @@ pub fn simulate(program: &Program) -> Simulation {
 /// What [`simulate`] finds it cannot know, without keeping the motion (`check`: memory stays
 /// small for a large program).
 pub fn problems(program: &Program) -> Vec<Problem> {
-    let mut m = Machine::new(Pos::UNKNOWN);
-    m.record = false;
+    let mut finder = Problems::new();
     for item in &program.items {
-        m.item(&item.kind, item.span);
+        finder.item(item);
     }
-    m.out.problems
+    finder.finish()
+}
+
+/// [`problems`] over a program's items one at a time, in order (`check`'s streaming read).
+pub struct Problems(Machine);
+
+impl Problems {
+    pub fn new() -> Problems {
+        let mut m = Machine::new(Pos::UNKNOWN);
+        m.record = false;
+        Problems(m)
+    }
+
+    /// The program's next item.
+    pub fn item(&mut self, item: &crate::ir::Item) {
+        self.0.item(&item.kind, item.span);
+    }
+
+    pub fn finish(self) -> Vec<Problem> {
+        self.0.out.problems
+    }
+}
+
+impl Default for Problems {
+    fn default() -> Self {
+        Problems::new()
+    }
 }
 
 /// The synchronised moves of a pass written as a chain of blocks (the first waits for the

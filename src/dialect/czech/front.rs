@@ -82,6 +82,7 @@ struct FrontEnd<'a> {
 
 /// Reads a czech program. The program holds every item that could be read; the program is
 /// usable only when no diagnostic is an error.
+#[cfg(test)]
 pub fn parse(
     src: &SourceFile,
     profile: &CzechProfile,

@@ -78,28 +78,13 @@ impl Dialect for Czech {
         2
     }
 
-    fn read(
+    fn read_keeping(
         &self,
         src: &SourceFile,
         profile: &Profile,
         unsupported: Unsupported,
+        keep: Keep<'_>,
     ) -> (Program, Vec<Diagnostic>) {
-        front::parse(
-            src,
-            &profile.czech,
-            &Options {
-                unsupported,
-                profile_name: profile.name.clone(),
-            },
-        )
-    }
-
-    fn diagnostics(
-        &self,
-        src: &SourceFile,
-        profile: &Profile,
-        unsupported: Unsupported,
-    ) -> Vec<Diagnostic> {
         front::read(
             src,
             &profile.czech,
@@ -107,9 +92,8 @@ impl Dialect for Czech {
                 unsupported,
                 profile_name: profile.name.clone(),
             },
-            Keep::Diagnostics,
+            keep,
         )
-        .1
     }
 
     fn capabilities(&self, profile: &Profile) -> Capabilities {

@@ -255,12 +255,19 @@ pub(crate) fn read(
 }
 
 impl<'a> FrontEnd<'a> {
+    /// A line is read: its items are let go of when the program is not kept, but for a
+    /// G71/G72/G73 that waits for its contour (its moves are filled in at the contour's end).
+    fn line_read(&mut self) {
+        let waiting = self.pending.as_ref().map(model::Pending::item);
+        self.r.items.line_read_keeping(waiting);
+    }
+
     /// The blocks of a program run through its macros and subprograms, each at its own line
     /// (and file); a block of another file's subprogram stands at the program's call, and
     /// a diagnostic in a subprogram names the call chain.
     fn macro_lines(&mut self, src: &'a SourceFile, loaded: &'a macros::Loaded) {
         for event in macros::run(src, loaded) {
-            self.r.items.line_read();
+            self.line_read();
             match event {
                 macros::Event::Diag(d) => self.r.diags.push(d),
                 macros::Event::Billet(line) => {
@@ -308,7 +315,7 @@ impl FrontEnd<'_> {
         let mut first = true;
         for line in src.lines() {
             // Nothing looks back past the line being read.
-            self.r.items.line_read();
+            self.line_read();
             if line.text.trim().is_empty() {
                 continue;
             }

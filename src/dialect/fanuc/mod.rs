@@ -152,35 +152,20 @@ impl Dialect for Fanuc {
         Some(crate::ir::FeedMode::PerRev)
     }
 
-    fn read(
+    fn read_keeping(
         &self,
         src: &SourceFile,
         profile: &Profile,
         unsupported: Unsupported,
+        keep: Keep<'_>,
     ) -> (Program, Vec<Diagnostic>) {
         front::read(
             src,
             &profile.fanuc,
             &profile.iso.subroutine_path,
             unsupported,
-            Keep::Program,
+            keep,
         )
-    }
-
-    fn diagnostics(
-        &self,
-        src: &SourceFile,
-        profile: &Profile,
-        unsupported: Unsupported,
-    ) -> Vec<Diagnostic> {
-        front::read(
-            src,
-            &profile.fanuc,
-            &profile.iso.subroutine_path,
-            unsupported,
-            Keep::Diagnostics,
-        )
-        .1
     }
 
     fn capabilities(&self, profile: &Profile) -> Capabilities {

@@ -126,22 +126,15 @@ impl Dialect for Heidenhain {
         0
     }
 
-    fn read(
+    fn read_keeping(
         &self,
         src: &SourceFile,
         profile: &Profile,
-        _unsupported: Unsupported,
+        unsupported: Unsupported,
+        keep: Keep<'_>,
     ) -> (Program, Vec<Diagnostic>) {
-        front::read(src, &profile.heidenhain, Keep::Program)
-    }
-
-    fn diagnostics(
-        &self,
-        src: &SourceFile,
-        profile: &Profile,
-        _unsupported: Unsupported,
-    ) -> Vec<Diagnostic> {
-        front::read(src, &profile.heidenhain, Keep::Diagnostics).1
+        let _ = unsupported;
+        front::read(src, &profile.heidenhain, keep)
     }
 
     fn capabilities(&self, profile: &Profile) -> Capabilities {

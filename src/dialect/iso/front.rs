@@ -20,14 +20,16 @@ use std::ops::Range;
 
 use super::gcode::*;
 use super::syntax::{self, Block, Word};
-use crate::diag::{Code, Diagnostic};
+use crate::diag::Code;
+#[cfg(test)]
+use crate::{diag::Diagnostic, dialect::read::Keep, ir::Program, source::SourceFile};
 use crate::dialect::Unsupported;
 use crate::dialect::iso::codes;
-use crate::dialect::read::{Keep, Reader, UnsupportedWording};
+use crate::dialect::read::{Reader, UnsupportedWording};
 use crate::fixed::{Decimal, Length};
-use crate::ir::{FeedMode, ItemKind, Pos, Program, SpindleDirection};
+use crate::ir::{FeedMode, ItemKind, Pos, SpindleDirection};
 use crate::profile::BlockDelete;
-use crate::source::{Line, SourceFile, Span};
+use crate::source::{Line, Span};
 
 /// How the ISO reader words its unsupported policy.
 const UNSUPPORTED: UnsupportedWording = UnsupportedWording {
@@ -190,6 +192,7 @@ pub(crate) use run::read;
 use words::Words;
 
 /// Reads an RS274/NGC program. The program is usable only when no diagnostic is an error.
+#[cfg(test)]
 pub fn parse(src: &SourceFile, options: &Options) -> (Program, Vec<Diagnostic>) {
     read(src, options, Keep::Program)
 }

@@ -156,22 +156,14 @@ impl Dialect for Iso {
         Some(crate::ir::FeedMode::PerRev)
     }
 
-    fn read(
+    fn read_keeping(
         &self,
         src: &SourceFile,
         profile: &Profile,
         unsupported: Unsupported,
+        keep: Keep<'_>,
     ) -> (Program, Vec<Diagnostic>) {
-        front::parse(src, &options(profile, unsupported))
-    }
-
-    fn diagnostics(
-        &self,
-        src: &SourceFile,
-        profile: &Profile,
-        unsupported: Unsupported,
-    ) -> Vec<Diagnostic> {
-        front::read(src, &options(profile, unsupported), Keep::Diagnostics).1
+        front::read(src, &options(profile, unsupported), keep)
     }
 
     fn capabilities(&self, _profile: &Profile) -> Capabilities {

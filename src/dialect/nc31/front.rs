@@ -106,6 +106,7 @@ struct FrontEnd<'a> {
 }
 
 /// Reads an nc31 program. The program is usable only when no diagnostic is an error.
+#[cfg(test)]
 pub fn parse(
     src: &SourceFile,
     profile: &Nc31Profile,

@@ -98,28 +98,14 @@ impl Dialect for Nc31 {
         3
     }
 
-    fn read(
+    fn read_keeping(
         &self,
         src: &SourceFile,
         profile: &Profile,
         unsupported: Unsupported,
+        keep: Keep<'_>,
     ) -> (Program, Vec<Diagnostic>) {
-        front::parse(src, &profile.nc31, &Options { unsupported })
-    }
-
-    fn diagnostics(
-        &self,
-        src: &SourceFile,
-        profile: &Profile,
-        unsupported: Unsupported,
-    ) -> Vec<Diagnostic> {
-        front::read(
-            src,
-            &profile.nc31,
-            &Options { unsupported },
-            Keep::Diagnostics,
-        )
-        .1
+        front::read(src, &profile.nc31, &Options { unsupported }, keep)
     }
 
     fn capabilities(&self, profile: &Profile) -> Capabilities {

@@ -88,22 +88,15 @@ impl Dialect for Siemens {
         Some(crate::ir::FeedMode::PerRev)
     }
 
-    fn read(
+    fn read_keeping(
         &self,
         src: &SourceFile,
         profile: &Profile,
-        _unsupported: Unsupported,
+        unsupported: Unsupported,
+        keep: Keep<'_>,
     ) -> (Program, Vec<Diagnostic>) {
-        front::read(src, &profile.siemens, Keep::Program)
-    }
-
-    fn diagnostics(
-        &self,
-        src: &SourceFile,
-        profile: &Profile,
-        _unsupported: Unsupported,
-    ) -> Vec<Diagnostic> {
-        front::read(src, &profile.siemens, Keep::Diagnostics).1
+        let _ = unsupported;
+        front::read(src, &profile.siemens, keep)
     }
 
     fn capabilities(&self, _profile: &Profile) -> Capabilities {

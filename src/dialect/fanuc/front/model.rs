@@ -68,6 +68,13 @@ pub(in crate::dialect::fanuc) struct Pending {
     cycle: Waiting,
 }
 
+impl Pending {
+    /// The index of the cycle's item, whose moves the contour's end fills in.
+    pub(in crate::dialect::fanuc) fn item(&self) -> usize {
+        self.item
+    }
+}
+
 /// A contour read as moves: its elements so far and the reader's state at its point, or why
 /// it cannot be.
 #[derive(Clone, Debug)]
@@ -795,7 +802,7 @@ impl FrontEnd<'_> {
             self.r.pos = Pos::UNKNOWN;
             self.not_expanded(p.span, g, reason);
         }
-        // The item, while the reader keeps the program (not for a read-back's diagnostics).
+        // The item: held while the cycle waits for its contour ([`FrontEnd::line_read`]).
         let Some(item) = self.r.items.held_mut(p.item) else {
             return;
         };

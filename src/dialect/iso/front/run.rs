@@ -67,7 +67,7 @@ struct Run {
 
 impl<'a> FrontEnd<'a> {
     /// The reader before the program's first line: LinuxCNC's start-up modes.
-    fn new(src: &'a SourceFile, options: &'a Options, keep: Keep) -> Self {
+    fn new<'k: 'a>(src: &'a SourceFile, options: &'a Options, keep: Keep<'k>) -> Self {
         FrontEnd {
             r: Reader::new(src, super::super::ID, keep),
             options,
