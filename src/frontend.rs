@@ -26,12 +26,8 @@ pub fn read(
     from: Option<DialectId>,
     encoding: Option<TextEncoding>,
 ) -> Read {
-    let mut decoded = crate::text::decode_program_owned(
-        bytes,
-        from,
-        encoding,
-        Some(std::path::Path::new(&name)),
-    );
+    let mut decoded =
+        crate::text::decode_program_owned(bytes, from, encoding, Some(std::path::Path::new(&name)));
     let text = std::mem::take(&mut decoded.text);
     Read {
         src: SourceFile::new(name, text),

@@ -11,7 +11,6 @@
 //!   would change, so it is refused in every mode.
 
 use crate::diag::{Diagnostic, codes};
-use crate::dialect::capabilities::occurrences;
 use crate::dialect::{self, DialectId};
 use crate::ir::{FeedMode, Item, ItemKind, Program};
 use crate::source::SourceFile;
@@ -129,8 +128,11 @@ impl<'s> Shared<'s> {
             } => kept_block_moves(text, *dialect, context, self.to, feed_mode, said),
             // A cycle kept whole for its own dialect: the same rules over its moves, and
             // copied where it means the same (`lower::unroll`).
-            ItemKind::ModelCycle(c) => cycle_without_spindle(c, turning, speed, feed_mode)
-                .or_else(|| kept_block_moves(&c.text, c.dialect, &c.context, self.to, feed_mode, true)),
+            ItemKind::ModelCycle(c) => {
+                cycle_without_spindle(c, turning, speed, feed_mode).or_else(|| {
+                    kept_block_moves(&c.text, c.dialect, &c.context, self.to, feed_mode, true)
+                })
+            }
             _ => None,
         };
         if let Some(d) = refusal {
@@ -195,7 +197,7 @@ fn feed_without_spindle(turning: bool, speed: Option<u32>) -> Diagnostic {
 }
 
 /// The output's unit: inches for an inch program whose target can say them.
-fn output_in_inches(program: &Program, to: Option<DialectId>) -> bool {
+pub fn output_in_inches(program: &Program, to: Option<DialectId>) -> bool {
     program.inch && to.is_some_and(|t| dialect::get(t).says_inches())
 }
 
@@ -203,10 +205,13 @@ fn output_in_inches(program: &Program, to: Option<DialectId>) -> bool {
 /// into the run, which holds them and the comments between them): every block that moves (a
 /// G71's second block, a G70), or the run's first block when none does (a first block alone).
 fn said_in_run(run: &[(Item, Option<FeedMode>)]) -> Vec<usize> {
-    let blocks = run.iter().enumerate().filter_map(|(i, (item, _))| match &item.kind {
-        ItemKind::Opaque { block: Some(c), .. } => Some((i, c.moves)),
-        _ => None,
-    });
+    let blocks = run
+        .iter()
+        .enumerate()
+        .filter_map(|(i, (item, _))| match &item.kind {
+            ItemKind::Opaque { block: Some(c), .. } => Some((i, c.moves)),
+            _ => None,
+        });
     let moving: Vec<usize> = blocks.clone().filter(|&(_, m)| m).map(|(i, _)| i).collect();
     if moving.is_empty() {
         blocks.map(|(i, _)| i).take(1).collect()
@@ -286,20 +291,59 @@ pub fn for_target(
     target: &dyn crate::dialect::Dialect,
     profile: &crate::profile::Profile,
 ) -> Vec<Diagnostic> {
-    let caps = target.capabilities(profile);
-    let mut diags: Vec<Diagnostic> = Vec::new();
-    let mut seen = crate::diag::Seen::default();
-    for o in occurrences(program) {
-        if caps.writes(o.construct) {
-            continue;
-        }
-        if let Some(d) = target.refusal(o, src)
-            && seen.first_time(&diags, &d)
-        {
-            diags.push(d);
+    let mut rules = ForTarget::new(src, target, profile);
+    for item in &program.items {
+        rules.item(item);
+    }
+    rules.finish()
+}
+
+/// [`for_target`] over a program's items one at a time, in order.
+pub struct ForTarget<'s> {
+    src: &'s SourceFile,
+    target: &'s dyn crate::dialect::Dialect,
+    caps: crate::dialect::capabilities::Capabilities,
+    finder: crate::dialect::capabilities::Occurrences,
+    found: Vec<crate::dialect::capabilities::Occurrence>,
+    seen: crate::diag::Seen,
+    diags: Vec<Diagnostic>,
+}
+
+impl<'s> ForTarget<'s> {
+    pub fn new(
+        src: &'s SourceFile,
+        target: &'s dyn crate::dialect::Dialect,
+        profile: &crate::profile::Profile,
+    ) -> Self {
+        ForTarget {
+            src,
+            target,
+            caps: target.capabilities(profile),
+            finder: Default::default(),
+            found: Vec::new(),
+            seen: Default::default(),
+            diags: Vec::new(),
         }
     }
-    diags
+
+    /// The program's next item.
+    pub fn item(&mut self, item: &Item) {
+        self.finder.item(item, &mut self.found);
+        for o in self.found.drain(..) {
+            if self.caps.writes(o.construct) {
+                continue;
+            }
+            if let Some(d) = self.target.refusal(o, self.src)
+                && self.seen.first_time(&self.diags, &d)
+            {
+                self.diags.push(d);
+            }
+        }
+    }
+
+    pub fn finish(self) -> Vec<Diagnostic> {
+        self.diags
+    }
 }
 
 #[cfg(test)]

@@ -205,6 +205,15 @@ fn held(
         .ok()
 }
 
+/// What a writer is told of the conversion.
+fn write_options(options: &ConvertOptions) -> dialect::WriteOptions {
+    dialect::WriteOptions {
+        renumber: options.renumber,
+        round: options.round,
+        comments: options.nc31_comments,
+    }
+}
+
 /// [`emit`], with a large output left in the writer's temporary file until the caller has
 /// let go of the program.
 fn emit_output(
@@ -221,24 +230,14 @@ fn emit_output(
     let target = dialect::get(options.to);
     // What the target's table refuses; the writer then spells what remains.
     let mut diags = legalise::for_target(program, src, target, &options.profile);
-    let write = dialect::WriteOptions {
-        renumber: options.renumber,
-        round: options.round,
-        comments: options.nc31_comments,
-    };
-    let (output, more) = target.write(program, src, &options.profile, &write);
+    let (output, more) = target.write(program, src, &options.profile, &write_options(options));
     diags.extend(more);
     let output = output.filter(|_| !diag::has_errors(&diags));
     (output, diags)
 }
 
 /// INP001 when `src` holds no program: its reading made nothing (blank lines, an empty
-/// comment).
-fn empty_input(src: &SourceFile, program: &Program) -> Option<Diagnostic> {
-    empty_read(src, program.items.len(), program)
-}
-
-/// [`empty_input`] of a read that made `items` items (a streaming read keeps none).
+/// comment); `items`: how many items it made (a streaming read keeps none).
 fn empty_read(src: &SourceFile, items: usize, program: &Program) -> Option<Diagnostic> {
     (items == 0 && program.library.is_empty()).then(|| {
         let what = if src.text.trim().is_empty() {
@@ -256,28 +255,71 @@ fn empty_read(src: &SourceFile, items: usize, program: &Program) -> Option<Diagn
 
 /// Parses and emits. Refuses (no output) when any error remains.
 pub fn convert(src: &SourceFile, options: &ConvertOptions) -> Conversion {
+    // A target whose writer takes one item at a time: the program is read twice and never
+    // held (issue 34), the first read gathering what the writer must know first.
+    if dialect::get(options.to).writes_items() {
+        return convert_streaming(src, options);
+    }
+    convert_whole(src, options)
+}
+
+/// [`convert`] holding the program, for a writer that needs it whole (public for the test
+/// that holds a streaming conversion to it).
+#[doc(hidden)]
+pub fn convert_whole(src: &SourceFile, options: &ConvertOptions) -> Conversion {
     let (program, mut diagnostics) =
         parse(src, options.from, &options.profile, options.unsupported);
-    if !diag::has_errors(&diagnostics) && !program.library.is_empty() {
-        return library(src, &program, options, diagnostics);
-    }
-    if !diag::has_errors(&diagnostics)
-        && let Some(empty) = empty_input(src, &program)
-    {
-        diagnostics.push(empty);
-    }
-    if diag::has_errors(&diagnostics) {
-        diag::sort(&mut diagnostics);
-        return Conversion {
-            output: None,
-            diagnostics,
-        };
+    if let Some(stop) = before_writing(
+        src,
+        &program,
+        program.items.len(),
+        options,
+        &mut diagnostics,
+    ) {
+        return stop;
     }
     let (output, more) = emit_output(&program, src, options);
     diagnostics.extend(more);
     // The source's program is not needed again: the whole output and the read-back's
     // need not stand beside it.
     drop(program);
+    finish_conversion(output, options, diagnostics)
+}
+
+/// What stops a conversion before its writer: a subroutine library, an empty program, or
+/// an error in the read (`items`: how many items the read made).
+fn before_writing(
+    src: &SourceFile,
+    program: &Program,
+    items: usize,
+    options: &ConvertOptions,
+    diagnostics: &mut Vec<Diagnostic>,
+) -> Option<Conversion> {
+    if !diag::has_errors(diagnostics) && !program.library.is_empty() {
+        return Some(library(src, program, options, std::mem::take(diagnostics)));
+    }
+    if !diag::has_errors(diagnostics)
+        && let Some(empty) = empty_read(src, items, program)
+    {
+        diagnostics.push(empty);
+    }
+    if diag::has_errors(diagnostics) {
+        let mut diagnostics = std::mem::take(diagnostics);
+        diag::sort(&mut diagnostics);
+        return Some(Conversion {
+            output: None,
+            diagnostics,
+        });
+    }
+    None
+}
+
+/// The writer's output, once the program is let go of, read back by the target's reader.
+fn finish_conversion(
+    output: Option<dialect::Output>,
+    options: &ConvertOptions,
+    mut diagnostics: Vec<Diagnostic>,
+) -> Conversion {
     let mut output = output.and_then(|o| held(o, options, &mut diagnostics));
     // Never write what the target's reader refuses: a last check, which finds what the
     // writers' own checks miss (it names the output line).
@@ -294,6 +336,114 @@ pub fn convert(src: &SourceFile, options: &ConvertOptions) -> Conversion {
     Conversion {
         output,
         diagnostics,
+    }
+}
+
+/// [`convert`] for a target whose writer takes one item at a time: a first streaming read
+/// gathers the diagnostics and what the writer must know first ([`dialect::Facts`]); a
+/// second streams each item, unrolled, through the shared rules, the target's table and the
+/// writer. Nothing holds the program; the output spills to the writer's temporary file.
+fn convert_streaming(src: &SourceFile, options: &ConvertOptions) -> Conversion {
+    let reader = dialect::get(options.from);
+    let mut first = Gather {
+        facts: Default::default(),
+        items: 0,
+        to: options.to,
+    };
+    let (program, mut diagnostics) = read(
+        src,
+        options.from,
+        &options.profile,
+        options.unsupported,
+        dialect::Keep::Stream(&mut first),
+    );
+    if let Some(stop) = before_writing(src, &program, first.items, options, &mut diagnostics) {
+        return stop;
+    }
+    let target = dialect::get(options.to);
+    let write = write_options(options);
+    let Some(writer) = target.item_writer(&first.facts, &program, src, &options.profile, &write)
+    else {
+        return convert_whole(src, options);
+    };
+    let mut second = Emit {
+        rules: legalise::Shared::new(
+            src,
+            Some(options.to),
+            legalise::output_in_inches(&program, Some(options.to)),
+        ),
+        table: legalise::ForTarget::new(src, target, &options.profile),
+        writer,
+        to: options.to,
+    };
+    // The same read again: its diagnostics are the first's.
+    let _ = reader.read_keeping(
+        src,
+        &options.profile,
+        options.unsupported,
+        dialect::Keep::Stream(&mut second),
+    );
+    let Emit {
+        rules,
+        table,
+        writer,
+        ..
+    } = second;
+    // As `emit`: the shared rules first; the table's refusals and the writer's after.
+    let shared = rules.finish();
+    if diag::has_errors(&shared) {
+        diagnostics.extend(shared);
+        return finish_conversion(None, options, diagnostics);
+    }
+    let mut diags = table.finish();
+    let (output, more) = writer.finish();
+    diags.extend(more);
+    let output = output.filter(|_| !diag::has_errors(&diags));
+    diagnostics.extend(diags);
+    finish_conversion(output, options, diagnostics)
+}
+
+/// The first read of a streaming conversion: what the writer must know first, and how many
+/// items the program has.
+struct Gather {
+    facts: dialect::Facts,
+    items: usize,
+    to: DialectId,
+}
+
+impl dialect::ItemSink for Gather {
+    fn item(&mut self, item: ir::Item) {
+        self.items += 1;
+        match lower::unrolled(&item, Some(self.to)) {
+            Some(moves) => moves.for_each(|m| self.facts.item(&m)),
+            None => self.facts.item(&item),
+        }
+    }
+}
+
+/// The second read of a streaming conversion: each item, unrolled, through the shared rules,
+/// the target's table and its writer.
+struct Emit<'s> {
+    rules: legalise::Shared<'s>,
+    table: legalise::ForTarget<'s>,
+    writer: Box<dyn dialect::ItemWriter + 's>,
+    to: DialectId,
+}
+
+impl Emit<'_> {
+    fn one(&mut self, item: &ir::Item) {
+        self.rules.item(item);
+        self.table.item(item);
+        self.writer.item(item);
+    }
+}
+
+impl dialect::ItemSink for Emit<'_> {
+    fn item(&mut self, item: ir::Item) {
+        match lower::unrolled(&item, Some(self.to)) {
+            Some(moves) => moves.for_each(|m| self.one(&m)),
+            None => self.one(&item),
+        }
     }
 }
 

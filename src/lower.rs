@@ -1360,15 +1360,10 @@ pub fn unrolled(
     target: Option<crate::ir::DialectId>,
 ) -> Option<impl Iterator<Item = crate::ir::Item> + '_> {
     let moves = item.kind.cycle_moves().filter(|_| replaced(item, target))?;
-    Some(
-        moves
-            .iter()
-            .enumerate()
-            .map(|(n, kind)| crate::ir::Item {
-                kind: kind.clone(),
-                span: item.span,
-                block_number: item.block_number,
-                comment: if n == 0 { item.comment.clone() } else { None },
-            }),
-    )
+    Some(moves.iter().enumerate().map(|(n, kind)| crate::ir::Item {
+        kind: kind.clone(),
+        span: item.span,
+        block_number: item.block_number,
+        comment: if n == 0 { item.comment.clone() } else { None },
+    }))
 }

@@ -263,7 +263,9 @@ fn named(detection: &Detection, name: Option<&std::path::Path>) -> Option<Detect
     (!detection.certain && d != detection.dialect).then(|| Detection {
         dialect: d,
         certain: false,
-        reason: format!("the text has no dialect's marks, and only {d}'s files are called .{extension}"),
+        reason: format!(
+            "the text has no dialect's marks, and only {d}'s files are called .{extension}"
+        ),
     })
 }
 

@@ -71,3 +71,38 @@ fn a_streaming_read_hands_on_the_full_reads_items_in_order() {
     }
     assert!(compared > 1000, "only {compared} reads compared");
 }
+
+/// A conversion to a target whose writer takes one item at a time reads the program twice
+/// and never holds it (issue 34): its output and diagnostics must be those of the conversion
+/// that holds the program, for every corpus file and every such target.
+#[test]
+fn a_streaming_conversion_writes_what_the_whole_program_writes() {
+    let mut compared = 0;
+    for case in common::corpus_cases() {
+        let src = common::case_source(&case);
+        let profile = case
+            .profile
+            .as_deref()
+            .map(common::load_profile)
+            .unwrap_or_default();
+        for to in dialect::ALL.iter().filter(|d| d.writes_items()) {
+            for (unsupported, round) in [(Unsupported::Error, false), (Unsupported::Warn, true)] {
+                let mut options = ncthread::ConvertOptions::new(case.from, to.id());
+                options.profile = profile.clone();
+                options.unsupported = unsupported;
+                options.round = round;
+                let streamed = ncthread::convert(&src, &options);
+                let whole = ncthread::convert_whole(&src, &options);
+                let what = format!(
+                    "{} to {} ({unsupported:?}, round {round})",
+                    case.name,
+                    to.id()
+                );
+                assert_eq!(streamed.output, whole.output, "{what}");
+                assert_eq!(streamed.diagnostics, whole.diagnostics, "{what}");
+                compared += 1;
+            }
+        }
+    }
+    assert!(compared > 600, "only {compared} conversions compared");
+}

@@ -155,17 +155,43 @@ pub struct Occurrence {
 /// the index pulse where the pass before it ended (the tool still in the cut) is an
 /// [`Construct::IndexWaitInCut`].
 pub fn occurrences(program: &Program) -> Vec<Occurrence> {
+    let mut finder = Occurrences::default();
     let mut out = Vec::new();
-    let mut per_minute = false;
-    let mut pos = Pos::UNKNOWN;
-    let mut in_cut: Option<Pos> = None;
     for item in &program.items {
+        finder.item(item, &mut out);
+    }
+    out
+}
+
+/// [`occurrences`] over a program's items one at a time, in order: the feed mode, the
+/// position and whether the last pass left the tool in the cut.
+#[derive(Debug)]
+pub struct Occurrences {
+    per_minute: bool,
+    pos: Pos,
+    in_cut: Option<Pos>,
+}
+
+impl Default for Occurrences {
+    fn default() -> Self {
+        Occurrences {
+            per_minute: false,
+            pos: Pos::UNKNOWN,
+            in_cut: None,
+        }
+    }
+}
+
+impl Occurrences {
+    /// The occurrences in the program's next item, added to `out`.
+    pub fn item(&mut self, item: &crate::ir::Item, out: &mut Vec<Occurrence>) {
+        let (pos, in_cut) = (self.pos, self.in_cut);
         let mut found: Vec<(Construct, Option<crate::fixed::Angle>)> = Vec::new();
         match &item.kind {
             ItemKind::TapCycle(_) => found.push((Construct::Tapping, None)),
             ItemKind::Arc { .. } => {
                 found.push((Construct::Arc, None));
-                if per_minute {
+                if self.per_minute {
                     found.push((Construct::PerMinuteFeed, None));
                 }
             }
@@ -187,16 +213,18 @@ pub fn occurrences(program: &Program) -> Vec<Occurrence> {
             ItemKind::WorkOffset(n) if *n != 1 => found.push((Construct::WorkOffset, None)),
             ItemKind::MachineMove(_) => found.push((Construct::MachineCoordinates, None)),
             ItemKind::Dwell { .. } => found.push((Construct::Dwell, None)),
-            ItemKind::FeedMode(mode) => per_minute = *mode == FeedMode::PerMin,
+            ItemKind::FeedMode(mode) => self.per_minute = *mode == FeedMode::PerMin,
             ItemKind::Feed { to, .. } => {
-                if per_minute {
+                if self.per_minute {
                     found.push((Construct::PerMinuteFeed, None));
                 }
                 if at_45_degrees(pos, *to) {
                     found.push((Construct::Chamfer45, None));
                 }
             }
-            ItemKind::FeedRate(_) if per_minute => found.push((Construct::PerMinuteFeed, None)),
+            ItemKind::FeedRate(_) if self.per_minute => {
+                found.push((Construct::PerMinuteFeed, None))
+            }
             ItemKind::ThreadCycle(c) => cycle_occurrences(c, pos, &mut found),
             ItemKind::ThreadPass(pass) => {
                 pass_occurrences(pass, pos, in_cut == Some(pos), &mut found)
@@ -217,7 +245,7 @@ pub fn occurrences(program: &Program) -> Vec<Occurrence> {
             angle,
         }));
         let moved = item.kind.end_position(pos);
-        in_cut = match &item.kind {
+        self.in_cut = match &item.kind {
             ItemKind::ThreadPass(_) => Some(moved),
             ItemKind::ThreadCycle(_)
             | ItemKind::TapCycle(_)
@@ -225,9 +253,8 @@ pub fn occurrences(program: &Program) -> Vec<Occurrence> {
             _ if moved != pos => None,
             _ => in_cut,
         };
-        pos = moved;
+        self.pos = moved;
     }
-    out
 }
 
 /// What a single pass from `pos` holds: a synchronised infeed, a move steeper than 45°, a

@@ -14,7 +14,7 @@ pub mod nc31;
 pub(crate) mod read;
 pub mod siemens;
 pub(crate) mod write;
-pub use write::Output;
+pub use write::{Facts, ItemWriter, Output};
 
 pub use read::{ItemSink, Keep, Unsupported};
 pub(crate) use read::{Letters, WORD_REPORTS, budget, comment_text, one_line, pest_error_offset};
@@ -289,6 +289,25 @@ pub trait Dialect: Sync {
     /// The diagnostic that refuses a use of a construct its table says it does not write: its
     /// code, in its words. `None` when it refuses that construct itself while writing.
     fn refusal(&self, at: capabilities::Occurrence, src: &SourceFile) -> Option<Diagnostic>;
+    /// Whether [`Dialect::item_writer`] gives a writer: a conversion to this target then
+    /// never holds the program.
+    fn writes_items(&self) -> bool {
+        false
+    }
+    /// The writer that takes a program one item at a time, when this target has one (`None`:
+    /// its writer needs the program whole): given what a first read gathered and the program
+    /// as read without its items (its dialect, number, name and unit). It writes what
+    /// [`Dialect::write`] writes.
+    fn item_writer<'a>(
+        &self,
+        _facts: &Facts,
+        _program: &Program,
+        _src: &'a SourceFile,
+        _profile: &'a Profile,
+        _options: &WriteOptions,
+    ) -> Option<Box<dyn ItemWriter + 'a>> {
+        None
+    }
     /// Writes `program` (read from `src`, whose lines the diagnostics point at). `None` when
     /// an item cannot be written; the diagnostics say why.
     fn write(

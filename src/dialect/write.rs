@@ -298,6 +298,35 @@ pub(crate) enum CycleStep {
     Move(Item),
 }
 
+/// What a writer needs to know of the whole program before its first line, gathered by a
+/// first streaming read of the program (a conversion that does not hold the program) or
+/// from the program's items: so far the R parameters a program assigns (not free for the
+/// czech writer's leads). Over the items as [`crate::lower::unroll`] gives them.
+#[derive(Debug, Default)]
+pub struct Facts {
+    /// The parameters assigned, in order, each once.
+    pub params: Vec<u32>,
+}
+
+impl Facts {
+    /// The program's next item (after unrolling).
+    pub fn item(&mut self, item: &Item) {
+        if let crate::ir::ItemKind::ParamAssign { number, .. } = item.kind
+            && let Err(at) = self.params.binary_search(&number)
+        {
+            self.params.insert(at, number);
+        }
+    }
+}
+
+/// A writer that takes a program one item at a time, in order (issue 34: a conversion that
+/// does not hold the program). Items come unrolled ([`crate::lower::unrolled`]).
+pub trait ItemWriter {
+    fn item(&mut self, item: &Item);
+    /// The text (none after an error) and the writer's diagnostics.
+    fn finish(self: Box<Self>) -> (Option<Output>, Vec<Diagnostic>);
+}
+
 /// How much finished text a writer holds before it moves it to its spool ([`Writer::spill`]).
 const SPILL_AT: usize = 1 << 20;
 

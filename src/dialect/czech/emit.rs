@@ -75,38 +75,94 @@ pub fn emit(
 ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
     // Roughing cycles are written as their moves.
     let program = &*crate::lower::unroll(program, Some(super::ID));
-    let mut params = BTreeMap::new();
-    // Parameters the program assigns are not free for leads.
+    let mut facts = write::Facts::default();
+    program.items.iter().for_each(|item| facts.item(item));
+    let mut w = Items::new(&facts, program.dialect, src, profile, renumber, round);
     for item in &program.items {
-        if let ItemKind::ParamAssign { number, .. } = item.kind {
-            params
-                .entry(number)
-                .or_insert(Decimal::parse("0").expect("a number"));
+        write::ItemWriter::item(&mut w, item);
+    }
+    write::ItemWriter::finish(Box::new(w))
+}
+
+/// The czech writer taking a program's items one at a time (a conversion's streaming read,
+/// after [`write::Facts`] gathered what it needs to know first), or a whole program
+/// ([`emit`]).
+pub(crate) struct Items<'a> {
+    e: Emitter<'a>,
+    /// Parameters the program assigns are not free for leads.
+    reserved: Vec<u32>,
+    /// The items of the block being gathered (one source line's when the source is czech).
+    block: Vec<Item>,
+}
+
+impl<'a> Items<'a> {
+    pub fn new(
+        facts: &write::Facts,
+        from: DialectId,
+        src: &'a SourceFile,
+        profile: &'a Profile,
+        renumber: Renumber,
+        round: bool,
+    ) -> Self {
+        Items {
+            e: Emitter {
+                w: Writer::new(src),
+                profile,
+                keep_numbers: from == super::ID,
+                next_number: renumber.start,
+                step: renumber.step.max(1),
+                motion: None,
+                f: None,
+                params: BTreeMap::new(),
+                in_cut: None,
+                all_axes: false,
+                pending_empty: false,
+                last_number: None,
+                inexact: Inexact::default(),
+                round,
+            },
+            reserved: facts.params.clone(),
+            block: Vec::new(),
         }
     }
-    let mut e = Emitter {
-        w: Writer::new(src),
-        profile,
-        keep_numbers: program.dialect == super::ID,
-        next_number: renumber.start,
-        step: renumber.step.max(1),
-        motion: None,
-        f: None,
-        params: BTreeMap::new(),
-        in_cut: None,
-        all_axes: false,
-        pending_empty: false,
-        last_number: None,
-        inexact: Inexact::default(),
-        round,
-    };
-    let reserved: Vec<u32> = params.keys().copied().collect();
-    // Items of one source block stay one block when the source is czech.
-    for block in write::blocks(&program.items, e.keep_numbers) {
-        e.w.spill();
-        e.group(block, &reserved);
+
+    /// Writes the block gathered so far.
+    fn flush(&mut self) {
+        if self.block.is_empty() {
+            return;
+        }
+        self.e.w.spill();
+        self.e.group(&self.block, &self.reserved);
+        self.block.clear();
     }
-    let summary = e.inexact.diagnostic(
+}
+
+impl write::ItemWriter for Items<'_> {
+    fn item(&mut self, item: &Item) {
+        // Items of one source block stay one block when the source is czech.
+        let same = self
+            .block
+            .first()
+            .is_some_and(|first| self.e.keep_numbers && first.span.line == item.span.line);
+        if !same {
+            self.flush();
+        }
+        self.block.push(item.clone());
+    }
+
+    fn finish(mut self: Box<Self>) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
+        self.flush();
+        let Items { e, .. } = *self;
+        e.end()
+    }
+}
+
+impl Emitter<'_> {
+    /// The program's closing diagnostics, and the text.
+    fn end(mut self) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
+        let e = &mut self;
+        let src = e.w.src;
+        let summary = e.inexact.diagnostic(
         src,
         e.round,
         |s| {
@@ -124,8 +180,9 @@ pub fn emit(
             .help(format!("pass --round to round them (largest deviation {} mm, for a lead its drift at the thread's end; thread starts keep their helix through I)", s.largest))
         },
     );
-    e.w.diags.extend(summary);
-    e.w.finish()
+        e.w.diags.extend(summary);
+        self.w.finish()
+    }
 }
 
 /// `X26.618`-style text for a coordinate, or `None` when it needs a 4th decimal.

@@ -179,6 +179,28 @@ impl Dialect for Czech {
     ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
         emit::emit(program, src, profile, options.renumber, options.round)
     }
+
+    fn writes_items(&self) -> bool {
+        true
+    }
+
+    fn item_writer<'a>(
+        &self,
+        facts: &crate::dialect::Facts,
+        program: &Program,
+        src: &'a SourceFile,
+        profile: &'a Profile,
+        options: &WriteOptions,
+    ) -> Option<Box<dyn crate::dialect::ItemWriter + 'a>> {
+        Some(Box::new(emit::Items::new(
+            facts,
+            program.dialect,
+            src,
+            profile,
+            options.renumber,
+            options.round,
+        )))
+    }
 }
 
 /// The table's rows for the thread's forms (cycles, passes, their tapers and chains).

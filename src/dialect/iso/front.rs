@@ -21,8 +21,6 @@ use std::ops::Range;
 use super::gcode::*;
 use super::syntax::{self, Block, Word};
 use crate::diag::Code;
-#[cfg(test)]
-use crate::{diag::Diagnostic, dialect::read::Keep, ir::Program, source::SourceFile};
 use crate::dialect::Unsupported;
 use crate::dialect::iso::codes;
 use crate::dialect::read::{Reader, UnsupportedWording};
@@ -30,6 +28,8 @@ use crate::fixed::{Decimal, Length};
 use crate::ir::{FeedMode, ItemKind, Pos, SpindleDirection};
 use crate::profile::BlockDelete;
 use crate::source::{Line, Span};
+#[cfg(test)]
+use crate::{diag::Diagnostic, dialect::read::Keep, ir::Program, source::SourceFile};
 
 /// How the ISO reader words its unsupported policy.
 const UNSUPPORTED: UnsupportedWording = UnsupportedWording {
