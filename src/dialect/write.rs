@@ -306,11 +306,14 @@ pub(crate) enum CycleStep {
 pub struct Facts {
     /// The parameters assigned, in order, each once.
     pub params: Vec<u32>,
+    /// Whether the program has an arc (the ISO header says `G91.1`).
+    pub arcs: bool,
 }
 
 impl Facts {
     /// The program's next item (after unrolling).
     pub fn item(&mut self, item: &Item) {
+        self.arcs |= matches!(item.kind, crate::ir::ItemKind::Arc { .. });
         if let crate::ir::ItemKind::ParamAssign { number, .. } = item.kind
             && let Err(at) = self.params.binary_search(&number)
         {

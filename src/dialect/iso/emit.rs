@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::DialectId;
 use crate::dialect::iso::codes;
-use crate::dialect::write::Writer;
+use crate::dialect::write::{self, Writer};
 use crate::fixed::{Angle, Decimal, Lead, Length};
 use crate::ir::{
     Compensation, Coolant, EndCode, FeedMode, Item, ItemKind, MachineMove, Pos, Program,
@@ -154,76 +154,144 @@ pub fn emit(
 ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
     // Roughing cycles are written as their moves.
     let program = &*crate::lower::unroll(program, Some(super::ID));
-    let from = program.dialect;
-    let mut e = Emitter {
-        w: Writer::new(src),
-        profile,
-        sync_end: None,
-        m6_stopped: false,
-        speed: None,
-        turning: None,
-        spindle_on_mode_line: false,
-        surface_feet: false,
-        surface: false,
-        units: Units {
+    let mut facts = write::Facts::default();
+    program.items.iter().for_each(|item| facts.item(item));
+    let mut w = Items::new(&facts, program, src, profile);
+    for item in &program.items {
+        write::ItemWriter::item(&mut w, item);
+    }
+    write::ItemWriter::finish(Box::new(w))
+}
+
+/// The ISO writer taking a program's items one at a time (a conversion's streaming read,
+/// after [`write::Facts`] gathered what it needs to know first), or a whole program
+/// ([`emit`]). It looks one item ahead.
+pub(crate) struct Items<'a> {
+    e: Emitter<'a>,
+    from: DialectId,
+    inch: bool,
+    arcs: bool,
+    /// The header is written (after the leading `%` lines and a header comment).
+    started: bool,
+    /// The header's modes, as the ISO reader reads them back: they are not written again.
+    skip_header_modes: bool,
+    /// The item waiting for the one after it.
+    pending: Option<Item>,
+}
+
+impl<'a> Items<'a> {
+    /// For `program`'s dialect and unit (its items are not needed).
+    pub fn new(
+        facts: &write::Facts,
+        program: &Program,
+        src: &'a SourceFile,
+        profile: &'a Profile,
+    ) -> Self {
+        let mut e = Emitter {
+            w: Writer::new(src),
+            profile,
+            sync_end: None,
+            m6_stopped: false,
+            speed: None,
+            turning: None,
+            spindle_on_mode_line: false,
+            surface_feet: false,
+            surface: false,
+            units: Units {
+                inch: program.inch,
+                ..Units::default()
+            },
+        };
+        e.w.post = Some(split_long_lines);
+        e.w.out.push_str("%\n");
+        Items {
+            e,
+            from: program.dialect,
             inch: program.inch,
-            ..Units::default()
-        },
-    };
-    e.w.post = Some(split_long_lines);
-    e.w.out.push_str("%\n");
-    // A program ncthread wrote keeps its header (where it came from), so that converting
-    // the output again gives the same text.
-    let mut items = program.items.as_slice();
-    while let Some((first, rest)) = items.split_first()
-        && first.kind == ItemKind::Delimiter
-    {
-        items = rest;
+            arcs: facts.arcs,
+            started: false,
+            skip_header_modes: true,
+            pending: None,
+        }
     }
-    match items.split_first() {
-        Some((first, rest)) if matches!(&first.kind, ItemKind::Comment(c) if c.ends_with(HEADER_END)) =>
-        {
-            if let ItemKind::Comment(c) = &first.kind {
-                let _ = writeln!(e.w.out, "({})", comment_text(c));
+
+    /// The header: where the program came from (`header`: kept from a program ncthread
+    /// wrote, so that converting the output again gives the same text), and the modes.
+    fn start(&mut self, header: Option<&str>) {
+        self.started = true;
+        match header {
+            Some(c) => {
+                let _ = writeln!(self.e.w.out, "({})", comment_text(c));
             }
-            items = rest;
+            None => {
+                let _ = writeln!(
+                    self.e.w.out,
+                    "({}, dialect {}{HEADER_END})",
+                    comment_text(&self.e.w.src.name),
+                    self.from
+                );
+            }
         }
-        _ => {
-            let _ = writeln!(
-                e.w.out,
-                "({}, dialect {from}{HEADER_END})",
-                comment_text(&src.name)
-            );
+        // Arcs are written with I and K from their start (G91.1, LinuxCNC's start-up mode,
+        // said where a machine's start-up codes might differ).
+        let unit = if self.inch { "G20" } else { "G21" };
+        if self.arcs {
+            let _ = writeln!(self.e.w.out, "G7 G18 {unit} G90 G91.1 G95");
+        } else {
+            let _ = writeln!(self.e.w.out, "G7 G18 {unit} G90 G95");
         }
     }
-    // Arcs are written with I and K from their start (G91.1, LinuxCNC's start-up mode,
-    // said where a machine's start-up codes might differ).
-    let unit = if program.inch { "G20" } else { "G21" };
-    if items.iter().any(|i| matches!(i.kind, ItemKind::Arc { .. })) {
-        let _ = writeln!(e.w.out, "G7 G18 {unit} G90 G91.1 G95");
-    } else {
-        let _ = writeln!(e.w.out, "G7 G18 {unit} G90 G95");
-    }
-    // The header's modes, as the ISO reader reads them back: they are not written again.
-    let mut skip_header_modes = true;
-    for (i, item) in items.iter().enumerate() {
-        if skip_header_modes && item.kind == ItemKind::FeedMode(FeedMode::PerRev) {
-            skip_header_modes = false;
+
+    /// Writes `item`, which `next` follows.
+    fn write(&mut self, item: &Item, next: Option<&Item>) {
+        if self.skip_header_modes && item.kind == ItemKind::FeedMode(FeedMode::PerRev) {
+            self.skip_header_modes = false;
             // Its comment stays, on a line of its own.
             if let Some(c) = &item.comment {
-                let _ = writeln!(e.w.out, "({})", comment_text(c));
+                let _ = writeln!(self.e.w.out, "({})", comment_text(c));
             }
-            continue;
+            return;
         }
         if !matches!(item.kind, ItemKind::Comment(_) | ItemKind::Delimiter) {
-            skip_header_modes = false;
+            self.skip_header_modes = false;
         }
-        e.w.spill();
-        e.item(item, items.get(i + 1));
+        self.e.w.spill();
+        self.e.item(item, next);
     }
-    e.w.out.push_str("%\n");
-    e.w.diags.extend(e.units.diagnostic(src));
-    e.w.finish()
+}
+
+impl write::ItemWriter for Items<'_> {
+    fn item(&mut self, item: &Item) {
+        if !self.started {
+            if item.kind == ItemKind::Delimiter {
+                return;
+            }
+            if let ItemKind::Comment(c) = &item.kind
+                && c.ends_with(HEADER_END)
+            {
+                return self.start(Some(c));
+            }
+            self.start(None);
+        }
+        if let Some(before) = self.pending.take() {
+            self.write(&before, Some(item));
+        }
+        self.pending = Some(item.clone());
+    }
+
+    fn finish(mut self: Box<Self>) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
+        if !self.started {
+            self.start(None);
+        }
+        if let Some(last) = self.pending.take() {
+            self.write(&last, None);
+        }
+        let mut e = self.e;
+        e.w.out.push_str("%\n");
+        let units = e.units.diagnostic(e.w.src);
+        e.w.diags.extend(units);
+        e.w.finish()
+    }
 }
 
 /// The output with every line LinuxCNC could not read ([`syntax::LINE_MAX`] bytes) split: a

@@ -274,4 +274,19 @@ impl Dialect for Iso {
     ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
         emit::emit(program, src, profile)
     }
+
+    fn writes_items(&self) -> bool {
+        true
+    }
+
+    fn item_writer<'a>(
+        &self,
+        facts: &crate::dialect::Facts,
+        program: &Program,
+        src: &'a SourceFile,
+        profile: &'a Profile,
+        _options: &WriteOptions,
+    ) -> Option<Box<dyn crate::dialect::ItemWriter + 'a>> {
+        Some(Box::new(emit::Items::new(facts, program, src, profile)))
+    }
 }
