@@ -54,6 +54,67 @@ pub(crate) fn speed_with_its_mode<'a>(
     })
 }
 
+/// [`blocks`] and then [`speed_with_its_mode`], one item at a time: the items of one source
+/// line gathered when `keep`, and (when not) a speed mode's item joined with the spindle item
+/// after it. Each group is handed out once complete.
+#[derive(Debug, Default)]
+pub(crate) struct Grouper {
+    keep: bool,
+    /// The items of the source line being gathered.
+    line: Vec<Item>,
+    /// A complete group, held while the next may join it.
+    ready: Option<Vec<Item>>,
+}
+
+impl Grouper {
+    pub fn new(keep: bool) -> Self {
+        Grouper {
+            keep,
+            ..Grouper::default()
+        }
+    }
+
+    /// The program's next item; `out` takes each group it completes.
+    pub fn item(&mut self, item: &Item, mut out: impl FnMut(&[Item])) {
+        let same_line = self.keep
+            && self
+                .line
+                .first()
+                .is_some_and(|first| first.span.line == item.span.line);
+        if !same_line && !self.line.is_empty() {
+            let group = std::mem::take(&mut self.line);
+            self.complete(group, &mut out);
+        }
+        self.line.push(item.clone());
+    }
+
+    /// The program has ended: the groups still held.
+    pub fn finish(&mut self, mut out: impl FnMut(&[Item])) {
+        if !self.line.is_empty() {
+            let group = std::mem::take(&mut self.line);
+            self.complete(group, &mut out);
+        }
+        if let Some(group) = self.ready.take() {
+            out(&group);
+        }
+    }
+
+    fn complete(&mut self, group: Vec<Item>, out: &mut impl FnMut(&[Item])) {
+        if let Some(before) = self.ready.take() {
+            if !self.keep
+                && matches!(before[0].kind, crate::ir::ItemKind::SpindleMode(_))
+                && matches!(group[0].kind, crate::ir::ItemKind::Spindle { .. })
+                && group[0].comment.is_none()
+            {
+                out(&[before[0].clone(), group[0].clone()]);
+                return;
+            }
+            out(&before);
+        }
+        self.ready = Some(group);
+    }
+}
+
 /// Values a target cannot hold on its grid, gathered for one diagnostic per program (an
 /// error, or with `--round` a warning): how many, the largest deviation, and the first.
 #[derive(Debug, Default)]

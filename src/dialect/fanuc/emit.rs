@@ -208,110 +208,172 @@ pub fn emit(
     round: bool,
 ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
     let program = &*lower::unroll(program, Some(super::ID));
-    let keep = program.dialect == super::ID;
-    let mut e = Emitter {
-        w: Writer::new(src),
-        profile,
-        keep,
-        motion: None,
-        f: None,
-        sync_end: None,
-        limit: None,
-        surface_speed: false,
-        speed: None,
-        speed_word: None,
-        turning: false,
-        speed_unsaid: false,
-        deferred: Vec::new(),
-        at: Span::default(),
-        latin: Transliterated::default(),
-        script: Transliterated::default(),
-        inexact: Inexact::default(),
-        round,
-        inch: program.inch,
-    };
-    let items = e.header(program, src, &program.items);
-    let unit = if program.inch { "G20" } else { "G21" };
-    e.w.out.push_str(unit);
-    e.w.out.push_str(match profile.fanuc.gcode_system {
-        GcodeSystem::A => " G99\n",
-        GcodeSystem::B => " G90 G95\n",
-    });
-    let (head, tail) = header_feed_mode(items, keep);
-    let groups: Vec<&[Item]> = write::blocks(&head, keep)
-        .chain(write::blocks(tail, keep))
-        .collect();
-    e.groups(&groups);
-    for (text, at) in std::mem::take(&mut e.deferred) {
-        e.at = at;
-        e.write(Block {
-            comment: Some(text),
-            ..Block::default()
-        });
+    let mut w = Items::new(program, src, profile, round);
+    for item in &program.items {
+        write::ItemWriter::item(&mut w, item);
     }
-    e.w.out.push_str("%\n");
-    e.closing_diagnostics(src);
-    e.w.finish()
+    write::ItemWriter::finish(Box::new(w))
 }
 
-/// The items after the header's feed mode (G99, which the header writes): the header's
-/// comments (and the feed mode's own) and the rest. The header's feed mode, as the reader
-/// reads it back, is not written again (its comment stays, as a comment item). Only the
-/// header's items are copied for that. A block of the kept program's source line must not
-/// be cut in two: then the copy takes the rest too.
-fn header_feed_mode(items: &[Item], keep: bool) -> (Vec<Item>, &[Item]) {
-    let header_end = items
-        .iter()
-        .position(|i| !matches!(i.kind, ItemKind::Comment(_) | ItemKind::Delimiter));
-    let (mut head, tail): (Vec<Item>, &[Item]) = match header_end {
-        Some(p) if items[p].kind == ItemKind::FeedMode(FeedMode::PerRev) => {
-            let mut head = items[..p].to_vec();
-            if let Some(c) = &items[p].comment {
-                head.push(Item::new(ItemKind::Comment(c.to_string()), items[p].span));
-            }
-            (head, &items[p + 1..])
+/// Where the FANUC writer stands in the program's start.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Start {
+    /// Before the first item that is not a `%` line: it may be the header comment.
+    Header,
+    /// Before the first item that is not a comment: the header's feed mode (G99, which the
+    /// header writes) is not written again (its comment stays, as a comment item).
+    FeedMode,
+    Body,
+}
+
+/// The FANUC writer taking a program's items one at a time (a conversion's streaming read),
+/// or a whole program ([`emit`]).
+pub(crate) struct Items<'a> {
+    e: Emitter<'a>,
+    /// The program's dialect, number and unit.
+    from: crate::ir::DialectId,
+    number: Option<u32>,
+    inch: bool,
+    start: Start,
+    groups: write::Grouper,
+}
+
+impl<'a> Items<'a> {
+    /// For `program`'s dialect, number and unit (its items are not needed).
+    pub fn new(program: &Program, src: &'a SourceFile, profile: &'a Profile, round: bool) -> Self {
+        let keep = program.dialect == super::ID;
+        let e = Emitter {
+            w: Writer::new(src),
+            profile,
+            keep,
+            motion: None,
+            f: None,
+            sync_end: None,
+            limit: None,
+            surface_speed: false,
+            speed: None,
+            speed_word: None,
+            turning: false,
+            speed_unsaid: false,
+            deferred: Vec::new(),
+            at: Span::default(),
+            latin: Transliterated::default(),
+            script: Transliterated::default(),
+            inexact: Inexact::default(),
+            round,
+            inch: program.inch,
+        };
+        Items {
+            e,
+            from: program.dialect,
+            number: program.number,
+            inch: program.inch,
+            start: Start::Header,
+            groups: write::Grouper::new(keep),
         }
-        _ => (Vec::new(), items),
-    };
-    let straddles = keep
-        && matches!((head.last(), tail.first()), (Some(last), Some(next)) if last.span.line == next.span.line);
-    let tail = if straddles {
-        head.extend(tail.iter().cloned());
-        &[][..]
-    } else {
-        tail
-    };
-    (head, tail)
+    }
+
+    /// The program's start, once its first item that is not a `%` line is known (`None`:
+    /// the program has none): `%`, the O number, the header comment, the unit and feed mode.
+    /// Whether that item was the header comment.
+    fn begin(&mut self, first: Option<&Item>) -> bool {
+        let header = self.e.header(self.from, self.number, first);
+        let unit = if self.inch { "G20" } else { "G21" };
+        self.e.w.out.push_str(unit);
+        self.e
+            .w
+            .out
+            .push_str(match self.e.profile.fanuc.gcode_system {
+                GcodeSystem::A => " G99\n",
+                GcodeSystem::B => " G90 G95\n",
+            });
+        self.start = Start::FeedMode;
+        header
+    }
+
+    /// An item of the program's body, to its block.
+    fn body(&mut self, item: &Item) {
+        let e = &mut self.e;
+        self.groups.item(item, |group| {
+            e.w.spill();
+            e.group(group);
+        });
+    }
+}
+
+impl write::ItemWriter for Items<'_> {
+    fn item(&mut self, item: &Item) {
+        if self.start == Start::Header {
+            if item.kind == ItemKind::Delimiter {
+                return;
+            }
+            if self.begin(Some(item)) {
+                return;
+            }
+        }
+        if self.start == Start::FeedMode
+            && !matches!(item.kind, ItemKind::Comment(_) | ItemKind::Delimiter)
+        {
+            self.start = Start::Body;
+            if item.kind == ItemKind::FeedMode(FeedMode::PerRev) {
+                if let Some(c) = &item.comment {
+                    self.body(&Item::new(ItemKind::Comment(c.to_string()), item.span));
+                }
+                return;
+            }
+        }
+        self.body(item);
+    }
+
+    fn finish(mut self: Box<Self>) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
+        if self.start == Start::Header {
+            self.begin(None);
+        }
+        let e = &mut self.e;
+        self.groups.finish(|group| {
+            e.w.spill();
+            e.group(group);
+        });
+        let mut e = self.e;
+        for (text, at) in std::mem::take(&mut e.deferred) {
+            e.at = at;
+            e.write(Block {
+                comment: Some(text),
+                ..Block::default()
+            });
+        }
+        e.w.out.push_str("%\n");
+        let src = e.w.src;
+        e.closing_diagnostics(src);
+        e.w.finish()
+    }
 }
 
 impl Emitter<'_> {
-    /// The program's start (`%`, its O number) and its header comment: the source's own
-    /// (kept when it ends as ncthread's do), or the file's name and dialect. The items
-    /// after the header comment.
-    fn header<'i>(&mut self, program: &Program, src: &SourceFile, items: &'i [Item]) -> &'i [Item] {
+    /// The program's start (`%`, its O number: the source's own for a FANUC program) and its
+    /// header comment: the source's own (kept when it ends as ncthread's do: `first`, the
+    /// first item that is not a `%` line), or the file's name and dialect. Whether `first`
+    /// was the header comment.
+    fn header(
+        &mut self,
+        from: crate::ir::DialectId,
+        number: Option<u32>,
+        first: Option<&Item>,
+    ) -> bool {
         self.w.out.push_str("%\n");
         // The source's own number (a FANUC program's), else the profile's.
-        let number = program
-            .number
-            .filter(|_| program.dialect == super::ID && self.profile.fanuc.program_number.is_none())
+        let number = number
+            .filter(|_| from == super::ID && self.profile.fanuc.program_number.is_none())
             .or(self.profile.fanuc.program_number)
             .unwrap_or(1);
         let _ = writeln!(self.w.out, "O{number:04}");
-        let mut items = items;
-        while let Some((first, rest)) = items.split_first()
-            && first.kind == ItemKind::Delimiter
-        {
-            items = rest;
-        }
-        match items.split_first() {
-            Some((first, rest)) if matches!(&first.kind, ItemKind::Comment(c) if comment_text(c).ends_with(HEADER_END)) =>
-            {
-                if let ItemKind::Comment(c) = &first.kind {
-                    let _ = writeln!(self.w.out, "({})", comment_text(c));
-                }
-                items = rest;
+        match first.map(|f| &f.kind) {
+            Some(ItemKind::Comment(c)) if comment_text(c).ends_with(HEADER_END) => {
+                let _ = writeln!(self.w.out, "({})", comment_text(c));
+                true
             }
             _ => {
+                let src = self.w.src;
                 let _ = writeln!(
                     self.w.out,
                     "({}, DIALECT {}{HEADER_END})",
@@ -320,19 +382,10 @@ impl Emitter<'_> {
                             .file_name()
                             .map_or(src.name.as_str(), |n| n.to_str().unwrap_or(&src.name))
                     ),
-                    comment_text(program.dialect.as_str())
+                    comment_text(from.as_str())
                 );
+                false
             }
-        }
-        items
-    }
-
-    /// Writes the groups of items block by block ([`write::speed_with_its_mode`]:
-    /// `G96 S200 M03`).
-    fn groups(&mut self, groups: &[&[Item]]) {
-        for group in write::speed_with_its_mode(groups, self.keep) {
-            self.w.spill();
-            self.group(&group);
         }
     }
 
