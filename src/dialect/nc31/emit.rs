@@ -50,23 +50,61 @@ pub fn emit(
 ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
     // Roughing cycles are written as their moves.
     let program = &*crate::lower::unroll(program, Some(super::ID));
-    // An nc31 program's own groups and `(` comment lines are kept as they were.
-    let own = program.dialect == super::ID;
-    let mut e = Emitter {
-        w: Writer::new(src),
-        profile: &profile.nc31,
-        options: *options,
-        comments: options.comments || own,
-        next_frame: 0,
-        feed: None,
-        per_minute: false,
-        inexact: Inexact::default(),
-        dropped: (0, None),
-    };
-    // The items of one nc31 group stay one group. A G25 reads a group again right after
-    // itself (its items then share the source line): where the items start over (the
-    // group's first item again, or a second move) a new group begins.
-    for block in write::blocks(&program.items, own) {
+    let mut w = Items::new(program.dialect, src, profile, options);
+    for item in &program.items {
+        write::ItemWriter::item(&mut w, item);
+    }
+    write::ItemWriter::finish(Box::new(w))
+}
+
+/// The НЦ-31 writer taking a program's items one at a time (a conversion's streaming read),
+/// or a whole program ([`emit`]).
+pub(crate) struct Items<'a> {
+    e: Emitter<'a>,
+    /// An nc31 program's own groups and `(` comment lines are kept as they were.
+    own: bool,
+    /// The items of the source line being gathered (each item alone from another dialect).
+    block: Vec<Item>,
+    /// Where the program's first item stands (the empty output's refusal points there).
+    first: Option<Span>,
+}
+
+impl<'a> Items<'a> {
+    pub fn new(
+        from: crate::ir::DialectId,
+        src: &'a SourceFile,
+        profile: &'a Profile,
+        options: &WriteOptions,
+    ) -> Self {
+        let own = from == super::ID;
+        Items {
+            e: Emitter {
+                w: Writer::new(src),
+                profile: &profile.nc31,
+                options: *options,
+                comments: options.comments || own,
+                next_frame: 0,
+                feed: None,
+                per_minute: false,
+                inexact: Inexact::default(),
+                dropped: (0, None),
+            },
+            own,
+            block: Vec::new(),
+            first: None,
+        }
+    }
+
+    /// Writes the block gathered so far. The items of one nc31 group stay one group. A G25
+    /// reads a group again right after itself (its items then share the source line): where
+    /// the items start over (the group's first item again, or a second move) a new group
+    /// begins.
+    fn flush(&mut self) {
+        if self.block.is_empty() {
+            return;
+        }
+        let block = std::mem::take(&mut self.block);
+        let e = &mut self.e;
         e.w.spill();
         let mut group = Vec::new();
         let mut moved = false;
@@ -84,19 +122,39 @@ pub fn emit(
         }
         e.write(&mut group);
     }
-    e.finish();
-    if e.w.is_blank() && !e.w.diags.iter().any(Diagnostic::is_error) {
-        let mut d = Diagnostic::new(
-            codes::NCW_NOTHING,
-            "nothing in this program is written as НЦ-31 frames: the output would be empty",
-        )
-        .help("the warnings above say what was left out; an empty program is not a conversion");
-        if let Some(first) = program.items.first() {
-            d = d.at(src, first.span);
+}
+
+impl write::ItemWriter for Items<'_> {
+    fn item(&mut self, item: &Item) {
+        self.first.get_or_insert(item.span);
+        let same = self.own
+            && self
+                .block
+                .first()
+                .is_some_and(|first| first.span.line == item.span.line);
+        if !same {
+            self.flush();
         }
-        e.w.diags.push(d);
+        self.block.push(item.clone());
     }
-    e.w.finish()
+
+    fn finish(mut self: Box<Self>) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
+        self.flush();
+        let Items { mut e, first, .. } = *self;
+        e.finish();
+        if e.w.is_blank() && !e.w.diags.iter().any(Diagnostic::is_error) {
+            let mut d = Diagnostic::new(
+                codes::NCW_NOTHING,
+                "nothing in this program is written as НЦ-31 frames: the output would be empty",
+            )
+            .help("the warnings above say what was left out; an empty program is not a conversion");
+            if let Some(span) = first {
+                d = d.at(e.w.src, span);
+            }
+            e.w.diags.push(d);
+        }
+        e.w.finish()
+    }
 }
 
 /// A frame's text without its number: one word and its modifiers.

@@ -176,6 +176,26 @@ impl Dialect for Nc31 {
     ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
         emit::emit(program, src, profile, options)
     }
+
+    fn writes_items(&self) -> bool {
+        true
+    }
+
+    fn item_writer<'a>(
+        &self,
+        _facts: &crate::dialect::Facts,
+        program: &Program,
+        src: &'a SourceFile,
+        profile: &'a Profile,
+        options: &WriteOptions,
+    ) -> Option<Box<dyn crate::dialect::ItemWriter + 'a>> {
+        Some(Box::new(emit::Items::new(
+            program.dialect,
+            src,
+            profile,
+            options,
+        )))
+    }
 }
 
 /// The table's rows for the thread's forms (cycles, passes, their tapers and chains).
