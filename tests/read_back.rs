@@ -1,16 +1,18 @@
 //! A conversion reads its output back keeping only the diagnostics (each reader lets go of a
 //! line's items once the line is read): those diagnostics must be the full read's, for every
 //! corpus file, read as every dialect (another dialect's text is hostile input too), with
-//! and without `--unsupported warn`.
+//! and without `--unsupported warn`. The same for a streaming read's items, and for a
+//! conversion that streams.
 
 mod common;
 
 use ncthread::Unsupported;
 use ncthread::dialect;
+use ncthread::profile::Profile;
+use ncthread::source::SourceFile;
 
-#[test]
-fn reading_for_the_diagnostics_alone_reports_what_a_full_read_reports() {
-    let mut compared = 0;
+/// Every corpus file with its profile (or none).
+fn each_case(mut f: impl FnMut(&common::Case, &SourceFile, &Profile)) {
     for case in common::corpus_cases() {
         let src = common::case_source(&case);
         let profile = case
@@ -18,15 +20,23 @@ fn reading_for_the_diagnostics_alone_reports_what_a_full_read_reports() {
             .as_deref()
             .map(common::load_profile)
             .unwrap_or_default();
+        f(&case, &src, &profile);
+    }
+}
+
+#[test]
+fn reading_for_the_diagnostics_alone_reports_what_a_full_read_reports() {
+    let mut compared = 0;
+    each_case(|case, src, profile| {
         for d in dialect::ALL {
             for unsupported in [Unsupported::Error, Unsupported::Warn] {
-                let (_, full) = d.read(&src, &profile, unsupported);
-                let alone = d.diagnostics(&src, &profile, unsupported);
+                let (_, full) = d.read(src, profile, unsupported);
+                let alone = d.diagnostics(src, profile, unsupported);
                 assert_eq!(alone, full, "{} read as {}", case.name, d.id());
                 compared += 1;
             }
         }
-    }
+    });
     assert!(compared > 1000, "only {compared} reads compared");
 }
 
@@ -48,18 +58,12 @@ impl dialect::ItemSink for Collect {
 #[test]
 fn a_streaming_read_hands_on_the_full_reads_items_in_order() {
     let mut compared = 0;
-    for case in common::corpus_cases() {
-        let src = common::case_source(&case);
-        let profile = case
-            .profile
-            .as_deref()
-            .map(common::load_profile)
-            .unwrap_or_default();
+    each_case(|case, src, profile| {
         for d in dialect::ALL {
             for unsupported in [Unsupported::Error, Unsupported::Warn] {
-                let (full, full_diags) = d.read(&src, &profile, unsupported);
+                let (full, full_diags) = d.read(src, profile, unsupported);
                 let mut sink = Collect::default();
-                let (mut streamed, diags) = d.stream(&src, &profile, unsupported, &mut sink);
+                let (mut streamed, diags) = d.stream(src, profile, unsupported, &mut sink);
                 let what = format!("{} read as {}", case.name, d.id());
                 assert_eq!(diags, full_diags, "{what}");
                 assert!(streamed.items.is_empty(), "{what}: items kept");
@@ -68,7 +72,7 @@ fn a_streaming_read_hands_on_the_full_reads_items_in_order() {
                 compared += 1;
             }
         }
-    }
+    });
     assert!(compared > 1000, "only {compared} reads compared");
 }
 
@@ -78,21 +82,15 @@ fn a_streaming_read_hands_on_the_full_reads_items_in_order() {
 #[test]
 fn a_streaming_conversion_writes_what_the_whole_program_writes() {
     let mut compared = 0;
-    for case in common::corpus_cases() {
-        let src = common::case_source(&case);
-        let profile = case
-            .profile
-            .as_deref()
-            .map(common::load_profile)
-            .unwrap_or_default();
+    each_case(|case, src, profile| {
         for to in dialect::ALL.iter().filter(|d| d.writes_items()) {
             for (unsupported, round) in [(Unsupported::Error, false), (Unsupported::Warn, true)] {
                 let mut options = ncthread::ConvertOptions::new(case.from, to.id());
                 options.profile = profile.clone();
                 options.unsupported = unsupported;
                 options.round = round;
-                let streamed = ncthread::convert(&src, &options);
-                let whole = ncthread::convert_whole(&src, &options);
+                let streamed = ncthread::convert(src, &options);
+                let whole = ncthread::convert_whole(src, &options);
                 let what = format!(
                     "{} to {} ({unsupported:?}, round {round})",
                     case.name,
@@ -103,6 +101,6 @@ fn a_streaming_conversion_writes_what_the_whole_program_writes() {
                 compared += 1;
             }
         }
-    }
+    });
     assert!(compared > 600, "only {compared} conversions compared");
 }
