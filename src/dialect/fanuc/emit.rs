@@ -782,10 +782,12 @@ impl Emitter<'_> {
         direction: Option<SpindleDirection>,
         block: &mut Block,
     ) {
-        // After a bare G97 the start says the speed the program has (`speed_unsaid`).
+        // After a bare G97 the start says the speed the program has (`speed_unsaid`); a G97
+        // that must say its speed (`speed_word`) says it before the block's M03/M04, where the
+        // reader takes an S (written after M03, it read back as the start's own speed).
         let speed = speed.or(self
             .speed
-            .filter(|_| direction.is_some() && self.speed_unsaid));
+            .filter(|_| direction.is_some() && (self.speed_unsaid || self.speed_word.is_some())));
         if let Some(s) = speed {
             block.words.push(format!("S{s}"));
             self.speed = Some(s);
