@@ -537,7 +537,12 @@ impl Emitter<'_> {
         // ran at, the last G97 S) is not the one S register LinuxCNC and the IR have.
         if let Some(item) = self.speed_word.take() {
             match self.speed {
-                Some(s) => block.words.push(format!("S{s}")),
+                // Right after its G96/G97, where the reader takes it back with the mode.
+                Some(s) => {
+                    let mode = block.words.iter().rposition(|w| w == "G96" || w == "G97");
+                    let at = mode.map_or(block.words.len(), |m| m + 1);
+                    block.words.insert(at, format!("S{s}"));
+                }
                 None => self.diag(
                     codes::FANW_NO_EQUIVALENT,
                     &item,
