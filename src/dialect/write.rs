@@ -7,56 +7,11 @@ use crate::ir::{Item, Pos, ThreadCycle};
 use crate::lower::{self, Expansion};
 use crate::source::{SourceFile, Span};
 
-/// The program's items a block at a time: the items read from one source line stay
-/// together when the writer keeps the source's blocks (`keep`: the program is in the
-/// writer's own dialect), else each item is a block of its own.
-pub(crate) fn blocks(items: &[Item], keep: bool) -> impl Iterator<Item = &[Item]> {
-    let mut i = 0;
-    std::iter::from_fn(move || {
-        let first = items.get(i)?;
-        let n = if keep {
-            items[i..]
-                .iter()
-                .take_while(|item| item.span.line == first.span.line)
-                .count()
-        } else {
-            1
-        };
-        i += n;
-        Some(&items[i - n..i])
-    })
-}
-
-/// The groups to write a block each, where a speed mode and the spindle item after it are
-/// one block (`G96 S200 M3`: the mode says its speed), when the writer does not keep the
-/// source's blocks (`keep`).
-pub(crate) fn speed_with_its_mode<'a>(
-    groups: &'a [&'a [Item]],
-    keep: bool,
-) -> impl Iterator<Item = std::borrow::Cow<'a, [Item]>> {
-    let mut i = 0;
-    std::iter::from_fn(move || {
-        let group = *groups.get(i)?;
-        if !keep
-            && matches!(group[0].kind, crate::ir::ItemKind::SpindleMode(_))
-            && let Some(next) = groups.get(i + 1)
-            && matches!(next[0].kind, crate::ir::ItemKind::Spindle { .. })
-            && next[0].comment.is_none()
-        {
-            i += 2;
-            return Some(std::borrow::Cow::Owned(vec![
-                group[0].clone(),
-                next[0].clone(),
-            ]));
-        }
-        i += 1;
-        Some(std::borrow::Cow::Borrowed(group))
-    })
-}
-
-/// [`blocks`] and then [`speed_with_its_mode`], one item at a time: the items of one source
-/// line gathered when `keep`, and (when not) a speed mode's item joined with the spindle item
-/// after it. Each group is handed out once complete.
+/// The program's items a block at a time, one item at a time: the items read from one source
+/// line stay together when the writer keeps the source's blocks (`keep`: the program is in
+/// the writer's own dialect), else each item is a block of its own, and a speed mode and the
+/// spindle item after it are one block (`G96 S200 M3`: the mode says its speed). Each group is
+/// handed out once complete.
 #[derive(Debug, Default)]
 pub(crate) struct Grouper {
     keep: bool,
@@ -610,7 +565,7 @@ impl<'a> Writer<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::ir::{ItemKind, Program};
+    use crate::ir::ItemKind;
 
     /// Lines written past the spill size go to the spool whole, the post-pass sees each part,
     /// and the text read back is the text written, in order.
@@ -661,21 +616,40 @@ mod tests {
             item.span.line = line;
             item
         };
-        let program = Program {
-            dialect: crate::dialect::czech::ID,
-            library: Vec::new(),
-            number: None,
-            inch: false,
-            name: None,
-            items: vec![on(1), on(1), on(2), on(3), on(3)],
-        };
+        let items = [on(1), on(1), on(2), on(3), on(3)];
         let sizes = |keep| {
-            blocks(&program.items, keep)
-                .map(<[Item]>::len)
-                .collect::<Vec<_>>()
+            let mut grouper = Grouper::new(keep);
+            let mut sizes = Vec::new();
+            for item in &items {
+                grouper.item(item, |g| sizes.push(g.len()));
+            }
+            grouper.finish(|g| sizes.push(g.len()));
+            sizes
         };
         assert_eq!(sizes(true), [2, 1, 2]);
         assert_eq!(sizes(false), [1; 5]);
+        // A speed mode and the spindle start after it are one block, unless the start has a comment.
+        let mode = Item::new(
+            ItemKind::SpindleMode(crate::ir::SpindleMode::Rpm),
+            Span::default(),
+        );
+        let start = Item::new(
+            ItemKind::Spindle {
+                speed: Some(800),
+                direction: Some(crate::ir::SpindleDirection::Clockwise),
+            },
+            Span::default(),
+        );
+        let mut commented = start.clone();
+        commented.comment = Some("START".into());
+        for (second, expected) in [(start, vec![2]), (commented, vec![1, 1])] {
+            let mut grouper = Grouper::new(false);
+            let mut sizes = Vec::new();
+            grouper.item(&mode, |g| sizes.push(g.len()));
+            grouper.item(&second, |g| sizes.push(g.len()));
+            grouper.finish(|g| sizes.push(g.len()));
+            assert_eq!(sizes, expected);
+        }
     }
 
     #[test]

@@ -141,11 +141,16 @@ pub fn emit(
     let _ = writeln!(e.w.out, "%{}.nc", program_name(program, src));
     let items = e.header_comment(program, src);
     let _ = writeln!(e.w.out, "{machining}");
-    let groups: Vec<&[Item]> = write::blocks(items, e.keep).collect();
-    for group in write::speed_with_its_mode(&groups, e.keep) {
+    // Block by block ([`write::Grouper`]: a speed mode with its spindle start).
+    let mut grouper = write::Grouper::new(e.keep);
+    let write = |e: &mut Emitter<'_>, group: &[Item]| {
         e.w.spill();
-        e.group(&group);
+        e.group(group);
+    };
+    for item in items {
+        grouper.item(item, |group| write(&mut e, group));
     }
+    grouper.finish(|group| write(&mut e, group));
     let _ = writeln!(e.w.out, "{end}");
     e.closing_diagnostics(src);
     e.w.finish()

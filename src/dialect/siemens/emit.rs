@@ -137,8 +137,7 @@ pub fn emit(
         words: vec![MODES.into()],
         ..Block::default()
     });
-    let groups: Vec<&[Item]> = write::blocks(items, e.keep).collect();
-    e.groups(&groups);
+    e.groups(items);
     e.closing_diagnostics(src);
     e.w.finish()
 }
@@ -232,13 +231,17 @@ impl Emitter<'_> {
         }
     }
 
-    /// Writes the groups of items block by block ([`write::speed_with_its_mode`]:
-    /// `G96 LIMS=3000 S200 M3`).
-    fn groups(&mut self, groups: &[&[Item]]) {
-        for group in write::speed_with_its_mode(groups, self.keep) {
-            self.w.spill();
-            self.group(&group);
+    /// Writes the items block by block ([`write::Grouper`]: `G96 LIMS=3000 S200 M3`).
+    fn groups(&mut self, items: &[Item]) {
+        let mut grouper = write::Grouper::new(self.keep);
+        let write = |e: &mut Self, group: &[Item]| {
+            e.w.spill();
+            e.group(group);
+        };
+        for item in items {
+            grouper.item(item, |group| write(self, group));
         }
+        grouper.finish(|group| write(self, group));
     }
 
     fn group(&mut self, items: &[Item]) {
