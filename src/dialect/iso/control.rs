@@ -404,23 +404,33 @@ pub type ReadLine = Option<Result<Block, SyntaxError>>;
 /// A file the run reads: the program, or a subroutine's file.
 ///
 /// The lines that may hold an O-word (an `o` anywhere: the structure needs them before the
-/// run), and every line inside a subroutine or a loop (they may run many times), are read
-/// once, up front; every other line runs at most once and is read when it runs, so that a
-/// long straight program is never held as parsed blocks (issue 19).
+/// run) are read once, up front; every other line is read when it runs, and a line inside
+/// a subroutine or a loop (it may run again) is kept once read, up to [`BODY_LINES_KEPT`]
+/// of them, so that neither a long straight program nor one with many loops is held as
+/// parsed blocks (issues 19 and 34).
 pub struct FileRun<'s> {
     pub src: &'s SourceFile,
     /// How many lines the file has (each taken from `src` when asked: a table of them
     /// would take four times the text's line index).
     line_count: usize,
-    /// The lines read up front (O-word lines, and the bodies of subroutines and loops,
-    /// which run again), by 0-based line, in order; `None`: the line holds a NUL. A long
+    /// The lines read up front (the O-word lines), by 0-based line, in order; `None`: the line holds a NUL. A long
     /// straight program has few: a table of every line would cost 8 bytes a line.
     read: Vec<(usize, Box<ReadLine>)>,
     /// Lines of blanks only (skipped) and bare `%` lines.
     pub blank: Vec<bool>,
     pub percent: Vec<bool>,
     pub structure: Structure,
+    /// Where subroutines and loops start (0-based, in order), each with the last line that
+    /// a body starting there or before reaches.
+    bodies: Vec<(usize, usize)>,
+    /// Body lines read so far ([`BODY_LINES_KEPT`] at most: forgotten all at once when full).
+    kept: std::cell::RefCell<std::collections::HashMap<usize, ReadLine>>,
 }
+
+/// How many lines of subroutine and loop bodies a [`FileRun`] keeps read: a loop this long
+/// or shorter is read once, however often it runs; a longer one is read on each pass, as
+/// LinuxCNC reads it.
+pub const BODY_LINES_KEPT: usize = 4096;
 
 impl<'s> FileRun<'s> {
     /// Line `i` (0-based) of the file.
@@ -471,25 +481,25 @@ impl<'s> FileRun<'s> {
             let block = line.as_ref().as_ref()?.as_ref().ok()?;
             Some((*i, block))
         }));
-        // Subroutine and loop bodies run again: read once.
-        let mut bodies: Vec<usize> = Vec::new();
-        for flow in structure.flow.iter() {
-            let (start, end) = match *flow.1 {
-                Flow::Sub { end } | Flow::While { end } | Flow::Repeat { end } => (*flow.0, end),
-                Flow::Do { close } => (*flow.0, close),
-                _ => continue,
-            };
-            bodies.extend(start..=end.min(line_count.saturating_sub(1)));
-        }
+        // Subroutine and loop bodies may run again: kept once read. Each start with the
+        // last line any body starting there or before reaches.
+        let mut bodies: Vec<(usize, usize)> = structure
+            .flow
+            .iter()
+            .filter_map(|(&start, flow)| match *flow {
+                Flow::Sub { end } | Flow::While { end } | Flow::Repeat { end } => {
+                    Some((start, end))
+                }
+                Flow::Do { close } => Some((start, close)),
+                _ => None,
+            })
+            .collect();
         bodies.sort_unstable();
-        bodies.dedup();
-        let upfront = read.len();
-        for i in bodies {
-            if read[..upfront].binary_search_by_key(&i, |r| r.0).is_err() {
-                read.push((i, Box::new(parse(&src.line(i as u32 + 1)))));
-            }
+        let mut reach = 0;
+        for body in &mut bodies {
+            reach = reach.max(body.1);
+            body.1 = reach;
         }
-        read.sort_unstable_by_key(|r| r.0);
         read.shrink_to_fit();
         FileRun {
             src,
@@ -498,6 +508,8 @@ impl<'s> FileRun<'s> {
             blank,
             percent,
             structure,
+            bodies,
+            kept: Default::default(),
         }
     }
 
@@ -505,11 +517,32 @@ impl<'s> FileRun<'s> {
     pub fn block(&self, i: usize) -> std::borrow::Cow<'_, ReadLine> {
         match self.read.binary_search_by_key(&i, |r| r.0) {
             Ok(at) => std::borrow::Cow::Borrowed(&*self.read[at].1),
-            Err(_) => {
-                let text = self.get_line(i).map_or("", |l| l.text);
-                std::borrow::Cow::Owned((!text.contains('\0')).then(|| syntax::parse_line(text)))
+            Err(_) if self.in_body(i) => {
+                let mut kept = self.kept.borrow_mut();
+                if let Some(line) = kept.get(&i) {
+                    return std::borrow::Cow::Owned(line.clone());
+                }
+                let line = self.parse(i);
+                if kept.len() >= BODY_LINES_KEPT {
+                    kept.clear();
+                }
+                kept.insert(i, line.clone());
+                std::borrow::Cow::Owned(line)
             }
+            Err(_) => std::borrow::Cow::Owned(self.parse(i)),
         }
+    }
+
+    /// Line `i` read into a block.
+    fn parse(&self, i: usize) -> ReadLine {
+        let text = self.get_line(i).map_or("", |l| l.text);
+        (!text.contains('\0')).then(|| syntax::parse_line(text))
+    }
+
+    /// Whether line `i` is inside a subroutine or a loop.
+    fn in_body(&self, i: usize) -> bool {
+        let starts = self.bodies.partition_point(|&(start, _)| start <= i);
+        starts > 0 && i <= self.bodies[starts - 1].1
     }
 
     /// The subroutines of a file that holds definitions and nothing else (a library): every
@@ -805,6 +838,24 @@ mod tests {
     fn structure(text: &str) -> Structure {
         let blocks: Vec<Block> = text.lines().map(|l| parse_line(l).unwrap()).collect();
         Structure::of(blocks.iter().enumerate())
+    }
+
+    #[test]
+    fn body_lines_are_kept_read_and_read_alike() {
+        let text = "G0 X1\no1 sub\nG1 X[1+1]\no2 while [1 LT 0]\nG1 X3\no2 endwhile\nG1 X4\no1 endsub\nG0 X5\no3 repeat [2]\nG1 X6\no3 endrepeat\nG0 X7\n";
+        let src = SourceFile::new("t", text);
+        let run = FileRun::new(&src);
+        let inside: Vec<usize> = (0..run.line_count()).filter(|&i| run.in_body(i)).collect();
+        // The nested loop's end does not end the subroutine around it.
+        assert_eq!(inside, [1, 2, 3, 4, 5, 6, 7, 9, 10, 11]);
+        for i in 0..run.line_count() {
+            let line = src.line(i as u32 + 1).text;
+            let fresh = Some(parse_line(line));
+            assert_eq!(*run.block(i), fresh, "{line}");
+            assert_eq!(*run.block(i), fresh, "{line} again");
+        }
+        // Only the body lines that are not O-word lines are kept.
+        assert_eq!(run.kept.borrow().len(), 4);
     }
 
     #[test]
