@@ -1130,7 +1130,12 @@ impl BatchReport {
     /// File `i`'s row in the HTML report's table, linking to its section.
     fn html_row(&self, i: usize, f: &FileReport) -> String {
         let esc = crate::plot::escape;
-        let errors = f.diagnostics.iter().filter(|d| d.is_error()).count();
+        let errors: usize = f
+            .diagnostics
+            .iter()
+            .filter(|d| d.is_error())
+            .map(Diagnostic::count)
+            .sum();
         format!(
             "<tr><td><a href=\"#f{i}\">{}</a></td><td class=\"{}\">{}</td><td>{}</td><td>{}</td><td>{errors}</td><td>{}</td><td>{}</td></tr>\n",
             esc(&f.input.display().to_string()),

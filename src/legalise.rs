@@ -38,6 +38,7 @@ pub struct Shared<'s> {
     /// The cycle blocks kept as written (and comments between them) since the last item
     /// that closes their run, with the feed mode each was read under.
     run: Vec<(Item, Option<FeedMode>)>,
+    fold: crate::diag::Fold,
     diags: Vec<Diagnostic>,
 }
 
@@ -51,6 +52,7 @@ impl<'s> Shared<'s> {
             speed: None,
             feed_mode: None,
             run: Vec::new(),
+            fold: Default::default(),
             diags: Vec::new(),
         }
     }
@@ -71,6 +73,7 @@ impl<'s> Shared<'s> {
     /// Every diagnostic, once the last item is in.
     pub fn finish(mut self) -> Vec<Diagnostic> {
         self.close_run();
+        self.diags.extend(self.fold.finish());
         self.diags
     }
 
@@ -135,8 +138,10 @@ impl<'s> Shared<'s> {
             }
             _ => None,
         };
-        if let Some(d) = refusal {
-            self.diags.push(d.at(self.src, item.span));
+        if let Some(d) = refusal.map(|d| d.at(self.src, item.span))
+            && self.fold.admit(&d)
+        {
+            self.diags.push(d);
         }
     }
 }
@@ -306,6 +311,7 @@ pub struct ForTarget<'s> {
     finder: crate::dialect::capabilities::Occurrences,
     found: Vec<crate::dialect::capabilities::Occurrence>,
     seen: crate::diag::Seen,
+    fold: crate::diag::Fold,
     diags: Vec<Diagnostic>,
 }
 
@@ -322,6 +328,7 @@ impl<'s> ForTarget<'s> {
             finder: Default::default(),
             found: Vec::new(),
             seen: Default::default(),
+            fold: Default::default(),
             diags: Vec::new(),
         }
     }
@@ -335,13 +342,15 @@ impl<'s> ForTarget<'s> {
             }
             if let Some(d) = self.target.refusal(o, self.src)
                 && self.seen.first_time(&self.diags, &d)
+                && self.fold.admit(&d)
             {
                 self.diags.push(d);
             }
         }
     }
 
-    pub fn finish(self) -> Vec<Diagnostic> {
+    pub fn finish(mut self) -> Vec<Diagnostic> {
+        self.diags.extend(self.fold.finish());
         self.diags
     }
 }

@@ -107,6 +107,42 @@ fn json_diagnostics_are_one_object_per_line() {
 }
 
 #[test]
+fn repeated_warnings_are_listed_a_few_times_and_the_rest_counted() {
+    // 150 tool changes, each with an offset the НЦ-31 leaves out (NCW004).
+    let mut program = String::from("N1 G95 M03 S800\n");
+    for n in 2..=151 {
+        program.push_str(&format!("N{n} T1 D1\n"));
+    }
+    program.push_str("N999 M30\n");
+    let args = [
+        "convert",
+        "--from",
+        "czech",
+        "--to",
+        "nc31",
+        "--diagnostics",
+        "json",
+    ];
+    let out = ncthread(&args, Some(program.as_bytes()));
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let lines: Vec<serde_json::Value> = text(&out.stderr)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("a JSON object"))
+        .filter(|d: &serde_json::Value| d["code"] == "NCW004")
+        .collect();
+    // Ten listed, and the last standing for itself and the 139 others before it.
+    assert_eq!(lines.len(), 11);
+    let lines_of: Vec<u64> = lines.iter().filter_map(|d| d["line"].as_u64()).collect();
+    assert_eq!(lines_of, [2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 151]);
+    assert_eq!(lines[10]["more"], 139);
+    assert_eq!(
+        lines[10]["label"],
+        "the last of 140 more NCW004 warnings (from line 12), not listed one by one"
+    );
+    assert!(lines[..10].iter().all(|d| d["more"].is_null()));
+}
+
+#[test]
 fn usage_and_io_errors_exit_2() {
     let out = ncthread(&["convert", "--from", "klingon", "--to", "iso"], None);
     assert_eq!(out.status.code(), Some(2));

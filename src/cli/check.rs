@@ -160,9 +160,14 @@ impl Tally {
     /// Counts one checked program's diagnostics and renders them.
     fn add(&mut self, diags: &[Diagnostic], args: &CheckArgs) {
         self.checked += 1;
-        let e = diags.iter().filter(|d| d.is_error()).count();
+        // A diagnostic that stands for repeats counts each.
+        let e: usize = diags
+            .iter()
+            .filter(|d| d.is_error())
+            .map(Diagnostic::count)
+            .sum();
         self.errors += e;
-        self.warnings += diags.len() - e;
+        self.warnings += diags.iter().map(Diagnostic::count).sum::<usize>() - e;
         self.failed_files += usize::from(e > 0);
         self.out.push_str(&render(
             diags,

@@ -45,6 +45,9 @@ pub struct Diagnostic {
     /// How far the output may move from the source because of what this reports (the
     /// largest rounding of `--round`): what `verify` then allows.
     pub deviation: Option<crate::fixed::Length>,
+    /// How many more diagnostics like this one it stands for: repeats counted and not
+    /// listed ([`Fold`]); 0 for one that stands for itself alone.
+    pub more: usize,
 }
 
 /// The diagnostics reported so far, each once: a repeated one is found by its hash, not by
@@ -67,6 +70,107 @@ impl Seen {
     }
 }
 
+/// How many diagnostics of one message a stage lists ([`Fold`]).
+pub const LISTED_PER_MESSAGE: u32 = 10;
+/// How many diagnostics of one code a stage lists ([`Fold`]).
+pub const LISTED_PER_CODE: u32 = 100;
+
+/// The diagnostics a stage lists, and the repeats it counts instead (issue 34: a program of a
+/// million lines that changes tools 40,000 times gave 86,000 warnings that two messages say,
+/// and held them all). Past [`LISTED_PER_MESSAGE`] of one code and message, or
+/// [`LISTED_PER_CODE`] of one code, a diagnostic is counted, and the last one counted is
+/// listed at the end, labelled with how many it stands for ([`Fold::finish`]). Nothing is
+/// dropped unsaid: every repeat is in a count, and a count's deviation is the largest of
+/// those it stands for.
+#[derive(Debug, Default)]
+pub(crate) struct Fold {
+    per_message: std::collections::HashMap<(&'static str, u64), u32>,
+    per_code: std::collections::HashMap<&'static str, u32>,
+    /// By code, in the order first counted.
+    counted: indexmap::IndexMap<&'static str, Counted>,
+    errors: usize,
+}
+
+/// The repeats of one code a [`Fold`] counted: how many, the first one's line, the last one,
+/// and the largest deviation.
+#[derive(Debug)]
+struct Counted {
+    count: usize,
+    first_line: Option<u32>,
+    last: Diagnostic,
+    deviation: Option<crate::fixed::Length>,
+}
+
+impl Fold {
+    /// Whether `d` is listed; if not, it is counted.
+    pub(crate) fn admit(&mut self, d: &Diagnostic) -> bool {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        d.message.hash(&mut h);
+        let same_message = self.per_message.entry((d.code.id, h.finish())).or_default();
+        let same_code = self.per_code.entry(d.code.id).or_default();
+        if *same_message < LISTED_PER_MESSAGE && *same_code < LISTED_PER_CODE {
+            *same_message += 1;
+            *same_code += 1;
+            return true;
+        }
+        self.errors += usize::from(d.is_error());
+        let line = d.location.as_ref().map(|l| l.line);
+        match self.counted.get_mut(d.code.id) {
+            Some(c) => {
+                c.count += 1;
+                c.last = d.clone();
+                c.deviation = c.deviation.max(d.deviation);
+            }
+            None => {
+                self.counted.insert(
+                    d.code.id,
+                    Counted {
+                        count: 1,
+                        first_line: line,
+                        last: d.clone(),
+                        deviation: d.deviation,
+                    },
+                );
+            }
+        }
+        false
+    }
+
+    /// How many errors were counted, not listed.
+    pub(crate) fn errors(&self) -> usize {
+        self.errors
+    }
+
+    /// For each code counted, its last diagnostic, labelled with how many it stands for.
+    pub(crate) fn finish(self) -> impl Iterator<Item = Diagnostic> {
+        self.counted.into_values().map(|c| {
+            let Counted {
+                count,
+                first_line,
+                mut last,
+                deviation,
+            } = c;
+            if count == 1 {
+                // Listed as it is: the one it would stand for is itself.
+                return last;
+            }
+            let kind = if last.is_error() { "error" } else { "warning" };
+            let from = match (first_line, last.location.as_ref()) {
+                (Some(first), Some(l)) if first != l.line => format!(" (from line {first})"),
+                _ => String::new(),
+            };
+            last.label = Some(format!(
+                "the last of {count} more {} {kind}s{from}, not listed one by one",
+                last.code.id
+            ));
+            last.deviation = deviation;
+            last.more = count - 1;
+            last
+        })
+    }
+}
+
 impl Diagnostic {
     pub fn new(code: Code, message: impl Into<String>) -> Diagnostic {
         Diagnostic {
@@ -77,7 +181,13 @@ impl Diagnostic {
             label: None,
             help: None,
             deviation: None,
+            more: 0,
         }
+    }
+
+    /// How many diagnostics this one stands for: itself and [`Diagnostic::more`].
+    pub fn count(&self) -> usize {
+        1 + self.more
     }
 
     /// Points the diagnostic at `span` of `src`. A span running past its line is cut at the
@@ -176,6 +286,11 @@ impl Diagnostic {
             source_line: Option<&'a str>,
             label: Option<&'a str>,
             help: Option<&'a str>,
+            #[serde(skip_serializing_if = "is_zero")]
+            more: usize,
+        }
+        fn is_zero(n: &usize) -> bool {
+            *n == 0
         }
         let loc = self.location.as_ref();
         let end_column =
@@ -191,6 +306,7 @@ impl Diagnostic {
             source_line: loc.map(|l| l.source_line.as_str()),
             label: self.label.as_deref(),
             help: self.help.as_deref(),
+            more: self.more,
         };
         serde_json::to_value(&json).unwrap_or_default()
     }
@@ -246,6 +362,7 @@ impl Diagnostic {
             label: text("label"),
             help: text("help"),
             deviation: None,
+            more: number("more").map_or(0, |n| n as usize),
         })
     }
 }
@@ -297,9 +414,9 @@ pub fn cap(diags: &[Diagnostic], max_errors: usize) -> (Vec<&Diagnostic>, Vec<(S
         if *count <= max_errors {
             kept.push(d);
         } else if let Some((_, n)) = hidden.iter_mut().find(|(f, _)| f == file(d)) {
-            *n += 1;
+            *n += d.count();
         } else {
-            hidden.push((file(d).to_string(), 1));
+            hidden.push((file(d).to_string(), d.count()));
         }
     }
     (kept, hidden)
@@ -326,6 +443,73 @@ pub fn has_errors(diags: &[Diagnostic]) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn repeats_past_what_is_listed_are_counted_in_the_last_one() {
+        let src = SourceFile::new("t", "X\n".repeat(300));
+        let at = |line: u32| src.span_in_line(src.line(line), 0..1);
+        let mut fold = Fold::default();
+        let mut listed = Vec::new();
+        // One message 150 times, then 120 distinct messages of the same code.
+        for line in 1..=150 {
+            let d = Diagnostic::new(codes::SIM_UNKNOWN, "same").at(&src, at(line));
+            if fold.admit(&d) {
+                listed.push(line);
+            }
+        }
+        assert_eq!(listed, (1..=LISTED_PER_MESSAGE).collect::<Vec<_>>());
+        for n in 0..120u32 {
+            let mut d =
+                Diagnostic::new(codes::SIM_UNKNOWN, format!("other {n}")).at(&src, at(151 + n));
+            d.deviation = Some(crate::fixed::Length(i64::from(n % 7)));
+            if fold.admit(&d) {
+                listed.push(151 + n);
+            }
+        }
+        let per_code = LISTED_PER_CODE - LISTED_PER_MESSAGE;
+        assert_eq!(listed.len() as u32, LISTED_PER_CODE);
+        assert_eq!(listed.last(), Some(&(150 + per_code)));
+        assert_eq!(fold.errors(), 0);
+        let counted: Vec<Diagnostic> = fold.finish().collect();
+        assert_eq!(counted.len(), 1);
+        let total = 150 + 120 - LISTED_PER_CODE as usize;
+        assert_eq!(counted[0].message, "other 119");
+        assert_eq!(counted[0].location.as_ref().map(|l| l.line), Some(270));
+        assert_eq!(
+            counted[0].label.as_deref(),
+            Some(
+                format!(
+                    "the last of {total} more SIM001 warnings (from line {}), not listed one by one",
+                    LISTED_PER_MESSAGE + 1
+                )
+                .as_str()
+            )
+        );
+        // The largest deviation of those counted, for `verify`.
+        assert_eq!(counted[0].deviation, Some(crate::fixed::Length(6)));
+        // Counts (check's, batch's) count every one; JSON says how many more.
+        assert_eq!(counted[0].count(), total);
+        let json = counted[0].to_json_value();
+        assert_eq!(json["more"], total - 1);
+        let back = Diagnostic::from_json_value(&json, &[codes::SIM_UNKNOWN]).unwrap();
+        assert_eq!(back.more, total - 1);
+        assert!(
+            Diagnostic::new(codes::SIM_UNKNOWN, "x").to_json_value()["more"].is_null(),
+            "a diagnostic that stands for itself alone does not say it"
+        );
+    }
+
+    #[test]
+    fn one_repeat_past_the_list_is_listed_as_it_is_and_errors_are_counted() {
+        let mut fold = Fold::default();
+        let d = Diagnostic::new(codes::PF_VALUE, "bad").label("here");
+        for _ in 0..=LISTED_PER_MESSAGE {
+            fold.admit(&d);
+        }
+        assert_eq!(fold.errors(), 1);
+        let counted: Vec<Diagnostic> = fold.finish().collect();
+        assert_eq!(counted, [d]);
+    }
 
     #[test]
     fn renders_like_rustc() {

@@ -436,6 +436,7 @@ pub(crate) struct Writer<'a> {
     pub diags: Vec<Diagnostic>,
     pub pos: Pos,
     seen: crate::diag::Seen,
+    fold: crate::diag::Fold,
     spool: Spool,
     /// What the target does to its finished lines before they leave (LinuxCNC's long lines
     /// split): applied to whole lines, a part at a time, so it must give the same text
@@ -453,6 +454,7 @@ impl<'a> Writer<'a> {
             diags: Vec::new(),
             pos: Pos::UNKNOWN,
             seen: Default::default(),
+            fold: Default::default(),
             spool: Spool::default(),
             post: None,
             spill_at: SPILL_AT,
@@ -532,20 +534,22 @@ impl<'a> Writer<'a> {
         Some(steps)
     }
 
-    /// Adds `d` unless the same diagnostic was reported already.
+    /// Adds `d` unless the same diagnostic was reported already; a repeat past what is
+    /// listed is counted ([`crate::diag::Fold`]).
     pub fn report(&mut self, d: Diagnostic) {
-        if self.seen.first_time(&self.diags, &d) {
+        if self.seen.first_time(&self.diags, &d) && self.fold.admit(&d) {
             self.diags.push(d);
         }
     }
 
-    /// How many errors so far.
+    /// How many errors so far, listed or counted.
     pub fn errors(&self) -> usize {
-        self.diags.iter().filter(|d| d.is_error()).count()
+        self.diags.iter().filter(|d| d.is_error()).count() + self.fold.errors()
     }
 
     /// The text, when no diagnostic is an error, and the diagnostics.
-    pub fn finish(self) -> (Option<Output>, Vec<Diagnostic>) {
+    pub fn finish(mut self) -> (Option<Output>, Vec<Diagnostic>) {
+        self.diags.extend(std::mem::take(&mut self.fold).finish());
         if self.diags.iter().any(Diagnostic::is_error) {
             return (None, self.diags);
         }

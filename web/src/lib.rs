@@ -147,7 +147,7 @@ fn diagnostics_json(diags: &[Diagnostic]) -> Value {
     json!({
         "text": frontend::render_diagnostics(diags, MAX_ERRORS, false),
         "items": diags.iter().map(Diagnostic::to_json_value).collect::<Vec<_>>(),
-        "errors": diags.iter().filter(|d| d.is_error()).count(),
+        "errors": diags.iter().filter(|d| d.is_error()).map(Diagnostic::count).sum::<usize>(),
         "json": diag::render_all(diags, Format::Json, false),
     })
 }
