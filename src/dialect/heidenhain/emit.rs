@@ -49,7 +49,6 @@ struct Block {
 struct Emitter<'a> {
     w: Writer<'a>,
     profile: &'a HeidenhainProfile,
-    keep: bool,
     number: u32,
     step: u32,
     motion: Option<&'static str>,
@@ -113,79 +112,144 @@ pub fn emit(
     round: bool,
 ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
     let program = &*lower::unroll(program, Some(super::ID));
-    let mut e = Emitter {
-        w: Writer::new(src),
-        profile,
-        keep: program.dialect == super::ID,
-        number: renumber.start,
-        step: renumber.step.max(1),
-        motion: None,
-        f: None,
-        feed_mode: FeedMode::PerRev,
-        mode_said: false,
-        surface_speed: false,
-        speed_mode_said: false,
-        limit: None,
-        speed: None,
-        speed_word: None,
-        after_thread: false,
-        at: Span::default(),
-        comments: write::AsciiComments::default(),
-        inexact: Inexact::default(),
-        round,
-    };
-    let (machining, end) = match profile.keywords {
-        SectionKeywords::German => ("BEARBEITUNG", "ENDE"),
-        SectionKeywords::English => ("MACHINING", "END"),
-    };
-    let _ = writeln!(e.w.out, "%{}.nc", program_name(program, src));
-    let items = e.header_comment(program, src);
-    let _ = writeln!(e.w.out, "{machining}");
-    // Block by block ([`write::Grouper`]: a speed mode with its spindle start).
-    let mut grouper = write::Grouper::new(e.keep);
-    let write = |e: &mut Emitter<'_>, group: &[Item]| {
-        e.w.spill();
-        e.group(group);
-    };
-    for item in items {
-        grouper.item(item, |group| write(&mut e, group));
+    let mut w = Items::new(program, src, profile, renumber, round);
+    for item in &program.items {
+        write::ItemWriter::item(&mut w, item);
     }
-    grouper.finish(|group| write(&mut e, group));
-    let _ = writeln!(e.w.out, "{end}");
-    e.closing_diagnostics(src);
-    e.w.finish()
+    write::ItemWriter::finish(Box::new(w))
+}
+
+/// The HEIDENHAIN writer taking a program's items one at a time (a conversion's streaming
+/// read), or a whole program ([`emit`]).
+pub(crate) struct Items<'a> {
+    e: Emitter<'a>,
+    /// The program's dialect.
+    from: crate::ir::DialectId,
+    /// Before the first item that is not a `%` line: it may be the header comment.
+    header: bool,
+    /// Block by block: a speed mode with its spindle start.
+    groups: write::Grouper,
+}
+
+impl<'a> Items<'a> {
+    /// For `program`'s name and dialect (its items are not needed).
+    pub fn new(
+        program: &Program,
+        src: &'a SourceFile,
+        profile: &'a HeidenhainProfile,
+        renumber: Renumber,
+        round: bool,
+    ) -> Self {
+        let keep = program.dialect == super::ID;
+        let mut e = Emitter {
+            w: Writer::new(src),
+            profile,
+            number: renumber.start,
+            step: renumber.step.max(1),
+            motion: None,
+            f: None,
+            feed_mode: FeedMode::PerRev,
+            mode_said: false,
+            surface_speed: false,
+            speed_mode_said: false,
+            limit: None,
+            speed: None,
+            speed_word: None,
+            after_thread: false,
+            at: Span::default(),
+            comments: write::AsciiComments::default(),
+            inexact: Inexact::default(),
+            round,
+        };
+        let _ = writeln!(e.w.out, "%{}.nc", program_name(program, src));
+        Items {
+            e,
+            from: program.dialect,
+            header: true,
+            groups: write::Grouper::new(keep),
+        }
+    }
+
+    /// The section keywords: machining and end.
+    fn keywords(&self) -> (&'static str, &'static str) {
+        match self.e.profile.keywords {
+            SectionKeywords::German => ("BEARBEITUNG", "ENDE"),
+            SectionKeywords::English => ("MACHINING", "END"),
+        }
+    }
+
+    /// The program's start, once its first item that is not a `%` line is known (`None`:
+    /// the program has none): the header comment and the machining section. Whether that
+    /// item was the header comment.
+    fn begin(&mut self, first: Option<&Item>) -> bool {
+        let header = self.e.header_comment(self.from, first);
+        let (machining, _) = self.keywords();
+        let _ = writeln!(self.e.w.out, "{machining}");
+        self.header = false;
+        header
+    }
+}
+
+impl write::ItemWriter for Items<'_> {
+    fn item(&mut self, item: &Item) {
+        if self.header {
+            if item.kind == ItemKind::Delimiter {
+                return;
+            }
+            if self.begin(Some(item)) {
+                return;
+            }
+        }
+        let e = &mut self.e;
+        self.groups.item(item, |group| {
+            e.w.spill();
+            e.group(group);
+        });
+    }
+
+    fn finish(mut self: Box<Self>) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
+        if self.header {
+            self.begin(None);
+        }
+        let e = &mut self.e;
+        self.groups.finish(|group| {
+            e.w.spill();
+            e.group(group);
+        });
+        let (_, end) = self.keywords();
+        let mut e = self.e;
+        let _ = writeln!(e.w.out, "{end}");
+        e.closing_diagnostics();
+        e.w.finish()
+    }
 }
 
 impl Emitter<'_> {
-    /// The header comment: the source's own (a program ncthread wrote), or the file's name
-    /// and dialect. The items after it.
-    fn header_comment<'i>(&mut self, program: &'i Program, src: &SourceFile) -> &'i [Item] {
-        let mut items = &program.items[..];
-        while let Some((first, rest)) = items.split_first()
-            && first.kind == ItemKind::Delimiter
-        {
-            items = rest;
-        }
-        if let Some((first, rest)) = items.split_first()
+    /// The header comment: the source's own (`first`, the first item that is not a `%`
+    /// line, when it is a comment ncthread wrote), or the file's name and the program's
+    /// dialect `from`. Whether it was `first`.
+    fn header_comment(&mut self, from: crate::ir::DialectId, first: Option<&Item>) -> bool {
+        if let Some(first) = first
             && let ItemKind::Comment(c) = &first.kind
             && bracket_text(c).0.ends_with(HEADER_END)
         {
             let _ = writeln!(self.w.out, "[{}]", bracket_text(c).0);
-            return rest;
+            return true;
         }
+        let src = self.w.src;
         let file = std::path::Path::new(&src.name)
             .file_name()
             .map_or(src.name.as_str(), |n| n.to_str().unwrap_or(&src.name));
         let _ = writeln!(
             self.w.out,
-            "[{}, dialect {}, in mm{HEADER_END}]",
+            "[{}, dialect {from}, in mm{HEADER_END}]",
             bracket_text(file).0,
-            program.dialect
         );
-        items
+        false
     }
 
-    fn closing_diagnostics(&mut self, src: &SourceFile) {
+    fn closing_diagnostics(&mut self) {
+        let src = self.w.src;
         let summary = write::grid_diagnostic(
             &mut self.inexact,
             src,

@@ -216,6 +216,27 @@ impl Dialect for Heidenhain {
             options.round,
         )
     }
+
+    fn writes_items(&self) -> bool {
+        true
+    }
+
+    fn item_writer<'a>(
+        &self,
+        _facts: &crate::dialect::Facts,
+        program: &Program,
+        src: &'a SourceFile,
+        profile: &'a Profile,
+        options: &WriteOptions,
+    ) -> Option<Box<dyn crate::dialect::ItemWriter + 'a>> {
+        Some(Box::new(emit::Items::new(
+            program,
+            src,
+            &profile.heidenhain,
+            options.renumber,
+            options.round,
+        )))
+    }
 }
 
 /// The table's rows for the thread's forms.

@@ -44,7 +44,6 @@ struct Block {
 
 struct Emitter<'a> {
     w: Writer<'a>,
-    keep: bool,
     number: u32,
     step: u32,
     motion: Option<&'static str>,
@@ -108,70 +107,131 @@ pub fn emit(
     round: bool,
 ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
     let program = &*lower::unroll(program, Some(super::ID));
-    let mut e = Emitter {
-        w: Writer::new(src),
-        keep: program.dialect == super::ID,
-        number: renumber.start,
-        step: renumber.step.max(1),
-        motion: None,
-        f: None,
-        feed_mode: FeedMode::PerRev,
-        compensation_off: true,
-        surface_speed: false,
-        limit: None,
-        speed: None,
-        speed_word: None,
-        turning: false,
-        speed_unsaid: false,
-        after_thread: false,
-        at: Span::default(),
-        comments: write::AsciiComments::default(),
-        inexact: Inexact::default(),
-        round,
-        tool: None,
-    };
-    let _ = writeln!(e.w.out, "%_N_{}_MPF", program_name(program, src));
-    e.w.out.push_str(";$PATH=/_N_MPF_DIR\n");
-    let items = e.header_comment(program, src);
-    e.write(Block {
-        words: vec![MODES.into()],
-        ..Block::default()
-    });
-    e.groups(items);
-    e.closing_diagnostics(src);
-    e.w.finish()
+    let mut w = Items::new(program, src, renumber, round);
+    for item in &program.items {
+        write::ItemWriter::item(&mut w, item);
+    }
+    write::ItemWriter::finish(Box::new(w))
+}
+
+/// The SINUMERIK writer taking a program's items one at a time (a conversion's streaming
+/// read), or a whole program ([`emit`]).
+pub(crate) struct Items<'a> {
+    e: Emitter<'a>,
+    /// The program's dialect.
+    from: crate::ir::DialectId,
+    /// Before the first item that is not a `%` line: it may be the header comment.
+    header: bool,
+    groups: write::Grouper,
+}
+
+impl<'a> Items<'a> {
+    /// For `program`'s name and dialect (its items are not needed).
+    pub fn new(program: &Program, src: &'a SourceFile, renumber: Renumber, round: bool) -> Self {
+        let keep = program.dialect == super::ID;
+        let mut e = Emitter {
+            w: Writer::new(src),
+            number: renumber.start,
+            step: renumber.step.max(1),
+            motion: None,
+            f: None,
+            feed_mode: FeedMode::PerRev,
+            compensation_off: true,
+            surface_speed: false,
+            limit: None,
+            speed: None,
+            speed_word: None,
+            turning: false,
+            speed_unsaid: false,
+            after_thread: false,
+            at: Span::default(),
+            comments: write::AsciiComments::default(),
+            inexact: Inexact::default(),
+            round,
+            tool: None,
+        };
+        let _ = writeln!(e.w.out, "%_N_{}_MPF", program_name(program, src));
+        e.w.out.push_str(";$PATH=/_N_MPF_DIR\n");
+        Items {
+            e,
+            from: program.dialect,
+            header: true,
+            groups: write::Grouper::new(keep),
+        }
+    }
+
+    /// The program's start, once its first item that is not a `%` line is known (`None`:
+    /// the program has none): the header comment and the modes. Whether that item was the
+    /// header comment.
+    fn begin(&mut self, first: Option<&Item>) -> bool {
+        let header = self.e.header_comment(self.from, first);
+        self.e.write(Block {
+            words: vec![MODES.into()],
+            ..Block::default()
+        });
+        self.header = false;
+        header
+    }
+}
+
+impl write::ItemWriter for Items<'_> {
+    fn item(&mut self, item: &Item) {
+        if self.header {
+            if item.kind == ItemKind::Delimiter {
+                return;
+            }
+            if self.begin(Some(item)) {
+                return;
+            }
+        }
+        let e = &mut self.e;
+        self.groups.item(item, |group| {
+            e.w.spill();
+            e.group(group);
+        });
+    }
+
+    fn finish(mut self: Box<Self>) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
+        if self.header {
+            self.begin(None);
+        }
+        let e = &mut self.e;
+        self.groups.finish(|group| {
+            e.w.spill();
+            e.group(group);
+        });
+        let mut e = self.e;
+        e.closing_diagnostics();
+        e.w.finish()
+    }
 }
 
 impl Emitter<'_> {
-    /// The header comment: the source's own (a program ncthread wrote), or the file's name
-    /// and dialect. The items after it.
-    fn header_comment<'i>(&mut self, program: &'i Program, src: &SourceFile) -> &'i [Item] {
-        let mut items = &program.items[..];
-        while let Some((first, rest)) = items.split_first()
-            && first.kind == ItemKind::Delimiter
-        {
-            items = rest;
-        }
-        if let Some((first, rest)) = items.split_first()
+    /// The header comment: the source's own (`first`, the first item that is not a `%`
+    /// line, when it is a comment ncthread wrote), or the file's name and the program's
+    /// dialect `from`. Whether it was `first`.
+    fn header_comment(&mut self, from: crate::ir::DialectId, first: Option<&Item>) -> bool {
+        if let Some(first) = first
             && let ItemKind::Comment(c) = &first.kind
             && write::ascii_comment(c).0.ends_with(HEADER_END)
         {
             let _ = writeln!(self.w.out, "; {}", write::ascii_comment(c).0);
-            return rest;
+            return true;
         }
+        let src = self.w.src;
         let file = std::path::Path::new(&src.name)
             .file_name()
             .map_or(src.name.as_str(), |n| n.to_str().unwrap_or(&src.name));
         let _ = writeln!(
             self.w.out,
-            "; {}, dialect {}{HEADER_END}",
+            "; {}, dialect {from}{HEADER_END}",
             write::ascii_comment(file).0,
-            program.dialect
         );
-        items
+        false
     }
 
-    fn closing_diagnostics(&mut self, src: &SourceFile) {
+    fn closing_diagnostics(&mut self) {
+        let src = self.w.src;
         let summary = write::grid_diagnostic(
             &mut self.inexact,
             src,
@@ -229,19 +289,6 @@ impl Emitter<'_> {
             let b = std::mem::take(block);
             self.write(b);
         }
-    }
-
-    /// Writes the items block by block ([`write::Grouper`]: `G96 LIMS=3000 S200 M3`).
-    fn groups(&mut self, items: &[Item]) {
-        let mut grouper = write::Grouper::new(self.keep);
-        let write = |e: &mut Self, group: &[Item]| {
-            e.w.spill();
-            e.group(group);
-        };
-        for item in items {
-            grouper.item(item, |group| write(self, group));
-        }
-        grouper.finish(|group| write(self, group));
     }
 
     fn group(&mut self, items: &[Item]) {

@@ -154,6 +154,26 @@ impl Dialect for Siemens {
     ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
         emit::emit(program, src, options.renumber, options.round)
     }
+
+    fn writes_items(&self) -> bool {
+        true
+    }
+
+    fn item_writer<'a>(
+        &self,
+        _facts: &crate::dialect::Facts,
+        program: &Program,
+        src: &'a SourceFile,
+        _profile: &'a Profile,
+        options: &WriteOptions,
+    ) -> Option<Box<dyn crate::dialect::ItemWriter + 'a>> {
+        Some(Box::new(emit::Items::new(
+            program,
+            src,
+            options.renumber,
+            options.round,
+        )))
+    }
 }
 
 /// The table's rows for the thread's forms.
