@@ -310,7 +310,6 @@ pub struct ForTarget<'s> {
     caps: crate::dialect::capabilities::Capabilities,
     finder: crate::dialect::capabilities::Occurrences,
     found: Vec<crate::dialect::capabilities::Occurrence>,
-    seen: crate::diag::Seen,
     fold: crate::diag::Fold,
     diags: Vec<Diagnostic>,
 }
@@ -327,7 +326,6 @@ impl<'s> ForTarget<'s> {
             caps: target.capabilities(profile),
             finder: Default::default(),
             found: Vec::new(),
-            seen: Default::default(),
             fold: Default::default(),
             diags: Vec::new(),
         }
@@ -341,8 +339,7 @@ impl<'s> ForTarget<'s> {
                 continue;
             }
             if let Some(d) = self.target.refusal(o, self.src)
-                && self.seen.first_time(&self.diags, &d)
-                && self.fold.admit(&d)
+                && self.fold.admit_once(&self.diags, &d)
             {
                 self.diags.push(d);
             }

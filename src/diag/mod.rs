@@ -56,17 +56,27 @@ pub struct Diagnostic {
 pub(crate) struct Seen(std::collections::HashMap<u64, Vec<usize>>);
 
 impl Seen {
-    /// Whether `d` is already in `diags`; if not, remembers that it will be at `diags.len()`.
-    pub(crate) fn first_time(&mut self, diags: &[Diagnostic], d: &Diagnostic) -> bool {
+    fn key(d: &Diagnostic) -> u64 {
         use std::hash::{Hash, Hasher};
         let mut h = std::collections::hash_map::DefaultHasher::new();
         d.hash(&mut h);
-        let at = self.0.entry(h.finish()).or_default();
-        if at.iter().any(|&i| diags.get(i) == Some(d)) {
+        h.finish()
+    }
+
+    /// Whether `d` is already in `diags`; if not, remembers that it will be at `diags.len()`.
+    pub(crate) fn first_time(&mut self, diags: &[Diagnostic], d: &Diagnostic) -> bool {
+        if self.has(diags, d) {
             return false;
         }
-        at.push(diags.len());
+        self.0.entry(Self::key(d)).or_default().push(diags.len());
         true
+    }
+
+    /// Whether `d` is already in `diags`.
+    pub(crate) fn has(&self, diags: &[Diagnostic], d: &Diagnostic) -> bool {
+        self.0
+            .get(&Self::key(d))
+            .is_some_and(|at| at.iter().any(|&i| diags.get(i) == Some(d)))
     }
 }
 
@@ -81,9 +91,11 @@ pub const LISTED_PER_CODE: u32 = 100;
 /// [`LISTED_PER_CODE`] of one code, a diagnostic is counted, and the last one counted is
 /// listed at the end, labelled with how many it stands for ([`Fold::finish`]). Nothing is
 /// dropped unsaid: every repeat is in a count, and a count's deviation is the largest of
-/// those it stands for.
+/// those it stands for. What it holds is bounded: a hundred diagnostics' keys per code.
 #[derive(Debug, Default)]
 pub(crate) struct Fold {
+    /// The listed ones, to list each once ([`Fold::admit_once`]).
+    seen: Seen,
     per_message: std::collections::HashMap<(&'static str, u64), u32>,
     per_code: std::collections::HashMap<&'static str, u32>,
     /// By code, in the order first counted.
@@ -104,18 +116,60 @@ struct Counted {
 impl Fold {
     /// Whether `d` is listed; if not, it is counted.
     pub(crate) fn admit(&mut self, d: &Diagnostic) -> bool {
+        if self.listed(d) {
+            return true;
+        }
+        self.count(d);
+        false
+    }
+
+    /// Whether `d` is listed in `listed` (what this fold admitted so far), unless it is
+    /// there already; if not, it is counted, unless it is the one counted last.
+    pub(crate) fn admit_once(&mut self, listed: &[Diagnostic], d: &Diagnostic) -> bool {
+        if !self.under_limits(d) {
+            let again = self.seen.has(listed, d)
+                || self.counted.get(d.code.id).is_some_and(|c| c.last == *d);
+            if !again {
+                self.count(d);
+            }
+            return false;
+        }
+        self.seen.first_time(listed, d) && self.listed(d)
+    }
+
+    /// The key of `d`'s code and message.
+    fn message_key(d: &Diagnostic) -> (&'static str, u64) {
         use std::hash::{Hash, Hasher};
         let mut h = std::collections::hash_map::DefaultHasher::new();
         d.message.hash(&mut h);
-        let same_message = self.per_message.entry((d.code.id, h.finish())).or_default();
-        let same_code = self.per_code.entry(d.code.id).or_default();
-        if *same_message < LISTED_PER_MESSAGE && *same_code < LISTED_PER_CODE {
-            *same_message += 1;
-            *same_code += 1;
-            return true;
+        (d.code.id, h.finish())
+    }
+
+    /// Whether one more diagnostic like `d` is listed.
+    fn under_limits(&self, d: &Diagnostic) -> bool {
+        self.per_code.get(d.code.id).copied().unwrap_or(0) < LISTED_PER_CODE
+            && self
+                .per_message
+                .get(&Self::message_key(d))
+                .copied()
+                .unwrap_or(0)
+                < LISTED_PER_MESSAGE
+    }
+
+    /// Whether `d` is listed (it is then counted against the limits). Past a code's limit
+    /// nothing more of it is remembered, so that what a fold holds is bounded.
+    fn listed(&mut self, d: &Diagnostic) -> bool {
+        if !self.under_limits(d) {
+            return false;
         }
+        *self.per_code.entry(d.code.id).or_default() += 1;
+        *self.per_message.entry(Self::message_key(d)).or_default() += 1;
+        true
+    }
+
+    /// Counts `d`, not listed.
+    fn count(&mut self, d: &Diagnostic) {
         self.errors += usize::from(d.is_error());
-        let line = d.location.as_ref().map(|l| l.line);
         match self.counted.get_mut(d.code.id) {
             Some(c) => {
                 c.count += 1;
@@ -127,14 +181,13 @@ impl Fold {
                     d.code.id,
                     Counted {
                         count: 1,
-                        first_line: line,
+                        first_line: d.location.as_ref().map(|l| l.line),
                         last: d.clone(),
                         deviation: d.deviation,
                     },
                 );
             }
         }
-        false
     }
 
     /// How many errors were counted, not listed.
@@ -497,6 +550,30 @@ mod tests {
             Diagnostic::new(codes::SIM_UNKNOWN, "x").to_json_value()["more"].is_null(),
             "a diagnostic that stands for itself alone does not say it"
         );
+    }
+
+    #[test]
+    fn a_fold_lists_each_once_counts_each_once_and_holds_a_bounded_table() {
+        let src = SourceFile::new("t", "X\n".repeat(3));
+        let at = src.span_in_line(src.line(2), 0..1);
+        let mut fold = Fold::default();
+        let mut listed: Vec<Diagnostic> = Vec::new();
+        // Every diagnostic twice in a row (a cycle's passes share its span): once each.
+        for n in 0..10_000 {
+            let d = Diagnostic::new(codes::PF_VALUE, format!("block {n}")).at(&src, at);
+            for _ in 0..2 {
+                if fold.admit_once(&listed, &d) {
+                    listed.push(d.clone());
+                }
+            }
+        }
+        assert_eq!(listed.len(), LISTED_PER_CODE as usize);
+        assert_eq!(fold.errors(), 10_000 - LISTED_PER_CODE as usize);
+        // Distinct messages past the code's limit leave nothing behind.
+        assert_eq!(fold.per_message.len(), LISTED_PER_CODE as usize);
+        let counted: Vec<Diagnostic> = fold.finish().collect();
+        assert_eq!(counted[0].count(), 10_000 - LISTED_PER_CODE as usize);
+        assert_eq!(counted[0].message, "block 9999");
     }
 
     #[test]

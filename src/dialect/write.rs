@@ -435,7 +435,6 @@ pub(crate) struct Writer<'a> {
     pub out: String,
     pub diags: Vec<Diagnostic>,
     pub pos: Pos,
-    seen: crate::diag::Seen,
     fold: crate::diag::Fold,
     spool: Spool,
     /// What the target does to its finished lines before they leave (LinuxCNC's long lines
@@ -453,7 +452,6 @@ impl<'a> Writer<'a> {
             out: String::new(),
             diags: Vec::new(),
             pos: Pos::UNKNOWN,
-            seen: Default::default(),
             fold: Default::default(),
             spool: Spool::default(),
             post: None,
@@ -537,7 +535,7 @@ impl<'a> Writer<'a> {
     /// Adds `d` unless the same diagnostic was reported already; a repeat past what is
     /// listed is counted ([`crate::diag::Fold`]).
     pub fn report(&mut self, d: Diagnostic) {
-        if self.seen.first_time(&self.diags, &d) && self.fold.admit(&d) {
+        if self.fold.admit_once(&self.diags, &d) {
             self.diags.push(d);
         }
     }
