@@ -398,13 +398,51 @@ pub fn looks_like_oword(text: &str) -> bool {
         .starts_with(['o', 'O'])
 }
 
+/// Whether a line may hold an O-word: an `o` outside its comments (`( )`, and `;` to the
+/// line's end). A comment line (a converted program's pass headings) is not read up front.
+pub fn may_hold_oword(text: &str) -> bool {
+    let mut in_comment = false;
+    for b in text.bytes() {
+        match b {
+            b'(' => in_comment = true,
+            b')' => in_comment = false,
+            b';' if !in_comment => return false,
+            b'o' | b'O' if !in_comment => return true,
+            _ => {}
+        }
+    }
+    false
+}
+
+/// A set of a file's lines (0-based), a bit each.
+#[derive(Clone, Debug, Default)]
+pub struct LineSet(Vec<u64>);
+
+impl LineSet {
+    /// Empty, for a file of `lines` lines.
+    pub fn new(lines: usize) -> LineSet {
+        LineSet(vec![0; lines.div_ceil(64)])
+    }
+
+    pub fn contains(&self, i: usize) -> bool {
+        self.0.get(i / 64).is_some_and(|w| w >> (i % 64) & 1 == 1)
+    }
+
+    /// Adds line `i` (one past the words sized for the file is not kept).
+    pub fn insert(&mut self, i: usize) {
+        if let Some(w) = self.0.get_mut(i / 64) {
+            *w |= 1 << (i % 64);
+        }
+    }
+}
+
 /// A line read into a block: `None` when it holds a NUL.
 pub type ReadLine = Option<Result<Block, SyntaxError>>;
 
 /// A file the run reads: the program, or a subroutine's file.
 ///
-/// The lines that may hold an O-word (an `o` anywhere: the structure needs them before the
-/// run) are read once, up front; every other line is read when it runs, and a line inside
+/// The lines that may hold an O-word (an `o` outside comments: the structure needs them
+/// before the run, [`may_hold_oword`]) are read once, up front; every other line is read when it runs, and a line inside
 /// a subroutine or a loop (it may run again) is kept once read, up to [`BODY_LINES_KEPT`]
 /// of them, so that neither a long straight program nor one with many loops is held as
 /// parsed blocks (issues 19 and 34).
@@ -416,9 +454,6 @@ pub struct FileRun<'s> {
     /// The lines read up front (the O-word lines), by 0-based line, in order; `None`: the line holds a NUL. A long
     /// straight program has few: a table of every line would cost 8 bytes a line.
     read: Vec<(usize, Box<ReadLine>)>,
-    /// Lines of blanks only (skipped) and bare `%` lines.
-    pub blank: Vec<bool>,
-    pub percent: Vec<bool>,
     pub structure: Structure,
     /// Where subroutines and loops start (0-based, in order), each with the last line that
     /// a body starting there or before reaches.
@@ -438,6 +473,23 @@ impl<'s> FileRun<'s> {
         self.src.line(u32::try_from(i + 1).unwrap_or(u32::MAX))
     }
 
+    /// The bytes of line `i` (0-based) that are not blanks.
+    fn code(&self, i: usize) -> impl Iterator<Item = u8> + 's {
+        let text = self.get_line(i).map_or("", |l| l.text);
+        text.bytes().filter(|b| !matches!(b, b' ' | b'\t' | b'\r'))
+    }
+
+    /// Whether line `i` is of blanks only (skipped).
+    pub fn blank(&self, i: usize) -> bool {
+        self.code(i).next().is_none()
+    }
+
+    /// Whether line `i` is a bare `%`.
+    pub fn percent(&self, i: usize) -> bool {
+        let mut c = self.code(i);
+        c.next() == Some(b'%') && c.next().is_none()
+    }
+
     /// Line `i` (0-based), when the file has it.
     pub fn get_line(&self, i: usize) -> Option<Line<'s>> {
         (i < self.line_count).then(|| self.line(i))
@@ -453,29 +505,23 @@ impl<'s> FileRun<'s> {
     /// **\[evidence\]** LinuxCNC `interp_read.cc` (`read_text`: a `%` line under the
     /// percent flag is the end of the file).
     pub fn closing_percent(&self) -> Option<usize> {
-        let mut lines = (0..self.line_count).filter(|&i| !self.blank[i] || self.percent[i]);
+        let mut lines = (0..self.line_count).filter(|&i| !self.blank(i) || self.percent(i));
         let first = lines.next()?;
-        if !self.percent[first] {
+        if !self.percent(first) {
             return None;
         }
-        lines.find(|&i| self.percent[i])
+        lines.find(|&i| self.percent(i))
     }
 
     pub fn new(src: &'s SourceFile) -> FileRun<'s> {
         let line_count = src.line_count();
         let parse = |l: &Line<'_>| (!l.text.contains('\0')).then(|| syntax::parse_line(l.text));
-        let code = |text: &'s str| text.bytes().filter(|b| !matches!(b, b' ' | b'\t' | b'\r'));
-        // One pass over the lines: what is read up front, the blank lines and the `%` lines.
+        // One pass over the lines: what is read up front.
         let mut read: Vec<(usize, Box<ReadLine>)> = Vec::new();
-        let mut blank: Vec<bool> = Vec::with_capacity(line_count);
-        let mut percent: Vec<bool> = Vec::with_capacity(line_count);
         for (i, l) in src.lines().enumerate() {
-            if l.text.bytes().any(|b| b == b'o' || b == b'O') {
+            if may_hold_oword(l.text) {
                 read.push((i, Box::new(parse(&l))));
             }
-            blank.push(code(l.text).next().is_none());
-            let mut c = code(l.text);
-            percent.push(c.next() == Some(b'%') && c.next().is_none());
         }
         let structure = Structure::of(read.iter().filter_map(|(i, line)| {
             let block = line.as_ref().as_ref()?.as_ref().ok()?;
@@ -505,8 +551,6 @@ impl<'s> FileRun<'s> {
             src,
             line_count,
             read,
-            blank,
-            percent,
             structure,
             bodies,
             kept: Default::default(),
@@ -560,7 +604,7 @@ impl<'s> FileRun<'s> {
             }
             let only_comments =
                 matches!(&*self.block(i), Some(Ok(b)) if b.is_empty() && b.number.is_none());
-            if !(self.blank[i] || self.percent[i] || only_comments) {
+            if !(self.blank(i) || self.percent(i) || only_comments) {
                 return None;
             }
             i += 1;
@@ -838,6 +882,41 @@ mod tests {
     fn structure(text: &str) -> Structure {
         let blocks: Vec<Block> = text.lines().map(|l| parse_line(l).unwrap()).collect();
         Structure::of(blocks.iter().enumerate())
+    }
+
+    #[test]
+    fn only_an_o_outside_comments_may_be_an_oword() {
+        for (text, may) in [
+            ("o100 sub", true),
+            ("N10 O100 call", true),
+            ("#<pos> = 1", true),
+            ("(pass 1 of 5) G0 X1", false),
+            ("G0 X1 ; to the corner", false),
+            ("(a) o1 endsub (b)", true),
+            ("G1 X[COS[1]]", true),
+            ("(unclosed o", false),
+        ] {
+            assert_eq!(may_hold_oword(text), may, "{text}");
+        }
+    }
+
+    #[test]
+    fn a_line_set_holds_its_lines() {
+        let mut set = LineSet::new(130);
+        for i in [0, 63, 64, 129] {
+            assert!(!set.contains(i));
+            set.insert(i);
+            assert!(set.contains(i));
+        }
+        set.insert(192);
+        assert!(!set.contains(192) && !set.contains(1) && !set.contains(128));
+        let src = SourceFile::new("t", "  \t\n %\r\n%%\nX1\n");
+        let run = FileRun::new(&src);
+        let flags: Vec<(bool, bool)> = (0..4).map(|i| (run.blank(i), run.percent(i))).collect();
+        assert_eq!(
+            flags,
+            [(true, false), (false, true), (false, false), (false, false)]
+        );
     }
 
     #[test]

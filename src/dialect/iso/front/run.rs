@@ -60,7 +60,7 @@ struct Run {
     ended: Option<&'static str>,
     params: control::Params,
     /// The lines whose syntax errors are reported, per file.
-    reported: Vec<Vec<bool>>,
+    reported: Vec<control::LineSet>,
     /// A program whose blocks do not match runs nowhere.
     broken: bool,
 }
@@ -124,7 +124,7 @@ impl<'a> FrontEnd<'a> {
         src: &'a SourceFile,
         runs: &[FileRun<'a>],
         load_errors: Vec<(Span, String)>,
-    ) -> Vec<Vec<bool>> {
+    ) -> Vec<control::LineSet> {
         for (span, message) in load_errors {
             self.r.diags.push(
                 Diagnostic::new(codes::ISOR_CONTROL, message)
@@ -145,14 +145,16 @@ impl<'a> FrontEnd<'a> {
             }
         }
         self.r.src = src;
-        let mut reported: Vec<Vec<bool>> =
-            runs.iter().map(|r| vec![false; r.line_count()]).collect();
+        let mut reported: Vec<control::LineSet> = runs
+            .iter()
+            .map(|r| control::LineSet::new(r.line_count()))
+            .collect();
         for (f, run) in runs.iter().enumerate() {
             self.r.src = run.src;
             for (i, line) in (0..run.line_count()).map(|i| (i, run.line(i))) {
                 if run.unreadable_up_front(i) && control::looks_like_oword(line.text) {
                     self.report_unreadable(line, &run.block(i));
-                    reported[f][i] = true;
+                    reported[f].insert(i);
                 }
             }
         }
@@ -172,14 +174,14 @@ impl<'a> FrontEnd<'a> {
             let line = run.line(st.pc);
             let here = st.pc;
             st.pc += 1;
-            if run.blank[here] {
+            if run.blank(here) {
                 continue;
             }
             if let Some(end) = st.ended {
                 self.line_after_end(src, run, st, here, end);
                 continue;
             }
-            if run.percent[here] && st.f == 0 {
+            if run.percent(here) && st.f == 0 {
                 self.percent_line(src, line, st);
                 continue;
             }
@@ -210,7 +212,7 @@ impl<'a> FrontEnd<'a> {
         // A line of comments only is kept: it says something, and runs nothing.
         let block = run.block(here);
         let only_comments = matches!(&*block, Some(Ok(b)) if b.is_empty() && b.number.is_none() && !b.comments.is_empty());
-        if run.percent[here] && st.percent {
+        if run.percent(here) && st.percent {
             self.push(ItemKind::Delimiter, src.line_span(line));
         } else if only_comments {
             self.line(line, block, &mut st.params);
@@ -268,10 +270,10 @@ impl<'a> FrontEnd<'a> {
         if let Some(o) = oword {
             return self.run_oword(runs, st, here, o, diags_before);
         }
-        if !st.reported[st.f][here] {
+        if !st.reported[st.f].contains(here) {
             self.report_unreadable(line, &block);
         }
-        st.reported[st.f][here] = true;
+        st.reported[st.f].insert(here);
         self.line(line, block, &mut st.params);
         // A G70–G72 line calls its contour subroutine, as `o<Q> call` there would.
         if let Some(call) = self.cycle_call.take() {
@@ -400,7 +402,7 @@ impl<'a> FrontEnd<'a> {
         let run = &runs[st.f];
         for i in lines {
             let Some(line) = run.get_line(i) else { break };
-            if st.reported[st.f][i] {
+            if st.reported[st.f].contains(i) {
                 continue;
             }
             let found = [
@@ -432,7 +434,7 @@ impl<'a> FrontEnd<'a> {
                 );
                 return ControlFlow::Break(());
             }
-            if st.f == 0 && st.percent && run.percent[i] {
+            if st.f == 0 && st.percent && run.percent(i) {
                 self.diag(
                     codes::ISOR_CONTROL,
                     line,
