@@ -33,58 +33,131 @@ pub struct SourceFile {
     line_starts: LineStarts,
 }
 
-/// Where each line of a text starts: 32-bit offsets for a text under 4 GiB (half the
-/// memory of a large program's line index), else full-width; sized to the text's lines.
+/// How many lines one entry of a [`LineStarts`] stands for.
+const STRIDE: usize = 16;
+
+/// Where every [`STRIDE`]th line of a text starts (a line between is found from there: a
+/// table of every line took 4 bytes a line, as much as a short line's text), in 32-bit
+/// offsets for a text under 4 GiB, else full-width; and how many lines there are. The last
+/// line asked for is remembered, so that reading the lines in order finds each from the one
+/// before.
 #[derive(Clone, Debug)]
-enum LineStarts {
+struct LineStarts {
+    count: usize,
+    every: Starts,
+    /// The last line found (0-based), where it starts and where it ends with its line end
+    /// (0: not found yet).
+    last: std::cell::Cell<(usize, usize, usize)>,
+}
+
+#[derive(Clone, Debug)]
+enum Starts {
     Narrow(Vec<u32>),
     Wide(Vec<usize>),
 }
 
 impl LineStarts {
     fn of(text: &str) -> LineStarts {
-        let ends = text.bytes().filter(|&b| b == b'\n').count();
+        let ends = memchr::memchr_iter(b'\n', text.as_bytes()).count();
         // A text ending in a line end has no line after it.
         let count = 1 + ends - usize::from(text.ends_with('\n'));
-        let starts = std::iter::once(0).chain(
-            text.match_indices('\n')
-                .map(|(i, _)| i + 1)
-                .filter(|&i| i < text.len()),
-        );
-        match u32::try_from(text.len()) {
+        let starts = std::iter::once(0)
+            .chain(
+                memchr::memchr_iter(b'\n', text.as_bytes())
+                    .map(|i| i + 1)
+                    .filter(|&i| i < text.len()),
+            )
+            .step_by(STRIDE);
+        let entries = count.div_ceil(STRIDE);
+        let every = match u32::try_from(text.len()) {
             Ok(_) => {
-                let mut v = Vec::with_capacity(count);
+                let mut v = Vec::with_capacity(entries);
                 v.extend(starts.map(|i| i as u32));
-                LineStarts::Narrow(v)
+                Starts::Narrow(v)
             }
             Err(_) => {
-                let mut v = Vec::with_capacity(count);
+                let mut v = Vec::with_capacity(entries);
                 v.extend(starts);
-                LineStarts::Wide(v)
+                Starts::Wide(v)
             }
+        };
+        LineStarts {
+            count,
+            every,
+            last: std::cell::Cell::new((0, 0, 0)),
         }
     }
 
     fn len(&self) -> usize {
-        match self {
-            LineStarts::Narrow(v) => v.len(),
-            LineStarts::Wide(v) => v.len(),
+        self.count
+    }
+
+    /// Where the `k`th entry's line (line `k · STRIDE`) starts.
+    fn entry(&self, k: usize) -> Option<usize> {
+        match &self.every {
+            Starts::Narrow(v) => v.get(k).map(|&s| s as usize),
+            Starts::Wide(v) => v.get(k).copied(),
         }
     }
 
-    fn get(&self, i: usize) -> Option<usize> {
-        match self {
-            LineStarts::Narrow(v) => v.get(i).map(|&s| s as usize),
-            LineStarts::Wide(v) => v.get(i).copied(),
+    /// Where line `i` (0-based) of `text` starts, and where it ends with its line end.
+    fn get(&self, text: &str, i: usize) -> Option<(usize, usize)> {
+        if i >= self.count {
+            return None;
         }
+        let (last, at, end) = self.last.get();
+        if last == i && end > 0 {
+            return Some((at, end));
+        }
+        // From the last line found when it is before `i` in the same stretch, else from
+        // the entry before `i`.
+        let (mut line, mut start) = if last <= i && i - last <= i % STRIDE {
+            (last, at)
+        } else {
+            let k = i / STRIDE;
+            (k * STRIDE, self.entry(k)?)
+        };
+        while line < i {
+            start += memchr::memchr(b'\n', text.as_bytes().get(start..)?)? + 1;
+            line += 1;
+        }
+        let end = start + line_end(text.get(start..)?);
+        self.last.set((i, start, end));
+        Some((start, end))
     }
 
-    /// How many lines start at or before `offset`.
-    fn up_to(&self, offset: usize) -> usize {
-        match self {
-            LineStarts::Narrow(v) => v.partition_point(|&s| s as usize <= offset),
-            LineStarts::Wide(v) => v.partition_point(|&s| s <= offset),
-        }
+    /// How many lines start at or before `offset` of `text`.
+    fn up_to(&self, text: &str, offset: usize) -> usize {
+        let k = match &self.every {
+            Starts::Narrow(v) => v.partition_point(|&s| s as usize <= offset),
+            Starts::Wide(v) => v.partition_point(|&s| s <= offset),
+        };
+        let Some(from) = k.checked_sub(1).and_then(|k| self.entry(k)) else {
+            return 0;
+        };
+        let to = offset.min(text.len());
+        let ends = text
+            .get(from..to)
+            .map_or(0, |t| t.bytes().filter(|&b| b == b'\n').count());
+        // A line end at `offset` (or the text's last one) starts no line there.
+        let past_end = usize::from(to == text.len() && text.ends_with('\n') && to > from);
+        ((k - 1) * STRIDE + 1 + ends - past_end).min(self.count)
+    }
+}
+
+/// Where the first line of `text` ends, its line end included.
+fn line_end(text: &str) -> usize {
+    memchr::memchr(b'\n', text.as_bytes()).map_or(text.len(), |e| e + 1)
+}
+
+/// Line `number` at `offset`, its text `with_end` without its line ending.
+fn line_at(number: u32, offset: usize, with_end: &str) -> Line<'_> {
+    let text = with_end.strip_suffix('\n').unwrap_or(with_end);
+    let text = text.strip_suffix('\r').unwrap_or(text);
+    Line {
+        number,
+        offset,
+        text,
     }
 }
 
@@ -116,28 +189,27 @@ impl SourceFile {
 
     /// Every line, LF or CRLF endings removed.
     pub fn lines(&self) -> impl Iterator<Item = Line<'_>> {
-        (0..self.line_starts.len()).map(|i| self.line(i as u32 + 1))
+        let mut offset = 0;
+        (0..self.line_starts.len()).map(move |i| {
+            let rest = &self.text[offset..];
+            let end = line_end(rest);
+            let line = line_at(i as u32 + 1, offset, &rest[..end]);
+            offset += end;
+            line
+        })
     }
 
     /// Line `number` (1-based). Out-of-range numbers give an empty line at the end.
     pub fn line(&self, number: u32) -> Line<'_> {
         let i = (number.max(1) - 1) as usize;
-        let Some(start) = self.line_starts.get(i) else {
+        let Some((start, end)) = self.line_starts.get(&self.text, i) else {
             return Line {
                 number,
                 offset: self.text.len(),
                 text: "",
             };
         };
-        let end = self.line_starts.get(i + 1).unwrap_or(self.text.len());
-        let text = &self.text[start..end];
-        let text = text.strip_suffix('\n').unwrap_or(text);
-        let text = text.strip_suffix('\r').unwrap_or(text);
-        Line {
-            number,
-            offset: start,
-            text,
-        }
+        line_at(number, start, &self.text[start..end])
     }
 
     /// The span of `range` (bytes within `line`'s text). A range that does not fall on
@@ -169,7 +241,7 @@ impl SourceFile {
 
     /// The span of a byte range of the whole text (it should not cross a line end).
     pub fn span_of(&self, range: Range<usize>) -> Span {
-        let index = self.line_starts.up_to(range.start).max(1);
+        let index = self.line_starts.up_to(&self.text, range.start).max(1);
         let line = self.line(index as u32);
         let start = range.start.saturating_sub(line.offset);
         let end = range.end.saturating_sub(line.offset).max(start);
@@ -188,6 +260,8 @@ mod tests {
 
     #[test]
     fn lines_start_where_the_text_says_and_the_index_is_sized_to_them() {
+        let long: String = (0..40).map(|i| format!("N{i} X{i}\r\n")).collect();
+        let long_open = format!("{long}é\n\nlast");
         for text in [
             "",
             "\n",
@@ -197,6 +271,9 @@ mod tests {
             "a\n\n",
             "\r\nx\r\n",
             "é\nü\n\nz",
+            &long,
+            &long_open,
+            &"\n".repeat(33),
         ] {
             let naive: Vec<&str> = if text.is_empty() {
                 vec![""]
@@ -208,9 +285,29 @@ mod tests {
             let src = SourceFile::new("t", text);
             let lines: Vec<&str> = src.lines().map(|l| l.text).collect();
             assert_eq!(lines, naive, "{text:?}");
-            let LineStarts::Narrow(v) = &src.line_starts else {
+            assert_eq!(src.line_count(), naive.len());
+            // Each line asked for alone, backwards, then forwards (the remembered line).
+            let n = naive.len() as u32;
+            for number in (1..=n).rev().chain(1..=n) {
+                let line = src.line(number);
+                assert_eq!(line.text, naive[number as usize - 1], "{text:?} {number}");
+                assert_eq!(&text[line.offset..line.offset + line.text.len()], line.text);
+            }
+            assert_eq!(src.line(n + 1).text, "");
+            // The line of every offset, as counting the line ends before it says.
+            for offset in (0..=text.len()).filter(|&o| text.is_char_boundary(o)) {
+                let ends = text[..offset].matches('\n').count();
+                let expected = (ends + 1).min(naive.len()) as u32;
+                assert_eq!(
+                    src.span_of(offset..offset).line,
+                    expected,
+                    "{text:?} @{offset}"
+                );
+            }
+            let Starts::Narrow(v) = &src.line_starts.every else {
                 panic!("a short text has 32-bit line starts");
             };
+            assert_eq!(v.len(), naive.len().div_ceil(STRIDE), "{text:?}");
             assert_eq!(v.capacity(), v.len(), "{text:?}");
         }
     }

@@ -414,6 +414,22 @@ pub fn may_hold_oword(text: &str) -> bool {
     false
 }
 
+/// The bytes of a line that are not blanks.
+fn code(text: &str) -> impl Iterator<Item = u8> + '_ {
+    text.bytes().filter(|b| !matches!(b, b' ' | b'\t' | b'\r'))
+}
+
+/// Whether a line is of blanks only (skipped).
+pub fn is_blank(text: &str) -> bool {
+    code(text).next().is_none()
+}
+
+/// Whether a line is a bare `%`.
+pub fn is_percent(text: &str) -> bool {
+    let mut c = code(text);
+    c.next() == Some(b'%') && c.next().is_none()
+}
+
 /// A set of a file's lines (0-based), a bit each.
 #[derive(Clone, Debug, Default)]
 pub struct LineSet(Vec<u64>);
@@ -473,21 +489,14 @@ impl<'s> FileRun<'s> {
         self.src.line(u32::try_from(i + 1).unwrap_or(u32::MAX))
     }
 
-    /// The bytes of line `i` (0-based) that are not blanks.
-    fn code(&self, i: usize) -> impl Iterator<Item = u8> + 's {
-        let text = self.get_line(i).map_or("", |l| l.text);
-        text.bytes().filter(|b| !matches!(b, b' ' | b'\t' | b'\r'))
-    }
-
     /// Whether line `i` is of blanks only (skipped).
     pub fn blank(&self, i: usize) -> bool {
-        self.code(i).next().is_none()
+        is_blank(self.get_line(i).map_or("", |l| l.text))
     }
 
     /// Whether line `i` is a bare `%`.
     pub fn percent(&self, i: usize) -> bool {
-        let mut c = self.code(i);
-        c.next() == Some(b'%') && c.next().is_none()
+        is_percent(self.get_line(i).map_or("", |l| l.text))
     }
 
     /// Line `i` (0-based), when the file has it.
@@ -623,11 +632,12 @@ impl<'s> FileRun<'s> {
         )
     }
 
-    /// Whether line `i` was read up front as a line that cannot be read.
-    pub fn unreadable_up_front(&self, i: usize) -> bool {
+    /// The lines read up front that cannot be read (0-based, in order).
+    pub fn unreadable_up_front(&self) -> impl Iterator<Item = usize> + '_ {
         self.read
-            .binary_search_by_key(&i, |r| r.0)
-            .is_ok_and(|at| matches!(*self.read[at].1, Some(Err(_))))
+            .iter()
+            .filter(|(_, line)| matches!(**line, Some(Err(_))))
+            .map(|(i, _)| *i)
     }
 }
 

@@ -151,8 +151,9 @@ impl<'a> FrontEnd<'a> {
             .collect();
         for (f, run) in runs.iter().enumerate() {
             self.r.src = run.src;
-            for (i, line) in (0..run.line_count()).map(|i| (i, run.line(i))) {
-                if run.unreadable_up_front(i) && control::looks_like_oword(line.text) {
+            for i in run.unreadable_up_front() {
+                let line = run.line(i);
+                if control::looks_like_oword(line.text) {
                     self.report_unreadable(line, &run.block(i));
                     reported[f].insert(i);
                 }
@@ -174,14 +175,14 @@ impl<'a> FrontEnd<'a> {
             let line = run.line(st.pc);
             let here = st.pc;
             st.pc += 1;
-            if run.blank(here) {
+            if control::is_blank(line.text) {
                 continue;
             }
             if let Some(end) = st.ended {
                 self.line_after_end(src, run, st, here, end);
                 continue;
             }
-            if run.percent(here) && st.f == 0 {
+            if control::is_percent(line.text) && st.f == 0 {
                 self.percent_line(src, line, st);
                 continue;
             }
