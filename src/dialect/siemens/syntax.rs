@@ -72,8 +72,99 @@ pub struct SyntaxError {
 
 const HELP: &str = "a SINUMERIK block is `N<number>`, then words (`X26.618`, `G33`, `X=AC(20)`, `SF=90`), with a `;` comment to the line's end";
 
-/// Parses one line (without its line ending).
+/// Parses one line (without its line ending): the common lines by hand
+/// ([`crate::dialect::lex`]), any other with the grammar.
 pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
+    match fast_line(line) {
+        Some(block) => Ok(block),
+        None => parse_with_grammar(line),
+    }
+}
+
+/// The grammar's reading of a line of `N` and words (`X26.618`, `SF=90`, `DIAMON`) with a
+/// `;` comment, read by hand; `None` at anything else (a header, `/`, a label, a call,
+/// `AC(…)`/`IC(…)`, a number too long, any error), which the grammar reads.
+fn fast_line(line: &str) -> Option<Block> {
+    use crate::dialect::lex::{Cursor, blank_tab_or_cr as sep};
+    let mut c = Cursor::new(line);
+    c.skip(sep);
+    let first = c.pos;
+    if c.at_end() {
+        return None;
+    }
+    let mut block = Block::default();
+    let mut code_end = first;
+    if matches!(c.peek(), Some(b'N' | b'n')) && c.peek_at(1).is_some_and(|b| b.is_ascii_digit()) {
+        c.pos += 1;
+        let digits = c.digits()?;
+        block.number = Some(line[digits].parse().ok().filter(|n| *n <= 999_999_999)?);
+        code_end = c.pos;
+        c.skip(sep);
+    }
+    while let Some(b) = c.peek() {
+        if b == b';' {
+            block.comment = crate::dialect::comment_text(&line[c.pos + 1..]);
+            break;
+        }
+        if !b.is_ascii_alphabetic() {
+            return None;
+        }
+        let start = c.pos;
+        // The grammar's `ident`, to see what follows it.
+        let ident_end = start
+            + line[start..]
+                .bytes()
+                .take_while(|b| b.is_ascii_alphanumeric() || *b == b'_')
+                .count();
+        let mut after = Cursor::new(line);
+        after.pos = ident_end;
+        after.skip(sep);
+        let word = if after.peek() == Some(b'=') {
+            // `assignment`: a plain number only (AC/IC to the grammar).
+            after.pos += 1;
+            after.skip(sep);
+            let value = Decimal::parse(after.number()?)?;
+            c.pos = after.pos;
+            Word {
+                name: line[start..ident_end].to_ascii_uppercase(),
+                value: Value::Plain(value),
+                assigned: true,
+                range: start..c.pos,
+            }
+        } else {
+            c.pos = start + 1;
+            match c.number() {
+                // `word`: a letter and its number.
+                Some(n) => Word {
+                    name: line[start..start + 1].to_ascii_uppercase(),
+                    value: Value::Plain(Decimal::parse(n)?),
+                    assigned: false,
+                    range: start..c.pos,
+                },
+                // A call or a label to the grammar; else a `keyword`.
+                None if matches!(after.peek(), Some(b'(' | b':')) => return None,
+                None => {
+                    c.pos = ident_end;
+                    Word {
+                        name: line[start..ident_end].to_ascii_uppercase(),
+                        value: Value::None,
+                        assigned: false,
+                        range: start..ident_end,
+                    }
+                }
+            }
+        };
+        block.words.push(word);
+        code_end = c.pos;
+        c.skip(sep);
+    }
+    block.code_range = first..code_end;
+    Some(block)
+}
+
+/// Parses one line with the grammar: the reading of every line the fast path declines, and
+/// the source of every syntax error.
+fn parse_with_grammar(line: &str) -> Result<Block, SyntaxError> {
     let mut pairs = SiemensParser::parse(Rule::line, line).map_err(|e| syntax_error(line, &e))?;
     let mut block = Block::default();
     let Some(line_pair) = pairs.next() else {
@@ -240,6 +331,47 @@ fn syntax_error(line: &str, e: &pest::error::Error<Rule>) -> SyntaxError {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    const TOKENS: &[&str] = &[
+        " ",
+        "\t",
+        "\r",
+        "/",
+        "N",
+        "n",
+        "10",
+        "0",
+        "9999999999",
+        ".5",
+        "-",
+        "+",
+        ".",
+        "G",
+        "g",
+        "X",
+        "Z",
+        "SF",
+        "LIMS",
+        "DIAMON",
+        "GOTOF",
+        "R1",
+        "_",
+        "=",
+        "AC(",
+        "IC(",
+        "(",
+        ")",
+        "\"",
+        ":",
+        ";",
+        "; c",
+        "%",
+        "%_N_A_MPF",
+        "Ž",
+        "1234567890123456789012345678901",
+    ];
+
+    crate::dialect::lex::agreement_tests!(fast_line, parse_with_grammar, TOKENS);
 
     #[test]
     fn words_assignments_keywords_and_comments() {
