@@ -253,18 +253,14 @@ fn empty_read(src: &SourceFile, items: usize, program: &Program) -> Option<Diagn
     })
 }
 
-/// Parses and emits. Refuses (no output) when any error remains.
+/// Parses and emits. Refuses (no output) when any error remains. The program is read twice
+/// and never held (issue 34), the first read gathering what the writer must know first.
 pub fn convert(src: &SourceFile, options: &ConvertOptions) -> Conversion {
-    // A target whose writer takes one item at a time: the program is read twice and never
-    // held (issue 34), the first read gathering what the writer must know first.
-    if dialect::get(options.to).writes_items() {
-        return convert_streaming(src, options);
-    }
-    convert_whole(src, options)
+    convert_streaming(src, options)
 }
 
-/// [`convert`] holding the program, for a writer that needs it whole (public for the test
-/// that holds a streaming conversion to it).
+/// [`convert`] holding the program and writing it whole ([`emit`]): public for the test
+/// that holds the streaming conversion to it.
 #[doc(hidden)]
 pub fn convert_whole(src: &SourceFile, options: &ConvertOptions) -> Conversion {
     let (program, mut diagnostics) =
@@ -339,7 +335,7 @@ fn finish_conversion(
     }
 }
 
-/// [`convert`] for a target whose writer takes one item at a time: a first streaming read
+/// [`convert`]: a first streaming read
 /// gathers the diagnostics and what the writer must know first ([`dialect::Facts`]); a
 /// second streams each item, unrolled, through the shared rules, the target's table and the
 /// writer. Nothing holds the program; the output spills to the writer's temporary file.
@@ -362,10 +358,7 @@ fn convert_streaming(src: &SourceFile, options: &ConvertOptions) -> Conversion {
     }
     let target = dialect::get(options.to);
     let write = write_options(options);
-    let Some(writer) = target.item_writer(&first.facts, &program, src, &options.profile, &write)
-    else {
-        return convert_whole(src, options);
-    };
+    let writer = target.item_writer(&first.facts, &program, src, &options.profile, &write);
     let mut second = Emit {
         rules: legalise::Shared::new(
             src,

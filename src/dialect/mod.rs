@@ -289,32 +289,34 @@ pub trait Dialect: Sync {
     /// The diagnostic that refuses a use of a construct its table says it does not write: its
     /// code, in its words. `None` when it refuses that construct itself while writing.
     fn refusal(&self, at: capabilities::Occurrence, src: &SourceFile) -> Option<Diagnostic>;
-    /// Whether [`Dialect::item_writer`] gives a writer: a conversion to this target then
-    /// never holds the program.
-    fn writes_items(&self) -> bool {
-        false
-    }
-    /// The writer that takes a program one item at a time, when this target has one (`None`:
-    /// its writer needs the program whole): given what a first read gathered and the program
-    /// as read without its items (its dialect, number, name and unit). It writes what
-    /// [`Dialect::write`] writes.
+    /// Its writer, taking a program one item at a time (a conversion never holds the
+    /// program: issue 34), given what a first read gathered ([`Facts`]) and the program as
+    /// read without its items (its dialect, number, name and unit).
     fn item_writer<'a>(
         &self,
-        _facts: &Facts,
-        _program: &Program,
-        _src: &'a SourceFile,
-        _profile: &'a Profile,
-        _options: &WriteOptions,
-    ) -> Option<Box<dyn ItemWriter + 'a>> {
-        None
-    }
-    /// Writes `program` (read from `src`, whose lines the diagnostics point at). `None` when
-    /// an item cannot be written; the diagnostics say why.
+        facts: &Facts,
+        program: &Program,
+        src: &'a SourceFile,
+        profile: &'a Profile,
+        options: &WriteOptions,
+    ) -> Box<dyn ItemWriter + 'a>;
+    /// Writes `program` (read from `src`, whose lines the diagnostics point at), roughing
+    /// cycles as their moves, through [`Dialect::item_writer`]. `None` when an item cannot
+    /// be written; the diagnostics say why.
     fn write(
         &self,
         program: &Program,
         src: &SourceFile,
         profile: &Profile,
         options: &WriteOptions,
-    ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>);
+    ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
+        let program = &*crate::lower::unroll(program, Some(self.id()));
+        let mut facts = Facts::default();
+        program.items.iter().for_each(|item| facts.item(item));
+        let mut writer = self.item_writer(&facts, program, src, profile, options);
+        for item in &program.items {
+            writer.item(item);
+        }
+        writer.finish()
+    }
 }

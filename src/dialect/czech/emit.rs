@@ -18,8 +18,8 @@ use crate::dialect::write::{self, Writer};
 use crate::dialect::{DialectId, Inexact, Renumber, one_line};
 use crate::fixed::{Angle, Decimal, Lead, Length};
 use crate::ir::{
-    Chamfer, Coolant, EndCode, FeedMode, Item, ItemKind, Pos, Program, SpindleDirection,
-    SpindleMode, SyncStart, ThreadCycle, ThreadPass,
+    Chamfer, Coolant, EndCode, FeedMode, Item, ItemKind, Pos, SpindleDirection, SpindleMode,
+    SyncStart, ThreadCycle, ThreadPass,
 };
 use crate::lower;
 use crate::profile::{AngleSource, Constant8, CzechArcs, CzechDwell, Profile};
@@ -64,29 +64,9 @@ struct Emitter<'a> {
     round: bool,
 }
 
-/// Writes `program` (read from `src`) as a czech program. `None` when
-/// any item cannot be expressed; the diagnostics say why.
-pub fn emit(
-    program: &Program,
-    src: &SourceFile,
-    profile: &Profile,
-    renumber: Renumber,
-    round: bool,
-) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
-    // Roughing cycles are written as their moves.
-    let program = &*crate::lower::unroll(program, Some(super::ID));
-    let mut facts = write::Facts::default();
-    program.items.iter().for_each(|item| facts.item(item));
-    let mut w = Items::new(&facts, program.dialect, src, profile, renumber, round);
-    for item in &program.items {
-        write::ItemWriter::item(&mut w, item);
-    }
-    write::ItemWriter::finish(Box::new(w))
-}
-
 /// The czech writer taking a program's items one at a time (a conversion's streaming read,
 /// after [`write::Facts`] gathered what it needs to know first), or a whole program
-/// ([`emit`]).
+/// ([`Dialect::write`](crate::dialect::Dialect::write)).
 pub(crate) struct Items<'a> {
     e: Emitter<'a>,
     /// Parameters the program assigns are not free for leads.

@@ -170,20 +170,6 @@ impl Dialect for Czech {
         Some(Diagnostic::new(code, message).at(src, at.span).help(help))
     }
 
-    fn write(
-        &self,
-        program: &Program,
-        src: &SourceFile,
-        profile: &Profile,
-        options: &WriteOptions,
-    ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
-        emit::emit(program, src, profile, options.renumber, options.round)
-    }
-
-    fn writes_items(&self) -> bool {
-        true
-    }
-
     fn item_writer<'a>(
         &self,
         facts: &crate::dialect::Facts,
@@ -191,15 +177,15 @@ impl Dialect for Czech {
         src: &'a SourceFile,
         profile: &'a Profile,
         options: &WriteOptions,
-    ) -> Option<Box<dyn crate::dialect::ItemWriter + 'a>> {
-        Some(Box::new(emit::Items::new(
+    ) -> Box<dyn crate::dialect::ItemWriter + 'a> {
+        Box::new(emit::Items::new(
             facts,
             program.dialect,
             src,
             profile,
             options.renumber,
             options.round,
-        )))
+        ))
     }
 }
 

@@ -199,22 +199,6 @@ impl Transliterated {
     }
 }
 
-/// Writes `program` (read from `src`) as a FANUC program. `None` when any item cannot be
-/// expressed; the diagnostics say why.
-pub fn emit(
-    program: &Program,
-    src: &SourceFile,
-    profile: &Profile,
-    round: bool,
-) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
-    let program = &*lower::unroll(program, Some(super::ID));
-    let mut w = Items::new(program, src, profile, round);
-    for item in &program.items {
-        write::ItemWriter::item(&mut w, item);
-    }
-    write::ItemWriter::finish(Box::new(w))
-}
-
 /// Where the FANUC writer stands in the program's start.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Start {
@@ -227,7 +211,7 @@ enum Start {
 }
 
 /// The FANUC writer taking a program's items one at a time (a conversion's streaming read),
-/// or a whole program ([`emit`]).
+/// or a whole program ([`Dialect::write`](crate::dialect::Dialect::write)).
 pub(crate) struct Items<'a> {
     e: Emitter<'a>,
     /// The program's dialect, number and unit.
@@ -1277,7 +1261,12 @@ mod tests {
         profile: &Profile,
         round: bool,
     ) -> (Option<String>, Vec<Diagnostic>) {
-        let (out, diags) = super::emit(program, src, profile, round);
+        let options = crate::dialect::WriteOptions {
+            round,
+            ..Default::default()
+        };
+        let (out, diags) =
+            crate::dialect::Dialect::write(&super::super::Fanuc, program, src, profile, &options);
         (out.map(|o| o.into_string().expect("in memory")), diags)
     }
     use crate::ir::{SpindleDirection, ThreadPass};

@@ -217,20 +217,6 @@ impl Dialect for Fanuc {
         Some(Diagnostic::new(code, message).at(src, at.span).help(help))
     }
 
-    fn write(
-        &self,
-        program: &Program,
-        src: &SourceFile,
-        profile: &Profile,
-        options: &WriteOptions,
-    ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
-        emit::emit(program, src, profile, options.round)
-    }
-
-    fn writes_items(&self) -> bool {
-        true
-    }
-
     fn item_writer<'a>(
         &self,
         _facts: &crate::dialect::Facts,
@@ -238,13 +224,8 @@ impl Dialect for Fanuc {
         src: &'a SourceFile,
         profile: &'a Profile,
         options: &WriteOptions,
-    ) -> Option<Box<dyn crate::dialect::ItemWriter + 'a>> {
-        Some(Box::new(emit::Items::new(
-            program,
-            src,
-            profile,
-            options.round,
-        )))
+    ) -> Box<dyn crate::dialect::ItemWriter + 'a> {
+        Box::new(emit::Items::new(program, src, profile, options.round))
     }
 }
 

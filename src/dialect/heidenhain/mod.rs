@@ -201,26 +201,6 @@ impl Dialect for Heidenhain {
         Some(Diagnostic::new(code, message).at(src, at.span).help(help))
     }
 
-    fn write(
-        &self,
-        program: &Program,
-        src: &SourceFile,
-        profile: &Profile,
-        options: &WriteOptions,
-    ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
-        emit::emit(
-            program,
-            src,
-            &profile.heidenhain,
-            options.renumber,
-            options.round,
-        )
-    }
-
-    fn writes_items(&self) -> bool {
-        true
-    }
-
     fn item_writer<'a>(
         &self,
         _facts: &crate::dialect::Facts,
@@ -228,14 +208,14 @@ impl Dialect for Heidenhain {
         src: &'a SourceFile,
         profile: &'a Profile,
         options: &WriteOptions,
-    ) -> Option<Box<dyn crate::dialect::ItemWriter + 'a>> {
-        Some(Box::new(emit::Items::new(
+    ) -> Box<dyn crate::dialect::ItemWriter + 'a> {
+        Box::new(emit::Items::new(
             program,
             src,
             &profile.heidenhain,
             options.renumber,
             options.round,
-        )))
+        ))
     }
 }
 

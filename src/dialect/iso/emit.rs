@@ -145,27 +145,9 @@ impl Units {
     }
 }
 
-/// Writes `program` (read from `src`) as ISO G-code. `None` when any
-/// item cannot be expressed; the diagnostics say why.
-pub fn emit(
-    program: &Program,
-    src: &SourceFile,
-    profile: &Profile,
-) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
-    // Roughing cycles are written as their moves.
-    let program = &*crate::lower::unroll(program, Some(super::ID));
-    let mut facts = write::Facts::default();
-    program.items.iter().for_each(|item| facts.item(item));
-    let mut w = Items::new(&facts, program, src, profile);
-    for item in &program.items {
-        write::ItemWriter::item(&mut w, item);
-    }
-    write::ItemWriter::finish(Box::new(w))
-}
-
 /// The ISO writer taking a program's items one at a time (a conversion's streaming read,
 /// after [`write::Facts`] gathered what it needs to know first), or a whole program
-/// ([`emit`]). It looks one item ahead.
+/// ([`Dialect::write`](crate::dialect::Dialect::write)). It looks one item ahead.
 pub(crate) struct Items<'a> {
     e: Emitter<'a>,
     from: DialectId,
@@ -959,7 +941,9 @@ mod tests {
         src: &SourceFile,
         profile: &Profile,
     ) -> (Option<String>, Vec<Diagnostic>) {
-        let (out, diags) = super::emit(program, src, profile);
+        let options = crate::dialect::WriteOptions::default();
+        let (out, diags) =
+            crate::dialect::Dialect::write(&super::super::Iso, program, src, profile, &options);
         (out.map(|o| o.into_string().expect("in memory")), diags)
     }
     use crate::fixed::Length;

@@ -265,20 +265,6 @@ impl Dialect for Iso {
         )
     }
 
-    fn write(
-        &self,
-        program: &Program,
-        src: &SourceFile,
-        profile: &Profile,
-        _options: &WriteOptions,
-    ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
-        emit::emit(program, src, profile)
-    }
-
-    fn writes_items(&self) -> bool {
-        true
-    }
-
     fn item_writer<'a>(
         &self,
         facts: &crate::dialect::Facts,
@@ -286,7 +272,7 @@ impl Dialect for Iso {
         src: &'a SourceFile,
         profile: &'a Profile,
         _options: &WriteOptions,
-    ) -> Option<Box<dyn crate::dialect::ItemWriter + 'a>> {
-        Some(Box::new(emit::Items::new(facts, program, src, profile)))
+    ) -> Box<dyn crate::dialect::ItemWriter + 'a> {
+        Box::new(emit::Items::new(facts, program, src, profile))
     }
 }

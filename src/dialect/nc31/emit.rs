@@ -16,7 +16,7 @@ use crate::dialect::write::{self, Writer};
 use crate::dialect::{DialectId, Inexact, WriteOptions, one_line};
 use crate::fixed::{Angle, Lead, Length};
 use crate::ir::{
-    Coolant, CycleChamfer, EndCode, FeedMode, Finish, Item, ItemKind, Pos, Program, Retract, Rise,
+    Coolant, CycleChamfer, EndCode, FeedMode, Finish, Item, ItemKind, Pos, Retract, Rise,
     SpindleDirection, SyncStart, TapCycle, ThreadCycle, ThreadPass,
 };
 use crate::lower;
@@ -40,25 +40,8 @@ struct Emitter<'a> {
     dropped: (usize, Option<Span>),
 }
 
-/// Writes `program` (read from `src`) as НЦ-31 frames. `None` when any item cannot be
-/// expressed; the diagnostics say why.
-pub fn emit(
-    program: &Program,
-    src: &SourceFile,
-    profile: &Profile,
-    options: &WriteOptions,
-) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
-    // Roughing cycles are written as their moves.
-    let program = &*crate::lower::unroll(program, Some(super::ID));
-    let mut w = Items::new(program.dialect, src, profile, options);
-    for item in &program.items {
-        write::ItemWriter::item(&mut w, item);
-    }
-    write::ItemWriter::finish(Box::new(w))
-}
-
 /// The НЦ-31 writer taking a program's items one at a time (a conversion's streaming read),
-/// or a whole program ([`emit`]).
+/// or a whole program ([`Dialect::write`](crate::dialect::Dialect::write)).
 pub(crate) struct Items<'a> {
     e: Emitter<'a>,
     /// An nc31 program's own groups and `(` comment lines are kept as they were.
@@ -976,6 +959,7 @@ impl Emitter<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ir::Program;
 
     /// The writer's text as a string, as the tests read it.
     fn emit(
@@ -984,7 +968,8 @@ mod tests {
         profile: &Profile,
         options: &WriteOptions,
     ) -> (Option<String>, Vec<Diagnostic>) {
-        let (out, diags) = super::emit(program, src, profile, options);
+        let (out, diags) =
+            crate::dialect::Dialect::write(&super::super::Nc31, program, src, profile, options);
         (out.map(|o| o.into_string().expect("in memory")), diags)
     }
     use crate::diag::Severity;

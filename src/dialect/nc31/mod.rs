@@ -167,20 +167,6 @@ impl Dialect for Nc31 {
         )
     }
 
-    fn write(
-        &self,
-        program: &Program,
-        src: &SourceFile,
-        profile: &Profile,
-        options: &WriteOptions,
-    ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
-        emit::emit(program, src, profile, options)
-    }
-
-    fn writes_items(&self) -> bool {
-        true
-    }
-
     fn item_writer<'a>(
         &self,
         _facts: &crate::dialect::Facts,
@@ -188,13 +174,8 @@ impl Dialect for Nc31 {
         src: &'a SourceFile,
         profile: &'a Profile,
         options: &WriteOptions,
-    ) -> Option<Box<dyn crate::dialect::ItemWriter + 'a>> {
-        Some(Box::new(emit::Items::new(
-            program.dialect,
-            src,
-            profile,
-            options,
-        )))
+    ) -> Box<dyn crate::dialect::ItemWriter + 'a> {
+        Box::new(emit::Items::new(program.dialect, src, profile, options))
     }
 }
 

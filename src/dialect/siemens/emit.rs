@@ -98,24 +98,8 @@ fn program_name(program: &Program, src: &SourceFile) -> String {
     name.trim_end_matches('_').to_string()
 }
 
-/// Writes `program` (read from `src`) as a SINUMERIK program. `None` when any item cannot be
-/// expressed; the diagnostics say why.
-pub fn emit(
-    program: &Program,
-    src: &SourceFile,
-    renumber: Renumber,
-    round: bool,
-) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
-    let program = &*lower::unroll(program, Some(super::ID));
-    let mut w = Items::new(program, src, renumber, round);
-    for item in &program.items {
-        write::ItemWriter::item(&mut w, item);
-    }
-    write::ItemWriter::finish(Box::new(w))
-}
-
 /// The SINUMERIK writer taking a program's items one at a time (a conversion's streaming
-/// read), or a whole program ([`emit`]).
+/// read), or a whole program ([`Dialect::write`](crate::dialect::Dialect::write)).
 pub(crate) struct Items<'a> {
     e: Emitter<'a>,
     /// The program's dialect.

@@ -145,20 +145,6 @@ impl Dialect for Siemens {
         )
     }
 
-    fn write(
-        &self,
-        program: &Program,
-        src: &SourceFile,
-        _profile: &Profile,
-        options: &WriteOptions,
-    ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
-        emit::emit(program, src, options.renumber, options.round)
-    }
-
-    fn writes_items(&self) -> bool {
-        true
-    }
-
     fn item_writer<'a>(
         &self,
         _facts: &crate::dialect::Facts,
@@ -166,13 +152,13 @@ impl Dialect for Siemens {
         src: &'a SourceFile,
         _profile: &'a Profile,
         options: &WriteOptions,
-    ) -> Option<Box<dyn crate::dialect::ItemWriter + 'a>> {
-        Some(Box::new(emit::Items::new(
+    ) -> Box<dyn crate::dialect::ItemWriter + 'a> {
+        Box::new(emit::Items::new(
             program,
             src,
             options.renumber,
             options.round,
-        )))
+        ))
     }
 }
 
