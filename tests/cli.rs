@@ -143,6 +143,33 @@ fn repeated_warnings_are_listed_a_few_times_and_the_rest_counted() {
 }
 
 #[test]
+fn check_counts_every_repeat_a_listed_diagnostic_stands_for() {
+    // 150 thread passes and no spindle: LG001 on each, from the shared rules.
+    let mut program = String::from("N1 G00 X30 Z5\n");
+    for n in 2..=151 {
+        program.push_str(&format!("N{n} G33 Z-{} F1.5\n", n - 1));
+    }
+    program.push_str("N999 M30\n");
+    let out = ncthread(
+        &["check", "--from", "czech", "-", "--diagnostics", "json"],
+        Some(program.as_bytes()),
+    );
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
+    // The diagnostics on stdout.
+    let lg001: Vec<serde_json::Value> = text(&out.stdout)
+        .lines()
+        .filter_map(|l| serde_json::from_str(l).ok())
+        .filter(|d: &serde_json::Value| d["code"] == "LG001")
+        .collect();
+    assert_eq!(lg001.len(), 11);
+    assert_eq!(lg001[10]["more"], 139);
+    // The count (said with human diagnostics) counts the 139 the last one stands for.
+    let human = ncthread(&["check", "--from", "czech", "-"], Some(program.as_bytes()));
+    let stderr = text(&human.stderr);
+    assert!(stderr.contains("150 error(s) in 1 file(s)"), "{stderr}");
+}
+
+#[test]
 fn usage_and_io_errors_exit_2() {
     let out = ncthread(&["convert", "--from", "klingon", "--to", "iso"], None);
     assert_eq!(out.status.code(), Some(2));
