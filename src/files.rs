@@ -355,6 +355,17 @@ pub fn write_atomically(
     force: bool,
     guard: Option<&Path>,
 ) -> Result<(), WriteError> {
+    write_atomically_with(path, force, guard, |file| file.write_all(bytes))
+}
+
+/// [`write_atomically`] of what `fill` writes (a large output copied from its temporary
+/// file).
+pub fn write_atomically_with(
+    path: &Path,
+    force: bool,
+    guard: Option<&Path>,
+    fill: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<()>,
+) -> Result<(), WriteError> {
     use std::io::Write as _;
     let parent = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
@@ -385,9 +396,7 @@ pub fn write_atomically(
         builder.permissions(std::fs::Permissions::from_mode(0o666));
     }
     let mut tmp = builder.tempfile_in(parent).map_err(failed)?;
-    tmp.write_all(bytes)
-        .and_then(|()| tmp.flush())
-        .map_err(failed)?;
+    fill(&mut tmp).and_then(|()| tmp.flush()).map_err(failed)?;
     let persisted = if force {
         tmp.persist(path).map(drop)
     } else {

@@ -116,10 +116,11 @@ impl ConvertOptions {
 }
 
 /// The result of a conversion: the program text when there was no error, and every
-/// diagnostic (warnings too).
+/// diagnostic (warnings too). A large output is not held in memory: it is mapped from the
+/// temporary file it was written to ([`source::Text`]), and reads as a `str` all the same.
 #[derive(Clone, Debug)]
 pub struct Conversion {
-    pub output: Option<String>,
+    pub output: Option<source::Text>,
     pub diagnostics: Vec<Diagnostic>,
 }
 
@@ -178,7 +179,7 @@ pub fn emit(
 ) -> (Option<String>, Vec<Diagnostic>) {
     let (output, mut diags) = emit_output(program, src, options);
     let output = output.and_then(|o| held(o, options, &mut diags));
-    (output, diags)
+    (output.map(source::Text::into_string), diags)
 }
 
 /// The whole text of a writer's `output`, or `None` with the error in `diags` when its
@@ -187,9 +188,9 @@ fn held(
     output: dialect::Output,
     options: &ConvertOptions,
     diags: &mut Vec<Diagnostic>,
-) -> Option<String> {
+) -> Option<source::Text> {
     output
-        .into_string()
+        .into_text()
         .map_err(|e| {
             diags.push(
                 Diagnostic::new(
@@ -455,7 +456,7 @@ fn library(
     if options.to == program.dialect {
         diag::sort(&mut diagnostics);
         return Conversion {
-            output: Some(src.text.clone()),
+            output: Some(src.text.to_string().into()),
             diagnostics,
         };
     }
@@ -483,8 +484,8 @@ fn library(
 
 /// The first error of reading `output` back as the target dialect, as an LG004 that points
 /// into the output; the output is handed back (it is not copied to be read).
-fn read_back(output: String, options: &ConvertOptions) -> (String, Option<Diagnostic>) {
-    let out = SourceFile::new(format!("({} output)", options.to), output);
+fn read_back(output: source::Text, options: &ConvertOptions) -> (source::Text, Option<Diagnostic>) {
+    let out = SourceFile::of_text(format!("({} output)", options.to), output);
     let diags = dialect::get(options.to).diagnostics(&out, &options.profile, options.unsupported);
     let refusal = refusal(diags, options);
     (out.text, refusal)
@@ -866,15 +867,19 @@ mod tests {
     fn an_output_the_target_refuses_is_not_written() {
         // A G33 block without Z travel, as a writer could have rounded it.
         let text = "N10 S500 M03\nN20 G00 X20. Z0.\nN30 G33 Z0. F1.\nN40 M02\n";
-        let (back, refusal) = read_back(text.to_string(), &options(dialect::czech::ID));
+        let (back, refusal) = read_back(text.into(), &options(dialect::czech::ID));
         assert_eq!(back, text, "the output is handed back as it was");
         let refusal = refusal.expect("refused");
         assert_eq!(refusal.code, diag::codes::OUTPUT_UNREADABLE);
         assert!(refusal.message.contains("CZR017"), "{}", refusal.message);
         let at = refusal.location.expect("located");
         assert_eq!((at.file.as_str(), at.line), ("(czech output)", 3));
-        let text = "N10 S500 M03\nN20 M02\n".to_string();
-        assert!(read_back(text, &options(dialect::czech::ID)).1.is_none());
+        let text = "N10 S500 M03\nN20 M02\n";
+        assert!(
+            read_back(text.into(), &options(dialect::czech::ID))
+                .1
+                .is_none()
+        );
     }
 
     /// A library whose first line is its first definition (no comment, no `%`): iso → iso

@@ -29,8 +29,255 @@ pub fn offset32(offset: usize) -> u32 {
 #[derive(Clone, Debug)]
 pub struct SourceFile {
     pub name: String,
-    pub text: String,
+    pub text: Text,
     line_starts: LineStarts,
+}
+
+/// A program's text: in memory, or (a conversion's output, written to a temporary file as it
+/// was made) mapped from its file, so that a text many times the memory a conversion may take
+/// is read without being held (issue 34). It reads as a `str` either way. A mapped text lets
+/// go of the pages it has been read past ([`Text::read_to`]): they stay in the file, and a
+/// look back reads them again.
+pub struct Text(Repr);
+
+enum Repr {
+    Owned(String),
+    #[cfg(unix)]
+    Mapped(Mapped),
+}
+
+#[cfg(unix)]
+struct Mapped {
+    map: memmap2::Mmap,
+    /// The pages before this offset have been let go of (a multiple of [`RELEASE_ALIGN`]).
+    released: std::cell::Cell<usize>,
+}
+
+/// How far behind the furthest point read a mapped text keeps its pages, and how far that
+/// point moves before more are let go of.
+const READ_LAG: usize = 1 << 20;
+/// What a page boundary is a multiple of on every system (4 KiB, 16 KiB and 64 KiB pages).
+const RELEASE_ALIGN: usize = 1 << 16;
+
+impl Text {
+    /// The text of a file, mapped: `None` when it cannot be mapped or is not UTF-8. The
+    /// file must be one no one else writes (a conversion's own temporary file, which has no
+    /// name): a mapped text reads what the file holds.
+    #[cfg(unix)]
+    pub fn mapped(file: &std::fs::File) -> std::io::Result<Text> {
+        if file.metadata()?.len() == 0 {
+            return Ok(Text(Repr::Owned(String::new())));
+        }
+        // SAFETY: the file is the caller's own unnamed temporary file, which nothing writes
+        // while it is mapped (the map is read-only and the caller lets go of the file).
+        let map = unsafe { memmap2::Mmap::map(file)? };
+        let text = Text(Repr::Mapped(Mapped {
+            map,
+            released: std::cell::Cell::new(0),
+        }));
+        // Checked a stretch at a time, each let go of once checked.
+        let bytes = text.bytes_of();
+        let mut at = 0;
+        while at < bytes.len() {
+            let end = (at + READ_LAG).min(bytes.len());
+            match std::str::from_utf8(&bytes[at..end]) {
+                Ok(_) => at = end,
+                // A character cut by the stretch's end: checked from its start with the next.
+                Err(e) if e.error_len().is_none() && end < bytes.len() && e.valid_up_to() > 0 => {
+                    at += e.valid_up_to()
+                }
+                Err(e) => return Err(invalid(e)),
+            }
+            text.read_to(at);
+        }
+        text.release(0);
+        Ok(text)
+    }
+
+    fn bytes_of(&self) -> &[u8] {
+        match &self.0 {
+            Repr::Owned(s) => s.as_bytes(),
+            #[cfg(unix)]
+            Repr::Mapped(m) => &m.map,
+        }
+    }
+
+    /// Says that the text has been read to `offset` and will be read on from there: a
+    /// mapped text lets go of the pages more than [`READ_LAG`] behind it (a look back reads
+    /// them from the file again). Does nothing to a text in memory.
+    #[inline]
+    pub fn read_to(&self, offset: usize) {
+        #[cfg(unix)]
+        if let Repr::Mapped(m) = &self.0 {
+            let released = m.released.get();
+            if offset >= released + 2 * READ_LAG {
+                self.release(offset - READ_LAG);
+            } else if offset < released {
+                // Read again from further back (a loop's body, a second pass): the pages
+                // from there on are let go of as the reading passes them again.
+                m.released.set(offset / RELEASE_ALIGN * RELEASE_ALIGN);
+            }
+        }
+        #[cfg(not(unix))]
+        let _ = offset;
+    }
+
+    /// Lets go of the pages before `offset`, or (0) of every page, to be read from the
+    /// start again.
+    fn release(&self, offset: usize) {
+        #[cfg(unix)]
+        if let Repr::Mapped(m) = &self.0 {
+            let (from, to) = if offset == 0 {
+                (0, m.map.len())
+            } else {
+                (m.released.get(), offset / RELEASE_ALIGN * RELEASE_ALIGN)
+            };
+            if to > from {
+                // SAFETY: the map is read-only and its file unchanged, so that a page let go
+                // of reads the same bytes when it is read again: nothing that points into it
+                // sees a change.
+                let _ = unsafe {
+                    m.map.unchecked_advise_range(
+                        memmap2::UncheckedAdvice::DontNeed,
+                        from,
+                        to - from,
+                    )
+                };
+            }
+            m.released.set(if offset == 0 { 0 } else { to.max(from) });
+        }
+        #[cfg(not(unix))]
+        let _ = offset;
+    }
+
+    /// The text in memory (a mapped text is read whole).
+    pub fn into_string(self) -> String {
+        match self.0 {
+            Repr::Owned(s) => s,
+            #[cfg(unix)]
+            Repr::Mapped(_) => self.to_string(),
+        }
+    }
+
+    /// Whether the text is mapped from a file rather than held in memory.
+    pub fn is_mapped(&self) -> bool {
+        !matches!(self.0, Repr::Owned(_))
+    }
+
+    /// The text as stretches of whole lines of about `size` bytes (the last may end without
+    /// a line end), each said to be read ([`Text::read_to`]) once the next is asked for:
+    /// what writes a mapped text out a stretch at a time.
+    pub fn stretches(&self, size: usize) -> impl Iterator<Item = &str> {
+        let text: &str = self;
+        let mut at = 0;
+        std::iter::from_fn(move || {
+            if at >= text.len() {
+                return None;
+            }
+            self.read_to(at);
+            let rest = &text[at..];
+            let cut = if rest.len() <= size {
+                rest.len()
+            } else {
+                memchr::memchr(b'\n', &rest.as_bytes()[size..]).map_or(rest.len(), |e| size + e + 1)
+            };
+            at += cut;
+            Some(&rest[..cut])
+        })
+    }
+}
+
+#[cfg(unix)]
+fn invalid(e: std::str::Utf8Error) -> std::io::Error {
+    std::io::Error::new(std::io::ErrorKind::InvalidData, e)
+}
+
+impl std::ops::Deref for Text {
+    type Target = str;
+
+    fn deref(&self) -> &str {
+        match &self.0 {
+            Repr::Owned(s) => s,
+            // SAFETY: checked to be UTF-8 when mapped, and the file is not changed.
+            #[cfg(unix)]
+            Repr::Mapped(m) => unsafe { std::str::from_utf8_unchecked(&m.map) },
+        }
+    }
+}
+
+impl serde::Serialize for Text {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self)
+    }
+}
+
+impl AsRef<str> for Text {
+    fn as_ref(&self) -> &str {
+        self
+    }
+}
+
+impl From<String> for Text {
+    fn from(s: String) -> Text {
+        Text(Repr::Owned(s))
+    }
+}
+
+impl From<Text> for String {
+    fn from(text: Text) -> String {
+        text.into_string()
+    }
+}
+
+impl From<&str> for Text {
+    fn from(s: &str) -> Text {
+        Text(Repr::Owned(s.to_string()))
+    }
+}
+
+impl Clone for Text {
+    /// A copy in memory.
+    fn clone(&self) -> Text {
+        Text(Repr::Owned(self.to_string()))
+    }
+}
+
+impl std::fmt::Debug for Text {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        std::fmt::Debug::fmt(&**self, f)
+    }
+}
+
+impl std::fmt::Display for Text {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self)
+    }
+}
+
+impl PartialEq for Text {
+    fn eq(&self, other: &Text) -> bool {
+        **self == **other
+    }
+}
+
+impl Eq for Text {}
+
+impl PartialEq<str> for Text {
+    fn eq(&self, other: &str) -> bool {
+        &**self == other
+    }
+}
+
+impl PartialEq<&str> for Text {
+    fn eq(&self, other: &&str) -> bool {
+        &**self == *other
+    }
+}
+
+impl PartialEq<String> for Text {
+    fn eq(&self, other: &String) -> bool {
+        **self == **other
+    }
 }
 
 /// How many lines one entry of a [`LineStarts`] stands for.
@@ -57,28 +304,41 @@ enum Starts {
 }
 
 impl LineStarts {
-    fn of(text: &str) -> LineStarts {
-        let ends = memchr::memchr_iter(b'\n', text.as_bytes()).count();
-        // A text ending in a line end has no line after it.
-        let count = 1 + ends - usize::from(text.ends_with('\n'));
-        let starts = std::iter::once(0)
-            .chain(
-                memchr::memchr_iter(b'\n', text.as_bytes())
-                    .map(|i| i + 1)
-                    .filter(|&i| i < text.len()),
-            )
-            .step_by(STRIDE);
-        let entries = count.div_ceil(STRIDE);
-        let every = match u32::try_from(text.len()) {
+    /// The index of `text`, found a stretch at a time (a mapped text lets go of each once
+    /// indexed).
+    fn of(text: &Text) -> LineStarts {
+        fn index<T>(text: &Text, wrap: impl Fn(usize) -> T) -> (usize, Vec<T>) {
+            let bytes = text.as_bytes();
+            let mut starts = Vec::new();
+            // Line 0 starts at 0; line `count` at the byte after each line end but the last
+            // byte's.
+            let mut count = 0;
+            let mut at = 0;
+            loop {
+                if count % STRIDE == 0 {
+                    starts.push(wrap(at));
+                }
+                count += 1;
+                let Some(end) = memchr::memchr(b'\n', &bytes[at..]) else {
+                    break;
+                };
+                at += end + 1;
+                if at == bytes.len() {
+                    break;
+                }
+                text.read_to(at);
+            }
+            starts.shrink_to_fit();
+            (count, starts)
+        }
+        let (count, every) = match u32::try_from(text.len()) {
             Ok(_) => {
-                let mut v = Vec::with_capacity(entries);
-                v.extend(starts.map(|i| i as u32));
-                Starts::Narrow(v)
+                let (count, starts) = index(text, |i| i as u32);
+                (count, Starts::Narrow(starts))
             }
             Err(_) => {
-                let mut v = Vec::with_capacity(entries);
-                v.extend(starts);
-                Starts::Wide(v)
+                let (count, starts) = index(text, |i| i);
+                (count, Starts::Wide(starts))
             }
         };
         LineStarts {
@@ -173,8 +433,14 @@ pub struct Line<'a> {
 
 impl SourceFile {
     pub fn new(name: impl Into<String>, text: impl Into<String>) -> SourceFile {
-        let text = text.into();
+        SourceFile::of_text(name, Text::from(text.into()))
+    }
+
+    /// The source of a text, in memory or mapped (its lines indexed a stretch at a time,
+    /// each let go of once indexed).
+    pub fn of_text(name: impl Into<String>, text: Text) -> SourceFile {
         let line_starts = LineStarts::of(&text);
+        text.release(0);
         SourceFile {
             name: name.into(),
             text,
@@ -191,6 +457,7 @@ impl SourceFile {
     pub fn lines(&self) -> impl Iterator<Item = Line<'_>> {
         let mut offset = 0;
         (0..self.line_starts.len()).map(move |i| {
+            self.text.read_to(offset);
             let rest = &self.text[offset..];
             let end = line_end(rest);
             let line = line_at(i as u32 + 1, offset, &rest[..end]);
@@ -209,6 +476,7 @@ impl SourceFile {
                 text: "",
             };
         };
+        self.text.read_to(start);
         line_at(number, start, &self.text[start..end])
     }
 
@@ -310,6 +578,56 @@ mod tests {
             assert_eq!(v.len(), naive.len().div_ceil(STRIDE), "{text:?}");
             assert_eq!(v.capacity(), v.len(), "{text:?}");
         }
+    }
+
+    /// A text mapped from a file, read past its pages' release and back: what the same
+    /// text in memory reads, line by line, spans included.
+    #[cfg(unix)]
+    #[test]
+    fn a_mapped_text_reads_as_the_same_text_in_memory() {
+        use std::io::Write as _;
+        fn mapped(text: &str) -> std::io::Result<Text> {
+            let mut file = tempfile::tempfile()?;
+            file.write_all(text.as_bytes())?;
+            Text::mapped(&file)
+        }
+        // Over 2 × READ_LAG, so that pages are let go of, with a character cut by the first
+        // stretch's end.
+        let mut long = "N1 X1\r\n".repeat(READ_LAG / 7 - 1);
+        long.push_str(&"é".repeat(8));
+        long.push_str(&"\nN2 Z-1. (a comment)\n".repeat(READ_LAG / 10));
+        for text in ["", "a", "a\nb\n", "é\r\n\nü", &long] {
+            let src = SourceFile::of_text("m", mapped(text).expect("mapped"));
+            let held = SourceFile::new("m", text);
+            assert_eq!(src.text.is_mapped(), !text.is_empty());
+            assert_eq!(&*src.text, text);
+            assert_eq!(src.line_count(), held.line_count());
+            let lines = |s: &SourceFile| -> Vec<(u32, usize, String)> {
+                s.lines()
+                    .map(|l| (l.number, l.offset, l.text.to_string()))
+                    .collect()
+            };
+            assert_eq!(lines(&src), lines(&held));
+            // Back to the start, then on: the lines as before.
+            let n = held.line_count() as u32;
+            for number in [n, 1, n / 2 + 1, n] {
+                assert_eq!(src.line(number).text, held.line(number).text);
+                assert_eq!(src.line(number).offset, held.line(number).offset);
+            }
+            let end = text.len();
+            assert_eq!(src.span_of(end..end), held.span_of(end..end));
+            assert_eq!(lines(&src), lines(&held), "read a second time");
+            let stretches: String = src.text.stretches(100).collect();
+            assert_eq!(stretches, text);
+        }
+        // Not UTF-8, even where a stretch ends: refused.
+        let mut bad = "a".repeat(READ_LAG - 1).into_bytes();
+        bad.extend_from_slice(&[0xC3, b'x']);
+        let mut file = tempfile::tempfile().expect("a temporary file");
+        file.write_all(&bad).expect("written");
+        assert!(Text::mapped(&file).is_err());
+        file.write_all(&[0xC3]).expect("written");
+        assert!(Text::mapped(&file).is_err());
     }
 
     #[test]

@@ -397,12 +397,32 @@ pub fn encode_output(
     options: &OutputOptions,
     input: &Input,
 ) -> Result<Vec<u8>, Box<Diagnostic>> {
-    let Form {
-        crlf,
-        encoding,
-        eof_mark,
-    } = Form::of(options, input);
+    let form = Form::of(options, input);
     let mut out = Vec::with_capacity(text.len() + text.len() / 16);
+    encode_lines(&mut out, text, 0, output_name, options, &form)?;
+    out.extend_from_slice(form.eof_mark);
+    Ok(out)
+}
+
+/// Encodes `text`'s lines (the first of them line `first` of the output, 0-based) onto `out`;
+/// the end-of-file mark is not added.
+fn encode_lines(
+    out: &mut Vec<u8>,
+    text: &str,
+    first: usize,
+    output_name: &str,
+    options: &OutputOptions,
+    form: &Form,
+) -> Result<(), Box<Diagnostic>> {
+    // Where encoding changes nothing (LF endings, and ASCII or UTF-8 out), the bytes as
+    // they are.
+    if !form.crlf
+        && !text.contains('\r')
+        && (form.encoding == TextEncoding::UTF_8 || text.is_ascii())
+    {
+        out.extend_from_slice(text.as_bytes());
+        return Ok(());
+    }
     for (index, line) in text.split_inclusive('\n').enumerate() {
         let body = line.strip_suffix('\n').unwrap_or(line);
         let body = body.strip_suffix('\r').unwrap_or(body);
@@ -410,34 +430,118 @@ pub fn encode_output(
         if body.is_ascii() {
             out.extend_from_slice(body.as_bytes());
         } else {
-            encode_line(&mut out, body, index, text, output_name, options, encoding)?;
+            encode_line(
+                out,
+                body,
+                first + index,
+                output_name,
+                options,
+                form.encoding,
+            )?;
         }
         if line.ends_with('\n') {
-            out.extend_from_slice(if crlf { b"\r\n" } else { b"\n" });
+            out.extend_from_slice(if form.crlf { b"\r\n" } else { b"\n" });
         }
     }
-    out.extend_from_slice(eof_mark);
-    Ok(out)
+    Ok(())
 }
 
-/// [`encode_output`] of a text the caller is done with: where encoding changes nothing (LF
-/// endings, no end-of-file mark to add, and ASCII or UTF-8 out) its bytes are handed over
-/// without a copy, which for a large output is as much memory again.
+/// An output encoded: in memory, or (a mapped output, [`crate::source::Text`]) in a
+/// temporary file, to be copied to where it goes.
+#[derive(Debug)]
+pub enum Encoded {
+    Bytes(Vec<u8>),
+    File(std::fs::File),
+}
+
+impl Encoded {
+    /// Writes its bytes to `to`.
+    pub fn write_to(&mut self, to: &mut dyn std::io::Write) -> std::io::Result<()> {
+        match self {
+            Encoded::Bytes(b) => to.write_all(b),
+            Encoded::File(f) => {
+                use std::io::Seek as _;
+                f.rewind()?;
+                std::io::copy(f, to).map(drop)
+            }
+        }
+    }
+
+    /// Its bytes, in memory.
+    pub fn into_bytes(mut self) -> std::io::Result<Vec<u8>> {
+        match self {
+            Encoded::Bytes(b) => Ok(b),
+            Encoded::File(_) => {
+                let mut bytes = Vec::new();
+                self.write_to(&mut bytes)?;
+                Ok(bytes)
+            }
+        }
+    }
+}
+
+/// [`encode_output`] of a text the caller is done with. Where encoding changes nothing (LF
+/// endings, no end-of-file mark to add, and ASCII or UTF-8 out) a text in memory is handed
+/// over without a copy, which for a large output is as much memory again; a mapped text is
+/// encoded a stretch of lines at a time into a temporary file, never held whole.
 pub fn encode_output_owned(
-    text: String,
+    text: crate::source::Text,
     output_name: &str,
     options: &OutputOptions,
     input: &Input,
-) -> Result<Vec<u8>, Box<Diagnostic>> {
-    let form = Form::of(options, input);
-    let unchanged = !form.crlf
-        && form.eof_mark.is_empty()
-        && !text.contains('\r')
-        && (form.encoding == TextEncoding::UTF_8 || text.is_ascii());
-    if unchanged {
-        return Ok(text.into_bytes());
+) -> Result<Encoded, Box<Diagnostic>> {
+    encode_text(text, output_name, options, input, STRETCH)
+}
+
+/// How much of a mapped output is encoded at a time.
+const STRETCH: usize = 1 << 20;
+
+/// [`encode_output_owned`], a mapped text encoded `stretch` bytes (rounded to whole lines) at
+/// a time.
+fn encode_text(
+    text: crate::source::Text,
+    output_name: &str,
+    options: &OutputOptions,
+    input: &Input,
+    stretch: usize,
+) -> Result<Encoded, Box<Diagnostic>> {
+    if !text.is_mapped() {
+        let form = Form::of(options, input);
+        let unchanged = !form.crlf
+            && form.eof_mark.is_empty()
+            && !text.contains('\r')
+            && (form.encoding == TextEncoding::UTF_8 || text.is_ascii());
+        if unchanged {
+            return Ok(Encoded::Bytes(text.into_string().into_bytes()));
+        }
+        return encode_output(&text, output_name, options, input).map(Encoded::Bytes);
     }
-    encode_output(&text, output_name, options, input)
+    let failed = |e: std::io::Error| {
+        Box::new(
+            Diagnostic::new(
+                codes::OUTPUT_UNREADABLE,
+                format!("{output_name} could not be encoded: its temporary file failed ({e})"),
+            )
+            .help(
+                "nothing is written; make room in the temporary folder (TMPDIR) and convert again",
+            ),
+        )
+    };
+    use std::io::Write as _;
+    let form = Form::of(options, input);
+    let mut file =
+        std::io::BufWriter::with_capacity(1 << 16, tempfile::tempfile().map_err(failed)?);
+    let mut buffer = Vec::new();
+    let mut line = 0;
+    for stretch in text.stretches(stretch) {
+        buffer.clear();
+        encode_lines(&mut buffer, stretch, line, output_name, options, &form)?;
+        file.write_all(&buffer).map_err(failed)?;
+        line += memchr::memchr_iter(b'\n', stretch.as_bytes()).count();
+    }
+    file.write_all(form.eof_mark).map_err(failed)?;
+    let file = file.into_inner().map_err(|e| failed(e.into_error()))?;
+    Ok(Encoded::File(file))
 }
 
 /// What an output is written as: its line endings, its encoding, and the end-of-file mark
@@ -465,12 +569,11 @@ impl<'a> Form<'a> {
     }
 }
 
-/// Encodes one line's `body` (line `index` of `text`) character by character.
+/// Encodes one line's `body` (line `index` of the output) character by character.
 fn encode_line(
     out: &mut Vec<u8>,
     body: &str,
     index: usize,
-    text: &str,
     output_name: &str,
     options: &OutputOptions,
     encoding: TextEncoding,
@@ -485,11 +588,11 @@ fn encode_line(
             Some(t) if options.transliterate => out.extend_from_slice(t.as_bytes()),
             None if options.transliterate => out.push(b'?'),
             _ => {
-                let src = SourceFile::new(output_name, text);
+                // The line alone, numbered as the output's.
+                let src = SourceFile::new(output_name, body);
                 let line_number = index as u32 + 1;
-                let line = src.line(line_number);
-                let span = src.span_in_line(line, at..at + c.len_utf8());
-                return Err(Box::new(Diagnostic::new(
+                let span = src.span_in_line(src.line(1), at..at + c.len_utf8());
+                let mut refusal = Diagnostic::new(
                     codes::ENCODING,
                     format!(
                         "`{c}` (U+{:04X}) in output line {line_number} cannot be written in {}",
@@ -501,7 +604,11 @@ fn encode_line(
                 .help(format!(
                     "pass --transliterate to write it as `{}`, or choose an --output-encoding that has it (e.g. utf-8)",
                     ascii.unwrap_or("?")
-                ))));
+                ));
+                if let Some(location) = &mut refusal.location {
+                    location.line = line_number;
+                }
+                return Err(Box::new(refusal));
             }
         }
     }
@@ -674,6 +781,7 @@ mod tests {
             "\"ROZTOČENÍ\n",
             "N1\r\nN2\n",
             "Č\rX\n",
+            "N1\nN2\nN3 Č\nN4 Ž\n",
             "",
         ];
         let encodings = [
@@ -704,13 +812,28 @@ mod tests {
                             eol,
                             ..OutputOptions::default()
                         };
-                        let borrowed = encode_output(text, "o", &options, input);
-                        let owned = encode_output_owned(text.to_string(), "o", &options, input);
+                        let borrowed = encode_output(text, "o", &options, input)
+                            .map_err(|d| (d.message, d.location));
+                        let owned = encode_output_owned(text.into(), "o", &options, input);
+                        let owned = owned.map(|e| e.into_bytes().expect("in memory"));
+                        let what = format!("{text:?} {encoding:?} {eol:?} {input:?}");
                         assert_eq!(
-                            borrowed.map_err(|d| d.message),
-                            owned.map_err(|d| d.message),
-                            "{text:?} {encoding:?} {eol:?} {input:?}"
+                            borrowed,
+                            owned.map_err(|d| (d.message, d.location)),
+                            "{what}"
                         );
+                        // Mapped from a file, encoded a few bytes (whole lines) at a time.
+                        #[cfg(unix)]
+                        for stretch in [1, 3, 1 << 20] {
+                            use std::io::Write as _;
+                            let mut file = tempfile::tempfile().expect("a temporary file");
+                            file.write_all(text.as_bytes()).expect("written");
+                            let mapped = crate::source::Text::mapped(&file).expect("mapped");
+                            let encoded = encode_text(mapped, "o", &options, input, stretch)
+                                .map(|e| e.into_bytes().expect("read back"));
+                            let encoded = encoded.map_err(|d| (d.message, d.location));
+                            assert_eq!(borrowed, encoded, "{what} stretch {stretch}");
+                        }
                     }
                 }
             }

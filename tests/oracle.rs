@@ -16,6 +16,7 @@ fn iso(name: &str) -> String {
     conversion
         .output
         .unwrap_or_else(|| panic!("{name} was refused: {:?}", conversion.diagnostics))
+        .into()
 }
 
 #[test]
@@ -278,7 +279,7 @@ fn rs274_motion_equals_the_iso_front_end_simulation() {
     let mut programs: Vec<(String, String)> = Vec::new();
     for case in corpus_cases() {
         if let Some(ngc) = convert_case(&case, ncthread::dialect::iso::ID).output {
-            programs.push((format!("{} → iso", case.name), ngc));
+            programs.push((format!("{} → iso", case.name), ngc.into()));
         }
         if case.from == ncthread::dialect::iso::ID && !case.path.starts_with("corpus/bad/") {
             let text = std::fs::read_to_string(common::root().join(&case.path)).unwrap();

@@ -8,7 +8,7 @@ use super::Fatal;
 use super::args::{ConvertArgs, ExplainArgs, ExplainFormat, OutputFormat, PlotArgs, SimulateArgs};
 use super::io::{
     is_stdio, print_diagnostics, read_program, read_source, read_source_for, unsupported,
-    write_output,
+    write_encoded, write_output,
 };
 
 pub(crate) fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
@@ -49,7 +49,7 @@ pub(crate) fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
     let Some(bytes) = bytes else {
         return Ok(ExitCode::from(1));
     };
-    write_output(&args.output, &bytes)?;
+    write_encoded(&args.output, bytes)?;
     Ok(ExitCode::SUCCESS)
 }
 

@@ -176,9 +176,25 @@ pub(crate) fn read_program(
 }
 
 pub(crate) fn write_output(path: &Option<PathBuf>, bytes: &[u8]) -> Result<(), Fatal> {
+    write_with(path, |to| to.write_all(bytes))
+}
+
+/// [`write_output`] of an encoded output, which a large output holds in a temporary file.
+pub(crate) fn write_encoded(
+    path: &Option<PathBuf>,
+    mut encoded: ncthread::text::Encoded,
+) -> Result<(), Fatal> {
+    write_with(path, |to| encoded.write_to(to))
+}
+
+/// Writes what `fill` writes to `path` (stdout for `-` or none); a file whole or not at all.
+fn write_with(
+    path: &Option<PathBuf>,
+    fill: impl FnOnce(&mut dyn io::Write) -> io::Result<()>,
+) -> Result<(), Fatal> {
     if is_stdio(path) {
         let mut out = io::stdout().lock();
-        return match out.write_all(bytes).and_then(|()| out.flush()) {
+        return match fill(&mut out).and_then(|()| out.flush()) {
             // The reader (e.g. `head`) has what it wanted.
             Err(e) if e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
             Err(e) => Err(Fatal::Usage(io_error("write", "stdout", &e))),
@@ -196,7 +212,7 @@ pub(crate) fn write_output(path: &Option<PathBuf>, bytes: &[u8]) -> Result<(), F
             parent.display()
         )));
     }
-    ncthread::files::write_atomically(path, bytes, true, None).map_err(|e| match e {
+    ncthread::files::write_atomically_with(path, true, None, fill).map_err(|e| match e {
         ncthread::files::WriteError::Failed(why) | ncthread::files::WriteError::Fatal(why) => {
             Fatal::Usage(why)
         }

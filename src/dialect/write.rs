@@ -405,7 +405,21 @@ pub struct Output {
 }
 
 impl Output {
-    /// The whole text. Fails only when the spool cannot be read back.
+    /// The whole text: what was spooled, mapped from its file (the rest written to it
+    /// first), else the text held. Fails only when the spool cannot be read back.
+    pub fn into_text(self) -> std::io::Result<crate::source::Text> {
+        #[cfg(unix)]
+        if let Some((mut file, len)) = self.spooled {
+            use std::io::{Seek as _, Write as _};
+            file.seek(std::io::SeekFrom::Start(len))?;
+            file.write_all(self.held.as_bytes())?;
+            file.set_len(len + self.held.len() as u64)?;
+            return crate::source::Text::mapped(&file);
+        }
+        self.into_string().map(Into::into)
+    }
+
+    /// The whole text in memory. Fails only when the spool cannot be read back.
     pub fn into_string(self) -> std::io::Result<String> {
         use std::io::{Read as _, Seek as _};
         let Some((mut file, len)) = self.spooled else {

@@ -404,7 +404,7 @@ mod tests {
             &src,
             &ConvertOptions::new(dialect::czech::ID, dialect::iso::ID),
         );
-        assert_eq!(c.bytes(), lib.output.unwrap().into_bytes());
+        assert_eq!(c.bytes(), lib.output.unwrap().into_string().into_bytes());
         assert!(
             j["note"]
                 .as_str()
