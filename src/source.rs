@@ -55,8 +55,10 @@ struct Mapped {
 
 /// How far behind the furthest point read a mapped text keeps its pages, and how far that
 /// point moves before more are let go of.
+#[cfg(unix)]
 const READ_LAG: usize = 1 << 20;
 /// What a page boundary is a multiple of on every system (4 KiB, 16 KiB and 64 KiB pages).
+#[cfg(unix)]
 const RELEASE_ALIGN: usize = 1 << 16;
 
 impl Text {
@@ -94,6 +96,7 @@ impl Text {
         Ok(text)
     }
 
+    #[cfg(unix)]
     fn bytes_of(&self) -> &[u8] {
         match &self.0 {
             Repr::Owned(s) => s.as_bytes(),
