@@ -255,14 +255,42 @@ impl FileReport {
 /// fingerprint of what an output is made from (the same in every build, unlike std's
 /// hasher), for telling an output that is up to date.
 pub fn fingerprint(parts: &[&[u8]]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut h = Fnv::default();
     for part in parts {
-        for &b in part.iter().chain([0xFF].iter()) {
-            h ^= u64::from(b);
-            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        h.add(part);
+        h.end_part();
+    }
+    h.0
+}
+
+/// [`fingerprint`] taken a piece of a part at a time.
+struct Fnv(u64);
+
+impl Default for Fnv {
+    fn default() -> Self {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Fnv {
+    fn add(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 ^= u64::from(b);
+            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
         }
     }
-    h
+
+    fn end_part(&mut self) {
+        self.add(&[0xFF]);
+    }
+}
+
+/// The [`fingerprint`] of an encoded output's bytes (one part), read a buffer at a time.
+fn output_fingerprint(encoded: &mut text::Encoded) -> std::io::Result<u64> {
+    let mut h = Fnv::default();
+    encoded.each_chunk(&mut |bytes| h.add(bytes))?;
+    h.end_part();
+    Ok(h.0)
 }
 
 /// The fingerprint of the settings an output depends on besides its program and profile:
@@ -622,10 +650,22 @@ fn read_profile(path: &Path) -> Result<Profile, String> {
     Profile::load(path).map_err(|e| e.summary(path))
 }
 
-/// How an output is written: [`files::write_atomically`]'s arguments and result (path,
-/// bytes, force, the source tree's guard).
-pub type Writer<'a> =
-    dyn Fn(&Path, &[u8], bool, Option<&Path>) -> Result<(), files::WriteError> + Sync + 'a;
+/// How an output is written: [`write_encoded`]'s arguments and result (path, the encoded
+/// output, force, the source tree's guard).
+pub type Writer<'a> = dyn Fn(&Path, &mut text::Encoded, bool, Option<&Path>) -> Result<(), files::WriteError>
+    + Sync
+    + 'a;
+
+/// Writes an encoded output with [`files::write_atomically_with`] (a large one copied from its
+/// temporary file).
+pub fn write_encoded(
+    path: &Path,
+    encoded: &mut text::Encoded,
+    force: bool,
+    guard: Option<&Path>,
+) -> Result<(), files::WriteError> {
+    files::write_atomically_with(path, force, guard, |to| encoded.write_to(to))
+}
 
 /// Runs a batch as planned. `progress` is called once per file as it finishes (from worker
 /// threads); `stop` ends the run between files (an interrupt). A write that no later write
@@ -638,7 +678,7 @@ pub fn run(
     progress: &(dyn Fn(&FileReport) + Sync),
     stop: &AtomicBool,
 ) -> Result<BatchReport, String> {
-    run_with(options, plan, progress, stop, &files::write_atomically)
+    run_with(options, plan, progress, stop, &write_encoded)
 }
 
 /// [`run`], writing each output with `write` (the tests' seam for a disk that fills up).
@@ -789,13 +829,20 @@ fn one(
     write: &Writer<'_>,
 ) -> (FileReport, Option<String>) {
     let (mut report, bytes) = convert_one(options, plan, rel, clash, profile);
-    let Some(bytes) = bytes else {
+    let Some(mut bytes) = bytes else {
         return (report, None);
     };
-    match write(&report.output, &bytes, options.force, Some(&plan.src_root)) {
+    match write(
+        &report.output,
+        &mut bytes,
+        options.force,
+        Some(&plan.src_root),
+    ) {
         Ok(()) => {
             report.status = Status::Converted;
-            report.output_hash = Some(fingerprint(&[&bytes]));
+            // Written, so readable: a read that fails leaves the output without a
+            // fingerprint (a later run converts it again).
+            report.output_hash = output_fingerprint(&mut bytes).ok();
         }
         Err(files::WriteError::Exists) => {
             report.status = Status::Skipped;
@@ -818,7 +865,7 @@ fn convert_one(
     rel: &Path,
     clash: Option<Clash>,
     profile: Option<(PathBuf, Option<Result<Profile, String>>)>,
-) -> (FileReport, Option<Vec<u8>>) {
+) -> (FileReport, Option<text::Encoded>) {
     let input = options.src_dir.join(rel);
     let output = output_path(options, rel);
     let mut report = FileReport::new(input.clone(), output.clone(), Status::Failed);
@@ -937,7 +984,7 @@ fn convert_decoded(
     decoded: text::Decoded,
     profile: Profile,
     report: &mut FileReport,
-) -> Option<Vec<u8>> {
+) -> Option<text::Encoded> {
     let text::Decoded {
         text,
         encoding,
@@ -956,19 +1003,24 @@ fn convert_decoded(
     report.diagnostics.extend(converted.diagnostics);
     let program = converted.output?;
     report.output_encoding = Some(options.output.encoding_for(&kept));
-    let bytes = match text::encode_output(
-        &program,
-        &report.output.display().to_string(),
-        &options.output,
-        &kept,
-    ) {
+    let html = options.html.as_ref().filter(|_| !options.dry_run);
+    let name = report.output.display().to_string();
+    // The text is kept only for the HTML report's explanation.
+    let (bytes, program) = if html.is_some() {
+        let encoded = text::encode_output_text(&program, &name, &options.output, &kept);
+        (encoded, Some(program))
+    } else {
+        let encoded = text::encode_output_owned(program, &name, &options.output, &kept);
+        (encoded, None)
+    };
+    let bytes = match bytes {
         Ok(b) => b,
         Err(d) => {
             report.diagnostics.push(*d);
             return None;
         }
     };
-    if let Some(dir) = options.html.as_ref().filter(|_| !options.dry_run) {
+    if let (Some(dir), Some(program)) = (html, program) {
         report.explained = Some(explain_output(&program, &conversion, rel, dir));
     }
     Some(bytes)
@@ -1260,9 +1312,9 @@ mod tests {
         let options = tree(dir.path(), 12);
         let planned = super::plan(&options).unwrap();
         let writes = std::sync::atomic::AtomicUsize::new(0);
-        let full = |path: &Path, bytes: &[u8], force: bool, guard: Option<&Path>| {
+        let full = |path: &Path, bytes: &mut text::Encoded, force: bool, guard: Option<&Path>| {
             if writes.fetch_add(1, Ordering::SeqCst) < 2 {
-                return files::write_atomically(path, bytes, force, guard);
+                return write_encoded(path, bytes, force, guard);
             }
             let enospc = std::io::Error::from(std::io::ErrorKind::StorageFull);
             Err(files::WriteError::of("write", path.display(), &enospc))
@@ -1298,7 +1350,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let options = tree(dir.path(), 4);
         let planned = super::plan(&options).unwrap();
-        let denied = |path: &Path, _: &[u8], _: bool, _: Option<&Path>| {
+        let denied = |path: &Path, _: &mut text::Encoded, _: bool, _: Option<&Path>| {
             let e = std::io::Error::from(std::io::ErrorKind::PermissionDenied);
             Err(files::WriteError::of("write", path.display(), &e))
         };

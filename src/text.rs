@@ -467,6 +467,29 @@ impl Encoded {
         }
     }
 
+    /// Its bytes a buffer at a time, each handed to `each`.
+    pub fn each_chunk(&mut self, each: &mut dyn FnMut(&[u8])) -> std::io::Result<()> {
+        match self {
+            Encoded::Bytes(b) => {
+                each(b);
+                Ok(())
+            }
+            Encoded::File(f) => {
+                use std::io::{Read as _, Seek as _};
+                f.rewind()?;
+                let mut buffer = vec![0; 1 << 16];
+                loop {
+                    match f.read(&mut buffer) {
+                        Ok(0) => return Ok(()),
+                        Ok(n) => each(&buffer[..n]),
+                        Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+                        Err(e) => return Err(e),
+                    }
+                }
+            }
+        }
+    }
+
     /// Its bytes, in memory.
     pub fn into_bytes(mut self) -> std::io::Result<Vec<u8>> {
         match self {
@@ -514,7 +537,30 @@ fn encode_text(
         if unchanged {
             return Ok(Encoded::Bytes(text.into_string().into_bytes()));
         }
-        return encode_output(&text, output_name, options, input).map(Encoded::Bytes);
+    }
+    encode_borrowed(&text, output_name, options, input, stretch)
+}
+
+/// [`encode_output_owned`] of a text the caller keeps (a text in memory is encoded into
+/// memory, a mapped one into a temporary file).
+pub fn encode_output_text(
+    text: &crate::source::Text,
+    output_name: &str,
+    options: &OutputOptions,
+    input: &Input,
+) -> Result<Encoded, Box<Diagnostic>> {
+    encode_borrowed(text, output_name, options, input, STRETCH)
+}
+
+fn encode_borrowed(
+    text: &crate::source::Text,
+    output_name: &str,
+    options: &OutputOptions,
+    input: &Input,
+    stretch: usize,
+) -> Result<Encoded, Box<Diagnostic>> {
+    if !text.is_mapped() {
+        return encode_output(text, output_name, options, input).map(Encoded::Bytes);
     }
     let failed = |e: std::io::Error| {
         Box::new(
