@@ -296,11 +296,15 @@ pub(crate) fn file_problem(
             || d.code == diag::codes::OTHER_DIALECT
             || d.code == diag::codes::ENCODING_GUESSED
     };
-    let mut errors = 0;
+    // Errors shown, and those not shown (a folded one counts every repeat it stands for).
+    let (mut shown, mut hidden) = (0, 0);
     for d in f.diagnostics.iter().filter(why) {
-        errors += usize::from(d.is_error());
-        if format == DiagnosticsFormat::Human && max_errors > 0 && errors > max_errors {
-            continue;
+        if d.is_error() {
+            if format == DiagnosticsFormat::Human && max_errors > 0 && shown >= max_errors {
+                hidden += d.count();
+                continue;
+            }
+            shown += 1;
         }
         match format {
             DiagnosticsFormat::Json => {
@@ -322,12 +326,16 @@ pub(crate) fn file_problem(
                 } else {
                     level
                 };
-                text.push_str(&format!("{at}: {level}: {}\n", d.message));
+                let more = match (&d.label, d.more) {
+                    (Some(label), 1..) => format!(" ({label})"),
+                    _ => String::new(),
+                };
+                text.push_str(&format!("{at}: {level}: {}{more}\n", d.message));
             }
         }
     }
-    if format == DiagnosticsFormat::Human && max_errors > 0 && errors > max_errors {
-        text.push_str(&diag::more_errors(&path.to_string(), errors - max_errors));
+    if hidden > 0 {
+        text.push_str(&diag::more_errors(&path.to_string(), hidden));
         text.push('\n');
     }
     text

@@ -242,12 +242,6 @@ impl Items<'_> {
         i.saturating_sub(self.dropped)
     }
 
-    /// A line is read, and nothing will look at its items again: they are let go of when
-    /// the program is not kept.
-    pub fn line_read(&mut self) {
-        self.line_read_keeping(None);
-    }
-
     /// [`Items::line_read`], holding on to item `kept` and those after it (a cycle whose
     /// moves are filled in when its contour has been read).
     pub fn line_read_keeping(&mut self, kept: Option<usize>) {
@@ -305,12 +299,127 @@ impl std::ops::IndexMut<std::ops::RangeFrom<usize>> for Items<'_> {
     }
 }
 
+/// The diagnostics a reader has made. Front ends use them as a vector indexed from 0 (`len()`
+/// before a line, then `diags[mark..]`), as [`Items`]; once a line is read
+/// ([`Reader::line_read`]) its diagnostics are settled: listed, or past
+/// [`crate::diag::LISTED_PER_MESSAGE`] of one message and [`crate::diag::LISTED_PER_CODE`] of
+/// one code, counted ([`crate::diag::Fold`]), so that a program that repeats one problem on a
+/// million lines (a 20 MB program read with the wrong `--from`) holds a few hundred, not a
+/// million. No front end may look at a settled one by its index.
+#[derive(Default)]
+pub(crate) struct Diags {
+    /// Settled and listed.
+    listed: Vec<Diagnostic>,
+    /// How many were settled (listed or counted).
+    settled: usize,
+    /// Whether a settled one was an error.
+    settled_error: bool,
+    fold: crate::diag::Fold,
+    /// Not settled yet: the line's.
+    held: Vec<Diagnostic>,
+}
+
+impl Diags {
+    pub fn push(&mut self, d: Diagnostic) {
+        self.held.push(d);
+    }
+
+    pub fn len(&self) -> usize {
+        self.settled + self.held.len()
+    }
+
+    /// Whether any so far is an error.
+    pub fn has_errors(&self) -> bool {
+        self.settled_error || self.held.iter().any(Diagnostic::is_error)
+    }
+
+    /// Those from index `first` on (only those not settled).
+    pub fn get(&self, first: std::ops::RangeFrom<usize>) -> Option<&[Diagnostic]> {
+        self.held.get(self.held_index(first.start)..)
+    }
+
+    /// Takes those from index `first` on out.
+    pub fn split_off(&mut self, first: usize) -> Vec<Diagnostic> {
+        let at = self.held_index(first).min(self.held.len());
+        self.held.split_off(at)
+    }
+
+    /// Takes those from index `first` on out, in order.
+    pub fn drain(&mut self, first: std::ops::RangeFrom<usize>) -> std::vec::Drain<'_, Diagnostic> {
+        let at = self.held_index(first.start).min(self.held.len());
+        self.held.drain(at..)
+    }
+
+    /// Every one listed so far, in order (not those counted).
+    #[cfg(test)]
+    pub fn iter(&self) -> impl Iterator<Item = &Diagnostic> {
+        self.listed.iter().chain(&self.held)
+    }
+
+    fn held_index(&self, i: usize) -> usize {
+        debug_assert!(i >= self.settled, "a diagnostic of a line already settled");
+        i.saturating_sub(self.settled)
+    }
+
+    /// The line is read: its diagnostics are listed or counted; `listed` sees each one
+    /// listed.
+    pub fn settle(&mut self, mut listed: impl FnMut(&Diagnostic)) {
+        for d in self.held.drain(..) {
+            self.settled += 1;
+            self.settled_error |= d.is_error();
+            if self.fold.admit(&d) {
+                listed(&d);
+                self.listed.push(d);
+            }
+        }
+    }
+
+    /// Every diagnostic: those listed, then for each code counted the last one, labelled
+    /// with how many it stands for.
+    fn finish(mut self) -> Vec<Diagnostic> {
+        self.settle(|_| {});
+        let mut all = self.listed;
+        all.extend(self.fold.finish());
+        all
+    }
+}
+
+impl Extend<Diagnostic> for Diags {
+    fn extend<T: IntoIterator<Item = Diagnostic>>(&mut self, iter: T) {
+        self.held.extend(iter);
+    }
+}
+
+impl std::ops::Index<std::ops::RangeFrom<usize>> for Diags {
+    type Output = [Diagnostic];
+
+    fn index(&self, range: std::ops::RangeFrom<usize>) -> &[Diagnostic] {
+        self.get(range).unwrap_or(&[])
+    }
+}
+
+impl std::ops::IndexMut<std::ops::RangeFrom<usize>> for Diags {
+    fn index_mut(&mut self, range: std::ops::RangeFrom<usize>) -> &mut [Diagnostic] {
+        let start = self.held_index(range.start).min(self.held.len());
+        &mut self.held[start..]
+    }
+}
+
+#[cfg(test)]
+impl std::ops::Index<usize> for Diags {
+    type Output = Diagnostic;
+
+    fn index(&self, i: usize) -> &Diagnostic {
+        &self[i..][0]
+    }
+}
+
 /// The state every reader keeps: the source, the items and diagnostics so far, and the
 /// tool's position as far as it is known.
 pub(crate) struct Reader<'a> {
     pub src: &'a SourceFile,
     pub items: Items<'a>,
-    pub diags: Vec<Diagnostic>,
+    pub diags: Diags,
     pub pos: Pos,
     dialect: DialectId,
     warned_after_end: bool,
@@ -332,7 +441,7 @@ impl<'a> Reader<'a> {
                 dropped: 0,
                 keep: keep.shorten(),
             },
-            diags: Vec::new(),
+            diags: Diags::default(),
             pos: Pos::UNKNOWN,
             dialect,
             warned_after_end: false,
@@ -359,8 +468,21 @@ impl<'a> Reader<'a> {
                 name: self.name,
                 inch: self.units == Some(true),
             },
-            self.diags,
+            self.diags.finish(),
         )
+    }
+
+    /// A line is read, and nothing will look back at its items or diagnostics again: its
+    /// items are let go of when the program is not kept, and its diagnostics settled.
+    pub fn line_read(&mut self) {
+        self.line_read_keeping(None);
+    }
+
+    /// [`Reader::line_read`], holding on to item `kept` and those after it
+    /// ([`Items::line_read_keeping`]).
+    pub fn line_read_keeping(&mut self, kept: Option<usize>) {
+        self.items.line_read_keeping(kept);
+        self.diags.settle(|_| {});
     }
 
     pub fn push(&mut self, kind: ItemKind, span: Span, number: Option<u32>) {
@@ -595,6 +717,44 @@ mod tests {
         refuse_help: "refused",
         keep_help: "kept",
     };
+
+    /// A line's diagnostics are settled once it is read: a mark taken in the line still
+    /// indexes them, the repeats past the limits are counted in the last one, and an error
+    /// settled is still known.
+    #[test]
+    fn a_readers_diagnostics_are_listed_or_counted_once_each_line_is_read() {
+        let src = SourceFile::new("t", "Q7\n".repeat(30));
+        let warning = |line: u32| {
+            Diagnostic::new(WORDING.code, "`Q7`: not supported")
+                .as_warning()
+                .at(&src, src.line_span(src.line(line)))
+        };
+        let mut d = Diags::default();
+        let mut marks = Vec::new();
+        for line in 1..=25 {
+            let mark = d.len();
+            d.push(warning(line));
+            assert_eq!(d[mark..].len(), 1);
+            assert_eq!(d[mark].location.as_ref().map(|l| l.line), Some(line));
+            marks.push(mark);
+            d.settle(|_| {});
+        }
+        assert_eq!(marks, (0..25).collect::<Vec<_>>(), "indexed as if all were held");
+        assert!(!d.has_errors());
+        let mark = d.len();
+        d.push(Diagnostic::new(WORDING.code, "`Q8`: not supported"));
+        d.push(warning(26));
+        let taken = d.split_off(mark + 1);
+        assert_eq!(taken.len(), 1);
+        d.settle(|_| {});
+        assert!(d.has_errors(), "an error settled is still known");
+        let all = d.finish();
+        // Ten warnings listed, the error, and the last warning counting the other 15.
+        assert_eq!(all.len(), 12, "{all:#?}");
+        assert_eq!(all.iter().map(Diagnostic::count).sum::<usize>(), 26);
+        assert_eq!(all[11].more, 14);
+        assert_eq!(all[11].location.as_ref().map(|l| l.line), Some(25));
+    }
 
     #[test]
     fn a_code_one_edit_away_is_suggested() {

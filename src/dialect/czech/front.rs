@@ -115,7 +115,7 @@ pub(crate) fn read(
     let mut ended = false;
     for line in src.lines() {
         // Nothing looks back past the line being read.
-        fe.r.items.line_read();
+        fe.r.line_read();
         if line.text.trim().is_empty() {
             continue;
         }

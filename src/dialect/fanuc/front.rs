@@ -259,7 +259,7 @@ impl<'a> FrontEnd<'a> {
     /// G71/G72/G73 that waits for its contour (its moves are filled in at the contour's end).
     fn line_read(&mut self) {
         let waiting = self.pending.as_ref().map(model::Pending::item);
-        self.r.items.line_read_keeping(waiting);
+        self.r.line_read_keeping(waiting);
     }
 
     /// The blocks of a program run through its macros and subprograms, each at its own line

@@ -140,8 +140,14 @@ pub(crate) fn read(
     let (mut ended, mut seen) = (false, 0);
     for line in src.lines() {
         ended |= fe.r.ends_program(seen);
-        // Nothing looks back past the line being read (a group is read when it closes).
-        fe.r.items.line_read();
+        // Nothing looks back past the line being read (a group is read when it closes),
+        // but a G25's repeats at what was reported (those listed, not those counted).
+        fe.r.items.line_read_keeping(None);
+        let reported = &mut fe.reported.0;
+        fe.r.diags.settle(|d| {
+            reported.insert(repeat::reported(d));
+        });
+        fe.reported.1 = fe.r.diags.len();
         seen = fe.r.items.len();
         match syntax::parse_line(line.text) {
             Ok(SyntaxLine::Frame(_)) | Err(_) if ended => fe.r.after_end(

@@ -99,7 +99,7 @@ pub(crate) fn read(
     };
     let mut first = true;
     for line in src.lines() {
-        fe.r.items.line_read();
+        fe.r.line_read();
         if line.text.trim().is_empty() {
             continue;
         }

@@ -239,7 +239,7 @@ impl FrontEnd<'_> {
         let range = at.map_or(0..line.text.len(), |w| w.range.clone());
         let name = plain(code);
         let w = G7xWords::take(words, code == G70);
-        if at.is_none() && self.contour.is_none() && self.r.diags.iter().any(|d| d.is_error()) {
+        if at.is_none() && self.contour.is_none() && self.r.diags.has_errors() {
             return self.after_a_refused_cycle(words);
         }
         let Some((q, whole, depth)) = self.check_g7x(line, &range, code, &w) else {

@@ -38,7 +38,7 @@ pub(crate) fn read(src: &SourceFile, options: &Options, keep: Keep) -> (Program,
         reported: fe.report_up_front(src, &runs, load_errors),
         broken: runs.iter().any(|r| !r.structure.errors.is_empty()),
     };
-    st.errored = fe.r.diags.iter().any(|d| d.is_error());
+    st.errored = fe.r.diags.has_errors();
     fe.run(src, &runs, &mut st);
     fe.finish_run(src, &runs, &st)
 }
@@ -261,7 +261,7 @@ impl<'a> FrontEnd<'a> {
         let line = run.line(here);
         let diags_before = self.r.diags.len();
         // Nothing looks back past the line being read.
-        self.r.items.line_read();
+        self.r.line_read();
         let items_before = self.r.items.len();
         let block = run.block(here);
         let oword = match &*block {
