@@ -518,8 +518,10 @@ pub fn check(
     // The program is not kept: the shared rules and the simulator take each item as the
     // reader lets go of it (their findings are used only if the read has no error).
     let mut checker = Checker {
+        src,
         rules: legalise::Shared::new(src, None, false),
         problems: sim::Problems::new(),
+        found: Default::default(),
         items: 0,
     };
     let (program, mut diagnostics) = read(
@@ -536,8 +538,10 @@ pub fn check(
     }
     if !diag::has_errors(&diagnostics) {
         diagnostics.extend(checker.rules.finish());
-        let problems = checker.problems.finish();
-        diagnostics.extend(problems.iter().map(|p| p.diagnostic(src)));
+        let (mut listed, fold) = checker.found;
+        listed.extend(checker.problems.finish().iter().map(|p| p.diagnostic(src)));
+        diagnostics.extend(listed);
+        diagnostics.extend(fold.finish());
     }
     diag::sort(&mut diagnostics);
     diagnostics
@@ -546,8 +550,12 @@ pub fn check(
 /// What `check` runs over each item of a streaming read: the shared rules over its moves
 /// (a cycle unrolled, as for any target) and the simulator over the item.
 struct Checker<'s> {
+    src: &'s SourceFile,
     rules: legalise::Shared<'s>,
     problems: sim::Problems,
+    /// The simulator's findings so far as diagnostics: those listed, and the fold that
+    /// counts the repeats (a program that makes the same one on every pass).
+    found: (Vec<Diagnostic>, diag::Fold),
     items: usize,
 }
 
@@ -555,6 +563,13 @@ impl dialect::ItemSink for Checker<'_> {
     fn item(&mut self, item: ir::Item) {
         self.items += 1;
         self.problems.item(&item);
+        let (listed, fold) = &mut self.found;
+        for p in self.problems.take() {
+            let d = p.diagnostic(self.src);
+            if fold.admit(&d) {
+                listed.push(d);
+            }
+        }
         match lower::unrolled(&item, None) {
             Some(moves) => moves.for_each(|m| self.rules.item(&m)),
             None => self.rules.item(&item),

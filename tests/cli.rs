@@ -169,6 +169,51 @@ fn check_counts_every_repeat_a_listed_diagnostic_stands_for() {
     assert!(stderr.contains("150 error(s) in 1 file(s)"), "{stderr}");
 }
 
+/// The simulator's findings and a reader's are folded as the writers' are: listed ten times,
+/// the rest counted in the last one, and every one counted.
+#[test]
+fn check_folds_the_simulators_and_the_readers_repeats() {
+    // 30 moves from an X that is not known (SIM001 each), then 30 incremental ones from it
+    // (ISOR006 each).
+    let mut program = String::from("G21 G18 G7 G90\nS500 M3\n");
+    for n in 1..=30 {
+        program.push_str(&format!("G1 Z-{n} F0.2\n"));
+    }
+    let warnings = program.clone() + "M2\n";
+    program.push_str("G91\n");
+    for _ in 1..=30 {
+        program.push_str("G1 X1\n");
+    }
+    program.push_str("M2\n");
+    let codes = |input: &str| {
+        let out = ncthread(
+            &["check", "--from", "iso", "-", "--diagnostics", "json"],
+            Some(input.as_bytes()),
+        );
+        let all: Vec<serde_json::Value> = text(&out.stdout)
+            .lines()
+            .filter_map(|l| serde_json::from_str(l).ok())
+            .collect();
+        let of = |code: &str| -> (usize, u64) {
+            let mine: Vec<&serde_json::Value> = all.iter().filter(|d| d["code"] == code).collect();
+            let more = mine.iter().map(|d| d["more"].as_u64().unwrap_or(0)).sum();
+            (mine.len(), more)
+        };
+        // The count is said with human diagnostics.
+        let human = ncthread(&["check", "--from", "iso", "-"], Some(input.as_bytes()));
+        (of("SIM001"), of("ISOR006"), text(&human.stderr))
+    };
+    let (sim, reader, stderr) = codes(&warnings);
+    assert_eq!(sim, (11, 19), "{stderr}");
+    assert_eq!(reader, (0, 0));
+    assert!(stderr.contains("30 warning(s)"), "{stderr}");
+    // With an error in the read, the simulator's findings are not said.
+    let (sim, reader, stderr) = codes(&program);
+    assert_eq!(reader, (11, 19), "{stderr}");
+    assert_eq!(sim, (0, 0));
+    assert!(stderr.contains("30 error(s) in 1 file(s)"), "{stderr}");
+}
+
 #[test]
 fn usage_and_io_errors_exit_2() {
     let out = ncthread(&["convert", "--from", "klingon", "--to", "iso"], None);

@@ -739,7 +739,11 @@ mod tests {
             marks.push(mark);
             d.settle(|_| {});
         }
-        assert_eq!(marks, (0..25).collect::<Vec<_>>(), "indexed as if all were held");
+        assert_eq!(
+            marks,
+            (0..25).collect::<Vec<_>>(),
+            "indexed as if all were held"
+        );
         assert!(!d.has_errors());
         let mark = d.len();
         d.push(Diagnostic::new(WORDING.code, "`Q8`: not supported"));

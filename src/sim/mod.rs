@@ -930,6 +930,11 @@ impl Problems {
         self.0.item(&item.kind, item.span);
     }
 
+    /// The problems found since the last take, taken out.
+    pub fn take(&mut self) -> std::vec::Drain<'_, Problem> {
+        self.0.out.problems.drain(..)
+    }
+
     pub fn finish(self) -> Vec<Problem> {
         self.0.out.problems
     }
