@@ -513,33 +513,20 @@ pub fn encode_output_owned(
     options: &OutputOptions,
     input: &Input,
 ) -> Result<Encoded, Box<Diagnostic>> {
-    encode_text(text, output_name, options, input, STRETCH)
+    let form = Form::of(options, input);
+    if !text.is_mapped()
+        && !form.crlf
+        && form.eof_mark.is_empty()
+        && !text.contains('\r')
+        && (form.encoding == TextEncoding::UTF_8 || text.is_ascii())
+    {
+        return Ok(Encoded::Bytes(text.into_string().into_bytes()));
+    }
+    encode_borrowed(&text, output_name, options, input, STRETCH)
 }
 
 /// How much of a mapped output is encoded at a time.
 const STRETCH: usize = 1 << 20;
-
-/// [`encode_output_owned`], a mapped text encoded `stretch` bytes (rounded to whole lines) at
-/// a time.
-fn encode_text(
-    text: crate::source::Text,
-    output_name: &str,
-    options: &OutputOptions,
-    input: &Input,
-    stretch: usize,
-) -> Result<Encoded, Box<Diagnostic>> {
-    if !text.is_mapped() {
-        let form = Form::of(options, input);
-        let unchanged = !form.crlf
-            && form.eof_mark.is_empty()
-            && !text.contains('\r')
-            && (form.encoding == TextEncoding::UTF_8 || text.is_ascii());
-        if unchanged {
-            return Ok(Encoded::Bytes(text.into_string().into_bytes()));
-        }
-    }
-    encode_borrowed(&text, output_name, options, input, stretch)
-}
 
 /// [`encode_output_owned`] of a text the caller keeps (a text in memory is encoded into
 /// memory, a mapped one into a temporary file).
@@ -552,6 +539,8 @@ pub fn encode_output_text(
     encode_borrowed(text, output_name, options, input, STRETCH)
 }
 
+/// [`encode_output_text`], a mapped text encoded `stretch` bytes (rounded to whole lines) at
+/// a time.
 fn encode_borrowed(
     text: &crate::source::Text,
     output_name: &str,
@@ -875,7 +864,7 @@ mod tests {
                             let mut file = tempfile::tempfile().expect("a temporary file");
                             file.write_all(text.as_bytes()).expect("written");
                             let mapped = crate::source::Text::mapped(&file).expect("mapped");
-                            let encoded = encode_text(mapped, "o", &options, input, stretch)
+                            let encoded = encode_borrowed(&mapped, "o", &options, input, stretch)
                                 .map(|e| e.into_bytes().expect("read back"));
                             let encoded = encoded.map_err(|d| (d.message, d.location));
                             assert_eq!(borrowed, encoded, "{what} stretch {stretch}");
