@@ -98,8 +98,9 @@ pub(crate) struct Fold {
     seen: Seen,
     per_message: std::collections::HashMap<(&'static str, u64), u32>,
     per_code: std::collections::HashMap<&'static str, u32>,
-    /// By code, in the order first counted.
-    counted: indexmap::IndexMap<&'static str, Counted>,
+    /// By code and whether they are errors (a counted error is never stood for by a
+    /// warning), in the order first counted.
+    counted: indexmap::IndexMap<(&'static str, bool), Counted>,
     errors: usize,
 }
 
@@ -128,7 +129,10 @@ impl Fold {
     pub(crate) fn admit_once(&mut self, listed: &[Diagnostic], d: &Diagnostic) -> bool {
         if !self.under_limits(d) {
             let again = self.seen.has(listed, d)
-                || self.counted.get(d.code.id).is_some_and(|c| c.last == *d);
+                || self
+                    .counted
+                    .get(&(d.code.id, d.is_error()))
+                    .is_some_and(|c| c.last == *d);
             if !again {
                 self.count(d);
             }
@@ -170,7 +174,8 @@ impl Fold {
     /// Counts `d`, not listed.
     fn count(&mut self, d: &Diagnostic) {
         self.errors += usize::from(d.is_error());
-        match self.counted.get_mut(d.code.id) {
+        let key = (d.code.id, d.is_error());
+        match self.counted.get_mut(&key) {
             Some(c) => {
                 c.count += 1;
                 c.last = d.clone();
@@ -178,7 +183,7 @@ impl Fold {
             }
             None => {
                 self.counted.insert(
-                    d.code.id,
+                    key,
                     Counted {
                         count: 1,
                         first_line: d.location.as_ref().map(|l| l.line),
@@ -496,6 +501,26 @@ pub fn has_errors(diags: &[Diagnostic]) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A code both kept (a warning) and refused (an error) with one message: past the
+    /// limits, the errors counted stay an error of their own, whatever is counted after.
+    #[test]
+    fn a_counted_error_is_never_stood_for_by_a_warning() {
+        let one = |error: bool| {
+            let d = Diagnostic::new(codes::ENCODING, "`W1`: not supported");
+            if error { d } else { d.as_warning() }
+        };
+        let mut fold = Fold::default();
+        for _ in 0..LISTED_PER_MESSAGE {
+            assert!(fold.admit(&one(false)));
+        }
+        assert!(!fold.admit(&one(true)));
+        assert!(!fold.admit(&one(false)));
+        assert_eq!(fold.errors(), 1);
+        let counted: Vec<Diagnostic> = fold.finish().collect();
+        assert_eq!(counted.len(), 2, "{counted:#?}");
+        assert!(counted.iter().any(Diagnostic::is_error), "{counted:#?}");
+    }
 
     #[test]
     fn repeats_past_what_is_listed_are_counted_in_the_last_one() {
