@@ -62,17 +62,17 @@ const READ_LAG: usize = 1 << 20;
 const RELEASE_ALIGN: usize = 1 << 16;
 
 impl Text {
-    /// The text of a file, mapped: `None` when it cannot be mapped or is not UTF-8. The
+    /// The text of a file, mapped: an error when it cannot be mapped or is not UTF-8. The
     /// file must be one no one else writes (a conversion's own temporary file, which has no
-    /// name): a mapped text reads what the file holds.
+    /// name): it is taken, so that the caller cannot write it while it is mapped.
     #[cfg(unix)]
-    pub fn mapped(file: &std::fs::File) -> std::io::Result<Text> {
+    pub(crate) fn mapped(file: std::fs::File) -> std::io::Result<Text> {
         if file.metadata()?.len() == 0 {
             return Ok(Text(Repr::Owned(String::new())));
         }
-        // SAFETY: the file is the caller's own unnamed temporary file, which nothing writes
-        // while it is mapped (the map is read-only and the caller lets go of the file).
-        let map = unsafe { memmap2::Mmap::map(file)? };
+        // SAFETY: the file is an unnamed temporary file taken from its caller, which
+        // nothing writes while it is mapped (the map is read-only; the file is let go of).
+        let map = unsafe { memmap2::Mmap::map(&file)? };
         let text = Text(Repr::Mapped(Mapped {
             map,
             released: std::cell::Cell::new(0),
@@ -133,7 +133,8 @@ impl Text {
             let (from, to) = if offset == 0 {
                 (0, m.map.len())
             } else {
-                (m.released.get(), offset / RELEASE_ALIGN * RELEASE_ALIGN)
+                let to = offset.min(m.map.len()) / RELEASE_ALIGN * RELEASE_ALIGN;
+                (m.released.get(), to)
             };
             if to > from {
                 // SAFETY: the map is read-only and its file unchanged, so that a page let go
@@ -592,7 +593,7 @@ mod tests {
         fn mapped(text: &str) -> std::io::Result<Text> {
             let mut file = tempfile::tempfile()?;
             file.write_all(text.as_bytes())?;
-            Text::mapped(&file)
+            Text::mapped(file)
         }
         // Over 2 × READ_LAG, so that pages are let go of, with a character cut by the first
         // stretch's end.
@@ -626,11 +627,12 @@ mod tests {
         // Not UTF-8, even where a stretch ends: refused.
         let mut bad = "a".repeat(READ_LAG - 1).into_bytes();
         bad.extend_from_slice(&[0xC3, b'x']);
-        let mut file = tempfile::tempfile().expect("a temporary file");
-        file.write_all(&bad).expect("written");
-        assert!(Text::mapped(&file).is_err());
-        file.write_all(&[0xC3]).expect("written");
-        assert!(Text::mapped(&file).is_err());
+        assert!(mapped(std::str::from_utf8(&bad[..READ_LAG - 1]).unwrap()).is_ok());
+        for bad in [bad.clone(), [&bad[..], &[0xC3]].concat()] {
+            let mut file = tempfile::tempfile().expect("a temporary file");
+            file.write_all(&bad).expect("written");
+            assert!(Text::mapped(file).is_err());
+        }
     }
 
     #[test]

@@ -863,7 +863,7 @@ mod tests {
                             use std::io::Write as _;
                             let mut file = tempfile::tempfile().expect("a temporary file");
                             file.write_all(text.as_bytes()).expect("written");
-                            let mapped = crate::source::Text::mapped(&file).expect("mapped");
+                            let mapped = crate::source::Text::mapped(file).expect("mapped");
                             let encoded = encode_borrowed(&mapped, "o", &options, input, stretch)
                                 .map(|e| e.into_bytes().expect("read back"));
                             let encoded = encoded.map_err(|d| (d.message, d.location));

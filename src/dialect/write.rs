@@ -414,7 +414,7 @@ impl Output {
             file.seek(std::io::SeekFrom::Start(len))?;
             file.write_all(self.held.as_bytes())?;
             file.set_len(len + self.held.len() as u64)?;
-            return crate::source::Text::mapped(&file);
+            return crate::source::Text::mapped(file);
         }
         self.into_string().map(Into::into)
     }
