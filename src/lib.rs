@@ -254,8 +254,9 @@ fn empty_read(src: &SourceFile, items: usize, program: &Program) -> Option<Diagn
     })
 }
 
-/// Parses and emits. Refuses (no output) when any error remains. The program is read twice
-/// and never held (issue 34), the first read gathering what the writer must know first.
+/// Parses and emits. Refuses (no output) when any error remains. The program is never held
+/// (issue 34): it is read once, straight into the writer, or twice when what the writer must
+/// know first changed after its first item (the first read gathering it).
 pub fn convert(src: &SourceFile, options: &ConvertOptions) -> Conversion {
     convert_streaming(src, options)
 }
@@ -336,53 +337,63 @@ fn finish_conversion(
     }
 }
 
-/// [`convert`]: a first streaming read
-/// gathers the diagnostics and what the writer must know first ([`dialect::Facts`]); a
-/// second streams each item, unrolled, through the shared rules, the target's table and the
-/// writer. Nothing holds the program; the output spills to the writer's temporary file.
+/// [`convert`]: one streaming read hands each item, unrolled, through the shared rules,
+/// the target's table and the writer, made at the first item from what has been read so far
+/// ([`dialect::Facts`] and the program's header). When something the writer reads of them
+/// ([`dialect::Dialect::writer_reads`]) changes after that (a FANUC program's number read
+/// after its first item, an arc for the ISO header, an R parameter for the czech writer, an
+/// inch program), or the read finds an error, the writer is let go of, and (without an error)
+/// a second read writes the program with what the first gathered. Nothing holds the program;
+/// the output spills to the writer's temporary file.
 fn convert_streaming(src: &SourceFile, options: &ConvertOptions) -> Conversion {
-    let reader = dialect::get(options.from);
-    let mut first = Gather {
+    let target = dialect::get(options.to);
+    let write = write_options(options);
+    let mut once = Once {
         facts: Default::default(),
         items: 0,
-        to: options.to,
+        header: Default::default(),
+        errors: false,
+        emit: None,
+        stopped: false,
+        src,
+        options,
+        target,
+        write: &write,
     };
     let (program, mut diagnostics) = read(
         src,
         options.from,
         &options.profile,
         options.unsupported,
-        dialect::Keep::Stream(&mut first),
+        dialect::Keep::Stream(&mut once),
     );
-    if let Some(stop) = before_writing(src, &program, first.items, options, &mut diagnostics) {
+    if let Some(stop) = before_writing(src, &program, once.items, options, &mut diagnostics) {
         return stop;
     }
-    let target = dialect::get(options.to);
-    let write = write_options(options);
-    let writer = target.item_writer(&first.facts, &program, src, &options.profile, &write);
-    let mut second = Emit {
-        rules: legalise::Shared::new(
-            src,
-            Some(options.to),
-            legalise::output_in_inches(&program, Some(options.to)),
-        ),
-        table: legalise::ForTarget::new(src, target, &options.profile),
-        writer,
-        to: options.to,
+    let Once { facts, emit, .. } = once;
+    let view = target.writer_reads().view(&facts, &program);
+    let inch = legalise::output_in_inches(&program, Some(options.to));
+    let emit = match emit {
+        Some((emit, written)) if written == (view, inch) => emit,
+        _ => {
+            // What the writer reads changed after its first item: the same read again (its
+            // diagnostics are the first's), with what the first gathered.
+            let mut emit = Emit::new(src, options, target, &facts, &program, &write);
+            let _ = dialect::get(options.from).read_keeping(
+                src,
+                &options.profile,
+                options.unsupported,
+                dialect::Keep::Stream(&mut emit),
+            );
+            emit
+        }
     };
-    // The same read again: its diagnostics are the first's.
-    let _ = reader.read_keeping(
-        src,
-        &options.profile,
-        options.unsupported,
-        dialect::Keep::Stream(&mut second),
-    );
     let Emit {
         rules,
         table,
         writer,
         ..
-    } = second;
+    } = emit;
     // As `emit`: the shared rules first; the table's refusals and the writer's after.
     let shared = rules.finish();
     if diag::has_errors(&shared) {
@@ -397,26 +408,118 @@ fn convert_streaming(src: &SourceFile, options: &ConvertOptions) -> Conversion {
     finish_conversion(output, options, diagnostics)
 }
 
-/// The first read of a streaming conversion: what the writer must know first, and how many
-/// items the program has.
-struct Gather {
-    facts: dialect::Facts,
-    items: usize,
-    to: DialectId,
+/// The program's header as a read has found it so far.
+#[derive(Default)]
+struct Header {
+    number: Option<u32>,
+    name: Option<String>,
 }
 
-impl dialect::ItemSink for Gather {
+/// The one read of a streaming conversion: what the writer must know (gathered over every
+/// item), and the writer, made at the first item with what was known then, while nothing
+/// it reads of that has changed and the read has found no error.
+struct Once<'s> {
+    facts: dialect::Facts,
+    items: usize,
+    header: Header,
+    errors: bool,
+    /// The writer and what it was made with (its view, and whether the output is in inches).
+    emit: Option<(Emit<'s>, (dialect::WriterView, bool))>,
+    /// The writer was let go of (or never made): a second read writes.
+    stopped: bool,
+    src: &'s SourceFile,
+    options: &'s ConvertOptions,
+    target: &'static dyn dialect::Dialect,
+    write: &'s dialect::WriteOptions,
+}
+
+impl<'s> Once<'s> {
+    /// The program as read so far, without its items and in millimetres (whether every
+    /// length is in inches is known only at the end).
+    fn program(&self) -> Program {
+        Program {
+            items: Vec::new(),
+            dialect: self.options.from,
+            library: Vec::new(),
+            number: self.header.number,
+            name: self.header.name.clone(),
+            inch: false,
+        }
+    }
+
+    fn one(&mut self, item: &ir::Item) {
+        let changed = self.facts.item(item);
+        if self.stopped || self.errors {
+            self.stop();
+            return;
+        }
+        match &self.emit {
+            None => {
+                let program = self.program();
+                let view = self.target.writer_reads().view(&self.facts, &program);
+                let emit = Emit::new(
+                    self.src,
+                    self.options,
+                    self.target,
+                    &self.facts,
+                    &program,
+                    self.write,
+                );
+                self.emit = Some((emit, (view, false)));
+            }
+            Some(_) if changed => {
+                let view = self
+                    .target
+                    .writer_reads()
+                    .view(&self.facts, &self.program());
+                if let Some((emit, (written, _))) = &mut self.emit
+                    && *written != view
+                {
+                    if !emit.writer.late_facts(&self.facts) {
+                        self.stop();
+                        return;
+                    }
+                    *written = view;
+                }
+            }
+            Some(_) => {}
+        }
+        if let Some((emit, _)) = &mut self.emit {
+            emit.one(item);
+        }
+    }
+
+    fn stop(&mut self) {
+        self.stopped = true;
+        self.emit = None;
+    }
+}
+
+impl dialect::ItemSink for Once<'_> {
     fn item(&mut self, item: ir::Item) {
         self.items += 1;
-        match lower::unrolled(&item, Some(self.to)) {
-            Some(moves) => moves.for_each(|m| self.facts.item(&m)),
-            None => self.facts.item(&item),
+        match lower::unrolled(&item, Some(self.options.to)) {
+            Some(moves) => moves.for_each(|m| self.one(&m)),
+            None => self.one(&item),
+        }
+    }
+
+    fn so_far(&mut self, read: dialect::SoFar<'_>) {
+        self.errors |= read.errors;
+        if self.header.number != read.number || self.header.name.as_deref() != read.name {
+            self.header = Header {
+                number: read.number,
+                name: read.name.map(str::to_string),
+            };
+            // The writer read the header when it was made: it changed since.
+            if self.emit.is_some() {
+                self.stop();
+            }
         }
     }
 }
 
-/// The second read of a streaming conversion: each item, unrolled, through the shared rules,
-/// the target's table and its writer.
+/// The shared rules, the target's table and its writer, taking each item unrolled.
 struct Emit<'s> {
     rules: legalise::Shared<'s>,
     table: legalise::ForTarget<'s>,
@@ -424,7 +527,27 @@ struct Emit<'s> {
     to: DialectId,
 }
 
-impl Emit<'_> {
+impl<'s> Emit<'s> {
+    fn new(
+        src: &'s SourceFile,
+        options: &'s ConvertOptions,
+        target: &'static dyn dialect::Dialect,
+        facts: &dialect::Facts,
+        program: &Program,
+        write: &dialect::WriteOptions,
+    ) -> Emit<'s> {
+        Emit {
+            rules: legalise::Shared::new(
+                src,
+                Some(options.to),
+                legalise::output_in_inches(program, Some(options.to)),
+            ),
+            table: legalise::ForTarget::new(src, target, &options.profile),
+            writer: target.item_writer(facts, program, src, &options.profile, write),
+            to: options.to,
+        }
+    }
+
     fn one(&mut self, item: &ir::Item) {
         self.rules.item(item);
         self.table.item(item);

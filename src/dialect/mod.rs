@@ -14,9 +14,9 @@ pub mod nc31;
 pub(crate) mod read;
 pub mod siemens;
 pub(crate) mod write;
-pub use write::{Facts, ItemWriter, Output};
+pub use write::{Facts, ItemWriter, Output, WriterReads, WriterView};
 
-pub use read::{ItemSink, Keep, Unsupported};
+pub use read::{ItemSink, Keep, SoFar, Unsupported};
 pub(crate) use read::{Letters, WORD_REPORTS, budget, comment_text, one_line, pest_error_offset};
 pub(crate) use write::Inexact;
 
@@ -289,6 +289,11 @@ pub trait Dialect: Sync {
     /// The diagnostic that refuses a use of a construct its table says it does not write: its
     /// code, in its words. `None` when it refuses that construct itself while writing.
     fn refusal(&self, at: capabilities::Occurrence, src: &SourceFile) -> Option<Diagnostic>;
+    /// What its writer ([`Dialect::item_writer`]) reads of the facts and the program's
+    /// header: everything unless a dialect says less.
+    fn writer_reads(&self) -> WriterReads {
+        WriterReads::ALL
+    }
     /// Its writer, taking a program one item at a time (a conversion never holds the
     /// program: issue 34), given what a first read gathered ([`Facts`]) and the program as
     /// read without its items (its dialect, number, name and unit).
@@ -312,7 +317,9 @@ pub trait Dialect: Sync {
     ) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
         let program = &*crate::lower::unroll(program, Some(self.id()));
         let mut facts = Facts::default();
-        program.items.iter().for_each(|item| facts.item(item));
+        program.items.iter().for_each(|item| {
+            facts.item(item);
+        });
         let mut writer = self.item_writer(&facts, program, src, profile, options);
         for item in &program.items {
             writer.item(item);

@@ -167,6 +167,20 @@ pub(crate) fn pest_error_offset<R: pest::RuleType>(line: &str, e: &pest::error::
 /// ([`crate::dialect::Dialect::stream`]).
 pub trait ItemSink {
     fn item(&mut self, item: Item);
+    /// The read so far, said before each line's items are handed on (a sink that writes
+    /// may need the program's number or name before the first item, and may stop at the
+    /// first error).
+    fn so_far(&mut self, _read: SoFar<'_>) {}
+}
+
+/// What a read has found so far ([`ItemSink::so_far`]).
+#[derive(Clone, Copy, Debug)]
+pub struct SoFar<'a> {
+    /// The program's number (FANUC's `O0100`) and name, when read.
+    pub number: Option<u32>,
+    pub name: Option<&'a str>,
+    /// Whether any diagnostic so far is an error.
+    pub errors: bool,
 }
 
 /// What a read keeps: the program, only its diagnostics, or nothing, handing each line's
@@ -249,6 +263,13 @@ impl Items<'_> {
             k.saturating_sub(self.dropped).min(self.held.len())
         });
         self.let_go(n);
+    }
+
+    /// Says the read so far to a sink ([`ItemSink::so_far`]).
+    fn so_far(&mut self, read: SoFar<'_>) {
+        if let Keep::Stream(sink) = &mut self.keep {
+            sink.so_far(read);
+        }
     }
 
     /// Lets go of the first `n` items held.
@@ -458,7 +479,8 @@ impl<'a> Reader<'a> {
 
     /// The program read (without the items let go of under [`Keep::Diagnostics`]), and
     /// every diagnostic.
-    pub fn finish(self) -> (Program, Vec<Diagnostic>) {
+    pub fn finish(mut self) -> (Program, Vec<Diagnostic>) {
+        self.say_so_far();
         (
             Program {
                 items: self.items.finish(),
@@ -472,6 +494,18 @@ impl<'a> Reader<'a> {
         )
     }
 
+    /// Says the read so far to a streaming read's sink.
+    fn say_so_far(&mut self) {
+        if matches!(self.items.keep, Keep::Stream(_)) {
+            let read = SoFar {
+                number: self.number,
+                name: self.name.as_deref(),
+                errors: self.diags.has_errors(),
+            };
+            self.items.so_far(read);
+        }
+    }
+
     /// A line is read, and nothing will look back at its items or diagnostics again: its
     /// items are let go of when the program is not kept, and its diagnostics settled.
     pub fn line_read(&mut self) {
@@ -481,6 +515,7 @@ impl<'a> Reader<'a> {
     /// [`Reader::line_read`], holding on to item `kept` and those after it
     /// ([`Items::line_read_keeping`]).
     pub fn line_read_keeping(&mut self, kept: Option<usize>) {
+        self.say_so_far();
         self.items.line_read_keeping(kept);
         self.diags.settle(|_| {});
     }

@@ -318,7 +318,7 @@ pub(crate) enum CycleStep {
 /// first streaming read of the program (a conversion that does not hold the program) or
 /// from the program's items: so far the R parameters a program assigns (not free for the
 /// czech writer's leads). Over the items as [`crate::lower::unroll`] gives them.
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Facts {
     /// The parameters assigned, in order, each once.
     pub params: Vec<u32>,
@@ -327,21 +327,94 @@ pub struct Facts {
 }
 
 impl Facts {
-    /// The program's next item (after unrolling).
-    pub fn item(&mut self, item: &Item) {
-        self.arcs |= matches!(item.kind, crate::ir::ItemKind::Arc { .. });
+    /// The program's next item (after unrolling). Whether the facts changed.
+    pub fn item(&mut self, item: &Item) -> bool {
+        let mut changed = false;
+        if !self.arcs && matches!(item.kind, crate::ir::ItemKind::Arc { .. }) {
+            self.arcs = true;
+            changed = true;
+        }
         if let crate::ir::ItemKind::ParamAssign { number, .. } = item.kind
             && let Err(at) = self.params.binary_search(&number)
         {
             self.params.insert(at, number);
+            changed = true;
+        }
+        changed
+    }
+}
+
+/// What a dialect's writer reads of the [`Facts`] and of the program's header (the program
+/// as read without its items: its dialect, always, and its number, name and unit). A
+/// conversion reads its source once when nothing its writer reads changes after the
+/// writer's first item, and twice otherwise (the first read gathering them): so a writer
+/// that reads something it does not declare here would write differently in the two cases
+/// (`tests/read_back.rs` holds every corpus file's conversion to every target to the
+/// conversion of the whole program).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WriterReads {
+    pub params: bool,
+    pub arcs: bool,
+    pub number: bool,
+    pub name: bool,
+    pub inch: bool,
+}
+
+impl WriterReads {
+    /// Everything: the default of a dialect that does not say.
+    pub const ALL: WriterReads = WriterReads {
+        params: true,
+        arcs: true,
+        number: true,
+        name: true,
+        inch: true,
+    };
+    /// Nothing but the program's dialect.
+    pub const NOTHING: WriterReads = WriterReads {
+        params: false,
+        arcs: false,
+        number: false,
+        name: false,
+        inch: false,
+    };
+
+    /// What a writer made from `facts` and `program` reads of them: two writers whose views
+    /// are equal write the same items alike.
+    pub fn view(&self, facts: &Facts, program: &crate::ir::Program) -> WriterView {
+        WriterView {
+            params: if self.params {
+                facts.params.clone()
+            } else {
+                Vec::new()
+            },
+            arcs: self.arcs && facts.arcs,
+            number: program.number.filter(|_| self.number),
+            name: program.name.clone().filter(|_| self.name),
+            inch: self.inch && program.inch,
         }
     }
+}
+
+/// What a writer read of the facts and the header ([`WriterReads::view`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct WriterView {
+    params: Vec<u32>,
+    arcs: bool,
+    number: Option<u32>,
+    name: Option<String>,
+    inch: bool,
 }
 
 /// A writer that takes a program one item at a time, in order (issue 34: a conversion that
 /// does not hold the program). Items come unrolled ([`crate::lower::unrolled`]).
 pub trait ItemWriter {
     fn item(&mut self, item: &Item);
+    /// The facts it was made with changed after its first item (a conversion that reads its
+    /// program once): whether it took them, so that it now writes what a writer made with
+    /// them would have written (by default not: the conversion lets it go and reads again).
+    fn late_facts(&mut self, _facts: &Facts) -> bool {
+        false
+    }
     /// The text (none after an error) and the writer's diagnostics.
     fn finish(self: Box<Self>) -> (Option<Output>, Vec<Diagnostic>);
 }
@@ -457,6 +530,8 @@ pub(crate) struct Writer<'a> {
     pub post: Option<fn(String) -> String>,
     /// [`SPILL_AT`], lower in tests.
     spill_at: usize,
+    /// A spill took lines out of `out` (even if the spool then failed and they came back).
+    spilled: bool,
 }
 
 impl<'a> Writer<'a> {
@@ -470,6 +545,7 @@ impl<'a> Writer<'a> {
             spool: Spool::default(),
             post: None,
             spill_at: SPILL_AT,
+            spilled: false,
         }
     }
 
@@ -482,6 +558,7 @@ impl<'a> Writer<'a> {
         let Some(end) = self.out.rfind('\n').map(|i| i + 1) else {
             return;
         };
+        self.spilled = true;
         let rest = self.out.split_off(end);
         let lines = std::mem::replace(&mut self.out, rest);
         let lines = match self.post {
@@ -492,6 +569,12 @@ impl<'a> Writer<'a> {
             // Held again, before the rest (`post` changes nothing it gave).
             self.out.insert_str(0, &lines);
         }
+    }
+
+    /// Whether every line written is still held (none moved to the spool): an offset into
+    /// `out` taken earlier still points where it did.
+    pub fn holds_all(&self) -> bool {
+        !self.spilled
     }
 
     /// Whether nothing but blanks was written.

@@ -170,6 +170,12 @@ impl Dialect for Czech {
         Some(Diagnostic::new(code, message).at(src, at.span).help(help))
     }
 
+    /// Its writer reads the parameters a program assigns (not free for its leads).
+    fn writer_reads(&self) -> crate::dialect::WriterReads {
+        use crate::dialect::WriterReads;
+        WriterReads::NOTHING
+    }
+
     fn item_writer<'a>(
         &self,
         facts: &crate::dialect::Facts,

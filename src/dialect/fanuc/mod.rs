@@ -217,6 +217,16 @@ impl Dialect for Fanuc {
         Some(Diagnostic::new(code, message).at(src, at.span).help(help))
     }
 
+    /// Its writer reads the program's number (kept from a FANUC source) and its unit.
+    fn writer_reads(&self) -> crate::dialect::WriterReads {
+        use crate::dialect::WriterReads;
+        WriterReads {
+            number: true,
+            inch: true,
+            ..WriterReads::NOTHING
+        }
+    }
+
     fn item_writer<'a>(
         &self,
         _facts: &crate::dialect::Facts,

@@ -201,6 +201,15 @@ impl Dialect for Heidenhain {
         Some(Diagnostic::new(code, message).at(src, at.span).help(help))
     }
 
+    /// Its writer reads the program's name (kept from a HEIDENHAIN source).
+    fn writer_reads(&self) -> crate::dialect::WriterReads {
+        use crate::dialect::WriterReads;
+        WriterReads {
+            name: true,
+            ..WriterReads::NOTHING
+        }
+    }
+
     fn item_writer<'a>(
         &self,
         _facts: &crate::dialect::Facts,

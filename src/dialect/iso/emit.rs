@@ -155,6 +155,8 @@ pub(crate) struct Items<'a> {
     arcs: bool,
     /// The header is written (after the leading `%` lines and a header comment).
     started: bool,
+    /// Where in the output held the header's modes line takes ` G91.1`, until an arc says it.
+    arcs_at: Option<usize>,
     /// The header's modes, as the ISO reader reads them back: they are not written again.
     skip_header_modes: bool,
     /// The item waiting for the one after it.
@@ -192,6 +194,7 @@ impl<'a> Items<'a> {
             inch: program.inch,
             arcs: facts.arcs,
             started: false,
+            arcs_at: None,
             skip_header_modes: true,
             pending: None,
         }
@@ -220,7 +223,9 @@ impl<'a> Items<'a> {
         if self.arcs {
             let _ = writeln!(self.e.w.out, "G7 G18 {unit} G90 G91.1 G95");
         } else {
-            let _ = writeln!(self.e.w.out, "G7 G18 {unit} G90 G95");
+            let _ = write!(self.e.w.out, "G7 G18 {unit} G90");
+            self.arcs_at = Some(self.e.w.out.len());
+            let _ = writeln!(self.e.w.out, " G95");
         }
     }
 
@@ -243,6 +248,24 @@ impl<'a> Items<'a> {
 }
 
 impl write::ItemWriter for Items<'_> {
+    /// An arc after the header: ` G91.1` goes into its modes line while the line is held.
+    fn late_facts(&mut self, facts: &write::Facts) -> bool {
+        if !facts.arcs || self.arcs {
+            return true;
+        }
+        self.arcs = true;
+        if !self.started {
+            return true;
+        }
+        match self.arcs_at.take() {
+            Some(at) if self.e.w.holds_all() => {
+                self.e.w.out.insert_str(at, " G91.1");
+                true
+            }
+            _ => false,
+        }
+    }
+
     fn item(&mut self, item: &Item) {
         if !self.started {
             if item.kind == ItemKind::Delimiter {

@@ -265,6 +265,16 @@ impl Dialect for Iso {
         )
     }
 
+    /// Its writer reads whether the program has an arc (its header's `G91.1`) and its unit.
+    fn writer_reads(&self) -> crate::dialect::WriterReads {
+        use crate::dialect::WriterReads;
+        WriterReads {
+            arcs: true,
+            inch: true,
+            ..WriterReads::NOTHING
+        }
+    }
+
     fn item_writer<'a>(
         &self,
         facts: &crate::dialect::Facts,

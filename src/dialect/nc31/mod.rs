@@ -167,6 +167,12 @@ impl Dialect for Nc31 {
         )
     }
 
+    /// Its writer reads only the program's dialect.
+    fn writer_reads(&self) -> crate::dialect::WriterReads {
+        use crate::dialect::WriterReads;
+        WriterReads::NOTHING
+    }
+
     fn item_writer<'a>(
         &self,
         _facts: &crate::dialect::Facts,

@@ -145,6 +145,15 @@ impl Dialect for Siemens {
         )
     }
 
+    /// Its writer reads the program's name (kept from a SINUMERIK source).
+    fn writer_reads(&self) -> crate::dialect::WriterReads {
+        use crate::dialect::WriterReads;
+        WriterReads {
+            name: true,
+            ..WriterReads::NOTHING
+        }
+    }
+
     fn item_writer<'a>(
         &self,
         _facts: &crate::dialect::Facts,
