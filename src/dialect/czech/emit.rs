@@ -62,6 +62,8 @@ struct Emitter<'a> {
     inexact: Inexact,
     /// `--round`: round them (a warning) instead of refusing.
     round: bool,
+    /// The R parameters it chose for leads.
+    chosen: Vec<u32>,
 }
 
 /// The czech writer taking a program's items one at a time (a conversion's streaming read,
@@ -100,6 +102,7 @@ impl<'a> Items<'a> {
                 last_number: None,
                 inexact: Inexact::default(),
                 round,
+                chosen: Vec::new(),
             },
             reserved: facts.params.clone(),
             block: Vec::new(),
@@ -118,6 +121,17 @@ impl<'a> Items<'a> {
 }
 
 impl write::ItemWriter for Items<'_> {
+    /// Parameters the program assigns after the first item: taken while none of them is one
+    /// it chose for a lead (each choice is the lowest free number, so it is the same choice
+    /// among the fewer numbers free once they are reserved).
+    fn late_facts(&mut self, facts: &write::Facts) -> bool {
+        if facts.params.iter().any(|n| self.e.chosen.contains(n)) {
+            return false;
+        }
+        self.reserved.clone_from(&facts.params);
+        true
+    }
+
     fn item(&mut self, item: &Item) {
         // Items of one source block stay one block when the source is czech.
         let same = self
@@ -702,6 +716,7 @@ impl Emitter<'_> {
                 && !self.params.contains_key(n)
         })?;
         self.params.insert(free, value);
+        self.chosen.push(free);
         Some((free, true))
     }
 
@@ -1099,5 +1114,47 @@ fn spindle_words(speed: Option<u32>, direction: Option<SpindleDirection>, block:
         Some(SpindleDirection::Clockwise) => block.words.push("M03".into()),
         Some(SpindleDirection::CounterClockwise) => block.words.push("M04".into()),
         None => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dialect::{ItemWriter, Unsupported};
+
+    /// A lead over 99.99 from another dialect takes the lowest free R parameter: parameters
+    /// the program assigns after the writer's first item are taken late only while that one is
+    /// not among them.
+    #[test]
+    fn a_parameter_chosen_for_a_lead_is_not_taken_late() {
+        let src = SourceFile::new(
+            "t.ngc",
+            "G7 G18 G21 G90 G95\nT1 M6\nS100 M3\nG0 X40 Z5\nG33 Z-30 K120\nG0 X45\nM5\nM30\n",
+        );
+        let profile = Profile::default();
+        let iso = crate::dialect::get(crate::dialect::iso::ID);
+        let (program, diags) = iso.read(&src, &profile, Unsupported::Error);
+        assert!(!crate::diag::has_errors(&diags), "{diags:?}");
+        let program = crate::lower::unroll(&program, Some(super::super::ID));
+        let facts = write::Facts::default();
+        let mut w = Items::new(
+            &facts,
+            program.dialect,
+            &src,
+            &profile,
+            Renumber::default(),
+            false,
+        );
+        for item in &program.items {
+            w.item(item);
+        }
+        assert_eq!(w.e.chosen, [1]);
+        let late = |params: Vec<u32>| write::Facts {
+            params,
+            arcs: false,
+        };
+        assert!(w.late_facts(&late(vec![2, 3])));
+        assert_eq!(w.reserved, [2, 3]);
+        assert!(!w.late_facts(&late(vec![1, 2])));
     }
 }
