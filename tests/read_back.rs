@@ -133,6 +133,12 @@ fn a_writer_made_before_what_it_reads_changed_is_let_go_of() {
             "czech",
             "N10 G95 M03 S800 T1 D1\nN20 G00 X34. Z2.\nN40 G01 Z-40. F0.25\nN50 G00 X40. Q7\nN60 M30\n",
         ),
+        // A lead over 99.99 no parameter holds when it is written (the block's own assignment
+        // takes effect after it), then R01 assigned: the lead must not go through R01.
+        (
+            "czech",
+            "N10 G95 M03 S800 T1 D1\nN20 R10=250.\nN30 G00 X34. Z2.\nN40 R10=300. G33 Z-40. FR10\nN50 G00 X40.\nN60 R01=5.\nN70 M30\n",
+        ),
     ];
     // An arc after the ISO writer's first megabyte: its header's modes line is no longer
     // held, so the writer cannot take the arc late.

@@ -173,7 +173,10 @@ impl Dialect for Czech {
     /// Its writer reads the parameters a program assigns (not free for its leads).
     fn writer_reads(&self) -> crate::dialect::WriterReads {
         use crate::dialect::WriterReads;
-        WriterReads::NOTHING
+        WriterReads {
+            params: true,
+            ..WriterReads::NOTHING
+        }
     }
 
     fn item_writer<'a>(
