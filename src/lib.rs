@@ -340,11 +340,12 @@ fn finish_conversion(
 /// [`convert`]: one streaming read hands each item, unrolled, through the shared rules,
 /// the target's table and the writer, made at the first item from what has been read so far
 /// ([`dialect::Facts`] and the program's header). When something the writer reads of them
-/// ([`dialect::Dialect::writer_reads`]) changes after that (a FANUC program's number read
-/// after its first item, an arc for the ISO header, an R parameter for the czech writer, an
-/// inch program), or the read finds an error, the writer is let go of, and (without an error)
-/// a second read writes the program with what the first gathered. Nothing holds the program;
-/// the output spills to the writer's temporary file.
+/// ([`dialect::Dialect::writer_reads`]) changes after that and the writer cannot take it late
+/// ([`dialect::ItemWriter::late_facts`]: a FANUC program's number read after its first item,
+/// an ISO output's first arc after its first megabyte, an inch program), or the read finds an
+/// error, the writer is let go of, and (without an error) a second read writes the program
+/// with what the first gathered. Nothing holds the program; the output spills to the
+/// writer's temporary file.
 fn convert_streaming(src: &SourceFile, options: &ConvertOptions) -> Conversion {
     let target = dialect::get(options.to);
     let write = write_options(options);
@@ -376,8 +377,8 @@ fn convert_streaming(src: &SourceFile, options: &ConvertOptions) -> Conversion {
     let emit = match emit {
         Some((emit, written)) if written == (view, inch) => emit,
         _ => {
-            // What the writer reads changed after its first item: the same read again (its
-            // diagnostics are the first's), with what the first gathered.
+            // What the writer reads changed after its first item (or no item made one): the
+            // same read again (its diagnostics are the first's), with what the first gathered.
             let mut emit = Emit::new(src, options, target, &facts, &program, &write);
             let _ = dialect::get(options.from).read_keeping(
                 src,
@@ -447,6 +448,11 @@ impl<'s> Once<'s> {
         }
     }
 
+    /// What the writer reads of what is known now.
+    fn view(&self, program: &Program) -> dialect::WriterView {
+        self.target.writer_reads().view(&self.facts, program)
+    }
+
     fn one(&mut self, item: &ir::Item) {
         let changed = self.facts.item(item);
         if self.stopped || self.errors {
@@ -456,7 +462,10 @@ impl<'s> Once<'s> {
         match &self.emit {
             None => {
                 let program = self.program();
-                let view = self.target.writer_reads().view(&self.facts, &program);
+                let made_with = (
+                    self.view(&program),
+                    legalise::output_in_inches(&program, Some(self.options.to)),
+                );
                 let emit = Emit::new(
                     self.src,
                     self.options,
@@ -465,13 +474,10 @@ impl<'s> Once<'s> {
                     &program,
                     self.write,
                 );
-                self.emit = Some((emit, (view, false)));
+                self.emit = Some((emit, made_with));
             }
             Some(_) if changed => {
-                let view = self
-                    .target
-                    .writer_reads()
-                    .view(&self.facts, &self.program());
+                let view = self.view(&self.program());
                 if let Some((emit, (written, _))) = &mut self.emit
                     && *written != view
                 {
@@ -511,8 +517,10 @@ impl dialect::ItemSink for Once<'_> {
                 number: read.number,
                 name: read.name.map(str::to_string),
             };
-            // The writer read the header when it was made: it changed since.
-            if self.emit.is_some() {
+            // The header changed since the writer was made: let it go if it read that.
+            if let Some((_, (written, _))) = &self.emit
+                && *written != self.view(&self.program())
+            {
                 self.stop();
             }
         }

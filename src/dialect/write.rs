@@ -318,7 +318,7 @@ pub(crate) enum CycleStep {
 /// first streaming read of the program (a conversion that does not hold the program) or
 /// from the program's items: so far the R parameters a program assigns (not free for the
 /// czech writer's leads). Over the items as [`crate::lower::unroll`] gives them.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Debug, Default)]
 pub struct Facts {
     /// The parameters assigned, in order, each once.
     pub params: Vec<u32>,
@@ -347,7 +347,8 @@ impl Facts {
 /// What a dialect's writer reads of the [`Facts`] and of the program's header (the program
 /// as read without its items: its dialect, always, and its number, name and unit). A
 /// conversion reads its source once when nothing its writer reads changes after the
-/// writer's first item, and twice otherwise (the first read gathering them): so a writer
+/// writer's first item (or the writer takes it late, [`ItemWriter::late_facts`]), and twice
+/// otherwise (the first read gathering them): so a writer
 /// that reads something it does not declare here would write differently in the two cases
 /// (`tests/read_back.rs` holds every corpus file's conversion to every target to the
 /// conversion of the whole program).
