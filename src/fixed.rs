@@ -506,6 +506,21 @@ impl Decimal {
 
     /// The value as an integer of `10^-decimals` units, exactly, or why not.
     pub fn to_scaled(self, decimals: u32) -> Result<i64, NumberError> {
+        // Keep well inside i64 so later products (lead · length) cannot overflow.
+        const LIMIT: i128 = 1 << 50;
+        // The common case in i64: a few digits scaled up by at most 10^9.
+        let mantissa = self.mantissa;
+        if self.scale <= decimals
+            && decimals - self.scale <= 9
+            && let Ok(m) = i32::try_from(mantissa)
+        {
+            let value = i64::from(m) * 10i64.pow(decimals - self.scale);
+            return if i128::from(value).abs() > LIMIT {
+                Err(NumberError::TooLarge)
+            } else {
+                Ok(value)
+            };
+        }
         let value = if self.scale <= decimals {
             let factor = 10i128
                 .checked_pow(decimals - self.scale)
@@ -527,8 +542,6 @@ impl Decimal {
             }
             quot
         };
-        // Keep well inside i64 so later products (lead · length) cannot overflow.
-        const LIMIT: i128 = 1 << 50;
         if value.abs() > LIMIT {
             return Err(NumberError::TooLarge);
         }
@@ -649,6 +662,62 @@ mod tests {
             scale: frac.len() as u32,
             has_point,
         })
+    }
+
+    #[test]
+    fn scaling_agrees_with_exact_arithmetic() {
+        // The reference: the value times 10^decimals in i128, exact or refused.
+        fn reference(d: Decimal, decimals: u32) -> Result<i64, NumberError> {
+            let (m, scale) = (d.mantissa, d.scale as i64 - decimals as i64);
+            let value = if scale <= 0 {
+                10i128
+                    .checked_pow((-scale) as u32)
+                    .and_then(|f| m.checked_mul(f))
+                    .ok_or(NumberError::TooLarge)?
+            } else {
+                let f = 10i128
+                    .checked_pow(scale as u32)
+                    .ok_or(NumberError::TooLarge)?;
+                if m % f != 0 {
+                    return Err(NumberError::TooPrecise { decimals });
+                }
+                m / f
+            };
+            if value.abs() > 1 << 50 {
+                return Err(NumberError::TooLarge);
+            }
+            Ok(value as i64)
+        }
+        for text in [
+            "0",
+            "-0",
+            "1",
+            "-1.5",
+            "26.618",
+            "2147483647",
+            "-2147483648",
+            "2147483648",
+            "1125899906842624",
+            "112589990684.2624",
+            "112589990684.2625",
+            "0.00001",
+            "12.34567",
+            "999999999999999999.9",
+            "-.0001",
+            "1e",
+            "123456789012345678901234567890",
+        ] {
+            let Some(d) = Decimal::parse(text) else {
+                continue;
+            };
+            for decimals in [0, 3, 4, 6, 9, 12, 20, 40] {
+                assert_eq!(
+                    d.to_scaled(decimals),
+                    reference(d, decimals),
+                    "{text} at {decimals}"
+                );
+            }
+        }
     }
 
     #[test]

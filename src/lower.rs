@@ -411,9 +411,16 @@ impl Move {
         }
     }
 
-    /// Where the tool is after the move, starting from `current`.
+    /// Where the tool is after the move, starting from `current` (as its item's
+    /// [`ItemKind::end_position`], without making the item).
     pub fn end_position(&self, current: Pos) -> Pos {
-        self.item_kind().end_position(current)
+        match self {
+            Move::Rapid(to) => Pos {
+                x: to.x.or(current.x),
+                z: to.z.or(current.z),
+            },
+            Move::Pass(pass) => pass.end_position(current),
+        }
     }
 }
 
@@ -1059,6 +1066,20 @@ mod tests {
                 z: Some(mm(4.5))
             })
         );
+    }
+
+    #[test]
+    fn a_move_ends_where_its_item_ends() {
+        let e = expand(&m36(Schedule::Halving)).unwrap();
+        let mut at = Pos {
+            x: None,
+            z: Some(mm(1.0)),
+        };
+        for m in &e.moves {
+            let next = m.kind.end_position(at);
+            assert_eq!(next, m.kind.item_kind().end_position(at));
+            at = next;
+        }
     }
 
     #[test]

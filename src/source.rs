@@ -435,6 +435,41 @@ pub struct Line<'a> {
     pub text: &'a str,
 }
 
+/// Where a line stands in its text: enough to take it again without looking for it (a
+/// reader that keeps what it read of a line, such as an НЦ-31 group's frames).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LinePlace {
+    /// 1-based line number.
+    pub number: u32,
+    offset: usize,
+    len: usize,
+}
+
+impl Line<'_> {
+    /// Where the line stands ([`SourceFile::line_of`] takes it again).
+    pub fn place(&self) -> LinePlace {
+        LinePlace {
+            number: self.number,
+            offset: self.offset,
+            len: self.text.len(),
+        }
+    }
+
+    /// Whether the line holds only white space (`str::trim`'s), at the cost of a byte or two
+    /// for a line that starts with a visible ASCII character.
+    pub fn is_blank(&self) -> bool {
+        match self
+            .text
+            .bytes()
+            .find(|b| !matches!(b, b' ' | b'\t' | b'\r'))
+        {
+            None => true,
+            Some(b) if b.is_ascii_graphic() => false,
+            Some(_) => self.text.trim().is_empty(),
+        }
+    }
+}
+
 impl SourceFile {
     pub fn new(name: impl Into<String>, text: impl Into<String>) -> SourceFile {
         SourceFile::of_text(name, Text::from(text.into()))
@@ -484,6 +519,20 @@ impl SourceFile {
         line_at(number, start, &self.text[start..end])
     }
 
+    /// The line at `place` (of one of this file's lines): [`Self::line`] without a search.
+    pub fn line_of(&self, place: LinePlace) -> Line<'_> {
+        let text = self.text.get(place.offset..place.offset + place.len);
+        let Some(text) = text else {
+            return self.line(place.number);
+        };
+        self.text.read_to(place.offset);
+        Line {
+            number: place.number,
+            offset: place.offset,
+            text,
+        }
+    }
+
     /// The span of `range` (bytes within `line`'s text). A range that does not fall on
     /// character boundaries is widened to the characters it touches, and one that runs past
     /// the line is cut at its end.
@@ -491,7 +540,13 @@ impl SourceFile {
         let text = line.text;
         let start = text.floor_char_boundary(range.start.min(text.len()));
         let end = text.ceil_char_boundary(range.end.clamp(start, text.len()));
-        let column = text[..start].chars().count() as u32 + 1;
+        let before = &text[..start];
+        let column = if before.is_ascii() {
+            before.len()
+        } else {
+            before.chars().count()
+        } as u32
+            + 1;
         Span {
             line: line.number,
             column,
@@ -529,6 +584,32 @@ impl SourceFile {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_blank_line_is_one_trim_empties() {
+        for text in [
+            "",
+            " ",
+            "\t\r",
+            "\u{0B}",
+            "\u{0C} ",
+            "\u{A0}",
+            " \u{3000}",
+            "N10",
+            " X",
+            " é",
+            "\u{0B}X",
+            "\u{A0}N1",
+            "\u{1F}",
+        ] {
+            let line = Line {
+                number: 1,
+                offset: 0,
+                text,
+            };
+            assert_eq!(line.is_blank(), text.trim().is_empty(), "{text:?}");
+        }
+    }
 
     #[test]
     fn lines_start_where_the_text_says_and_the_index_is_sized_to_them() {

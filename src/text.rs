@@ -162,7 +162,7 @@ impl Decoded {
 /// as git and ripgrep tell: a NUL byte, or more than 1 % control bytes other than tab, line
 /// ends and form feed. `None`: it may be text (in any single-byte encoding or UTF-8).
 pub fn binary_evidence(body: &[u8]) -> Option<String> {
-    if let Some(at) = body.iter().position(|&b| b == 0) {
+    if let Some(at) = memchr::memchr(0, body) {
         return Some(format!("it holds NUL bytes (the first at byte {at})"));
     }
     let control = body
@@ -281,8 +281,7 @@ pub fn decode_program_owned(
     let (body, _) = split_eof_mark(&bytes);
     let plain = encoding.is_none()
         && without_bom(body).len() == body.len()
-        && binary_evidence(body).is_none()
-        && std::str::from_utf8(body).is_ok();
+        && binary_evidence(body).is_none();
     if !plain {
         return decode_program(&bytes, from, encoding, name);
     }
@@ -290,7 +289,7 @@ pub fn decode_program_owned(
     let eof_mark = bytes.split_off(n);
     let text = match String::from_utf8(bytes) {
         Ok(text) => text,
-        // Checked above; read as any other file should it not be.
+        // Not UTF-8: read as any other file.
         Err(e) => {
             let mut bytes = e.into_bytes();
             bytes.extend_from_slice(&eof_mark);

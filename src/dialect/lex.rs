@@ -97,7 +97,45 @@ impl<'a> Cursor<'a> {
     /// allowed, then a number.
     pub fn value(&mut self, sep: impl Fn(u8) -> bool) -> Option<Decimal> {
         self.skip(sep);
-        Decimal::parse(self.number()?)
+        let start = self.pos;
+        // One pass over the digits while they fit in a u64 (every word of a real program);
+        // a longer number is read by `Decimal::parse`, which knows what fits.
+        let bytes = self.text.as_bytes();
+        let mut at = start;
+        let negative = match bytes.get(at) {
+            Some(b'-') => {
+                at += 1;
+                true
+            }
+            Some(b'+') => {
+                at += 1;
+                false
+            }
+            _ => false,
+        };
+        let (mut mantissa, mut digits, mut scale, mut has_point) = (0u64, 0u32, 0u32, false);
+        while let Some(&b) = bytes.get(at) {
+            if b.is_ascii_digit() {
+                mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(b - b'0'));
+                digits += 1;
+                scale += u32::from(has_point);
+            } else if b == b'.' && !has_point {
+                has_point = true;
+            } else {
+                break;
+            }
+            at += 1;
+        }
+        if digits == 0 || digits > 18 {
+            return Decimal::parse(self.number()?);
+        }
+        self.pos = at;
+        let mantissa = i128::from(mantissa);
+        Some(Decimal {
+            mantissa: if negative { -mantissa } else { mantissa },
+            scale,
+            has_point,
+        })
     }
 
     /// The grammars' `number`: `("+" | "-")? ~ (ASCII_DIGIT+ ~ ("." ~ ASCII_DIGIT*)? | "." ~
@@ -121,6 +159,15 @@ impl<'a> Cursor<'a> {
         }
         Some(&self.text[start..self.pos])
     }
+}
+
+/// The value of `digits` (ASCII digits only, as [`Cursor::digits`] takes them), as
+/// `str::parse::<u32>` reads it: `None` when it does not fit.
+pub(crate) fn whole(digits: &str) -> Option<u32> {
+    digits.bytes().try_fold(0u32, |v, d| {
+        v.checked_mul(10)?
+            .checked_add(u32::from(d.wrapping_sub(b'0')))
+    })
 }
 
 /// The grammars' `sep` of czech and НЦ-31 lines: a blank or a tab.
@@ -152,6 +199,59 @@ mod tests {
         assert_eq!(number("."), None);
         assert_eq!(number("- 5"), None);
         assert_eq!(number(""), None);
+    }
+
+    #[test]
+    fn a_whole_number_is_what_parse_reads() {
+        for digits in [
+            "0",
+            "7",
+            "0042",
+            "4294967295",
+            "4294967296",
+            "99999999999",
+            "1",
+        ] {
+            assert_eq!(whole(digits), digits.parse::<u32>().ok(), "{digits}");
+        }
+    }
+
+    #[test]
+    fn a_value_is_the_number_read_then_parsed() {
+        let long = "1234567890123456789012345678901234567890";
+        for text in [
+            "26.618Z",
+            "-9.",
+            "+.5",
+            "1.2.3",
+            "-.",
+            ".",
+            "- 5",
+            "",
+            "-00120.000",
+            "-0",
+            "5.X",
+            "..5",
+            "999999999999999999",
+            "9999999999999999999",
+            "-1234567890.12345678",
+            "0.0000000000000000001",
+            long,
+            "12 34",
+            "  7",
+            "+",
+            "x5",
+        ] {
+            let mut fast = Cursor::new(text);
+            let mut slow = Cursor::new(text);
+            let read = fast.value(|b| b == b' ');
+            slow.skip(|b| b == b' ');
+            let expected = slow.number().and_then(Decimal::parse);
+            assert_eq!(read, expected, "{text:?}");
+            if read.is_some() {
+                assert_eq!(fast.pos, slow.pos, "{text:?}");
+            }
+        }
     }
 }
 

@@ -113,20 +113,21 @@ pub(crate) fn read(
     };
     // M02/M30 end the program: blocks after it never run. **[decided]** (as LinuxCNC)
     let mut ended = false;
+    let mut block = Block::default();
     for line in src.lines() {
         // Nothing looks back past the line being read.
         fe.r.line_read();
-        if line.text.trim().is_empty() {
+        if line.is_blank() {
             continue;
         }
-        match syntax::parse_line(line.text) {
-            Ok(block) if ended && !block.is_empty() && !block.delimiter => fe.r.after_end(
+        match syntax::parse_line_into(line.text, &mut block) {
+            Ok(()) if ended && !block.is_empty() && !block.delimiter => fe.r.after_end(
                 codes::CZR_AFTER_END,
                 src.line_span(line),
                 "this block comes after the program's end (M02/M30); the control does not run it, and neither does ncthread",
                 "remove it, or move the program's end after it",
             ),
-            Ok(block) => {
+            Ok(()) => {
                 let first = fe.r.items.len();
                 fe.block(line, &block);
                 ended |= fe.r.ends_program(first);
@@ -181,11 +182,14 @@ impl<'a> FrontEnd<'a> {
         self.check_after_runout(line, block, code_span);
         if block.delimiter {
             self.push(ItemKind::Delimiter, code_span, None);
-        } else if let Some(words) = self.classify(line, block) {
-            if words.unsupported.is_empty() {
-                self.execute(line, block, &words, code_span);
-            } else {
-                self.unsupported(line, block, &words, code_span);
+        } else {
+            let mut words = Words::default();
+            if self.classify(line, block, &mut words) {
+                if words.unsupported.is_empty() {
+                    self.execute(line, block, &words, code_span);
+                } else {
+                    self.unsupported(line, block, &words, code_span);
+                }
             }
         }
         // Assignments take effect after the block's motion. **[decided]**

@@ -94,29 +94,49 @@ fn decimal(pair: &Pair<'_, Rule>) -> Result<Decimal, SyntaxError> {
 
 /// Parses one line (without its line ending).
 pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
-    match fast_line(line) {
-        Some(block) => Ok(block),
-        None => parse_with_grammar(line),
+    let mut block = Block::default();
+    parse_line_into(line, &mut block).map(|()| block)
+}
+
+/// [`parse_line`] into a block reused from line to line (its lists keep their room).
+/// After an error the block holds no reading of the line.
+pub fn parse_line_into(line: &str, block: &mut Block) -> Result<(), SyntaxError> {
+    block.number = None;
+    block.words.clear();
+    block.assignments.clear();
+    block.opaque.clear();
+    block.comment = None;
+    block.delimiter = false;
+    block.code_range = 0..0;
+    if read_fast(line, block).is_none() {
+        *block = parse_with_grammar(line)?;
     }
+    Ok(())
 }
 
 /// The typographic quotes that open a comment as `"` does.
 const QUOTES: [&str; 3] = ["“", "”", "„"];
 
 /// The grammar's reading of a well-formed line without pest (see `dialect::lex`), or `None`.
+#[cfg(test)]
 fn fast_line(line: &str) -> Option<Block> {
+    let mut block = Block::default();
+    read_fast(line, &mut block).map(|()| block)
+}
+
+/// [`fast_line`] into `block` (empty); `None` leaves it partly filled.
+fn read_fast(line: &str, block: &mut Block) -> Option<()> {
     let mut c = Cursor::new(line);
     c.skip(blank_or_tab);
     let first = c.pos;
     if c.peek() == Some(b'%') {
-        return fast_delimiter(&mut c, first);
+        return fast_delimiter(&mut c, first, block);
     }
-    let mut block = Block::default();
     let mut code_end = 0;
     if matches!(c.peek(), Some(b'N' | b'n')) && c.peek_at(1).is_some_and(|b| b.is_ascii_digit()) {
         c.pos += 1;
         let digits = c.digits()?;
-        block.number = Some(line[digits].parse().ok()?);
+        block.number = Some(crate::dialect::lex::whole(&line[digits])?);
         code_end = c.pos;
         c.skip(blank_or_tab);
     }
@@ -125,12 +145,12 @@ fn fast_line(line: &str) -> Option<Block> {
             block.comment = crate::dialect::comment_text(&c.rest()[quote..]);
             break;
         }
-        fast_item(&mut c, line, &mut block)?;
+        fast_item(&mut c, line, block)?;
         code_end = c.pos;
         c.skip(blank_or_tab);
     }
     block.code_range = first..code_end.max(first);
-    Some(block)
+    Some(())
 }
 
 /// The length of the quote that opens a comment at the cursor, if one does.
@@ -146,8 +166,7 @@ fn comment_quote(c: &Cursor<'_>) -> Option<usize> {
 }
 
 /// A `%` line (the cursor on the `%`): a delimiter and an optional comment.
-fn fast_delimiter(c: &mut Cursor<'_>, first: usize) -> Option<Block> {
-    let mut block = Block::default();
+fn fast_delimiter(c: &mut Cursor<'_>, first: usize, block: &mut Block) -> Option<()> {
     c.pos += 1;
     c.skip(blank_or_tab);
     block.delimiter = true;
@@ -156,7 +175,7 @@ fn fast_delimiter(c: &mut Cursor<'_>, first: usize) -> Option<Block> {
         block.comment = crate::dialect::comment_text(&c.rest()[quote..]);
     }
     block.code_range = first..first;
-    Some(block)
+    Some(())
 }
 
 /// The `&` word, assignment or word at the cursor, into `block`; `None` when the line is not
@@ -201,7 +220,7 @@ fn fast_word(c: &mut Cursor<'_>, line: &str, start: usize, letter: u8) -> Option
     {
         c.pos += 1;
         let digits = c.digits()?;
-        Value::Param(line[digits].parse().ok()?)
+        Value::Param(crate::dialect::lex::whole(&line[digits])?)
     } else {
         Value::Number(c.value(blank_or_tab)?)
     };
@@ -221,7 +240,7 @@ fn assignment(c: &mut Cursor<'_>, line: &str) -> Option<(u32, Decimal)> {
         return None;
     }
     c.pos += 1;
-    let param = line[digits].parse().ok()?;
+    let param = crate::dialect::lex::whole(&line[digits])?;
     let value = c.value(blank_or_tab)?;
     Some((param, value))
 }

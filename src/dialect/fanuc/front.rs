@@ -316,7 +316,7 @@ impl FrontEnd<'_> {
         for line in src.lines() {
             // Nothing looks back past the line being read.
             self.line_read();
-            if line.text.trim().is_empty() {
+            if line.is_blank() {
                 continue;
             }
             if self.billet(src, line) {

@@ -53,14 +53,15 @@ pub(super) fn uses_macros(src: &SourceFile) -> bool {
         if code.contains(['#', '[']) || starts_with_statement(&code) {
             return true;
         }
-        syntax::parse_line(line.text).is_ok_and(|b| {
-            b.words.iter().any(|w| {
-                matches!(
-                    (w.letter, w.value.to_whole()),
-                    ('G', Ok(65..=67)) | ('M', Ok(98 | 99))
-                )
+        may_call(&code)
+            && syntax::parse_line(line.text).is_ok_and(|b| {
+                b.words.iter().any(|w| {
+                    matches!(
+                        (w.letter, w.value.to_whole()),
+                        ('G', Ok(65..=67)) | ('M', Ok(98 | 99))
+                    )
+                })
             })
-        })
     })
 }
 
@@ -73,21 +74,33 @@ fn starts_with_statement(code: &str) -> bool {
         }
         _ => code,
     };
-    let word: String = code
-        .trim_start()
-        .chars()
-        .take_while(char::is_ascii_alphabetic)
-        .collect();
-    matches!(
-        word.to_ascii_uppercase().as_str(),
-        "IF" | "WHILE" | "GOTO" | "DO" | "END"
-    )
+    let code = code.trim_start();
+    let end = code
+        .find(|c: char| !c.is_ascii_alphabetic())
+        .unwrap_or(code.len());
+    ["IF", "WHILE", "GOTO", "DO", "END"]
+        .iter()
+        .any(|w| w.eq_ignore_ascii_case(&code[..end]))
+}
+
+/// Whether `code` may hold `G65`–`G67`, `M98` or `M99`: a G or M, then (as the grammar reads
+/// a word's value) blanks, a sign and zeros, then a 6 or a 9. Lines without one need not be
+/// parsed to know they call nothing.
+fn may_call(code: &str) -> bool {
+    let b = code.as_bytes();
+    b.iter().enumerate().any(|(i, c)| {
+        matches!(c, b'G' | b'g' | b'M' | b'm')
+            && b[i + 1..]
+                .iter()
+                .find(|&&d| !matches!(d, b' ' | b'\t' | b'\r' | b'+' | b'-' | b'0'))
+                .is_some_and(|&d| d == b'6' || d == b'9')
+    })
 }
 
 /// The line of a title before the program's start (see `front.rs`): a first line that is
 /// no block and starts with a letter, followed by a `%` or the program number.
 fn title_line(src: &SourceFile) -> Option<u32> {
-    let mut lines = src.lines().filter(|l| !l.text.trim().is_empty());
+    let mut lines = src.lines().filter(|l| !l.is_blank());
     let first = lines.next()?;
     let next = lines.next()?;
     let starts = syntax::parse_line(next.text).is_ok_and(|b| b.delimiter || b.get('O').is_some());
@@ -104,7 +117,11 @@ fn is_billet(text: &str) -> bool {
         .is_some_and(|h| h.eq_ignore_ascii_case("[BILLET"))
 }
 
-fn without_comments(text: &str) -> String {
+/// `text` without its `( )` comments (borrowed when it has none).
+fn without_comments(text: &str) -> std::borrow::Cow<'_, str> {
+    if !text.contains(['(', ')']) {
+        return std::borrow::Cow::Borrowed(text);
+    }
     let mut out = String::new();
     let mut depth = false;
     for c in text.chars() {
@@ -115,7 +132,7 @@ fn without_comments(text: &str) -> String {
             _ => {}
         }
     }
-    out
+    std::borrow::Cow::Owned(out)
 }
 
 /// The files a program's subprograms come from: `O1234` or `O1234.nc` in the subroutine

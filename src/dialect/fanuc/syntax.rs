@@ -84,7 +84,7 @@ fn fast_line(line: &str) -> Option<Block> {
         c.skip(blank_tab_or_cr);
     }
     if let Some(digits) = c.block_number(blank_tab_or_cr) {
-        block.number = Some(line[digits].parse().ok().filter(|n| *n <= 99_999)?);
+        block.number = Some(crate::dialect::lex::whole(&line[digits]).filter(|n| *n <= 99_999)?);
         code_end = c.pos;
         c.skip(blank_tab_or_cr);
     }

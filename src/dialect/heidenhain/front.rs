@@ -100,7 +100,7 @@ pub(crate) fn read(
     let mut first = true;
     for line in src.lines() {
         fe.r.line_read();
-        if line.text.trim().is_empty() {
+        if line.is_blank() {
             continue;
         }
         let at_start = std::mem::take(&mut first);

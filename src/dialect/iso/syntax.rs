@@ -288,7 +288,7 @@ fn fast_line(line: &str) -> Option<Block> {
         c.skip(blank_tab_or_cr);
     }
     if let Some(digits) = c.block_number(blank_tab_or_cr) {
-        block.number = Some(line[digits].parse().ok()?);
+        block.number = Some(crate::dialect::lex::whole(&line[digits])?);
         if c.peek() == Some(b'.') {
             c.pos += 1;
             c.digits()?;

@@ -15,7 +15,7 @@ use crate::dialect::nc31::profile::Nc31Profile;
 use crate::dialect::read::{Keep, Reader, UnsupportedWording};
 use crate::fixed::Length;
 use crate::ir::{ItemKind, Program};
-use crate::source::{SourceFile, Span};
+use crate::source::{LinePlace, SourceFile, Span};
 
 mod arc;
 mod block;
@@ -63,7 +63,7 @@ pub const REPEAT_LIMIT: usize = 10_000;
 #[derive(Clone)]
 struct GroupFrame {
     frame: Frame,
-    line: u32,
+    place: LinePlace,
 }
 
 impl GroupFrame {
@@ -75,7 +75,7 @@ impl GroupFrame {
     }
 
     fn text<'s>(&self, src: &'s SourceFile) -> &'s str {
-        &src.line(self.line).text[self.word().range.clone()]
+        &src.line_of(self.place).text[self.word().range.clone()]
     }
 }
 
@@ -175,7 +175,7 @@ pub(crate) fn read(
                 if frame.word.is_some() {
                     fe.group.push(GroupFrame {
                         frame,
-                        line: line.number,
+                        place: line.place(),
                     });
                 }
                 if !continues {
@@ -206,7 +206,7 @@ impl<'a> FrontEnd<'a> {
     }
 
     fn span(&self, f: &GroupFrame, range: Range<usize>) -> Span {
-        self.r.src.span_in_line(self.r.src.line(f.line), range)
+        self.r.src.span_in_line(self.r.src.line_of(f.place), range)
     }
 
     fn word_span(&self, f: &GroupFrame) -> Span {
@@ -249,7 +249,7 @@ impl<'a> FrontEnd<'a> {
         let first = &frames[0];
         let mut span = self.span(first, first.frame.code_range.clone());
         if let Some(last) = frames.last() {
-            let end = self.r.src.line(last.line).offset + last.frame.code_range.end;
+            let end = self.r.src.line_of(last.place).offset + last.frame.code_range.end;
             span.end = crate::source::offset32(end);
         }
         span
@@ -426,7 +426,7 @@ impl<'a> FrontEnd<'a> {
     }
 
     fn repeated(&mut self, f: &GroupFrame, first: &GroupFrame) {
-        let line = first.line;
+        let line = first.place.number;
         self.word_error(
             codes::NCR_GROUP_WORD,
             f,

@@ -63,7 +63,7 @@ pub struct Frame {
     pub number: Option<u32>,
     pub word: Option<Word>,
     /// In the order written, with their byte ranges.
-    pub modifiers: Vec<(Modifier, Range<usize>)>,
+    pub modifiers: smallvec::SmallVec<[(Modifier, Range<usize>); 2]>,
     /// The frame without leading and trailing blanks.
     pub code_range: Range<usize>,
 }
@@ -139,7 +139,7 @@ fn fast_line(line: &str) -> Option<Line> {
     if matches!(c.peek(), Some(b'N' | b'n')) && c.peek_at(1).is_some_and(|b| b.is_ascii_digit()) {
         c.pos += 1;
         let digits = c.digits()?;
-        frame.number = Some(line[digits].parse().ok()?);
+        frame.number = Some(crate::dialect::lex::whole(&line[digits])?);
     }
     let mut last = c.pos;
     c.skip(blank_or_tab);
@@ -148,18 +148,27 @@ fn fast_line(line: &str) -> Option<Line> {
         let b = c.peek()?;
         if b.is_ascii_alphabetic() {
             c.pos += 1;
-            let number = c.number()?;
-            let digits = number.trim_start_matches(['+', '-']);
+            let negative = match c.peek() {
+                Some(sign @ (b'+' | b'-')) => {
+                    c.pos += 1;
+                    sign == b'-'
+                }
+                _ => false,
+            };
+            let digits = c.digits()?;
             if frame.word.is_some()
                 || !frame.modifiers.is_empty()
                 || digits.len() > MAX_DIGITS
-                || digits.contains('.')
+                || c.peek() == Some(b'.')
             {
                 return None;
             }
+            let value = line.as_bytes()[digits]
+                .iter()
+                .fold(0i64, |v, d| v * 10 + i64::from(d - b'0'));
             frame.word = Some(Word {
                 letter: b.to_ascii_uppercase() as char,
-                value: number.parse().ok()?,
+                value: if negative { -value } else { value },
                 range: start..c.pos,
             });
         } else {

@@ -97,7 +97,8 @@ fn fast_line(line: &str) -> Option<Block> {
     if matches!(c.peek(), Some(b'N' | b'n')) && c.peek_at(1).is_some_and(|b| b.is_ascii_digit()) {
         c.pos += 1;
         let digits = c.digits()?;
-        block.number = Some(line[digits].parse().ok().filter(|n| *n <= 999_999_999)?);
+        block.number =
+            Some(crate::dialect::lex::whole(&line[digits]).filter(|n| *n <= 999_999_999)?);
         code_end = c.pos;
         c.skip(sep);
     }

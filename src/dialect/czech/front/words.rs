@@ -62,20 +62,25 @@ fn code_number(w: &Word) -> Option<i64> {
 }
 
 impl<'a> FrontEnd<'a> {
-    /// Sorts the words by modal group; reports repeated and conflicting words. `None` when a
-    /// conflict keeps the block from being carried out. After the words one by one: the
-    /// count of conflicts not reported, the dwell's words, the thread and arc words.
-    pub(super) fn classify<'b>(&mut self, line: Line<'_>, block: &'b Block) -> Option<Words<'b>> {
-        let mut words = Words::default();
+    /// Sorts the words by modal group into `words` (empty); reports repeated and conflicting
+    /// words. `false` when a conflict keeps the block from being carried out. After the words
+    /// one by one: the count of conflicts not reported, the dwell's words, the thread and arc
+    /// words.
+    pub(super) fn classify<'b>(
+        &mut self,
+        line: Line<'_>,
+        block: &'b Block,
+        words: &mut Words<'b>,
+    ) -> bool {
         let mut tally = Tally {
             ok: true,
             conflicts: 0,
         };
         for word in &block.words {
             match word.letter {
-                'G' => self.g_word(line, word, &mut words, &mut tally),
-                'M' => self.m_word(line, word, &mut words, &mut tally),
-                c if self.is_address(c) => self.address_word(line, word, &mut words, &mut tally),
+                'G' => self.g_word(line, word, words, &mut tally),
+                'M' => self.m_word(line, word, words, &mut tally),
+                c if self.is_address(c) => self.address_word(line, word, words, &mut tally),
                 'N' => self.misplaced_number(line, word, &mut tally),
                 'Y' => words
                     .unsupported
@@ -97,9 +102,9 @@ impl<'a> FrontEnd<'a> {
                 .help("write each address once per block, and one G code of each group"),
             );
         }
-        self.dwell_words(line, &mut words, &mut tally);
-        self.thread_and_arc_words(&mut words);
-        tally.ok.then_some(words)
+        self.dwell_words(line, words, &mut tally);
+        self.thread_and_arc_words(words);
+        tally.ok
     }
 
     /// A G code: its group (motion, G90/G91, G94/G95, G04, G96/G97), or why it is not

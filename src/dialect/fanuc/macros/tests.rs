@@ -71,6 +71,31 @@ fn plain_programs_do_not_run_through_macros() {
     assert!(!super::uses_macros(&SourceFile::new("t", title)));
     assert!(super::uses_macros(&SourceFile::new("t", "N10 GOTO 20\n")));
     assert!(super::uses_macros(&SourceFile::new("t", "G00 X#1\n")));
+    // Every way a word may write a call (blanks, a sign, zeros, a point, lower case).
+    for call in [
+        "G65 P9010",
+        "g 065 p9010",
+        "G+66P1",
+        "G67.",
+        "M98P100",
+        "m 99",
+        "N5 M098 P1",
+        "M99.0",
+        "G0 (M98) M98 P2",
+        "\tM\t99",
+    ] {
+        assert!(super::uses_macros(&SourceFile::new("t", call)), "{call}");
+    }
+    for plain in [
+        "G96 S200",
+        "M09",
+        "G01 X65. Z-98.",
+        "M9",
+        "(M98 P1) G00",
+        "G6.5",
+    ] {
+        assert!(!super::uses_macros(&SourceFile::new("t", plain)), "{plain}");
+    }
 }
 
 #[test]

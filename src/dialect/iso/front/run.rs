@@ -563,7 +563,7 @@ impl<'a> FrontEnd<'a> {
 
     /// The program has no end: LinuxCNC runs it, then stops with an error.
     fn no_end(&mut self, src: &'a SourceFile, percent: bool) {
-        let Some(line) = src.lines().filter(|l| !l.text.trim().is_empty()).last() else {
+        let Some(line) = src.lines().filter(|l| !l.is_blank()).last() else {
             return;
         };
         self.diag(

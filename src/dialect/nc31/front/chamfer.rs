@@ -98,7 +98,7 @@ impl FrontEnd<'_> {
             match w.letter {
                 'X' | 'Z' if chamfered => {
                     if let Some(first) = axis {
-                        let line = first.line;
+                        let line = first.place.number;
                         self.word_error(
                             codes::NCR_GROUP_WORD,
                             fr,

@@ -66,7 +66,7 @@ impl FrontEnd<'_> {
             .filter(|(_, readable)| *readable)
             .map(|(frames, _)| frames.clone())
             .collect();
-        self.replay(&replay, times, frames[0].line);
+        self.replay(&replay, times, frames[0].place.number);
     }
 
     /// A G25 group's error (NCR_REPEAT) at the frame `at`.
@@ -199,7 +199,7 @@ impl FrontEnd<'_> {
         };
         let nested = self.repeats.partition_point(|&i| i < first);
         if let Some(&inner) = self.repeats.get(nested).filter(|&&i| i <= last) {
-            let line = self.groups[inner].0[0].line;
+            let line = self.groups[inner].0[0].place.number;
             self.repeat_error(
                 range,
                 format!(

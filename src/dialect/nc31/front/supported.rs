@@ -121,7 +121,7 @@ impl FrontEnd<'_> {
         }
         let text = frames
             .iter()
-            .map(|f| &self.r.src.line(f.line).text[f.frame.code_range.clone()])
+            .map(|f| &self.r.src.line_of(f.place).text[f.frame.code_range.clone()])
             .collect::<Vec<_>>()
             .join("\n");
         let span = self.group_span(frames);

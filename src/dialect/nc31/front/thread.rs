@@ -156,7 +156,7 @@ impl FrontEnd<'_> {
         }
         self.push(ItemKind::ThreadCycle(Box::new(cycle)), span, None);
         self.r.pos = Pos::new(start.0, start.1);
-        self.feed = Feed::AfterThread(g.line);
+        self.feed = Feed::AfterThread(g.place.number);
     }
 
     /// A G31 group's words, sorted; reports those that do not belong and those missing.
@@ -336,7 +336,7 @@ impl FrontEnd<'_> {
         let kind = ItemKind::pass(pass);
         self.r.pos = kind.end_position(self.r.pos);
         self.push(kind, span, None);
-        self.feed = Feed::AfterThread(g.line);
+        self.feed = Feed::AfterThread(g.place.number);
     }
 
     /// `G33 [@] *` X Z F: tapping; with `@` the tool then moves to X (point C).
@@ -413,6 +413,6 @@ impl FrontEnd<'_> {
         });
         self.r.pos = kind.end_position(self.r.pos);
         self.push(kind, span, None);
-        self.feed = Feed::AfterThread(g.line);
+        self.feed = Feed::AfterThread(g.place.number);
     }
 }
