@@ -209,25 +209,26 @@ impl Emitter<'_> {
             self.next_number = self.next_number.saturating_add(self.step);
             Some(n)
         };
-        let mut line = String::new();
+        // Written straight into the output: `start` tells whether the line has a word yet.
+        let line = &mut self.w.out;
+        let start = line.len();
         if let Some(n) = number {
             let _ = write!(line, "N{n}");
             self.last_number = Some(n);
         }
         for w in block.words.drain(..) {
-            if !line.is_empty() {
+            if line.len() > start {
                 line.push(' ');
             }
             line.push_str(&w);
         }
         if let Some(c) = block.comment {
-            if !line.is_empty() {
+            if line.len() > start {
                 line.push(' ');
             }
             let _ = write!(line, "\"{}", one_line(&c));
         }
-        self.w.out.push_str(&line);
-        self.w.out.push('\n');
+        line.push('\n');
     }
 
     /// `v` with a decimal point and at most 3 decimals. A value that needs a 4th is rounded
@@ -273,8 +274,10 @@ impl Emitter<'_> {
     }
 
     fn coordinate_word(&mut self, item: &Item, letter: char, v: Length) -> Option<String> {
-        let text = self.three_decimals(item, &letter.to_string(), v);
-        Some(format!("{letter}{text}"))
+        let mut name = [0; 4];
+        let mut text = self.three_decimals(item, letter.encode_utf8(&mut name), v);
+        text.insert(0, letter);
+        Some(text)
     }
 
     /// The axis words of a move to `to` (every axis after a J/E pass).

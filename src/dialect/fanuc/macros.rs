@@ -50,7 +50,7 @@ pub(super) fn uses_macros(src: &SourceFile) -> bool {
             return false;
         }
         let code = without_comments(line.text);
-        if code.contains(['#', '[']) || starts_with_statement(&code) {
+        if memchr::memchr2(b'#', b'[', code.as_bytes()).is_some() || starts_with_statement(&code) {
             return true;
         }
         may_call(&code)
@@ -67,6 +67,14 @@ pub(super) fn uses_macros(src: &SourceFile) -> bool {
 
 /// `IF`, `WHILE`, `GOTO`, `DO` or `END` first in a block's code (after `/` and its N).
 fn starts_with_statement(code: &str) -> bool {
+    // Each keyword is two letters or more in a row, which a block of words never has.
+    if !code
+        .as_bytes()
+        .windows(2)
+        .any(|w| w[0].is_ascii_alphabetic() && w[1].is_ascii_alphabetic())
+    {
+        return false;
+    }
     let code = code.trim_start().trim_start_matches('/').trim_start();
     let code = match code.strip_prefix(['N', 'n']) {
         Some(rest) if rest.starts_with(|c: char| c.is_ascii_digit()) => {
@@ -119,7 +127,7 @@ fn is_billet(text: &str) -> bool {
 
 /// `text` without its `( )` comments (borrowed when it has none).
 fn without_comments(text: &str) -> std::borrow::Cow<'_, str> {
-    if !text.contains(['(', ')']) {
+    if memchr::memchr2(b'(', b')', text.as_bytes()).is_none() {
         return std::borrow::Cow::Borrowed(text);
     }
     let mut out = String::new();

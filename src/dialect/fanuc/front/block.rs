@@ -79,14 +79,31 @@ pub(super) struct Words<'w> {
     /// G90 / G91 of system B (true: incremental).
     pub(super) distance: Option<(bool, &'w Word)>,
     /// The M codes read, in the block's order.
-    pub(super) m_codes: Vec<(i64, &'w Word)>,
+    pub(super) m_codes: smallvec::SmallVec<[(i64, &'w Word); 4]>,
     /// X Z U W I K R F S T P Q O, in the block's order.
-    pub(super) letters: Vec<&'w Word>,
+    /// Held in place for up to eight (a block rarely has more).
+    pub(super) letters: smallvec::SmallVec<[&'w Word; 8]>,
+    /// Bit `c - 'A'` for each letter in `letters`: most questions (is there an R?) are
+    /// answered without a look at the list.
+    present: u32,
+}
+
+/// A letter's bit in [`Words::present`]: the letters sorted there are `A`–`Z`; any other
+/// character has none (and no word).
+fn letter_bit(c: char) -> u32 {
+    if c.is_ascii_uppercase() {
+        1 << (c as u32 - 'A' as u32)
+    } else {
+        0
+    }
 }
 
 impl<'w> Words<'w> {
     /// The word of this letter.
     pub(super) fn get(&self, c: char) -> Option<&'w Word> {
+        if self.present & letter_bit(c) == 0 {
+            return None;
+        }
         self.letters.iter().copied().find(|w| w.letter == c)
     }
 
@@ -474,9 +491,10 @@ impl FrontEnd<'_> {
                 'M' => self.sort_m(line, w, &mut words)?,
                 'X' | 'Z' | 'U' | 'W' | 'I' | 'K' | 'R' | 'F' | 'S' | 'T' | 'P' | 'Q' | 'O'
                 | 'D' | 'A' | 'C' => {
-                    if words.letters.iter().any(|o| o.letter == w.letter) {
+                    if words.present & letter_bit(w.letter) != 0 {
                         words.conflict.get_or_insert(w);
                     }
+                    words.present |= letter_bit(w.letter);
                     words.letters.push(w);
                 }
                 'E' => words.unsupported.push((
