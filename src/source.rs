@@ -411,7 +411,14 @@ impl LineStarts {
 
 /// Where the first line of `text` ends, its line end included.
 fn line_end(text: &str) -> usize {
-    memchr::memchr(b'\n', text.as_bytes()).map_or(text.len(), |e| e + 1)
+    // Most program lines are short: a plain look at their first bytes is quicker than
+    // setting up a vector search.
+    let bytes = text.as_bytes();
+    let head = &bytes[..bytes.len().min(32)];
+    if let Some(e) = head.iter().position(|&b| b == b'\n') {
+        return e + 1;
+    }
+    memchr::memchr(b'\n', &bytes[head.len()..]).map_or(text.len(), |e| head.len() + e + 1)
 }
 
 /// Line `number` at `offset`, its text `with_end` without its line ending.
@@ -627,6 +634,14 @@ mod tests {
             &long,
             &long_open,
             &"\n".repeat(33),
+            // Lines either side of the 32 bytes looked at before a vector search.
+            &format!(
+                "{}\n{}\n{}\r\nx",
+                "a".repeat(31),
+                "b".repeat(32),
+                "c".repeat(100)
+            ),
+            &"d".repeat(33),
         ] {
             let naive: Vec<&str> = if text.is_empty() {
                 vec![""]
