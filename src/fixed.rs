@@ -479,7 +479,7 @@ impl Decimal {
                     let d = b - b'0';
                     digits += 1;
                     if has_point {
-                        scale += 1;
+                        scale = scale.checked_add(1)?;
                     }
                     match wide.as_mut() {
                         None if narrow < 1_000_000_000_000_000_000 => {

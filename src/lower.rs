@@ -450,28 +450,8 @@ pub struct Expansion {
 /// ([`Retract::AboveCut`]). Spring passes repeat the full depth. At the end the tool
 /// returns to the start point, or goes to the [`Finish::EndAt`] diameter at the end Z.
 pub fn expand(cycle: &ThreadCycle) -> Result<Expansion, ExpandError> {
-    if cycle.lead.0 <= 0 {
-        return Err(ExpandError::Lead);
-    }
-    let (ax, az) = cycle.start;
-    if cycle.end_z == az {
-        return Err(ExpandError::NoTravel);
-    }
-    let mut depths = pass_depths(cycle.schedule, cycle.depth, cycle.first_depth)?;
-    if depths.len() + cycle.spring_passes as usize > MAX_PASSES {
-        return Err(ExpandError::TooManyPasses);
-    }
-    depths.extend((0..cycle.spring_passes).map(|_| cycle.depth));
-    let shape = CycleShape {
-        cycle,
-        ax,
-        az,
-        towards_end: (cycle.end_z - az).signum(),
-        // Outward: +1 for an external thread (the tool comes from larger diameters).
-        outward: if cycle.internal { -1 } else { 1 },
-        needed: cycle.entry.map_or(Length::ZERO, |e| e.length)
-            + cycle.runout.map_or(Length::ZERO, |r| r.length),
-    };
+    let (shape, depths) = CycleShape::of(cycle)?;
+    let (ax, az) = (shape.ax, shape.az);
     let mut passes = Vec::with_capacity(depths.len());
     let mut moves = Vec::with_capacity(4 * depths.len() + 1);
     let mut previous = Length::ZERO;
@@ -497,6 +477,16 @@ pub fn expand(cycle: &ThreadCycle) -> Result<Expansion, ExpandError> {
     Ok(Expansion { passes, moves })
 }
 
+/// Whether a cycle can be cut: what [`expand`] refuses, without working out its moves (a
+/// reader refuses such a cycle where it is written, and hands the cycle on).
+pub fn check(cycle: &ThreadCycle) -> Result<(), ExpandError> {
+    let (shape, depths) = CycleShape::of(cycle)?;
+    for (i, &c) in depths.iter().enumerate() {
+        shape.travel(i + 1, c)?;
+    }
+    Ok(())
+}
+
 /// What [`expand`] works out once for every pass of a cycle.
 struct CycleShape<'c> {
     cycle: &'c ThreadCycle,
@@ -519,7 +509,55 @@ struct PassWay {
     leave: Vec<Move>,
 }
 
-impl CycleShape<'_> {
+impl<'c> CycleShape<'c> {
+    /// The shape of `cycle` and each pass's cumulative depth (spring passes included), or
+    /// why the cycle cannot be cut before any pass is worked out.
+    fn of(cycle: &'c ThreadCycle) -> Result<(CycleShape<'c>, Vec<Length>), ExpandError> {
+        if cycle.lead.0 <= 0 {
+            return Err(ExpandError::Lead);
+        }
+        let (ax, az) = cycle.start;
+        if cycle.end_z == az {
+            return Err(ExpandError::NoTravel);
+        }
+        let mut depths = pass_depths(cycle.schedule, cycle.depth, cycle.first_depth)?;
+        if depths.len() + cycle.spring_passes as usize > MAX_PASSES {
+            return Err(ExpandError::TooManyPasses);
+        }
+        depths.extend((0..cycle.spring_passes).map(|_| cycle.depth));
+        let shape = CycleShape {
+            cycle,
+            ax,
+            az,
+            towards_end: (cycle.end_z - az).signum(),
+            // Outward: +1 for an external thread (the tool comes from larger diameters).
+            outward: if cycle.internal { -1 } else { 1 },
+            needed: cycle.entry.map_or(Length::ZERO, |e| e.length)
+                + cycle.runout.map_or(Length::ZERO, |r| r.length),
+        };
+        Ok((shape, depths))
+    }
+
+    /// The Z of pass `number` at cumulative depth `c`, its end Z, and its Z travel, which
+    /// must hold the entry and the runout.
+    fn travel(&self, number: usize, c: Length) -> Result<(Length, Length), ExpandError> {
+        let cycle = self.cycle;
+        let z = self.az + Length(self.towards_end * cycle.infeed.of(c).0);
+        let end_z = if cycle.infeed_moves_end {
+            cycle.end_z - Length(self.towards_end * cycle.infeed.of(cycle.depth - c).0)
+        } else {
+            cycle.end_z
+        };
+        let travel = Length(self.towards_end * (end_z - z).0);
+        if travel.0 <= self.needed.0 {
+            return Err(ExpandError::ShortPass {
+                pass: number,
+                travel,
+            });
+        }
+        Ok((z, end_z))
+    }
+
     /// A radial length (per side) as a diameter change outwards.
     fn out(&self, l: Length) -> Length {
         Length(self.outward * l.0)
@@ -568,19 +606,7 @@ impl CycleShape<'_> {
     ) -> Result<(CyclePass, PassWay), ExpandError> {
         let cycle = self.cycle;
         let sink = self.out(-(c + c));
-        let z = self.az + Length(self.towards_end * cycle.infeed.of(c).0);
-        let end_z = if cycle.infeed_moves_end {
-            cycle.end_z - Length(self.towards_end * cycle.infeed.of(cycle.depth - c).0)
-        } else {
-            cycle.end_z
-        };
-        let travel = Length(self.towards_end * (end_z - z).0);
-        if travel.0 <= self.needed.0 {
-            return Err(ExpandError::ShortPass {
-                pass: number,
-                travel,
-            });
-        }
+        let (z, end_z) = self.travel(number, c)?;
         let line_start = Pos::new(self.crest_at(z) + sink, z);
         let line_end = Pos::new(self.crest_at(end_z) + sink, end_z);
         let entry = cycle.entry.map(|e| Chamfer {
@@ -1028,6 +1054,53 @@ mod tests {
                 pass: 1,
                 travel: mm(52.0)
             })
+        );
+    }
+
+    #[test]
+    fn a_check_answers_as_the_expansion_does() {
+        let mut cycles = Vec::new();
+        for schedule in [
+            Schedule::Halving,
+            Schedule::ConstantDepth,
+            Schedule::ConstantArea,
+        ] {
+            let c = m36(schedule);
+            cycles.push(c);
+            let mut short = c;
+            short.runout = Some(crate::ir::CycleChamfer {
+                length: mm(52.0),
+                rise: Rise::ToCrest,
+            });
+            cycles.push(short);
+            // A runout that only the deeper passes' infeed shift leaves no room for.
+            let mut late = c;
+            late.infeed = crate::ir::Slope { rise: 1, run: 1 };
+            late.runout = Some(crate::ir::CycleChamfer {
+                length: mm(50.8),
+                rise: Rise::ToCrest,
+            });
+            cycles.push(late);
+            let mut none = c;
+            none.end_z = none.start.1;
+            cycles.push(none);
+            let mut lead = c;
+            lead.lead = Lead::ZERO;
+            cycles.push(lead);
+            let mut deep = c;
+            deep.depth = mm(1000.0);
+            cycles.push(deep);
+        }
+        let mut refused = 0;
+        for c in &cycles {
+            let expanded = expand(c).map(|_| ());
+            refused += usize::from(expanded.is_err());
+            assert_eq!(check(c), expanded, "{c:?}");
+        }
+        assert!(
+            refused >= 12 && refused < cycles.len(),
+            "{refused} of {}",
+            cycles.len()
         );
     }
 

@@ -116,7 +116,11 @@ impl<'a> Cursor<'a> {
         let (mut mantissa, mut digits, mut scale, mut has_point) = (0u64, 0u32, 0u32, false);
         while let Some(&b) = bytes.get(at) {
             if b.is_ascii_digit() {
-                mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(b - b'0'));
+                if digits == 18 {
+                    // More than fit: read by `Decimal::parse`, whatever the length.
+                    return Decimal::parse(self.number()?);
+                }
+                mantissa = mantissa * 10 + u64::from(b - b'0');
                 digits += 1;
                 scale += u32::from(has_point);
             } else if b == b'.' && !has_point {
@@ -126,7 +130,7 @@ impl<'a> Cursor<'a> {
             }
             at += 1;
         }
-        if digits == 0 || digits > 18 {
+        if digits == 0 {
             return Decimal::parse(self.number()?);
         }
         self.pos = at;
@@ -161,12 +165,15 @@ impl<'a> Cursor<'a> {
     }
 }
 
-/// The value of `digits` (ASCII digits only, as [`Cursor::digits`] takes them), as
-/// `str::parse::<u32>` reads it: `None` when it does not fit.
+/// The value of `digits` (as [`Cursor::digits`] takes them), as `str::parse::<u32>` reads
+/// ASCII digits: `None` when empty, not all digits, or too large.
 pub(crate) fn whole(digits: &str) -> Option<u32> {
+    if digits.is_empty() {
+        return None;
+    }
     digits.bytes().try_fold(0u32, |v, d| {
-        v.checked_mul(10)?
-            .checked_add(u32::from(d.wrapping_sub(b'0')))
+        let d = d.is_ascii_digit().then(|| u32::from(d - b'0'))?;
+        v.checked_mul(10)?.checked_add(d)
     })
 }
 
@@ -204,6 +211,8 @@ mod tests {
     #[test]
     fn a_whole_number_is_what_parse_reads() {
         for digits in [
+            "",
+            "1a",
             "0",
             "7",
             "0042",

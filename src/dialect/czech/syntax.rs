@@ -99,7 +99,7 @@ pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
 }
 
 /// [`parse_line`] into a block reused from line to line (its lists keep their room).
-/// After an error the block holds no reading of the line.
+/// After an error the block may hold part of a reading: use it only after `Ok`.
 pub fn parse_line_into(line: &str, block: &mut Block) -> Result<(), SyntaxError> {
     block.number = None;
     block.words.clear();

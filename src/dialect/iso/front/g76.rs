@@ -91,7 +91,7 @@ impl FrontEnd<'_> {
         let Some(cycle) = self.g76_cycle(line, &g, (start_x, start_z), to) else {
             return;
         };
-        if let Err(err) = lower::expand(&cycle) {
+        if let Err(err) = lower::check(&cycle) {
             return self.g76_error(
                 line,
                 at,

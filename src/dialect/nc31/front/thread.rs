@@ -151,7 +151,7 @@ impl FrontEnd<'_> {
         let Some(cycle) = self.g31_cycle(&w, start) else {
             return;
         };
-        if let Err(e) = lower::expand(&cycle) {
+        if let Err(e) = lower::check(&cycle) {
             return self.g31_refused(e, &cycle, &w);
         }
         self.push(ItemKind::ThreadCycle(Box::new(cycle)), span, None);
