@@ -313,6 +313,8 @@ impl FrontEnd<'_> {
         // The first line, when it cannot be read: a title if the program starts after it.
         let mut title: Option<(Line<'_>, syntax::SyntaxError)> = None;
         let mut first = true;
+        // The words of the block before, for the next block's words (no allocation a line).
+        let mut room = Vec::new();
         for line in src.lines() {
             // Nothing looks back past the line being read.
             self.line_read();
@@ -323,7 +325,7 @@ impl FrontEnd<'_> {
                 first = false;
                 continue;
             }
-            let parsed = syntax::parse_line(line.text);
+            let parsed = syntax::parse_line_with(line.text, std::mem::take(&mut room));
             if let Some((t, e)) = title.take() {
                 match &parsed {
                     Ok(b) if b.delimiter || b.get('O').is_some() => self.title(src, t),
@@ -348,8 +350,12 @@ impl FrontEnd<'_> {
                         block.delimiter = false;
                         self.line_block(src, line, &block, &mut ended);
                     }
+                    room = block.words;
                 }
-                Ok(block) => self.line_block(src, line, &block, &mut ended),
+                Ok(block) => {
+                    self.line_block(src, line, &block, &mut ended);
+                    room = block.words;
+                }
                 Err(e) => self.syntax_error(line, e),
             }
         }

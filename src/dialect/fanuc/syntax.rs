@@ -59,18 +59,34 @@ pub struct SyntaxError {
 
 /// Parses one line (without its line ending).
 pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
-    match fast_line(line) {
+    parse_line_with(line, Vec::new())
+}
+
+/// [`parse_line`] into the room of an earlier block's words (`words`, cleared here), so that
+/// a reader going line by line allocates none.
+pub fn parse_line_with(line: &str, mut words: Vec<Word>) -> Result<Block, SyntaxError> {
+    words.clear();
+    match fast_line_with(line, words) {
         Some(block) => Ok(block),
         None => parse_with_grammar(line),
     }
 }
 
 /// The grammar's reading of a well-formed line without pest (see `dialect::lex`), or `None`.
+#[cfg(test)]
 fn fast_line(line: &str) -> Option<Block> {
+    fast_line_with(line, Vec::new())
+}
+
+/// [`fast_line`] into `words` (empty).
+fn fast_line_with(line: &str, words: Vec<Word>) -> Option<Block> {
     let mut c = Cursor::new(line);
     c.skip(blank_tab_or_cr);
     let first = c.pos;
-    let mut block = Block::default();
+    let mut block = Block {
+        words,
+        ..Block::default()
+    };
     if c.delimiter(blank_tab_or_cr)? {
         block.delimiter = true;
         block.code_range = c.pos..c.pos;
