@@ -1029,7 +1029,8 @@ pub fn as_printed(segments: &[Segment], tol: Length) -> Vec<Segment> {
 /// The first move, after the events before it: a G0 or a G1 from nowhere to rs274's start
 /// point, X0 Z0, is also what rs274 prints for a `G1` without axes before any move (LinuxCNC
 /// moves to where it stands, which it takes for X0 Z0), where ncthread, not knowing the
-/// place, moves nowhere. Left out on both sides, like the rapid.
+/// place, moves nowhere. Left out on both sides, like the rapid; the state changes either
+/// side of it are then one run (normalised again), as on the side that never had it.
 fn without_rapid_to_rs274_start(mut segments: Vec<Segment>) -> Vec<Segment> {
     if let Some(i) = segments.iter().position(|s| s.motion.moves())
         && matches!(segments[i].motion, Motion::Rapid | Motion::Feed { .. })
@@ -1037,6 +1038,7 @@ fn without_rapid_to_rs274_start(mut segments: Vec<Segment>) -> Vec<Segment> {
         && segments[i].to == Pos::new(Length::ZERO, Length::ZERO)
     {
         segments.remove(i);
+        return super::normalise(&segments);
     }
     segments
 }
