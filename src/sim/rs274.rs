@@ -1029,16 +1029,20 @@ pub fn as_printed(segments: &[Segment], tol: Length) -> Vec<Segment> {
 /// The first move, after the events before it: a G0 or a G1 from nowhere to rs274's start
 /// point, X0 Z0, is also what rs274 prints for a `G1` without axes before any move (LinuxCNC
 /// moves to where it stands, which it takes for X0 Z0), where ncthread, not knowing the
-/// place, moves nowhere. Left out on both sides, like the rapid; the state changes either
-/// side of it are then one run (normalised again), as on the side that never had it.
+/// place, moves nowhere. Left out on both sides, like the rapid; after such a feed, the state
+/// changes either side of it are one run (normalised again), as on ncthread's side, which
+/// never had it. (Not after a rapid: rs274's first rapid may be two merged, the second a
+/// `G28` that ncthread's side holds as a move to a place it does not know.)
 fn without_rapid_to_rs274_start(mut segments: Vec<Segment>) -> Vec<Segment> {
     if let Some(i) = segments.iter().position(|s| s.motion.moves())
         && matches!(segments[i].motion, Motion::Rapid | Motion::Feed { .. })
         && segments[i].from == Pos::UNKNOWN
         && segments[i].to == Pos::new(Length::ZERO, Length::ZERO)
     {
-        segments.remove(i);
-        return super::normalise(&segments);
+        let feed = matches!(segments.remove(i).motion, Motion::Feed { .. });
+        if feed {
+            return super::normalise(&segments);
+        }
     }
     segments
 }
