@@ -1065,6 +1065,11 @@ impl FrontEnd<'_> {
         if words.moves() || words.motion.is_some_and(|(m, _)| m == Motion::Cycle) {
             let g = words.motion.map(|(_, w)| w);
             self.motion_block(line, &|c| words.get(c), lead, feed, g, code_span)?;
+            // A rapid's F is for the moves after it (a cycle kept as written without F cuts
+            // at it): an item of its own, so that a writer says it.
+            if let (Motion::Rapid, Some(f)) = (self.motion, feed) {
+                self.push(ItemKind::FeedRate(f), code_span);
+            }
         } else if let Some(f) = feed {
             self.push(ItemKind::FeedRate(f), code_span);
         } else if let Some(w) = ['I', 'K', 'R', 'Q', 'P'].iter().find_map(|&c| words.get(c)) {
