@@ -991,10 +991,13 @@ impl Emitter<'_> {
         }
     }
 
-    /// A feed of its own: in a G01 block when F last held a lead.
+    /// A feed of its own: in a G01 block when F last held a lead, unless the motion in force
+    /// is a G00 or G01 (whose F is a feed: a rapid's F, read as a feed of its own).
     fn feed_rate(&mut self, feed: Length, block: &mut Block) {
         if self.f != Some((Lead::from_length(feed), false)) {
-            if matches!(self.f, Some((_, true))) || self.motion == Some("G32") {
+            let lead =
+                matches!(self.f, Some((_, true))) && !matches!(self.motion, Some("G00" | "G01"));
+            if lead || self.motion == Some("G32") {
                 self.motion_word_only(block, "G01");
             }
             self.feed_word(feed, block);
