@@ -234,7 +234,9 @@ pub fn translate(fanuc: &str, calculator: bool) -> Result<String, String> {
             match motion {
                 0 => {
                     in_chain = false;
-                    now.push(format!("G0{}", axes(nx, nz)));
+                    // A rapid's F sets the feed for the moves after it, in both languages.
+                    let f = feed.map(|f| format!(" F{}", n(f))).unwrap_or_default();
+                    now.push(format!("G0{}{f}", axes(nx, nz)));
                 }
                 1 => {
                     in_chain = false;
