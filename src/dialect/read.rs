@@ -123,8 +123,9 @@ impl<W> Default for Letters<W> {
     }
 }
 
-/// A letter's bit in [`Letters::present`].
-fn letter_bit(letter: char) -> u32 {
+/// A letter's bit in a mask of the letters a block holds ([`Letters`], FANUC's words):
+/// `A`–`Z` one each, any other character bit 31.
+pub(crate) fn letter_bit(letter: char) -> u32 {
     if letter.is_ascii_uppercase() {
         1 << (letter as u32 - 'A' as u32)
     } else {

@@ -37,6 +37,7 @@ use crate::dialect::fanuc::codes;
 use crate::dialect::fanuc::profile::GcodeSystem;
 use crate::dialect::fanuc::syntax::{Block, Word};
 use crate::dialect::machine::Switches;
+use crate::dialect::read::letter_bit;
 use crate::fixed::{Decimal, Lead, Length};
 use crate::ir::{
     Compensation, Coolant, EndCode, FeedMode, ItemKind, SpindleDirection, SpindleMode,
@@ -83,19 +84,9 @@ pub(super) struct Words<'w> {
     /// X Z U W I K R F S T P Q O, in the block's order.
     /// Held in place for up to eight (a block rarely has more).
     pub(super) letters: smallvec::SmallVec<[&'w Word; 8]>,
-    /// Bit `c - 'A'` for each letter in `letters`: most questions (is there an R?) are
-    /// answered without a look at the list.
+    /// [`letter_bit`] of each letter in `letters` (all `A`–`Z`): most questions (is there an
+    /// R?) are answered without a look at the list.
     present: u32,
-}
-
-/// A letter's bit in [`Words::present`]: the letters sorted there are `A`–`Z`; any other
-/// character has none (and no word).
-fn letter_bit(c: char) -> u32 {
-    if c.is_ascii_uppercase() {
-        1 << (c as u32 - 'A' as u32)
-    } else {
-        0
-    }
 }
 
 impl<'w> Words<'w> {
