@@ -6,8 +6,10 @@ use pest::Parser;
 use pest_derive::Parser;
 
 use super::expr::{Expr, ExprKind, Func, Op, Param};
-use crate::dialect::lex::{Cursor, blank_tab_or_cr};
 use crate::fixed::Decimal;
+
+mod fast;
+use fast::fast_line;
 
 #[derive(Parser)]
 #[grammar = "../grammar/iso.pest"]
@@ -269,62 +271,6 @@ pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
     }
 }
 
-/// The grammar's reading of a well-formed line of plain words and comments without pest (see
-/// `dialect::lex`), or `None`: parameters, expressions and O-words are the grammar's.
-fn fast_line(line: &str) -> Option<Block> {
-    let mut c = Cursor::new(line);
-    c.skip(blank_tab_or_cr);
-    let mut block = Block::default();
-    if c.delimiter(blank_tab_or_cr)? {
-        block.delimiter = true;
-        return Some(block);
-    }
-    if c.peek() == Some(b'/') {
-        block.unread.push(Unread {
-            what: BLOCK_DELETE,
-            range: c.pos..c.pos + 1,
-        });
-        c.pos += 1;
-        c.skip(blank_tab_or_cr);
-    }
-    if let Some(digits) = c.block_number(blank_tab_or_cr) {
-        block.number = Some(crate::dialect::lex::whole(&line[digits])?);
-        if c.peek() == Some(b'.') {
-            c.pos += 1;
-            c.digits()?;
-        }
-        c.skip(blank_tab_or_cr);
-    }
-    while !c.at_end() {
-        let start = c.pos;
-        match c.peek()? {
-            b'(' => block
-                .comments
-                .extend(crate::dialect::comment_text(c.paren_comment()?)),
-            b';' => {
-                block
-                    .comments
-                    .extend(crate::dialect::comment_text(&c.rest()[1..]));
-                break;
-            }
-            b'O' | b'o' => return None,
-            b if b.is_ascii_alphabetic() => {
-                c.pos += 1;
-                let value = c.value(blank_tab_or_cr)?;
-                block.words.push(Word {
-                    letter: b.to_ascii_uppercase() as char,
-                    value,
-                    range: start..c.pos,
-                    expr: None,
-                });
-            }
-            _ => return None,
-        }
-        c.skip(blank_tab_or_cr);
-    }
-    Some(block)
-}
-
 /// Parses one line with the grammar: the reading of every line the fast path declines, and
 /// the source of every syntax error.
 fn parse_with_grammar(line: &str) -> Result<Block, SyntaxError> {
@@ -504,8 +450,12 @@ fn range_of(pair: &Pair<'_>) -> Range<usize> {
 
 /// `<My Name>` → `myname`: LinuxCNC removes blanks and lowers the case.
 fn name_of(pair: Pair<'_>) -> String {
-    pair.as_str()
-        .trim_start_matches('<')
+    name_text(pair.as_str())
+}
+
+/// A name's text as written (`<My Name>`) as LinuxCNC keeps it (`myname`).
+fn name_text(text: &str) -> String {
+    text.trim_start_matches('<')
         .trim_end_matches('>')
         .chars()
         .filter(|c| !c.is_whitespace())
@@ -793,7 +743,81 @@ mod tests {
         "#1",
         "=",
         "sub",
+        "<",
+        ">",
+        "<a b>",
+        "#<P>",
+        "##",
+        "*",
+        "**",
+        "/",
+        "mod",
+        "LE",
+        "gt",
+        "and",
+        "Or",
+        "xor",
+        "while",
+        "end while",
+        "if",
+        "call",
+        "abs",
+        "atan",
+        "[1]",
+        "[#<x> + 1]",
+        "x[",
     ];
+
+    /// Lines of the macro language as programs write them, and near misses: where the fast
+    /// path reads one, it reads what the grammar does (ranges included).
+    #[test]
+    fn the_fast_path_reads_expressions_as_the_grammar_does() {
+        let lines = [
+            "#<pass> = 1",
+            "#<pass> = [#<pass> + 1]",
+            "o100 while [#<pass> LE 4]",
+            "O100 ENDWHILE",
+            "G0 X[30 - #<pass> * 0.25] Z5",
+            "N10 #1=5 G1 X#1 Z-#<z> F[#2/2]",
+            "/ o<my sub> call [1] [-2.5] [#3] (args)",
+            "o0100 if [#1 EQ 2 AND #2 GT 3] ; why",
+            "#[1 + 2] = ##1",
+            "# 5 = - [ 2 ** 3 mod 5 ]",
+            "X - #1",
+            "X-[1]",
+            "X+#1",
+            "o 1 2 sub",
+            "#<a> = [1 - -2]",
+            "#<a> = [1 --2]",
+            "#1 = [2 * 3 + 4 / 5 - 6]",
+            "o100 sub [1",
+            "o100 sub X5",
+            "o100",
+            "G0 o100 sub",
+            "#<> = 1",
+            "#<a<b> = 1",
+            "X[1 2]",
+            "X[abs[-1]]",
+            "X[1.2.3]",
+            "#1 = 5.",
+            "#1 = .5",
+            "#1 = .",
+            "X[#1]]",
+            "o100 while [1] (a) (b)",
+            "o100 while [1];(a)",
+            "o<A\u{e9}> call",
+            "#1 = 1e5",
+        ];
+        for line in lines {
+            let grammar = parse_with_grammar(line);
+            if let Some(fast) = fast_line(line) {
+                assert_eq!(Ok(fast), grammar, "{line:?}");
+            }
+        }
+        for line in &lines[..13] {
+            assert!(fast_line(line).is_some(), "the fast path declines {line:?}");
+        }
+    }
 
     crate::dialect::lex::agreement_tests!(fast_line, parse_with_grammar, TOKENS);
 }
