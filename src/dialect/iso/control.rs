@@ -476,6 +476,21 @@ pub struct FileRun<'s> {
     bodies: Vec<(usize, usize)>,
     /// Body lines read so far ([`BODY_LINES_KEPT`] at most: forgotten all at once when full).
     kept: std::cell::RefCell<std::collections::HashMap<usize, ReadLine>>,
+    /// Where the last look-ups in `read` and `bodies` ended: lines are mostly asked for in
+    /// order, so the next answer is usually there or one further.
+    hints: std::cell::Cell<(usize, usize)>,
+}
+
+/// `v.partition_point(below)` for a `v` sorted by it, tried first at `hint` and one past it.
+fn partition_from<T>(v: &[T], hint: usize, below: impl Fn(&T) -> bool) -> usize {
+    for at in [hint, hint + 1] {
+        let left_ok = at == 0 || v.get(at - 1).is_some_and(&below);
+        let right_ok = v.get(at).is_none_or(|x| !below(x));
+        if at <= v.len() && left_ok && right_ok {
+            return at;
+        }
+    }
+    v.partition_point(below)
 }
 
 /// How many lines of subroutine and loop bodies a [`FileRun`] keeps read: a loop this long
@@ -563,14 +578,18 @@ impl<'s> FileRun<'s> {
             structure,
             bodies,
             kept: Default::default(),
+            hints: Default::default(),
         }
     }
 
     /// Line `i` read into a block; `None` when it holds a NUL.
     pub fn block(&self, i: usize) -> std::borrow::Cow<'_, ReadLine> {
-        match self.read.binary_search_by_key(&i, |r| r.0) {
-            Ok(at) => std::borrow::Cow::Borrowed(&*self.read[at].1),
-            Err(_) if self.in_body(i) => {
+        let (hint, body_hint) = self.hints.get();
+        let at = partition_from(&self.read, hint, |r| r.0 < i);
+        self.hints.set((at, body_hint));
+        match self.read.get(at).filter(|r| r.0 == i) {
+            Some(r) => std::borrow::Cow::Borrowed(&*r.1),
+            None if self.in_body(i) => {
                 let mut kept = self.kept.borrow_mut();
                 if let Some(line) = kept.get(&i) {
                     return std::borrow::Cow::Owned(line.clone());
@@ -582,7 +601,7 @@ impl<'s> FileRun<'s> {
                 kept.insert(i, line.clone());
                 std::borrow::Cow::Owned(line)
             }
-            Err(_) => std::borrow::Cow::Owned(self.parse(i)),
+            None => std::borrow::Cow::Owned(self.parse(i)),
         }
     }
 
@@ -594,7 +613,9 @@ impl<'s> FileRun<'s> {
 
     /// Whether line `i` is inside a subroutine or a loop.
     fn in_body(&self, i: usize) -> bool {
-        let starts = self.bodies.partition_point(|&(start, _)| start <= i);
+        let (hint, body_hint) = self.hints.get();
+        let starts = partition_from(&self.bodies, body_hint, |&(start, _)| start <= i);
+        self.hints.set((hint, starts));
         starts > 0 && i <= self.bodies[starts - 1].1
     }
 
@@ -888,6 +909,21 @@ pub fn eval_error(line: usize, e: EvalError) -> StructureError {
 mod tests {
     use super::*;
     use crate::dialect::iso::syntax::parse_line;
+
+    #[test]
+    fn a_hinted_partition_point_is_the_partition_point() {
+        let v = [1, 3, 3, 7, 9];
+        for x in 0..11 {
+            for hint in 0..8 {
+                assert_eq!(
+                    super::partition_from(&v, hint, |&e| e < x),
+                    v.partition_point(|&e| e < x),
+                    "{x} from {hint}"
+                );
+            }
+        }
+        assert_eq!(super::partition_from(&[] as &[i32], 3, |&e| e < 1), 0);
+    }
 
     fn structure(text: &str) -> Structure {
         let blocks: Vec<Block> = text.lines().map(|l| parse_line(l).unwrap()).collect();
