@@ -367,6 +367,9 @@ pub struct Roughing {
     pub retract_rapid: bool,
     /// The layers are counted from the start shifted by the allowance (else from the start).
     pub from_shifted: bool,
+    /// The semi-finish pass along the roughing contour follows the layers (else the tool
+    /// goes back to the start after the last layer).
+    pub semi_finish: bool,
 }
 
 /// The axis the layers step along (`across`) and the one the cuts run along, as diameter or
@@ -407,7 +410,9 @@ pub type Refusal = String;
 /// at rapid or feed as the first element, each cut along to the roughing contour (the contour
 /// shifted by the allowance), the 45° retract e, a rapid back; then the infeed to the
 /// roughing contour's start, the semi-finish pass along it at the roughing feed (a rapid in
-/// it at feed), and a rapid back to the start. **\[decided\]** spec fanuc.md.
+/// it at feed), and a rapid back to the start. **\[decided\]** spec fanuc.md. Without the
+/// semi-finish pass (`g71_semi_finish = false`), the layers are the same and a rapid goes
+/// back to the start from the last one: the steps they leave are G70's. **\[decided\]**
 pub fn roughing(start: Point, contour: &[Element], r: &Roughing) -> Result<Vec<ItemKind>, Refusal> {
     let ax = Axes { facing: r.facing };
     let [first, profile @ ..] = contour else {
@@ -442,6 +447,7 @@ pub fn roughing(start: Point, contour: &[Element], r: &Roughing) -> Result<Vec<I
     let b0 = ax.along(origin);
     let mut level = ax.across(origin);
     let mut k = 0u32;
+    let mut here = origin;
     loop {
         level += side * step;
         if side * (level - ax.across(p0s)) >= 0 {
@@ -477,11 +483,16 @@ pub fn roughing(start: Point, contour: &[Element], r: &Roughing) -> Result<Vec<I
         } else {
             feed(out, r.feed)
         });
-        moves.push(rapid(ax.point(ax.across(out), b0)));
+        here = ax.point(ax.across(out), b0);
+        moves.push(rapid(here));
     }
-    moves.push(infeed(p0s));
-    moves.extend(profile.iter().map(|e| e.item(shift, Some(r.feed))));
-    moves.push(rapid(start));
+    if r.semi_finish {
+        moves.push(infeed(p0s));
+        moves.extend(profile.iter().map(|e| e.item(shift, Some(r.feed))));
+        moves.push(rapid(start));
+    } else if here != start {
+        moves.push(rapid(start));
+    }
     Ok(moves)
 }
 
@@ -686,6 +697,7 @@ mod tests {
             feed: mm(0.25),
             retract_rapid: false,
             from_shifted: true,
+            semi_finish: true,
         };
         let m = roughing(pt(52.0, 2.0), &contour, &r).unwrap();
         let e = |k: &str, x, z| (k.to_string(), x, z);
@@ -714,6 +726,15 @@ mod tests {
             e("G01", 52.4, -39.9),
             e("G00", 52.0, 2.0),
         ]);
+        assert_eq!(ends(&m), want);
+        // Without the semi-finish pass: the same layers, then a rapid back to the start.
+        let r = Roughing {
+            semi_finish: false,
+            ..r
+        };
+        let m = roughing(pt(52.0, 2.0), &contour, &r).unwrap();
+        want.truncate(want.len() - 6);
+        want.push(e("G00", 52.0, 2.0));
         assert_eq!(ends(&m), want);
     }
 
@@ -817,6 +838,7 @@ mod tests {
             feed: mm(0.25),
             retract_rapid: false,
             from_shifted: true,
+            semi_finish: true,
         };
         // From Ø48 the first layer, Ø44, is beyond the contour's largest diameter, Ø40.
         let e = roughing(pt(48.0, 2.0), &contour[..3], &r).unwrap_err();

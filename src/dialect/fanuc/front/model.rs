@@ -660,11 +660,12 @@ impl FrontEnd<'_> {
                 .g71_layers_from
                 .ok_or_else(|| open("where the layers are counted from", "g71_layers_from"))?
                 == LayersFrom::ShiftedStart;
-            match m.g71_semi_finish {
-                Some(true) => {}
-                Some(false) => return Err("roughing without the semi-finish pass (`g71_semi_finish = false`) is not expanded by this version".into()),
-                None => return Err(open("whether a semi-finish pass follows the layers", "g71_semi_finish")),
-            }
+            let semi_finish = m.g71_semi_finish.ok_or_else(|| {
+                open(
+                    "whether a semi-finish pass follows the layers",
+                    "g71_semi_finish",
+                )
+            })?;
             Ok(Pending {
                 item: self.r.items.len(),
                 span: Span::default(),
@@ -679,6 +680,7 @@ impl FrontEnd<'_> {
                     feed,
                     retract_rapid,
                     from_shifted,
+                    semi_finish,
                 }),
             })
         })();
