@@ -78,6 +78,11 @@ impl Length {
         format_scaled(self.0, Self::DECIMALS, Trailing::None)
     }
 
+    /// [`Self::mm`] appended to `out`.
+    pub fn push_mm(self, out: &mut String) {
+        format_scaled_into(out, self.0, Self::DECIMALS, Trailing::None);
+    }
+
     /// The value in millimetres, always with a decimal point (`3.`, `26.618`).
     pub fn mm_with_point(self) -> String {
         format_scaled(self.0, Self::DECIMALS, Trailing::Point)
@@ -390,15 +395,21 @@ enum Trailing {
 }
 
 fn format_scaled(value: i64, decimals: u32, trailing: Trailing) -> String {
-    // Written digit by digit (no `format!`): the writers format every coordinate.
     let mut out = String::with_capacity(24);
+    format_scaled_into(&mut out, value, decimals, trailing);
+    out
+}
+
+/// [`format_scaled`] appended to `out`.
+fn format_scaled_into(out: &mut String, value: i64, decimals: u32, trailing: Trailing) {
+    // Written digit by digit (no `format!`): the writers format every coordinate.
     if value < 0 {
         out.push('-');
     }
     let abs = value.unsigned_abs();
     let scale = 10u64.pow(decimals);
     let (whole, frac) = (abs / scale, abs % scale);
-    push_digits(&mut out, whole, 1, false);
+    push_digits(out, whole, 1, false);
     if frac == 0 {
         match trailing {
             Trailing::None => {}
@@ -408,11 +419,10 @@ fn format_scaled(value: i64, decimals: u32, trailing: Trailing) -> String {
                 out.extend(std::iter::repeat_n('0', (decimals as usize).max(1)));
             }
         }
-        return out;
+        return;
     }
     out.push('.');
-    push_digits(&mut out, frac, decimals as usize, trailing != Trailing::All);
-    out
+    push_digits(out, frac, decimals as usize, trailing != Trailing::All);
 }
 
 /// Appends `n` in decimal with at least `width` digits (leading zeros), without its trailing

@@ -135,13 +135,29 @@ impl Units {
     /// `X… Z…` of a position.
     fn axes(&mut self, to: Pos) -> String {
         let mut s = String::new();
+        self.push_axes(&mut s, to);
+        s
+    }
+
+    /// [`Self::axes`] appended to `out`.
+    fn push_axes(&mut self, out: &mut String, to: Pos) {
         if let Some(x) = to.x {
-            let _ = write!(s, " X{}", self.len(x));
+            out.push_str(" X");
+            self.push_len(out, x);
         }
         if let Some(z) = to.z {
-            let _ = write!(s, " Z{}", self.len(z));
+            out.push_str(" Z");
+            self.push_len(out, z);
         }
-        s
+    }
+
+    /// [`Self::len`] appended to `out`.
+    fn push_len(&mut self, out: &mut String, v: Length) {
+        if self.inch {
+            out.push_str(&self.len(v));
+        } else {
+            v.push_mm(out);
+        }
     }
 }
 
@@ -466,9 +482,18 @@ impl Emitter<'_> {
             self.sync_end = None;
         }
         match &item.kind {
-            ItemKind::Rapid { to } => self.unit_line(|u| format!("G0{}", u.axes(*to))),
+            // The commonest lines, written in place.
+            ItemKind::Rapid { to } => {
+                self.w.out.push_str("G0");
+                self.units.push_axes(&mut self.w.out, *to);
+                self.w.out.push('\n');
+            }
             ItemKind::Feed { to, feed } => {
-                self.unit_line(|u| format!("G1{} F{}", u.axes(*to), u.len(*feed)))
+                self.w.out.push_str("G1");
+                self.units.push_axes(&mut self.w.out, *to);
+                self.w.out.push_str(" F");
+                self.units.push_len(&mut self.w.out, *feed);
+                self.w.out.push('\n');
             }
             ItemKind::Arc {
                 to,
@@ -878,12 +903,12 @@ impl Emitter<'_> {
                 to: self.units.read_back(seg.to),
                 lead: seg.lead,
             };
-            let text = format!(
-                "G33{} K{}",
-                self.units.axes(seg.to),
-                k_value(&read, &mut self.units)
-            );
-            self.line(&text);
+            self.w.out.push_str("G33");
+            self.units.push_axes(&mut self.w.out, seg.to);
+            self.w.out.push_str(" K");
+            let k = k_value(&read, &mut self.units);
+            self.w.out.push_str(&k);
+            self.w.out.push('\n');
             from = Some(self.units.read_back(seg.to));
         }
         self.sync_end = segments.last().map(|s| self.units.read_back(s.to));
