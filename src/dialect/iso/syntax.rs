@@ -766,6 +766,17 @@ mod tests {
         "[1]",
         "[#<x> + 1]",
         "x[",
+        "o1 ",
+        "O100 while ",
+        "endwhile",
+        "#1=",
+        "#<a>=",
+        "X[",
+        "[#1",
+        "+1]",
+        " LE ",
+        "-[",
+        "]]",
     ];
 
     /// Lines of the macro language as programs write them, and near misses: where the fast
@@ -807,6 +818,17 @@ mod tests {
             "o100 while [1];(a)",
             "o<A\u{e9}> call",
             "#1 = 1e5",
+            "X [1]",
+            "X - [1]",
+            "X#1=5",
+            "G0 O5",
+            "o1.5 sub",
+            "o0 sub",
+            "N10.5 /o1 sub",
+            "X[1\r+\r2]",
+            "#<a(b> = [[1]]",
+            "[5mod3]",
+            "#1=[#1and#2]",
         ];
         for line in lines {
             let grammar = parse_with_grammar(line);

@@ -69,7 +69,8 @@ pub(super) fn fast_line(line: &str) -> Option<Block> {
                 sized_ok()?;
                 block.settings.push(setting(&mut c)?);
             }
-            // An O-word stands first on its line; an `o` later is the grammar's (an error).
+            // An O-word stands first on its line; an `o` later (`G0 O5`, a word O) is left to
+            // the grammar.
             b'O' | b'o' => return None,
             b if b.is_ascii_alphabetic() => {
                 c.pos += 1;
