@@ -455,6 +455,13 @@ impl Emitter<'_> {
         self.w.out.push('\n');
     }
 
+    /// `(text)` on a line of its own (`text` of ncthread's own words: no parenthesis).
+    fn comment_line(&mut self, text: &str) {
+        self.w.out.push('(');
+        self.w.out.push_str(text);
+        self.w.out.push_str(")\n");
+    }
+
     /// A line whose words say lengths in the output's unit.
     fn unit_line(&mut self, words: impl FnOnce(&mut Units) -> String) {
         let text = words(&mut self.units);
@@ -782,11 +789,11 @@ impl Emitter<'_> {
             return;
         };
         let summary = expansion.summary(cycle, "Ø");
-        self.line(&format!("({summary})"));
+        self.comment_line(&summary);
         for step in expansion.steps() {
             let m = match step {
                 lower::Step::Heading(heading) => {
-                    self.line(&format!("({heading})"));
+                    self.comment_line(&heading);
                     continue;
                 }
                 lower::Step::Move(m) => m,
@@ -794,8 +801,9 @@ impl Emitter<'_> {
             match m {
                 lower::Move::Rapid(to) => {
                     self.sync_end = None;
-                    let text = format!("G0{}", self.units.axes(*to));
-                    self.line(&text)
+                    self.w.out.push_str("G0");
+                    self.units.push_axes(&mut self.w.out, *to);
+                    self.w.out.push('\n');
                 }
                 lower::Move::Pass(pass) => self.thread_pass(item, pass),
             }
