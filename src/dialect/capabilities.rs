@@ -222,7 +222,8 @@ impl Occurrences {
                     found.push((Construct::Chamfer45, None));
                 }
             }
-            ItemKind::FeedRate(_) if self.per_minute => {
+            // A zero feed is no feed any move runs at (the writers leave it out or say it).
+            ItemKind::FeedRate(f) if self.per_minute && *f != crate::fixed::Length::ZERO => {
                 found.push((Construct::PerMinuteFeed, None))
             }
             ItemKind::ThreadCycle(c) => cycle_occurrences(c, pos, &mut found),

@@ -709,6 +709,8 @@ impl Emitter<'_> {
             ItemKind::Dwell { seconds } => return self.dwell(item, *seconds, block),
             ItemKind::Compensation(c) => self.compensation(item, c, block),
             ItemKind::WorkOffset(n) => self.work_offset(item, *n, block),
+            // A zero feed no move runs at (the FANUC reader refuses `F0`).
+            ItemKind::FeedRate(feed) if *feed == Length::ZERO => self.as_comment(item, block, "F0"),
             ItemKind::FeedRate(feed) => self.feed_rate(*feed, block),
         }
         true

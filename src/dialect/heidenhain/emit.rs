@@ -454,6 +454,8 @@ impl Emitter<'_> {
             ItemKind::Dwell { seconds } => return self.dwell(item, *seconds, block),
             // G54 is where every program starts (the table refuses the others).
             ItemKind::WorkOffset(_) => {}
+            // A zero feed no move runs at (each feed move carries its own feed).
+            ItemKind::FeedRate(feed) if *feed == Length::ZERO => self.as_comment(item, block, "F0"),
             ItemKind::FeedRate(feed) if self.f != Some(*feed) => {
                 self.feed_word(item, *feed, block);
             }

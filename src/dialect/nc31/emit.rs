@@ -502,6 +502,13 @@ impl Emitter<'_> {
             | ItemKind::Stop { .. }
             | ItemKind::Coolant(Coolant::Mist) => {}
             // A feed frame of its own (a feed per minute is refused by legalisation).
+            // A zero feed no move runs at (the НЦ-31 reader refuses `F0`).
+            ItemKind::FeedRate(feed) if *feed == Length::ZERO => self.not_written(
+                item,
+                "F0",
+                "no move runs at it: each feed move carries its own feed",
+                group,
+            ),
             ItemKind::FeedRate(feed) => {
                 if !self.per_minute {
                     self.feed_frame(item.span, *feed, group);

@@ -466,6 +466,8 @@ impl Emitter<'_> {
                     return false;
                 }
             }
+            // A zero feed no move runs at (each feed move carries its own feed).
+            ItemKind::FeedRate(feed) if *feed == Length::ZERO => self.as_comment(item, block, "F0"),
             ItemKind::FeedRate(feed) if self.f != Some(*feed) => {
                 self.feed_word(item, *feed, block);
             }
