@@ -501,7 +501,6 @@ impl Emitter<'_> {
             | ItemKind::Arc { .. }
             | ItemKind::Stop { .. }
             | ItemKind::Coolant(Coolant::Mist) => {}
-            // A feed frame of its own (a feed per minute is refused by legalisation).
             // A zero feed no move runs at (the НЦ-31 reader refuses `F0`).
             ItemKind::FeedRate(feed) if *feed == Length::ZERO => self.not_written(
                 item,
@@ -509,6 +508,7 @@ impl Emitter<'_> {
                 "no move runs at it: each feed move carries its own feed",
                 group,
             ),
+            // A feed frame of its own (a feed per minute is refused by legalisation).
             ItemKind::FeedRate(feed) => {
                 if !self.per_minute {
                     self.feed_frame(item.span, *feed, group);
