@@ -94,7 +94,8 @@ impl<'a> Cursor<'a> {
     }
 
     /// A word's value after its letter, as the ISO, FANUC and czech grammars read it: blanks
-    /// allowed, then a number.
+    /// allowed, then a number. `None` may leave the cursor past the blanks (or past a number
+    /// too long to read): a caller that tries another reading puts it back first.
     pub fn value(&mut self, sep: impl Fn(u8) -> bool) -> Option<Decimal> {
         self.skip(sep);
         let start = self.pos;
