@@ -347,6 +347,12 @@ impl Emitter<'_> {
         if self.f == Some(feed) {
             return;
         }
+        // A zero feed no move runs at (the SINUMERIK reader takes `F0`, as LinuxCNC does).
+        if feed == Length::ZERO {
+            block.words.push("F0".to_string());
+            self.f = Some(feed);
+            return;
+        }
         let Some(written) = self.four(item, "F", Lead::from_length(feed), Length::ZERO) else {
             return;
         };
@@ -466,8 +472,6 @@ impl Emitter<'_> {
                     return false;
                 }
             }
-            // A zero feed no move runs at (each feed move carries its own feed).
-            ItemKind::FeedRate(feed) if *feed == Length::ZERO => self.as_comment(item, block, "F0"),
             ItemKind::FeedRate(feed) if self.f != Some(*feed) => {
                 self.feed_word(item, *feed, block);
             }
