@@ -4,7 +4,7 @@
 //! source of its syntax errors. Parsing each line with pest costs most of a reader's time
 //! (its call tracker, stack checks and pair tree), so each syntax layer first tries a
 //! hand-written reading of the common, well-formed lines: it returns `None` at anything it is
-//! not sure of (an error, an expression, a rare form), and pest reads that line. Each fast path
+//! not sure of (an error, a rare form; an expression but in ISO's), and pest reads that line. Each fast path
 //! is tested against its grammar line by line (the corpus, generated programs and random
 //! lines): where it answers, it answers exactly what the grammar's reading does.
 

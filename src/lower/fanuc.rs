@@ -412,7 +412,8 @@ pub type Refusal = String;
 /// roughing contour's start, the semi-finish pass along it at the roughing feed (a rapid in
 /// it at feed), and a rapid back to the start. **\[decided\]** spec fanuc.md. Without the
 /// semi-finish pass (`g71_semi_finish = false`), the layers are the same and a rapid goes
-/// back to the start from the last one: the steps they leave are G70's. **\[decided\]**
+/// back to the start from the last one: the steps between the layers and the last band
+/// (down to the contour's start level) are G70's. **\[decided\]**
 pub fn roughing(start: Point, contour: &[Element], r: &Roughing) -> Result<Vec<ItemKind>, Refusal> {
     let ax = Axes { facing: r.facing };
     let [first, profile @ ..] = contour else {
