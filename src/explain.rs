@@ -878,7 +878,7 @@ fn roughing_operation(cycle: &RoughingCycle, at: (u32, Option<u32>), from: Pos) 
 /// goes home, G28, is none).
 fn model_operation(cycle: &ModelCycle, at: (u32, Option<u32>), from: Pos) -> Option<Operation> {
     let cuts = !cycle.moves.is_empty() && !matches!(cycle.code.as_str(), "G28" | "G53");
-    let steps = cycle.code != "G70";
+    let steps = !cycle.finishing;
     cuts.then(|| cuts_operation(&cycle.code, &cycle.moves, cycle.facing, steps, at, from))
 }
 

@@ -247,7 +247,7 @@ fn kept_block_moves(
             Diagnostic::new(
                 codes::OPAQUE_MEANING,
                 format!(
-                    "`{text}`: a {dialect} canned cycle (or a move to the reference point), kept as written: its moves are the control's, and ncthread writes them for another control only where the machine model declared in the profile's [{dialect}] section expands it (G70, G71 and G72 type I, G73, G74, G75, G76, G90, G94, G28 with the reference point, G53); the output is {to}"
+                    "`{text}`: a {dialect} canned cycle (or a move to the reference point), kept as written: its moves are the control's, and ncthread writes them for another control only where the machine model declared in the profile's [{dialect}] section expands it (G70, G71 and G72 type I, G73, G74, G75, G76, G90, G94 as FANUC's G-code system A numbers them, G28 with the reference point, G53); the output is {to}"
                 ),
             )
             .help(format!(

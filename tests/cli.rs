@@ -391,6 +391,11 @@ fn from_auto_names_the_fanuc_gcode_system() {
         b.contains("G-code system B (the profile's `gcode_system`)"),
         "{b}"
     );
+    let c = run("corpus/fanuc/system-c.nc");
+    assert!(
+        c.contains("G-code system C (the profile's `gcode_system`)"),
+        "{c}"
+    );
     // Another dialect has no variant to name.
     let czech = run("corpus/czech/ex3-taper.nc");
     assert!(!czech.contains("G-code system"), "{czech}");

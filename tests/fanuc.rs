@@ -26,10 +26,10 @@ fn judge(
     profile: &ncthread::profile::Profile,
     cmd: &std::path::Path,
 ) -> Result<bool, String> {
-    let system_a = if profile.fanuc.gcode_system == ncthread::profile::GcodeSystem::B {
-        common::fanuc::from_system_b(fanuc)
-    } else {
-        Ok(fanuc.to_string())
+    let system_a = match profile.fanuc.gcode_system {
+        ncthread::profile::GcodeSystem::A => Ok(fanuc.to_string()),
+        ncthread::profile::GcodeSystem::B => common::fanuc::from_system(fanuc, 'B'),
+        ncthread::profile::GcodeSystem::C => common::fanuc::from_system(fanuc, 'C'),
     };
     let ngc = match system_a.and_then(|a| translate(&a, calculator)) {
         Ok(ngc) => ngc,

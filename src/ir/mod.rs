@@ -556,10 +556,14 @@ pub struct ModelCycle {
     pub text: String,
     /// The modes it was read under.
     pub context: ModalContext,
-    /// The cycle's G code as written (`G71`): `explain` names it.
+    /// The cycle's G code as written (`G71`; `G73` for the same cycle in G-code system C):
+    /// `explain` names it.
     pub code: String,
     /// Its cuts run along X (a facing cycle, G72 or G94): `explain` measures steps along Z.
     pub facing: bool,
+    /// The finishing cycle (G70, or G72 in G-code system C): its cuts follow the contour, no
+    /// step between them.
+    pub finishing: bool,
     /// The moves: [`ItemKind::Rapid`], [`ItemKind::Feed`], [`ItemKind::Arc`] and
     /// [`ItemKind::ThreadPass`] only.
     pub moves: Vec<ItemKind>,

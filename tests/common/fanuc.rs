@@ -311,10 +311,12 @@ pub fn translate(fanuc: &str, calculator: bool) -> Result<String, String> {
     Ok(out.join("\n") + "\n")
 }
 
-/// A program of FANUC's G-code system B in system A's words, for [`translate`]: G33 is G32,
-/// G92 S the spindle limit G50 S, G94/G95 the feed modes G98/G99, G77/G79 the cycles G90/G94,
-/// G90 (absolute) says nothing; G91 (incremental) is not translated.
-pub fn from_system_b(text: &str) -> Result<String, String> {
+/// A program of FANUC's G-code system B or C (`system`) in system A's words, for
+/// [`translate`]: G33 is G32, G92 S the spindle limit G50 S, G94/G95 the feed modes G98/G99,
+/// G90 (absolute) says nothing; G91 (incremental) is not translated. B's G77/G78/G79 are the
+/// cycles G90/G92/G94; C's are G20/G21/G24, its G70/G71 inch and metric input, and its
+/// G72–G78 the multiple repetitive cycles G70–G76 (FANUC's "G code list" table).
+pub fn from_system(text: &str, system: char) -> Result<String, String> {
     let mut out = String::new();
     for line in text.lines() {
         let mut words: Vec<String> = Vec::new();
@@ -326,25 +328,42 @@ pub fn from_system_b(text: &str) -> Result<String, String> {
         let mut limit = false;
         for w in code.split_whitespace() {
             let up = w.to_ascii_uppercase();
+            let cycles: &[(&str, &str)] = match system {
+                'B' => &[("G77", "G90"), ("G78", "G92"), ("G79", "G94")],
+                _ => &[
+                    ("G20", "G90"),
+                    ("G21", "G92"),
+                    ("G24", "G94"),
+                    ("G70", "G20"),
+                    ("G71", "G21"),
+                    ("G72", "G70"),
+                    ("G73", "G71"),
+                    ("G74", "G72"),
+                    ("G75", "G73"),
+                    ("G76", "G74"),
+                    ("G77", "G75"),
+                    ("G78", "G76"),
+                ],
+            };
             let mapped = match up.as_str() {
                 "G33" => "G32".to_string(),
                 "G95" => "G99".to_string(),
                 "G94" => "G98".to_string(),
-                "G77" => "G90".to_string(),
-                "G79" => "G94".to_string(),
-                "G78" => "G92".to_string(),
                 "G90" => continue,
-                "G91" => return Err("skip: G91 in system B".into()),
+                "G91" => return Err(format!("skip: G91 in system {system}")),
                 "G92" => {
                     limit = true;
                     "G50".to_string()
                 }
-                _ => up,
+                g => cycles
+                    .iter()
+                    .find(|c| c.0 == g)
+                    .map_or(up.clone(), |c| c.1.to_string()),
             };
             words.push(mapped);
         }
         if limit && !words.iter().any(|w| w.starts_with('S')) {
-            return Err("skip: G92 without S in system B".into());
+            return Err(format!("skip: G92 without S in system {system}"));
         }
         out.push_str(&words.join(" "));
         if !rest.is_empty() {

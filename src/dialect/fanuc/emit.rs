@@ -262,14 +262,16 @@ impl<'a> Items<'a> {
     /// Whether that item was the header comment.
     fn begin(&mut self, first: Option<&Item>) -> bool {
         let header = self.e.header(self.from, self.number, first);
-        let unit = if self.inch { "G20" } else { "G21" };
-        self.e.w.out.push_str(unit);
         self.e
             .w
             .out
-            .push_str(match self.e.profile.fanuc.gcode_system {
-                GcodeSystem::A => " G99\n",
-                GcodeSystem::B => " G90 G95\n",
+            .push_str(match (self.e.profile.fanuc.gcode_system, self.inch) {
+                (GcodeSystem::A, true) => "G20 G99\n",
+                (GcodeSystem::A, false) => "G21 G99\n",
+                (GcodeSystem::B, true) => "G20 G90 G95\n",
+                (GcodeSystem::B, false) => "G21 G90 G95\n",
+                (GcodeSystem::C, true) => "G70 G90 G95\n",
+                (GcodeSystem::C, false) => "G71 G90 G95\n",
             });
         self.start = Start::FeedMode;
         header
@@ -434,9 +436,11 @@ impl Emitter<'_> {
 
     /// A word as the machine's G-code system spells it: the writer builds system A's words,
     /// and system B says G33 for G32, G92 S for G50 S, G94/G95 for G98/G99, X for a dwell's
-    /// U. (A block kept as written is the source's, in the same system.)
+    /// U; system C says G70/G71 for G20/G21 too. (A block kept as written is the source's, in
+    /// the same system.)
     fn in_system<'w>(&self, word: &'w str) -> std::borrow::Cow<'w, str> {
-        if self.profile.fanuc.gcode_system == GcodeSystem::A {
+        let system = self.profile.fanuc.gcode_system;
+        if system == GcodeSystem::A {
             return word.into();
         }
         // A G code the writer builds: a word of its own, or `G50 S2000` (a block kept as
@@ -445,13 +449,11 @@ impl Emitter<'_> {
         if end < word.len() && !word.starts_with("G50 S") {
             return word.into();
         }
-        match word[..end]
-            .strip_prefix('G')
-            .and_then(|g| g.parse().ok())
-            .and_then(GcodeSystem::b_of)
-        {
-            Some(b) => format!("G{b:02}{}", &word[end..]).into(),
-            None => word.into(),
+        match word[..end].strip_prefix('G').and_then(|g| g.parse().ok()) {
+            Some(a) if system.code(a) != a => {
+                format!("G{:02}{}", system.code(a), &word[end..]).into()
+            }
+            _ => word.into(),
         }
     }
 
@@ -938,7 +940,7 @@ impl Emitter<'_> {
                     "{}{}",
                     match self.profile.fanuc.gcode_system {
                         GcodeSystem::A => 'U',
-                        GcodeSystem::B => 'X',
+                        GcodeSystem::B | GcodeSystem::C => 'X',
                     },
                     Length::from_steps(ms * 10).mm_with_point()
                 ),

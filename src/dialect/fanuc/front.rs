@@ -541,10 +541,14 @@ impl FrontEnd<'_> {
             "`/`: a block skipped or run by the operator's block skip switch is not supported"
                 .to_string(),
         )];
-        let thread = block
-            .words
-            .iter()
-            .any(|w| w.letter == 'G' && matches!(w.value.to_whole(), Ok(32 | 92)));
+        // A thread's block (G32 or G92, as system A numbers them).
+        let system = self.profile.gcode_system;
+        let thread = block.words.iter().any(|w| {
+            w.letter == 'G'
+                && w.value
+                    .to_whole()
+                    .is_ok_and(|g| matches!(system.a_of(g).unwrap_or(g), 32 | 92))
+        });
         if self.r.unsupported(&UNSUPPORTED, found, keep, thread) {
             self.keep(line, block, &[]);
         }
@@ -905,5 +909,63 @@ mod tests {
             ]
         );
         assert_eq!(codes(&read("G50 X100. Z50.\n", "").1), ["FANR002"]);
+    }
+
+    /// System C (the profile's `gcode_system`): G70/G71 are inch and metric input, G20/G24
+    /// the turning and facing cycles and G73 the turning roughing cycle (kept as written), and
+    /// a code system C does not have is refused naming the system.
+    #[test]
+    fn system_c_reads_its_own_codes() {
+        let c = "[fanuc]\ngcode_system = \"C\"\n";
+        let profile = crate::profile::Profile::from_toml(&SourceFile::new("p", c)).expect("C");
+        let program = |text: &str| {
+            parse(
+                &SourceFile::new("t", text),
+                &profile.fanuc,
+                Unsupported::Error,
+            )
+        };
+        let (p, d) = program("G70 G90 G95\nG00 X1. Z0.1\n");
+        assert!(d.is_empty() && p.inch, "{d:?}");
+        let (p, d) =
+            program("G71 G90 G95\nG00 X20. Z2.\nG20 X18. Z-10. F0.2\nX16.\nG24 X0. Z-1.\n");
+        assert!(d.is_empty() && !p.inch, "{d:?}");
+        let kept: Vec<&str> = p
+            .items
+            .iter()
+            .filter_map(|i| match &i.kind {
+                ItemKind::Opaque { text, .. } => Some(text.as_str()),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(kept, ["G20 X18. Z-10. F0.2", "X16.", "G24 X0. Z-1."]);
+        let (_, d) = program(
+            "G71\nG00 X50. Z3.\nG73 U2. R1\nG73 P10 Q20 U0.5 W0.2 F0.3\nN10 G00 X18.\nN20 G01 Z-12.\nG72 P10 Q20\n",
+        );
+        assert!(d.is_empty(), "{d:?}");
+        for (text, says) in [
+            (
+                "G79 X20. Z-1. F0.2\n",
+                "G79 is system B's facing cycle, not a code of G-code system C, whose facing cycle is G24",
+            ),
+            ("G32 Z-10. F1.\n", "in G-code system C threads are G33"),
+            (
+                "G50 S2000\n",
+                "in G-code system C the spindle limit is G92 S",
+            ),
+            (
+                "G00 U2.\n",
+                "in G-code system C an increment is G91 with X or Z",
+            ),
+        ] {
+            let (_, d) = program(text);
+            assert!(d.iter().any(|d| d.message.contains(says)), "{text}: {d:?}");
+        }
+        // A message names a cycle by the system's code.
+        let (_, d) = program("G73 P10 Q20 U0.5 W0.2 F0.3\n");
+        assert!(
+            d.iter().any(|d| d.message.contains("G73 turning cycle")),
+            "{d:?}"
+        );
     }
 }

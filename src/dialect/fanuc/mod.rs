@@ -138,8 +138,8 @@ impl Dialect for Fanuc {
 
     fn auto_note(&self, profile: &Profile) -> Option<String> {
         Some(match profile.fanuc.gcode_system {
-            profile::GcodeSystem::A => "G-code system A (the default; a machine that reads G33 threads, G90/G91, G94/G95, G92 S and G77–G79 needs `[fanuc] gcode_system = \"B\"`)".into(),
-            profile::GcodeSystem::B => "G-code system B (the profile's `gcode_system`)".into(),
+            profile::GcodeSystem::A => "G-code system A (the default; a machine that reads G33 threads, G90/G91, G94/G95, G92 S and G77–G79 needs `[fanuc] gcode_system = \"B\"`, one with G70/G71 inch and metric and G72–G78 cycles \"C\")".into(),
+            s => format!("{} (the profile's `gcode_system`)", s.name()),
         })
     }
 

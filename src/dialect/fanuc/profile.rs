@@ -9,7 +9,7 @@
 //! nose_radius_in_offsets = false  # the offset page holds nose radius and tip: G41/G42 may be written
 //! mist = false                    # the machine has M07
 //! still_m_codes = [31, 33]        # the builder's M codes that move no axis (a chip conveyor): the position stays known
-//! gcode_system = "A"              # "A", or "B" (G33 threads, G90/G91, G94/G95, G92 S, G77–G79)
+//! gcode_system = "A"              # "A", "B" (G33 threads, G90/G91, G94/G95, G92 S, G77–G79) or "C" (as B; G70/G71 units, G20/G21/G24, G72–G78)
 //! units = "mm"                    # the unit the machine starts in (a program without G20/G21): "mm" or "inch"
 //! cycle_model = "gsk-980tdi"      # expand the canned cycles into moves as this control makes them
 //! g71_retract = "feed"            # or one open point at a time: the 45° retract after a G71 layer
@@ -50,7 +50,8 @@ pub enum ToolOffset {
     None,
 }
 
-/// FANUC's lathe G-code systems (parameter 3401#6, #7). **\[evidence\]** spec fanuc.md.
+/// FANUC's lathe G-code systems (parameter 3401#6, #7). **\[evidence\]** spec fanuc.md; system
+/// C's codes from FANUC's "G code list" table (README, the decisions).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum GcodeSystem {
     /// System A: G32 threads, G50 S the spindle limit, G98/G99 the feed mode, U/W
@@ -60,29 +61,65 @@ pub enum GcodeSystem {
     /// System B: G33 threads, G92 S the spindle limit, G94/G95 the feed mode, G90/G91
     /// absolute and incremental, G77/G78/G79 the turning, threading and facing cycles.
     B,
+    /// System C: as B, but G70/G71 inch and metric input, G20/G21/G24 the turning, threading
+    /// and facing cycles, and the multiple repetitive cycles renumbered G72–G78.
+    C,
 }
 
-/// The functions whose G code differs between systems A and B: (system A's, system B's).
-/// The reader maps B onto A, the writer A onto B: one table for both.
-const SYSTEM_B_CODES: [(i64, i64); 7] = [
-    (32, 33), // thread
-    (90, 77), // turning cycle
-    (92, 78), // threading cycle
-    (94, 79), // facing cycle
-    (50, 92), // spindle limit (S)
-    (98, 94), // feed per minute
-    (99, 95), // feed per revolution
+/// The functions whose G code differs between the systems: (system A's, B's, C's). The
+/// reader maps B and C onto A, the writer A onto B or C: one table for both.
+const SYSTEM_CODES: [(i64, i64, i64); 16] = [
+    (32, 33, 33), // thread
+    (90, 77, 20), // turning cycle
+    (92, 78, 21), // threading cycle
+    (94, 79, 24), // facing cycle
+    (50, 92, 92), // spindle limit (S)
+    (98, 94, 94), // feed per minute
+    (99, 95, 95), // feed per revolution
+    (20, 20, 70), // inch input
+    (21, 21, 71), // metric input
+    (70, 70, 72), // finishing cycle
+    (71, 71, 73), // stock removal in turning
+    (72, 72, 74), // stock removal in facing
+    (73, 73, 75), // pattern repeating
+    (74, 74, 76), // end face peck drilling
+    (75, 75, 77), // grooving
+    (76, 76, 78), // multiple threading
 ];
 
 impl GcodeSystem {
-    /// System B's code for system A's `a`, where they differ.
-    pub(crate) fn b_of(a: i64) -> Option<i64> {
-        SYSTEM_B_CODES.iter().find(|p| p.0 == a).map(|p| p.1)
+    /// This system's code in a row of [`SYSTEM_CODES`].
+    fn column(self, row: &(i64, i64, i64)) -> i64 {
+        match self {
+            GcodeSystem::A => row.0,
+            GcodeSystem::B => row.1,
+            GcodeSystem::C => row.2,
+        }
     }
 
-    /// System A's code for system B's `b`, where they differ.
-    pub(crate) fn a_of(b: i64) -> Option<i64> {
-        SYSTEM_B_CODES.iter().find(|p| p.1 == b).map(|p| p.0)
+    /// This system's code for system A's `a` (itself where no system differs).
+    pub(crate) fn code(self, a: i64) -> i64 {
+        SYSTEM_CODES
+            .iter()
+            .find(|r| r.0 == a)
+            .map_or(a, |r| self.column(r))
+    }
+
+    /// System A's code for this system's `g`, where the table has it.
+    pub(crate) fn a_of(self, g: i64) -> Option<i64> {
+        SYSTEM_CODES
+            .iter()
+            .find(|r| self.column(r) == g)
+            .map(|r| r.0)
+    }
+
+    /// The system's name in a message: "G-code system B".
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            GcodeSystem::A => "G-code system A",
+            GcodeSystem::B => "G-code system B",
+            GcodeSystem::C => "G-code system C",
+        }
     }
 }
 
@@ -558,7 +595,7 @@ fn units(
     }
 }
 
-/// `gcode_system`: "A" or "B"; "C" is refused with its reason.
+/// `gcode_system`: "A", "B" or "C".
 fn gcode_system(
     src: &SourceFile,
     v: toml::Spanned<String>,
@@ -569,19 +606,13 @@ fn gcode_system(
     match v.into_inner().as_str() {
         "A" | "a" => p.gcode_system = GcodeSystem::A,
         "B" | "b" => p.gcode_system = GcodeSystem::B,
-        "C" | "c" => diags.push(bad_value(
-            src,
-            span,
-            "gcode_system",
-            "G-code system C is not read yet: the sources ncthread holds disagree on its codes for the turning, threading and facing cycles".into(),
-            "\"A\" or \"B\"",
-        )),
+        "C" | "c" => p.gcode_system = GcodeSystem::C,
         other => diags.push(bad_value(
             src,
             span,
             "gcode_system",
             format!("`{other}` is not a FANUC G-code system"),
-            "\"A\" (G32, G50 S, G98/G99) or \"B\" (G33, G92 S, G94/G95, G90/G91)",
+            "\"A\" (G32, G50 S, G98/G99), \"B\" (G33, G92 S, G94/G95, G90/G91) or \"C\" (as B, with G70/G71 inch and metric and the cycles renumbered)",
         )),
     }
 }
@@ -597,15 +628,39 @@ mod tests {
         Profile::from_toml(&SourceFile::new("p.toml", text)).map(|p| p.fanuc.gcode_system)
     }
 
-    /// A and B are read; C is refused with its reason, and so is anything else.
+    /// A, B and C are read; anything else is refused.
     #[test]
-    fn the_gcode_system_is_a_or_b() {
+    fn the_gcode_system_is_a_b_or_c() {
         assert_eq!(system("A").unwrap(), GcodeSystem::A);
         assert_eq!(system("B").unwrap(), GcodeSystem::B);
-        let c = system("C").unwrap_err();
-        assert!(c[0].message.contains("system C is not read yet"), "{c:?}");
-        assert!(system("D").is_err());
+        assert_eq!(system("C").unwrap(), GcodeSystem::C);
+        let d = system("D").unwrap_err();
+        assert!(d[0].message.contains("not a FANUC G-code system"), "{d:?}");
         assert_eq!(Profile::default().fanuc.gcode_system, GcodeSystem::A);
+    }
+
+    /// Within one system no code means two things: each column of the table holds a code
+    /// once, and the reader's and the writer's mappings undo each other.
+    #[test]
+    fn each_system_spells_each_function_once() {
+        for s in [GcodeSystem::A, GcodeSystem::B, GcodeSystem::C] {
+            let mut seen = std::collections::HashSet::new();
+            for row in super::SYSTEM_CODES {
+                assert!(seen.insert(s.column(&row)), "{s:?} {row:?}");
+                assert_eq!(s.a_of(s.code(row.0)), Some(row.0), "{s:?} {row:?}");
+            }
+        }
+        // System C, FANUC's table: inch and metric input G70/G71, the finishing cycle G72,
+        // the turning cycle G20, the threading cycle G21.
+        let c = GcodeSystem::C;
+        assert_eq!((c.code(20), c.code(21)), (70, 71));
+        assert_eq!((c.code(70), c.code(76)), (72, 78));
+        assert_eq!((c.code(90), c.code(92), c.code(94)), (20, 21, 24));
+        assert_eq!(
+            (c.a_of(70), c.a_of(20), c.a_of(90)),
+            (Some(20), Some(90), None)
+        );
+        assert_eq!(GcodeSystem::B.code(20), 20);
     }
 
     /// The unit the machine starts in: millimetres unless the profile says inches.

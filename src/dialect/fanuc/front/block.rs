@@ -77,7 +77,7 @@ pub(super) struct Words<'w> {
     pub(super) comp: Option<(Compensation, &'w Word)>,
     /// G54 – G59, as 1 – 6.
     pub(super) offset: Option<(u8, &'w Word)>,
-    /// G90 / G91 of system B (true: incremental).
+    /// G90 / G91 of system B or C (true: incremental).
     pub(super) distance: Option<(bool, &'w Word)>,
     /// The M codes read, in the block's order.
     pub(super) m_codes: smallvec::SmallVec<[(i64, &'w Word); 4]>,
@@ -143,39 +143,43 @@ fn is_kept(g: i64) -> bool {
     matches!(g, 28 | 30 | 53 | 70..=76 | 90 | 94)
 }
 
-/// A G code of system B as the reader numbers it (system A's code for the same function;
-/// G90/G91 as 900/910), or why it is none.
-fn from_system_b(g: i64) -> Result<i64, &'static str> {
-    if let Some(a) = GcodeSystem::a_of(g) {
+/// A G code of system B or C as the reader numbers it (system A's code for the same
+/// function; G90/G91 as 900/910), or why it is none.
+fn from_system(system: GcodeSystem, g: i64) -> Result<i64, String> {
+    if let Some(a) = system.a_of(g) {
         return Ok(a);
     }
+    let name = system.name();
     match g {
         90 => Ok(900),
         91 => Ok(910),
-        32 => Err("in G-code system B threads are G33"),
-        50 => Err("in G-code system B the spindle limit is G92 S"),
-        98 | 99 => Err(
-            "in G-code system B, G98/G99 set a drilling cycle's return level, which ncthread does not read",
-        ),
+        32 => Err(format!("in {name} threads are G33")),
+        50 => Err(format!("in {name} the spindle limit is G92 S")),
+        98 | 99 => Err(format!(
+            "in {name}, G98/G99 set a drilling cycle's return level, which ncthread does not read"
+        )),
+        79 => Err(format!(
+            "G79 is system B's facing cycle, not a code of {name}, whose facing cycle is G24"
+        )),
         g => Ok(g),
     }
 }
 
-/// What to say about a G code ncthread does not read (`text` as written).
-fn unsupported_g(g: i64, text: &str) -> String {
+/// What to say about a G code ncthread does not read (`text` as written; `g` as system A
+/// numbers it).
+fn unsupported_g(g: i64, text: &str, system: GcodeSystem) -> String {
     match g {
-        90 => "the G90 turning cycle (system A) is not read yet".to_string(),
-        94 => "the G94 facing cycle (system A) is not read yet".to_string(),
-        70..=75 => format!("the G{g} multiple repetitive cycle is not read"),
         28 | 30 => format!(
             "G{g} (return to the machine's reference point) is not read: the reference point is the machine's, not the program's, and LinuxCNC's G{g} goes to another place"
         ),
         53 => "G53 (machine coordinates) is not read".to_string(),
         83..=89 => format!("the G{g} drilling or tapping cycle is not read"),
         17 | 19 => format!("G{g} selects a plane other than ZX: not a lathe program"),
-        33 | 77 | 78 | 79 | 91 | 95 => format!(
-            "G{g} is a code of FANUC's G-code system B, not of system A (the default): if the machine reads system B, set `gcode_system = \"B\"` in the profile's [fanuc] section"
+        79 if system == GcodeSystem::A => "G79 is a code of FANUC's G-code system B (its facing cycle), not of system A (the default): if the machine reads system B, set `gcode_system = \"B\"` in the profile's [fanuc] section".to_string(),
+        33 | 77 | 78 | 91 | 95 if system == GcodeSystem::A => format!(
+            "G{g} is a code of FANUC's G-code systems B and C, not of system A (the default): if the machine reads system B or C, set `gcode_system = \"B\"` (or \"C\") in the profile's [fanuc] section"
         ),
+        24 if system == GcodeSystem::A => "G24 is a code of FANUC's G-code system C (its facing cycle), not of system A (the default): if the machine reads system C, set `gcode_system = \"C\"` in the profile's [fanuc] section".to_string(),
         _ => format!(
             "`{text}` is not supported{}",
             crate::dialect::read::did_you_mean(&format!("G{g:02}"), &KNOWN_G)
@@ -193,7 +197,7 @@ impl FrontEnd<'_> {
         code_span: Span,
     ) -> Option<()> {
         let read_as_a;
-        let block = if self.profile.gcode_system == GcodeSystem::B {
+        let block = if self.profile.gcode_system != GcodeSystem::A {
             read_as_a = self.system_b_block(line, block)?;
             &*read_as_a
         } else {
@@ -421,7 +425,7 @@ impl FrontEnd<'_> {
         false
     }
 
-    /// A block of system B as the reader reads system A: G90 / G91 set the distance mode
+    /// A block of system B or C as the reader reads system A: G90 / G91 set the distance mode
     /// (`self.incremental`) first, under G91 X and Z are increments (read as U and W), and U
     /// and W are words of the cycles only. `None` when a block moves with U or W (said).
     fn system_b_block<'b>(
@@ -438,12 +442,13 @@ impl FrontEnd<'_> {
                 }
             }
         }
-        // A cycle kept as written (system B's G77/G79 are system A's G90/G94).
+        // A cycle kept as written (system B's G77/G79, system C's G20/G24 are system A's
+        // G90/G94).
         let cycle = block.words.iter().any(|w| {
             w.letter == 'G'
                 && w.value
                     .to_whole()
-                    .is_ok_and(|g| from_system_b(g).is_ok_and(is_kept))
+                    .is_ok_and(|g| from_system(self.profile.gcode_system, g).is_ok_and(is_kept))
         });
         if !cycle && let Some(w) = block.words.iter().find(|w| matches!(w.letter, 'U' | 'W')) {
             let text = &line.text[w.range.clone()];
@@ -451,7 +456,10 @@ impl FrontEnd<'_> {
                 codes::FANR_UNSUPPORTED,
                 line,
                 w.range.clone(),
-                format!("`{text}`: in G-code system B an increment is G91 with X or Z"),
+                format!(
+                    "`{text}`: in {} an increment is G91 with X or Z",
+                    self.profile.gcode_system.name()
+                ),
                 "write `G91 X… Z…` (or the absolute X, Z)",
             );
             return None;
@@ -519,8 +527,8 @@ impl FrontEnd<'_> {
             return;
         }
         let mut g = g / 10;
-        if self.profile.gcode_system == GcodeSystem::B {
-            match from_system_b(g) {
+        if self.profile.gcode_system != GcodeSystem::A {
+            match from_system(self.profile.gcode_system, g) {
                 Ok(a) => g = a,
                 Err(why) => {
                     words
@@ -568,7 +576,7 @@ impl FrontEnd<'_> {
                 if matches!(g, 90 | 94 | 83..=89) {
                     words.modal_unsupported.get_or_insert(w);
                 }
-                let what = unsupported_g(g, text);
+                let what = unsupported_g(g, text, self.profile.gcode_system);
                 words.unsupported.push((
                     self.span(line, w.range.clone()),
                     format!("`{text}`: {what}"),

@@ -14,6 +14,7 @@
 use super::block::Words;
 use super::{FRegister, FrontEnd, Unit};
 use crate::dialect::fanuc::codes;
+use crate::dialect::fanuc::profile::GcodeSystem;
 use crate::dialect::fanuc::syntax::{Block, Word};
 use crate::fixed::Length;
 use crate::ir::ModalContext;
@@ -102,21 +103,22 @@ fn value_checks(g: i64, second: bool) -> &'static [(char, Check)] {
 }
 
 /// What each cycle is, for messages.
-fn name(g: i64) -> &'static str {
-    match g {
-        70 => "G70 finishing cycle",
-        71 => "G71 turning cycle",
-        72 => "G72 facing cycle",
-        73 => "G73 pattern repeating cycle",
-        74 => "G74 face grooving (peck drilling) cycle",
-        75 => "G75 grooving cycle",
-        76 => "G76 threading cycle",
-        90 => "G90 turning cycle",
-        94 => "G94 facing cycle",
-        28 => "G28 return to the reference point",
-        30 => "G30 return to a reference point",
-        _ => "G53 move in machine coordinates",
-    }
+fn name(g: i64, system: GcodeSystem) -> String {
+    let what = match g {
+        70 => "finishing cycle",
+        71 => "turning cycle",
+        72 => "facing cycle",
+        73 => "pattern repeating cycle",
+        74 => "face grooving (peck drilling) cycle",
+        75 => "grooving cycle",
+        76 => "threading cycle",
+        90 => "turning cycle",
+        94 => "facing cycle",
+        28 => "return to the reference point",
+        30 => "return to a reference point",
+        _ => "move in machine coordinates",
+    };
+    format!("G{:02} {what}", system.code(g))
 }
 
 /// The contour of a G71, G72 or G73 (the blocks P to Q that follow it): read block by block
@@ -168,11 +170,11 @@ impl FrontEnd<'_> {
             74..=76 => words.moves(),
             _ => true,
         };
-        let what = name(g);
+        let what = name(g, self.profile.gcode_system);
         let at = at.map_or(block.code_range.clone(), |w| w.range.clone());
-        if !self.cycle_words(line, words, g, form(g, second), what)
+        if !self.cycle_words(line, words, g, form(g, second), &what)
             || !self.cycle_needs(line, words, g, second, at)
-            || !self.cycle_values(line, words, g, second, what)
+            || !self.cycle_values(line, words, g, second, &what)
         {
             return;
         }
@@ -216,7 +218,7 @@ impl FrontEnd<'_> {
         second: bool,
         at: std::ops::Range<usize>,
     ) -> bool {
-        let what = name(g);
+        let what = name(g, self.profile.gcode_system);
         if matches!(g, 70..=73)
             && second
             && let Some(c) = ['P', 'Q'].into_iter().find(|&c| words.get(c).is_none())
@@ -467,7 +469,7 @@ impl FrontEnd<'_> {
         let Some(mut c) = self.contour.take() else {
             return;
         };
-        let what = name(c.g);
+        let what = name(c.g, self.profile.gcode_system);
         let code_range = block.code_range.clone();
         if std::mem::take(&mut c.numbered) && block.number != Some(c.p) {
             let n = block
@@ -515,7 +517,7 @@ impl FrontEnd<'_> {
 
     /// The words of a contour block: G00–G03, X Z U W I K R, F S T (which G70 runs).
     fn contour_words(&mut self, line: Line<'_>, block: &Block, c: &mut Contour) {
-        let what = name(c.g);
+        let what = name(c.g, self.profile.gcode_system);
         let mut to = c.at;
         for w in &block.words {
             let text = &line.text[w.range.clone()];
@@ -572,7 +574,7 @@ impl FrontEnd<'_> {
         c: &mut Contour,
         to: (Option<Length>, Option<Length>),
     ) {
-        let what = name(c.g);
+        let what = name(c.g, self.profile.gcode_system);
         let has = |l: char| block.words.iter().any(|w| w.letter == l);
         if c.first {
             if !matches!(c.motion, 0 | 1) || !block.words.iter().any(|w| w.letter == 'G') {
@@ -623,7 +625,7 @@ impl FrontEnd<'_> {
                 c.span,
                 format!(
                     "the contour of the {} never reaches its last block, N{}",
-                    name(c.g),
+                    name(c.g, self.profile.gcode_system),
                     c.q
                 ),
                 "end the contour with the block Q names",
@@ -638,13 +640,13 @@ impl FrontEnd<'_> {
                 format!(
                     "`{}` of the {} names no block of the program",
                     r.text,
-                    name(r.g)
+                    name(r.g, self.profile.gcode_system)
                 )
             } else {
                 format!(
                     "`{}` of the {}: {count} blocks are numbered N{}, and which one the control finds is its search's",
                     r.text,
-                    name(r.g),
+                    name(r.g, self.profile.gcode_system),
                     r.n
                 )
             };

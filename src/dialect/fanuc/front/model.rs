@@ -207,8 +207,9 @@ impl FrontEnd<'_> {
                 cycle: true,
                 compensation: super::cycles::turns_compensation_on(block),
             },
-            code: format!("G{g}"),
+            code: format!("G{}", self.profile.gcode_system.code(g)),
             facing,
+            finishing: g == 70,
             moves,
         };
         self.push(ItemKind::ModelCycle(Box::new(cycle)), span);
