@@ -25,8 +25,10 @@ pub enum Kind {
     Passes,
     /// A rigid tapping cycle.
     Tap,
-    /// A roughing (`G71`…) or finishing (`G70`) cycle: its G code as written.
+    /// A roughing cycle (`G71`…): its G code as written.
     Roughing(String),
+    /// A finishing cycle (`G70`; `G72` in FANUC's G-code system C): its G code as written.
+    Finishing(String),
     /// A FANUC canned cycle (or a move home) kept as written, with no machine model to say
     /// its moves: its block as written.
     Kept(String),
@@ -39,7 +41,7 @@ impl Kind {
             Kind::Cycle => "cycle",
             Kind::Passes => "passes",
             Kind::Tap => "tap",
-            Kind::Roughing(code) if code == "G70" => "finishing",
+            Kind::Finishing(_) => "finishing",
             Kind::Roughing(_) => "roughing",
             Kind::Kept(_) => "kept",
         }
@@ -50,7 +52,7 @@ impl Kind {
             Kind::Cycle => "thread cycle".into(),
             Kind::Passes => "thread written as single passes".into(),
             Kind::Tap => "tapping cycle".into(),
-            Kind::Roughing(code) if code == "G70" => format!("finishing cycle {code}"),
+            Kind::Finishing(code) => format!("finishing cycle {code}"),
             Kind::Roughing(code) => format!("roughing cycle {code}"),
             Kind::Kept(block) => format!(
                 "`{block}`, kept as written: its moves are the control's, listed only under a machine model"
@@ -871,28 +873,38 @@ fn roughing_operation(cycle: &RoughingCycle, at: (u32, Option<u32>), from: Pos) 
     let facing = matches!(cycle.kind, RoughingKind::Rough { facing: true, .. });
     // A pocket's cuts (G71.2/G72.2) start where each pocket does: no step.
     let steps = matches!(cycle.kind, RoughingKind::Rough { variant: 0 | 1, .. });
-    cuts_operation(&cycle.code_name(), &cycle.moves, facing, steps, at, from)
+    let code = cycle.code_name();
+    let kind = if code == "G70" {
+        Kind::Finishing(code)
+    } else {
+        Kind::Roughing(code)
+    };
+    cuts_operation(kind, &cycle.moves, facing, steps, at, from)
 }
 
 /// A FANUC cycle under the machine model: its cuts, as a roughing cycle's (a cycle that only
 /// goes home, G28, is none).
 fn model_operation(cycle: &ModelCycle, at: (u32, Option<u32>), from: Pos) -> Option<Operation> {
     let cuts = !cycle.moves.is_empty() && !matches!(cycle.code.as_str(), "G28" | "G53");
-    let steps = !cycle.finishing;
-    cuts.then(|| cuts_operation(&cycle.code, &cycle.moves, cycle.facing, steps, at, from))
+    let kind = if cycle.finishing {
+        Kind::Finishing(cycle.code.clone())
+    } else {
+        Kind::Roughing(cycle.code.clone())
+    };
+    cuts.then(|| cuts_operation(kind, &cycle.moves, cycle.facing, !cycle.finishing, at, from))
 }
 
 /// An operation of the cuts `moves` make (each cut the feeds and arcs between two rapids), and
 /// with `steps` each cut's step from the one before, per side (along Z when `facing`).
 fn cuts_operation(
-    code: &str,
+    kind: Kind,
     moves: &[ItemKind],
     facing: bool,
     steps: bool,
     at: (u32, Option<u32>),
     from: Pos,
 ) -> Operation {
-    let mut op = blank(Kind::Roughing(code.to_string()), at, None, 0, None);
+    let mut op = blank(kind, at, None, 0, None);
     // A cut: the feeds and arcs between two rapids.
     let mut pos = from;
     let mut rows: Vec<Pass> = Vec::new();
@@ -1026,7 +1038,7 @@ fn facts(op: &Operation) -> Vec<String> {
     let mut lines = Vec::new();
     match &op.kind {
         Kind::Kept(_) => return lines,
-        Kind::Roughing(_) => {
+        Kind::Roughing(_) | Kind::Finishing(_) => {
             let n = op.passes.len();
             lines.push(format!("{n} cut{}", if n == 1 { "" } else { "s" }));
             return lines;
@@ -1151,7 +1163,7 @@ fn pass_table(op: &Operation, table: Table) -> String {
 
 /// The pass table's column names.
 fn table_header(op: &Operation) -> Vec<&'static str> {
-    let roughing = matches!(op.kind, Kind::Roughing(_));
+    let roughing = matches!(op.kind, Kind::Roughing(_) | Kind::Finishing(_));
     let known = op.crest.is_some();
     let many = op.start_angles.len() > 1;
     let mut header: Vec<&str> = vec!["pass"];
@@ -1174,7 +1186,7 @@ fn table_header(op: &Operation) -> Vec<&'static str> {
 
 /// One pass's cells in the pass table, as [`table_header`] names them.
 fn table_row(op: &Operation, p: &Pass) -> Vec<String> {
-    let roughing = matches!(op.kind, Kind::Roughing(_));
+    let roughing = matches!(op.kind, Kind::Roughing(_) | Kind::Finishing(_));
     let known = op.crest.is_some();
     let many = op.start_angles.len() > 1;
     let none = "—".to_string();
@@ -1286,7 +1298,9 @@ pub fn to_json(ops: &[Operation]) -> serde_json::Value {
                 })
                 .collect();
             let code = match &op.kind {
-                Kind::Roughing(code) | Kind::Kept(code) => Some(code.clone()),
+                Kind::Roughing(code) | Kind::Finishing(code) | Kind::Kept(code) => {
+                    Some(code.clone())
+                }
                 _ => None,
             };
             serde_json::json!({

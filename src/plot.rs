@@ -604,13 +604,15 @@ fn scale_note(v: &View) -> String {
 /// The detail's heading: the operation, what is drawn, and the `scale`.
 fn detail_heading(op: &Operation, cuts: &[CycleMove], scale: &str) -> String {
     match &op.kind {
-        Kind::Roughing(code) if cuts.iter().any(|m| m.cut.is_none()) => {
+        Kind::Roughing(code) | Kind::Finishing(code) if cuts.iter().any(|m| m.cut.is_none()) => {
             format!(
                 "operation {}: {code}'s cuts ({scale}; rapids dashed)",
                 op.number
             )
         }
-        Kind::Roughing(code) => format!("operation {}: {code}'s cuts ({scale})", op.number),
+        Kind::Roughing(code) | Kind::Finishing(code) => {
+            format!("operation {}: {code}'s cuts ({scale})", op.number)
+        }
         _ => format!("operation {}: passes along Z ({scale})", op.number),
     }
 }

@@ -38,6 +38,9 @@ struct Block {
     /// A kept block with only its number (a contour's first or last, which P and Q name):
     /// written though it has no words.
     number_only: bool,
+    /// The index in `words` of a block's text kept as written: the source's, in the
+    /// machine's G-code system already, never mapped by [`Emitter::in_system`].
+    verbatim: Option<usize>,
 }
 
 struct Emitter<'a> {
@@ -462,11 +465,15 @@ impl Emitter<'_> {
         if let Some(n) = block.number.filter(|_| self.keep) {
             let _ = write!(line, "N{n}");
         }
-        for w in &block.words {
+        for (i, w) in block.words.iter().enumerate() {
             if !line.is_empty() {
                 line.push(' ');
             }
-            line.push_str(&self.in_system(w));
+            if block.verbatim == Some(i) {
+                line.push_str(w);
+            } else {
+                line.push_str(&self.in_system(w));
+            }
         }
         if let Some(c) = block
             .comment
@@ -528,6 +535,9 @@ impl Emitter<'_> {
                     let mode = block.words.iter().rposition(|w| w == "G96" || w == "G97");
                     let at = mode.map_or(block.words.len(), |m| m + 1);
                     block.words.insert(at, format!("S{s}"));
+                    if let Some(v) = block.verbatim.as_mut().filter(|v| **v >= at) {
+                        *v += 1;
+                    }
                 }
                 None => self.diag(
                     codes::FANW_NO_EQUIVALENT,
@@ -750,6 +760,7 @@ impl Emitter<'_> {
         if text.is_empty() {
             block.number_only = true;
         } else {
+            block.verbatim = Some(block.words.len());
             block.words.push(text.to_string());
         }
     }
@@ -949,6 +960,7 @@ impl Emitter<'_> {
             moves: false,
             own_comment: false,
             number_only: false,
+            verbatim: None,
         });
         true
     }
@@ -1480,5 +1492,28 @@ mod tests {
         }]);
         assert!(out.is_none());
         assert_eq!(d[0].code, codes::FANW_PRECISION);
+    }
+
+    /// A block kept as written is the source's, in the machine's system already: in system C
+    /// a bare `G73` (the roughing cycle's first block) stays `G73`, while a G code the writer
+    /// builds is spelled in C (`G21` → `G71`, `G99` → `G95`).
+    #[test]
+    fn a_kept_block_is_never_renumbered() {
+        let profile =
+            Profile::from_toml(&SourceFile::new("p", "[fanuc]\ngcode_system = \"C\"\n")).unwrap();
+        let text = "G71 G90 G95\nG00 X50. Z3.\nG73\nG73 P70 Q80 U0.5 W0.2 F0.3\nN70 G00 X18.\nN80 G01 Z-12.\nG72 P70 Q80\nG76\nM30\n";
+        let src = SourceFile::new("t", text);
+        let (program, d) = crate::dialect::fanuc::front::parse(
+            &src,
+            &profile.fanuc,
+            crate::dialect::Unsupported::Error,
+        );
+        assert!(d.is_empty(), "{d:?}");
+        let (out, d) = emit(&program, &src, &profile, false);
+        let out = out.expect("written");
+        assert!(d.is_empty(), "{d:?}");
+        assert!(out.contains("G71 G90 G95\n"), "{out}");
+        assert!(out.contains("\nG73\nG73 P70 Q80"), "{out}");
+        assert!(out.contains("\nG76\n"), "{out}");
     }
 }

@@ -266,7 +266,7 @@ impl<'a> FrontEnd<'a> {
     /// (and file); a block of another file's subprogram stands at the program's call, and
     /// a diagnostic in a subprogram names the call chain.
     fn macro_lines(&mut self, src: &'a SourceFile, loaded: &'a macros::Loaded) {
-        for event in macros::run(src, loaded) {
+        for event in macros::run(src, loaded, self.profile) {
             self.line_read();
             match event {
                 macros::Event::Diag(d) => self.r.diags.push(d),
@@ -961,6 +961,46 @@ mod tests {
             let (_, d) = program(text);
             assert!(d.iter().any(|d| d.message.contains(says)), "{text}: {d:?}");
         }
+        // A computed word is rounded to the unit in force: G70 inch input (not G20, the
+        // turning cycle), 0.0001 in; the machine's start unit where the program says none.
+        let rapid = |items: &[Item]| {
+            items.iter().find_map(|i| match i.kind {
+                ItemKind::Rapid { to } => to.x,
+                _ => None,
+            })
+        };
+        let (p, d) = program("G70 G90 G95\n#1=1.23456\nG00 X#1 Z0.1\n");
+        assert!(d.is_empty(), "{d:?}");
+        assert_eq!(
+            rapid(&p.items)
+                .and_then(Length::inches_with_point)
+                .as_deref(),
+            Some("1.2346")
+        );
+        let (p, d) = program("G71 G90 G95\nG00 X30. Z2.\nG20 X28. Z-5. F0.2\n#1=20.123\nG00 X#1\n");
+        assert!(d.is_empty(), "{d:?}");
+        assert!(
+            p.items
+                .iter()
+                .any(|i| matches!(i.kind, ItemKind::Rapid { to } if to.x == Some(mm("20.123"))))
+        );
+        let inch = crate::profile::Profile::from_toml(&SourceFile::new(
+            "p",
+            "[fanuc]\nunits = \"inch\"\n",
+        ))
+        .unwrap();
+        let (p, d) = parse(
+            &SourceFile::new("t", "#1=1.23456\nG00 X#1 Z0.1\n"),
+            &inch.fanuc,
+            Unsupported::Error,
+        );
+        assert!(d.is_empty(), "{d:?}");
+        assert_eq!(
+            rapid(&p.items)
+                .and_then(Length::inches_with_point)
+                .as_deref(),
+            Some("1.2346")
+        );
         // A message names a cycle by the system's code.
         let (_, d) = program("G73 P10 Q20 U0.5 W0.2 F0.3\n");
         assert!(

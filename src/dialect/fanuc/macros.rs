@@ -324,7 +324,10 @@ struct Runner<'a> {
     iterations: u64,
     /// Lines run so far.
     steps: u64,
+    /// Inch or metric input, which a computed word is rounded to: the machine's start unit,
+    /// then G20/G21 (G70/G71 in G-code system C).
     inch: bool,
+    system: super::profile::GcodeSystem,
     percents: u32,
     events: Vec<Event<'a>>,
     /// The program's title line (see [`title_line`]).
@@ -339,7 +342,11 @@ enum Flow {
 }
 
 /// Runs the program: its explicit blocks, its refusals, in order.
-pub(super) fn run<'a>(src: &'a SourceFile, loaded: &'a Loaded) -> Vec<Event<'a>> {
+pub(super) fn run<'a>(
+    src: &'a SourceFile,
+    loaded: &'a Loaded,
+    profile: &super::profile::FanucProfile,
+) -> Vec<Event<'a>> {
     let files: Vec<&SourceFile> = std::iter::once(src)
         .chain(loaded.files.iter().map(|(_, f)| f))
         .collect();
@@ -365,7 +372,8 @@ pub(super) fn run<'a>(src: &'a SourceFile, loaded: &'a Loaded) -> Vec<Event<'a>>
         vars: vars::Variables::default(),
         iterations: 0,
         steps: 0,
-        inch: false,
+        inch: profile.inch,
+        system: profile.gcode_system,
         percents: 0,
         events: Vec::new(),
         title: title_line(src),

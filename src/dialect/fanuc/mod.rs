@@ -23,8 +23,8 @@ pub const ID: DialectId = DialectId::new("fanuc");
 /// FANUC lathe G-code.
 pub struct Fanuc;
 
-/// Whether a line's words are FANUC's alone: G32, G50, G98/G99, a G92 with F, a four-digit
-/// T, U or W words.
+/// Whether a line's words are FANUC's alone: G32, G50, G98/G99, G77–G79, a G92 with F, a
+/// four-digit T, U or W words.
 fn fanuc_word(words: &[String]) -> bool {
     let g92_with_f = words.iter().any(|w| w == "G92") && words.iter().any(|w| w.starts_with('F'));
     let has = |g: &str| words.iter().any(|w| w == g);
@@ -34,18 +34,36 @@ fn fanuc_word(words: &[String]) -> bool {
     let g76 = has("G76")
         && (words.iter().any(|w| w.starts_with('F'))
             || p.is_some_and(|p| p.len() == 7 && p[1..].bytes().all(|b| b.is_ascii_digit())));
-    let g7x_p = ["G70", "G71", "G72", "G73"].iter().any(|g| has(g)) && p.is_some();
+    // G74/G75 with P are the peck cycles' second block; G72–G75 with P are system C's
+    // multiple repetitive cycles too (LinuxCNC has no G74/G75).
+    let g7x_p = ["G70", "G71", "G72", "G73", "G74", "G75"]
+        .iter()
+        .any(|g| has(g))
+        && p.is_some();
     // System B: G92 S, the spindle limit.
     let g92_s = has("G92") && words.iter().any(|w| w.starts_with('S'));
+    // System C's single cycles: G20/G21/G24 with an end and F, no motion code (LinuxCNC's
+    // units switch stands in a header, or beside the move's G code).
+    let c_cycle = ["G20", "G21", "G24"].iter().any(|g| has(g))
+        && words.iter().any(|w| w.starts_with('F'))
+        && words.iter().any(|w| w.starts_with(['X', 'Z', 'U', 'W']))
+        && !words.iter().any(|w| {
+            matches!(
+                w.as_str(),
+                "G0" | "G00" | "G1" | "G01" | "G2" | "G02" | "G3" | "G03" | "G33"
+            )
+        });
     g92_with_f
         || g92_s
+        || c_cycle
         || g76
         || g7x_p
         || words.iter().any(|w| {
-            matches!(w.as_str(), "G32" | "G50" | "G98" | "G99")
-                || (w.len() == 5
-                    && w.starts_with('T')
-                    && w[1..].bytes().all(|b| b.is_ascii_digit()))
+            // G77–G79: systems B's and C's cycles, no LinuxCNC code.
+            matches!(
+                w.as_str(),
+                "G32" | "G50" | "G98" | "G99" | "G77" | "G78" | "G79"
+            ) || (w.len() == 5 && w.starts_with('T') && w[1..].bytes().all(|b| b.is_ascii_digit()))
                 || ((w.starts_with('U') || w.starts_with('W')) && w.contains('.'))
         })
 }
@@ -129,7 +147,7 @@ impl Dialect for Fanuc {
     }
 
     fn mark_description(&self) -> &'static str {
-        "a FANUC mark (an `O0001` program number, G32, G50, G98/G99, G92 with F, G76 with F or P010060, G70–G73 with P, G92 with S, T0101, or U/W words)"
+        "a FANUC mark (an `O0001` program number, G32, G50, G98/G99, G77–G79, G92 with F, G20/G21/G24 with an end and F, G76 with F or P010060, G70–G75 with P, G92 with S, T0101, or U/W words)"
     }
 
     fn tie_rank(&self) -> u8 {

@@ -175,8 +175,11 @@ fn unsupported_g(g: i64, text: &str, system: GcodeSystem) -> String {
         53 => "G53 (machine coordinates) is not read".to_string(),
         83..=89 => format!("the G{g} drilling or tapping cycle is not read"),
         17 | 19 => format!("G{g} selects a plane other than ZX: not a lathe program"),
-        79 if system == GcodeSystem::A => "G79 is a code of FANUC's G-code system B (its facing cycle), not of system A (the default): if the machine reads system B, set `gcode_system = \"B\"` in the profile's [fanuc] section".to_string(),
-        33 | 77 | 78 | 91 | 95 if system == GcodeSystem::A => format!(
+        77..=79 if system == GcodeSystem::A => format!(
+            "G{g} is a code of FANUC's G-code system B (its {} cycle), not of system A (the default): if the machine reads system B, set `gcode_system = \"B\"` in the profile's [fanuc] section",
+            ["turning", "threading", "facing"][(g - 77) as usize]
+        ),
+        33 | 91 | 95 if system == GcodeSystem::A => format!(
             "G{g} is a code of FANUC's G-code systems B and C, not of system A (the default): if the machine reads system B or C, set `gcode_system = \"B\"` (or \"C\") in the profile's [fanuc] section"
         ),
         24 if system == GcodeSystem::A => "G24 is a code of FANUC's G-code system C (its facing cycle), not of system A (the default): if the machine reads system C, set `gcode_system = \"C\"` in the profile's [fanuc] section".to_string(),
@@ -396,7 +399,7 @@ impl FrontEnd<'_> {
                     codes::FANR_CYCLE,
                     line,
                     block.code_range.clone(),
-                    format!("`{text}` moves without a G code after the G{g} cycle: which of G00–G03 is in force after a cycle is the control's"),
+                    format!("`{text}` moves without a G code after the G{:02} cycle: which of G00–G03 is in force after a cycle is the control's", self.profile.gcode_system.code(g)),
                     "name the motion: `G00 X100. Z100.` or `G01 X50. F0.2`",
                 );
                 return true;
@@ -426,8 +429,8 @@ impl FrontEnd<'_> {
     }
 
     /// A block of system B or C as the reader reads system A: G90 / G91 set the distance mode
-    /// (`self.incremental`) first, under G91 X and Z are increments (read as U and W), and U
-    /// and W are words of the cycles only. `None` when a block moves with U or W (said).
+    /// (`self.incremental`) first, under G91 X and Z are increments (read as U and W; a
+    /// cycle's too, G53's not), and U and W are words of the cycles only. `None` when a block moves with U or W (said).
     fn system_b_block<'b>(
         &mut self,
         line: Line<'_>,
@@ -464,7 +467,13 @@ impl FrontEnd<'_> {
             );
             return None;
         }
-        if !self.incremental || cycle {
+        // Under G91 a cycle's X and Z are increments too (`G91 G28 X0. Z0.`, a turning
+        // cycle's end), read as system A's U and W; G53's are machine coordinates.
+        let g53 = block
+            .words
+            .iter()
+            .any(|w| w.letter == 'G' && w.value.to_whole() == Ok(53));
+        if !self.incremental || g53 {
             return Some(std::borrow::Cow::Borrowed(block));
         }
         let mut b = block.clone();
@@ -759,7 +768,12 @@ impl FrontEnd<'_> {
                     line,
                     w.range.clone(),
                     format!("`{text}` {after}: the unit must be set at the program's start"),
-                    "put G20 or G21 in the program's first blocks, before any move or G96",
+                    match self.profile.gcode_system {
+                        GcodeSystem::C => {
+                            "put G70 or G71 in the program's first blocks, before any move or G96"
+                        }
+                        _ => "put G20 or G21 in the program's first blocks, before any move or G96",
+                    },
                 );
                 return None;
             }

@@ -177,7 +177,7 @@ impl FrontEnd<'_> {
         self.r.diags.push(
             Diagnostic::new(
                 codes::FANR_NOT_EXPANDED,
-                format!("the G{g} cycle is kept as written, not expanded under the machine model: {reason}; converting it to another control is refused"),
+                format!("the G{:02} cycle is kept as written, not expanded under the machine model: {reason}; converting it to another control is refused", self.profile.gcode_system.code(g)),
             )
             .at(self.r.src, span)
             .help("the FANUC output keeps it as it is; for another control, change the cycle so that the model can expand it, or write its moves"),
@@ -431,6 +431,9 @@ impl FrontEnd<'_> {
         let moves = (|| {
             let from = self.r.pos;
             if g == 53 {
+                if self.incremental {
+                    return Err("G53 under G91: a move in machine coordinates in incremental mode is not read".to_string());
+                }
                 if words.get('U').is_some() || words.get('W').is_some() {
                     return Err("G53 takes X and Z in machine coordinates, not U and W".to_string());
                 }

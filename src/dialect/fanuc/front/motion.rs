@@ -202,7 +202,10 @@ impl FrontEnd<'_> {
             (None, register) => {
                 let why = match register {
                     Some(FRegister::Lead(_)) => "F was last a thread's lead; whether this control feeds at it is not settled by any source ncthread holds".to_string(),
-                    Some(FRegister::AfterCycle(g)) => format!("the feed after the G{g} cycle is the control's (its F, or its contour's, which G70 runs)"),
+                    Some(FRegister::AfterCycle(g)) => {
+                        let s = self.profile.gcode_system;
+                        format!("the feed after the G{:02} cycle is the control's (its F, or its contour's, which G{:02} runs)", s.code(g), s.code(70))
+                    }
                     _ => "no feed F is set yet".to_string(),
                 };
                 self.error(

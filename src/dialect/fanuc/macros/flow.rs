@@ -274,10 +274,10 @@ impl Runner<'_> {
 
     /// Gives a block to the interpreter; M02 and M30 end the run there.
     fn emit(&mut self, l: &MLine, words: Vec<Word>) {
-        for w in &words {
-            match (w.letter, w.value.to_whole()) {
-                ('G', Ok(20)) => self.inch = true,
-                ('G', Ok(21)) => self.inch = false,
+        for w in words.iter().filter(|w| w.letter == 'G') {
+            match w.value.to_whole().map(|g| self.system.a_of(g).unwrap_or(g)) {
+                Ok(20) => self.inch = true,
+                Ok(21) => self.inch = false,
                 _ => {}
             }
         }
