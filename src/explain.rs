@@ -910,6 +910,10 @@ fn cuts_operation(
     let mut rows: Vec<Pass> = Vec::new();
     let mut cutting = false;
     for m in moves {
+        // A compensation switch (G70's contour) moves nothing.
+        if matches!(m, ItemKind::Compensation(_)) {
+            continue;
+        }
         let next = m.end_position(pos);
         let arc = match m {
             ItemKind::Arc {

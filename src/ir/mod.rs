@@ -565,7 +565,7 @@ pub struct ModelCycle {
     /// step between them.
     pub finishing: bool,
     /// The moves: [`ItemKind::Rapid`], [`ItemKind::Feed`], [`ItemKind::Arc`] and
-    /// [`ItemKind::ThreadPass`] only.
+    /// [`ItemKind::ThreadPass`] only, and G70's [`ItemKind::Compensation`] switches.
     pub moves: Vec<ItemKind>,
 }
 

@@ -8,19 +8,22 @@
 //! point and rounded onto the grid once.
 
 use crate::fixed::Length;
-use crate::ir::{ItemKind, Pos};
+use crate::ir::{Compensation, ItemKind, Pos};
 
 /// A point: X (a diameter) and Z.
 pub type Point = (Length, Length);
 
 /// A move of a contour (G70's, and the shape G71/G72 rough to): to `to`, straight or around
-/// `arc` (its centre, and clockwise as LinuxCNC's G2 in G18), at rapid or at `feed`.
+/// `arc` (its centre, and clockwise as LinuxCNC's G2 in G18), at rapid or at `feed`; `comp`
+/// the tool nose radius compensation its block switches before it (G40/G41/G42), which G70
+/// runs and the roughing cycles ignore.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Element {
     pub to: Point,
     pub arc: Option<(Point, bool)>,
     pub rapid: bool,
     pub feed: Length,
+    pub comp: Option<Compensation>,
 }
 
 impl Element {
@@ -79,12 +82,16 @@ pub fn turning(start: Point, end: Point, taper: Length, facing: bool, f: Length)
 }
 
 /// A G70 finishing cycle: the contour's moves as written (the first from the start point),
-/// with their own feeds, then a rapid back to the start.
+/// with their own feeds and the compensation their blocks switch, then a rapid back to the
+/// start.
 pub fn finishing(start: Point, contour: &[Element]) -> Vec<ItemKind> {
-    let mut moves: Vec<ItemKind> = contour
-        .iter()
-        .map(|e| e.item((Length::ZERO, Length::ZERO), None))
-        .collect();
+    let mut moves = Vec::with_capacity(contour.len() + 1);
+    for e in contour {
+        if let Some(c) = e.comp {
+            moves.push(ItemKind::Compensation(c));
+        }
+        moves.push(e.item((Length::ZERO, Length::ZERO), None));
+    }
     moves.push(rapid(start));
     moves
 }
@@ -625,6 +632,7 @@ mod tests {
 
     fn line(x: f64, z: f64, rapid: bool) -> Element {
         Element {
+            comp: None,
             to: pt(x, z),
             arc: None,
             rapid,

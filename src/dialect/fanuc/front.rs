@@ -153,6 +153,8 @@ struct FrontEnd<'a> {
     motion_after_cycle: Option<i64>,
     /// System B's G91: X and Z are increments.
     incremental: bool,
+    /// Tool nose radius compensation (G41/G42) in force.
+    comp_on: bool,
     /// How many blocks carry each block number.
     numbers: std::collections::HashMap<u32, u32>,
     /// The P and Q words of the cycles, checked at the end.
@@ -233,6 +235,7 @@ pub(crate) fn read(
         kept_modal: None,
         motion_after_cycle: None,
         incremental: false,
+        comp_on: false,
         numbers: std::collections::HashMap::new(),
         references: Vec::new(),
         setup: None,

@@ -1028,6 +1028,7 @@ impl FrontEnd<'_> {
     /// Compensation: G40, G41, G42.
     fn compensation(&mut self, words: &Words<'_>, code_span: Span) {
         if let Some((c, _)) = words.comp {
+            self.comp_on = c != Compensation::Off;
             self.push(ItemKind::Compensation(c), code_span);
         }
     }

@@ -17,7 +17,7 @@ use crate::dialect::fanuc::codes;
 use crate::dialect::fanuc::profile::{G73Divisor, LayersFrom, MinCut, PassEnd, Retract};
 use crate::dialect::fanuc::syntax::Block;
 use crate::fixed::Length;
-use crate::ir::{ItemKind, ModalContext, ModelCycle, Pos};
+use crate::ir::{Compensation, ItemKind, ModalContext, ModelCycle, Pos};
 use crate::lower::fanuc::{
     self as lowering, Element, Pattern, Pecking, Point, Roughing, Threading,
 };
@@ -506,6 +506,7 @@ impl FrontEnd<'_> {
                 .get(&(p, q))
                 .ok_or("its contour was not read before it as a G71 or G72 contour")?
                 .clone()?;
+            compensation_allowed(self.comp_on, &contour)?;
             let f = words
                 .get('F')
                 .and_then(|w| self.length(line, w, Unit::Feed));
@@ -618,6 +619,8 @@ impl FrontEnd<'_> {
     /// A G71/G72's second block: its words now, its moves when its contour has been read.
     fn roughing(&mut self, line: Line<'_>, words: &Words<'_>, g: i64) -> Expansion {
         let pending = (|| {
+            // The contour's own G40–G42 are not run in roughing (GSK 980TDi).
+            compensation_allowed(self.comp_on, &[])?;
             let setup = match words.get('D') {
                 Some(_) => self.haas_setup(line, words, g)?,
                 None => self.setup.take().filter(|s| s.g == g).ok_or(
@@ -723,13 +726,15 @@ impl FrontEnd<'_> {
 
     /// [`Self::capture_block`]'s reading of one block into `cap`.
     fn capture_words(&mut self, line: Line<'_>, block: &Block, cap: &mut Capture) {
+        // G40–G42: the GSK 980TDi runs them in G70 and not in G71–G73 (its manual, G71's and
+        // G73's notes).
         if let Some(w) = block.words.iter().find(|w| match w.letter {
-            'G' => !matches!(w.value.to_whole(), Ok(0..=3)) || w.value.has_point,
+            'G' => !matches!(w.value.to_whole(), Ok(0..=3 | 40..=42)) || w.value.has_point,
             l => !"XZUWIKRF".contains(l),
         }) {
             let text = &line.text[w.range.clone()];
             cap.refused = Some(format!(
-                "its contour's `{text}` is not expanded by this version (a contour of G00–G03 moves with X Z U W I K R F is)"
+                "its contour's `{text}` is not expanded by this version (a contour of G00–G03 moves with X Z U W I K R F, and G40–G42, is)"
             ));
             return;
         }
@@ -744,6 +749,7 @@ impl FrontEnd<'_> {
             self.kept_modal.take(),
             self.sync_end,
             self.moved,
+            self.comp_on,
         );
         (self.r.pos, self.motion, self.f) = (cap.pos, cap.motion, cap.f);
         let at = cap.pos;
@@ -761,6 +767,7 @@ impl FrontEnd<'_> {
             self.kept_modal,
             self.sync_end,
             self.moved,
+            self.comp_on,
         ) = saved;
         if let Some(e) = errors.iter().find(|d| d.is_error()) {
             cap.refused = Some(format!(
@@ -834,25 +841,49 @@ impl FrontEnd<'_> {
     }
 }
 
+/// Compensation in a contour the model expands: none in force at the cycle (how the GSK
+/// 980TDi's roughing and G70 take a compensation already on its manual's excerpts do not say),
+/// and the contour's own G41/G42 ended by its G40, so that the cycle leaves it off.
+fn compensation_allowed(on_at_call: bool, contour: &[Element]) -> Result<(), String> {
+    if on_at_call {
+        return Err("tool nose radius compensation (G41/G42) is in force at the cycle: how the model's cycles run under it is not documented".into());
+    }
+    let last = contour.iter().rev().find_map(|e| e.comp);
+    if last.is_some_and(|c| c != Compensation::Off) {
+        return Err(
+            "its contour leaves tool nose radius compensation on (no G40 after its G41/G42)".into(),
+        );
+    }
+    Ok(())
+}
+
 /// A contour block's items as elements, from `at`: its moves (an end as written may name one
 /// axis; an F alone is no move). Anything else, or a point not known, is the reason it is not.
 fn elements_of(items: Vec<crate::ir::Item>, mut at: Pos) -> Result<Vec<Element>, String> {
     let mut elements = Vec::new();
+    // A G40–G42 before the block's move.
+    let mut comp = None;
     for item in items {
         let to = item.kind.end_position(at);
         at = to;
         let element = match item.kind {
+            ItemKind::Compensation(c) => {
+                comp = Some(c);
+                continue;
+            }
             ItemKind::Rapid { .. } => to.known().map(|to| Element {
                 to,
                 arc: None,
                 rapid: true,
                 feed: UNSET_FEED,
+                comp: comp.take(),
             }),
             ItemKind::Feed { feed, .. } => to.known().map(|to| Element {
                 to,
                 arc: None,
                 rapid: false,
                 feed,
+                comp: comp.take(),
             }),
             ItemKind::Arc {
                 centre,
@@ -864,11 +895,15 @@ fn elements_of(items: Vec<crate::ir::Item>, mut at: Pos) -> Result<Vec<Element>,
                 arc: Some((c, clockwise)),
                 rapid: false,
                 feed,
+                comp: comp.take(),
             }),
             ItemKind::FeedRate(_) => continue,
             _ => None,
         };
         elements.push(element.ok_or("its contour's points are not all known")?);
+    }
+    if comp.is_some() {
+        return Err("its contour switches compensation (G40–G42) in a block without a move".into());
     }
     Ok(elements)
 }
@@ -1157,6 +1192,51 @@ mod tests {
             let e = Profile::from_toml(&SourceFile::new("p.toml", toml)).unwrap_err();
             assert!(e[0].message.contains(key), "{e:?}");
             assert_eq!(e[0].location.as_ref().map(|l| l.line), Some(2));
+        }
+    }
+
+    /// G41/G42/G40 in a contour (GSK 980TDi: not run in G71–G73, run in G70): the roughing
+    /// ignores them, G70 switches them before its moves. A compensation already on at the
+    /// cycle, or one the contour leaves on, keeps the cycle as written, with its reason.
+    #[test]
+    fn compensation_in_a_contour_runs_in_g70_only() {
+        let contour = "N80 G00 G42 X30.\nN90 G01 Z-20. F0.15\nN100 G40 X52.\n";
+        let (items, d) = read(
+            GSK,
+            &format!("G71 U2. R0.5\nG71 P80 Q100 U0.4 W0.1 F0.25\n{contour}G70 P80 Q100\n"),
+        );
+        assert!(d.is_empty(), "{d:?}");
+        let cycles: Vec<&crate::ir::ModelCycle> = items
+            .iter()
+            .filter_map(|i| match &i.kind {
+                ItemKind::ModelCycle(c) if !c.moves.is_empty() => Some(&**c),
+                _ => None,
+            })
+            .collect();
+        let comp = |c: &crate::ir::ModelCycle| {
+            c.moves
+                .iter()
+                .filter(|m| matches!(m, ItemKind::Compensation(_)))
+                .count()
+        };
+        assert_eq!(cycles.len(), 2);
+        assert_eq!((comp(cycles[0]), comp(cycles[1])), (0, 2));
+        assert!(matches!(
+            cycles[1].moves[0],
+            ItemKind::Compensation(crate::ir::Compensation::FromTool { right: true, .. })
+        ));
+        for (body, why) in [
+            (
+                format!("G42 G00 X52.\nG71 U2. R0.5\nG71 P80 Q100 U0.4 W0.1 F0.25\n{contour}"),
+                "in force at the cycle",
+            ),
+            (
+                "G71 U2. R0.5\nG71 P80 Q100 U0.4 W0.1 F0.25\nN80 G00 G42 X30.\nN90 G01 Z-20. F0.15\nN100 X52.\nG70 P80 Q100\n".to_string(),
+                "leaves tool nose radius compensation on",
+            ),
+        ] {
+            let (_, d) = read(GSK, &body);
+            assert!(d.iter().any(|d| d.code.id == "FANR021" && d.message.contains(why)), "{body}: {d:?}");
         }
     }
 }
