@@ -83,7 +83,7 @@ pub const FANR_MACHINE_VARIABLE: Code = error(
 );
 pub const FANR_NOT_EXPANDED: Code = warning(
     "FANR021",
-    "a canned cycle the profile's machine model covers, kept as written because the model cannot expand it (a layer on an element parallel to it, an allowance into the part, a type II contour…): another target refuses it",
+    "a canned cycle the profile's machine model covers, kept as written because the model cannot expand it (a layer that misses the contour, an allowance into the part, a type II contour…): another target refuses it",
 );
 
 // writer

@@ -506,7 +506,6 @@ impl FrontEnd<'_> {
                 .get(&(p, q))
                 .ok_or("its contour was not read before it as a G71 or G72 contour")?
                 .clone()?;
-            compensation_allowed(self.comp_on, &contour)?;
             let f = words
                 .get('F')
                 .and_then(|w| self.length(line, w, Unit::Feed));
@@ -517,6 +516,11 @@ impl FrontEnd<'_> {
                         "a move of its contour has no F of its own (the contour's F words, or the G70's, are the feed)",
                     )?;
                 }
+            }
+            // G70 runs the contour's G40–G42 as any block (a `G42 G00 X42. Z2.` before it
+            // compensates its moves, as textbooks write it): the mode after it is the last.
+            if let Some(c) = elements.iter().rev().find_map(|e| e.comp) {
+                self.comp_on = c != Compensation::Off;
             }
             Ok(lowering::finishing(start, &elements))
         })();
@@ -620,7 +624,7 @@ impl FrontEnd<'_> {
     fn roughing(&mut self, line: Line<'_>, words: &Words<'_>, g: i64) -> Expansion {
         let pending = (|| {
             // The contour's own G40–G42 are not run in roughing (GSK 980TDi).
-            compensation_allowed(self.comp_on, &[])?;
+            roughing_compensation(self.comp_on)?;
             let setup = match words.get('D') {
                 Some(_) => self.haas_setup(line, words, g)?,
                 None => self.setup.take().filter(|s| s.g == g).ok_or(
@@ -841,20 +845,14 @@ impl FrontEnd<'_> {
     }
 }
 
-/// Compensation in a contour the model expands: none in force at the cycle (how the GSK
-/// 980TDi's roughing and G70 take a compensation already on its manual's excerpts do not say),
-/// and the contour's own G41/G42 ended by its G40, so that the cycle leaves it off.
-fn compensation_allowed(on_at_call: bool, contour: &[Element]) -> Result<(), String> {
-    if on_at_call {
-        return Err("tool nose radius compensation (G41/G42) is in force at the cycle: how the model's cycles run under it is not documented".into());
+/// A roughing cycle (G71–G73) under the model: no compensation in force at it (the GSK
+/// 980TDi manual's section on a roughing cycle under compensation was not reached; its
+/// contour's own G40–G42 are not run in roughing).
+fn roughing_compensation(on_at_call: bool) -> Result<(), String> {
+    match on_at_call {
+        true => Err("tool nose radius compensation (G41/G42) is in force at the roughing cycle: how the model roughs under it is not documented".into()),
+        false => Ok(()),
     }
-    let last = contour.iter().rev().find_map(|e| e.comp);
-    if last.is_some_and(|c| c != Compensation::Off) {
-        return Err(
-            "its contour leaves tool nose radius compensation on (no G40 after its G41/G42)".into(),
-        );
-    }
-    Ok(())
 }
 
 /// A contour block's items as elements, from `at`: its moves (an end as written may name one
@@ -1196,8 +1194,8 @@ mod tests {
     }
 
     /// G41/G42/G40 in a contour (GSK 980TDi: not run in G71–G73, run in G70): the roughing
-    /// ignores them, G70 switches them before its moves. A compensation already on at the
-    /// cycle, or one the contour leaves on, keeps the cycle as written, with its reason.
+    /// ignores them, G70 switches them before its moves. A compensation already on at a
+    /// roughing cycle keeps it as written, with its reason; a G70 runs under it.
     #[test]
     fn compensation_in_a_contour_runs_in_g70_only() {
         let contour = "N80 G00 G42 X30.\nN90 G01 Z-20. F0.15\nN100 G40 X52.\n";
@@ -1225,18 +1223,24 @@ mod tests {
             cycles[1].moves[0],
             ItemKind::Compensation(crate::ir::Compensation::FromTool { right: true, .. })
         ));
-        for (body, why) in [
-            (
-                format!("G42 G00 X52.\nG71 U2. R0.5\nG71 P80 Q100 U0.4 W0.1 F0.25\n{contour}"),
-                "in force at the cycle",
-            ),
-            (
-                "G71 U2. R0.5\nG71 P80 Q100 U0.4 W0.1 F0.25\nN80 G00 G42 X30.\nN90 G01 Z-20. F0.15\nN100 X52.\nG70 P80 Q100\n".to_string(),
-                "leaves tool nose radius compensation on",
-            ),
-        ] {
+        for (body, why) in [(
+            format!("G42 G00 X52.\nG71 U2. R0.5\nG71 P80 Q100 U0.4 W0.1 F0.25\n{contour}"),
+            "in force at the roughing cycle",
+        )] {
             let (_, d) = read(GSK, &body);
-            assert!(d.iter().any(|d| d.code.id == "FANR021" && d.message.contains(why)), "{body}: {d:?}");
+            assert!(
+                d.iter()
+                    .any(|d| d.code.id == "FANR021" && d.message.contains(why)),
+                "{body}: {d:?}"
+            );
         }
+        // A G70 under a compensation switched on before it (the textbooks' `G42 G00 X42. Z2.`,
+        // `G70 P Q`, `G40`): its moves run under it.
+        let (items, d) = read(
+            GSK,
+            "G71 U2. R0.5\nG71 P80 Q100 U0.4 W0.1 F0.25\nN80 G00 X30.\nN90 G01 Z-20. F0.15\nN100 X52.\nG42 G00 X52. Z2.\nG70 P80 Q100\nG40 G00 X60.\n",
+        );
+        assert!(d.is_empty(), "{d:?}");
+        assert_eq!(expanded(&items).len(), 2);
     }
 }
