@@ -82,12 +82,13 @@ pub fn turning(start: Point, end: Point, taper: Length, facing: bool, f: Length)
 }
 
 /// A G70 finishing cycle: the contour's moves as written (the first from the start point),
-/// with their own feeds and the compensation their blocks switch, then a rapid back to the
-/// start.
-pub fn finishing(start: Point, contour: &[Element]) -> Vec<ItemKind> {
+/// with their own feeds and the compensation their blocks switch (`comp` in force at the
+/// call: a G41/G42 already in force changes nothing), then a rapid back to the start.
+pub fn finishing(start: Point, contour: &[Element], mut comp: Compensation) -> Vec<ItemKind> {
     let mut moves = Vec::with_capacity(contour.len() + 1);
     for e in contour {
-        if let Some(c) = e.comp {
+        if let Some(c) = e.comp.filter(|&c| c == Compensation::Off || c != comp) {
+            comp = c;
             moves.push(ItemKind::Compensation(c));
         }
         moves.push(e.item((Length::ZERO, Length::ZERO), None));
@@ -432,6 +433,21 @@ pub fn roughing(start: Point, contour: &[Element], r: &Roughing) -> Result<Vec<I
     let shift = r.allowance;
     let moved = |p: Point| (p.0 + shift.0, p.1 + shift.1);
     let p0 = first.to;
+    // Type I: monotone in X and Z, its arcs too (an arc that bulges past its ends' box would
+    // be cut through by a layer).
+    let mut at = p0;
+    for e in profile {
+        if let Some((c, clockwise)) = e.arc
+            && arc_turns(at, e.to, c, clockwise)
+        {
+            return Err(format!(
+                "its contour's arc to X{} Z{} turns past its ends (X or Z is not monotone along it, as type I needs)",
+                e.to.0.mm(),
+                e.to.1.mm()
+            ));
+        }
+        at = e.to;
+    }
     let (side, way) = directions(ax, start, first, last, shift)?;
     let origin = if r.from_shifted { moved(start) } else { start };
     let step = ax.across_units(r.depth);
@@ -573,6 +589,41 @@ fn layer_end(ax: Axes, level: i64, from: Point, profile: &[Element], shift: Poin
     None
 }
 
+/// Whether the arc from `p` to `q` around `c` (clockwise as LinuxCNC's G2 in G18: Z the
+/// first axis, X the second) passes, strictly between its ends, a point where X or Z turns
+/// (its quarter points): then it leaves its ends' box.
+fn arc_turns(p: Point, q: Point, c: Point, clockwise: bool) -> bool {
+    use std::f64::consts::{FRAC_PI_2, TAU};
+    // The angle in (Z, X) with X as a radius.
+    let angle = |pt: Point| {
+        let x = (pt.0.0 - c.0.0) as f64 / 2.0;
+        let z = (pt.1.0 - c.1.0) as f64;
+        x.atan2(z)
+    };
+    let (a0, a1) = (angle(p), angle(q));
+    // The sweep from p to q, counter-clockwise positive; a whole turn when they meet.
+    let mut sweep = (a1 - a0).rem_euclid(TAU);
+    if clockwise {
+        sweep -= TAU;
+        if sweep == -TAU && p != q {
+            sweep = 0.0;
+        }
+    } else if sweep == 0.0 {
+        sweep = TAU;
+    }
+    const EPS: f64 = 1e-9;
+    (0..4).any(|k| {
+        let t = f64::from(k) * FRAC_PI_2;
+        if clockwise {
+            let d = (t - a0).rem_euclid(TAU) - TAU;
+            d > sweep + EPS && d < -EPS
+        } else {
+            let d = (t - a0).rem_euclid(TAU);
+            d > EPS && d < sweep - EPS
+        }
+    })
+}
+
 /// `v` grid units rounded onto the 0.0001 mm step, where computed values lie.
 fn on_step(v: f64) -> i64 {
     (v / Length::STEP as f64).round() as i64 * Length::STEP
@@ -581,7 +632,7 @@ fn on_step(v: f64) -> i64 {
 /// Where an arc from `p` to `q` around `c` meets the level, along (grid units): the crossing
 /// between its ends' along coordinates, nearest `p`. Real geometry: X as a radius.
 fn arc_hit(ax: Axes, level: i64, p: Point, q: Point, c: Point) -> Option<i64> {
-    // A type I contour's arc turns less than a quarter: it lies within its ends' box.
+    // A type I contour's arc lies within its ends' box (`arc_turns`, checked by `roughing`).
     let (a0, a1) = (ax.across(p), ax.across(q));
     if level < a0.min(a1) || level > a0.max(a1) {
         return None;
@@ -871,5 +922,53 @@ mod tests {
         };
         assert_eq!(cut_to(28.0), Some(mm(-30.0)));
         assert_eq!(cut_to(24.0), Some(mm(-30.0)));
+    }
+
+    /// An arc of a type I contour stays within its ends' box: a quarter fillet does, a half
+    /// circle between two points of one diameter turns past them (either way round).
+    #[test]
+    fn an_arc_that_turns_past_its_ends_is_found() {
+        // G03 X37. Z-38. R6. from X25. Z-32.: a quarter, its ends the quarter points.
+        assert!(!arc_turns(
+            pt(25.0, -32.0),
+            pt(37.0, -38.0),
+            pt(25.0, -38.0),
+            false
+        ));
+        // The same quarter back, clockwise.
+        assert!(!arc_turns(
+            pt(37.0, -38.0),
+            pt(25.0, -32.0),
+            pt(25.0, -38.0),
+            true
+        ));
+        // Half circles from X40. Z-15. to X40. Z-25. around X40. Z-20.: out to X50 (G03) or
+        // in to X30 (G02).
+        assert!(arc_turns(
+            pt(40.0, -15.0),
+            pt(40.0, -25.0),
+            pt(40.0, -20.0),
+            false
+        ));
+        assert!(arc_turns(
+            pt(40.0, -15.0),
+            pt(40.0, -25.0),
+            pt(40.0, -20.0),
+            true
+        ));
+        // From X30. Z0. to X34. Z-6. around X50. Z0. (radius 10): the short way (G02) stays
+        // in the box, the long way (G03) turns past it.
+        assert!(!arc_turns(
+            pt(30.0, 0.0),
+            pt(34.0, -6.0),
+            pt(50.0, 0.0),
+            true
+        ));
+        assert!(arc_turns(
+            pt(30.0, 0.0),
+            pt(34.0, -6.0),
+            pt(50.0, 0.0),
+            false
+        ));
     }
 }

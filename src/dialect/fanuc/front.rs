@@ -22,7 +22,7 @@ use crate::dialect::fanuc::codes;
 use crate::dialect::fanuc::profile::{DecimalPoint, FanucProfile};
 use crate::dialect::read::{Keep, Reader, UnsupportedWording};
 use crate::fixed::{Decimal, Lead, Length};
-use crate::ir::{ItemKind, ModalContext, Pos, Program};
+use crate::ir::{Compensation, ItemKind, ModalContext, Pos, Program};
 use crate::source::{Line, SourceFile, Span};
 
 mod block;
@@ -153,8 +153,8 @@ struct FrontEnd<'a> {
     motion_after_cycle: Option<i64>,
     /// System B's G91: X and Z are increments.
     incremental: bool,
-    /// Tool nose radius compensation (G41/G42) in force.
-    comp_on: bool,
+    /// Tool nose radius compensation in force (G40 off, G41/G42).
+    comp: Compensation,
     /// How many blocks carry each block number.
     numbers: std::collections::HashMap<u32, u32>,
     /// The P and Q words of the cycles, checked at the end.
@@ -235,7 +235,7 @@ pub(crate) fn read(
         kept_modal: None,
         motion_after_cycle: None,
         incremental: false,
-        comp_on: false,
+        comp: Compensation::Off,
         numbers: std::collections::HashMap::new(),
         references: Vec::new(),
         setup: None,

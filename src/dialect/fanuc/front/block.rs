@@ -1028,7 +1028,12 @@ impl FrontEnd<'_> {
     /// Compensation: G40, G41, G42.
     fn compensation(&mut self, words: &Words<'_>, code_span: Span) {
         if let Some((c, _)) = words.comp {
-            self.comp_on = c != Compensation::Off;
+            // G41/G42 again while it is in force: modal, nothing changes (LinuxCNC refuses a
+            // second one, so it is not handed on).
+            if c != Compensation::Off && c == self.comp {
+                return;
+            }
+            self.comp = c;
             self.push(ItemKind::Compensation(c), code_span);
         }
     }

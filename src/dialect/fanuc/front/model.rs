@@ -498,14 +498,21 @@ impl FrontEnd<'_> {
     /// G70: the contour P–Q read before, with its own feeds (the G70's F where the contour
     /// writes none), then back to the start.
     fn finishing(&mut self, line: Line<'_>, words: &Words<'_>) -> Expansion {
+        let at_call = self.comp;
         let moves = (|| {
-            let start = self.start()?;
             let (p, q) = self.p_q(line, words).ok_or("its P or Q cannot be read")?;
             let contour = self
                 .contours
                 .get(&(p, q))
                 .ok_or("its contour was not read before it as a G71 or G72 contour")?
                 .clone()?;
+            // G70 runs the contour's G40–G42 as any block (a `G42 G00 X42. Z2.` before it
+            // compensates its moves, as textbooks write it): the mode after it is the last,
+            // whether or not the model expands it.
+            if let Some(c) = contour.iter().rev().find_map(|e| e.comp) {
+                self.comp = c;
+            }
+            let start = self.start()?;
             let f = words
                 .get('F')
                 .and_then(|w| self.length(line, w, Unit::Feed));
@@ -517,12 +524,7 @@ impl FrontEnd<'_> {
                     )?;
                 }
             }
-            // G70 runs the contour's G40–G42 as any block (a `G42 G00 X42. Z2.` before it
-            // compensates its moves, as textbooks write it): the mode after it is the last.
-            if let Some(c) = elements.iter().rev().find_map(|e| e.comp) {
-                self.comp_on = c != Compensation::Off;
-            }
-            Ok(lowering::finishing(start, &elements))
+            Ok(lowering::finishing(start, &elements, at_call))
         })();
         moves.into()
     }
@@ -623,14 +625,14 @@ impl FrontEnd<'_> {
     /// A G71/G72's second block: its words now, its moves when its contour has been read.
     fn roughing(&mut self, line: Line<'_>, words: &Words<'_>, g: i64) -> Expansion {
         let pending = (|| {
-            // The contour's own G40–G42 are not run in roughing (GSK 980TDi).
-            roughing_compensation(self.comp_on)?;
             let setup = match words.get('D') {
                 Some(_) => self.haas_setup(line, words, g)?,
                 None => self.setup.take().filter(|s| s.g == g).ok_or(
                     "its first block (the depth of cut and the retract) is not right before it",
                 )?,
             };
+            // The contour's own G40–G42 are not run in roughing (GSK 980TDi).
+            roughing_compensation(self.comp != Compensation::Off)?;
             let start = self.start()?;
             let (p, q) = self.p_q(line, words).ok_or("its P or Q cannot be read")?;
             let allowance = (self.axis(line, words, 'U')?, self.axis(line, words, 'W')?);
@@ -753,7 +755,7 @@ impl FrontEnd<'_> {
             self.kept_modal.take(),
             self.sync_end,
             self.moved,
-            self.comp_on,
+            self.comp,
         );
         (self.r.pos, self.motion, self.f) = (cap.pos, cap.motion, cap.f);
         let at = cap.pos;
@@ -771,7 +773,7 @@ impl FrontEnd<'_> {
             self.kept_modal,
             self.sync_end,
             self.moved,
-            self.comp_on,
+            self.comp,
         ) = saved;
         if let Some(e) = errors.iter().find(|d| d.is_error()) {
             cap.refused = Some(format!(
@@ -910,7 +912,7 @@ fn elements_of(items: Vec<crate::ir::Item>, mut at: Pos) -> Result<Vec<Element>,
 mod tests {
     use crate::diag::Diagnostic;
     use crate::dialect::Unsupported;
-    use crate::ir::{Item, ItemKind, Pos};
+    use crate::ir::{Compensation, Item, ItemKind, Pos};
     use crate::profile::Profile;
     use crate::source::SourceFile;
 
@@ -1240,5 +1242,31 @@ mod tests {
         );
         assert!(d.is_empty(), "{d:?}");
         assert_eq!(expanded(&items).len(), 2);
+        // Its contour's own G42 then changes nothing (modal; LinuxCNC refuses a second one),
+        // its G40 switches it off.
+        let (items, d) = read(
+            GSK,
+            &format!(
+                "G71 U2. R0.5\nG71 P80 Q100 U0.4 W0.1 F0.25\n{contour}G42 G00 X52. Z2.\nG70 P80 Q100\n"
+            ),
+        );
+        assert!(d.is_empty(), "{d:?}");
+        let switches: Vec<&ItemKind> = items
+            .iter()
+            .flat_map(|i| match &i.kind {
+                ItemKind::ModelCycle(c) => c.moves.iter().collect::<Vec<_>>(),
+                k => vec![k],
+            })
+            .filter(|k| matches!(k, ItemKind::Compensation(_)))
+            .collect();
+        assert_eq!(switches.len(), 2, "{switches:?}");
+        assert_eq!(switches[1], &ItemKind::Compensation(Compensation::Off));
+        // Outside a cycle too.
+        let (items, _) = read(GSK, "G42 G00 X30. Z2.\nG42 G01 Z-10. F0.2\nG40 G00 X52.\n");
+        let n = items
+            .iter()
+            .filter(|i| matches!(i.kind, ItemKind::Compensation(_)))
+            .count();
+        assert_eq!(n, 2);
     }
 }
