@@ -966,20 +966,15 @@ mod tests {
         }
         // A computed word is rounded to the unit in force: G70 inch input (not G20, the
         // turning cycle), 0.0001 in; the machine's start unit where the program says none.
-        let rapid = |items: &[Item]| {
+        let inches = |items: &[Item]| {
             items.iter().find_map(|i| match i.kind {
-                ItemKind::Rapid { to } => to.x,
+                ItemKind::Rapid { to } => to.x.and_then(Length::inches_with_point),
                 _ => None,
             })
         };
         let (p, d) = program("G70 G90 G95\n#1=1.23456\nG00 X#1 Z0.1\n");
         assert!(d.is_empty(), "{d:?}");
-        assert_eq!(
-            rapid(&p.items)
-                .and_then(Length::inches_with_point)
-                .as_deref(),
-            Some("1.2346")
-        );
+        assert_eq!(inches(&p.items).as_deref(), Some("1.2346"));
         let (p, d) = program("G71 G90 G95\nG00 X30. Z2.\nG20 X28. Z-5. F0.2\n#1=20.123\nG00 X#1\n");
         assert!(d.is_empty(), "{d:?}");
         assert!(
@@ -998,12 +993,7 @@ mod tests {
             Unsupported::Error,
         );
         assert!(d.is_empty(), "{d:?}");
-        assert_eq!(
-            rapid(&p.items)
-                .and_then(Length::inches_with_point)
-                .as_deref(),
-            Some("1.2346")
-        );
+        assert_eq!(inches(&p.items).as_deref(), Some("1.2346"));
         // A message names a cycle by the system's code.
         let (_, d) = program("G73 P10 Q20 U0.5 W0.2 F0.3\n");
         assert!(
