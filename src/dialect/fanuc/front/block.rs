@@ -430,7 +430,8 @@ impl FrontEnd<'_> {
 
     /// A block of system B or C as the reader reads system A: G90 / G91 set the distance mode
     /// (`self.incremental`) first, under G91 X and Z are increments (read as U and W; a
-    /// cycle's too, G53's not), and U and W are words of the cycles only. `None` when a block moves with U or W (said).
+    /// cycle's too, G53's not), and U and W are words of the cycles only. `None` when a block
+    /// moves with U or W (said).
     fn system_b_block<'b>(
         &mut self,
         line: Line<'_>,
