@@ -874,24 +874,32 @@ fn roughing_operation(cycle: &RoughingCycle, at: (u32, Option<u32>), from: Pos) 
     // A pocket's cuts (G71.2/G72.2) start where each pocket does: no step.
     let steps = matches!(cycle.kind, RoughingKind::Rough { variant: 0 | 1, .. });
     let code = cycle.code_name();
-    let kind = if code == "G70" {
-        Kind::Finishing(code)
-    } else {
-        Kind::Roughing(code)
-    };
-    cuts_operation(kind, &cycle.moves, facing, steps, at, from)
+    let finishing = code == "G70";
+    cuts_operation(
+        cuts_kind(code, finishing),
+        &cycle.moves,
+        facing,
+        steps,
+        at,
+        from,
+    )
 }
 
 /// A FANUC cycle under the machine model: its cuts, as a roughing cycle's (a cycle that only
 /// goes home, G28, is none).
 fn model_operation(cycle: &ModelCycle, at: (u32, Option<u32>), from: Pos) -> Option<Operation> {
     let cuts = !cycle.moves.is_empty() && !matches!(cycle.code.as_str(), "G28" | "G53");
-    let kind = if cycle.finishing {
-        Kind::Finishing(cycle.code.clone())
-    } else {
-        Kind::Roughing(cycle.code.clone())
-    };
+    let kind = cuts_kind(cycle.code.clone(), cycle.finishing);
     cuts.then(|| cuts_operation(kind, &cycle.moves, cycle.facing, !cycle.finishing, at, from))
+}
+
+/// A cycle of cuts named by its G code: a finishing or a roughing one.
+fn cuts_kind(code: String, finishing: bool) -> Kind {
+    if finishing {
+        Kind::Finishing(code)
+    } else {
+        Kind::Roughing(code)
+    }
 }
 
 /// An operation of the cuts `moves` make (each cut the feeds and arcs between two rapids), and

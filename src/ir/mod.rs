@@ -162,6 +162,15 @@ pub enum Compensation {
     },
 }
 
+impl Compensation {
+    /// Whether commanding `self` while `in_force` is on switches anything: a G41/G42 repeated
+    /// while it is in force is modal and changes nothing (LinuxCNC refuses a second one); a
+    /// G40 always counts.
+    pub fn switches(self, in_force: Compensation) -> bool {
+        self == Compensation::Off || self != in_force
+    }
+}
+
 /// A move or a setting in machine coordinates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum MachineMove {

@@ -87,7 +87,7 @@ pub fn turning(start: Point, end: Point, taper: Length, facing: bool, f: Length)
 pub fn finishing(start: Point, contour: &[Element], mut comp: Compensation) -> Vec<ItemKind> {
     let mut moves = Vec::with_capacity(contour.len() + 1);
     for e in contour {
-        if let Some(c) = e.comp.filter(|&c| c == Compensation::Off || c != comp) {
+        if let Some(c) = e.comp.filter(|c| c.switches(comp)) {
             comp = c;
             moves.push(ItemKind::Compensation(c));
         }

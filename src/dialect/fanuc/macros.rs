@@ -327,6 +327,7 @@ struct Runner<'a> {
     /// Inch or metric input, which a computed word is rounded to: the machine's start unit,
     /// then G20/G21 (G70/G71 in G-code system C).
     inch: bool,
+    /// The machine's G-code system: which codes are G20/G21 (G70/G71 in system C).
     system: super::profile::GcodeSystem,
     percents: u32,
     events: Vec<Event<'a>>,

@@ -1029,9 +1029,8 @@ impl FrontEnd<'_> {
     /// Compensation: G40, G41, G42.
     fn compensation(&mut self, words: &Words<'_>, code_span: Span) {
         if let Some((c, _)) = words.comp {
-            // G41/G42 again while it is in force: modal, nothing changes (LinuxCNC refuses a
-            // second one, so it is not handed on).
-            if c != Compensation::Off && c == self.comp {
+            // G41/G42 again while it is in force is not handed on.
+            if !c.switches(self.comp) {
                 return;
             }
             self.comp = c;

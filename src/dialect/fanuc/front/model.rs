@@ -851,10 +851,10 @@ impl FrontEnd<'_> {
 /// 980TDi manual's section on a roughing cycle under compensation was not reached; its
 /// contour's own G40–G42 are not run in roughing).
 fn roughing_compensation(on_at_call: bool) -> Result<(), String> {
-    match on_at_call {
-        true => Err("tool nose radius compensation (G41/G42) is in force at the roughing cycle: how the model roughs under it is not documented".into()),
-        false => Ok(()),
+    if on_at_call {
+        return Err("tool nose radius compensation (G41/G42) is in force at the roughing cycle: how the model roughs under it is not documented".into());
     }
+    Ok(())
 }
 
 /// A contour block's items as elements, from `at`: its moves (an end as written may name one
