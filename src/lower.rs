@@ -252,7 +252,11 @@ pub fn pass_depths(
     depth: Length,
     first: Length,
 ) -> Result<Vec<Length>, ExpandError> {
-    if first.0 <= 0 {
+    let in_passes = matches!(
+        schedule,
+        Schedule::AreaInPasses(_) | Schedule::DepthInPasses(_)
+    );
+    if first.0 <= 0 && !in_passes {
         return Err(ExpandError::FirstDepth);
     }
     // In 0.0001 mm steps, where the schedules' integer rules are defined; the last pass
@@ -331,6 +335,44 @@ fn depths_in_steps(
             Ok(depths)
         }
         Schedule::Degression(d) => degression_depths(&d, depth),
+        Schedule::AreaInPasses(n) | Schedule::DepthInPasses(n) => {
+            let n = i64::from(n);
+            if n < 1 || p1 < n {
+                return Err(ExpandError::DepthTooSmall {
+                    minimum: Length::from_steps(n.max(1)),
+                });
+            }
+            if n as usize > MAX_PASSES {
+                return Err(ExpandError::TooManyPasses);
+            }
+            let area = matches!(schedule, Schedule::AreaInPasses(_));
+            Ok((1..=n)
+                .map(|i| {
+                    Length::from_steps(if area {
+                        // √(P1²·i/N), the square rounded first.
+                        let square = div_round(p1 as i128 * p1 as i128 * i as i128, n as i128);
+                        round_sqrt(square as u128) as i64
+                    } else {
+                        div_round(p1 as i128 * i as i128, n as i128) as i64
+                    })
+                })
+                .collect())
+        }
+        Schedule::RemainderFirst => {
+            // P1 = k·P2 + r: r first (when not 0), k − 1 passes of P2, then P2 split.
+            if p1 < p2 {
+                return Err(ExpandError::DepthTooSmall { minimum: first });
+            }
+            let (k, rest) = (p1 / p2, p1 % p2);
+            if k as usize + 4 > MAX_PASSES {
+                return Err(ExpandError::TooManyPasses);
+            }
+            let split = [p2 / 2, p2 / 4, p2 / 8, p2 - p2 / 2 - p2 / 4 - p2 / 8];
+            let mut cuts: Vec<i64> = (rest > 0).then_some(rest).into_iter().collect();
+            cuts.extend(std::iter::repeat_n(p2, k as usize - 1));
+            cuts.extend(split.into_iter().filter(|&c| c > 0));
+            Ok(cumulative(&cuts))
+        }
     }
 }
 
@@ -1007,6 +1049,37 @@ mod tests {
         );
         assert_eq!(depths[22], mm(0.9592));
         assert_eq!(depths[23], mm(0.96));
+    }
+
+    #[test]
+    fn heidenhain_g31_schedules() {
+        // 3·√(n/4): 1.5, 2.12132, 2.59808, 3.
+        let depths = pass_depths(Schedule::AreaInPasses(4), mm(3.0), Length::ZERO).unwrap();
+        assert_eq!(depths, lengths(&[1.5, 2.1213, 2.5981, 3.0]));
+        // 1·n/3.
+        let depths = pass_depths(Schedule::DepthInPasses(3), mm(1.0), Length::ZERO).unwrap();
+        assert_eq!(depths, lengths(&[0.3333, 0.6667, 1.0]));
+        // 1.0 = 3·0.3 + 0.1: 0.1 first, two cuts of 0.3, then 0.3 as 0.15, 0.075, 0.0375, 0.0375.
+        let depths = pass_depths(Schedule::RemainderFirst, mm(1.0), mm(0.3)).unwrap();
+        assert_eq!(depths, lengths(&[0.1, 0.4, 0.7, 0.85, 0.925, 0.9625, 1.0]));
+        // No remainder: 0.3, 0.6, then the split.
+        let depths = pass_depths(Schedule::RemainderFirst, mm(0.9), mm(0.3)).unwrap();
+        assert_eq!(depths, lengths(&[0.3, 0.6, 0.75, 0.825, 0.8625, 0.9]));
+        // Odd steps: 0.0007 splits 3, 1, 0, 3 (the zero cut left out).
+        let depths = pass_depths(Schedule::RemainderFirst, mm(0.0007), mm(0.0007)).unwrap();
+        assert_eq!(depths, lengths(&[0.0003, 0.0004, 0.0007]));
+        assert!(matches!(
+            pass_depths(Schedule::RemainderFirst, mm(0.2), mm(0.3)),
+            Err(ExpandError::DepthTooSmall { .. })
+        ));
+        assert!(matches!(
+            pass_depths(Schedule::AreaInPasses(5), mm(0.0004), Length::ZERO),
+            Err(ExpandError::DepthTooSmall { .. })
+        ));
+        assert!(matches!(
+            pass_depths(Schedule::DepthInPasses(0), mm(1.0), Length::ZERO),
+            Err(ExpandError::DepthTooSmall { .. })
+        ));
     }
 
     #[test]

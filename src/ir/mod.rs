@@ -332,6 +332,16 @@ pub struct Slope {
 
 impl Slope {
     pub const ZERO: Slope = Slope { rise: 0, run: 1 };
+    /// The denominator of a slope that stands for the tangent of an angle in degrees.
+    const DEGREES_RUN: i64 = 1_000_000_000;
+
+    /// tan(`degrees`) (less than 90° either way) as a ratio over 10⁹, rounded once.
+    pub fn of_degrees(degrees: f64) -> Slope {
+        Slope {
+            rise: (degrees.to_radians().tan() * Self::DEGREES_RUN as f64).round() as i64,
+            run: Self::DEGREES_RUN,
+        }
+    }
 
     /// Radial (tan 0), whatever the denominator.
     pub fn is_zero(self) -> bool {
@@ -363,6 +373,17 @@ pub enum Schedule {
     /// LinuxCNC's G76: cumulative depth `first · n^(1/R)` while it is less than the full
     /// depth, then the full depth.
     Degression(Degression),
+    /// Equal chip area in a given number of passes N: cumulative depth `depth · √(n/N)`
+    /// (HEIDENHAIN G31 V0 with IC). `first_depth` is the first cut, for people.
+    AreaInPasses(u32),
+    /// Equal cuts in a given number of passes N: cumulative depth `depth · n/N` (HEIDENHAIN
+    /// G31 V1 with IC). `first_depth` is the first cut, for people.
+    DepthInPasses(u32),
+    /// The remainder of the depth over the first depth first, then passes of the first
+    /// depth, the last of them split into 1/2, 1/4, 1/8 and 1/8 (HEIDENHAIN G31 V2).
+    /// **\[seed\]** + **\[decided\]** rounding (integer halving, the last eighth takes the
+    /// rest).
+    RemainderFirst,
 }
 
 /// LinuxCNC's G76 depth law with the numbers as the program wrote them, so that the pass
@@ -433,6 +454,9 @@ impl Schedule {
             Schedule::ConstantDepth => "constant-depth",
             Schedule::ConstantArea => "constant-area",
             Schedule::Degression(_) => "degression",
+            Schedule::AreaInPasses(_) => "area-in-passes",
+            Schedule::DepthInPasses(_) => "depth-in-passes",
+            Schedule::RemainderFirst => "remainder-first",
         }
     }
 }

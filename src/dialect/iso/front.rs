@@ -82,9 +82,6 @@ struct ProgramZ {
     offset: f64,
 }
 
-/// The denominator of the slope that stands for tan(Q) of a G76.
-const SLOPE_RUN: i64 = 1_000_000_000;
-
 struct FrontEnd<'a> {
     r: Reader<'a>,
     options: &'a Options,

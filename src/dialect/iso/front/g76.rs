@@ -1,7 +1,7 @@
 //! G76: LinuxCNC's threading cycle.
 
 use super::super::syntax::Word;
-use super::{FrontEnd, SLOPE_RUN, Words};
+use super::{FrontEnd, Words};
 use crate::dialect::iso::codes;
 use crate::fixed::{Angle, Decimal, Length};
 use crate::ir::{
@@ -259,9 +259,6 @@ impl FrontEnd<'_> {
             );
             return None;
         }
-        Some(Slope {
-            rise: (q_deg.to_radians().tan() * SLOPE_RUN as f64).round() as i64,
-            run: SLOPE_RUN,
-        })
+        Some(Slope::of_degrees(q_deg))
     }
 }
