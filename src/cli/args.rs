@@ -353,8 +353,8 @@ pub(crate) struct SimulateArgs {
 /// Options every subcommand takes.
 #[derive(clap::Args)]
 pub(crate) struct CommonArgs {
-    /// Machine profile (TOML): what differs per machine, in [czech], [nc31], [iso] and
-    /// [fanuc] sections. Without it, a program's sidecar `STEM.profile.toml`, else the
+    /// Machine profile (TOML): what differs per machine, in [czech], [nc31], [iso], [fanuc],
+    /// [siemens] and [heidenhain] sections. Without it, a program's sidecar `STEM.profile.toml`, else the
     /// nearest `ncthread.toml` in its folder or above, else the built-in defaults.
     ///
     /// [czech]: machine constant 8 (runout and entry angles), the first motion mode, gear
@@ -364,7 +364,9 @@ pub(crate) struct CommonArgs {
     /// G25 repeats. [iso]: M code mappings, the tool change, the block delete switch,
     /// subroutine folders. [fanuc]: words without a decimal point, G92's thread chamfer, the
     /// tool offset number, the program number, nose radius compensation, mist coolant, the
-    /// G-code system, the machine model of the canned cycles. Without a key, what needs it is refused by name. README.md lists every key.
+    /// G-code system, the machine model of the canned cycles. [siemens]: X and F before the
+    /// program says. [heidenhain]: the section keywords, the arc direction, G33's C and B,
+    /// G31's model. Without a key, what needs it is refused by name. README.md lists every key.
     #[arg(long, value_name = "FILE")]
     pub(crate) profile: Option<PathBuf>,
     /// Use the built-in defaults: no sidecar or `ncthread.toml` is looked for.
