@@ -1012,7 +1012,9 @@ fn roughing_refusal_to_check(diagnostics: &[ncthread::diag::Diagnostic]) -> bool
 
 /// A HEIDENHAIN machine with its unpublished points declared, one of eight by `n`.
 fn heidenhain_machine(n: usize) -> ncthread::profile::HeidenhainProfile {
-    use ncthread::profile::{BAlong, CSense, HeidenhainArcDirection, SectionKeywords};
+    use ncthread::profile::{
+        BAlong, CSense, G31Infeed, G31Offset, HeidenhainArcDirection, SectionKeywords,
+    };
     ncthread::profile::HeidenhainProfile {
         keywords: [SectionKeywords::German, SectionKeywords::English][n % 2],
         arc_direction: Some(
@@ -1023,6 +1025,9 @@ fn heidenhain_machine(n: usize) -> ncthread::profile::HeidenhainProfile {
         ),
         c_sense: Some([CSense::Spindle, CSense::Against][n / 4 % 2]),
         b_along: Some([BAlong::Z, BAlong::Path][n / 8 % 2]),
+        g31_clearance: Some(ncthread::fixed::Length::from_mm(1)),
+        g31_infeed: Some([G31Infeed::First, G31Infeed::Spread][n % 2]),
+        g31_h1: Some([G31Offset::TowardsEnd, G31Offset::TowardsStart][n / 2 % 2]),
     }
 }
 

@@ -9,7 +9,8 @@ mod common;
 use common::heidenhain::translate;
 use common::{Case, case_source, corpus_cases, rs274, run_rs274};
 use ncthread::profile::{
-    BAlong, CSense, HeidenhainArcDirection, HeidenhainProfile, Profile, SectionKeywords,
+    BAlong, CSense, G31Infeed, G31Offset, HeidenhainArcDirection, HeidenhainProfile, Profile,
+    SectionKeywords,
 };
 use ncthread::sim::rs274::Judgement;
 use ncthread::source::SourceFile;
@@ -25,12 +26,18 @@ fn machines() -> Vec<HeidenhainProfile> {
             arc_direction: Some(HeidenhainArcDirection::Iso),
             c_sense: Some(CSense::Spindle),
             b_along: Some(BAlong::Z),
+            g31_clearance: Some(ncthread::fixed::Length::from_mm(1)),
+            g31_infeed: Some(G31Infeed::First),
+            g31_h1: Some(G31Offset::TowardsEnd),
         },
         HeidenhainProfile {
             keywords: SectionKeywords::English,
             arc_direction: Some(HeidenhainArcDirection::FrontTool),
             c_sense: Some(CSense::Against),
             b_along: Some(BAlong::Path),
+            g31_clearance: Some(ncthread::fixed::Length::from_mm(2)),
+            g31_infeed: Some(G31Infeed::Spread),
+            g31_h1: Some(G31Offset::TowardsStart),
         },
     ]
 }

@@ -64,7 +64,8 @@ pub use crate::dialect::czech::profile::{
 };
 pub use crate::dialect::fanuc::profile::{DecimalPoint, FanucProfile, GcodeSystem, ToolOffset};
 pub use crate::dialect::heidenhain::profile::{
-    BAlong, CSense, HeidenhainArcDirection, HeidenhainProfile, SectionKeywords,
+    BAlong, CSense, G31Infeed, G31Offset, HeidenhainArcDirection, HeidenhainProfile,
+    SectionKeywords,
 };
 pub use crate::dialect::iso::profile::{BlockDelete, IsoProfile, ToolChange};
 pub use crate::dialect::nc31::profile::{Nc31ArcDirection, Nc31Profile};

@@ -147,6 +147,12 @@ pub fn translate(text: &str, profile: &HeidenhainProfile) -> Result<String, Stri
                         surface = None;
                         now.push("G97".into())
                     }
+                    // A cycle: its passes are ncthread's model of it (README, "HEIDENHAIN
+                    // G31"), which no word-for-word translation judges; its conversions to
+                    // ISO are judged by rs274 as every ISO output is.
+                    31 => {
+                        return Err("skip: G31 is a cycle, not a word-for-word translation".into());
+                    }
                     g => return Err(format!("G{g} is not in the subset")),
                 },
                 ("M", m) => match m {

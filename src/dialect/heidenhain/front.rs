@@ -74,6 +74,8 @@ struct FrontEnd<'a> {
     m30: bool,
     /// The unstated machine settings already reported (one error each is enough).
     reported: Vec<&'static str>,
+    /// A G31 call whose contour (up to G80) is being read.
+    g31: Option<g31::PendingG31>,
 }
 
 /// Reads a HEIDENHAIN DIN program.
@@ -96,6 +98,7 @@ pub(crate) fn read(
         after_thread: false,
         m30: false,
         reported: Vec::new(),
+        g31: None,
     };
     let mut first = true;
     for line in src.lines() {
@@ -106,6 +109,7 @@ pub(crate) fn read(
         let at_start = std::mem::take(&mut first);
         fe.line(line, at_start);
     }
+    fe.g31_unended();
     fe.r.finish()
 }
 
@@ -161,6 +165,7 @@ impl FrontEnd<'_> {
             return;
         }
         if let Some(section) = super::section_of(line.text) {
+            self.g31_unended();
             self.section_line(line, section, whole);
             return;
         }
@@ -194,6 +199,33 @@ impl FrontEnd<'_> {
         }
         let first = self.r.items.len();
         let span = self.span(line, block.code_range.clone());
+        let g31 = block
+            .words
+            .iter()
+            .any(|w| w.name == "G" && w.number().and_then(|d| d.to_whole().ok()) == Some(31));
+        if g31 {
+            // A call before the contour of the last one was ended.
+            self.g31_unended();
+        }
+        if self.g31.is_some() {
+            self.g31_contour(line, &block);
+            if self.r.items.len() == first {
+                self.r
+                    .stamp_block(first, block.number, block.comment.clone(), span, false);
+            } else if let Some(c) = block.comment.clone() {
+                // G80's comment, after the cycle it ends.
+                self.r.push(ItemKind::Comment(c), span, None);
+            }
+            return;
+        }
+        if g31 {
+            self.g31_call(line, &block, span);
+            if self.g31.is_none() {
+                self.r
+                    .stamp_block(first, block.number, block.comment.clone(), span, false);
+            }
+            return;
+        }
         if let Some(range) = block.block_delete.clone() {
             self.error(
                 codes::HEIR_UNSUPPORTED,
@@ -1444,6 +1476,7 @@ fn word_of(motion: Option<Motion>, name: &str) -> bool {
     }
 }
 
+mod g31;
 mod names;
 #[cfg(test)]
 mod tests;

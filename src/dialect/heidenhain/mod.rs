@@ -240,7 +240,7 @@ fn thread_rows(profile: &Profile) -> Vec<Capability> {
     vec![
         row(
             ThreadCycle,
-            Read::No,
+            Read::Yes("G31 F U B P, I or IC, V0–V2, one element … G80 (g31_clearance)"),
             Write::As("writes its passes as G33 blocks (G31 never)"),
         ),
         row(

@@ -13,9 +13,6 @@ pub(super) const KNOWN_G: &[i64] = &[0, 1, 2, 3, 4, 12, 13, 26, 33, 40, 94, 95, 
 /// Why a G code is not read.
 pub(super) fn refused_g(g: u32) -> &'static str {
     match g {
-        31 => {
-            "G31 (thread cycle): its passes' infeed, flank offset and start order are published as prose only; ncthread reads it under no model yet"
-        }
         32 | 35 => "thread cycles are not read; write the passes as G33 blocks",
         36 | 37 => "tapping is not read",
         41 | 42 => {

@@ -116,7 +116,7 @@ fn increments_arcs_sections_and_the_end() {
 #[test]
 fn refusals_name_what_is_not_read() {
     for (text, code) in [
-        ("G0 X20 Z2\nG31 X20 Z-20 F1.5\n", "HEIR002"),
+        ("G0 X20 Z2\nG31 X20 Z-20 F1.5\n", "HEIR011"),
         ("G0 X20 Z2\nG1 X30 BR1 F0.2\n", "HEIR002"),
         ("G0 X? Z2\n", "HEIR002"),
         ("G0 X20 Z2\nG33 X20 Z-20 F1.5 B1.5 P0\n", "HEIR008"),
@@ -128,4 +128,49 @@ fn refusals_name_what_is_not_read() {
         let (_, d) = read_with(text, &full());
         assert_eq!(codes_of(&d), [code], "{text}");
     }
+}
+
+#[test]
+fn g31_is_read_under_the_declared_model_only() {
+    let text = "G0 X40 Z10\nG31 F2 U1.2 B4 P2 IC4 [M20]\nG0 X20 Z0\nG1 Z-30\nG80\nG0 X50\n";
+    // Without the model: refused, its contour passed over (G0 X50 is read).
+    let (p, d) = read_with(text, &full());
+    assert_eq!(codes_of(&d), ["HEIR006"]);
+    assert!(matches!(
+        p.items.last().map(|i| &i.kind),
+        Some(ItemKind::Rapid { .. })
+    ));
+    let model = HeidenhainProfile {
+        g31_clearance: Some(Length::from_mm(1)),
+        ..full()
+    };
+    let (p, d) = read_with(text, &model);
+    assert!(d.is_empty(), "{d:?}");
+    let kinds: Vec<&ItemKind> = p.items.iter().map(|i| &i.kind).collect();
+    // The start point: 1 mm per side above the crest, at the start of the run-in B4.
+    let a = Pos::new(Length::from_mm(22), Length::from_mm(4));
+    assert_eq!(*kinds[1], ItemKind::Rapid { to: a });
+    assert_eq!(p.items[1].comment.as_deref(), Some("M20"));
+    let ItemKind::ThreadCycle(c) = kinds[2] else {
+        panic!("{kinds:?}")
+    };
+    assert_eq!(c.start, (Length::from_mm(22), Length::from_mm(4)));
+    assert_eq!(c.end_z, Length::from_mm(-32));
+    assert_eq!(
+        (c.crest, c.depth),
+        (Length::from_mm(20), Length::from_steps(12_000))
+    );
+    assert_eq!(c.schedule, crate::ir::Schedule::AreaInPasses(4));
+    assert_eq!(
+        c.retract,
+        crate::ir::Retract::AboveCrest(Length::from_mm(1))
+    );
+    // After the cycle the motion is not known: the next move must say it.
+    assert!(matches!(kinds[3], ItemKind::Rapid { .. }));
+    let (_, d) = read_with(&text.replace("G0 X50", "X50"), &model);
+    assert_eq!(codes_of(&d), ["HEIR006"]);
+    // Read line by line, the diagnostics are the same.
+    let src = SourceFile::new("t.nc", text);
+    let (_, streamed) = read(&src, &model, Keep::Diagnostics);
+    assert!(streamed.is_empty());
 }
