@@ -216,18 +216,31 @@ impl ExpandError {
                 "the first-pass depth {} mm is not positive",
                 cycle.first_depth.mm()
             ),
-            ExpandError::DepthTooSmall { minimum } => format!(
-                "the thread depth {} mm is smaller than the {} schedule needs for a first pass of {} mm (at least {} mm)",
-                cycle.depth.mm(),
-                cycle.schedule.id(),
-                cycle.first_depth.mm(),
-                minimum.mm()
-            ),
-            ExpandError::TooManyPasses => format!(
-                "a depth of {} mm in first passes of {} mm needs more than {MAX_PASSES} passes",
-                cycle.depth.mm(),
-                cycle.first_depth.mm()
-            ),
+            ExpandError::DepthTooSmall { minimum } => match cycle.schedule {
+                Schedule::AreaInPasses(n) | Schedule::DepthInPasses(n) => format!(
+                    "the thread depth {} mm is too small for {n} passes that each cut at least 0.0001 mm ({} schedule: at least {} mm)",
+                    cycle.depth.mm(),
+                    cycle.schedule.id(),
+                    minimum.mm()
+                ),
+                _ => format!(
+                    "the thread depth {} mm is smaller than the {} schedule needs for a first pass of {} mm (at least {} mm)",
+                    cycle.depth.mm(),
+                    cycle.schedule.id(),
+                    cycle.first_depth.mm(),
+                    minimum.mm()
+                ),
+            },
+            ExpandError::TooManyPasses => match cycle.schedule {
+                Schedule::AreaInPasses(n) | Schedule::DepthInPasses(n) => {
+                    format!("{n} passes are more than the {MAX_PASSES} ncthread cuts")
+                }
+                _ => format!(
+                    "a depth of {} mm in first passes of {} mm needs more than {MAX_PASSES} passes",
+                    cycle.depth.mm(),
+                    cycle.first_depth.mm()
+                ),
+            },
             ExpandError::ShortPass { pass, travel } => {
                 let what = match (cycle.entry, cycle.runout) {
                     (Some(e), Some(r)) => {
@@ -337,15 +350,19 @@ fn depths_in_steps(
         Schedule::Degression(d) => degression_depths(&d, depth),
         Schedule::AreaInPasses(n) | Schedule::DepthInPasses(n) => {
             let n = i64::from(n);
-            if n < 1 || p1 < n {
-                return Err(ExpandError::DepthTooSmall {
-                    minimum: Length::from_steps(n.max(1)),
-                });
-            }
             if n as usize > MAX_PASSES {
                 return Err(ExpandError::TooManyPasses);
             }
+            // Every cut at least one step: the smallest is the last, P1·(1 − √(1 − 1/N)) ≥
+            // P1/(2N) for the area law, P1/N for the depth law; cuts of a step or more round
+            // to different depths.
             let area = matches!(schedule, Schedule::AreaInPasses(_));
+            let minimum = if area { 2 * n } else { n }.max(1);
+            if n < 1 || p1 < minimum {
+                return Err(ExpandError::DepthTooSmall {
+                    minimum: Length::from_steps(minimum),
+                });
+            }
             Ok((1..=n)
                 .map(|i| {
                     Length::from_steps(if area {
@@ -1075,6 +1092,17 @@ mod tests {
         assert!(matches!(
             pass_depths(Schedule::AreaInPasses(5), mm(0.0004), Length::ZERO),
             Err(ExpandError::DepthTooSmall { .. })
+        ));
+        // Ten area passes need 20 steps: 0.001 mm would repeat a depth (8, 8 steps).
+        assert!(matches!(
+            pass_depths(Schedule::AreaInPasses(10), mm(0.001), Length::ZERO),
+            Err(ExpandError::DepthTooSmall { .. })
+        ));
+        let depths = pass_depths(Schedule::AreaInPasses(10), mm(0.002), Length::ZERO).unwrap();
+        assert!(depths.windows(2).all(|w| w[0] < w[1]), "{depths:?}");
+        assert!(matches!(
+            pass_depths(Schedule::DepthInPasses(1001), mm(1.0), Length::ZERO),
+            Err(ExpandError::TooManyPasses)
         ));
         assert!(matches!(
             pass_depths(Schedule::DepthInPasses(0), mm(1.0), Length::ZERO),

@@ -20,7 +20,7 @@ pub const HEIR_UNKNOWN_POSITION: Code =
 pub const HEIR_CONFLICT: Code = error("HEIR005", "conflicting or repeated words in one block");
 pub const HEIR_PROFILE: Code = error(
     "HEIR006",
-    "a word whose meaning depends on a machine fact the vendor does not publish and the profile does not declare: an arc's direction (arc_direction), a thread's start angle C (c_sense, b_along), G31's way and infeed (g31_clearance, g31_infeed), a feed before G94 or G95",
+    "a word whose meaning depends on a machine fact the vendor does not publish and the profile does not declare: an arc's direction (arc_direction), a thread's start angle C (c_sense, b_along), G31's way, infeed and flank offset (g31_clearance, g31_infeed, g31_h1), a feed before G94 or G95",
 );
 pub const HEIR_ARC: Code = error(
     "HEIR007",
@@ -40,7 +40,7 @@ pub const HEIR_SECTION: Code = warning(
 );
 pub const HEIR_G31: Code = error(
     "HEIR011",
-    "a G31 thread cycle outside what ncthread reads: a contour named by NS/NE or ID, more than one element, a transverse or internal thread, a word whose rule is not published (H1–H3, D, C, K, V3–V6), a missing F, U, B or P",
+    "a G31 thread cycle outside what ncthread reads: a contour named by NS/NE or ID, more than one element, a transverse or internal thread, a word whose rule is not published (H3, D, C, K, V3–V6), a missing F, U, B or P, a thread under G96",
 );
 
 // writer

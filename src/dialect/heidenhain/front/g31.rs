@@ -308,6 +308,16 @@ impl FrontEnd<'_> {
         if !ok {
             return None;
         }
+        if self.surface {
+            self.error(
+                codes::HEIR_G31,
+                line,
+                block.code_range.clone(),
+                "G31 under constant surface speed (G96): a thread under G96 is not read",
+                "write `G97 S…` before the cycle",
+            );
+            return None;
+        }
         let Some(clearance) = self.profile.g31_clearance else {
             self.unknown(
                 "g31",
@@ -344,14 +354,14 @@ impl FrontEnd<'_> {
                 let d = w
                     .number()
                     .map(|d| d.to_f64())
-                    .filter(|d| (0.0..=60.0).contains(d));
+                    .filter(|d| (-60.0..=60.0).contains(d));
                 if d.is_none() {
                     self.error(
                         codes::HEIR_G31,
                         line,
                         w.range.clone(),
                         format!(
-                            "`{}`: the approach angle A is 0° to 60°",
+                            "`{}`: the approach angle A is −60° to 60°",
                             &line.text[w.range.clone()]
                         ),
                         "write the infeed angle from the X axis, `A30`",
@@ -459,13 +469,18 @@ impl FrontEnd<'_> {
         if let Some(w) = get("IC") {
             let n = self.whole(line, w, "the number of cuts IC")?;
             if v == 2 || n == 0 {
-                self.error(
-                    codes::HEIR_G31,
-                    line,
-                    w.range.clone(),
-                    "IC, the number of cuts, is at least 1 and works with V0 and V1",
-                    "give V2 its infeed I",
-                );
+                let (message, help) = if n == 0 {
+                    (
+                        "IC, the number of cuts, is at least 1",
+                        "write the number of cuts: `IC6`",
+                    )
+                } else {
+                    (
+                        "IC, the number of cuts, works with V0 and V1",
+                        "give V2 its infeed I",
+                    )
+                };
+                self.error(codes::HEIR_G31, line, w.range.clone(), message, help);
                 return None;
             }
             let schedule = if v == 0 {
@@ -475,7 +490,8 @@ impl FrontEnd<'_> {
             };
             return Some((schedule, first_cut(schedule, depth)));
         }
-        let i = match get("I") {
+        let written = get("I");
+        let i = match written {
             Some(w) => {
                 let i = self.length_of(line, w)?;
                 if i.0 <= 0 {
@@ -516,18 +532,21 @@ impl FrontEnd<'_> {
             );
             return None;
         };
-        let steps = |l: Length| (l.0 / Length::STEP).max(1) as u128;
         Some(match (infeed, v) {
-            (G31Infeed::First, 0) => (Schedule::ConstantArea, i),
-            (G31Infeed::First, _) => (Schedule::ConstantDepth, i),
+            // I bounds the first cut: a depth under it is one pass.
+            (G31Infeed::First, 0) => (Schedule::ConstantArea, i.min(depth)),
+            (G31Infeed::First, _) => (Schedule::ConstantDepth, i.min(depth)),
             (G31Infeed::Spread, _) => {
-                let (u, i) = (steps(depth), steps(i));
-                let n = if v == 0 {
-                    (u * u).div_ceil(i * i)
-                } else {
-                    u.div_ceil(i)
+                // U/I exactly (I = F/3 from the lead itself when not written), in lengths'
+                // grid units: U/I = u/i.
+                let (u, i) = match written {
+                    Some(_) => (depth.0 as u128, i.0 as u128),
+                    None => (
+                        3 * depth.0 as u128 * Lead::PER_LENGTH as u128,
+                        lead.0 as u128,
+                    ),
                 };
-                let n = u32::try_from(n).unwrap_or(u32::MAX).max(1);
+                let n = spread_passes(u, i, v == 0);
                 let schedule = if v == 0 {
                     Schedule::AreaInPasses(n)
                 } else {
@@ -546,6 +565,16 @@ impl FrontEnd<'_> {
         if block.words.is_empty() {
             self.g31 = Some(pending);
             return;
+        }
+        if let Some(range) = block.block_delete.clone() {
+            self.error(
+                codes::HEIR_UNSUPPORTED,
+                line,
+                range,
+                "`/` (block skip) in G31's contour: whether the block runs is the operator's switch, which the program does not state",
+                "remove the `/`, or the block",
+            );
+            pending.call = None;
         }
         let g: Vec<i64> = block
             .words
@@ -659,6 +688,14 @@ impl FrontEnd<'_> {
         };
         let dz = ze - zs;
         let dx = xe - xs;
+        if dz.0 == 0 && dx.0 == 0 {
+            here(
+                self,
+                "G31's contour element has no length".into(),
+                "write the element from the thread's start to its end: `G0 X… Z…`, `G1 Z…`",
+            );
+            return;
+        }
         // Longitudinal: the element runs further along Z than its radius changes.
         if dz.0 == 0 || dx.0.abs() >= 2 * dz.0.abs() {
             here(
@@ -673,6 +710,20 @@ impl FrontEnd<'_> {
                 self,
                 "a taper G31 with a run-in or run-out: whether B and P extend the cone along Z or along its line is not published".into(),
                 "write B0 P0 and the taper's contour from where the thread's passes start to where they end",
+            );
+            return;
+        }
+        // A start moved towards the end by more than the run-in would rapid into the stock.
+        let reach = call.infeed.of(call.depth);
+        if reach > call.run_in {
+            here(
+                self,
+                format!(
+                    "the last pass's start moves {} mm towards the thread's end (U · tan A), further than the run-in B{}: the tool would rapid into the stock",
+                    reach.mm(),
+                    call.run_in.mm()
+                ),
+                "lengthen the run-in B to at least the offset, or cut with H0",
             );
             return;
         }
@@ -737,8 +788,10 @@ impl FrontEnd<'_> {
         }
         self.r.pos = a;
         // G31's F is its lead: whether it is the feed's F too is not published (as G33's).
+        // The cycle ends with a rapid back to its start point, so a G33 after it waits for
+        // the index pulse as after any rapid.
         self.f = None;
-        self.after_thread = true;
+        self.after_thread = false;
         self.motion = None;
     }
 
@@ -762,4 +815,45 @@ fn first_cut(schedule: Schedule, depth: Length) -> Length {
         .ok()
         .and_then(|d| d.first().copied())
         .unwrap_or(Length::ZERO)
+}
+
+/// The fewest passes whose cuts stay within I, for U/I = `u`/`i`: ⌈(U/I)²⌉ for equal areas,
+/// ⌈U/I⌉ for equal cuts (at least 1; `u32::MAX` when too many to count).
+fn spread_passes(u: u128, i: u128, area: bool) -> u32 {
+    let g = gcd(u, i.max(1));
+    let (u, i) = (u / g, i.max(1) / g);
+    let n = if area {
+        match (u.checked_mul(u), i.checked_mul(i)) {
+            (Some(uu), Some(ii)) => uu.div_ceil(ii),
+            _ => u128::MAX,
+        }
+    } else {
+        u.div_ceil(i)
+    };
+    u32::try_from(n).unwrap_or(u32::MAX).max(1)
+}
+
+fn gcd(mut a: u128, mut b: u128) -> u128 {
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    a.max(1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::spread_passes;
+
+    #[test]
+    fn spread_passes_count_exactly() {
+        // U1, I = F/3 with F1: (3·1/1)² = 9 exactly (I rounded to 0.3333 would give 10).
+        assert_eq!(spread_passes(3, 1, true), 9);
+        // U0.92, I0.5: ⌈3.3856⌉ = 4; ⌈1.84⌉ = 2.
+        assert_eq!(spread_passes(92, 50, true), 4);
+        assert_eq!(spread_passes(92, 50, false), 2);
+        // U2.0001, I = 2/3: (3·2.0001/2)² = 9.0009 → 10.
+        assert_eq!(spread_passes(3 * 20_001, 20_000, true), 10);
+        assert_eq!(spread_passes(1, 0, true), 1);
+        assert_eq!(spread_passes(u128::MAX / 2, 1, true), u32::MAX);
+    }
 }
