@@ -743,6 +743,41 @@ fn heidenhain_block() -> impl Strategy<Value = Vec<String>> {
                     "Z10".into(),
                 ]
             }),
+        // A G31 cycle under the profile's model (README, "HEIDENHAIN G31"): one element after
+        // the call up to G80, straight (B, P) or tapered (B0 P0), V0–V2 with I or IC, H0–H2.
+        3 => (
+            x.clone(),
+            length(-100, -5, 3),
+            lead.clone(),
+            prop::sample::select(vec!["0.6", "0.92", "1.2"]),
+            0usize..5,
+            0usize..3,
+            prop::option::of(length(-2, 2, 3)),
+            (any::<bool>(), 0u32..3),
+        )
+            .prop_map(|(x, z, f, u, infeed, h, taper, (surface_first, q))| {
+                let end_x = match &taper {
+                    Some(t) => format!("{:.3}", x.parse::<f64>().unwrap_or(20.0) + t.parse::<f64>().unwrap_or(0.0)),
+                    None => x.clone(),
+                };
+                let (b, p) = if taper.is_some() { ("0", "0") } else { ("4", "1") };
+                let infeed = ["V0 IC5", "V1 IC3", "V0 I0.25", "V1 I0.3", "V2 I0.2"][infeed];
+                // H1/H2 move a start by up to U·tan 30 (0.7 mm): inside B4 only.
+                let h = if taper.is_some() { 0 } else { h };
+                let mut lines = Vec::new();
+                if surface_first {
+                    lines.push("G97 S600".to_string());
+                }
+                lines.extend([
+                    "G0 X130 Z10".to_string(),
+                    format!("G31 F{f} U{u} B{b} P{p} {infeed} H{h} Q{q}"),
+                    format!("G0 X{x} Z0"),
+                    format!("G1 X{end_x} Z{z}"),
+                    "G80".into(),
+                    "G0 X130".into(),
+                ]);
+                lines
+            }),
         1 => Just(vec!["M5".to_string()]),
         1 => (100u32..2000, any::<bool>()).prop_map(|(s, ccw)| vec![format!("G97 S{s} {}", if ccw { "M4" } else { "M3" })]),
         1 => (100u32..300, 1000u32..3000).prop_map(|(v, l)| vec![format!("G26 S{l}"), format!("G96 S{v} M3")]),
@@ -781,10 +816,13 @@ fn heidenhain_program() -> impl Strategy<Value = Input> {
                 ("MACHINING", "END")
             };
             let profile = format!(
-                "[heidenhain]\narc_direction = \"{}\"\nc_sense = \"{}\"\nb_along = \"{}\"\n",
+                "[heidenhain]\narc_direction = \"{}\"\nc_sense = \"{}\"\nb_along = \"{}\"\ng31_clearance = {}\ng31_infeed = \"{}\"\ng31_h1 = \"{}\"\n",
                 ["iso", "front-tool"][machine / 2 % 2],
                 ["spindle", "against"][machine / 4 % 2],
                 ["z", "path"][machine / 8 % 2],
+                ["1.0", "0.5"][machine % 2],
+                ["first", "spread"][machine / 2 % 2],
+                ["towards-end", "towards-start"][machine / 4 % 2],
             );
             Input {
                 from: ncthread::dialect::heidenhain::ID,
