@@ -409,6 +409,41 @@ pub struct Capabilities {
     pub rows: Vec<Capability>,
     /// Lengths and leads: their grid and what `--round` does.
     pub numbers: &'static str,
+    /// The machine's G codes where they differ from those the texts name (FANUC's G-code
+    /// systems B and C; the texts are in system A's): (as written, the machine's).
+    pub renumbered: Vec<(i64, i64)>,
+}
+
+/// `text` with each G code `renumbered` names (`G92` → `G78`), each word changed once.
+fn respell(text: &str, renumbered: &[(i64, i64)]) -> String {
+    if renumbered.is_empty() {
+        return text.to_string();
+    }
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(at) = rest.find('G') {
+        let (head, tail) = rest.split_at(at);
+        out.push_str(head);
+        let digits = tail[1..].len()
+            - tail[1..]
+                .trim_start_matches(|c: char| c.is_ascii_digit())
+                .len();
+        let after = tail[1 + digits..].chars().next();
+        let word_start = !out.chars().last().is_some_and(|c| c.is_alphanumeric());
+        let code = tail[1..1 + digits].parse::<i64>().ok();
+        let mapped = code
+            .filter(|_| word_start && digits > 0 && !matches!(after, Some('.') | Some('0'..='9')))
+            .and_then(|g| renumbered.iter().find(|(a, _)| *a == g).map(|(_, b)| *b));
+        match mapped {
+            Some(b) => {
+                out.push_str(&format!("G{b:0width$}", width = digits));
+            }
+            None => out.push_str(&tail[..1 + digits]),
+        }
+        rest = &tail[1 + digits..];
+    }
+    out.push_str(rest);
+    out
 }
 
 impl Capabilities {
@@ -438,7 +473,7 @@ pub fn table(dialects: &[(&str, Capabilities)]) -> String {
         out.push_str(" --- |");
     }
     out.push('\n');
-    let cell = |c: Option<&Capability>| -> String {
+    let cell = |c: Option<&Capability>, renumbered: &[(i64, i64)]| -> String {
         let Some(c) = c else {
             return "reads; writes".into();
         };
@@ -453,13 +488,13 @@ pub fn table(dialects: &[(&str, Capabilities)]) -> String {
             Write::As(how) => how.to_string(),
             Write::No(code) => format!("**refuses** ({})", code.id),
         };
-        format!("{read}; {write}")
+        respell(&format!("{read}; {write}"), renumbered)
     };
     for construct in Construct::ALL {
         let _ = write!(out, "| {} |", construct.name());
         for (_, caps) in dialects {
             let row = caps.rows.iter().find(|r| r.construct == construct);
-            let _ = write!(out, " {} |", cell(row));
+            let _ = write!(out, " {} |", cell(row, &caps.renumbered));
         }
         out.push('\n');
     }
@@ -469,4 +504,25 @@ pub fn table(dialects: &[(&str, Capabilities)]) -> String {
     }
     out.push('\n');
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::respell;
+
+    #[test]
+    fn respelled_codes_are_whole_g_words_changed_once() {
+        // FANUC system B: G32 → G33, G92 → G78, G50 → G92 (each word once: G50 is not G78).
+        let b = [(32, 33), (92, 78), (50, 92)];
+        assert_eq!(
+            respell("reads (G32/G92 … Q, G50 S its limit, G92's chamfer)", &b),
+            "reads (G33/G78 … Q, G92 S its limit, G78's chamfer)"
+        );
+        // Not a G word of its own, or another code: left as written.
+        assert_eq!(
+            respell("G92.1 G920 AG92 G G-code", &b),
+            "G92.1 G920 AG92 G G-code"
+        );
+        assert_eq!(respell("G92", &[]), "G92");
+    }
 }

@@ -100,6 +100,7 @@ impl Dialect for Czech {
         Capabilities {
             rows: [thread_rows(), machine_rows(profile)].concat(),
             numbers: "lengths to 0.001 mm, leads to 0.0001 mm (over 99.99 through FRnn); `--round` rounds, reporting the largest deviation",
+            renumbered: Vec::new(),
         }
     }
 

@@ -190,6 +190,8 @@ impl Dialect for Fanuc {
         Capabilities {
             rows: [thread_rows(), machine_rows(profile)].concat(),
             numbers: "lengths to 0.001 mm (X a diameter, I a radius), leads and feeds to 0.0001 mm, an inch program's in inches (0.0001 in, leads and feeds 0.000001 in), a decimal point on every length; `--round` rounds, reporting the largest deviation",
+            // The texts name system A's codes; a machine on B or C reads its own.
+            renumbered: profile.fanuc.gcode_system.renumbered(),
         }
     }
 

@@ -113,6 +113,15 @@ impl GcodeSystem {
             .map(|r| r.0)
     }
 
+    /// System A's codes this system numbers otherwise: (A's, this system's).
+    pub(crate) fn renumbered(self) -> Vec<(i64, i64)> {
+        SYSTEM_CODES
+            .iter()
+            .map(|r| (r.0, self.column(r)))
+            .filter(|(a, own)| a != own)
+            .collect()
+    }
+
     /// The system's name in a message: "G-code system B".
     pub(crate) fn name(self) -> &'static str {
         match self {

@@ -141,6 +141,7 @@ impl Dialect for Heidenhain {
         Capabilities {
             rows: [thread_rows(profile), machine_rows(profile)].concat(),
             numbers: "lengths to 0.001 mm (X a diameter, I a radius value), leads and feeds to 0.0001 mm, C to 0.001°; always in millimetres; `--round` rounds, reporting the largest deviation",
+            renumbered: Vec::new(),
         }
     }
 

@@ -244,6 +244,7 @@ impl Dialect for Iso {
                 row(Comments, Read::Yes("`( )`, `;`"), Write::Yes("`( )`")),
             ],
             numbers: "lengths to 0.00001 mm, an inch program's in inches (0.0001 in; a computed point to 0.000001 in, ISOW007), leads exact (a taper's K with the digits that read back to 10⁻¹² mm)",
+            renumbered: Vec::new(),
         }
     }
 

@@ -112,6 +112,7 @@ impl Dialect for Nc31 {
         Capabilities {
             rows: [thread_rows(), machine_rows(profile)].concat(),
             numbers: "whole units of the profile (X, Z, P 0.01 mm; leads 0.0001 mm; feeds 0.01 mm/rev); `--round` rounds, reporting the largest deviation",
+            renumbered: Vec::new(),
         }
     }
 

@@ -103,6 +103,7 @@ impl Dialect for Siemens {
         Capabilities {
             rows: [thread_rows(), machine_rows()].concat(),
             numbers: "lengths to 0.001 mm (X a diameter under DIAMON, I a radius value), leads and feeds to 0.0001 mm, SF= to 0.001°; always in millimetres (G71); `--round` rounds, reporting the largest deviation",
+            renumbered: Vec::new(),
         }
     }
 
