@@ -169,3 +169,26 @@ fn a_missing_spring_pass_is_caught() {
     .outcome;
     assert!(matches!(outcome, Outcome::Equivalent { .. }), "{outcome:?}");
 }
+
+/// A start rounded onto a target's grid (`--round`) keeps its helix where the target can
+/// say a start angle (FANUC's Q, the czech I): LinuxCNC's G76 with a compound angle starts
+/// its passes off the 0.001 mm grid. (SINUMERIK and HEIDENHAIN refuse this program's
+/// runouts; their rounded starts are their writers' unit tests'.)
+#[test]
+fn rounded_thread_starts_keep_their_helix() {
+    let src = read("corpus/iso/g76-external.ngc");
+    for to in [ncthread::dialect::fanuc::ID, ncthread::dialect::czech::ID] {
+        let options = ConvertOptions {
+            round: true,
+            // Its sidecar: the czech machine constant 8 for the runout.
+            profile: common::load_profile("corpus/iso/g76-external.profile.toml"),
+            ..options(ncthread::dialect::iso::ID, to)
+        };
+        let v = ncthread::verify(&src, &options, None, None);
+        assert!(
+            matches!(v.outcome, Outcome::Equivalent { .. }),
+            "iso → {to} --round: {:?}",
+            v.outcome
+        );
+    }
+}

@@ -173,10 +173,21 @@ pub(crate) fn start_on_grid(
     lead: Lead,
     angle: Angle,
 ) -> Angle {
+    start_on(100, from, to, lead, angle)
+}
+
+/// [`start_on_grid`] on a grid of `grid` length units (100: 0.001 mm; 254: 0.0001 in).
+pub(crate) fn start_on(
+    grid: i64,
+    from: Option<Length>,
+    to: Option<Length>,
+    lead: Lead,
+    angle: Angle,
+) -> Angle {
     let (Some(z), Some(end)) = (from, to) else {
         return angle;
     };
-    let written = Length(div_round(z.0 as i128, 100) as i64 * 100);
+    let written = Length(div_round(z.0 as i128, grid as i128) as i64 * grid);
     Angle(angle.0 + lead.turn_over(Length((end - z).signum() * (written - z).0)))
 }
 

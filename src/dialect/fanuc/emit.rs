@@ -407,7 +407,7 @@ impl Emitter<'_> {
                     codes::FANW_ROUNDED,
                     format!("{} value(s) rounded to the FANUC program's grid ({grid}), the first {}; the largest deviation is {} mm", s.count, s.what, s.largest),
                 )
-                .help("a thread's start keeps its start angle Q")
+                .help("a thread's rounded start keeps its helix through Q")
             },
             |s| {
                 Diagnostic::new(
@@ -1171,11 +1171,22 @@ impl Emitter<'_> {
                 return;
             }
             SyncStart::Continue => None,
-            SyncStart::Index(a) => Some(Angle(a.0.rem_euclid(360_000))),
+            SyncStart::Index(a) => Some(a),
         };
         let Some(lead) = self.pass_lead(item, pass, &segments) else {
             return;
         };
+        // A start rounded onto the grid (`--round`) keeps its helix: the angle runs on by
+        // the turns between the exact start and the written one, as the other writers do.
+        let grid = if self.inch { 254 } else { 100 };
+        let angle = angle.map(|a| {
+            let (from, to) = (
+                segments.first().and_then(|s| s.from.z),
+                segments.first().and_then(|s| s.to.z),
+            );
+            let a = crate::dialect::write::start_on(grid, from, to, pass.lead, a);
+            Angle(a.0.rem_euclid(360_000))
+        });
         for (n, seg) in segments.iter().enumerate() {
             self.motion_block(block, "G32");
             let words = self.axes(item, seg.to);
