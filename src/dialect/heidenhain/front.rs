@@ -323,6 +323,18 @@ impl<'b> Words<'b> {
 }
 
 impl FrontEnd<'_> {
+    /// `w` after `was` (the same address) in one block.
+    fn repeated(&mut self, line: Line<'_>, w: &Word, was: &Word) {
+        let (text, was) = (&line.text[w.range.clone()], &line.text[was.range.clone()]);
+        self.error(
+            codes::HEIR_CONFLICT,
+            line,
+            w.range.clone(),
+            format!("`{text}` after `{was}` in the same block"),
+            "give each address once in a block",
+        );
+    }
+
     /// Sorts the block's words; `None` when one is refused (reported).
     fn sort<'b>(&mut self, line: Line<'_>, block: &'b Block) -> Option<Words<'b>> {
         let mut words = Words::default();
@@ -370,14 +382,7 @@ impl FrontEnd<'_> {
                                 && matches!(name, "X" | "XI" | "Z" | "ZI")
                     };
                     if let Some(other) = words.letters.iter().find(|o| same(&o.name)) {
-                        let was = &line.text[other.range.clone()];
-                        self.error(
-                            codes::HEIR_CONFLICT,
-                            line,
-                            w.range.clone(),
-                            format!("`{text}` after `{was}` in the same block"),
-                            "give each address once in a block",
-                        );
+                        self.repeated(line, w, other);
                         ok = false;
                     } else {
                         words.letters.push(w);
@@ -1225,7 +1230,13 @@ impl FrontEnd<'_> {
         let refuse = |fe: &mut Self, range: Range<usize>, message: &str, help: &str| {
             fe.error(codes::HEIR_THREAD, line, range, message.to_string(), help);
         };
-        let lead = self.lead(line, words, whole.clone())?;
+        let lead = self.lead(
+            line,
+            words.get("F"),
+            whole.clone(),
+            codes::HEIR_THREAD,
+            "G33",
+        )?;
         // X is modal: a pass along Z needs only its Z; one that moves X, its start.
         let moves_x = to.x != from.x;
         let (Some(z0), Some(z1)) = (from.z, to.z) else {
@@ -1337,13 +1348,21 @@ impl FrontEnd<'_> {
         Some(())
     }
 
-    fn lead(&mut self, line: Line<'_>, words: &Words<'_>, whole: Range<usize>) -> Option<Lead> {
-        let Some(w) = words.get("F") else {
+    /// A thread's lead F (G33's, G31's): `code` when it is missing.
+    pub(super) fn lead(
+        &mut self,
+        line: Line<'_>,
+        f: Option<&Word>,
+        whole: Range<usize>,
+        code: Code,
+        what: &str,
+    ) -> Option<Lead> {
+        let Some(w) = f else {
             self.error(
-                codes::HEIR_THREAD,
+                code,
                 line,
                 whole,
-                "G33 without F, its lead",
+                format!("{what} without F, its lead"),
                 "write the thread's lead along Z: `F1.5`",
             );
             return None;

@@ -125,14 +125,7 @@ impl FrontEnd<'_> {
                 );
                 ok = false;
             } else if let Some(was) = words.iter().find(|o| o.name == w.name) {
-                let was = &line.text[was.range.clone()];
-                self.error(
-                    codes::HEIR_CONFLICT,
-                    line,
-                    w.range.clone(),
-                    format!("`{text}` after `{was}` in the same block"),
-                    "give each address once in a block",
-                );
+                self.repeated(line, w, was);
                 ok = false;
             } else if w.name != "G" {
                 words.push(w);
@@ -140,27 +133,18 @@ impl FrontEnd<'_> {
         }
         let get = |name: &str| words.iter().copied().find(|w| w.name == name);
         // Forms other than a contour after the call.
+        const NAMED: &str = "a thread on contour blocks named by NS/NE (the finished part's, or an auxiliary contour's) is not read: ncthread reads the contour written after the call";
+        const END_POINT: &str =
+            "G31 with its end point in the block (X, Z: the MANUALplus 4110's form) is not read";
         for (name, why) in [
-            (
-                "NS",
-                "a thread on contour blocks named by NS/NE (the finished part's, or an auxiliary contour's) is not read: ncthread reads the contour written after the call",
-            ),
-            (
-                "NE",
-                "a thread on contour blocks named by NS/NE (the finished part's, or an auxiliary contour's) is not read: ncthread reads the contour written after the call",
-            ),
+            ("NS", NAMED),
+            ("NE", NAMED),
             (
                 "ID",
                 "a thread on an auxiliary contour named by ID is not read: ncthread reads the contour written after the call",
             ),
-            (
-                "X",
-                "G31 with its end point in the block (X, Z: the MANUALplus 4110's form) is not read",
-            ),
-            (
-                "Z",
-                "G31 with its end point in the block (X, Z: the MANUALplus 4110's form) is not read",
-            ),
+            ("X", END_POINT),
+            ("Z", END_POINT),
         ] {
             if let Some(w) = get(name) {
                 self.error(
@@ -251,7 +235,7 @@ impl FrontEnd<'_> {
             }
         };
         let infeed = self.g31_offset(line, get("H"), get("A"))?;
-        let lead = self.g31_lead(line, get("F"), whole.clone())?;
+        let lead = self.lead(line, get("F"), whole.clone(), codes::HEIR_G31, "G31")?;
         let Some(u) = get("U") else {
             self.error(
                 codes::HEIR_G31,
@@ -414,36 +398,6 @@ impl FrontEnd<'_> {
                 ..slope
             }
         })
-    }
-
-    fn g31_lead(&mut self, line: Line<'_>, f: Option<&Word>, whole: Range<usize>) -> Option<Lead> {
-        let Some(f) = f else {
-            self.error(
-                codes::HEIR_G31,
-                line,
-                whole,
-                "G31 without F, its lead",
-                "write the thread's lead: `F1.5`",
-            );
-            return None;
-        };
-        let lead = f
-            .number()
-            .and_then(|d| d.to_lead().ok())
-            .filter(|l| l.0 > 0 && *l <= Lead::MAX);
-        if lead.is_none() {
-            self.error(
-                codes::HEIR_NUMBER,
-                line,
-                f.range.clone(),
-                format!(
-                    "`{}`: a lead is positive, at most 12 decimals of a mm",
-                    &line.text[f.range.clone()]
-                ),
-                "write the thread's lead, `F1.5`",
-            );
-        }
-        lead
     }
 
     /// The depth law of infeed type `v` with I or IC, and the first cut it names.
