@@ -316,4 +316,32 @@ mod tests {
         assert_eq!(e[0].code, codes::PF_INVALID);
         assert!(e[0].message.contains("infeed_p6"), "{}", e[0].message);
     }
+
+    #[test]
+    fn reads_heidenhain_g31_keys_and_reports_bad_values() {
+        let p = load("[heidenhain]\ng31_clearance = 0.5\ng31_infeed = \"spread\"\ng31_h1 = \"towards-start\"\n")
+            .unwrap();
+        assert_eq!(p.heidenhain.g31_clearance, Some(Length::from_steps(5_000)));
+        assert_eq!(p.heidenhain.g31_infeed, Some(G31Infeed::Spread));
+        assert_eq!(p.heidenhain.g31_h1, Some(G31Offset::TowardsStart));
+        for (text, key) in [
+            (
+                "[heidenhain]\ng31_clearance = 0\n",
+                "heidenhain.g31_clearance",
+            ),
+            (
+                "[heidenhain]\ng31_clearance = 0.00001\n",
+                "heidenhain.g31_clearance",
+            ),
+            (
+                "[heidenhain]\ng31_infeed = \"half\"\n",
+                "heidenhain.g31_infeed",
+            ),
+            ("[heidenhain]\ng31_h1 = \"left\"\n", "heidenhain.g31_h1"),
+        ] {
+            let e = load(text).unwrap_err();
+            assert_eq!(e[0].code, codes::PF_VALUE, "{text}");
+            assert!(e[0].message.contains(key), "{}", e[0].message);
+        }
+    }
 }
