@@ -922,7 +922,7 @@ fn refused(mut diagnostics: Vec<Diagnostic>) -> Verification {
 
 /// Compares the two normalised motions. The rounding a `--round` conversion reported (in
 /// `diagnostics`: half a step of the target's grid, or a lead's drift over its thread) is
-/// allowed, and the tolerance asked for.
+/// allowed, to positions and to a helix's place along Z, and the tolerance asked for.
 fn compare_sides(
     left: &[sim::Segment],
     right: &[sim::Segment],
@@ -935,7 +935,7 @@ fn compare_sides(
         .max()
         .unwrap_or(fixed::Length::ZERO);
     let tolerance = tolerance.max(sim::TOLERANCE).max(rounded);
-    match sim::compare_within(left, right, tolerance, fixed::Angle::ZERO) {
+    match sim::compare_rounded(left, right, tolerance, rounded) {
         None => Outcome::Equivalent {
             segments: left.len(),
             deviation: sim::largest_deviation(left, right),

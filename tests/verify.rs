@@ -192,3 +192,37 @@ fn rounded_thread_starts_keep_their_helix() {
         );
     }
 }
+
+/// Where the target cannot say a start angle (the НЦ-31), a start rounded onto its grid moves
+/// the helix with it, by no more than the deviation its writer reports: `verify --round`
+/// allows the helix that deviation, as it allows positions. (A G31 with flank offsets H1
+/// starts its passes off the 0.01 mm grid.)
+#[test]
+fn a_rounded_start_moves_the_helix_within_the_reported_deviation() {
+    let src = SourceFile::new(
+        "h1.nc",
+        "%G.nc\nBEARBEITUNG\nN1 T1 G97 S500 M3\nN2 G0 X30 Z15\nN3 G31 F3.175 U1.8 B4 P0 I0.4 V0 H1\n\
+         N4 G0 X10 Z0\nN5 G1 X10 Z-10\nN6 G80\nN7 G0 X40 Z20\nN8 M30\nENDE\n"
+            .to_string(),
+    );
+    let profile = ncthread::profile::Profile::from_toml(&SourceFile::new(
+        "p.toml",
+        "[heidenhain]\ng31_clearance = 2.5\ng31_infeed = \"first\"\ng31_h1 = \"towards-start\"\n"
+            .to_string(),
+    ))
+    .unwrap();
+    let options = ConvertOptions {
+        round: true,
+        profile,
+        ..options(
+            ncthread::dialect::heidenhain::ID,
+            ncthread::dialect::nc31::ID,
+        )
+    };
+    let v = ncthread::verify(&src, &options, None, None);
+    let Outcome::Equivalent { tolerance, .. } = v.outcome else {
+        panic!("{:?}\n{:?}", v.outcome, v.diagnostics)
+    };
+    // The НЦ-31's 0.01 mm units: at most half a unit.
+    assert!(tolerance.0 <= 500, "{tolerance:?}");
+}

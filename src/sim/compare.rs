@@ -397,11 +397,39 @@ pub fn compare_within(
     tol: Length,
     phase_slack: Angle,
 ) -> Option<Difference> {
-    let judge = Judge {
-        tol,
-        phase_slack,
-        phase_grid: PHASE_GRID + (tol - TOLERANCE).max(Length::ZERO),
-    };
+    compare_judged(
+        left,
+        right,
+        Judge {
+            tol,
+            phase_slack,
+            phase_grid: PHASE_GRID + (tol - TOLERANCE).max(Length::ZERO),
+        },
+    )
+}
+
+/// [`compare_within`] for a conversion rounded onto its target's grid (`--round`) by at most
+/// `rounded`: positions within `tol`, and a thread's helix moved along Z by at most
+/// `rounded` — a start rounded on a control that cannot say a start angle (the НЦ-31) moves
+/// the helix with it, by no more than the deviation its writer reported.
+pub fn compare_rounded(
+    left: &[Segment],
+    right: &[Segment],
+    tol: Length,
+    rounded: Length,
+) -> Option<Difference> {
+    compare_judged(
+        left,
+        right,
+        Judge {
+            tol,
+            phase_slack: Angle::ZERO,
+            phase_grid: PHASE_GRID + (tol - TOLERANCE).max(rounded).max(Length::ZERO),
+        },
+    )
+}
+
+fn compare_judged(left: &[Segment], right: &[Segment], judge: Judge) -> Option<Difference> {
     let (mut i, mut j) = (0, 0);
     loop {
         if let (Some(a), Some(b)) = (left.get(i), right.get(j)) {
@@ -431,7 +459,7 @@ pub fn compare_within(
                 });
             }
         };
-        if let Some((di, dj)) = feeds_joined_otherwise(left, i, right, j, tol) {
+        if let Some((di, dj)) = feeds_joined_otherwise(left, i, right, j, judge.tol) {
             i += di;
             j += dj;
             continue;

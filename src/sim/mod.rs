@@ -7,7 +7,8 @@ mod compare;
 pub mod rs274;
 
 pub use compare::{
-    Difference, TOLERANCE, compare, compare_within, largest_deviation, normalise, phase_tolerance,
+    Difference, TOLERANCE, compare, compare_rounded, compare_within, largest_deviation, normalise,
+    phase_tolerance,
 };
 
 use crate::diag::{Diagnostic, codes};
