@@ -320,11 +320,7 @@ pub fn largest_deviation(left: &[Segment], right: &[Segment]) -> Length {
     };
     let mut largest = Length::ZERO;
     let (mut i, mut j) = (0, 0);
-    let judge = Judge {
-        tol: TOLERANCE,
-        phase_slack: Angle(TURN),
-        phase_grid: PHASE_GRID,
-    };
+    let judge = Judge::new(TOLERANCE, Angle(TURN), Length::ZERO);
     while let (Some(a), Some(b)) = (left.get(i), right.get(j)) {
         // Short moves on one side only, as `compare_within` passes over them.
         if judge
@@ -397,15 +393,7 @@ pub fn compare_within(
     tol: Length,
     phase_slack: Angle,
 ) -> Option<Difference> {
-    compare_judged(
-        left,
-        right,
-        Judge {
-            tol,
-            phase_slack,
-            phase_grid: PHASE_GRID + (tol - TOLERANCE).max(Length::ZERO),
-        },
-    )
+    compare_judged(left, right, Judge::new(tol, phase_slack, Length::ZERO))
 }
 
 /// [`compare_within`] for a conversion rounded onto its target's grid (`--round`) by at most
@@ -418,15 +406,7 @@ pub fn compare_rounded(
     tol: Length,
     rounded: Length,
 ) -> Option<Difference> {
-    compare_judged(
-        left,
-        right,
-        Judge {
-            tol,
-            phase_slack: Angle::ZERO,
-            phase_grid: PHASE_GRID + (tol - TOLERANCE).max(rounded).max(Length::ZERO),
-        },
-    )
+    compare_judged(left, right, Judge::new(tol, Angle::ZERO, rounded))
 }
 
 fn compare_judged(left: &[Segment], right: &[Segment], judge: Judge) -> Option<Difference> {
@@ -537,6 +517,16 @@ struct Judge {
 const SHORT_RUN: usize = 4;
 
 impl Judge {
+    /// Positions within `tol`; a helix within the grid, widened by what `tol` adds to
+    /// [`TOLERANCE`] or by `helix` (a rounding that moved it), whichever is more.
+    fn new(tol: Length, phase_slack: Angle, helix: Length) -> Judge {
+        Judge {
+            tol,
+            phase_slack,
+            phase_grid: PHASE_GRID + (tol - TOLERANCE).max(helix).max(Length::ZERO),
+        }
+    }
+
     /// How many segments each side passes over where `left[i]` and `right[j]` do not pair:
     /// a run of short moves on one side only ([`Judge::one_sided_short_moves`]).
     fn short_moves_passed(

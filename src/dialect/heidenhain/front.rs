@@ -1,6 +1,7 @@
 //! HEIDENHAIN DIN → IR: what the writer writes (so that `verify` proves a conversion), plus
 //! `Xi`/`Zi` increments, `G2`/`G3` with the incremental centre, `R` arcs, `G40`, the
-//! `N 13` of the manuals' examples; everything else is refused by name (heidenhain.md
+//! `N 13` of the manuals' examples, `G31` with its contour up to `G80` under the profile's
+//! declared model (`front/g31.rs`); everything else is refused by name (heidenhain.md
 //! "Reading").
 //!
 //! The sections: `BEARBEITUNG`/`MACHINING` (and blocks before any section) are read;

@@ -4,7 +4,8 @@
 //! to a help graphic or do not state (an arc's direction; the sense of G33's start angle C and
 //! the measure of its run-in B) is written only where the profile declares it, and refused by
 //! name otherwise. The reader reads what the writer writes and a little more (`Xi`/`Zi`,
-//! `G2`/`G3`, `R`, the `N 13` of the manuals' examples).
+//! `G2`/`G3`, `R`, the `N 13` of the manuals' examples, the `G31` cycle under the profile's
+//! declared model).
 
 pub mod codes;
 mod emit;
