@@ -88,6 +88,11 @@ impl Length {
         format_scaled(self.0, Self::DECIMALS, Trailing::Point)
     }
 
+    /// [`Length::mm_with_point`] appended to `out`.
+    pub fn push_mm_with_point(self, out: &mut String) {
+        format_scaled_into(out, self.0, Self::DECIMALS, Trailing::Point);
+    }
+
     /// The value in millimetres with all four decimals (`0.2000`, `-47.5000`): a table's
     /// column; five where the value lies between two 0.0001 mm steps (an inch value).
     pub fn mm_fixed(self) -> String {
@@ -354,6 +359,11 @@ impl Lead {
     /// The lead in millimetres, always with a decimal point (`6.`, `1.5`).
     pub fn mm_with_point(self) -> String {
         format_scaled(self.0, Self::DECIMALS, Trailing::Point)
+    }
+
+    /// [`Lead::mm_with_point`] appended to `out`.
+    pub fn push_mm_with_point(self, out: &mut String) {
+        format_scaled_into(out, self.0, Self::DECIMALS, Trailing::Point);
     }
 }
 

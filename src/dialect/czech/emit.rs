@@ -33,8 +33,53 @@ const MAX_ANGLE: Angle = Angle(60_000);
 #[derive(Default)]
 struct Block {
     number: Option<u32>,
-    words: Vec<String>,
+    words: Words,
     comment: Option<String>,
+}
+
+/// A block's words in one buffer, each after a space: no allocation per word (issue 34).
+#[derive(Default)]
+struct Words(String);
+
+impl Words {
+    fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    /// Starts a word: the buffer to write it into.
+    fn next(&mut self) -> &mut String {
+        if !self.0.is_empty() {
+            self.0.push(' ');
+        }
+        &mut self.0
+    }
+
+    fn push(&mut self, word: &str) {
+        self.next().push_str(word);
+    }
+
+    /// A word written from `args` (`format_args!`), without a `String` of its own.
+    fn push_fmt(&mut self, args: std::fmt::Arguments<'_>) {
+        let _ = self.next().write_fmt(args);
+    }
+
+    /// `word` before the others (a motion's G before its axes).
+    fn push_first(&mut self, word: &str) {
+        if self.0.is_empty() {
+            self.0.push_str(word);
+        } else {
+            self.0.insert(0, ' ');
+            self.0.insert_str(0, word);
+        }
+    }
+
+    fn extend(&mut self, other: Words) {
+        if self.0.is_empty() {
+            self.0 = other.0;
+        } else if !other.0.is_empty() {
+            self.next().push_str(&other.0);
+        }
+    }
 }
 
 struct Emitter<'a> {
@@ -179,18 +224,13 @@ impl Emitter<'_> {
     }
 }
 
-/// `X26.618`-style text for a coordinate, or `None` when it needs a 4th decimal.
-fn coordinate(v: Length) -> Option<String> {
-    v.on_mm_decimals(3).then(|| v.mm_with_point())
-}
-
 impl Emitter<'_> {
     /// Reports a problem once (a cycle's passes share the cycle's item).
     fn diag(&mut self, code: Code, item: &Item, message: String, help: &str) {
         self.w.error(code, item.span, message, help);
     }
 
-    fn write(&mut self, mut block: Block) {
+    fn write(&mut self, block: Block) {
         if self.pending_empty {
             self.pending_empty = false;
             if !block.words.is_empty() {
@@ -216,11 +256,11 @@ impl Emitter<'_> {
             let _ = write!(line, "N{n}");
             self.last_number = Some(n);
         }
-        for w in block.words.drain(..) {
+        if !block.words.is_empty() {
             if line.len() > start {
                 line.push(' ');
             }
-            line.push_str(&w);
+            line.push_str(&block.words.0);
         }
         if let Some(c) = block.comment {
             if line.len() > start {
@@ -234,13 +274,27 @@ impl Emitter<'_> {
     /// `v` with a decimal point and at most 3 decimals. A value that needs a 4th is rounded
     /// (`--round`) or counted for one error; either way the text is usable.
     fn three_decimals(&mut self, item: &Item, what: &str, v: Length) -> String {
-        if let Some(text) = coordinate(v) {
-            return text;
+        let mut text = String::new();
+        self.push_three_decimals(item, what, v, &mut text);
+        text
+    }
+
+    /// [`Emitter::three_decimals`] appended to `out`.
+    fn push_three_decimals(&mut self, item: &Item, what: &str, v: Length, out: &mut String) {
+        if v.on_mm_decimals(3) {
+            return v.push_mm_with_point(out);
         }
         let rounded = Length(crate::fixed::div_round(v.0 as i128, 100) as i64 * 100);
         self.inexact
             .note(item.span, what, v, rounded, Length::from_steps(10));
-        rounded.mm_with_point()
+        rounded.push_mm_with_point(out);
+    }
+
+    /// `letter` and `v` as [`Emitter::push_three_decimals`] writes it, as the next word.
+    fn push_word(&mut self, item: &Item, what: &str, letter: char, v: Length, words: &mut Words) {
+        let out = words.next();
+        out.push(letter);
+        self.push_three_decimals(item, what, v, out);
     }
 
     /// `G04` with the time in the profile's form, in a block of no motion (the time word may
@@ -268,32 +322,25 @@ impl Emitter<'_> {
                 format!("{letter}{}", Length::from_steps(ms * 10).mm_with_point())
             }
         };
-        block.words.push("G04".into());
-        block.words.push(word);
+        block.words.push("G04");
+        block.words.push(&word);
         self.flush(block);
     }
 
-    fn coordinate_word(&mut self, item: &Item, letter: char, v: Length) -> Option<String> {
-        let mut name = [0; 4];
-        let mut text = self.three_decimals(item, letter.encode_utf8(&mut name), v);
-        text.insert(0, letter);
-        Some(text)
-    }
-
     /// The axis words of a move to `to` (every axis after a J/E pass).
-    fn axes(&mut self, item: &Item, to: Pos) -> Option<Vec<String>> {
-        let mut words = Vec::new();
+    fn axes(&mut self, item: &Item, to: Pos) -> Words {
+        let mut words = Words::default();
         let full = Pos {
             x: to.x.or(if self.all_axes { self.w.pos.x } else { None }),
             z: to.z.or(if self.all_axes { self.w.pos.z } else { None }),
         };
         if let Some(x) = full.x {
-            words.push(self.coordinate_word(item, 'X', x)?);
+            self.push_word(item, "X", 'X', x, &mut words);
         }
         if let Some(z) = full.z {
-            words.push(self.coordinate_word(item, 'Z', z)?);
+            self.push_word(item, "Z", 'Z', z, &mut words);
         }
-        Some(words)
+        words
     }
 
     /// `G02`/`G03 X Z` with the centre in the profile's form: I and K from the start (I a
@@ -320,9 +367,7 @@ impl Emitter<'_> {
             );
             return;
         };
-        let Some(mut words) = self.axes(item, Pos::new(ex, ez)) else {
-            return;
-        };
+        let mut words = self.axes(item, Pos::new(ex, ez));
         let g02 = clockwise != self.profile.czech.arcs_mirrored;
         self.motion_word(if g02 { "G02" } else { "G03" }, &mut words);
         match self.profile.czech.arcs {
@@ -331,17 +376,16 @@ impl Emitter<'_> {
                 else {
                     return;
                 };
-                words.push(format!("R{r}"));
+                words.push_fmt(format_args!("R{r}"));
             }
             _ => {
                 let (i, k) = self.centre_words(item, cx - sx, cz - sz);
-                words.push(format!("I{i}"));
-                words.push(format!("K{k}"));
+                words.push_fmt(format_args!("I{i}"));
+                words.push_fmt(format_args!("K{k}"));
             }
         }
         if self.f != Some((Lead::from_length(feed), false)) {
-            let f = self.three_decimals(item, "feed F", feed);
-            words.push(format!("F{f}"));
+            self.push_word(item, "feed F", 'F', feed, &mut words);
             self.f = Some((Lead::from_length(feed), false));
         }
         block.words.extend(words);
@@ -422,9 +466,9 @@ impl Emitter<'_> {
         (i, k)
     }
 
-    fn motion_word(&mut self, g: &'static str, words: &mut Vec<String>) {
+    fn motion_word(&mut self, g: &'static str, words: &mut Words) {
         if self.motion != Some(g) {
-            words.insert(0, g.to_string());
+            words.push_first(g);
             self.motion = Some(g);
         }
     }
@@ -516,35 +560,39 @@ impl Emitter<'_> {
             // Unrolled into its moves at the top of `emit`.
             ItemKind::Roughing(_) | ItemKind::ModelCycle(_) => {}
             // Written where the profile declares the codes; legalisation refuses the rest.
-            ItemKind::Coolant(c) => block.words.push(coolant_word(*c).to_string()),
+            ItemKind::Coolant(c) => block.words.push(coolant_word(*c)),
             ItemKind::Spindle { speed, direction } => spindle_words(*speed, *direction, block),
-            ItemKind::SpindleStop => block.words.push("M05".into()),
+            ItemKind::SpindleStop => block.words.push("M05"),
             ItemKind::Tool { number, offset } => {
-                block.words.extend(number.map(|t| format!("T{t}")));
-                block.words.extend(offset.map(|d| format!("D{d}")));
+                if let Some(t) = number {
+                    block.words.push_fmt(format_args!("T{t}"));
+                }
+                if let Some(d) = offset {
+                    block.words.push_fmt(format_args!("D{d}"));
+                }
             }
             ItemKind::GearRange { code: m, machine } => self.gear_range(item, *m, *machine, block),
             ItemKind::MachineCode { code, machine } => {
                 self.as_comment(item, block, &crate::ir::machine_code_note(*code, *machine))
             }
-            ItemKind::FeedMode(FeedMode::PerRev) => block.words.push("G95".into()),
-            ItemKind::FeedMode(FeedMode::PerMin) => block.words.push("G94".into()),
+            ItemKind::FeedMode(FeedMode::PerRev) => block.words.push("G95"),
+            ItemKind::FeedMode(FeedMode::PerMin) => block.words.push("G94"),
             ItemKind::ProgramEnd(end) => {
                 self.ensure_all_axes(item, block);
                 block
                     .words
-                    .push(if *end == EndCode::M2 { "M02" } else { "M30" }.into());
+                    .push(if *end == EndCode::M2 { "M02" } else { "M30" });
             }
             ItemKind::Comment(text) => self.comment_item(text, block),
             ItemKind::ParamAssign { number, value } => {
                 self.params.insert(*number, *value);
-                block.words.push(format!("R{number:02}={value}"));
+                block.words.push_fmt(format_args!("R{number:02}={value}"));
             }
             ItemKind::Opaque {
                 dialect: super::ID,
                 text,
                 ..
-            } => block.words.push(text.clone()),
+            } => block.words.push(text),
             ItemKind::Opaque { dialect, text, .. } => {
                 self.as_comment(item, block, &format!("{dialect}: {text}"));
             }
@@ -567,23 +615,19 @@ impl Emitter<'_> {
 
     /// G00 with the axes (nothing when they cannot be written).
     fn rapid(&mut self, item: &Item, to: Pos, block: &mut Block) {
-        if let Some(mut words) = self.axes(item, to) {
-            self.motion_word("G00", &mut words);
-            block.words.extend(words);
-            self.all_axes = false;
-        }
+        let mut words = self.axes(item, to);
+        self.motion_word("G00", &mut words);
+        block.words.extend(words);
+        self.all_axes = false;
     }
 
     /// G01 with the axes and, when it changes, the feed; `false` when the axes cannot be
     /// written.
     fn feed(&mut self, item: &Item, to: Pos, feed: Length, block: &mut Block) -> bool {
-        let Some(mut words) = self.axes(item, to) else {
-            return false;
-        };
+        let mut words = self.axes(item, to);
         self.motion_word("G01", &mut words);
         if self.f != Some((Lead::from_length(feed), false)) {
-            let f = self.three_decimals(item, "feed F", feed);
-            words.push(format!("F{f}"));
+            self.push_word(item, "feed F", 'F', feed, &mut words);
             self.f = Some((Lead::from_length(feed), false));
         }
         block.words.extend(words);
@@ -598,8 +642,7 @@ impl Emitter<'_> {
             if self.motion == Some("G33") {
                 self.motion_word("G01", &mut block.words);
             }
-            let f = self.three_decimals(item, "feed F", feed);
-            block.words.push(format!("F{f}"));
+            self.push_word(item, "feed F", 'F', feed, &mut block.words);
             self.f = Some((Lead::from_length(feed), false));
         }
     }
@@ -631,8 +674,8 @@ impl Emitter<'_> {
                 );
                 return false;
             }
-            SpindleMode::SurfaceSpeed { .. } => block.words.push("G96".into()),
-            SpindleMode::Rpm => block.words.push("G97".into()),
+            SpindleMode::SurfaceSpeed { .. } => block.words.push("G96"),
+            SpindleMode::Rpm => block.words.push("G97"),
         }
         true
     }
@@ -641,7 +684,7 @@ impl Emitter<'_> {
     /// written for (and one the profile names): else a comment.
     fn gear_range(&mut self, item: &Item, m: u32, machine: DialectId, block: &mut Block) {
         if machine == super::ID && self.profile.czech.gear_range_mcodes.contains(&m) {
-            block.words.push(format!("M{m}"));
+            block.words.push_fmt(format_args!("M{m}"));
         } else {
             self.as_comment(
                 item,
@@ -674,24 +717,21 @@ impl Emitter<'_> {
         let (Some(x), Some(z)) = (self.w.pos.x, self.w.pos.z) else {
             return;
         };
-        if let (Some(x), Some(z)) = (
-            self.coordinate_word(item, 'X', x),
-            self.coordinate_word(item, 'Z', z),
-        ) {
-            let mut words = vec![x, z];
-            self.motion_word("G00", &mut words);
-            if block.words.is_empty() {
-                // The block being written (its number, its comment) becomes the one that
-                // programs every axis.
-                block.words = words;
-                self.flush(block);
-            } else {
-                self.flush(block);
-                self.write(Block {
-                    words,
-                    ..Block::default()
-                });
-            }
+        let mut words = Words::default();
+        self.push_word(item, "X", 'X', x, &mut words);
+        self.push_word(item, "Z", 'Z', z, &mut words);
+        self.motion_word("G00", &mut words);
+        if block.words.is_empty() {
+            // The block being written (its number, its comment) becomes the one that
+            // programs every axis.
+            block.words = words;
+            self.flush(block);
+        } else {
+            self.flush(block);
+            self.write(Block {
+                words,
+                ..Block::default()
+            });
         }
         self.all_axes = false;
     }
@@ -829,7 +869,7 @@ impl Emitter<'_> {
             self.params.insert(param, value);
             let text = format_param(value);
             self.write(Block {
-                words: vec![format!("R{param:02}={text}")],
+                words: Words(format!("R{param:02}={text}")),
                 comment: Some(format!(
                     "{what} angle {}{angle}°",
                     if negative { "−" } else { "+" }
@@ -876,15 +916,13 @@ impl Emitter<'_> {
             .to
             .x
             .map(|x| x + pass.entry.map_or(Length::ZERO, |c| c.offset));
-        let Some(mut words) = self.axes(
+        let mut words = self.axes(
             item,
             Pos {
                 x: end_x,
                 z: pass.to.z,
             },
-        ) else {
-            return;
-        };
+        );
         self.motion_word("G33", &mut words);
         let Some(lead) = self.pass_lead(item, pass) else {
             return;
@@ -894,15 +932,13 @@ impl Emitter<'_> {
             return;
         }
         if start_angle != Angle::ZERO {
-            words.push(format!("I{}", start_angle.deg()));
+            words.push_fmt(format_args!("I{}", start_angle.deg()));
         }
         if let Some(r) = pass.exit {
-            let j = self.three_decimals(item, "runout J", r.length);
-            words.push(format!("J{j}"));
+            self.push_word(item, "runout J", 'J', r.length, &mut words);
         }
         if let Some(e) = pass.entry {
-            let t = self.three_decimals(item, "entry E", e.length);
-            words.push(format!("E{t}"));
+            self.push_word(item, "entry E", 'E', e.length, &mut words);
         }
         block.words.extend(words);
         self.w.pos = pass.end_position(self.w.pos);
@@ -987,7 +1023,10 @@ impl Emitter<'_> {
                 start_angle = Angle(angle_for(at));
                 if at != nearest {
                     self.flush(block);
-                    let mut words = vec![format!("Z{}", at.mm_with_point())];
+                    let mut words = Words::default();
+                    let out = words.next();
+                    out.push('Z');
+                    at.push_mm_with_point(out);
                     self.motion_word("G00", &mut words);
                     self.write(Block {
                         words,
@@ -1038,7 +1077,7 @@ impl Emitter<'_> {
         lead: Lead,
         reserved: &[u32],
         block: &mut Block,
-        words: &mut Vec<String>,
+        words: &mut Words,
     ) -> bool {
         if lead > Lead::from_length(MAX_DIRECT_LEAD) {
             let Some((n, new)) = self.lead_param(lead, reserved) else {
@@ -1056,14 +1095,16 @@ impl Emitter<'_> {
             if new {
                 self.flush(block);
                 self.write(Block {
-                    words: vec![format!("R{n:02}={}", lead.mm_with_point())],
+                    words: Words(format!("R{n:02}={}", lead.mm_with_point())),
                     comment: Some("lead over 99.99".into()),
                     ..Block::default()
                 });
             }
-            words.push(format!("FR{n:02}"));
+            words.push_fmt(format_args!("FR{n:02}"));
         } else {
-            words.push(format!("F{}", lead.mm_with_point()));
+            let out = words.next();
+            out.push('F');
+            lead.push_mm_with_point(out);
         }
         self.f = Some((lead, true));
         true
@@ -1111,11 +1152,11 @@ fn coolant_word(c: Coolant) -> &'static str {
 /// The spindle's speed S and direction M03/M04.
 fn spindle_words(speed: Option<u32>, direction: Option<SpindleDirection>, block: &mut Block) {
     if let Some(s) = speed {
-        block.words.push(format!("S{s}"));
+        block.words.push_fmt(format_args!("S{s}"));
     }
     match direction {
-        Some(SpindleDirection::Clockwise) => block.words.push("M03".into()),
-        Some(SpindleDirection::CounterClockwise) => block.words.push("M04".into()),
+        Some(SpindleDirection::Clockwise) => block.words.push("M03"),
+        Some(SpindleDirection::CounterClockwise) => block.words.push("M04"),
         None => {}
     }
 }
