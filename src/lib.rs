@@ -346,7 +346,35 @@ fn finish_conversion(
 /// error, the writer is let go of, and (without an error) a second read writes the program
 /// with what the first gathered. Nothing holds the program; the output spills to the
 /// writer's temporary file.
+///
+/// A large source (and a machine with a second core) has its writer side — the shared
+/// rules, the target's table and the writer — in a thread of its own, fed the items in
+/// batches ([`WriterSide::Worker`]), while the reading thread reads on: the same work in the same
+/// order, so the same output and diagnostics.
 fn convert_streaming(src: &SourceFile, options: &ConvertOptions) -> Conversion {
+    #[cfg(not(target_arch = "wasm32"))]
+    if src.text.len() >= WORKER_FROM
+        && std::thread::available_parallelism().is_ok_and(|n| n.get() > 1)
+    {
+        return std::thread::scope(|scope| stream(src, options, Some(scope)));
+    }
+    stream(src, options, None)
+}
+
+/// A source this large, on a machine with a second core, has its writer side in a thread of
+/// its own (issue 34: below it a thread costs more than it saves).
+#[cfg(not(target_arch = "wasm32"))]
+const WORKER_FROM: usize = 1 << 20;
+
+/// [`convert_streaming`], the writer side in a thread of `scope` when there is one.
+fn stream<'s, 'scope, 'env>(
+    src: &'s SourceFile,
+    options: &'s ConvertOptions,
+    scope: Option<&'scope std::thread::Scope<'scope, 'env>>,
+) -> Conversion
+where
+    's: 'scope,
+{
     let target = dialect::get(options.to);
     let write = write_options(options);
     let mut once = Once {
@@ -360,6 +388,7 @@ fn convert_streaming(src: &SourceFile, options: &ConvertOptions) -> Conversion {
         options,
         target,
         write: &write,
+        scope,
     };
     let (program, mut diagnostics) = read(
         src,
@@ -372,6 +401,7 @@ fn convert_streaming(src: &SourceFile, options: &ConvertOptions) -> Conversion {
         return stop;
     }
     let Once { facts, emit, .. } = once;
+    let emit = emit.map(|(side, made_with)| (side.finish(), made_with));
     let view = target.writer_reads().view(&facts, &program);
     let inch = legalise::output_in_inches(&program, Some(options.to));
     let emit = match emit {
@@ -419,22 +449,27 @@ struct Header {
 /// The one read of a streaming conversion: what the writer must know (gathered over every
 /// item), and the writer, made at the first item with what was known then, while nothing
 /// it reads of that has changed and the read has found no error.
-struct Once<'s> {
+struct Once<'s, 'w, 'scope, 'env> {
     facts: dialect::Facts,
     items: usize,
     header: Header,
     errors: bool,
     /// The writer and what it was made with (its view, and whether the output is in inches).
-    emit: Option<(Emit<'s>, (dialect::WriterView, bool))>,
+    emit: Option<(WriterSide<'s, 'scope>, (dialect::WriterView, bool))>,
     /// The writer was let go of (or never made): a second read writes.
     stopped: bool,
     src: &'s SourceFile,
     options: &'s ConvertOptions,
     target: &'static dyn dialect::Dialect,
-    write: &'s dialect::WriteOptions,
+    write: &'w dialect::WriteOptions,
+    /// Where the writer side gets a thread of its own, if it does.
+    scope: Option<&'scope std::thread::Scope<'scope, 'env>>,
 }
 
-impl<'s> Once<'s> {
+impl<'s, 'scope, 'env> Once<'s, '_, 'scope, 'env>
+where
+    's: 'scope,
+{
     /// The program as read so far, without its items and in millimetres (whether every
     /// length is in inches is known only at the end).
     fn program(&self) -> Program {
@@ -453,11 +488,31 @@ impl<'s> Once<'s> {
         self.target.writer_reads().view(&self.facts, program)
     }
 
+    /// An item the writer side takes by reference (one of a cycle's unrolled moves).
     fn one(&mut self, item: &ir::Item) {
+        if self.admit(item)
+            && let Some((side, _)) = &mut self.emit
+        {
+            side.item(item);
+        }
+    }
+
+    /// An item the writer side takes whole (no copy for its thread).
+    fn one_owned(&mut self, item: ir::Item) {
+        if self.admit(&item)
+            && let Some((side, _)) = &mut self.emit
+        {
+            side.take(item);
+        }
+    }
+
+    /// The facts gathered over `item`, and the writer made, kept or let go of: whether the
+    /// writer side takes the item.
+    fn admit(&mut self, item: &ir::Item) -> bool {
         let changed = self.facts.item(item);
         if self.stopped || self.errors {
             self.stop();
-            return;
+            return false;
         }
         match &self.emit {
             None => {
@@ -474,25 +529,23 @@ impl<'s> Once<'s> {
                     &program,
                     self.write,
                 );
-                self.emit = Some((emit, made_with));
+                self.emit = Some((WriterSide::new(emit, self.scope), made_with));
             }
             Some(_) if changed => {
                 let view = self.view(&self.program());
-                if let Some((emit, (written, _))) = &mut self.emit
+                if let Some((side, (written, _))) = &mut self.emit
                     && *written != view
                 {
-                    if !emit.writer.late_facts(&self.facts) {
+                    if !side.late_facts(&self.facts) {
                         self.stop();
-                        return;
+                        return false;
                     }
                     *written = view;
                 }
             }
             Some(_) => {}
         }
-        if let Some((emit, _)) = &mut self.emit {
-            emit.one(item);
-        }
+        true
     }
 
     fn stop(&mut self) {
@@ -501,13 +554,17 @@ impl<'s> Once<'s> {
     }
 }
 
-impl dialect::ItemSink for Once<'_> {
+impl<'s, 'scope, 'env> dialect::ItemSink for Once<'s, '_, 'scope, 'env>
+where
+    's: 'scope,
+{
     fn item(&mut self, item: ir::Item) {
         self.items += 1;
-        match lower::unrolled(&item, Some(self.options.to)) {
-            Some(moves) => moves.for_each(|m| self.one(&m)),
-            None => self.one(&item),
+        if let Some(moves) = lower::unrolled(&item, Some(self.options.to)) {
+            moves.for_each(|m| self.one(&m));
+            return;
         }
+        self.one_owned(item);
     }
 
     fn so_far(&mut self, read: dialect::SoFar<'_>) {
@@ -527,11 +584,129 @@ impl dialect::ItemSink for Once<'_> {
     }
 }
 
+/// Where a streaming conversion's writer side runs.
+enum WriterSide<'s, 'scope> {
+    /// In the reading thread (boxed: an `Emit` is large, the worker's handle small).
+    Here(Box<Emit<'s>>),
+    /// In a thread of its own.
+    Worker(Worker<'s, 'scope>),
+}
+
+/// A writer side in a thread of its own, handed the items in batches through a bounded
+/// queue (so that the items waiting for it stay few: issue 34's memory bound).
+struct Worker<'s, 'scope> {
+    batch: Vec<ir::Item>,
+    jobs: std::sync::mpsc::SyncSender<Job>,
+    done: std::thread::ScopedJoinHandle<'scope, Emit<'s>>,
+}
+
+/// What the reading thread hands the writer's.
+enum Job {
+    Items(Vec<ir::Item>),
+    /// The facts changed after the first item: whether the writer takes them late (the
+    /// answer is awaited).
+    LateFacts(dialect::Facts, std::sync::mpsc::SyncSender<bool>),
+}
+
+/// How many items a batch holds, and how many batches wait at most.
+const BATCH: usize = 4096;
+const QUEUED: usize = 2;
+
+impl<'s, 'scope> WriterSide<'s, 'scope> {
+    fn new<'env>(emit: Emit<'s>, scope: Option<&'scope std::thread::Scope<'scope, 'env>>) -> Self
+    where
+        's: 'scope,
+    {
+        let Some(scope) = scope else {
+            return WriterSide::Here(Box::new(emit));
+        };
+        let (jobs, queue) = std::sync::mpsc::sync_channel::<Job>(QUEUED);
+        let done = scope.spawn(move || {
+            let mut emit = emit;
+            for job in queue {
+                match job {
+                    Job::Items(items) => items.iter().for_each(|item| emit.one(item)),
+                    Job::LateFacts(facts, answer) => {
+                        let _ = answer.send(emit.writer.late_facts(&facts));
+                    }
+                }
+            }
+            emit
+        });
+        WriterSide::Worker(Worker {
+            batch: Vec::with_capacity(BATCH),
+            jobs,
+            done,
+        })
+    }
+
+    fn item(&mut self, item: &ir::Item) {
+        match self {
+            WriterSide::Here(emit) => emit.one(item),
+            WriterSide::Worker(w) => w.push(item.clone()),
+        }
+    }
+
+    fn take(&mut self, item: ir::Item) {
+        match self {
+            WriterSide::Here(emit) => emit.one(&item),
+            WriterSide::Worker(w) => w.push(item),
+        }
+    }
+
+    /// [`dialect::ItemWriter::late_facts`], once the writer has taken every item before.
+    fn late_facts(&mut self, facts: &dialect::Facts) -> bool {
+        match self {
+            WriterSide::Here(emit) => emit.writer.late_facts(facts),
+            WriterSide::Worker(w) => {
+                w.flush();
+                let (answer, answered) = std::sync::mpsc::sync_channel(1);
+                // A writer's thread that has ended (it panicked: `finish` says so) takes
+                // nothing.
+                w.jobs.send(Job::LateFacts(facts.clone(), answer)).is_ok()
+                    && answered.recv().unwrap_or(false)
+            }
+        }
+    }
+
+    /// The writer side, every item taken.
+    fn finish(self) -> Emit<'s> {
+        match self {
+            WriterSide::Here(emit) => *emit,
+            WriterSide::Worker(mut w) => {
+                w.flush();
+                drop(w.jobs);
+                match w.done.join() {
+                    Ok(emit) => emit,
+                    Err(panic) => std::panic::resume_unwind(panic),
+                }
+            }
+        }
+    }
+}
+
+impl Worker<'_, '_> {
+    fn push(&mut self, item: ir::Item) {
+        self.batch.push(item);
+        if self.batch.len() >= BATCH {
+            self.flush();
+        }
+    }
+
+    fn flush(&mut self) {
+        if !self.batch.is_empty() {
+            let items = std::mem::replace(&mut self.batch, Vec::with_capacity(BATCH));
+            // A writer's thread that has ended takes nothing (`finish` says why).
+            let _ = self.jobs.send(Job::Items(items));
+        }
+    }
+}
+
 /// The shared rules, the target's table and its writer, taking each item unrolled.
 struct Emit<'s> {
     rules: legalise::Shared<'s>,
     table: legalise::ForTarget<'s>,
-    writer: Box<dyn dialect::ItemWriter + 's>,
+    writer: Box<dyn dialect::ItemWriter + Send + 's>,
     to: DialectId,
 }
 

@@ -1,6 +1,8 @@
 //! Source text, lines and spans.
 
 use std::ops::Range;
+use std::sync::atomic::AtomicU64;
+use std::sync::atomic::Ordering::Relaxed;
 
 /// Where something stands in a source file: 1-based line and column (in characters) and the
 /// byte range in the whole text. The offsets are 32-bit (every IR item holds a span; a text
@@ -50,7 +52,7 @@ enum Repr {
 struct Mapped {
     map: memmap2::Mmap,
     /// The pages before this offset have been let go of (a multiple of [`RELEASE_ALIGN`]).
-    released: std::cell::Cell<usize>,
+    released: std::sync::atomic::AtomicUsize,
 }
 
 /// How far behind the furthest point read a mapped text keeps its pages, and how far that
@@ -75,7 +77,7 @@ impl Text {
         let map = unsafe { memmap2::Mmap::map(&file)? };
         let text = Text(Repr::Mapped(Mapped {
             map,
-            released: std::cell::Cell::new(0),
+            released: std::sync::atomic::AtomicUsize::new(0),
         }));
         // Checked a stretch at a time, each let go of once checked.
         let bytes = text.bytes_of();
@@ -112,13 +114,14 @@ impl Text {
     pub fn read_to(&self, offset: usize) {
         #[cfg(unix)]
         if let Repr::Mapped(m) = &self.0 {
-            let released = m.released.get();
+            let released = m.released.load(Relaxed);
             if offset >= released + 2 * READ_LAG {
                 self.release(offset - READ_LAG);
             } else if offset < released {
                 // Read again from further back (a loop's body, a second pass): the pages
                 // from there on are let go of as the reading passes them again.
-                m.released.set(offset / RELEASE_ALIGN * RELEASE_ALIGN);
+                m.released
+                    .store(offset / RELEASE_ALIGN * RELEASE_ALIGN, Relaxed);
             }
         }
         #[cfg(not(unix))]
@@ -134,7 +137,7 @@ impl Text {
                 (0, m.map.len())
             } else {
                 let to = offset.min(m.map.len()) / RELEASE_ALIGN * RELEASE_ALIGN;
-                (m.released.get(), to)
+                (m.released.load(Relaxed), to)
             };
             if to > from {
                 // SAFETY: the map is read-only and its file unchanged, so that a page let go
@@ -148,7 +151,8 @@ impl Text {
                     )
                 };
             }
-            m.released.set(if offset == 0 { 0 } else { to.max(from) });
+            m.released
+                .store(if offset == 0 { 0 } else { to.max(from) }, Relaxed);
         }
         #[cfg(not(unix))]
         let _ = offset;
@@ -292,19 +296,31 @@ const STRIDE: usize = 16;
 /// offsets for a text under 4 GiB, else full-width; and how many lines there are. The last
 /// line asked for is remembered, so that reading the lines in order finds each from the one
 /// before.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 struct LineStarts {
     count: usize,
     every: Starts,
-    /// The last line found (0-based), where it starts and where it ends with its line end
-    /// (0: not found yet).
-    last: std::cell::Cell<(usize, usize, usize)>,
+    /// The last line found (0-based) and where it starts, packed in one word so that
+    /// threads reading the text at once (a conversion's reader and writer) see a pair
+    /// whole: the line in the high 32 bits, its start in the low 32 (+1: 0 is not found
+    /// yet). A text of 4 GiB or more keeps none.
+    last: AtomicU64,
 }
 
 #[derive(Clone, Debug)]
 enum Starts {
     Narrow(Vec<u32>),
     Wide(Vec<usize>),
+}
+
+impl Clone for LineStarts {
+    fn clone(&self) -> Self {
+        LineStarts {
+            count: self.count,
+            every: self.every.clone(),
+            last: AtomicU64::new(self.last.load(Relaxed)),
+        }
+    }
 }
 
 impl LineStarts {
@@ -348,7 +364,7 @@ impl LineStarts {
         LineStarts {
             count,
             every,
-            last: std::cell::Cell::new((0, 0, 0)),
+            last: AtomicU64::new(0),
         }
     }
 
@@ -369,13 +385,16 @@ impl LineStarts {
         if i >= self.count {
             return None;
         }
-        let (last, at, end) = self.last.get();
-        if last == i && end > 0 {
-            return Some((at, end));
+        let packed = self.last.load(Relaxed);
+        let (last, at) = ((packed >> 32) as usize, (packed & 0xffff_ffff) as usize);
+        let found = at > 0;
+        let at = at.saturating_sub(1);
+        if found && last == i {
+            return Some((at, at + line_end(text.get(at..)?)));
         }
         // From the last line found when it is before `i` in the same stretch, else from
         // the entry before `i`.
-        let (mut line, mut start) = if last <= i && i - last <= i % STRIDE {
+        let (mut line, mut start) = if found && last <= i && i - last <= i % STRIDE {
             (last, at)
         } else {
             let k = i / STRIDE;
@@ -386,7 +405,10 @@ impl LineStarts {
             line += 1;
         }
         let end = start + line_end(text.get(start..)?);
-        self.last.set((i, start, end));
+        if let (Ok(line), Ok(at)) = (u32::try_from(i), u32::try_from(start + 1)) {
+            self.last
+                .store(u64::from(line) << 32 | u64::from(at), Relaxed);
+        }
         Some((start, end))
     }
 

@@ -169,3 +169,55 @@ fn a_writer_made_before_what_it_reads_changed_is_let_go_of() {
         }
     }
 }
+
+/// A source of a megabyte or more has its writer side in a thread of its own (on a machine
+/// with a second core), fed the items in batches: each such program converts as the whole
+/// program does — an R parameter assigned after many items (the writer takes it late, across
+/// the threads), an error after many items (the writer's thread let go of), every dialect to
+/// every target.
+#[test]
+fn a_large_program_converts_with_its_writer_in_a_thread_as_the_whole_program_does() {
+    let programs = [
+        (
+            "czech",
+            "N10 G95 M03 S800 T1 D1\n",
+            "N20 G00 X34. Z2.\nN30 G01 Z-40. F0.25\nN40 G00 X40.\n",
+            "N50 R07=30.\nN60 G00 X50.\nN70 M30\n",
+        ),
+        (
+            "czech",
+            "N10 G95 M03 S800 T1 D1\n",
+            "N20 G00 X34. Z2.\nN30 G01 Z-40. F0.25\nN40 G00 X40.\n",
+            "N50 G00 X40. Q7\nN60 M30\n",
+        ),
+        (
+            "iso",
+            "G7 G18 G21 G90 G95\nT1 M6\nS500 M3\n",
+            "G0 X40 Z5\nG1 Z-10 F0.2\nG0 X50\n",
+            "M5\nM30\n",
+        ),
+        (
+            "fanuc",
+            "%\nO0100\nG21 G99\nT0101\nG97 S500 M03\n",
+            "G00 X40. Z5.\nG01 Z-20. F0.2\nG00 X45.\n",
+            "M05\nM30\n%\n",
+        ),
+    ];
+    for (from, head, body, tail) in programs {
+        let mut text = String::from(head);
+        while text.len() < 3 << 19 {
+            text.push_str(body);
+        }
+        text.push_str(tail);
+        let src = SourceFile::new(format!("program.{from}"), text.as_str());
+        let from = dialect::by_id(from).unwrap().id();
+        for to in dialect::ALL.iter() {
+            let options = ncthread::ConvertOptions::new(from, to.id());
+            let streamed = ncthread::convert(&src, &options);
+            let whole = ncthread::convert_whole(&src, &options);
+            let what = format!("{from} to {}: …{tail}", to.id());
+            assert_eq!(streamed.output, whole.output, "{what}");
+            assert_eq!(streamed.diagnostics, whole.diagnostics, "{what}");
+        }
+    }
+}

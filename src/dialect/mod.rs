@@ -304,7 +304,7 @@ pub trait Dialect: Sync {
         src: &'a SourceFile,
         profile: &'a Profile,
         options: &WriteOptions,
-    ) -> Box<dyn ItemWriter + 'a>;
+    ) -> Box<dyn ItemWriter + Send + 'a>;
     /// Writes `program` (read from `src`, whose lines the diagnostics point at), roughing
     /// cycles as their moves, through [`Dialect::item_writer`]. `None` when an item cannot
     /// be written; the diagnostics say why.

@@ -329,7 +329,7 @@ pub(crate) enum CycleStep {
 /// first streaming read of the program (a conversion that does not hold the program) or
 /// from the program's items: so far the R parameters a program assigns (not free for the
 /// czech writer's leads). Over the items as [`crate::lower::unroll`] gives them.
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct Facts {
     /// The parameters assigned, in order, each once.
     pub params: Vec<u32>,

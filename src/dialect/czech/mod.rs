@@ -187,7 +187,7 @@ impl Dialect for Czech {
         src: &'a SourceFile,
         profile: &'a Profile,
         options: &WriteOptions,
-    ) -> Box<dyn crate::dialect::ItemWriter + 'a> {
+    ) -> Box<dyn crate::dialect::ItemWriter + Send + 'a> {
         Box::new(emit::Items::new(
             facts,
             program.dialect,

@@ -219,7 +219,7 @@ impl Dialect for Heidenhain {
         src: &'a SourceFile,
         profile: &'a Profile,
         options: &WriteOptions,
-    ) -> Box<dyn crate::dialect::ItemWriter + 'a> {
+    ) -> Box<dyn crate::dialect::ItemWriter + Send + 'a> {
         Box::new(emit::Items::new(
             program,
             src,

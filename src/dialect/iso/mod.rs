@@ -283,7 +283,7 @@ impl Dialect for Iso {
         src: &'a SourceFile,
         profile: &'a Profile,
         _options: &WriteOptions,
-    ) -> Box<dyn crate::dialect::ItemWriter + 'a> {
+    ) -> Box<dyn crate::dialect::ItemWriter + Send + 'a> {
         Box::new(emit::Items::new(facts, program, src, profile))
     }
 }

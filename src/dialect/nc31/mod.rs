@@ -181,7 +181,7 @@ impl Dialect for Nc31 {
         src: &'a SourceFile,
         profile: &'a Profile,
         options: &WriteOptions,
-    ) -> Box<dyn crate::dialect::ItemWriter + 'a> {
+    ) -> Box<dyn crate::dialect::ItemWriter + Send + 'a> {
         Box::new(emit::Items::new(program.dialect, src, profile, options))
     }
 }

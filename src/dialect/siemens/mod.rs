@@ -162,7 +162,7 @@ impl Dialect for Siemens {
         src: &'a SourceFile,
         _profile: &'a Profile,
         options: &WriteOptions,
-    ) -> Box<dyn crate::dialect::ItemWriter + 'a> {
+    ) -> Box<dyn crate::dialect::ItemWriter + Send + 'a> {
         Box::new(emit::Items::new(
             program,
             src,
