@@ -136,6 +136,10 @@ pub fn translate(fanuc: &str, calculator: bool) -> Result<String, String> {
                 // The lathe plane, and no canned cycle: LinuxCNC's lathe starts in both.
                 18 => now.push("G18".into()),
                 80 => now.push("G80".into()),
+                // No length compensation is ever on: LinuxCNC's G49 is its cancel too.
+                49 => now.push("G49".into()),
+                // A G90/G94 without its cycle's words cuts nothing ([decided], front/block.rs).
+                90 | 94 if !"XZUWRF".chars().any(|c| get(c).is_some()) => {}
                 54..=59 => now.push(format!("G{g}")),
                 70..=76 | 90 | 94 | 28 | 30 | 53 => {
                     return Err(format!(

@@ -55,9 +55,9 @@ const BUILDER_STILL: UnsupportedWording = UnsupportedWording {
 };
 
 /// The G codes ncthread reads, for "did you mean".
-const KNOWN_G: [&str; 24] = [
-    "G00", "G01", "G02", "G03", "G04", "G18", "G20", "G21", "G32", "G40", "G41", "G42", "G50",
-    "G54", "G55", "G56", "G57", "G58", "G59", "G80", "G92", "G96", "G97", "G99",
+const KNOWN_G: [&str; 25] = [
+    "G00", "G01", "G02", "G03", "G04", "G18", "G20", "G21", "G32", "G40", "G41", "G42", "G49",
+    "G50", "G54", "G55", "G56", "G57", "G58", "G59", "G80", "G92", "G96", "G97", "G99",
 ];
 
 /// The largest Q: just under a whole turn, in 0.001°. **\[evidence\]**
@@ -149,6 +149,9 @@ struct FrontEnd<'a> {
     contour: Option<cycles::Contour>,
     /// A G90 or G94 cycle in force: a block with only axes repeats it.
     kept_modal: Option<i64>,
+    /// A G90 or G94 written without a word of its cycle (a safe-start line's `G21 G40
+    /// G80 G90`): its mode set, no cycle given, so a block with only axes is refused.
+    cycle_mode_only: Option<i64>,
     /// After this cycle (G70–G76), the next move must name its G code.
     motion_after_cycle: Option<i64>,
     /// System B's G91: X and Z are increments.
@@ -233,6 +236,7 @@ pub(crate) fn read(
         inch_rounded: None,
         contour: None,
         kept_modal: None,
+        cycle_mode_only: None,
         motion_after_cycle: None,
         incremental: false,
         comp: Compensation::Off,

@@ -264,6 +264,15 @@ fn syntax_error(line: &str, e: &pest::error::Error<Rule>) -> SyntaxError {
             ),
             help,
         ),
+        // `X-21.75,A30`: a direct drawing dimension (FANUC's `,A` angle, `,C` chamfer, `,R`
+        // corner radius after a move).
+        Some(',') if rest[1..].starts_with(['A', 'C', 'R', 'a', 'c', 'r']) => (
+            format!(
+                "`{}`: FANUC's direct drawing dimensions (`,A` an angle, `,C` a chamfer, `,R` a corner radius) are not read",
+                rest.split([' ', '\t', '(']).next().unwrap_or(rest)
+            ),
+            "write the points the angle, chamfer or corner gives as moves of their own (`G01 X… Z…`, an arc for a corner radius)".to_string(),
+        ),
         Some(c) => (format!("unexpected character `{c}`"), help),
     };
     SyntaxError {
@@ -324,6 +333,19 @@ mod tests {
         assert!(e.message.contains("comment"), "{}", e.message);
         // Multi-byte text never splits a character.
         assert!(parse_line("G00 Ž").is_err());
+        let e = parse_line("X-21.75,A30 F0.1").unwrap_err();
+        assert_eq!(e.offset, 7);
+        assert!(
+            e.message.starts_with("`,A30`: FANUC's direct drawing"),
+            "{}",
+            e.message
+        );
+        assert!(
+            parse_line("X1.,")
+                .unwrap_err()
+                .message
+                .contains("unexpected character")
+        );
     }
 
     const TOKENS: &[&str] = &[

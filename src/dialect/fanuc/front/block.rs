@@ -23,8 +23,9 @@
 //! | [`FrontEnd::stops`] | stop | M05, M09, M00, M01 |
 //! | [`FrontEnd::program_end`] | end | M02 / M30 |
 //!
-//! G18 (the ZX plane, a lathe's only one) and G80 (cancelling drilling cycles ncthread
-//! never reads) are read and do nothing. A step that refuses the block says why and returns
+//! G18 (the ZX plane, a lathe's only one), G49 (cancelling a tool length compensation,
+//! G43/G44, which ncthread never reads: a safe-start line's `G40 G49 G80`) and G80
+//! (cancelling drilling cycles ncthread never reads) are read and do nothing. A step that refuses the block says why and returns
 //! `None`: the steps after it do not run.
 //!
 //! The stop step is not [`Switches::after_motion`]: M05, M09, M00 and M01 act in the
@@ -386,10 +387,37 @@ impl FrontEnd<'_> {
     /// True when the block is done with (kept, or refused and said).
     fn cycle_step(&mut self, line: Line<'_>, block: &Block, words: &Words<'_>) -> bool {
         if let Some((g, w)) = words.cycle {
+            // A G90 or G94 without a word of its cycle (`G21 G40 G49 G54 G80 G90`, the
+            // safe-start line of programs written for mills and lathes alike) cuts nothing:
+            // the group's mode is set, and the block's other codes act as in any block.
+            // **[decided]**
+            if matches!(g, 90 | 94) && !"XZUWRF".chars().any(|c| words.get(c).is_some()) {
+                self.kept_modal = None;
+                self.cycle_mode_only = Some(g);
+                return false;
+            }
             self.kept_cycle(line, block, words, g, Some(w));
             return true;
         }
         let moves = words.dwell.is_none() && words.moves();
+        if let Some(g) = self.cycle_mode_only {
+            if words.motion.is_some() {
+                self.cycle_mode_only = None;
+            } else if moves {
+                let text = &line.text[block.code_range.clone()];
+                self.error(
+                    codes::FANR_CYCLE,
+                    line,
+                    block.code_range.clone(),
+                    format!(
+                        "`{text}` moves without a G code after a G{:02} that gave no cycle: the control would repeat a cycle nothing describes",
+                        self.profile.gcode_system.code(g)
+                    ),
+                    "name the motion: `G00 X100. Z100.` or `G01 X50. F0.2`",
+                );
+                return true;
+            }
+        }
         if let Some(g) = self.motion_after_cycle {
             if words.motion.is_some() {
                 self.motion_after_cycle = None;
@@ -577,9 +605,10 @@ impl FrontEnd<'_> {
                 conflict,
             ),
             54..=59 => set(w, &mut words.offset, (g - 53) as u8, conflict),
-            // The ZX plane is a lathe's only one; G80 cancels drilling cycles, which
-            // ncthread never reads.
-            18 | 80 => {}
+            // The ZX plane is a lathe's only one; G49 cancels a tool length compensation
+            // and G80 drilling cycles, neither of which ncthread reads (so neither is in
+            // force).
+            18 | 49 | 80 => {}
             g if is_kept(g) => set(w, &mut words.cycle, g, conflict),
             _ => {
                 // A cycle code is modal: the blocks after it would repeat it.
