@@ -9,7 +9,7 @@
 //! along Z, the long axis); `Q` → the pass started `lead·Q/360°` earlier along its line (a `G0`
 //! there first); `U`/`W` → absolute X/Z; `G99`/`G98` → `G95`/`G94`; `T0101` → `T1 M6 G43`
 //! (M6 stops LinuxCNC's spindle, a FANUC turret does not: the spindle is started again);
-//! `G50 S` → `G96 D`; `G04 U`/`X` → `G4 P` (seconds), `G04 P` (ms) → `G4 P` (s); `I` is a
+//! `G50 S` → `G96 D`; `G04 U`/`X` → `G4 P` (seconds), `G04 P` (ms; a Haas's `P3.`, s) → `G4 P` (s); `I` is a
 //! radius value in both (G7). ncthread's decision that M05, M09, M00 and M01 act after a
 //! block's motion ([decided], front.rs) is encoded by putting them on the next line.
 mod common;

@@ -209,6 +209,11 @@ pub fn translate(fanuc: &str, calculator: bool) -> Result<String, String> {
         if dwell {
             let p = match (get('U').or(get('X')), get('P')) {
                 (Some(s), None) => s.parse::<f64>().map_err(|e| e.to_string())?,
+                // A P with a point is seconds (a Haas's, which ncthread reads only under
+                // the profile's `haas_dwell_p`); without one, milliseconds.
+                (None, Some(p)) if p.contains('.') => {
+                    p.parse::<f64>().map_err(|e| e.to_string())?
+                }
                 (None, Some(ms)) => ms.parse::<f64>().map_err(|e| e.to_string())? / 1000.0,
                 _ => return Err(format!("dwell: {line}")),
             };

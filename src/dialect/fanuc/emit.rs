@@ -929,7 +929,8 @@ impl Emitter<'_> {
         }
     }
 
-    /// G04 U in a block of its own; `false` when the dwell is finer than G04 U takes.
+    /// G04 U (X in systems B and C, P in seconds on a Haas) in a block of its own; `false`
+    /// when the dwell is finer than the 0.001 s it takes.
     fn dwell(&mut self, item: &Item, seconds: Decimal, block: &mut Block) -> bool {
         let Ok(ms) = seconds.to_scaled(3) else {
             self.diag(
@@ -946,10 +947,12 @@ impl Emitter<'_> {
             number: item.block_number,
             words: vec![
                 "G04".into(),
-                // System B's dwell is X (U is a cycle's word there).
+                // System B's dwell is X (U is a cycle's word there); a Haas's is P in
+                // seconds (the profile's `haas_dwell_p`: the word its manual gives).
                 format!(
                     "{}{}",
                     match self.profile.fanuc.gcode_system {
+                        _ if self.profile.fanuc.haas_dwell_p => 'P',
                         GcodeSystem::A => 'U',
                         GcodeSystem::B | GcodeSystem::C => 'X',
                     },

@@ -20,6 +20,7 @@
 //! g76_pass_end = "end-line"       # G76's passes end on the end line, or "shifted"
 //! reference_point = { x = 250.0, z = 300.0 }  # G28's point in machine coordinates (X a diameter)
 //! haas_setting_73 = 0.05          # Haas's one-block G71/G72: the retract after a layer (Setting 73, 287 on the NGC), in the machine's unit
+//! haas_dwell_p = true             # G04 P with a decimal point is seconds, as on a Haas (`G04 P3.` 3 s; `G04 P3` 3 ms), and written so
 //! ```
 
 use serde::Deserialize;
@@ -242,6 +243,10 @@ pub struct FanucProfile {
     /// The machine starts in inches (a Haas lathe's Setting 9, FANUC parameter 0#2): a
     /// program that says neither G20 nor G21 is read in inches. **\[decided\]** millimetres.
     pub inch: bool,
+    /// G04's P with a decimal point is seconds, as Haas's controls read it ("G04 P10. is a
+    /// dwell of 10 seconds; G04 P10 is a dwell of 10 milliseconds", Haas's operator's
+    /// manual, G04). **\[evidence\]** Off: FANUC's P takes no decimal point (refused).
+    pub haas_dwell_p: bool,
 }
 
 impl Default for FanucProfile {
@@ -257,6 +262,7 @@ impl Default for FanucProfile {
             gcode_system: GcodeSystem::A,
             cycle_model: CycleModel::default(),
             inch: false,
+            haas_dwell_p: false,
         }
     }
 }
@@ -282,6 +288,7 @@ pub(crate) struct Raw {
     g76_pass_end: Option<toml::Spanned<String>>,
     reference_point: Option<toml::Spanned<RawPoint>>,
     haas_setting_73: Option<toml::Spanned<f64>>,
+    haas_dwell_p: Option<bool>,
 }
 
 /// `reference_point = { x = 250.0, z = 300.0 }`.
@@ -349,6 +356,9 @@ pub(crate) fn read(src: &SourceFile, raw: Raw, p: &mut FanucProfile, diags: &mut
         }
     }
     flags(raw.nose_radius_in_offsets, raw.mist, raw.still_m_codes, p);
+    if let Some(b) = raw.haas_dwell_p {
+        p.haas_dwell_p = b;
+    }
     if let Some(v) = raw.gcode_system {
         gcode_system(src, v, p, diags);
     }

@@ -45,7 +45,19 @@ impl FrontEnd<'_> {
             );
             return None;
         };
-        let seconds = if w.letter == 'P' {
+        // A Haas reads `P3.` as seconds (the profile's `haas_dwell_p`).
+        if w.letter == 'P' && w.value.has_point && !self.profile.haas_dwell_p {
+            let text = &line.text[w.range.clone()];
+            self.error(
+                codes::FANR_NUMBER,
+                line,
+                w.range.clone(),
+                format!("`{text}`: G04's P takes whole milliseconds without a decimal point"),
+                "write `G04 P3000` (or `G04 U3.`) for 3 s; on a Haas, where `P3.` is 3 seconds, set `haas_dwell_p = true` in the profile's [fanuc] section",
+            );
+            return None;
+        }
+        let seconds = if w.letter == 'P' && !w.value.has_point {
             let ms = self.whole(line, w)?;
             Decimal {
                 mantissa: ms as i128,
