@@ -936,7 +936,7 @@ impl Emitter<'_> {
             self.diag(
                 codes::FANW_PRECISION,
                 item,
-                format!("the dwell of {seconds} s needs more than the 0.001 s G04 U takes"),
+                format!("the dwell of {seconds} s needs more than the 0.001 s a G04 takes"),
                 "write the dwell in whole milliseconds in the source",
             );
             return false;

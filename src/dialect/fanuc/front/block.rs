@@ -109,6 +109,14 @@ impl<'w> Words<'w> {
         ['X', 'Z', 'U', 'W'].iter().any(|&c| self.get(c).is_some())
     }
 
+    /// A G90 or G94 (as system A numbers them) written with no word of its cycle and no
+    /// address but S and T: its mode set, no cycle given (`G21 G40 G80 G90`).
+    /// **\[decided\]**
+    pub(super) fn gives_no_cycle(&self) -> bool {
+        matches!(self.cycle, Some((90 | 94, _)))
+            && self.letters.iter().all(|w| matches!(w.letter, 'S' | 'T'))
+    }
+
     /// The words that change state the reader follows, for a block kept as written.
     fn state(&self) -> Vec<&'w Word> {
         let mut state: Vec<&'w Word> = Vec::new();
@@ -302,7 +310,7 @@ impl FrontEnd<'_> {
             && if bare.stopped {
                 words.direction().is_some()
             } else {
-                words.moves() || words.cycle.is_some()
+                words.moves() || words.cycle.is_some() && !words.gives_no_cycle()
             };
         if !used {
             return Some(());
@@ -391,7 +399,7 @@ impl FrontEnd<'_> {
             // safe-start line of programs written for mills and lathes alike) cuts nothing:
             // the group's mode is set, and the block's other codes act as in any block.
             // **[decided]**
-            if matches!(g, 90 | 94) && !"XZUWRF".chars().any(|c| words.get(c).is_some()) {
+            if words.gives_no_cycle() {
                 self.kept_modal = None;
                 self.cycle_mode_only = Some(g);
                 return false;

@@ -163,6 +163,8 @@ impl FrontEnd<'_> {
         g: i64,
         at: Option<&Word>,
     ) {
+        // A cycle given: a mode set without one (`gives_no_cycle`) is over.
+        self.cycle_mode_only = None;
         // The block that runs the cycle (a two-block form's first block only sets it up).
         let second = match g {
             70 => true,
@@ -750,6 +752,29 @@ mod tests {
             let (_, d) = read(body);
             assert_eq!(errors(&d), [("FANR018", line)], "{body:?}: {d:?}");
         }
+    }
+
+    /// A G90 or G94 with no word of its cycle (a safe-start line's) gives no cycle: nothing
+    /// kept, nothing refused, no bare G97's speed used; a block with only axes after it is
+    /// refused, but not after a cycle given since; a word no such block takes is refused.
+    #[test]
+    fn a_g90_without_its_cycles_words_gives_no_cycle() {
+        let (items, d) = read("G21 G40 G49 G54 G80 G90\nG00 X40.\n");
+        assert!(errors(&d).is_empty(), "{d:?}");
+        assert!(
+            !items
+                .iter()
+                .any(|i| matches!(&i.kind, ItemKind::Opaque { .. })),
+            "{items:?}"
+        );
+        let (_, d) = read("G90\nX30.\n");
+        assert_eq!(errors(&d), [("FANR018", 6)], "{d:?}");
+        let (_, d) = read("G90\nG90 X38. Z-30. F0.25\nX36.\n");
+        assert!(errors(&d).is_empty(), "{d:?}");
+        let (_, d) = read("G90 A30.\n");
+        assert_eq!(errors(&d), [("FANR018", 5)], "{d:?}");
+        let (_, d) = read("G97\nG90\nM05\n");
+        assert!(errors(&d).is_empty(), "{d:?}");
     }
 
     /// An S in a cycle's block is the speed the cycle runs at: a spindle item before it, and
