@@ -352,8 +352,10 @@ fn finish_conversion(
 /// batches ([`WriterSide::Worker`]), while the reading thread reads on: the same work in the same
 /// order, so the same output and diagnostics.
 fn convert_streaming(src: &SourceFile, options: &ConvertOptions) -> Conversion {
+    // In `batch`'s pool every core has a file already.
     #[cfg(not(target_arch = "wasm32"))]
     if src.text.len() >= WORKER_FROM
+        && rayon::current_thread_index().is_none()
         && std::thread::available_parallelism().is_ok_and(|n| n.get() > 1)
     {
         return std::thread::scope(|scope| stream(src, options, Some(scope)));
@@ -401,7 +403,7 @@ where
         return stop;
     }
     let Once { facts, emit, .. } = once;
-    let emit = emit.map(|(side, made_with)| (side.finish(), made_with));
+    let emit = emit.and_then(|(side, made_with)| Some((side.finish()?, made_with)));
     let view = target.writer_reads().view(&facts, &program);
     let inch = legalise::output_in_inches(&program, Some(options.to));
     let emit = match emit {
@@ -597,10 +599,10 @@ enum WriterSide<'s, 'scope> {
 struct Worker<'s, 'scope> {
     batch: Vec<ir::Item>,
     jobs: std::sync::mpsc::SyncSender<Job>,
-    done: std::thread::ScopedJoinHandle<'scope, Emit<'s>>,
+    done: std::thread::ScopedJoinHandle<'scope, Option<Emit<'s>>>,
 }
 
-/// What the reading thread hands the writer's.
+/// What the reading thread hands the writer's (after the writer side itself).
 enum Job {
     Items(Vec<ir::Item>),
     /// The facts changed after the first item: whether the writer takes them late (the
@@ -617,27 +619,41 @@ impl<'s, 'scope> WriterSide<'s, 'scope> {
     where
         's: 'scope,
     {
+        let emit = Box::new(emit);
         let Some(scope) = scope else {
-            return WriterSide::Here(Box::new(emit));
+            return WriterSide::Here(emit);
         };
         let (jobs, queue) = std::sync::mpsc::sync_channel::<Job>(QUEUED);
-        let done = scope.spawn(move || {
-            let mut emit = emit;
-            for job in queue {
-                match job {
-                    Job::Items(items) => items.iter().for_each(|item| emit.one(item)),
-                    Job::LateFacts(facts, answer) => {
-                        let _ = answer.send(emit.writer.late_facts(&facts));
+        // The writer side is handed over once the thread runs, so that it stays here when
+        // no thread can be had.
+        let (start, started) = std::sync::mpsc::sync_channel::<Box<Emit<'s>>>(1);
+        let spawned = std::thread::Builder::new()
+            .name("ncthread-writer".into())
+            .spawn_scoped(scope, move || {
+                let mut emit = *started.recv().ok()?;
+                for job in queue {
+                    match job {
+                        Job::Items(items) => items.iter().for_each(|item| emit.one(item)),
+                        Job::LateFacts(facts, answer) => {
+                            let _ = answer.send(emit.writer.late_facts(&facts));
+                        }
                     }
                 }
-            }
-            emit
-        });
-        WriterSide::Worker(Worker {
-            batch: Vec::with_capacity(BATCH),
-            jobs,
-            done,
-        })
+                Some(emit)
+            });
+        // No thread to be had (a process limit): the writer stays in this one.
+        let Ok(done) = spawned else {
+            return WriterSide::Here(emit);
+        };
+        match start.send(emit) {
+            Ok(()) => WriterSide::Worker(Worker {
+                batch: Vec::with_capacity(BATCH),
+                jobs,
+                done,
+            }),
+            // The thread has ended already: the writer side stays here.
+            Err(std::sync::mpsc::SendError(emit)) => WriterSide::Here(emit),
+        }
     }
 
     fn item(&mut self, item: &ir::Item) {
@@ -669,10 +685,11 @@ impl<'s, 'scope> WriterSide<'s, 'scope> {
         }
     }
 
-    /// The writer side, every item taken.
-    fn finish(self) -> Emit<'s> {
+    /// The writer side, every item taken; `None` when its thread never got it (the
+    /// conversion then reads again, the writer in the reading thread).
+    fn finish(self) -> Option<Emit<'s>> {
         match self {
-            WriterSide::Here(emit) => *emit,
+            WriterSide::Here(emit) => Some(*emit),
             WriterSide::Worker(mut w) => {
                 w.flush();
                 drop(w.jobs);
