@@ -408,38 +408,19 @@ impl FrontEnd<'_> {
             return true;
         }
         let moves = words.dwell.is_none() && words.moves();
-        if let Some(g) = self.cycle_mode_only {
-            if words.motion.is_some() {
-                self.cycle_mode_only = None;
-            } else if moves {
-                let text = &line.text[block.code_range.clone()];
-                self.error(
-                    codes::FANR_CYCLE,
-                    line,
-                    block.code_range.clone(),
-                    format!(
-                        "`{text}` moves without a G code after a G{:02} that gave no cycle: the control would repeat a cycle nothing describes",
-                        self.profile.gcode_system.code(g)
-                    ),
-                    "name the motion: `G00 X100. Z100.` or `G01 X50. F0.2`",
-                );
-                return true;
-            }
+        let (pending, refused) = self.motion_named(line, block, words, self.cycle_mode_only, |g| {
+            format!("after a G{g:02} that gave no cycle: the control would repeat a cycle nothing describes")
+        });
+        self.cycle_mode_only = pending;
+        if refused {
+            return true;
         }
-        if let Some(g) = self.motion_after_cycle {
-            if words.motion.is_some() {
-                self.motion_after_cycle = None;
-            } else if moves {
-                let text = &line.text[block.code_range.clone()];
-                self.error(
-                    codes::FANR_CYCLE,
-                    line,
-                    block.code_range.clone(),
-                    format!("`{text}` moves without a G code after the G{:02} cycle: which of G00–G03 is in force after a cycle is the control's", self.profile.gcode_system.code(g)),
-                    "name the motion: `G00 X100. Z100.` or `G01 X50. F0.2`",
-                );
-                return true;
-            }
+        let (pending, refused) = self.motion_named(line, block, words, self.motion_after_cycle, |g| {
+            format!("after the G{g:02} cycle: which of G00–G03 is in force after a cycle is the control's")
+        });
+        self.motion_after_cycle = pending;
+        if refused {
+            return true;
         }
         if let Some(g) = self.kept_modal {
             if words.motion.is_some() {
@@ -462,6 +443,41 @@ impl FrontEnd<'_> {
             return true;
         }
         false
+    }
+
+    /// While `pending` (a cycle, or a G90/G94 that gave none, as its code), the next move
+    /// must name its G code: a motion code ends it; a move without one is refused, `after`
+    /// saying why (from the code as the machine's system spells it). The state left, and
+    /// whether the block was refused.
+    fn motion_named(
+        &mut self,
+        line: Line<'_>,
+        block: &Block,
+        words: &Words<'_>,
+        pending: Option<i64>,
+        after: impl Fn(i64) -> String,
+    ) -> (Option<i64>, bool) {
+        let Some(g) = pending else {
+            return (None, false);
+        };
+        if words.motion.is_some() {
+            return (None, false);
+        }
+        if words.dwell.is_some() || !words.moves() {
+            return (pending, false);
+        }
+        let text = &line.text[block.code_range.clone()];
+        self.error(
+            codes::FANR_CYCLE,
+            line,
+            block.code_range.clone(),
+            format!(
+                "`{text}` moves without a G code {}",
+                after(self.profile.gcode_system.code(g))
+            ),
+            "name the motion: `G00 X100. Z100.` or `G01 X50. F0.2`",
+        );
+        (pending, true)
     }
 
     /// A block of system B or C as the reader reads system A: G90 / G91 set the distance mode
