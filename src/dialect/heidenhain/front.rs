@@ -751,20 +751,21 @@ impl FrontEnd<'_> {
     }
 
     fn whole(&mut self, line: Line<'_>, w: &Word, what: &str) -> Option<u32> {
-        let n = w
-            .number()
-            .and_then(|d| d.to_whole().ok())
-            .and_then(|n| u32::try_from(n).ok());
+        let whole = w.number().and_then(|d| d.to_whole().ok());
+        let n = whole.and_then(|n| u32::try_from(n).ok());
         if n.is_none() {
+            // A whole number out of range is said as such, not as a fraction.
+            let (why, help) = match whole {
+                Some(v) if v < 0 => ("is not negative", "write it without the sign"),
+                Some(_) => ("is too large", "write a smaller number"),
+                None => ("is a whole number", "write it without a fraction"),
+            };
             self.error(
                 codes::HEIR_NUMBER,
                 line,
                 w.range.clone(),
-                format!(
-                    "`{}`: {what} is a whole number",
-                    &line.text[w.range.clone()]
-                ),
-                "write it without a fraction",
+                format!("`{}`: {what} {why}", &line.text[w.range.clone()]),
+                help,
             );
         }
         n

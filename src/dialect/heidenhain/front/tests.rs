@@ -174,3 +174,19 @@ fn g31_is_read_under_the_declared_model_only() {
     let (_, streamed) = read(&src, &model, Keep::Diagnostics);
     assert!(streamed.is_empty());
 }
+
+/// A count that is a whole number out of range is said as such: too large, or negative;
+/// only a fraction is "a whole number".
+#[test]
+fn a_whole_number_out_of_range_is_said_as_such() {
+    let message = |text: &str| {
+        let (_, d) = read_with(text, &full());
+        d.into_iter()
+            .find(|d| d.is_error())
+            .map(|d| d.message)
+            .unwrap_or_default()
+    };
+    assert!(message("T99999999999\n").ends_with("is too large"));
+    assert!(message("T-1\n").ends_with("is not negative"));
+    assert!(message("T1.5\n").ends_with("is a whole number"));
+}
