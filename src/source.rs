@@ -288,39 +288,37 @@ impl PartialEq<String> for Text {
     }
 }
 
+/// The numbers of the line indexes made (0: none).
+static NEXT_ID: AtomicU64 = AtomicU64::new(1);
+
+thread_local! {
+    /// The last line a thread found: the index's number, the line (0-based), where it
+    /// starts and where it ends with its line end (0: not found yet).
+    static LAST: std::cell::Cell<(u64, usize, usize, usize)> =
+        const { std::cell::Cell::new((0, 0, 0, 0)) };
+}
+
 /// How many lines one entry of a [`LineStarts`] stands for.
 const STRIDE: usize = 16;
 
 /// Where every [`STRIDE`]th line of a text starts (a line between is found from there: a
 /// table of every line took 4 bytes a line, as much as a short line's text), in 32-bit
 /// offsets for a text under 4 GiB, else full-width; and how many lines there are. The last
-/// line asked for is remembered, so that reading the lines in order finds each from the one
-/// before.
-#[derive(Debug)]
+/// line asked for is remembered (by each thread, [`LAST`]), so that reading the lines in
+/// order finds each from the one before.
+#[derive(Clone, Debug)]
 struct LineStarts {
     count: usize,
     every: Starts,
-    /// The last line found (0-based) and where it starts, packed in one word so that
-    /// threads reading the text at once (a conversion's reader and writer) see a pair
-    /// whole: the line in the high 32 bits, its start in the low 32 (+1: 0 is not found
-    /// yet). A text of 4 GiB or more keeps none.
-    last: AtomicU64,
+    /// This index's own number: the key of the last line found, which each thread keeps
+    /// for itself ([`LAST`]: a conversion's reader and writer read one text at once).
+    id: u64,
 }
 
 #[derive(Clone, Debug)]
 enum Starts {
     Narrow(Vec<u32>),
     Wide(Vec<usize>),
-}
-
-impl Clone for LineStarts {
-    fn clone(&self) -> Self {
-        LineStarts {
-            count: self.count,
-            every: self.every.clone(),
-            last: AtomicU64::new(self.last.load(Relaxed)),
-        }
-    }
 }
 
 impl LineStarts {
@@ -364,7 +362,7 @@ impl LineStarts {
         LineStarts {
             count,
             every,
-            last: AtomicU64::new(0),
+            id: NEXT_ID.fetch_add(1, Relaxed),
         }
     }
 
@@ -385,12 +383,10 @@ impl LineStarts {
         if i >= self.count {
             return None;
         }
-        let packed = self.last.load(Relaxed);
-        let (last, at) = ((packed >> 32) as usize, (packed & 0xffff_ffff) as usize);
-        let found = at > 0;
-        let at = at.saturating_sub(1);
+        let (id, last, at, end) = LAST.with(std::cell::Cell::get);
+        let found = id == self.id && end > 0;
         if found && last == i {
-            return Some((at, at + line_end(text.get(at..)?)));
+            return Some((at, end));
         }
         // From the last line found when it is before `i` in the same stretch, else from
         // the entry before `i`.
@@ -405,10 +401,7 @@ impl LineStarts {
             line += 1;
         }
         let end = start + line_end(text.get(start..)?);
-        if let (Ok(line), Ok(at)) = (u32::try_from(i), u32::try_from(start + 1)) {
-            self.last
-                .store(u64::from(line) << 32 | u64::from(at), Relaxed);
-        }
+        LAST.with(|last| last.set((self.id, i, start, end)));
         Some((start, end))
     }
 
