@@ -141,6 +141,11 @@ pub(super) struct Contour {
     type_one: bool,
     /// The contour's own G00–G03.
     motion: i64,
+    /// An F word in the contour.
+    feeds: bool,
+    /// The F in force after the cycle when its contour has no F word: the cycle's own, else
+    /// the one before it.
+    f_after: Option<FRegister>,
 }
 
 /// A P or Q that names a block, checked when the whole program has been read.
@@ -187,6 +192,7 @@ impl FrontEnd<'_> {
             self.g76_chamfer = Some((p / 100 % 100) as u32);
         }
         let start = self.r.pos;
+        let f_before = self.f;
         let code_span = self.span(line, block.code_range.clone());
         // S (the speed the cycle runs at) and coolant act before the cycle, as items.
         let Some(speed) = self.speed(line, words) else {
@@ -205,7 +211,11 @@ impl FrontEnd<'_> {
         self.stops(words, code_span);
         self.after_cycle(line, words, g, second);
         if (70..=73).contains(&g) && second {
-            self.cycle_references(line, words, g, start);
+            let f_after = match words.get('F') {
+                Some(f) => self.length(line, f, Unit::Feed).map(FRegister::Feed),
+                None => f_before,
+            };
+            self.cycle_references(line, words, g, start, f_after);
         }
     }
 
@@ -395,6 +405,7 @@ impl FrontEnd<'_> {
         words: &Words<'_>,
         g: i64,
         start: crate::ir::Pos,
+        f_after: Option<FRegister>,
     ) {
         let (Some(p), Some(q)) = (words.get('P'), words.get('Q')) else {
             return;
@@ -422,6 +433,8 @@ impl FrontEnd<'_> {
                 dir: (0, 0),
                 type_one: g != 73,
                 motion: 0,
+                feeds: false,
+                f_after,
             });
             self.capturing = self.capture();
         }
@@ -511,6 +524,12 @@ impl FrontEnd<'_> {
             self.keep_cycle_block(line, block, false);
         }
         if block.number == Some(c.q) {
+            // A contour without F leaves the F the cycle left: its own, else the one before
+            // it (with one, which F is in force after the cycle is the control's).
+            // **[decided]**
+            if !c.feeds && matches!(self.f, Some(FRegister::AfterCycle(g)) if g == c.g) {
+                self.f = c.f_after;
+            }
             self.contour_done((c.p, c.q), c.type_one);
         } else {
             self.contour = Some(c);
@@ -543,7 +562,11 @@ impl FrontEnd<'_> {
                     }
                     None
                 }
-                'I' | 'K' | 'R' | 'F' | 'S' | 'T' | 'C' => None,
+                'F' => {
+                    c.feeds = true;
+                    None
+                }
+                'I' | 'K' | 'R' | 'S' | 'T' | 'C' => None,
                 // A direction angle: the block's end is the control's to find.
                 'A' => {
                     to = (None, None);
@@ -775,6 +798,28 @@ mod tests {
         assert_eq!(errors(&d), [("FANR018", 5)], "{d:?}");
         let (_, d) = read("G97\nG90\nM05\n");
         assert!(errors(&d).is_empty(), "{d:?}");
+    }
+
+    /// After a G71–G73 whose contour has no F word, the F in force is the cycle's own (else
+    /// the one before it); with an F in the contour, which one is the control's.
+    #[test]
+    fn a_contour_without_f_leaves_the_cycles_f() {
+        let contour =
+            |f: &str| format!("G71 P80 Q90 U0.4 W0.1{f}\nN80 G00 X20.\nN90 G01 Z-15.\nG01 X30.\n");
+        let (items, d) = read(&contour(" F0.25"));
+        assert!(errors(&d).is_empty(), "{d:?}");
+        let feed = items.iter().rev().find_map(|i| match i.kind {
+            ItemKind::Feed { feed, .. } => Some(feed.0 / crate::fixed::Length::STEP),
+            _ => None,
+        });
+        assert_eq!(feed, Some(2_500));
+        let (_, d) = read(&format!("G01 F0.3\n{}", contour("")));
+        assert!(errors(&d).is_empty(), "{d:?}");
+        let (_, d) = read(&contour(""));
+        assert_eq!(errors(&d), [("FANR009", 8)], "{d:?}");
+        let (_, d) =
+            read("G71 P80 Q90 U0.4 W0.1 F0.25\nN80 G00 X20.\nN90 G01 Z-15. F0.1\nG01 X30.\n");
+        assert_eq!(errors(&d), [("FANR009", 8)], "{d:?}");
     }
 
     /// An S in a cycle's block is the speed the cycle runs at: a spindle item before it, and
