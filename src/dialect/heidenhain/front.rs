@@ -131,6 +131,19 @@ impl FrontEnd<'_> {
         self.r.error(code, span, message, help);
     }
 
+    /// An error at word `w`: the word as written, then `rest` (`: …`, ` is …`).
+    fn word_error(
+        &mut self,
+        code: Code,
+        line: Line<'_>,
+        w: &Word,
+        rest: impl std::fmt::Display,
+        help: impl Into<String>,
+    ) {
+        let message = format!("`{}`{rest}", &line.text[w.range.clone()]);
+        self.error(code, line, w.range.clone(), message, help);
+    }
+
     /// A point the program leaves to the machine, reported at its first use only.
     fn unknown(
         &mut self,
@@ -760,11 +773,11 @@ impl FrontEnd<'_> {
                 Some(_) => ("is too large", "write a smaller number"),
                 None => ("is a whole number", "write it without a fraction"),
             };
-            self.error(
+            self.word_error(
                 codes::HEIR_NUMBER,
                 line,
-                w.range.clone(),
-                format!("`{}`: {what} {why}", &line.text[w.range.clone()]),
+                w,
+                format_args!(": {what} {why}"),
                 help,
             );
         }
@@ -813,14 +826,11 @@ impl FrontEnd<'_> {
             .and_then(|d| d.to_length().ok())
             .filter(|l| l.0.abs() < 1 << 55);
         if value.is_none() {
-            self.error(
+            self.word_error(
                 codes::HEIR_NUMBER,
                 line,
-                w.range.clone(),
-                format!(
-                    "`{}` is too large or finer than 0.0001 mm",
-                    &line.text[w.range.clone()]
-                ),
+                w,
+                " is too large or finer than 0.0001 mm",
                 "write the value with at most 4 decimals",
             );
         }
@@ -840,28 +850,22 @@ impl FrontEnd<'_> {
             } else if let Some(w) = words.get(inc) {
                 let d = self.length_of(line, w)?;
                 let Some(start) = from_axis else {
-                    self.error(
+                    self.word_error(
                         codes::HEIR_UNKNOWN_POSITION,
                         line,
-                        w.range.clone(),
-                        format!(
-                            "`{}` from a position that is not known yet",
-                            &line.text[w.range.clone()]
-                        ),
+                        w,
+                        " from a position that is not known yet",
                         "move to an absolute position first",
                     );
                     return None;
                 };
                 let to = start + d;
                 if to.0.abs() >= 1 << 55 {
-                    self.error(
+                    self.word_error(
                         codes::HEIR_NUMBER,
                         line,
-                        w.range.clone(),
-                        format!(
-                            "`{}` moves past the largest position ncthread holds",
-                            &line.text[w.range.clone()]
-                        ),
+                        w,
+                        " moves past the largest position ncthread holds",
                         "check the increments",
                     );
                     return None;
@@ -1374,14 +1378,11 @@ impl FrontEnd<'_> {
             .and_then(|d| d.to_lead().ok())
             .filter(|l| l.0 > 0 && *l <= Lead::MAX);
         if lead.is_none() {
-            self.error(
+            self.word_error(
                 codes::HEIR_NUMBER,
                 line,
-                w.range.clone(),
-                format!(
-                    "`{}`: a lead is positive, at most 12 decimals of a mm",
-                    &line.text[w.range.clone()]
-                ),
+                w,
+                ": a lead is positive, at most 12 decimals of a mm",
                 "write the thread's lead along Z, `F1.5`",
             );
         }

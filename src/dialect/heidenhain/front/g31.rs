@@ -147,13 +147,7 @@ impl FrontEnd<'_> {
             ("Z", END_POINT),
         ] {
             if let Some(w) = get(name) {
-                self.error(
-                    codes::HEIR_G31,
-                    line,
-                    w.range.clone(),
-                    format!("`{}`: {why}", &line.text[w.range.clone()]),
-                    "write the thread's contour after the call: `G31 F… U… B… P… IC…`, `G0 X… Z…`, `G1 Z…`, `G80`",
-                );
+                self.word_error(codes::HEIR_G31, line, w, format_args!(": {why}"), "write the thread's contour after the call: `G31 F… U… B… P… IC…`, `G0 X… Z…`, `G1 Z…`, `G80`");
                 return None;
             }
         }
@@ -199,13 +193,7 @@ impl FrontEnd<'_> {
             if let Some(w) = get(name)
                 && w.number().and_then(|d| d.to_whole().ok()) != Some(allowed)
             {
-                self.error(
-                    codes::HEIR_G31,
-                    line,
-                    w.range.clone(),
-                    format!("`{}`: {why}", &line.text[w.range.clone()]),
-                    ABOUT,
-                );
+                self.word_error(codes::HEIR_G31, line, w, format_args!(": {why}"), ABOUT);
                 ok = false;
             }
         }
@@ -222,13 +210,7 @@ impl FrontEnd<'_> {
                         5 | 6 => "V5 and V6 cut as the CNC PILOT 4290, whose rule is not published",
                         _ => "the infeed types are V0 to V6",
                     };
-                    self.error(
-                        codes::HEIR_G31,
-                        line,
-                        w.range.clone(),
-                        format!("`{}`: {what}", &line.text[w.range.clone()]),
-                        "ncthread reads V0 (constant chip cross-section), V1 (constant infeed) and V2 (the remainder first, the last cut split)",
-                    );
+                    self.word_error(codes::HEIR_G31, line, w, format_args!(": {what}"), "ncthread reads V0 (constant chip cross-section), V1 (constant infeed) and V2 (the remainder first, the last cut split)");
                     return None;
                 }
                 v
@@ -340,14 +322,11 @@ impl FrontEnd<'_> {
                     .map(|d| d.to_f64())
                     .filter(|d| (-60.0..=60.0).contains(d));
                 if d.is_none() {
-                    self.error(
+                    self.word_error(
                         codes::HEIR_G31,
                         line,
-                        w.range.clone(),
-                        format!(
-                            "`{}`: the approach angle A is −60° to 60°",
-                            &line.text[w.range.clone()]
-                        ),
+                        w,
+                        ": the approach angle A is −60° to 60°",
                         "write the infeed angle from the X axis, `A30`",
                     );
                     return None;
@@ -361,19 +340,16 @@ impl FrontEnd<'_> {
             return Some(Slope::ZERO);
         };
         if h_value > 2 {
-            self.error(
+            let why = if h_value == 3 {
+                "the offsets alternating right and left (H3): their pattern is published only as prose"
+            } else {
+                "the offset types are H0 to H3"
+            };
+            self.word_error(
                 codes::HEIR_G31,
                 line,
-                h.range.clone(),
-                format!(
-                    "`{}`: {}",
-                    &line.text[h.range.clone()],
-                    if h_value == 3 {
-                        "the offsets alternating right and left (H3): their pattern is published only as prose"
-                    } else {
-                        "the offset types are H0 to H3"
-                    }
-                ),
+                h,
+                format_args!(": {why}"),
                 "ncthread reads H0 (no offset), and H1/H2 under the profile's g31_h1",
             );
             return None;
