@@ -131,6 +131,22 @@ impl FrontEnd<'_> {
         self.r.error(code, span, message, help);
     }
 
+    /// A block with `/` (block skip) is refused, `place` naming what it stands in (` in
+    /// G31's contour`): whether it runs is the operator's switch. Whether it was.
+    fn block_skip(&mut self, line: Line<'_>, block: &Block, place: &str) -> bool {
+        let Some(range) = block.block_delete.clone() else {
+            return false;
+        };
+        self.error(
+            codes::HEIR_UNSUPPORTED,
+            line,
+            range,
+            format!("`/` (block skip){place}: whether the block runs is the operator's switch, which the program does not state"),
+            "remove the `/`, or the block",
+        );
+        true
+    }
+
     /// An error at word `w`: the word as written, then `rest` (`: …`, ` is …`).
     fn word_error(
         &mut self,
@@ -240,15 +256,7 @@ impl FrontEnd<'_> {
             }
             return;
         }
-        if let Some(range) = block.block_delete.clone() {
-            self.error(
-                codes::HEIR_UNSUPPORTED,
-                line,
-                range,
-                "`/` (block skip): whether the block runs is the operator's switch, which the program does not state",
-                "remove the `/`, or the block",
-            );
-        } else if !block.words.is_empty() {
+        if !self.block_skip(line, &block, "") && !block.words.is_empty() {
             self.block(line, &block, span);
         }
         self.r

@@ -88,14 +88,7 @@ impl FrontEnd<'_> {
     /// The call's words, or `None` after reporting why it is not read.
     fn g31_words(&mut self, line: Line<'_>, block: &Block) -> Option<Call> {
         let whole = block.code_range.clone();
-        if let Some(range) = block.block_delete.clone() {
-            self.error(
-                codes::HEIR_UNSUPPORTED,
-                line,
-                range,
-                "`/` (block skip): whether the block runs is the operator's switch, which the program does not state",
-                "remove the `/`, or the block",
-            );
+        if self.block_skip(line, block, "") {
             return None;
         }
         let mut words: Vec<&Word> = Vec::new();
@@ -496,14 +489,7 @@ impl FrontEnd<'_> {
             self.g31 = Some(pending);
             return;
         }
-        if let Some(range) = block.block_delete.clone() {
-            self.error(
-                codes::HEIR_UNSUPPORTED,
-                line,
-                range,
-                "`/` (block skip) in G31's contour: whether the block runs is the operator's switch, which the program does not state",
-                "remove the `/`, or the block",
-            );
+        if self.block_skip(line, block, " in G31's contour") {
             pending.call = None;
         }
         let g: Vec<i64> = block
