@@ -190,3 +190,22 @@ fn a_whole_number_out_of_range_is_said_as_such() {
     assert!(message("T-1\n").ends_with("is not negative"));
     assert!(message("T1.5\n").ends_with("is a whole number"));
 }
+
+/// A `/` (block skip) is refused at the slash, in a block and in a G31 call alike (in a
+/// G31's contour: `corpus/bad/heidenhain/g31-model-limits.nc`).
+#[test]
+fn a_block_skip_is_refused_where_it_stands() {
+    let refusal = |text: &str| {
+        let (_, d) = read_with(text, &full());
+        d.into_iter()
+            .find(|d| d.is_error())
+            .map(|d| (d.code.id, d.location.map_or(0, |l| l.column), d.message))
+            .unwrap_or_default()
+    };
+    let (code, column, message) = refusal("/N10 G0 X20 Z5\n");
+    assert_eq!((code, column), ("HEIR002", 1));
+    assert!(message.starts_with("`/` (block skip): "), "{message}");
+    let (code, _, message) = refusal("/N10 G31 F1.5 U0.92 B2 P2 IC4\n");
+    assert_eq!(code, "HEIR002");
+    assert!(message.starts_with("`/` (block skip): "), "{message}");
+}
