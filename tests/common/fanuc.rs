@@ -153,9 +153,12 @@ pub fn translate(fanuc: &str, calculator: bool) -> Result<String, String> {
         if let Some(s) = get('S').filter(|_| !gs.contains(&50)) {
             speed = Some(s);
         }
-        if gs.contains(&96)
-            || (gs.contains(&50) && surface)
-            || (surface && get('S').is_some() && !gs.contains(&50))
+        // Before any S the speed is the control's own: a G96 without S waits for its S
+        // ([decided], front/block.rs), LinuxCNC's G96 says one.
+        if speed.is_some()
+            && (gs.contains(&96)
+                || (gs.contains(&50) && surface)
+                || (surface && get('S').is_some() && !gs.contains(&50)))
         {
             let d = limit.as_ref().map(|l| format!(" D{l}")).unwrap_or_default();
             let s = speed.as_ref().map(|s| format!(" S{s}")).unwrap_or_default();

@@ -181,6 +181,12 @@ struct FrontEnd<'a> {
     bare_g97: Option<BareG97>,
     /// M03/M04 read, and no M05 since.
     spindle_on: bool,
+    /// An S (a speed, not G50's limit) read: before it the speed is the control's own, as
+    /// for an M03 without S.
+    speed_given: bool,
+    /// A `G96` without S before any S, while no S has come (`front/block.rs`, `bare_g96`):
+    /// the `G96` word.
+    bare_g96: Option<Span>,
 }
 
 /// A `G97` without S after G96: the rpm the control keeps is not settled by any source
@@ -251,6 +257,8 @@ pub(crate) fn read(
         turning: None,
         bare_g97: None,
         spindle_on: false,
+        speed_given: false,
+        bare_g96: None,
     };
     match &loaded {
         Some(loaded) => fe.macro_lines(src, loaded),
@@ -916,6 +924,77 @@ mod tests {
             ]
         );
         assert_eq!(codes(&read("G50 X100. Z50.\n", "").1), ["FANR002"]);
+    }
+
+    /// A G96 without S before any S: its mode comes with the next S (at the S), unless a move
+    /// or a cycle comes first (refused at the G96); a G97 before the S undoes it; after an S,
+    /// a bare G96 is refused as before (what the control keeps is not settled).
+    #[test]
+    fn g96_without_s_before_any_s_waits_for_its_s() {
+        let kinds = |text: &str| -> Vec<ItemKind> {
+            let (items, diags) = read(text, "");
+            assert!(diags.is_empty(), "{text}: {diags:?}");
+            items
+                .into_iter()
+                .map(|i| i.kind)
+                .filter(|k| matches!(k, ItemKind::SpindleMode(_) | ItemKind::Spindle { .. }))
+                .collect()
+        };
+        let surface = ItemKind::SpindleMode(SpindleMode::SurfaceSpeed {
+            limit: None,
+            feet: false,
+        });
+        let speed = |s| ItemKind::Spindle {
+            speed: Some(s),
+            direction: None,
+        };
+        let started = ItemKind::Spindle {
+            speed: None,
+            direction: Some(crate::ir::SpindleDirection::Clockwise),
+        };
+        assert_eq!(
+            kinds("M03 G96\nG00 X53. Z5. S200\n"),
+            [started.clone(), surface, speed(200)]
+        );
+        // The mode item points at the S, where it takes effect.
+        let (items, _) = read("G96\nG00 X53. Z5. S200\n", "");
+        let mode = items
+            .iter()
+            .find(|i| matches!(i.kind, ItemKind::SpindleMode(_)));
+        assert_eq!(mode.map(|i| (i.span.line, i.span.column)), Some((2, 14)));
+        assert_eq!(kinds("G96 M03\nG97\nS800\n"), [started, speed(800)]);
+        // A limit after it comes with its S; a G96 S after it is the mode once.
+        let limited = ItemKind::SpindleMode(SpindleMode::SurfaceSpeed {
+            limit: Some(Decimal {
+                mantissa: 2500,
+                scale: 0,
+                has_point: false,
+            }),
+            feet: false,
+        });
+        assert_eq!(
+            kinds("G96\nG50 S2500\nS200\n"),
+            [limited.clone(), speed(200)]
+        );
+        assert_eq!(kinds("G96\nG50 S2500\nG96 S200\n"), [limited, speed(200)]);
+        let first = |text: &str| {
+            let (_, diags) = read(text, "");
+            let d = diags.iter().find(|d| d.is_error()).expect(text);
+            (d.code.id, d.location.as_ref().map(|l| (l.line, l.column)))
+        };
+        assert_eq!(
+            first("G96 M03\nG00 X53. Z5.\nS200\n"),
+            ("FANR002", Some((1, 1)))
+        );
+        // A cycle's block with S is refused too: the cycle is kept as written.
+        assert_eq!(
+            first("G96 M03\nG90 X40. Z-10. F0.2 S200\n"),
+            ("FANR002", Some((1, 1)))
+        );
+        assert_eq!(
+            first("G97 S800 M03\nG96\nG00 X53.\n"),
+            ("FANR002", Some((2, 1)))
+        );
     }
 
     /// System C (the profile's `gcode_system`): G70/G71 are inch and metric input, G20/G24

@@ -298,10 +298,34 @@ impl FrontEnd<'_> {
         }
     }
 
+    /// A G96 without S before any S (`bare_g96`) used: a move, a cycle or a thread before
+    /// the S that gives its surface speed. Refused at the G96. **\[decided\]**
+    fn bare_g96_used(&mut self, words: &Words<'_>) -> Option<()> {
+        let Some(span) = self.bare_g96 else {
+            return Some(());
+        };
+        let speed = words.get('S').is_some() && words.limit.is_none();
+        let cycle = words.cycle.is_some() && !words.gives_no_cycle();
+        // A move with its S runs at that S (it acts before the move).
+        let used = cycle || (!speed && words.moves());
+        if !used {
+            return Some(());
+        }
+        self.bare_g96 = None;
+        self.r.error(
+            codes::FANR_UNSUPPORTED,
+            span,
+            "`G96` without S, and the tool moves before any S: the surface speed it moves at is the control's own, which no output can say",
+            "write the surface speed with the G96: `G96 S200 M03`",
+        );
+        None
+    }
+
     /// A bare G97's speed used (`bare_g97`): a move, a cycle or a thread while the spindle
     /// turns at it, or M03/M04 without S after M05 stopped it. Refused at the G97 (or the M
     /// code), which is then done with.
     fn bare_g97_used(&mut self, words: &Words<'_>, code_span: Span) -> Option<()> {
+        self.bare_g96_used(words)?;
         let Some(bare) = self.bare_g97 else {
             return Some(());
         };
@@ -945,10 +969,13 @@ impl FrontEnd<'_> {
             scale: 0,
             has_point: false,
         });
-        Some(self.surface_speed.then_some(SpindleMode::SurfaceSpeed {
-            limit: self.limit,
-            feet: self.inch,
-        }))
+        // After a G96 without S the limit comes with its S (`bare_g96`).
+        Some(
+            (self.surface_speed && self.bare_g96.is_none()).then_some(SpindleMode::SurfaceSpeed {
+                limit: self.limit,
+                feet: self.inch,
+            }),
+        )
     }
 
     /// G96 (a surface speed, with the limit G50 set) or G97 (rpm), each with its S.
@@ -964,9 +991,18 @@ impl FrontEnd<'_> {
             }
             return Some(None);
         };
-        // A G96 or G97 with S after a bare G97: the bare one's speed was never used.
+        // A G96 or G97 with S after a bare one: the bare one's speed was never used.
         if words.get('S').is_some() {
             self.bare_g97 = None;
+            self.bare_g96 = None;
+        }
+        if words.get('S').is_none() && !self.speed_given && (surface || self.bare_g96.is_some()) {
+            // Before any S the speed is the control's own (as for an M03 without S): a G96
+            // waits for the S that gives its surface speed (`bare_g96`); a G97 after it
+            // undoes it.
+            self.bare_g96 = surface.then(|| self.span(line, w.range.clone()));
+            self.surface_speed = surface;
+            return Some(None);
         }
         if words.get('S').is_none()
             && !surface
@@ -1053,6 +1089,19 @@ impl FrontEnd<'_> {
             return Some(None);
         };
         let s = self.whole(line, w)?;
+        self.speed_given = true;
+        // A G96 without S before it: its mode from here on, with this S (where a block
+        // that changes the mode says its speed).
+        if self.bare_g96.take().is_some() {
+            let span = self.span(line, w.range.clone());
+            self.push(
+                ItemKind::SpindleMode(SpindleMode::SurfaceSpeed {
+                    limit: self.limit,
+                    feet: self.inch,
+                }),
+                span,
+            );
+        }
         let Ok(s) = u32::try_from(s) else {
             let text = &line.text[w.range.clone()];
             let why = if s < 0 {
