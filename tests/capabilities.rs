@@ -91,3 +91,46 @@ fn readme_prints_the_table_ncthread_prints() {
         "README.md lacks the table `ncthread dialects` prints:\n{table}"
     );
 }
+
+/// The FANUC dwell row says the word the writer writes on that machine: `G04 U` (system A),
+/// `G04 X` (systems B and C), `G04 P` in seconds (a Haas, `haas_dwell_p`).
+#[test]
+fn the_fanuc_dwell_row_names_the_word_the_writer_writes() {
+    let src = SourceFile::new(
+        "dwell.ngc",
+        "G7 G18 G21 G90 G95\nG0 X20 Z5\nG4 P0.5\nM2\n".to_string(),
+    );
+    for toml in [
+        "",
+        "[fanuc]\ngcode_system = \"B\"\n",
+        "[fanuc]\ngcode_system = \"C\"\n",
+        "[fanuc]\nhaas_dwell_p = true\n",
+    ] {
+        let profile =
+            ncthread::profile::Profile::from_toml(&SourceFile::new("p", toml.to_string())).unwrap();
+        let fanuc = ncthread::dialect::get(ncthread::dialect::fanuc::ID);
+        let Write::Yes(written) = fanuc.capabilities(&profile).write(Construct::Dwell) else {
+            panic!("{toml}: the dwell row does not say it writes dwells");
+        };
+        let word = &written[..5];
+        let options = ncthread::ConvertOptions {
+            profile,
+            ..ncthread::ConvertOptions::new(
+                ncthread::dialect::iso::ID,
+                ncthread::dialect::fanuc::ID,
+            )
+        };
+        let out = ncthread::convert(&src, &options);
+        let text = out
+            .output
+            .unwrap_or_else(|| panic!("{toml}: {:?}", out.diagnostics));
+        let line = text
+            .lines()
+            .find(|l| l.starts_with("G04"))
+            .expect("a dwell");
+        assert!(
+            line.starts_with(word),
+            "{toml}: the row says {written}, the writer {line}"
+        );
+    }
+}

@@ -352,11 +352,26 @@ fn machine_rows(profile: &Profile) -> Vec<Capability> {
             Write::No(codes::FANW_NO_EQUIVALENT),
         ),
         row(Tapping, Read::No, Write::No(codes::FANW_NO_EQUIVALENT)),
-        row(
-            Dwell,
-            Read::Yes("G04 U/X (s), G04 P (ms)"),
-            Write::Yes("G04 U (s)"),
-        ),
+        // As the writer writes it (`emit.rs`, `dwell`).
+        if f.haas_dwell_p {
+            row(
+                Dwell,
+                Read::Yes("G04 U/X (s), G04 P (ms; with a point, s)"),
+                Write::Yes("G04 P (s, with a point)"),
+            )
+        } else if f.gcode_system == profile::GcodeSystem::A {
+            row(
+                Dwell,
+                Read::Yes("G04 U/X (s), G04 P (ms)"),
+                Write::Yes("G04 U (s)"),
+            )
+        } else {
+            row(
+                Dwell,
+                Read::Yes("G04 U/X (s), G04 P (ms)"),
+                Write::Yes("G04 X (s)"),
+            )
+        },
         row(PerMinuteFeed, Read::Yes("G98"), Write::Yes("G98")),
         row(ToolOffset, Read::Yes("T0101"), Write::Yes("T0101")),
         row(Parameters, Read::No, Write::As("writes them as comments")),
