@@ -867,17 +867,24 @@ impl Emitter<'_> {
             None => None,
         };
         let changed = limit.is_some() && limit != self.limit;
+        // Under G96 already, a new limit is its G50 S alone.
+        let alone = self.surface_speed && changed;
         match (limit, self.limit) {
             (Some(n), last) if last != Some(n) => {
-                // The limit on a line of its own before the G96 (which keeps the
-                // block's number and comment).
+                // The limit on a line of its own before the G96, which keeps the block's
+                // number and comment; alone, the limit's line keeps them.
                 let (comment, number) = (block.comment.take(), block.number.take());
                 self.flush(block);
-                self.write(Block {
+                let mut line = Block {
                     words: vec![format!("G50 S{n}")],
                     ..Block::default()
-                });
-                (block.comment, block.number) = (comment, number);
+                };
+                if alone {
+                    (line.comment, line.number) = (comment, number);
+                } else {
+                    (block.comment, block.number) = (comment, number);
+                }
+                self.write(line);
                 self.limit = Some(n);
             }
             (None, Some(_)) => {
@@ -891,8 +898,7 @@ impl Emitter<'_> {
             }
             _ => {}
         }
-        // Under G96 already, a new limit is its G50 S alone.
-        if !(self.surface_speed && changed) {
+        if !alone {
             block.words.push("G96".into());
             self.speed_word = Some(item.clone());
         }
@@ -1346,6 +1352,29 @@ mod tests {
         let out = out.unwrap_or_else(|| panic!("{diags:?}"));
         assert_eq!(out.matches("G99").count(), 1, "{out}");
         assert!(out.contains("\n(HEADER)\nG00 X20. Z5. (FEED)\n"), "{out}");
+    }
+
+    /// A new limit under G96 is its `G50 S` alone, on its source line with its comment (the
+    /// comment was left on a line of its own after it); before a G96, the G96 keeps the
+    /// comment of its line.
+    #[test]
+    fn a_limit_alone_keeps_its_comment() {
+        let src = SourceFile::new(
+            "t.nc",
+            "G21 G99\nG50 S2000\nG96 S200 M03 (CSS)\nG50 S2500 (CLAMP)\nG00 X20. Z2.\nM30\n",
+        );
+        let (program, diags) = super::super::front::parse(
+            &src,
+            &Default::default(),
+            crate::dialect::Unsupported::Error,
+        );
+        assert!(!crate::diag::has_errors(&diags), "{diags:?}");
+        let (out, diags) = emit(&program, &src, &Profile::default(), false);
+        let out = out.unwrap_or_else(|| panic!("{diags:?}"));
+        assert!(
+            out.contains("\nG50 S2000\nG96 S200 M03 (CSS)\nG50 S2500 (CLAMP)\nG00"),
+            "{out}"
+        );
     }
 
     #[test]
