@@ -229,6 +229,20 @@ fn grammar_word(part: pest::iterators::Pair<'_, Rule>) -> Result<Word, SyntaxErr
     })
 }
 
+/// Where the word that `before` ends in starts, when its number already has a decimal
+/// point (`X-12.8` before a second `.`).
+fn second_point(before: &str) -> Option<usize> {
+    let number = before.trim_end_matches(|c: char| c.is_ascii_digit());
+    let number = number.strip_suffix('.')?;
+    let start = number.trim_end_matches(|c: char| c.is_ascii_digit());
+    let start = start.strip_suffix(['-', '+']).unwrap_or(start);
+    let letter = start
+        .chars()
+        .next_back()
+        .filter(char::is_ascii_alphabetic)?;
+    Some(start.len() - letter.len_utf8())
+}
+
 fn syntax_error(line: &str, e: &pest::error::Error<Rule>) -> SyntaxError {
     let offset = crate::dialect::pest_error_offset(line, e);
     let rest = &line[offset..];
@@ -254,8 +268,35 @@ fn syntax_error(line: &str, e: &pest::error::Error<Rule>) -> SyntaxError {
             "a comment that is not closed, or a `(` inside a comment".to_string(),
             "close the comment with `)` on the same line; comments do not nest".to_string(),
         ),
+        // `TO303`: the letter O typed for a zero.
+        Some(c)
+            if c.is_ascii_alphabetic()
+                && rest[1..].starts_with(['O', 'o'])
+                && rest[2..].starts_with(|d: char| d.is_ascii_digit()) =>
+        {
+            let word = rest
+                .char_indices()
+                .skip(2)
+                .find(|(_, d)| !d.is_ascii_digit() && *d != 'O' && *d != 'o' && *d != '.')
+                .map_or(rest, |(i, _)| &rest[..i]);
+            (
+                format!("`{word}`: address `{c}` is followed by the letter O, not a number"),
+                format!("a zero typed as the letter O? Write `{c}{}`", word[1..].replace(['O', 'o'], "0")),
+            )
+        }
         Some(c) if c.is_ascii_alphabetic() => {
             (format!("address `{c}` is not followed by a number"), help)
+        }
+        // `X-12.8.`: a second decimal point after a number that has one.
+        Some('.') if second_point(&line[..offset]).is_some() => {
+            let start = second_point(&line[..offset]).unwrap_or(offset);
+            let end = rest[1..]
+                .find(|d: char| !d.is_ascii_digit())
+                .map_or(line.len(), |i| offset + 1 + i);
+            (
+                format!("`{}`: a number with two decimal points", &line[start..end]),
+                format!("write the number with one decimal point: `{}`?", &line[start..offset]),
+            )
         }
         Some(c) if c.is_ascii_digit() || c == '.' || c == '-' || c == '+' => (
             format!(
@@ -345,6 +386,37 @@ mod tests {
                 .unwrap_err()
                 .message
                 .contains("unexpected character")
+        );
+    }
+
+    /// Typos found in public shop programs are named as what they are.
+    #[test]
+    fn a_second_decimal_point_and_an_o_for_a_zero_are_named() {
+        let e = parse_line("Z-0.1 X-12.8.").unwrap_err();
+        assert_eq!(e.offset, 12);
+        assert_eq!(e.message, "`X-12.8.`: a number with two decimal points");
+        assert!(e.help.contains("`X-12.8`"), "{}", e.help);
+        let e = parse_line("G0X-4.5.Z0.").unwrap_err();
+        assert_eq!(e.message, "`X-4.5.`: a number with two decimal points");
+        let e = parse_line("TO303").unwrap_err();
+        assert_eq!(e.offset, 0);
+        assert_eq!(
+            e.message,
+            "`TO303`: address `T` is followed by the letter O, not a number"
+        );
+        assert!(e.help.contains("`T0303`"), "{}", e.help);
+        // Not every stray point is a second one, nor every O after a letter a zero.
+        assert!(
+            parse_line("G00 X1 .5")
+                .unwrap_err()
+                .message
+                .starts_with("number")
+        );
+        assert!(
+            parse_line("TOP")
+                .unwrap_err()
+                .message
+                .starts_with("address `T`")
         );
     }
 
