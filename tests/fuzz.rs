@@ -496,6 +496,8 @@ fn fanuc_block() -> impl Strategy<Value = Vec<String>> {
         1 => Just(vec!["M05".to_string()]),
         1 => (100u32..2000, any::<bool>()).prop_map(|(s, ccw)| vec![format!("G97 S{s} {}", if ccw { "M04" } else { "M03" })]),
         1 => (100u32..300, 1000u32..3000).prop_map(|(v, l)| vec![format!("G50 S{l}"), format!("G96 S{v} M03")]),
+        // A G96 without S: read before any S (its mode comes with the next S), else refused.
+        1 => (100u32..300, 1000u32..3000).prop_map(|(v, l)| vec!["G96 M03".to_string(), format!("G50 S{l}"), format!("S{v}")]),
         1 => prop::sample::select(vec!["M08", "M09", "G04 U0.5", "G04 P250", "G98", "G99"]).prop_map(|c| vec![c.to_string()]),
         1 => comment_text().prop_map(|c| vec![format!("({c})")]),
         1 => (1u32..12).prop_map(|t| vec![format!("T{t:02}{t:02}")]),

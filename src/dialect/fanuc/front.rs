@@ -954,7 +954,7 @@ mod tests {
         };
         assert_eq!(
             kinds("M03 G96\nG00 X53. Z5. S200\n"),
-            [started.clone(), surface, speed(200)]
+            [started.clone(), surface.clone(), speed(200)]
         );
         // The mode item points at the S, where it takes effect.
         let (items, _) = read("G96\nG00 X53. Z5. S200\n", "");
@@ -962,7 +962,19 @@ mod tests {
             .iter()
             .find(|i| matches!(i.kind, ItemKind::SpindleMode(_)));
         assert_eq!(mode.map(|i| (i.span.line, i.span.column)), Some((2, 14)));
-        assert_eq!(kinds("G96 M03\nG97\nS800\n"), [started, speed(800)]);
+        assert_eq!(
+            kinds("G96 M03\nG97\nS800\n"),
+            [
+                started.clone(),
+                ItemKind::SpindleMode(SpindleMode::Rpm),
+                speed(800)
+            ]
+        );
+        // A dwell runs at no speed.
+        assert_eq!(
+            kinds("G96 M03\nG04 X1.\nS200\n"),
+            [started, surface.clone(), speed(200)]
+        );
         // A limit after it comes with its S; a G96 S after it is the mode once.
         let limited = ItemKind::SpindleMode(SpindleMode::SurfaceSpeed {
             limit: Some(Decimal {
@@ -986,6 +998,26 @@ mod tests {
             first("G96 M03\nG00 X53. Z5.\nS200\n"),
             ("FANR002", Some((1, 1)))
         );
+        // A move in the G96's own block, a thread pass repeated without axes.
+        assert_eq!(
+            first("M03\nG96 G01 X40. F0.2\nS200\n"),
+            ("FANR002", Some((2, 1)))
+        );
+        let (_, d) = read(
+            "M03\nG00 X25. Z5.\nG92 X19. Z-20. F1.5\nG96\nG92\nS200\n",
+            "[fanuc]\nthread_chamfer_0p1_lead = 0\n",
+        );
+        let d = d.iter().find(|d| d.is_error()).expect("refused");
+        let at = d.location.as_ref().map(|l| (l.line, l.column));
+        assert_eq!((d.code.id, at), ("FANR002", Some((4, 1))));
+        // So too a bare G97's rpm (it was read).
+        let (_, d) = read(
+            "G96 S200 M03\nG00 X25. Z5.\nG92 X19. Z-20. F1.5\nG97\nG92\n",
+            "[fanuc]\nthread_chamfer_0p1_lead = 0\n",
+        );
+        let d = d.iter().find(|d| d.is_error()).expect("refused");
+        let at = d.location.as_ref().map(|l| (l.line, l.column));
+        assert_eq!((d.code.id, at), ("FANR002", Some((4, 1))));
         // A cycle's block with S is refused too: the cycle is kept as written.
         assert_eq!(
             first("G96 M03\nG90 X40. Z-10. F0.2 S200\n"),

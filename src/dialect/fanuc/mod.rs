@@ -352,26 +352,24 @@ fn machine_rows(profile: &Profile) -> Vec<Capability> {
             Write::No(codes::FANW_NO_EQUIVALENT),
         ),
         row(Tapping, Read::No, Write::No(codes::FANW_NO_EQUIVALENT)),
-        // As the writer writes it (`emit.rs`, `dwell`).
-        if f.haas_dwell_p {
-            row(
-                Dwell,
-                Read::Yes("G04 U/X (s), G04 P (ms; with a point, s)"),
-                Write::Yes("G04 P (s, with a point)"),
-            )
-        } else if f.gcode_system == profile::GcodeSystem::A {
-            row(
-                Dwell,
-                Read::Yes("G04 U/X (s), G04 P (ms)"),
-                Write::Yes("G04 U (s)"),
-            )
-        } else {
-            row(
-                Dwell,
-                Read::Yes("G04 U/X (s), G04 P (ms)"),
-                Write::Yes("G04 X (s)"),
-            )
-        },
+        // As the reader reads it (U is an increment's word in systems B and C) and the
+        // writer writes it (`emit.rs`, `dwell`).
+        row(
+            Dwell,
+            Read::Yes(
+                match (f.gcode_system == profile::GcodeSystem::A, f.haas_dwell_p) {
+                    (true, false) => "G04 U/X (s), G04 P (ms)",
+                    (true, true) => "G04 U/X (s), G04 P (ms; with a point, s)",
+                    (false, false) => "G04 X (s), G04 P (ms)",
+                    (false, true) => "G04 X (s), G04 P (ms; with a point, s)",
+                },
+            ),
+            Write::Yes(match f.gcode_system {
+                _ if f.haas_dwell_p => "G04 P (s, with a point)",
+                profile::GcodeSystem::A => "G04 U (s)",
+                profile::GcodeSystem::B | profile::GcodeSystem::C => "G04 X (s)",
+            }),
+        ),
         row(PerMinuteFeed, Read::Yes("G98"), Write::Yes("G98")),
         row(ToolOffset, Read::Yes("T0101"), Write::Yes("T0101")),
         row(Parameters, Read::No, Write::As("writes them as comments")),

@@ -109,6 +109,14 @@ impl<'w> Words<'w> {
         ['X', 'Z', 'U', 'W'].iter().any(|&c| self.get(c).is_some())
     }
 
+    /// The block runs something at the spindle's speed: a move (not a dwell's X or U), a
+    /// thread cycle repeated without axes (`G92`), or a cycle kept as written.
+    pub(super) fn runs(&self) -> bool {
+        (self.dwell.is_none()
+            && (self.moves() || self.motion.is_some_and(|(m, _)| m == Motion::Cycle)))
+            || (self.cycle.is_some() && !self.gives_no_cycle())
+    }
+
     /// A G90 or G94 (as system A numbers them) written with no word of its cycle and no
     /// address but S and T: its mode set, no cycle given (`G21 G40 G80 G90`).
     /// **\[decided\]**
@@ -306,19 +314,31 @@ impl FrontEnd<'_> {
         };
         let speed = words.get('S').is_some() && words.limit.is_none();
         let cycle = words.cycle.is_some() && !words.gives_no_cycle();
-        // A move with its S runs at that S (it acts before the move).
-        let used = cycle || (!speed && words.moves());
-        if !used {
+        // A move with its S runs at that S (it acts before the move); a G97 in the block
+        // undoes the G96 before it.
+        let g97 = words.speed_mode.is_some_and(|(surface, _)| !surface);
+        if !(cycle || (!speed && !g97 && words.runs())) {
             return Some(());
         }
+        self.bare_g96_refused(span, cycle && speed);
+        None
+    }
+
+    /// The refusal of a G96 without S whose surface speed a move, a thread or a cycle would
+    /// run at (`in_cycle`: the S is in a kept cycle's block).
+    fn bare_g96_refused(&mut self, span: Span, in_cycle: bool) {
         self.bare_g96 = None;
+        let message = if in_cycle {
+            "`G96` without S, and a cycle's block gives its S: the cycle is kept as written, and its S cannot be the G96's"
+        } else {
+            "`G96` without S, and the tool moves before any S: the surface speed it moves at is the control's own, which no output can say"
+        };
         self.r.error(
             codes::FANR_UNSUPPORTED,
             span,
-            "`G96` without S, and the tool moves before any S: the surface speed it moves at is the control's own, which no output can say",
+            message,
             "write the surface speed with the G96: `G96 S200 M03`",
         );
-        None
     }
 
     /// A bare G97's speed used (`bare_g97`): a move, a cycle or a thread while the spindle
@@ -334,7 +354,7 @@ impl FrontEnd<'_> {
             && if bare.stopped {
                 words.direction().is_some()
             } else {
-                words.moves() || words.cycle.is_some() && !words.gives_no_cycle()
+                words.runs()
             };
         if !used {
             return Some(());
@@ -998,11 +1018,20 @@ impl FrontEnd<'_> {
         }
         if words.get('S').is_none() && !self.speed_given && (surface || self.bare_g96.is_some()) {
             // Before any S the speed is the control's own (as for an M03 without S): a G96
-            // waits for the S that gives its surface speed (`bare_g96`); a G97 after it
-            // undoes it.
-            self.bare_g96 = surface.then(|| self.span(line, w.range.clone()));
+            // waits for the S that gives its surface speed (`bare_g96`), unless its own block
+            // runs at it; a G97 after it undoes it, and is read as any G97 before an S.
             self.surface_speed = surface;
-            return Some(None);
+            if !surface {
+                self.bare_g96 = None;
+            } else {
+                let span = self.span(line, w.range.clone());
+                if words.runs() {
+                    self.bare_g96_refused(span, false);
+                    return None;
+                }
+                self.bare_g96 = Some(span);
+                return Some(None);
+            }
         }
         if words.get('S').is_none()
             && !surface
