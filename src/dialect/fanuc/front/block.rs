@@ -317,7 +317,8 @@ impl FrontEnd<'_> {
         // A move with its S runs at that S (it acts before the move); a G97 in the block
         // undoes the G96 before it.
         let g97 = words.speed_mode.is_some_and(|(surface, _)| !surface);
-        if !(cycle || (!speed && !g97 && words.runs())) {
+        let used = cycle || (!speed && !g97 && words.runs());
+        if !used {
             return Some(());
         }
         self.bare_g96_refused(span, cycle && speed);
