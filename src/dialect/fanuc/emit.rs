@@ -1334,14 +1334,9 @@ mod tests {
         )
     }
 
-    /// The frame's `G21 G99` stands for the source's header feed mode, which is not written
-    /// again; a source line that holds it with a move stays one block, with its comment.
-    #[test]
-    fn the_header_feed_mode_is_not_written_again_and_its_line_stays_one_block() {
-        let src = SourceFile::new(
-            "t.nc",
-            "%\nO0001\n(HEADER)\nG99 (FEED) G0 X20. Z5.\nS500 M3\nG1 Z-10. F0.2\nM30\n%\n",
-        );
+    /// A FANUC program read and written back with the default profile.
+    fn fanuc_to_fanuc(text: &str) -> String {
+        let src = SourceFile::new("t.nc", text);
         let (program, diags) = super::super::front::parse(
             &src,
             &Default::default(),
@@ -1349,7 +1344,16 @@ mod tests {
         );
         assert!(!crate::diag::has_errors(&diags), "{diags:?}");
         let (out, diags) = emit(&program, &src, &Profile::default(), false);
-        let out = out.unwrap_or_else(|| panic!("{diags:?}"));
+        out.unwrap_or_else(|| panic!("{diags:?}"))
+    }
+
+    /// The frame's `G21 G99` stands for the source's header feed mode, which is not written
+    /// again; a source line that holds it with a move stays one block, with its comment.
+    #[test]
+    fn the_header_feed_mode_is_not_written_again_and_its_line_stays_one_block() {
+        let out = fanuc_to_fanuc(
+            "%\nO0001\n(HEADER)\nG99 (FEED) G0 X20. Z5.\nS500 M3\nG1 Z-10. F0.2\nM30\n%\n",
+        );
         assert_eq!(out.matches("G99").count(), 1, "{out}");
         assert!(out.contains("\n(HEADER)\nG00 X20. Z5. (FEED)\n"), "{out}");
     }
@@ -1359,18 +1363,9 @@ mod tests {
     /// comment of its line.
     #[test]
     fn a_limit_alone_keeps_its_comment() {
-        let src = SourceFile::new(
-            "t.nc",
+        let out = fanuc_to_fanuc(
             "G21 G99\nG50 S2000\nG96 S200 M03 (CSS)\nG50 S2500 (CLAMP)\nG00 X20. Z2.\nM30\n",
         );
-        let (program, diags) = super::super::front::parse(
-            &src,
-            &Default::default(),
-            crate::dialect::Unsupported::Error,
-        );
-        assert!(!crate::diag::has_errors(&diags), "{diags:?}");
-        let (out, diags) = emit(&program, &src, &Profile::default(), false);
-        let out = out.unwrap_or_else(|| panic!("{diags:?}"));
         assert!(
             out.contains("\nG50 S2000\nG96 S200 M03 (CSS)\nG50 S2500 (CLAMP)\nG00"),
             "{out}"

@@ -926,6 +926,13 @@ mod tests {
         assert_eq!(codes(&read("G50 X100. Z50.\n", "").1), ["FANR002"]);
     }
 
+    /// The code and place of the first error reading `text` under the profile `toml`.
+    fn first_error(text: &str, toml: &str) -> (&'static str, Option<(u32, u32)>) {
+        let (_, diags) = read(text, toml);
+        let d = diags.iter().find(|d| d.is_error()).expect(text);
+        (d.code.id, d.location.as_ref().map(|l| (l.line, l.column)))
+    }
+
     /// A G96 without S before any S: its mode comes with the next S (at the S), unless a move
     /// or a cycle comes first (refused at the G96); a G97 before the S undoes it; after an S,
     /// a bare G96 is refused as before (what the control keeps is not settled).
@@ -989,11 +996,7 @@ mod tests {
             [limited.clone(), speed(200)]
         );
         assert_eq!(kinds("G96\nG50 S2500\nG96 S200\n"), [limited, speed(200)]);
-        let first = |text: &str| {
-            let (_, diags) = read(text, "");
-            let d = diags.iter().find(|d| d.is_error()).expect(text);
-            (d.code.id, d.location.as_ref().map(|l| (l.line, l.column)))
-        };
+        let first = |text: &str| first_error(text, "");
         assert_eq!(
             first("G96 M03\nG00 X53. Z5.\nS200\n"),
             ("FANR002", Some((1, 1)))
@@ -1003,21 +1006,22 @@ mod tests {
             first("M03\nG96 G01 X40. F0.2\nS200\n"),
             ("FANR002", Some((2, 1)))
         );
-        let (_, d) = read(
-            "M03\nG00 X25. Z5.\nG92 X19. Z-20. F1.5\nG96\nG92\nS200\n",
-            "[fanuc]\nthread_chamfer_0p1_lead = 0\n",
+        let chamfer = "[fanuc]\nthread_chamfer_0p1_lead = 0\n";
+        assert_eq!(
+            first_error(
+                "M03\nG00 X25. Z5.\nG92 X19. Z-20. F1.5\nG96\nG92\nS200\n",
+                chamfer
+            ),
+            ("FANR002", Some((4, 1)))
         );
-        let d = d.iter().find(|d| d.is_error()).expect("refused");
-        let at = d.location.as_ref().map(|l| (l.line, l.column));
-        assert_eq!((d.code.id, at), ("FANR002", Some((4, 1))));
         // So too a bare G97's rpm (it was read).
-        let (_, d) = read(
-            "G96 S200 M03\nG00 X25. Z5.\nG92 X19. Z-20. F1.5\nG97\nG92\n",
-            "[fanuc]\nthread_chamfer_0p1_lead = 0\n",
+        assert_eq!(
+            first_error(
+                "G96 S200 M03\nG00 X25. Z5.\nG92 X19. Z-20. F1.5\nG97\nG92\n",
+                chamfer
+            ),
+            ("FANR002", Some((4, 1)))
         );
-        let d = d.iter().find(|d| d.is_error()).expect("refused");
-        let at = d.location.as_ref().map(|l| (l.line, l.column));
-        assert_eq!((d.code.id, at), ("FANR002", Some((4, 1))));
         // A cycle's block with S is refused too: the cycle is kept as written.
         assert_eq!(
             first("G96 M03\nG90 X40. Z-10. F0.2 S200\n"),
