@@ -3,8 +3,8 @@
 //! Each dialect claims the lines that carry its marks ([`super::Dialect::claim_line`]): the НЦ-31
 //! writes one scaled integer word per frame with `*`, `~`, `@` modifiers; the czech control
 //! writes decimal words several to a block, `"` comments, `R<nn>=` assignments, `FRnn` and `&`
-//! words; ISO G-code writes `( )` or `;` comments after words, G33 with a K lead, G7/G18/G21
-//! and the like. The claim with the highest priority decides a line. The choice is certain
+//! words; ISO G-code writes `( )` or `;` comments after words, G33 with a K lead, G7 and
+//! the like (G18/G20/G21 it shares with FANUC). The claim with the highest priority decides a line. The choice is certain
 //! when one dialect has marks and no other has any.
 
 use super::{ALL, DialectId, LineClaim, LineMark};
@@ -42,6 +42,28 @@ pub(crate) fn words(code: &str) -> Vec<String> {
 /// A line's code: what stands before a `(` or `;` comment.
 pub(crate) fn code_part(line: &str) -> &str {
     line.split(['(', ';']).next().unwrap_or("")
+}
+
+/// A word ISO G-code (LinuxCNC) and FANUC's system A both write to the same effect: the ZX
+/// plane and the units (`G18`, `G20`, `G21`; CAM posts for FANUC lathes write them). A line
+/// whose only ISO word is one of these is a mark the two share.
+pub(crate) fn iso_fanuc_shared(words: &[String]) -> bool {
+    words
+        .iter()
+        .any(|w| matches!(w.as_str(), "G18" | "G20" | "G21"))
+}
+
+/// Words only ISO G-code writes of those its mark counts: G7/G8 (diameter and radius mode),
+/// G33 with K, G33.1, LinuxCNC's one-block G76, G64, M6, G43, the drilling cycles G81/G82.
+pub(crate) fn iso_only(words: &[String]) -> bool {
+    let g33_with_k = words.iter().any(|w| w == "G33") && words.iter().any(|w| w.starts_with('K'));
+    g33_with_k
+        || words.iter().any(|w| {
+            matches!(
+                w.as_str(),
+                "G7" | "G8" | "G33.1" | "G76" | "G64" | "M6" | "G43" | "G81" | "G82"
+            )
+        })
 }
 
 /// The НЦ-31's modifiers (`*`, `~`, `@` and the panel's symbols).
@@ -271,6 +293,22 @@ mod tests {
         // A mark of one of them decides.
         let d = detect(&format!("{text}G99\nG32 Z-20. F1.5 (THREAD)\n"));
         assert_eq!((d.dialect.as_str(), d.certain), ("fanuc", true), "{d:?}");
+    }
+
+    /// G18, G20 and G21 are FANUC's too: a CAM post's FANUC lathe program that writes them
+    /// is FANUC beyond doubt (it read as FANUC "but line 567 has an ISO mark"), and a line
+    /// with them and a word only LinuxCNC writes stays LinuxCNC's.
+    #[test]
+    fn the_plane_and_the_units_are_marks_iso_and_fanuc_share() {
+        let fusion = "%\nO0001\nN10G98G18\nN11G21\nN12G50S6000\nN14T0100\nN16G96S91M3\nN18G0X60.Z5.\nN20G18G2X0.Z0.83I-18.5F0.1\nN22G28U0.W0.\nN24M30\n%\n";
+        let d = detect(fusion);
+        assert_eq!((d.dialect.as_str(), d.certain), ("fanuc", true), "{d:?}");
+        let d = detect("G7 G18 G21 G90 G95\nG0 X10 Z2\nG1 Z-10 F0.2\nM2\n");
+        assert_eq!((d.dialect.as_str(), d.certain), ("iso", true), "{d:?}");
+        // Nothing but them: ISO's, in doubt.
+        let d = detect("G18 G21 G90\nG0 X10 Z2\nG1 Z-10 F0.2\nM2\n");
+        assert_eq!((d.dialect.as_str(), d.certain), ("iso", false), "{d:?}");
+        assert!(d.reason.contains("share"), "{}", d.reason);
     }
 
     #[test]

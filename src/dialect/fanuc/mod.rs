@@ -140,8 +140,16 @@ impl Dialect for Fanuc {
         // A `( )` comment after code: FANUC's as much as LinuxCNC's (a shared mark).
         // So is a `;` at the end: FANUC's end of block, LinuxCNC's empty comment.
         let eob = line.trim_end().ends_with(';') && code.len() + 1 == line.trim().len();
-        ((code.len() < line.trim().len() && line.contains('(')) || eob).then_some(LineClaim {
-            priority: 90,
+        if (code.len() < line.trim().len() && line.contains('(')) || eob {
+            return Some(LineClaim {
+                priority: 90,
+                mark: LineMark::Mark,
+            });
+        }
+        // G18, G20, G21 are FANUC's as much as LinuxCNC's (a shared mark), where the line
+        // has no word only LinuxCNC writes (`G7 G18 G21` is LinuxCNC's).
+        (detect::iso_fanuc_shared(&words) && !detect::iso_only(&words)).then_some(LineClaim {
+            priority: 60,
             mark: LineMark::Mark,
         })
     }

@@ -110,25 +110,8 @@ impl Dialect for Iso {
                 mark: LineMark::Mark,
             });
         }
-        let g33_with_k =
-            words.iter().any(|w| w == "G33") && words.iter().any(|w| w.starts_with('K'));
-        let iso_word = g33_with_k
-            || words.iter().any(|w| {
-                matches!(
-                    w.as_str(),
-                    "G7" | "G8"
-                        | "G18"
-                        | "G21"
-                        | "G20"
-                        | "G33.1"
-                        | "G76"
-                        | "G64"
-                        | "M6"
-                        | "G43"
-                        | "G81"
-                        | "G82"
-                )
-            });
+        // Its own words, and those it shares with FANUC (a mark FANUC claims too).
+        let iso_word = detect::iso_only(&words) || detect::iso_fanuc_shared(&words);
         iso_word.then_some(LineClaim {
             priority: 60,
             mark: LineMark::Mark,
@@ -136,7 +119,7 @@ impl Dialect for Iso {
     }
 
     fn mark_description(&self) -> &'static str {
-        "an ISO mark (a `( )` or `;` comment after code, a parameter, an expression or an O-word, G33 with K, or a G7/G18/G21/G33.1/G76/G81/G82 word)"
+        "an ISO mark (a `( )` or `;` comment after code, a parameter, an expression or an O-word, G33 with K, or a G7/G33.1/G76/G81/G82 word)"
     }
 
     fn tie_rank(&self) -> u8 {
