@@ -305,6 +305,10 @@ mod tests {
         assert_eq!((d.dialect.as_str(), d.certain), ("fanuc", true), "{d:?}");
         let d = detect("G7 G18 G21 G90 G95\nG0 X10 Z2\nG1 Z-10 F0.2\nM2\n");
         assert_eq!((d.dialect.as_str(), d.certain), ("iso", true), "{d:?}");
+        // A `"` inside a `( )` comment is no czech mark (a review's finding: with the shared
+        // lines, `(1/2" BORING BAR)` read as czech for certain).
+        let d = detect("G18 G20 G90 G95\n(1/2\" BORING BAR)\nG0 X0.5 Z0.1\nG1 Z-1. F0.004\nM2\n");
+        assert_ne!(d.dialect.as_str(), "czech", "{d:?}");
         // Nothing but them: ISO's, in doubt.
         let d = detect("G18 G21 G90\nG0 X10 Z2\nG1 Z-10 F0.2\nM2\n");
         assert_eq!((d.dialect.as_str(), d.certain), ("iso", false), "{d:?}");

@@ -46,8 +46,11 @@ impl Dialect for Czech {
     }
 
     fn claim_line(&self, line: &str) -> Option<LineClaim> {
-        // A `"` comment, and R<nn>= assignments, FRnn and & words.
-        if line.contains(['"', '“', '„']) {
+        // A `"` comment (not a `"` inside another dialect's `( )` or `;` comment: `(1/2"
+        // BORING BAR)`), and R<nn>= assignments, FRnn and & words.
+        let quote = line.find(['"', '“', '„']);
+        let other = line.find(['(', ';']);
+        if quote.is_some_and(|q| other.is_none_or(|o| q < o)) {
             return Some(LineClaim {
                 priority: 100,
                 mark: LineMark::Mark,
