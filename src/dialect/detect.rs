@@ -186,10 +186,9 @@ impl Tally {
             dialect: ALL[k].id(),
             certain: false,
             reason: format!(
-                "line {line} has a mark that {} and {} share ({})",
+                "line {line} has a mark that {} and {} share (a comment after code, G98/G99 beside a drilling cycle, or the plane and units G18/G20/G21)",
                 ALL[k].id(),
                 others.join(" and "),
-                ALL[k].mark_description()
             ),
         }
     }
