@@ -926,6 +926,27 @@ mod tests {
         assert_eq!(codes(&read("G50 X100. Z50.\n", "").1), ["FANR002"]);
     }
 
+    /// A bare G97 after G96 that an S follows: its mode item stands at the S (where a FANUC
+    /// output says `G97 S800`), not at the G97 (the output wrote `G97 S200`, the last surface
+    /// speed as an rpm).
+    #[test]
+    fn a_bare_g97s_mode_comes_at_its_s() {
+        let (items, diags) = read("G96 S200 M03\nG97\nS800\n", "");
+        assert!(diags.is_empty(), "{diags:?}");
+        let at = |kind: &ItemKind| {
+            items
+                .iter()
+                .find(|i| &i.kind == kind)
+                .map(|i| (i.span.line, i.span.column))
+        };
+        assert_eq!(at(&ItemKind::SpindleMode(SpindleMode::Rpm)), Some((3, 1)));
+        let s800 = ItemKind::Spindle {
+            speed: Some(800),
+            direction: None,
+        };
+        assert_eq!(at(&s800), Some((3, 1)));
+    }
+
     /// The code and place of the first error reading `text` under the profile `toml`.
     fn first_error(text: &str, toml: &str) -> (&'static str, Option<(u32, u32)>) {
         let (_, diags) = read(text, toml);

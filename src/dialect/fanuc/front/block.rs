@@ -1002,13 +1002,14 @@ impl FrontEnd<'_> {
     /// G96 (a surface speed, with the limit G50 set) or G97 (rpm), each with its S.
     fn speed_mode(&mut self, line: Line<'_>, words: &Words<'_>) -> Option<Option<SpindleMode>> {
         let Some((surface, w)) = words.speed_mode else {
-            // An S after a bare G97: the rpm from here on, the mode with it.
-            // (At the G97's place: the writer keeps it on its line.)
-            if words.get('S').is_some()
+            // An S after a bare G97: the rpm from here on, the mode with it, at the S (a
+            // FANUC output writes `G97 S800` there, not a G97 with the last speed it knows).
+            if let Some(s) = words.get('S')
                 && let Some(bare) = self.bare_g97.take()
                 && !bare.stopped
             {
-                self.push(ItemKind::SpindleMode(SpindleMode::Rpm), bare.span);
+                let span = self.span(line, s.range.clone());
+                self.push(ItemKind::SpindleMode(SpindleMode::Rpm), span);
             }
             return Some(None);
         };
