@@ -4,8 +4,8 @@
 //! writes one scaled integer word per frame with `*`, `~`, `@` modifiers; the czech control
 //! writes decimal words several to a block, `"` comments, `R<nn>=` assignments, `FRnn` and `&`
 //! words; ISO G-code writes `( )` or `;` comments after words, G33 with a K lead, G7 and
-//! the like (G18/G20/G21 it shares with FANUC). The claim with the highest priority decides a line. The choice is certain
-//! when one dialect has marks and no other has any.
+//! the like (G18/G20/G21 it shares with FANUC). The claim with the highest priority decides
+//! a line. The choice is certain when one dialect has marks and no other has any.
 
 use super::{ALL, DialectId, LineClaim, LineMark};
 
@@ -53,8 +53,9 @@ pub(crate) fn iso_fanuc_shared(words: &[String]) -> bool {
         .any(|w| matches!(w.as_str(), "G18" | "G20" | "G21"))
 }
 
-/// Words only ISO G-code writes of those its mark counts: G7/G8 (diameter and radius mode),
-/// G33 with K, G33.1, LinuxCNC's one-block G76, G64, M6, G43, the drilling cycles G81/G82.
+/// The words of ISO's mark that a FANUC lathe program (system A) does not write so: G7/G8
+/// (diameter and radius mode), G33 with K, G33.1, LinuxCNC's one-block G76, G64, M6, G43,
+/// the drilling cycles G81/G82.
 pub(crate) fn iso_only(words: &[String]) -> bool {
     let g33_with_k = words.iter().any(|w| w == "G33") && words.iter().any(|w| w.starts_with('K'));
     g33_with_k

@@ -288,8 +288,7 @@ fn syntax_error(line: &str, e: &pest::error::Error<Rule>) -> SyntaxError {
             (format!("address `{c}` is not followed by a number"), help)
         }
         // `X-12.8.`: a second decimal point after a number that has one.
-        Some('.') if second_point(&line[..offset]).is_some() => {
-            let start = second_point(&line[..offset]).unwrap_or(offset);
+        Some('.') if let Some(start) = second_point(&line[..offset]) => {
             let end = rest[1..]
                 .find(|d: char| !d.is_ascii_digit())
                 .map_or(line.len(), |i| offset + 1 + i);
