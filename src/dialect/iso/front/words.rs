@@ -15,13 +15,13 @@ use super::unsupported::{Meaning, g_meaning};
 /// The words of one line, sorted by what reads them.
 pub(super) struct Words<'b> {
     /// G codes ×10 (`G33.1` → 331) with their words.
-    pub(super) g: Vec<(GCode, &'b Word)>,
+    pub(super) g: smallvec::SmallVec<[(GCode, &'b Word); 4]>,
     /// M codes with their words.
-    pub(super) m: Vec<(i64, &'b Word)>,
+    pub(super) m: smallvec::SmallVec<[(i64, &'b Word); 4]>,
     /// Every other word by letter (each letter once).
     pub(super) other: Letters<&'b Word>,
     /// Letters a command has read.
-    pub(super) used: Vec<char>,
+    pub(super) used: smallvec::SmallVec<[char; 8]>,
 }
 
 impl<'b> Words<'b> {
@@ -272,10 +272,10 @@ impl FrontEnd<'_> {
     /// when the line has either (LinuxCNC refuses it).
     pub(super) fn sort_words<'b>(&mut self, line: Line<'_>, block: &'b Block) -> Option<Words<'b>> {
         let mut words = Words {
-            g: Vec::new(),
-            m: Vec::new(),
+            g: smallvec::SmallVec::new(),
+            m: smallvec::SmallVec::new(),
             other: Letters::default(),
-            used: Vec::new(),
+            used: smallvec::SmallVec::new(),
         };
         let mut ok = self.sort_letters(line, block, &mut words);
         ok &= self.one_code_per_group(line, &words);
