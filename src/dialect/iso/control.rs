@@ -455,6 +455,26 @@ impl LineSet {
 /// A line read into a block: `None` when it holds a NUL.
 pub type ReadLine = Option<Result<Block, SyntaxError>>;
 
+/// A line read ([`FileRun::block`]): one read up front, one of a body kept (shared, not
+/// copied, each time it runs again), or one read for this run alone (the caller's to take).
+pub enum Got<'a> {
+    Borrowed(&'a ReadLine),
+    Shared(std::rc::Rc<ReadLine>),
+    Owned(ReadLine),
+}
+
+impl std::ops::Deref for Got<'_> {
+    type Target = ReadLine;
+
+    fn deref(&self) -> &ReadLine {
+        match self {
+            Got::Borrowed(line) => line,
+            Got::Shared(line) => line,
+            Got::Owned(line) => line,
+        }
+    }
+}
+
 /// A file the run reads: the program, or a subroutine's file.
 ///
 /// The lines that may hold an O-word (an `o` outside comments: the structure needs them
@@ -475,7 +495,7 @@ pub struct FileRun<'s> {
     /// a body starting there or before reaches.
     bodies: Vec<(usize, usize)>,
     /// Body lines read so far ([`BODY_LINES_KEPT`] at most: forgotten all at once when full).
-    kept: std::cell::RefCell<std::collections::HashMap<usize, ReadLine>>,
+    kept: std::cell::RefCell<std::collections::HashMap<usize, std::rc::Rc<ReadLine>>>,
     /// Where the last look-ups in `read` and `bodies` ended: lines are mostly asked for in
     /// order, so the next answer is usually there or one further.
     hints: std::cell::Cell<(usize, usize)>,
@@ -583,25 +603,25 @@ impl<'s> FileRun<'s> {
     }
 
     /// Line `i` read into a block; `None` when it holds a NUL.
-    pub fn block(&self, i: usize) -> std::borrow::Cow<'_, ReadLine> {
+    pub fn block(&self, i: usize) -> Got<'_> {
         let (hint, body_hint) = self.hints.get();
         let at = partition_from(&self.read, hint, |r| r.0 < i);
         self.hints.set((at, body_hint));
         match self.read.get(at).filter(|r| r.0 == i) {
-            Some(r) => std::borrow::Cow::Borrowed(&*r.1),
+            Some(r) => Got::Borrowed(&r.1),
             None if self.in_body(i) => {
                 let mut kept = self.kept.borrow_mut();
                 if let Some(line) = kept.get(&i) {
-                    return std::borrow::Cow::Owned(line.clone());
+                    return Got::Shared(line.clone());
                 }
-                let line = self.parse(i);
+                let line = std::rc::Rc::new(self.parse(i));
                 if kept.len() >= BODY_LINES_KEPT {
                     kept.clear();
                 }
                 kept.insert(i, line.clone());
-                std::borrow::Cow::Owned(line)
+                Got::Shared(line)
             }
-            None => std::borrow::Cow::Owned(self.parse(i)),
+            None => Got::Owned(self.parse(i)),
         }
     }
 

@@ -1,7 +1,5 @@
 //! One line that is not an O-word: block delete, its values evaluated, then its block.
 
-use std::borrow::Cow;
-
 use super::super::control;
 use super::super::syntax::{BLOCK_DELETE, Block};
 use super::FrontEnd;
@@ -29,22 +27,26 @@ pub(super) fn evaluated_copy(source: &Block) -> Block {
 /// The line's block to evaluate its values into, and the block as read when it has
 /// expressions or settings to evaluate (`None` for a line that cannot be read). A line read
 /// for this run alone and without expressions is taken as it is.
-#[allow(clippy::type_complexity)]
-fn evaluated_block(parsed: Cow<'_, control::ReadLine>) -> Option<(Option<Cow<'_, Block>>, Block)> {
+fn evaluated_block(parsed: control::Got<'_>) -> Option<(Option<control::Got<'_>>, Block)> {
     Some(match parsed {
-        Cow::Owned(Some(Ok(block))) if block.exprs.is_empty() && block.settings.is_empty() => (
-            None,
-            Block {
-                oword: None,
-                ..block
-            },
-        ),
-        Cow::Owned(Some(Ok(source))) => {
-            let block = evaluated_copy(&source);
-            (Some(Cow::Owned(source)), block)
+        control::Got::Owned(Some(Ok(block)))
+            if block.exprs.is_empty() && block.settings.is_empty() =>
+        {
+            (
+                None,
+                Block {
+                    oword: None,
+                    ..block
+                },
+            )
         }
-        Cow::Borrowed(Some(Ok(source))) => (Some(Cow::Borrowed(source)), evaluated_copy(source)),
-        _ => return None,
+        parsed => {
+            let Some(Ok(source)) = &*parsed else {
+                return None;
+            };
+            let block = evaluated_copy(source);
+            (Some(parsed), block)
+        }
     })
 }
 
@@ -54,7 +56,7 @@ impl FrontEnd<'_> {
     pub(super) fn line(
         &mut self,
         line: Line<'_>,
-        parsed: Cow<'_, control::ReadLine>,
+        parsed: control::Got<'_>,
         params: &mut control::Params,
     ) {
         // The line's words get their values here; its expressions stay where they were read.
@@ -64,9 +66,9 @@ impl FrontEnd<'_> {
         if self.block_deleted(line, &mut block) {
             return;
         }
-        if let Some(source) = source
+        if let Some(Some(Ok(source))) = source.as_deref()
             && (!source.exprs.is_empty() || !source.settings.is_empty())
-            && let Err(e) = self.evaluate(&source, &mut block.words, params)
+            && let Err(e) = self.evaluate(source, &mut block.words, params)
         {
             self.diag(codes::ISOR_EVAL, line, e.range, e.message, e.help);
             self.stopped = true;
