@@ -457,6 +457,9 @@ pub type ReadLine = Option<Result<Block, SyntaxError>>;
 
 /// A line read ([`FileRun::block`]): one read up front, one of a body kept (shared, not
 /// copied, each time it runs again), or one read for this run alone (the caller's to take).
+// A line read for this run alone is moved on as it is: boxing it would cost an allocation
+// a line, what sharing the kept lines saves.
+#[allow(clippy::large_enum_variant)]
 pub enum Got<'a> {
     Borrowed(&'a ReadLine),
     Shared(std::rc::Rc<ReadLine>),
