@@ -316,8 +316,36 @@ fn before_writing(
 fn finish_conversion(
     output: Option<dialect::Output>,
     options: &ConvertOptions,
-    mut diagnostics: Vec<Diagnostic>,
+    diagnostics: Vec<Diagnostic>,
 ) -> Conversion {
+    finish_followed(output, options, diagnostics, None)
+}
+
+/// [`finish_conversion`], the read-back made already beside the writer when `followed`
+/// read the whole of this output ([`ReadBack`]), else made here.
+fn finish_followed(
+    output: Option<dialect::Output>,
+    options: &ConvertOptions,
+    mut diagnostics: Vec<Diagnostic>,
+    followed: Option<ReadBack<'_>>,
+) -> Conversion {
+    if output.is_some()
+        && !diag::has_errors(&diagnostics)
+        && let Some((text, diags)) = followed.and_then(ReadBack::join)
+    {
+        // The writer's output is the text read: its file, mapped once already.
+        drop(output);
+        let mut output = None;
+        match refusal(diags, options) {
+            Some(refusal) => diagnostics.push(refusal),
+            None => output = Some(text),
+        }
+        diag::sort(&mut diagnostics);
+        return Conversion {
+            output,
+            diagnostics,
+        };
+    }
     let mut output = output.and_then(|o| held(o, options, &mut diagnostics));
     // Never write what the target's reader refuses: a last check, which finds what the
     // writers' own checks miss (it names the output line).
@@ -391,6 +419,7 @@ where
         target,
         write: &write,
         scope,
+        read_back: None,
     };
     let (program, mut diagnostics) = read(
         src,
@@ -402,7 +431,12 @@ where
     if let Some(stop) = before_writing(src, &program, once.items, options, &mut diagnostics) {
         return stop;
     }
-    let Once { facts, emit, .. } = once;
+    let Once {
+        facts,
+        emit,
+        read_back,
+        ..
+    } = once;
     let emit = emit.and_then(|(side, made_with)| Some((side.finish()?, made_with)));
     let view = target.writer_reads().view(&facts, &program);
     let inch = legalise::output_in_inches(&program, Some(options.to));
@@ -438,7 +472,86 @@ where
     diags.extend(more);
     let output = output.filter(|_| !diag::has_errors(&diags));
     diagnostics.extend(diags);
-    finish_conversion(output, options, diagnostics)
+    finish_followed(output, options, diagnostics, read_back)
+}
+
+/// The read-back of a large conversion's output in a thread of its own, reading the output
+/// as the writer spools it ([`source::follow`]): the czech, НЦ-31, SINUMERIK and HEIDENHAIN
+/// readers read forward and keep up with the writer; the ISO and FANUC readers, which look at
+/// every line first, wait for its end. Its answer counts only when it read the whole output
+/// of the writer the conversion kept; otherwise (the writer let go of, or failing, or a short
+/// output held in memory) the read-back is made after the writer, as for a small conversion.
+/// Dropped, it is told to stop.
+/// What a read-back beside the writer answers: the output and its reading's diagnostics,
+/// when it read the whole output.
+type Answer = Option<(source::Text, Vec<Diagnostic>)>;
+
+#[cfg(unix)]
+struct ReadBack<'scope> {
+    done: Option<std::thread::ScopedJoinHandle<'scope, Answer>>,
+    cancel: source::Following,
+}
+
+#[cfg(not(unix))]
+struct ReadBack<'scope>(std::marker::PhantomData<&'scope ()>);
+
+#[cfg(unix)]
+impl<'scope> ReadBack<'scope> {
+    /// Starts the read-back of `writer`'s output in a thread of `scope`; `None` when no
+    /// thread can be had (the writer then is not followed).
+    fn start<'s, 'env>(
+        writer: &mut dyn dialect::ItemWriter,
+        options: &'s ConvertOptions,
+        scope: &'scope std::thread::Scope<'scope, 'env>,
+    ) -> Option<ReadBack<'scope>>
+    where
+        's: 'scope,
+    {
+        let (follow, following) = source::follow();
+        let cancel = following.canceller();
+        let done = std::thread::Builder::new()
+            .name("ncthread-read-back".into())
+            .spawn_scoped(scope, move || {
+                let text = following.text()?;
+                let out = SourceFile::of_text(output_name(options), text);
+                let diags = dialect::get(options.to).diagnostics(
+                    &out,
+                    &options.profile,
+                    options.unsupported,
+                );
+                out.text.is_complete().then_some((out.text, diags))
+            })
+            .ok()?;
+        writer.follow(follow);
+        Some(ReadBack {
+            done: Some(done),
+            cancel,
+        })
+    }
+
+    /// The output and the read-back's diagnostics, when it read the whole output.
+    fn join(mut self) -> Answer {
+        match self.done.take()?.join() {
+            Ok(answer) => answer,
+            Err(panic) => std::panic::resume_unwind(panic),
+        }
+    }
+}
+
+#[cfg(not(unix))]
+impl ReadBack<'_> {
+    fn join(self) -> Answer {
+        None
+    }
+}
+
+#[cfg(unix)]
+impl Drop for ReadBack<'_> {
+    fn drop(&mut self) {
+        if self.done.is_some() {
+            self.cancel.cancel();
+        }
+    }
 }
 
 /// The program's header as a read has found it so far.
@@ -466,6 +579,8 @@ struct Once<'s, 'w, 'scope, 'env> {
     write: &'w dialect::WriteOptions,
     /// Where the writer side gets a thread of its own, if it does.
     scope: Option<&'scope std::thread::Scope<'scope, 'env>>,
+    /// The read-back of the first writer's output, beside it (with a thread of its own).
+    read_back: Option<ReadBack<'scope>>,
 }
 
 impl<'s, 'scope, 'env> Once<'s, '_, 'scope, 'env>
@@ -531,6 +646,8 @@ where
                     &program,
                     self.write,
                 );
+                #[cfg(unix)]
+                let emit = self.read_back_beside(emit);
                 self.emit = Some((WriterSide::new(emit, self.scope), made_with));
             }
             Some(_) if changed => {
@@ -553,6 +670,16 @@ where
     fn stop(&mut self) {
         self.stopped = true;
         self.emit = None;
+    }
+
+    /// The first writer's output read back beside it, when the writer side has a thread of
+    /// its own ([`ReadBack`]).
+    #[cfg(unix)]
+    fn read_back_beside(&mut self, mut emit: Emit<'s>) -> Emit<'s> {
+        if let Some(scope) = self.scope {
+            self.read_back = ReadBack::start(&mut *emit.writer, self.options, scope);
+        }
+        emit
     }
 }
 
@@ -808,10 +935,15 @@ fn library(
 /// The first error of reading `output` back as the target dialect, as an LG004 that points
 /// into the output; the output is handed back (it is not copied to be read).
 fn read_back(output: source::Text, options: &ConvertOptions) -> (source::Text, Option<Diagnostic>) {
-    let out = SourceFile::of_text(format!("({} output)", options.to), output);
+    let out = SourceFile::of_text(output_name(options), output);
     let diags = dialect::get(options.to).diagnostics(&out, &options.profile, options.unsupported);
     let refusal = refusal(diags, options);
     (out.text, refusal)
+}
+
+/// What a diagnostic of the read-back calls the output.
+fn output_name(options: &ConvertOptions) -> String {
+    format!("({} output)", options.to)
 }
 
 /// The read-back's first error as an LG004 refusal that points into the output.

@@ -32,7 +32,9 @@ pub fn offset32(offset: usize) -> u32 {
 pub struct SourceFile {
     pub name: String,
     pub text: Text,
-    line_starts: LineStarts,
+    /// Made when the text is given, or (a text still being written, [`Following`]) once
+    /// its end is known, when first asked for.
+    line_starts: std::sync::OnceLock<LineStarts>,
 }
 
 /// A program's text: in memory, or (a conversion's output, written to a temporary file as it
@@ -46,6 +48,9 @@ enum Repr {
     Owned(String),
     #[cfg(unix)]
     Mapped(Mapped),
+    /// A writer's output read as it is written ([`Following`]).
+    #[cfg(unix)]
+    Growing(Growing),
 }
 
 #[cfg(unix)]
@@ -53,6 +58,207 @@ struct Mapped {
     map: memmap2::Mmap,
     /// The pages before this offset have been let go of (a multiple of [`RELEASE_ALIGN`]).
     released: std::sync::atomic::AtomicUsize,
+}
+
+/// A writer's output that a reader reads as it is written (issue 34: a conversion's
+/// read-back beside its writer). The writer publishes whole lines as they reach its
+/// temporary file ([`Follow`]); the reader's text ([`Following::text`]) holds what has been
+/// published, and its [`SourceFile`] hands its lines as they come and waits for the end only
+/// where it needs the whole text (the line count, a line by number).
+#[cfg(unix)]
+pub fn follow() -> (Follow, Following) {
+    let shared = std::sync::Arc::new(Shared {
+        state: std::sync::Mutex::new(Published::default()),
+        changed: std::sync::Condvar::new(),
+    });
+    (Follow(shared.clone()), Following(shared))
+}
+
+#[cfg(unix)]
+struct Shared {
+    state: std::sync::Mutex<Published>,
+    changed: std::sync::Condvar,
+}
+
+#[cfg(unix)]
+#[derive(Default)]
+struct Published {
+    /// The writer's temporary file, once it has one.
+    file: Option<std::fs::File>,
+    /// How many of its bytes are written (whole lines, but at the end).
+    len: usize,
+    /// The writer has written its last line.
+    done: bool,
+    /// The text will not be finished (the writer was let go of, or failed), or its reading
+    /// is not wanted any more.
+    abandoned: bool,
+}
+
+#[cfg(unix)]
+impl Shared {
+    fn change(&self, f: impl FnOnce(&mut Published)) {
+        if let Ok(mut state) = self.state.lock() {
+            f(&mut state);
+        }
+        self.changed.notify_all();
+    }
+}
+
+/// The writer's end of a [`follow`]: dropped before [`Follow::finish`], the text is abandoned.
+#[cfg(unix)]
+pub struct Follow(std::sync::Arc<Shared>);
+
+#[cfg(unix)]
+impl std::fmt::Debug for Follow {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Follow")
+    }
+}
+
+#[cfg(unix)]
+impl Follow {
+    /// The first `len` bytes of `file` are written: whole lines, the last one included.
+    pub(crate) fn publish(&self, file: &std::fs::File, len: u64) {
+        let copy = match self.0.state.lock() {
+            Ok(state) if state.file.is_none() => Some(file.try_clone()),
+            _ => None,
+        };
+        self.0.change(|state| match copy {
+            Some(Err(_)) => state.abandoned = true,
+            Some(Ok(file)) => {
+                state.file = Some(file);
+                state.len = usize::try_from(len).unwrap_or(usize::MAX);
+            }
+            None => state.len = usize::try_from(len).unwrap_or(usize::MAX),
+        });
+    }
+
+    /// Every line is published.
+    pub(crate) fn finish(self) {
+        self.0.change(|state| state.done = true);
+    }
+}
+
+#[cfg(unix)]
+impl Drop for Follow {
+    fn drop(&mut self) {
+        self.0.change(|state| {
+            if !state.done {
+                state.abandoned = true;
+            }
+        });
+    }
+}
+
+/// The reader's end of a [`follow`].
+#[cfg(unix)]
+pub struct Following(std::sync::Arc<Shared>);
+
+/// How much of the address space a followed text reserves: a longer output is read after
+/// its writer, as any other.
+#[cfg(unix)]
+const FOLLOW_RESERVE: usize = 1 << 36;
+
+#[cfg(unix)]
+impl Following {
+    /// Says that the text is not wanted any more: its reading ends at the next line.
+    pub fn cancel(&self) {
+        self.0.change(|state| state.abandoned = true);
+    }
+
+    /// A handle that can [`Following::cancel`] from elsewhere.
+    pub fn canceller(&self) -> Following {
+        Following(self.0.clone())
+    }
+
+    /// The text, once the writer has a file; `None` when it ends without one (a short
+    /// output, held in memory) or is abandoned first, or the file cannot be mapped.
+    pub fn text(self) -> Option<Text> {
+        let file = {
+            let guard = self.0.state.lock().ok()?;
+            let state = self
+                .0
+                .changed
+                .wait_while(guard, |s| s.file.is_none() && !s.done && !s.abandoned)
+                .ok()?;
+            if state.abandoned {
+                return None;
+            }
+            state.file.as_ref()?.try_clone().ok()?
+        };
+        // SAFETY: the file is the writer's unnamed temporary file, to which it only appends
+        // (past the published length); only the published bytes are ever read, and the map
+        // is read-only. The map may reach past the file's end: those pages are never touched.
+        let map = unsafe {
+            memmap2::MmapOptions::new()
+                .len(FOLLOW_RESERVE)
+                .map(&file)
+                .ok()?
+        };
+        Some(Text(Repr::Growing(Growing {
+            map,
+            shared: self.0,
+            seen: std::sync::atomic::AtomicUsize::new(0),
+            ended: std::sync::atomic::AtomicBool::new(false),
+            complete: std::sync::atomic::AtomicBool::new(false),
+            released: std::sync::atomic::AtomicUsize::new(0),
+        })))
+    }
+}
+
+/// A [`Following`] text: what of the map has been published and checked to be UTF-8.
+#[cfg(unix)]
+struct Growing {
+    map: memmap2::Mmap,
+    shared: std::sync::Arc<Shared>,
+    /// The bytes published, checked and readable.
+    seen: std::sync::atomic::AtomicUsize,
+    /// Nothing more will come: the writer finished, or the text was abandoned.
+    ended: std::sync::atomic::AtomicBool,
+    /// The writer finished and every byte it wrote is seen.
+    complete: std::sync::atomic::AtomicBool,
+    released: std::sync::atomic::AtomicUsize,
+}
+
+#[cfg(unix)]
+impl Growing {
+    /// Waits for more of the text: whether some came (false once nothing more will).
+    fn more(&self) -> bool {
+        if self.ended.load(Relaxed) {
+            return false;
+        }
+        let seen = self.seen.load(Relaxed);
+        let Ok(guard) = self.shared.state.lock() else {
+            self.ended.store(true, Relaxed);
+            return false;
+        };
+        let Ok(state) = self
+            .shared
+            .changed
+            .wait_while(guard, |s| s.len <= seen && !s.done && !s.abandoned)
+        else {
+            self.ended.store(true, Relaxed);
+            return false;
+        };
+        let (len, done, abandoned) = (state.len, state.done, state.abandoned);
+        drop(state);
+        if abandoned || len > self.map.len() {
+            self.ended.store(true, Relaxed);
+            return false;
+        }
+        if len > seen {
+            if std::str::from_utf8(&self.map[seen..len]).is_err() {
+                self.ended.store(true, Relaxed);
+                return false;
+            }
+            self.seen.store(len, Relaxed);
+        }
+        if done {
+            self.ended.store(true, Relaxed);
+            self.complete.store(true, Relaxed);
+        }
+        len > seen
+    }
 }
 
 /// How far behind the furthest point read a mapped text keeps its pages, and how far that
@@ -102,9 +308,45 @@ impl Text {
     fn bytes_of(&self) -> &[u8] {
         match &self.0 {
             Repr::Owned(s) => s.as_bytes(),
-            #[cfg(unix)]
             Repr::Mapped(m) => &m.map,
+            Repr::Growing(g) => &g.map[..g.seen.load(Relaxed)],
         }
+    }
+
+    /// A mapped text's map, how much of it is the text (for a growing one, what is seen),
+    /// and where its pages are let go of.
+    #[cfg(unix)]
+    fn pages(&self) -> Option<(&memmap2::Mmap, usize, &std::sync::atomic::AtomicUsize)> {
+        match &self.0 {
+            Repr::Owned(_) => None,
+            Repr::Mapped(m) => Some((&m.map, m.map.len(), &m.released)),
+            Repr::Growing(g) => Some((&g.map, g.seen.load(Relaxed), &g.released)),
+        }
+    }
+
+    /// A text still being written ([`follow`]): waits for more of it; whether some came
+    /// (false once nothing more will, and for any other text).
+    pub fn grow(&self) -> bool {
+        #[cfg(unix)]
+        if let Repr::Growing(g) = &self.0 {
+            return g.more();
+        }
+        false
+    }
+
+    /// Waits until nothing more of the text will come ([`Text::grow`]).
+    fn wait_end(&self) {
+        while self.grow() {}
+    }
+
+    /// Whether the text is whole: true but for a text still being written whose writer has
+    /// not finished (or which was abandoned before its end).
+    pub fn is_complete(&self) -> bool {
+        #[cfg(unix)]
+        if let Repr::Growing(g) = &self.0 {
+            return g.complete.load(Relaxed);
+        }
+        true
     }
 
     /// Says that the text has been read to `offset` and will be read on from there: a
@@ -113,15 +355,14 @@ impl Text {
     #[inline]
     pub fn read_to(&self, offset: usize) {
         #[cfg(unix)]
-        if let Repr::Mapped(m) = &self.0 {
-            let released = m.released.load(Relaxed);
+        if let Some((_, _, released_at)) = self.pages() {
+            let released = released_at.load(Relaxed);
             if offset >= released + 2 * READ_LAG {
                 self.release(offset - READ_LAG);
             } else if offset < released {
                 // Read again from further back (a loop's body, a second pass): the pages
                 // from there on are let go of as the reading passes them again.
-                m.released
-                    .store(offset / RELEASE_ALIGN * RELEASE_ALIGN, Relaxed);
+                released_at.store(offset / RELEASE_ALIGN * RELEASE_ALIGN, Relaxed);
             }
         }
         #[cfg(not(unix))]
@@ -132,27 +373,23 @@ impl Text {
     /// start again.
     fn release(&self, offset: usize) {
         #[cfg(unix)]
-        if let Repr::Mapped(m) = &self.0 {
+        if let Some((map, len, released)) = self.pages() {
             let (from, to) = if offset == 0 {
-                (0, m.map.len())
+                (0, len)
             } else {
-                let to = offset.min(m.map.len()) / RELEASE_ALIGN * RELEASE_ALIGN;
-                (m.released.load(Relaxed), to)
+                let to = offset.min(len) / RELEASE_ALIGN * RELEASE_ALIGN;
+                (released.load(Relaxed), to)
             };
             if to > from {
-                // SAFETY: the map is read-only and its file unchanged, so that a page let go
-                // of reads the same bytes when it is read again: nothing that points into it
-                // sees a change.
+                // SAFETY: the map is read-only and its file unchanged where it was read (a
+                // growing text's file is only appended to), so that a page let go of reads
+                // the same bytes when it is read again: nothing that points into it sees a
+                // change.
                 let _ = unsafe {
-                    m.map.unchecked_advise_range(
-                        memmap2::UncheckedAdvice::DontNeed,
-                        from,
-                        to - from,
-                    )
+                    map.unchecked_advise_range(memmap2::UncheckedAdvice::DontNeed, from, to - from)
                 };
             }
-            m.released
-                .store(if offset == 0 { 0 } else { to.max(from) }, Relaxed);
+            released.store(if offset == 0 { 0 } else { to.max(from) }, Relaxed);
         }
         #[cfg(not(unix))]
         let _ = offset;
@@ -163,8 +400,17 @@ impl Text {
         match self.0 {
             Repr::Owned(s) => s,
             #[cfg(unix)]
-            Repr::Mapped(_) => self.to_string(),
+            Repr::Mapped(_) | Repr::Growing(_) => self.to_string(),
         }
+    }
+
+    /// Whether the text is still being written ([`follow`]), or was.
+    fn is_growing(&self) -> bool {
+        #[cfg(unix)]
+        if let Repr::Growing(_) = &self.0 {
+            return true;
+        }
+        false
     }
 
     /// Whether the text is mapped from a file rather than held in memory.
@@ -209,6 +455,12 @@ impl std::ops::Deref for Text {
             // SAFETY: checked to be UTF-8 when mapped, and the file is not changed.
             #[cfg(unix)]
             Repr::Mapped(m) => unsafe { std::str::from_utf8_unchecked(&m.map) },
+            // SAFETY: what is seen was checked to be UTF-8 when published (whole lines, so
+            // whole characters), and the file is only appended to past it.
+            #[cfg(unix)]
+            Repr::Growing(g) => unsafe {
+                std::str::from_utf8_unchecked(&g.map[..g.seen.load(Relaxed)])
+            },
         }
     }
 }
@@ -499,9 +751,14 @@ impl SourceFile {
 
     /// The source of a text, in memory or mapped (its lines indexed a stretch at a time,
     /// each let go of once indexed).
+    /// A text still being written ([`follow`]) is indexed only when a line is asked for by
+    /// number, once its end is known; its lines are read as they come ([`SourceFile::lines`]).
     pub fn of_text(name: impl Into<String>, text: Text) -> SourceFile {
-        let line_starts = LineStarts::of(&text);
-        text.release(0);
+        let line_starts = std::sync::OnceLock::new();
+        if !text.is_growing() {
+            let _ = line_starts.set(LineStarts::of(&text));
+            text.release(0);
+        }
         SourceFile {
             name: name.into(),
             text,
@@ -509,28 +766,61 @@ impl SourceFile {
         }
     }
 
+    /// The line index (of a text still being written: once its end is known).
+    fn index(&self) -> &LineStarts {
+        self.line_starts.get_or_init(|| {
+            self.text.wait_end();
+            LineStarts::of(&self.text)
+        })
+    }
+
     /// How many lines the text has.
     pub fn line_count(&self) -> usize {
-        self.line_starts.len()
+        self.index().len()
     }
 
     /// Every line, LF or CRLF endings removed.
     pub fn lines(&self) -> impl Iterator<Item = Line<'_>> {
         let mut offset = 0;
-        (0..self.line_starts.len()).map(move |i| {
+        let mut number = 0u32;
+        let mut count = self.line_starts.get().map(LineStarts::len);
+        std::iter::from_fn(move || {
+            let i = number as usize;
+            match count {
+                Some(count) if i >= count => return None,
+                Some(_) => {}
+                // A text still being written: up to the next line end, waiting for it; its
+                // last line (which may have none) once the text has ended. Counted as
+                // `LineStarts::of` counts: an empty text has one empty line, and a line end
+                // at the very end starts none.
+                None => loop {
+                    let rest = &self.text[offset..];
+                    if memchr::memchr(b'\n', rest.as_bytes()).is_some() {
+                        break;
+                    }
+                    if !self.text.grow() {
+                        if offset == self.text.len() && (offset > 0 || number > 0) {
+                            return None;
+                        }
+                        count = Some(i + 1);
+                        break;
+                    }
+                },
+            }
             self.text.read_to(offset);
             let rest = &self.text[offset..];
             let end = line_end(rest);
-            let line = line_at(i as u32 + 1, offset, &rest[..end]);
+            number += 1;
+            let line = line_at(number, offset, &rest[..end]);
             offset += end;
-            line
+            Some(line)
         })
     }
 
     /// Line `number` (1-based). Out-of-range numbers give an empty line at the end.
     pub fn line(&self, number: u32) -> Line<'_> {
         let i = (number.max(1) - 1) as usize;
-        let Some((start, end)) = self.line_starts.get(&self.text, i) else {
+        let Some((start, end)) = self.index().get(&self.text, i) else {
             return Line {
                 number,
                 offset: self.text.len(),
@@ -590,7 +880,7 @@ impl SourceFile {
 
     /// The span of a byte range of the whole text (it should not cross a line end).
     pub fn span_of(&self, range: Range<usize>) -> Span {
-        let index = self.line_starts.up_to(&self.text, range.start).max(1);
+        let index = self.index().up_to(&self.text, range.start).max(1);
         let line = self.line(index as u32);
         let start = range.start.saturating_sub(line.offset);
         let end = range.end.saturating_sub(line.offset).max(start);
@@ -687,7 +977,7 @@ mod tests {
                     "{text:?} @{offset}"
                 );
             }
-            let Starts::Narrow(v) = &src.line_starts.every else {
+            let Starts::Narrow(v) = &src.index().every else {
                 panic!("a short text has 32-bit line starts");
             };
             assert_eq!(v.len(), naive.len().div_ceil(STRIDE), "{text:?}");
@@ -778,5 +1068,107 @@ mod tests {
         let two = SourceFile::new("t", "ab\ncd");
         assert_eq!(two.span_of(4..5).line, 2);
         assert_eq!(two.span_of(4..5).column, 2);
+    }
+
+    /// Writes `text` into a temporary file a piece of whole lines at a time from another
+    /// thread, publishing each, and `finish`es (or, with `abandon`, lets go after its first
+    /// half); the reader's source over the followed text.
+    #[cfg(unix)]
+    fn followed(text: &str, abandon: bool) -> SourceFile {
+        use std::io::Write as _;
+        let (follow, following) = follow();
+        let owned = text.to_string();
+        let writer = std::thread::spawn(move || {
+            let mut file = tempfile::tempfile().unwrap();
+            let pieces: Vec<&str> = owned.split_inclusive('\n').collect();
+            let mut len = 0u64;
+            for (i, piece) in pieces.chunks(3).enumerate() {
+                if abandon && i * 6 >= pieces.len() {
+                    return;
+                }
+                let piece = piece.concat();
+                file.write_all(piece.as_bytes()).unwrap();
+                len += piece.len() as u64;
+                follow.publish(&file, len);
+                std::thread::sleep(std::time::Duration::from_millis(1));
+            }
+            follow.publish(&file, len);
+            follow.finish();
+        });
+        let src = SourceFile::of_text("followed", following.text().expect("a file"));
+        let lines: Vec<(u32, usize, String)> = src
+            .lines()
+            .map(|l| (l.number, l.offset, l.text.to_string()))
+            .collect();
+        writer.join().unwrap();
+        let whole = SourceFile::new("whole", src.text.to_string());
+        let expected: Vec<(u32, usize, String)> = whole
+            .lines()
+            .map(|l| (l.number, l.offset, l.text.to_string()))
+            .collect();
+        assert_eq!(lines, expected, "{text:?}");
+        src
+    }
+
+    /// A text read as it is written (a conversion's read-back beside its writer) has the
+    /// lines, line count and lines by number of the whole text, its end counted alike.
+    #[cfg(unix)]
+    #[test]
+    fn a_followed_text_reads_as_the_whole_text() {
+        let long: String = (0..100).map(|i| format!("N{i} X{i} (ü)\r\n")).collect();
+        for text in [
+            "",
+            "a",
+            "a\n",
+            "a\n\nb",
+            "a\n\n",
+            "\n",
+            long.as_str(),
+            &format!("{long}last"),
+        ] {
+            let src = followed(text, false);
+            assert!(src.text.is_complete(), "{text:?}");
+            assert_eq!(src.text, text);
+            let whole = SourceFile::new("whole", text);
+            assert_eq!(src.line_count(), whole.line_count(), "{text:?}");
+            for n in 0..=whole.line_count() as u32 + 1 {
+                let (a, b) = (src.line(n), whole.line(n));
+                assert_eq!(
+                    (a.number, a.offset, a.text),
+                    (b.number, b.offset, b.text),
+                    "{text:?} {n}"
+                );
+            }
+        }
+    }
+
+    /// A writer that lets go before its end leaves an incomplete text, whose lines end where
+    /// it stopped.
+    #[cfg(unix)]
+    #[test]
+    fn an_abandoned_text_is_incomplete() {
+        let long: String = (0..100).map(|i| format!("N{i} X{i}\n")).collect();
+        let src = followed(&long, true);
+        assert!(!src.text.is_complete());
+        assert!(src.text.len() < long.len() && long.starts_with(&*src.text));
+    }
+
+    /// The czech reader over a followed text reports what it reports over the whole text,
+    /// a line by number (for a diagnostic's source line) waiting for the end.
+    #[cfg(unix)]
+    #[test]
+    fn a_reader_over_a_followed_text_reports_as_over_the_whole() {
+        let mut text: String = (0..200)
+            .map(|i| format!("N{} G00 X{}. Z2.\n", 10 + i * 10, 30 + i % 5))
+            .collect();
+        text.push_str("N9990 G00 X40. Q7\nN9999 M30\n");
+        let src = followed(&text, false);
+        let whole = SourceFile::new("followed", text.as_str());
+        let czech = crate::dialect::get(crate::dialect::czech::ID);
+        let profile = crate::profile::Profile::default();
+        let a = czech.diagnostics(&src, &profile, Default::default());
+        let b = czech.diagnostics(&whole, &profile, Default::default());
+        assert!(!a.is_empty());
+        assert_eq!(a, b);
     }
 }

@@ -427,6 +427,10 @@ pub trait ItemWriter {
     fn late_facts(&mut self, _facts: &Facts) -> bool {
         false
     }
+    /// Has a reader read the text as it is written ([`Writer::follow`]); by default the
+    /// writer does not say it, and the reader is told so at once.
+    #[cfg(unix)]
+    fn follow(&mut self, _follow: crate::source::Follow) {}
     /// The text (none after an error) and the writer's diagnostics.
     fn finish(self: Box<Self>) -> (Option<Output>, Vec<Diagnostic>);
 }
@@ -447,6 +451,9 @@ struct Spool {
     non_blank: bool,
     /// No (more) spilling: no temporary file could be made, or a write to it failed.
     off: bool,
+    /// A reader that reads the text as it is spooled ([`crate::source::follow`]).
+    #[cfg(unix)]
+    follow: Option<crate::source::Follow>,
 }
 
 impl Spool {
@@ -473,12 +480,43 @@ impl Spool {
         if written {
             self.len += text.len() as u64;
             self.non_blank |= !text.trim().is_empty();
+            #[cfg(unix)]
+            if let (Some(follow), Some(file)) = (&self.follow, &self.file) {
+                follow.publish(file, self.len);
+            }
         } else {
             // The file keeps its first `len` bytes, which are whole; a part written after
             // them is never read.
             self.off = true;
+            #[cfg(unix)]
+            {
+                self.follow = None;
+            }
         }
         written
+    }
+}
+
+#[cfg(unix)]
+impl Spool {
+    /// A text followed as it is spooled ([`Writer::follow`]): its last lines `held` go to
+    /// the spool too (published as a spill is), which is then its end; what stays held.
+    /// A spool that took nothing before (a short output), or fails now, lets its reader go.
+    fn end_followed(&mut self, held: String) -> String {
+        let Some(follow) = self.follow.take() else {
+            return held;
+        };
+        if self.file.is_none() {
+            return held;
+        }
+        self.follow = Some(follow);
+        if !held.is_empty() && !self.write(&held) {
+            return held;
+        }
+        if let Some(follow) = self.follow.take() {
+            follow.finish();
+        }
+        String::new()
     }
 }
 
@@ -583,6 +621,14 @@ impl<'a> Writer<'a> {
         }
     }
 
+    /// Has `follow` read the text as it goes to the spool: every spill is published to it,
+    /// and [`Writer::finish`] spools the rest and says it is done. A writer that spills
+    /// nothing (a short output), fails, or is let go of, abandons it.
+    #[cfg(unix)]
+    pub fn follow(&mut self, follow: crate::source::Follow) {
+        self.spool.follow = Some(follow);
+    }
+
     /// Whether every line written is still held (none moved to the spool): an offset into
     /// `out` taken earlier still points where it did.
     pub fn holds_all(&self) -> bool {
@@ -660,10 +706,13 @@ impl<'a> Writer<'a> {
         if self.diags.iter().any(Diagnostic::is_error) {
             return (None, self.diags);
         }
+        let out = std::mem::take(&mut self.out);
         let held = match self.post {
-            Some(post) => post(self.out),
-            None => self.out,
+            Some(post) => post(out),
+            None => out,
         };
+        #[cfg(unix)]
+        let held = self.spool.end_followed(held);
         let spooled = self
             .spool
             .file

@@ -166,6 +166,11 @@ impl<'a> Items<'a> {
 }
 
 impl write::ItemWriter for Items<'_> {
+    #[cfg(unix)]
+    fn follow(&mut self, follow: crate::source::Follow) {
+        self.e.w.follow(follow);
+    }
+
     /// Parameters the program assigns after the first item: taken while none of them is one
     /// it chose for a lead (each choice is the lowest free number, so it is the same choice
     /// among the fewer numbers free once they are reserved).

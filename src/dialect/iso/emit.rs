@@ -264,6 +264,11 @@ impl<'a> Items<'a> {
 }
 
 impl write::ItemWriter for Items<'_> {
+    #[cfg(unix)]
+    fn follow(&mut self, follow: crate::source::Follow) {
+        self.e.w.follow(follow);
+    }
+
     /// An arc after the header: ` G91.1` goes into its modes line while the line is held.
     fn late_facts(&mut self, facts: &write::Facts) -> bool {
         if !facts.arcs || self.arcs {

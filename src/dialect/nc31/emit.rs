@@ -108,6 +108,11 @@ impl<'a> Items<'a> {
 }
 
 impl write::ItemWriter for Items<'_> {
+    #[cfg(unix)]
+    fn follow(&mut self, follow: crate::source::Follow) {
+        self.e.w.follow(follow);
+    }
+
     fn item(&mut self, item: &Item) {
         self.first.get_or_insert(item.span);
         let same = self.own

@@ -159,6 +159,11 @@ impl<'a> Items<'a> {
 }
 
 impl write::ItemWriter for Items<'_> {
+    #[cfg(unix)]
+    fn follow(&mut self, follow: crate::source::Follow) {
+        self.e.w.follow(follow);
+    }
+
     fn item(&mut self, item: &Item) {
         if self.header {
             if item.kind == ItemKind::Delimiter {
