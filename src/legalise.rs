@@ -40,6 +40,8 @@ pub struct Shared<'s> {
     run: Vec<(Item, Option<FeedMode>)>,
     fold: crate::diag::Fold,
     diags: Vec<Diagnostic>,
+    /// An error has been found.
+    errored: bool,
 }
 
 impl<'s> Shared<'s> {
@@ -54,7 +56,14 @@ impl<'s> Shared<'s> {
             run: Vec::new(),
             fold: Default::default(),
             diags: Vec::new(),
+            errored: false,
         }
+    }
+
+    /// Whether an error has been found so far (a run of kept cycle blocks still open is
+    /// said at its end).
+    pub fn errored(&self) -> bool {
+        self.errored
     }
 
     /// The program's next item.
@@ -138,10 +147,11 @@ impl<'s> Shared<'s> {
             }
             _ => None,
         };
-        if let Some(d) = refusal.map(|d| d.at(self.src, item.span))
-            && self.fold.admit(&d)
-        {
-            self.diags.push(d);
+        if let Some(d) = refusal.map(|d| d.at(self.src, item.span)) {
+            self.errored |= d.is_error();
+            if self.fold.admit(&d) {
+                self.diags.push(d);
+            }
         }
     }
 }
@@ -312,6 +322,8 @@ pub struct ForTarget<'s> {
     found: Vec<crate::dialect::capabilities::Occurrence>,
     fold: crate::diag::Fold,
     diags: Vec<Diagnostic>,
+    /// A refusal has been found.
+    errored: bool,
 }
 
 impl<'s> ForTarget<'s> {
@@ -328,7 +340,13 @@ impl<'s> ForTarget<'s> {
             found: Vec::new(),
             fold: Default::default(),
             diags: Vec::new(),
+            errored: false,
         }
+    }
+
+    /// Whether a refusal has been found so far.
+    pub fn errored(&self) -> bool {
+        self.errored
     }
 
     /// The program's next item.
@@ -338,10 +356,11 @@ impl<'s> ForTarget<'s> {
             if self.caps.writes(o.construct) {
                 continue;
             }
-            if let Some(d) = self.target.refusal(o, self.src)
-                && self.fold.admit_once(&self.diags, &d)
-            {
-                self.diags.push(d);
+            if let Some(d) = self.target.refusal(o, self.src) {
+                self.errored |= d.is_error();
+                if self.fold.admit_once(&self.diags, &d) {
+                    self.diags.push(d);
+                }
             }
         }
     }

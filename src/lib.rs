@@ -500,7 +500,7 @@ impl<'scope> ReadBack<'scope> {
     /// Starts the read-back of `writer`'s output in a thread of `scope`; `None` when no
     /// thread can be had (the writer then is not followed).
     fn start<'s, 'env>(
-        writer: &mut dyn dialect::ItemWriter,
+        emit: &mut Emit<'s>,
         options: &'s ConvertOptions,
         scope: &'scope std::thread::Scope<'scope, 'env>,
     ) -> Option<ReadBack<'scope>>
@@ -522,7 +522,8 @@ impl<'scope> ReadBack<'scope> {
                 out.text.is_complete().then_some((out.text, diags))
             })
             .ok()?;
-        writer.follow(follow);
+        emit.writer.follow(follow);
+        emit.cancel = Some(cancel.canceller());
         Some(ReadBack {
             done: Some(done),
             cancel,
@@ -677,7 +678,7 @@ where
     #[cfg(unix)]
     fn read_back_beside(&mut self, mut emit: Emit<'s>) -> Emit<'s> {
         if let Some(scope) = self.scope {
-            self.read_back = ReadBack::start(&mut *emit.writer, self.options, scope);
+            self.read_back = ReadBack::start(&mut emit, self.options, scope);
         }
         emit
     }
@@ -852,6 +853,9 @@ struct Emit<'s> {
     table: legalise::ForTarget<'s>,
     writer: Box<dyn dialect::ItemWriter + Send + 's>,
     to: DialectId,
+    /// Stops the read-back beside the writer ([`ReadBack`]) once the output is refused.
+    #[cfg(unix)]
+    cancel: Option<source::Following>,
 }
 
 impl<'s> Emit<'s> {
@@ -872,6 +876,8 @@ impl<'s> Emit<'s> {
             table: legalise::ForTarget::new(src, target, &options.profile),
             writer: target.item_writer(facts, program, src, &options.profile, write),
             to: options.to,
+            #[cfg(unix)]
+            cancel: None,
         }
     }
 
@@ -879,6 +885,13 @@ impl<'s> Emit<'s> {
         self.rules.item(item);
         self.table.item(item);
         self.writer.item(item);
+        #[cfg(unix)]
+        if self.cancel.is_some()
+            && (self.rules.errored() || self.table.errored() || self.writer.refuses())
+            && let Some(cancel) = self.cancel.take()
+        {
+            cancel.cancel();
+        }
     }
 }
 

@@ -93,6 +93,11 @@ pub(crate) struct InexactSummary {
 }
 
 impl Inexact {
+    /// Whether a value off the grid has been found: refused at the end without `round`.
+    pub fn refuses(&self, round: bool) -> bool {
+        !round && self.count > 0
+    }
+
     /// The one diagnostic of a program's values off the grid (none when all are on it):
     /// `rounded` words the warning of `--round`, `refused` the error without it.
     pub fn diagnostic(
@@ -431,6 +436,12 @@ pub trait ItemWriter {
     /// writer does not say it, and the reader is told so at once.
     #[cfg(unix)]
     fn follow(&mut self, _follow: crate::source::Follow) {}
+    /// Whether the output is refused already by what the writer has found so far and says
+    /// only at its finish (a value off its grid without `--round`): a reader following it
+    /// can stop.
+    fn refuses(&self) -> bool {
+        false
+    }
     /// The text (none after an error) and the writer's diagnostics.
     fn finish(self: Box<Self>) -> (Option<Output>, Vec<Diagnostic>);
 }
@@ -690,6 +701,11 @@ impl<'a> Writer<'a> {
     /// Adds `d` unless the same diagnostic was reported already; a repeat past what is
     /// listed is counted ([`crate::diag::Fold`]).
     pub fn report(&mut self, d: Diagnostic) {
+        // The output will be refused: a reader following it is let go.
+        #[cfg(unix)]
+        if d.is_error() {
+            self.spool.follow = None;
+        }
         if self.fold.admit_once(&self.diags, &d) {
             self.diags.push(d);
         }

@@ -171,6 +171,10 @@ impl write::ItemWriter for Items<'_> {
         self.e.w.follow(follow);
     }
 
+    fn refuses(&self) -> bool {
+        self.e.inexact.refuses(self.e.round)
+    }
+
     /// Parameters the program assigns after the first item: taken while none of them is one
     /// it chose for a lead (each choice is the lowest free number, so it is the same choice
     /// among the fewer numbers free once they are reserved).

@@ -296,6 +296,10 @@ impl write::ItemWriter for Items<'_> {
         self.e.w.follow(follow);
     }
 
+    fn refuses(&self) -> bool {
+        self.e.inexact.refuses(self.e.round)
+    }
+
     fn item(&mut self, item: &Item) {
         if self.start == Start::Header {
             if item.kind == ItemKind::Delimiter {

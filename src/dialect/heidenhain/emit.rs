@@ -179,6 +179,10 @@ impl write::ItemWriter for Items<'_> {
         self.e.w.follow(follow);
     }
 
+    fn refuses(&self) -> bool {
+        self.e.inexact.refuses(self.e.round)
+    }
+
     fn item(&mut self, item: &Item) {
         if self.header {
             if item.kind == ItemKind::Delimiter {

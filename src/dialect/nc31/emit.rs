@@ -113,6 +113,10 @@ impl write::ItemWriter for Items<'_> {
         self.e.w.follow(follow);
     }
 
+    fn refuses(&self) -> bool {
+        self.e.inexact.refuses(self.e.options.round)
+    }
+
     fn item(&mut self, item: &Item) {
         self.first.get_or_insert(item.span);
         let same = self.own
