@@ -154,10 +154,14 @@ impl Drop for Follow {
 #[cfg(unix)]
 pub struct Following(std::sync::Arc<Shared>);
 
-/// How much of the address space a followed text reserves: a longer output is read after
-/// its writer, as any other.
+/// How much of the address space a followed text reserves (64 GiB; a quarter of it on a
+/// 32-bit system): a longer output is read after its writer, as any other.
 #[cfg(unix)]
-const FOLLOW_RESERVE: usize = 1 << 36;
+const FOLLOW_RESERVE: usize = if usize::BITS >= 64 {
+    (1u64 << 36) as usize
+} else {
+    usize::MAX / 4
+};
 
 #[cfg(unix)]
 impl Following {
