@@ -440,11 +440,15 @@ where
     let emit = emit.and_then(|(side, made_with)| Some((side.finish()?, made_with)));
     let view = target.writer_reads().view(&facts, &program);
     let inch = legalise::output_in_inches(&program, Some(options.to));
-    let emit = match emit {
-        Some((emit, written)) if written == (view, inch) => emit,
-        _ => {
+    let (emit, read_back) = match emit {
+        Some((emit, written)) if written == (view, inch) => (emit, read_back),
+        first => {
             // What the writer reads changed after its first item (or no item made one): the
             // same read again (its diagnostics are the first's), with what the first gathered.
+            // The first writer is let go of first, and with it the reading of its output
+            // beside it (which would otherwise wait for that writer's end).
+            drop(first);
+            drop(read_back);
             let mut emit = Emit::new(src, options, target, &facts, &program, &write);
             let _ = dialect::get(options.from).read_keeping(
                 src,
@@ -452,7 +456,7 @@ where
                 options.unsupported,
                 dialect::Keep::Stream(&mut emit),
             );
-            emit
+            (emit, None)
         }
     };
     let Emit {
@@ -475,6 +479,10 @@ where
     finish_followed(output, options, diagnostics, read_back)
 }
 
+/// What a read-back beside the writer answers: the output and its reading's diagnostics,
+/// when it read the whole output.
+type Answer = Option<(source::Text, Vec<Diagnostic>)>;
+
 /// The read-back of a large conversion's output in a thread of its own, reading the output
 /// as the writer spools it ([`source::follow`]): the czech, НЦ-31, SINUMERIK and HEIDENHAIN
 /// readers read forward and keep up with the writer; the ISO and FANUC readers, which look at
@@ -482,10 +490,6 @@ where
 /// of the writer the conversion kept; otherwise (the writer let go of, or failing, or a short
 /// output held in memory) the read-back is made after the writer, as for a small conversion.
 /// Dropped, it is told to stop.
-/// What a read-back beside the writer answers: the output and its reading's diagnostics,
-/// when it read the whole output.
-type Answer = Option<(source::Text, Vec<Diagnostic>)>;
-
 #[cfg(unix)]
 struct ReadBack<'scope> {
     done: Option<std::thread::ScopedJoinHandle<'scope, Answer>>,
@@ -677,7 +681,10 @@ where
     /// its own ([`ReadBack`]).
     #[cfg(unix)]
     fn read_back_beside(&mut self, mut emit: Emit<'s>) -> Emit<'s> {
-        if let Some(scope) = self.scope {
+        // Where reading a file through a map while it is written sees what was written (a
+        // unified buffer cache): not on every Unix.
+        let coherent = cfg!(any(target_os = "linux", target_os = "macos"));
+        if coherent && let Some(scope) = self.scope {
             self.read_back = ReadBack::start(&mut emit, self.options, scope);
         }
         emit

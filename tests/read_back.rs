@@ -196,6 +196,15 @@ fn a_large_program_converts_with_its_writer_in_a_thread_as_the_whole_program_doe
             "G0 X40 Z5\nG1 Z-10 F0.2\nG0 X50\n",
             "M5\nM30\n",
         ),
+        // An inch program: whether the output is in inches is known only at the end, so the
+        // writer made at its first item is let go of and the program read again (the reading
+        // of the first writer's output beside it must not wait for that writer).
+        (
+            "iso",
+            "G7 G18 G20 G90 G95\nT1 M6\nS500 M3\n",
+            "G0 X1.5 Z0.2\nG1 Z-0.4 F0.008\nG0 X2\n",
+            "M5\nM30\n",
+        ),
         (
             "fanuc",
             "%\nO0100\nG21 G99\nT0101\nG97 S500 M03\n",
