@@ -70,6 +70,7 @@ pub fn follow() -> (Follow, Following) {
     let shared = std::sync::Arc::new(Shared {
         state: std::sync::Mutex::new(Published::default()),
         changed: std::sync::Condvar::new(),
+        cancelled: std::sync::atomic::AtomicBool::new(false),
     });
     (Follow(shared.clone()), Following(shared))
 }
@@ -78,6 +79,9 @@ pub fn follow() -> (Follow, Following) {
 struct Shared {
     state: std::sync::Mutex<Published>,
     changed: std::sync::Condvar,
+    /// The reading is not wanted any more ([`Following::cancel`]): looked at line by line,
+    /// also once the whole text is published.
+    cancelled: std::sync::atomic::AtomicBool,
 }
 
 #[cfg(unix)]
@@ -167,6 +171,7 @@ const FOLLOW_RESERVE: usize = if usize::BITS >= 64 {
 impl Following {
     /// Says that the text is not wanted any more: its reading ends at the next line.
     pub fn cancel(&self) {
+        self.0.cancelled.store(true, Relaxed);
         self.0.change(|state| state.abandoned = true);
     }
 
@@ -226,6 +231,26 @@ struct Growing {
 
 #[cfg(unix)]
 impl Growing {
+    /// The map's bytes `from..to` (published: within the file). Not through the map's whole
+    /// slice, which reaches past the file's end.
+    fn bytes(&self, from: usize, to: usize) -> &[u8] {
+        let to = to.min(self.map.len());
+        let from = from.min(to);
+        // SAFETY: `from..to` is within the map, and (published) within the file, whose
+        // bytes there are written and no longer change.
+        unsafe { std::slice::from_raw_parts(self.map.as_ptr().add(from), to - from) }
+    }
+
+    /// The bytes seen.
+    fn seen_bytes(&self) -> &[u8] {
+        self.bytes(0, self.seen.load(Relaxed))
+    }
+
+    /// Whether the reading was cancelled.
+    fn cancelled(&self) -> bool {
+        self.shared.cancelled.load(Relaxed)
+    }
+
     /// Waits for more of the text: whether some came (false once nothing more will).
     fn more(&self) -> bool {
         if self.ended.load(Relaxed) {
@@ -251,11 +276,11 @@ impl Growing {
             return false;
         }
         if len > seen {
-            if std::str::from_utf8(&self.map[seen..len]).is_err() {
+            if std::str::from_utf8(self.bytes(seen, len)).is_err() {
                 self.ended.store(true, Relaxed);
                 return false;
             }
-            self.seen.store(len, Relaxed);
+            self.seen.fetch_max(len, Relaxed);
         }
         if done {
             self.ended.store(true, Relaxed);
@@ -313,7 +338,7 @@ impl Text {
         match &self.0 {
             Repr::Owned(s) => s.as_bytes(),
             Repr::Mapped(m) => &m.map,
-            Repr::Growing(g) => &g.map[..g.seen.load(Relaxed)],
+            Repr::Growing(g) => g.seen_bytes(),
         }
     }
 
@@ -338,6 +363,15 @@ impl Text {
         false
     }
 
+    /// A text still being written whose reading was cancelled ([`Following::cancel`]).
+    fn cancelled(&self) -> bool {
+        #[cfg(unix)]
+        if let Repr::Growing(g) = &self.0 {
+            return g.cancelled();
+        }
+        false
+    }
+
     /// Waits until nothing more of the text will come ([`Text::grow`]).
     fn wait_end(&self) {
         while self.grow() {}
@@ -348,7 +382,7 @@ impl Text {
     pub fn is_complete(&self) -> bool {
         #[cfg(unix)]
         if let Repr::Growing(g) = &self.0 {
-            return g.complete.load(Relaxed);
+            return g.complete.load(Relaxed) && !g.cancelled();
         }
         true
     }
@@ -462,9 +496,7 @@ impl std::ops::Deref for Text {
             // SAFETY: what is seen was checked to be UTF-8 when published (whole lines, so
             // whole characters), and the file is only appended to past it.
             #[cfg(unix)]
-            Repr::Growing(g) => unsafe {
-                std::str::from_utf8_unchecked(&g.map[..g.seen.load(Relaxed)])
-            },
+            Repr::Growing(g) => unsafe { std::str::from_utf8_unchecked(g.seen_bytes()) },
         }
     }
 }
@@ -798,6 +830,9 @@ impl SourceFile {
                 // `LineStarts::of` counts: an empty text has one empty line, and a line end
                 // at the very end starts none.
                 None => loop {
+                    if self.text.cancelled() {
+                        return None;
+                    }
                     let rest = &self.text[offset..];
                     if memchr::memchr(b'\n', rest.as_bytes()).is_some() {
                         break;
@@ -1174,5 +1209,25 @@ mod tests {
         let b = czech.diagnostics(&whole, &profile, Default::default());
         assert!(!a.is_empty());
         assert_eq!(a, b);
+    }
+
+    /// A reading cancelled (its output refused) ends at once, even with every line
+    /// published, and is not complete: its answer never stands for the read-back's.
+    #[cfg(unix)]
+    #[test]
+    fn a_cancelled_reading_ends_and_is_incomplete() {
+        use std::io::Write as _;
+        let (follow, following) = follow();
+        let cancel = following.canceller();
+        let mut file = tempfile::tempfile().unwrap();
+        file.write_all(b"N10 X1\nN20 X2\n").unwrap();
+        follow.publish(&file, 14);
+        follow.finish();
+        let src = SourceFile::of_text("followed", following.text().unwrap());
+        let mut lines = src.lines();
+        assert_eq!(lines.next().map(|l| l.text), Some("N10 X1"));
+        cancel.cancel();
+        assert_eq!(lines.next().map(|l| l.text), None);
+        assert!(!src.text.is_complete());
     }
 }
