@@ -501,8 +501,9 @@ struct ReadBack<'scope>(std::marker::PhantomData<&'scope ()>);
 
 #[cfg(unix)]
 impl<'scope> ReadBack<'scope> {
-    /// Starts the read-back of `writer`'s output in a thread of `scope`; `None` when no
-    /// thread can be had (the writer then is not followed).
+    /// Starts the read-back of the output of `emit`'s writer in a thread of `scope`, and
+    /// has `emit` cancel it once the output is refused; `None` when no thread can be had
+    /// (the writer then is not followed).
     fn start<'s, 'env>(
         emit: &mut Emit<'s>,
         options: &'s ConvertOptions,
