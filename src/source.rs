@@ -123,17 +123,19 @@ impl std::fmt::Debug for Follow {
 impl Follow {
     /// The first `len` bytes of `file` are written: whole lines, the last one included.
     pub(crate) fn publish(&self, file: &std::fs::File, len: u64) {
-        let copy = match self.0.state.lock() {
-            Ok(state) if state.file.is_none() => Some(file.try_clone()),
-            _ => None,
-        };
-        self.0.change(|state| match copy {
-            Some(Err(_)) => state.abandoned = true,
-            Some(Ok(file)) => {
-                state.file = Some(file);
-                state.len = usize::try_from(len).unwrap_or(usize::MAX);
+        let len = usize::try_from(len).unwrap_or(usize::MAX);
+        self.0.change(|state| {
+            // The reader's own handle on the file, at the first spill.
+            if state.file.is_none() {
+                match file.try_clone() {
+                    Ok(copy) => state.file = Some(copy),
+                    Err(_) => {
+                        state.abandoned = true;
+                        return;
+                    }
+                }
             }
-            None => state.len = usize::try_from(len).unwrap_or(usize::MAX),
+            state.len = len;
         });
     }
 

@@ -514,13 +514,14 @@ impl Spool {
     /// the spool too (published as a spill is), which is then its end; what stays held.
     /// A spool that took nothing before (a short output), or fails now, lets its reader go.
     fn end_followed(&mut self, held: String) -> String {
-        let Some(follow) = self.follow.take() else {
-            return held;
-        };
-        if self.file.is_none() {
+        if self.follow.is_none() {
             return held;
         }
-        self.follow = Some(follow);
+        if self.file.is_none() {
+            self.follow = None;
+            return held;
+        }
+        // A failed write lets the reader go itself.
         if !held.is_empty() && !self.write(&held) {
             return held;
         }
