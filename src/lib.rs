@@ -735,6 +735,9 @@ enum WriterSide<'s, 'scope> {
 struct Worker<'s, 'scope> {
     batch: Vec<ir::Item>,
     jobs: std::sync::mpsc::SyncSender<Job>,
+    /// The batches the writer's thread has emptied, to be filled again (no allocation and
+    /// no fresh pages a batch).
+    emptied: std::sync::mpsc::Receiver<Vec<ir::Item>>,
     done: std::thread::ScopedJoinHandle<'scope, Option<Emit<'s>>>,
 }
 
@@ -760,6 +763,7 @@ impl<'s, 'scope> WriterSide<'s, 'scope> {
             return WriterSide::Here(emit);
         };
         let (jobs, queue) = std::sync::mpsc::sync_channel::<Job>(QUEUED);
+        let (give_back, emptied) = std::sync::mpsc::sync_channel::<Vec<ir::Item>>(QUEUED + 1);
         // The writer side is handed over once the thread runs, so that it stays here when
         // no thread can be had.
         let (start, started) = std::sync::mpsc::sync_channel::<Box<Emit<'s>>>(1);
@@ -769,7 +773,11 @@ impl<'s, 'scope> WriterSide<'s, 'scope> {
                 let mut emit = *started.recv().ok()?;
                 for job in queue {
                     match job {
-                        Job::Items(items) => items.iter().for_each(|item| emit.one(item)),
+                        Job::Items(mut items) => {
+                            items.drain(..).for_each(|item| emit.one_owned(item));
+                            // Dropped instead when the reading thread has enough.
+                            let _ = give_back.try_send(items);
+                        }
                         Job::LateFacts(facts, answer) => {
                             let _ = answer.send(emit.writer.late_facts(&facts));
                         }
@@ -785,6 +793,7 @@ impl<'s, 'scope> WriterSide<'s, 'scope> {
             Ok(()) => WriterSide::Worker(Worker {
                 batch: Vec::with_capacity(BATCH),
                 jobs,
+                emptied,
                 done,
             }),
             // The thread has ended already: the writer side stays here.
@@ -801,7 +810,7 @@ impl<'s, 'scope> WriterSide<'s, 'scope> {
 
     fn take(&mut self, item: ir::Item) {
         match self {
-            WriterSide::Here(emit) => emit.one(&item),
+            WriterSide::Here(emit) => emit.one_owned(item),
             WriterSide::Worker(w) => w.push(item),
         }
     }
@@ -848,7 +857,11 @@ impl Worker<'_, '_> {
 
     fn flush(&mut self) {
         if !self.batch.is_empty() {
-            let items = std::mem::replace(&mut self.batch, Vec::with_capacity(BATCH));
+            let next = self
+                .emptied
+                .try_recv()
+                .unwrap_or_else(|_| Vec::with_capacity(BATCH));
+            let items = std::mem::replace(&mut self.batch, next);
             // A writer's thread that has ended takes nothing (`finish` says why).
             let _ = self.jobs.send(Job::Items(items));
         }
@@ -893,6 +906,19 @@ impl<'s> Emit<'s> {
         self.rules.item(item);
         self.table.item(item);
         self.writer.item(item);
+        self.cancel_if_refused();
+    }
+
+    /// [`Self::one`] for an item the writer may keep.
+    fn one_owned(&mut self, item: ir::Item) {
+        self.rules.item(&item);
+        self.table.item(&item);
+        self.writer.take(item);
+        self.cancel_if_refused();
+    }
+
+    /// Stops the read-back beside the writer once the output is refused.
+    fn cancel_if_refused(&mut self) {
         #[cfg(unix)]
         if self.cancel.is_some()
             && (self.rules.errored() || self.table.errored() || self.writer.refuses())
@@ -905,10 +931,11 @@ impl<'s> Emit<'s> {
 
 impl dialect::ItemSink for Emit<'_> {
     fn item(&mut self, item: ir::Item) {
-        match lower::unrolled(&item, Some(self.to)) {
-            Some(moves) => moves.for_each(|m| self.one(&m)),
-            None => self.one(&item),
+        if let Some(moves) = lower::unrolled(&item, Some(self.to)) {
+            moves.for_each(|m| self.one(&m));
+            return;
         }
+        self.one_owned(item);
     }
 }
 

@@ -426,6 +426,11 @@ pub struct WriterView {
 /// does not hold the program). Items come unrolled ([`crate::lower::unrolled`]).
 pub trait ItemWriter {
     fn item(&mut self, item: &Item);
+    /// [`Self::item`] for an item the writer may keep (a writer that gathers a block's items
+    /// overrides it to keep them without a copy).
+    fn take(&mut self, item: Item) {
+        self.item(&item);
+    }
     /// The facts it was made with changed after its first item (a conversion that reads its
     /// program once): whether it took them, so that it now writes what a writer made with
     /// them would have written (by default not: the conversion lets it go and reads again).

@@ -73,11 +73,15 @@ impl Words {
         }
     }
 
-    fn extend(&mut self, other: Words) {
+    /// Appends `other`'s words: the buffer left over (empty), to be used again.
+    fn extend(&mut self, other: Words) -> Words {
         if self.0.is_empty() {
-            self.0 = other.0;
-        } else if !other.0.is_empty() {
-            self.next().push_str(&other.0);
+            Words(std::mem::replace(&mut self.0, other.0))
+        } else {
+            if !other.0.is_empty() {
+                self.next().push_str(&other.0);
+            }
+            other
         }
     }
 }
@@ -109,6 +113,8 @@ struct Emitter<'a> {
     round: bool,
     /// The R parameters it chose for leads.
     chosen: Vec<u32>,
+    /// Word buffers written out, to be used again (no allocation a block).
+    spare: Vec<String>,
 }
 
 /// The czech writer taking a program's items one at a time (a conversion's streaming read,
@@ -148,6 +154,7 @@ impl<'a> Items<'a> {
                 inexact: Inexact::default(),
                 round,
                 chosen: Vec::new(),
+                spare: Vec::new(),
             },
             reserved: facts.params.clone(),
             block: Vec::new(),
@@ -187,6 +194,10 @@ impl write::ItemWriter for Items<'_> {
     }
 
     fn item(&mut self, item: &Item) {
+        self.take(item.clone());
+    }
+
+    fn take(&mut self, item: Item) {
         // Items of one source block stay one block when the source is czech.
         let same = self
             .block
@@ -195,7 +206,7 @@ impl write::ItemWriter for Items<'_> {
         if !same {
             self.flush();
         }
-        self.block.push(item.clone());
+        self.block.push(item);
     }
 
     fn finish(mut self: Box<Self>) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
@@ -239,6 +250,20 @@ impl Emitter<'_> {
         self.w.error(code, item.span, message, help);
     }
 
+    /// An empty word buffer: one written out before, or a new one.
+    fn words(&mut self) -> Words {
+        Words(self.spare.pop().unwrap_or_default())
+    }
+
+    /// Keeps `words`' buffer to be used again.
+    fn recycle(&mut self, words: Words) {
+        let mut buffer = words.0;
+        if self.spare.len() < 4 && buffer.capacity() <= 1024 {
+            buffer.clear();
+            self.spare.push(buffer);
+        }
+    }
+
     fn write(&mut self, block: Block) {
         if self.pending_empty {
             self.pending_empty = false;
@@ -262,7 +287,8 @@ impl Emitter<'_> {
         let line = &mut self.w.out;
         let start = line.len();
         if let Some(n) = number {
-            let _ = write!(line, "N{n}");
+            line.push('N');
+            crate::fixed::push_whole(line, n.into());
             self.last_number = Some(n);
         }
         if !block.words.is_empty() {
@@ -278,6 +304,7 @@ impl Emitter<'_> {
             let _ = write!(line, "\"{}", one_line(&c));
         }
         line.push('\n');
+        self.recycle(block.words);
     }
 
     /// `v` with a decimal point and at most 3 decimals. A value that needs a 4th is rounded
@@ -338,7 +365,7 @@ impl Emitter<'_> {
 
     /// The axis words of a move to `to` (every axis after a J/E pass).
     fn axes(&mut self, item: &Item, to: Pos) -> Words {
-        let mut words = Words::default();
+        let mut words = self.words();
         let full = Pos {
             x: to.x.or(if self.all_axes { self.w.pos.x } else { None }),
             z: to.z.or(if self.all_axes { self.w.pos.z } else { None }),
@@ -397,7 +424,8 @@ impl Emitter<'_> {
             self.push_word(item, "feed F", 'F', feed, &mut words);
             self.f = Some((Lead::from_length(feed), false));
         }
-        block.words.extend(words);
+        let spare = block.words.extend(words);
+        self.recycle(spare);
         self.all_axes = false;
     }
 
@@ -485,8 +513,8 @@ impl Emitter<'_> {
     fn group(&mut self, items: &[Item], reserved: &[u32]) {
         let mut block = Block {
             number: items[0].block_number,
+            words: self.words(),
             comment: items[0].comment.as_deref().map(str::to_string),
-            ..Block::default()
         };
         for item in items {
             self.item(item, &mut block, reserved);
@@ -500,6 +528,8 @@ impl Emitter<'_> {
                 && !items.iter().all(|i| i.kind == ItemKind::Delimiter))
         {
             self.write(block);
+        } else {
+            self.recycle(block.words);
         }
     }
 
@@ -626,7 +656,8 @@ impl Emitter<'_> {
     fn rapid(&mut self, item: &Item, to: Pos, block: &mut Block) {
         let mut words = self.axes(item, to);
         self.motion_word("G00", &mut words);
-        block.words.extend(words);
+        let spare = block.words.extend(words);
+        self.recycle(spare);
         self.all_axes = false;
     }
 
@@ -639,7 +670,8 @@ impl Emitter<'_> {
             self.push_word(item, "feed F", 'F', feed, &mut words);
             self.f = Some((Lead::from_length(feed), false));
         }
-        block.words.extend(words);
+        let spare = block.words.extend(words);
+        self.recycle(spare);
         self.all_axes = false;
         true
     }
@@ -949,7 +981,8 @@ impl Emitter<'_> {
         if let Some(e) = pass.entry {
             self.push_word(item, "entry E", 'E', e.length, &mut words);
         }
-        block.words.extend(words);
+        let spare = block.words.extend(words);
+        self.recycle(spare);
         self.w.pos = pass.end_position(self.w.pos);
         self.in_cut = Some(self.w.pos);
         if pass.entry.is_some() || pass.exit.is_some() {

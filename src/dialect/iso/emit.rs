@@ -245,6 +245,27 @@ impl<'a> Items<'a> {
         }
     }
 
+    /// Writes the item held back, which `item` follows, the header first: whether `item` is
+    /// now the one held back (a delimiter or the header's comment before the header is not).
+    fn before(&mut self, item: &Item) -> bool {
+        if !self.started {
+            if item.kind == ItemKind::Delimiter {
+                return false;
+            }
+            if let ItemKind::Comment(c) = &item.kind
+                && c.ends_with(HEADER_END)
+            {
+                self.start(Some(c));
+                return false;
+            }
+            self.start(None);
+        }
+        if let Some(before) = self.pending.take() {
+            self.write(&before, Some(item));
+        }
+        true
+    }
+
     /// Writes `item`, which `next` follows.
     fn write(&mut self, item: &Item, next: Option<&Item>) {
         if self.skip_header_modes && item.kind == ItemKind::FeedMode(FeedMode::PerRev) {
@@ -288,21 +309,15 @@ impl write::ItemWriter for Items<'_> {
     }
 
     fn item(&mut self, item: &Item) {
-        if !self.started {
-            if item.kind == ItemKind::Delimiter {
-                return;
-            }
-            if let ItemKind::Comment(c) = &item.kind
-                && c.ends_with(HEADER_END)
-            {
-                return self.start(Some(c));
-            }
-            self.start(None);
+        if self.before(item) {
+            self.pending = Some(item.clone());
         }
-        if let Some(before) = self.pending.take() {
-            self.write(&before, Some(item));
+    }
+
+    fn take(&mut self, item: Item) {
+        if self.before(&item) {
+            self.pending = Some(item);
         }
-        self.pending = Some(item.clone());
     }
 
     fn finish(mut self: Box<Self>) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {

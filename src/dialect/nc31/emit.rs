@@ -118,6 +118,10 @@ impl write::ItemWriter for Items<'_> {
     }
 
     fn item(&mut self, item: &Item) {
+        self.take(item.clone());
+    }
+
+    fn take(&mut self, item: Item) {
         self.first.get_or_insert(item.span);
         let same = self.own
             && self
@@ -127,7 +131,7 @@ impl write::ItemWriter for Items<'_> {
         if !same {
             self.flush();
         }
-        self.block.push(item.clone());
+        self.block.push(item);
     }
 
     fn finish(mut self: Box<Self>) -> (Option<crate::dialect::Output>, Vec<Diagnostic>) {
