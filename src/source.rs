@@ -444,15 +444,6 @@ impl Text {
         }
     }
 
-    /// Whether the text is still being written ([`follow`]), or was.
-    fn is_growing(&self) -> bool {
-        #[cfg(unix)]
-        if let Repr::Growing(_) = &self.0 {
-            return true;
-        }
-        false
-    }
-
     /// Whether the text is mapped from a file rather than held in memory.
     pub fn is_mapped(&self) -> bool {
         !matches!(self.0, Repr::Owned(_))
@@ -787,20 +778,15 @@ impl SourceFile {
         SourceFile::of_text(name, Text::from(text.into()))
     }
 
-    /// The source of a text, in memory or mapped (its lines indexed a stretch at a time,
-    /// each let go of once indexed).
-    /// A text still being written ([`follow`]) is indexed only when a line is asked for by
-    /// number, once its end is known; its lines are read as they come ([`SourceFile::lines`]).
+    /// The source of a text, in memory or mapped. Its lines are indexed only when one is
+    /// asked for by number or their count is (a text still being written: once its end is
+    /// known), a stretch at a time, each let go of once indexed (a mapped text); a reader that
+    /// reads forward never waits for the index ([`SourceFile::lines`]).
     pub fn of_text(name: impl Into<String>, text: Text) -> SourceFile {
-        let line_starts = std::sync::OnceLock::new();
-        if !text.is_growing() {
-            let _ = line_starts.set(LineStarts::of(&text));
-            text.release(0);
-        }
         SourceFile {
             name: name.into(),
             text,
-            line_starts,
+            line_starts: std::sync::OnceLock::new(),
         }
     }
 
@@ -827,8 +813,9 @@ impl SourceFile {
             match count {
                 Some(count) if i >= count => return None,
                 Some(_) => {}
-                // A text still being written: up to the next line end, waiting for it; its
-                // last line (which may have none) once the text has ended. Counted as
+                // Not indexed (a text still being written, or not indexed yet): up to the
+                // next line end, waiting for it; its last line (which may have none) once the
+                // text has ended. Counted as
                 // `LineStarts::of` counts: an empty text has one empty line, and a line end
                 // at the very end starts none.
                 None => loop {
