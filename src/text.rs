@@ -451,6 +451,9 @@ fn encode_lines(
 pub enum Encoded {
     Bytes(Vec<u8>),
     File(std::fs::File),
+    /// A mapped text that encoding leaves as it is: written from its map, a stretch at a
+    /// time, without a copy in between.
+    Text(crate::source::Text),
 }
 
 impl Encoded {
@@ -463,6 +466,9 @@ impl Encoded {
                 f.rewind()?;
                 std::io::copy(f, to).map(drop)
             }
+            Encoded::Text(t) => t
+                .stretches(STRETCH)
+                .try_for_each(|s| to.write_all(s.as_bytes())),
         }
     }
 
@@ -486,6 +492,10 @@ impl Encoded {
                     }
                 }
             }
+            Encoded::Text(t) => {
+                t.stretches(STRETCH).for_each(|s| each(s.as_bytes()));
+                Ok(())
+            }
         }
     }
 
@@ -493,6 +503,7 @@ impl Encoded {
     pub fn into_bytes(mut self) -> std::io::Result<Vec<u8>> {
         match self {
             Encoded::Bytes(b) => Ok(b),
+            Encoded::Text(t) => Ok(t.into_string().into_bytes()),
             Encoded::File(_) => {
                 let mut bytes = Vec::new();
                 self.write_to(&mut bytes)?;
@@ -521,7 +532,21 @@ pub fn encode_output_owned(
     {
         return Ok(Encoded::Bytes(text.into_string().into_bytes()));
     }
+    if text.is_mapped() && unchanged(&text, &form) {
+        return Ok(Encoded::Text(text));
+    }
     encode_borrowed(&text, output_name, options, input, STRETCH)
+}
+
+/// Whether encoding `text` in `form` changes nothing: LF endings, no end-of-file mark to
+/// add, and ASCII or UTF-8 out (a mapped text looked at a stretch at a time).
+fn unchanged(text: &crate::source::Text, form: &Form) -> bool {
+    !form.crlf
+        && form.eof_mark.is_empty()
+        && text.stretches(STRETCH).all(|s| {
+            memchr::memchr(b'\r', s.as_bytes()).is_none()
+                && (form.encoding == TextEncoding::UTF_8 || s.is_ascii())
+        })
 }
 
 /// How much of a mapped output is encoded at a time.
