@@ -165,10 +165,16 @@ pub fn binary_evidence(body: &[u8]) -> Option<String> {
     if let Some(at) = memchr::memchr(0, body) {
         return Some(format!("it holds NUL bytes (the first at byte {at})"));
     }
-    let control = body
-        .iter()
-        .filter(|&&b| b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\r' | 0x0C))
-        .count();
+    // Counted in byte-wide lanes, 255 bytes at a time (so that a lane cannot overflow):
+    // a pass the compiler vectorises, at memory speed on a large program.
+    let control: usize = body
+        .chunks(255)
+        .map(|chunk| {
+            chunk.iter().fold(0u8, |n, &b| {
+                n + u8::from(b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\r' | 0x0C))
+            }) as usize
+        })
+        .sum();
     (control * 100 > body.len()).then(|| {
         format!(
             "{control} of its {} bytes are control characters",
