@@ -774,7 +774,12 @@ impl<'s, 'scope> WriterSide<'s, 'scope> {
                 for job in queue {
                     match job {
                         Job::Items(mut items) => {
-                            items.drain(..).for_each(|item| emit.one_owned(item));
+                            // Taken by reference and let go of together: items the
+                            // reading thread allocated, freed one at a time between the
+                            // writer's own allocations, kept the two threads waiting on
+                            // the allocator's lock (iso → siemens 1.7 → 2.6 s at 20 MB).
+                            items.iter().for_each(|item| emit.one(item));
+                            items.clear();
                             // Dropped instead when the reading thread has enough.
                             let _ = give_back.try_send(items);
                         }
