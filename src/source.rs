@@ -987,6 +987,9 @@ mod tests {
             let lines: Vec<&str> = src.lines().map(|l| l.text).collect();
             assert_eq!(lines, naive, "{text:?}");
             assert_eq!(src.line_count(), naive.len());
+            // Read again once indexed: the lines counted by the index, the same.
+            let lines: Vec<&str> = src.lines().map(|l| l.text).collect();
+            assert_eq!(lines, naive, "{text:?} (indexed)");
             // Each line asked for alone, backwards, then forwards (the remembered line).
             let n = naive.len() as u32;
             for number in (1..=n).rev().chain(1..=n) {
