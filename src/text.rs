@@ -899,6 +899,32 @@ mod tests {
                             let encoded = encoded.map_err(|d| (d.message, d.location));
                             assert_eq!(borrowed, encoded, "{what} stretch {stretch}");
                         }
+                        // Mapped and handed over (written from the map where encoding leaves
+                        // it as it is), written out twice, and a chunk at a time.
+                        #[cfg(unix)]
+                        {
+                            use std::io::Write as _;
+                            let mut file = tempfile::tempfile().expect("a temporary file");
+                            file.write_all(text.as_bytes()).expect("written");
+                            let mapped = crate::source::Text::mapped(file).expect("mapped");
+                            let handed = encode_output_owned(mapped, "o", &options, input);
+                            let handed = handed.map(|mut e| {
+                                let mut once = Vec::new();
+                                e.write_to(&mut once).expect("written");
+                                let mut chunks = Vec::new();
+                                e.each_chunk(&mut |c| chunks.extend_from_slice(c))
+                                    .expect("read");
+                                assert_eq!(once, chunks, "{what}");
+                                let whole = e.into_bytes().expect("read back");
+                                assert_eq!(once, whole, "{what}");
+                                whole
+                            });
+                            assert_eq!(
+                                borrowed,
+                                handed.map_err(|d| (d.message, d.location)),
+                                "{what} handed over"
+                            );
+                        }
                     }
                 }
             }

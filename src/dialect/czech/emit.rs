@@ -73,7 +73,8 @@ impl Words {
         }
     }
 
-    /// Appends `other`'s words: the buffer left over (empty), to be used again.
+    /// Appends `other`'s words: the buffer left over, to be cleared and used again
+    /// ([`Emitter::recycle`]).
     fn extend(&mut self, other: Words) -> Words {
         if self.0.is_empty() {
             Words(std::mem::replace(&mut self.0, other.0))
