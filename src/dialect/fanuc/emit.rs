@@ -470,12 +470,16 @@ impl Emitter<'_> {
     }
 
     fn write(&mut self, block: Block) {
-        let mut line = String::new();
+        // Written straight into the output (taken out meanwhile, as the words are mapped by
+        // `self`): `start` tells whether the line has a word yet.
+        let mut line = std::mem::take(&mut self.w.out);
+        let start = line.len();
         if let Some(n) = block.number.filter(|_| self.keep) {
-            let _ = write!(line, "N{n}");
+            line.push('N');
+            crate::fixed::push_whole(&mut line, n.into());
         }
         for (i, w) in block.words.iter().enumerate() {
-            if !line.is_empty() {
+            if line.len() > start {
                 line.push(' ');
             }
             if block.verbatim == Some(i) {
@@ -495,15 +499,15 @@ impl Emitter<'_> {
             })
             .filter(|c| !c.is_empty())
         {
-            if !line.is_empty() {
+            if line.len() > start {
                 line.push(' ');
             }
             let _ = write!(line, "({c})");
         }
-        if !line.is_empty() {
-            self.w.out.push_str(&line);
-            self.w.out.push('\n');
+        if line.len() > start {
+            line.push('\n');
         }
+        self.w.out = line;
     }
 
     /// A comment's text as the FANUC program has it, its transliteration counted.
@@ -562,12 +566,18 @@ impl Emitter<'_> {
     /// `v` with a decimal point and at most 3 decimals (rounded with `--round`, or counted
     /// for one error).
     fn three(&mut self, item: &Item, what: &str, v: Length) -> String {
+        let rounded = self.on_grid(item, what, v);
+        self.text(rounded)
+    }
+
+    /// `v` rounded onto the grid, a value off it noted.
+    fn on_grid(&mut self, item: &Item, what: &str, v: Length) -> Length {
         let grid = self.grid();
         let rounded = Length(crate::fixed::div_round(v.0 as i128, grid.0 as i128) as i64 * grid.0);
         if rounded != v {
             self.inexact.note(item.span, what, v, rounded, grid);
         }
-        self.text(rounded)
+        rounded
     }
 
     /// The least input increment of a length: 0.001 mm, or 0.0001 in.
@@ -598,14 +608,26 @@ impl Emitter<'_> {
 
     /// The axis words of a move to `to`.
     fn axes(&mut self, item: &Item, to: Pos) -> Vec<String> {
-        let mut words = Vec::new();
+        let mut words = Vec::with_capacity(2);
         if let Some(x) = to.x {
-            words.push(format!("X{}", self.three(item, "X", x)));
+            words.push(self.word('X', item, "X", x));
         }
         if let Some(z) = to.z {
-            words.push(format!("Z{}", self.three(item, "Z", z)));
+            words.push(self.word('Z', item, "Z", z));
         }
         words
+    }
+
+    /// `letter` and [`Emitter::three`]'s text of `v`, in one allocation.
+    fn word(&mut self, letter: char, item: &Item, what: &str, v: Length) -> String {
+        let mut word = String::with_capacity(12);
+        word.push(letter);
+        let rounded = self.on_grid(item, what, v);
+        match self.inch {
+            true => word.push_str(&self.text(rounded)),
+            false => rounded.push_mm_with_point(&mut word),
+        }
+        word
     }
 
     /// Starts a new block when this one moves already, then puts the motion word.
