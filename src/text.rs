@@ -419,12 +419,8 @@ fn encode_lines(
     options: &OutputOptions,
     form: &Form,
 ) -> Result<(), Box<Diagnostic>> {
-    // Where encoding changes nothing (LF endings, and ASCII or UTF-8 out), the bytes as
-    // they are.
-    if !form.crlf
-        && !text.contains('\r')
-        && (form.encoding == TextEncoding::UTF_8 || text.is_ascii())
-    {
+    // Where encoding changes nothing, the bytes as they are.
+    if form.leaves(text) {
         out.extend_from_slice(text.as_bytes());
         return Ok(());
     }
@@ -519,10 +515,11 @@ impl Encoded {
     }
 }
 
-/// [`encode_output`] of a text the caller is done with. Where encoding changes nothing (LF
-/// endings, no end-of-file mark to add, and ASCII or UTF-8 out) a text in memory is handed
-/// over without a copy, which for a large output is as much memory again; a mapped text is
-/// encoded a stretch of lines at a time into a temporary file, never held whole.
+/// [`encode_output`] of a text the caller is done with. Where encoding changes nothing (no
+/// end-of-file mark to add, and [`Form::leaves`] every stretch) the text is handed over
+/// without a copy: one in memory as its bytes (a copy would be as much memory again), a
+/// mapped one to be written from its map; else a mapped text is encoded a stretch of lines
+/// at a time into a temporary file, never held whole.
 pub fn encode_output_owned(
     text: crate::source::Text,
     output_name: &str,
@@ -530,29 +527,14 @@ pub fn encode_output_owned(
     input: &Input,
 ) -> Result<Encoded, Box<Diagnostic>> {
     let form = Form::of(options, input);
-    if !text.is_mapped()
-        && !form.crlf
-        && form.eof_mark.is_empty()
-        && !text.contains('\r')
-        && (form.encoding == TextEncoding::UTF_8 || text.is_ascii())
-    {
-        return Ok(Encoded::Bytes(text.into_string().into_bytes()));
-    }
-    if text.is_mapped() && unchanged(&text, &form) {
-        return Ok(Encoded::Text(text));
+    if form.eof_mark.is_empty() && text.stretches(STRETCH).all(|s| form.leaves(s)) {
+        return Ok(if text.is_mapped() {
+            Encoded::Text(text)
+        } else {
+            Encoded::Bytes(text.into_string().into_bytes())
+        });
     }
     encode_borrowed(&text, output_name, options, input, STRETCH)
-}
-
-/// Whether encoding `text` in `form` changes nothing: LF endings, no end-of-file mark to
-/// add, and ASCII or UTF-8 out (a mapped text looked at a stretch at a time).
-fn unchanged(text: &crate::source::Text, form: &Form) -> bool {
-    !form.crlf
-        && form.eof_mark.is_empty()
-        && text.stretches(STRETCH).all(|s| {
-            memchr::memchr(b'\r', s.as_bytes()).is_none()
-                && (form.encoding == TextEncoding::UTF_8 || s.is_ascii())
-        })
 }
 
 /// How much of a mapped output is encoded at a time.
@@ -618,6 +600,14 @@ struct Form<'a> {
 }
 
 impl<'a> Form<'a> {
+    /// Whether encoding `text` changes nothing but the end-of-file mark: LF endings (none
+    /// written as CRLF, no CR to drop), and UTF-8 out or `text` all ASCII.
+    fn leaves(&self, text: &str) -> bool {
+        !self.crlf
+            && memchr::memchr(b'\r', text.as_bytes()).is_none()
+            && (self.encoding == TextEncoding::UTF_8 || text.is_ascii())
+    }
+
     fn of(options: &OutputOptions, input: &'a Input) -> Form<'a> {
         let crlf = match options.eol {
             Eol::Keep => input.crlf,
