@@ -591,9 +591,16 @@ impl Emitter<'_> {
 
     /// A length on the grid, with a decimal point, in the program's unit.
     fn text(&self, v: Length) -> String {
+        let mut text = String::new();
+        self.push_text(v, &mut text);
+        text
+    }
+
+    /// [`Emitter::text`] appended to `out`.
+    fn push_text(&self, v: Length, out: &mut String) {
         match self.inch {
-            true => v.inches_with_point().unwrap_or_else(|| v.inches().0),
-            false => v.mm_with_point(),
+            true => out.push_str(&v.inches_with_point().unwrap_or_else(|| v.inches().0)),
+            false => v.push_mm_with_point(out),
         }
     }
 
@@ -623,10 +630,7 @@ impl Emitter<'_> {
         let mut word = String::with_capacity(12);
         word.push(letter);
         let rounded = self.on_grid(item, what, v);
-        match self.inch {
-            true => word.push_str(&self.text(rounded)),
-            false => rounded.push_mm_with_point(&mut word),
-        }
+        self.push_text(rounded, &mut word);
         word
     }
 
