@@ -56,6 +56,8 @@ enum Repr {
 #[cfg(unix)]
 struct Mapped {
     map: memmap2::Mmap,
+    /// The file mapped, whole ([`Text::file`]).
+    file: std::fs::File,
     /// The pages before this offset have been let go of (a multiple of [`RELEASE_ALIGN`]).
     released: std::sync::atomic::AtomicUsize,
 }
@@ -314,6 +316,7 @@ impl Text {
         let map = unsafe { memmap2::Mmap::map(&file)? };
         let text = Text(Repr::Mapped(Mapped {
             map,
+            file,
             released: std::sync::atomic::AtomicUsize::new(0),
         }));
         // Checked a stretch at a time, each let go of once checked.
@@ -381,6 +384,26 @@ impl Text {
 
     /// Whether the text is whole: true but for a text still being written whose writer has
     /// not finished (or which was abandoned before its end).
+    /// The file a mapped text is read from, when the text is every byte of it (a
+    /// conversion's own unnamed temporary file, for [`crate::files::link_into_place`]): a
+    /// second handle to it. `None` for a text in memory, or one not wholly written.
+    #[cfg(unix)]
+    pub fn file(&self) -> Option<std::fs::File> {
+        let file = match &self.0 {
+            Repr::Owned(_) => return None,
+            Repr::Mapped(m) => m.file.try_clone().ok()?,
+            Repr::Growing(g) => {
+                if !self.is_complete() {
+                    return None;
+                }
+                let state = g.shared.state.lock().ok()?;
+                state.file.as_ref()?.try_clone().ok()?
+            }
+        };
+        let whole = file.metadata().is_ok_and(|m| m.len() == self.len() as u64);
+        whole.then_some(file)
+    }
+
     pub fn is_complete(&self) -> bool {
         #[cfg(unix)]
         if let Repr::Growing(g) = &self.0 {

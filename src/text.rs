@@ -474,6 +474,17 @@ impl Encoded {
         }
     }
 
+    /// A handle to the file its bytes are, whole, when they are in one (a mapped text the
+    /// writer wrote, or the encoded copy): for [`crate::files::link_into_place`].
+    #[cfg(unix)]
+    pub fn file(&self) -> Option<std::fs::File> {
+        match self {
+            Encoded::Bytes(_) => None,
+            Encoded::File(f) => f.try_clone().ok(),
+            Encoded::Text(t) => t.file(),
+        }
+    }
+
     /// Its bytes a buffer at a time, each handed to `each`.
     pub fn each_chunk(&mut self, each: &mut dyn FnMut(&[u8])) -> std::io::Result<()> {
         match self {
@@ -570,14 +581,14 @@ fn encode_borrowed(
                 format!("{output_name} could not be encoded: its temporary file failed ({e})"),
             )
             .help(
-                "nothing is written; make room in the temporary folder (TMPDIR) and convert again",
+                "nothing is written; make room in the output's folder and the temporary folder (TMPDIR), and convert again",
             ),
         )
     };
     use std::io::Write as _;
     let form = Form::of(options, input);
     let mut file =
-        std::io::BufWriter::with_capacity(1 << 16, tempfile::tempfile().map_err(failed)?);
+        std::io::BufWriter::with_capacity(1 << 16, crate::files::spool_file().map_err(failed)?);
     let mut buffer = Vec::new();
     let mut line = 0;
     for stretch in text.stretches(stretch) {

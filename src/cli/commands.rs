@@ -24,6 +24,8 @@ pub(crate) fn convert(args: ConvertArgs) -> Result<ExitCode, Fatal> {
     let options = args
         .common
         .options(from, args.to.into(), profile, &args.target);
+    // A large output's temporary file beside the file it becomes, which it then becomes.
+    ncthread::files::spool_beside(args.output.as_deref().filter(|_| !is_stdio(&args.output)));
     let mut conversion = ncthread::convert(&src, &options);
     let bytes = conversion.output.take().map(|output| {
         let name = args

@@ -179,11 +179,20 @@ pub(crate) fn write_output(path: &Option<PathBuf>, bytes: &[u8]) -> Result<(), F
     write_with(path, |to| to.write_all(bytes))
 }
 
-/// [`write_output`] of an encoded output, which a large output holds in a temporary file.
+/// [`write_output`] of an encoded output, which a large output holds in a temporary file:
+/// made in the output's folder ([`ncthread::files::spool_beside`]), that file is linked
+/// into place rather than copied where it can be.
 pub(crate) fn write_encoded(
     path: &Option<PathBuf>,
     mut encoded: ncthread::text::Encoded,
 ) -> Result<(), Fatal> {
+    #[cfg(unix)]
+    if let Some(to) = path.as_ref().filter(|_| !is_stdio(path))
+        && let Some(file) = encoded.file()
+        && ncthread::files::link_into_place(&file, to).map_err(|e| not_written(e, to))?
+    {
+        return Ok(());
+    }
     write_with(path, |to| encoded.write_to(to))
 }
 
@@ -212,12 +221,17 @@ fn write_with(
             parent.display()
         )));
     }
-    ncthread::files::write_atomically_with(path, true, None, fill).map_err(|e| match e {
+    ncthread::files::write_atomically_with(path, true, None, fill).map_err(|e| not_written(e, path))
+}
+
+/// Why `path` was not written, as the command's usage error.
+fn not_written(e: ncthread::files::WriteError, path: &std::path::Path) -> Fatal {
+    match e {
         ncthread::files::WriteError::Failed(why) | ncthread::files::WriteError::Fatal(why) => {
             Fatal::Usage(why)
         }
         ncthread::files::WriteError::Exists => Fatal::Usage(format!("{} exists", path.display())),
-    })
+    }
 }
 
 impl StdinArgs {

@@ -481,7 +481,7 @@ impl Spool {
             return false;
         }
         if self.file.is_none() {
-            match tempfile::tempfile() {
+            match crate::files::spool_file() {
                 Ok(f) => self.file = Some(f),
                 Err(_) => {
                     self.off = true;
