@@ -413,30 +413,40 @@ pub fn write_atomically_with(
 /// folder of the file the output goes to ([`spool_beside`]).
 static SPOOL_FOLDER: std::sync::Mutex<Option<PathBuf>> = std::sync::Mutex::new(None);
 
-/// Has the temporary files of the outputs made from now on (in this process) made beside
-/// `file` (`None`: in the system's temporary folder, the default), so that an output that
-/// encoding leaves as it is becomes `file` by a link and a rename rather than a copy
-/// ([`link_into_place`], issue 34): on Linux, where the folder's filesystem makes unnamed
-/// files (`O_TMPFILE`; a network share does not); elsewhere, and where it cannot, the system's
-/// temporary folder as before. The file is unnamed either way: nothing is left if the
-/// process stops.
-pub fn spool_beside(file: Option<&Path>) {
-    let folder = file.map(|f| match f.parent() {
+/// The spools [`spool_file`] made beside a file, by device and inode, with their folder:
+/// only these are linked into place ([`link_into_place`]).
+#[cfg(target_os = "linux")]
+static BESIDE: std::sync::Mutex<Vec<(u64, u64, PathBuf)>> = std::sync::Mutex::new(Vec::new());
+
+/// The folder of `file` (`.` for a bare name).
+fn folder_of(file: &Path) -> PathBuf {
+    match file.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
-    });
+    }
+}
+
+/// Has the temporary files of the outputs made from now on in this process (until it is
+/// called again) made beside `file` (`None`: in the system's temporary folder, the default),
+/// so that an output becomes `file` by a link and a rename rather than a copy
+/// ([`crate::text::Encoded::link_into_place`], issue 34): on Linux, where the folder's
+/// filesystem makes unnamed files (`O_TMPFILE`; a network share does not); elsewhere, and
+/// where it cannot, in the system's temporary folder as before. The file is unnamed either
+/// way: nothing is left if the process stops. The CLI's `convert -o FILE` sets it; `batch`,
+/// whose outputs go to many folders at once, does not.
+pub fn spool_beside(file: Option<&Path>) {
     if let Ok(mut set) = SPOOL_FOLDER.lock() {
-        *set = folder;
+        *set = file.map(folder_of);
     }
 }
 
 /// An unnamed temporary file for a writer's text: in the folder [`spool_beside`] set (Linux,
-/// `O_TMPFILE`, made as a written file is: `0o666` less the umask), else in the system's
-/// temporary folder.
+/// `O_TMPFILE` with mode 0o666, so that the umask or the folder's default ACL gives it the
+/// mode, group and label a file written there gets), else in the system's temporary folder.
 pub(crate) fn spool_file() -> std::io::Result<std::fs::File> {
     #[cfg(target_os = "linux")]
     {
-        use std::os::unix::fs::OpenOptionsExt as _;
+        use std::os::unix::fs::{MetadataExt as _, OpenOptionsExt as _};
         let folder = SPOOL_FOLDER.lock().ok().and_then(|f| f.clone());
         if let Some(folder) = folder
             && let Ok(file) = std::fs::OpenOptions::new()
@@ -445,57 +455,47 @@ pub(crate) fn spool_file() -> std::io::Result<std::fs::File> {
                 .mode(0o666)
                 .custom_flags(libc::O_TMPFILE)
                 .open(&folder)
+            && let Ok(meta) = file.metadata()
+            && let Ok(mut beside) = BESIDE.lock()
         {
+            beside.push((meta.dev(), meta.ino(), folder));
             return Ok(file);
         }
     }
     tempfile::tempfile()
 }
 
-/// Makes `file` — an unnamed file, whole (made by [`spool_file`] in `path`'s folder) — the
-/// file at `path`, replacing it: linked under a temporary name beside it, given a written
-/// file's mode, and renamed into place as [`write_atomically_with`] renames the copy it
-/// writes. `Ok(false)` when it cannot be (a file with a name, another filesystem, no `/proc`,
-/// not Linux): the caller copies it then.
+/// Makes `file` — a whole spool that [`spool_file`] made in `path`'s folder, still unnamed —
+/// the file at `path`, replacing it: linked under a temporary name beside it (`linkat`
+/// through `/proc/self/fd`, the `open(2)` recipe for `O_TMPFILE`) and renamed into place, as
+/// [`write_atomically_with`] renames the copy it writes. `Ok(false)`, and nothing done, for
+/// any other file (made elsewhere, or with a name) or where it cannot be linked (no `/proc`,
+/// not Linux): the caller copies it then. A failed rename is an error, as it is for a copy.
 #[cfg(target_os = "linux")]
-pub fn link_into_place(file: &std::fs::File, path: &Path) -> Result<bool, WriteError> {
+pub(crate) fn link_into_place(file: &std::fs::File, path: &Path) -> Result<bool, WriteError> {
     use std::os::unix::ffi::OsStrExt as _;
     use std::os::unix::fs::MetadataExt as _;
     use std::os::unix::io::AsRawFd as _;
-    let parent = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
+    let folder = folder_of(path);
+    let Ok(meta) = file.metadata() else {
+        return Ok(false);
     };
-    // Only an unnamed file: a named one would be given a second name, not moved.
-    if file.metadata().map_or(true, |m| m.nlink() != 0) {
+    // Only an unnamed spool made in this folder: a named file would get a second name, and
+    // one made elsewhere (the system's temporary folder) has that folder's mode and group.
+    let made_here = BESIDE.lock().is_ok_and(|beside| {
+        beside
+            .iter()
+            .any(|(dev, ino, f)| (*dev, *ino) == (meta.dev(), meta.ino()) && *f == folder)
+    });
+    if !made_here || meta.nlink() != 0 {
         return Ok(false);
     }
     let Ok(from) = std::ffi::CString::new(format!("/proc/self/fd/{}", file.as_raw_fd())) else {
         return Ok(false);
     };
-    // The mode a written file has (a spool made in the system's temporary folder has
-    // 0o600), without changing the umask to learn it.
-    let Some(umask) = std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|status| {
-            let line = status.lines().find(|l| l.starts_with("Umask:"))?;
-            u32::from_str_radix(line["Umask:".len()..].trim(), 8).ok()
-        })
-    else {
-        return Ok(false);
-    };
-    {
-        use std::os::unix::fs::PermissionsExt as _;
-        if file
-            .set_permissions(std::fs::Permissions::from_mode(0o666 & !umask))
-            .is_err()
-        {
-            return Ok(false);
-        }
-    }
     let linked = tempfile::Builder::new()
         .prefix(".ncthread-")
-        .make_in(parent, |name| {
+        .make_in(&folder, |name| {
             let to = std::ffi::CString::new(name.as_os_str().as_bytes())
                 .map_err(|_| std::io::Error::from(std::io::ErrorKind::InvalidInput))?;
             // SAFETY: two NUL-terminated paths that live through the call.
@@ -517,6 +517,9 @@ pub fn link_into_place(file: &std::fs::File, path: &Path) -> Result<bool, WriteE
     let Ok(linked) = linked else {
         return Ok(false);
     };
+    if let Ok(mut beside) = BESIDE.lock() {
+        beside.retain(|(dev, ino, _)| (*dev, *ino) != (meta.dev(), meta.ino()));
+    }
     linked
         .persist(path)
         .map(|_| true)
@@ -525,7 +528,7 @@ pub fn link_into_place(file: &std::fs::File, path: &Path) -> Result<bool, WriteE
 
 /// [`link_into_place`] where there is no `O_TMPFILE`: never (the caller copies).
 #[cfg(not(target_os = "linux"))]
-pub fn link_into_place(_file: &std::fs::File, _path: &Path) -> Result<bool, WriteError> {
+pub(crate) fn link_into_place(_file: &std::fs::File, _path: &Path) -> Result<bool, WriteError> {
     Ok(false)
 }
 
@@ -533,10 +536,10 @@ pub fn link_into_place(_file: &std::fs::File, _path: &Path) -> Result<bool, Writ
 mod tests {
     use super::*;
 
-    /// A spool made beside a file becomes that file by [`link_into_place`], replacing it, with
-    /// a written file's mode (0o666 less the umask, as [`write_atomically_with`] makes it);
-    /// one made in the system's temporary folder (0o600) takes that mode too. Nothing else is
-    /// left in the folder.
+    /// A spool made beside a file becomes that file by [`link_into_place`], replacing it,
+    /// with the mode a written file gets there; no other file is linked (one made in another
+    /// folder, or not by [`spool_file`], or with a name), and nothing else is left in the
+    /// folder.
     #[cfg(target_os = "linux")]
     #[test]
     fn a_spool_is_linked_into_place() {
@@ -548,26 +551,30 @@ mod tests {
         let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
         let target = dir.path().join("out.ngc");
         std::fs::write(&target, "older").unwrap();
+        let elsewhere = tempfile::tempdir().unwrap();
+        spool_beside(Some(&elsewhere.path().join("x.ngc")));
+        let mut made_elsewhere = spool_file().unwrap();
         spool_beside(Some(&target));
-        let beside = spool_file().unwrap();
+        let mut beside = spool_file().unwrap();
         spool_beside(None);
-        let elsewhere = tempfile::tempfile_in(dir.path()).unwrap();
-        for (mut file, text) in [(beside, "G0 X1\n"), (elsewhere, "G0 X2\n")] {
-            file.write_all(text.as_bytes()).unwrap();
-            assert!(link_into_place(&file, &target).unwrap());
-            assert_eq!(std::fs::read_to_string(&target).unwrap(), text);
-            assert_eq!(mode(&target), mode(&written));
+        let mut not_a_spool = tempfile::tempfile_in(dir.path()).unwrap();
+        for other in [&mut made_elsewhere, &mut not_a_spool] {
+            other.write_all(b"G0 X2\n").unwrap();
+            assert!(!link_into_place(other, &target).unwrap());
         }
+        let named = std::fs::File::open(&written).unwrap();
+        assert!(!link_into_place(&named, &target).unwrap());
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "older");
+        beside.write_all(b"G0 X1\n").unwrap();
+        assert!(link_into_place(&beside, &target).unwrap());
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "G0 X1\n");
+        assert_eq!(mode(&target), mode(&written));
         let mut names: Vec<_> = std::fs::read_dir(dir.path())
             .unwrap()
             .map(|e| e.unwrap().file_name().into_string().unwrap())
             .collect();
         names.sort();
         assert_eq!(names, ["out.ngc", "written.ngc"]);
-        // A file with a name is never linked (the caller copies it).
-        let named = std::fs::File::open(&written).unwrap();
-        assert!(!link_into_place(&named, &dir.path().join("other.ngc")).unwrap());
-        assert!(!dir.path().join("other.ngc").exists());
     }
 
     #[test]

@@ -382,13 +382,12 @@ impl Text {
         while self.grow() {}
     }
 
-    /// Whether the text is whole: true but for a text still being written whose writer has
-    /// not finished (or which was abandoned before its end).
     /// The file a mapped text is read from, when the text is every byte of it (a
     /// conversion's own unnamed temporary file, for [`crate::files::link_into_place`]): a
-    /// second handle to it. `None` for a text in memory, or one not wholly written.
+    /// second handle to it, which never leaves the library (a write through it would change
+    /// the `str` the map is read as). `None` for a text in memory, or one not wholly written.
     #[cfg(unix)]
-    pub fn file(&self) -> Option<std::fs::File> {
+    pub(crate) fn file(&self) -> Option<std::fs::File> {
         let file = match &self.0 {
             Repr::Owned(_) => return None,
             Repr::Mapped(m) => m.file.try_clone().ok()?,
@@ -404,6 +403,8 @@ impl Text {
         whole.then_some(file)
     }
 
+    /// Whether the text is whole: true but for a text still being written whose writer has
+    /// not finished (or which was abandoned before its end).
     pub fn is_complete(&self) -> bool {
         #[cfg(unix)]
         if let Repr::Growing(g) = &self.0 {

@@ -474,14 +474,25 @@ impl Encoded {
         }
     }
 
-    /// A handle to the file its bytes are, whole, when they are in one (a mapped text the
-    /// writer wrote, or the encoded copy): for [`crate::files::link_into_place`].
-    #[cfg(unix)]
-    pub fn file(&self) -> Option<std::fs::File> {
-        match self {
+    /// Makes its bytes the file at `path` without a copy, where they are a whole temporary
+    /// file made beside `path` ([`crate::files::spool_beside`]): see
+    /// [`crate::files::link_into_place`]. `Ok(false)` when they are not (bytes in memory, a
+    /// file made elsewhere, not Linux): the caller writes them ([`Encoded::write_to`]).
+    pub fn link_into_place(
+        &self,
+        path: &std::path::Path,
+    ) -> Result<bool, crate::files::WriteError> {
+        #[cfg(unix)]
+        let file = match self {
             Encoded::Bytes(_) => None,
             Encoded::File(f) => f.try_clone().ok(),
             Encoded::Text(t) => t.file(),
+        };
+        #[cfg(not(unix))]
+        let file: Option<std::fs::File> = None;
+        match file {
+            Some(file) => crate::files::link_into_place(&file, path),
+            None => Ok(false),
         }
     }
 

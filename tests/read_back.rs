@@ -230,3 +230,50 @@ fn a_large_program_converts_with_its_writer_in_a_thread_as_the_whole_program_doe
         }
     }
 }
+
+/// With the outputs' temporary files made beside the destination (`files::spool_beside`, as
+/// `convert -o` has it), a large conversion's output, encoded as it is (LF) or changed (CRLF),
+/// becomes the destination by a link (`Encoded::link_into_place` answers true) with the bytes
+/// a copy writes; made in the system's temporary folder, it is not linked. Linux only.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_large_output_made_beside_its_destination_is_linked_into_place() {
+    use ncthread::text::{Encoded, Eol, Input, OutputOptions, encode_output_owned};
+    let mut program = String::from("N10 G95 M03 S800 T1 D1\n");
+    let mut n = 20;
+    while program.len() < 3 << 20 {
+        for line in ["G00 X34. Z2.", "G01 Z-40. F0.25", "G00 X40."] {
+            program.push_str(&format!("N{n} {line}\n"));
+            n += 10;
+        }
+    }
+    program.push_str(&format!("N{n} M30\n"));
+    let src = SourceFile::new("big.nc", program.as_str());
+    let czech = dialect::by_id("czech").unwrap().id();
+    let options = ncthread::ConvertOptions::new(czech, dialect::by_id("iso").unwrap().id());
+    let input = Input::default();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("big.ngc");
+    let encoded = |eol: Eol| -> Encoded {
+        let output = ncthread::convert(&src, &options).output.expect("converts");
+        let form = OutputOptions {
+            eol,
+            ..OutputOptions::default()
+        };
+        encode_output_owned(output, "big.ngc", &form, &input).expect("encodes")
+    };
+    for eol in [Eol::Lf, Eol::CrLf] {
+        let mut copy = Vec::new();
+        encoded(eol).write_to(&mut copy).unwrap();
+        assert!(copy.len() > 1 << 20);
+        assert!(
+            !encoded(eol).link_into_place(&path).unwrap(),
+            "made in TMPDIR"
+        );
+        ncthread::files::spool_beside(Some(&path));
+        let beside = encoded(eol);
+        ncthread::files::spool_beside(None);
+        assert!(beside.link_into_place(&path).unwrap(), "{eol:?}");
+        assert!(std::fs::read(&path).unwrap() == copy, "{eol:?}");
+    }
+}

@@ -186,10 +186,10 @@ pub(crate) fn write_encoded(
     path: &Option<PathBuf>,
     mut encoded: ncthread::text::Encoded,
 ) -> Result<(), Fatal> {
-    #[cfg(unix)]
     if let Some(to) = path.as_ref().filter(|_| !is_stdio(path))
-        && let Some(file) = encoded.file()
-        && ncthread::files::link_into_place(&file, to).map_err(|e| not_written(e, to))?
+        && encoded
+            .link_into_place(to)
+            .map_err(|e| not_written(e, to))?
     {
         return Ok(());
     }
