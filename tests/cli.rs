@@ -1225,30 +1225,12 @@ fn a_full_stdout_is_exit_2() {
 fn a_large_output_becomes_its_file_without_a_copy() {
     use std::os::unix::fs::PermissionsExt as _;
     let dir = tempfile::tempdir().unwrap();
-    let mut program = String::from("N10 G95 M03 S800 T1 D1\n");
-    let mut n = 20;
-    while program.len() < 3 << 20 {
-        for line in ["G00 X34. Z2.", "G01 Z-40. F0.25", "G00 X40."] {
-            program.push_str(&format!("N{n} {line}\n"));
-            n += 10;
-        }
-    }
-    program.push_str(&format!("N{n} M30\n"));
     let source = dir.path().join("big.nc");
-    std::fs::write(&source, &program).unwrap();
+    std::fs::write(&source, common::large_czech_program(3 << 20)).unwrap();
+    let source = source.to_str().unwrap();
     let out = dir.path().join("out");
     std::fs::create_dir(&out).unwrap();
-    let stdout = ncthread(
-        &[
-            "convert",
-            source.to_str().unwrap(),
-            "--from",
-            "czech",
-            "--to",
-            "iso",
-        ],
-        None,
-    );
+    let stdout = czech_to_iso(&[source], None);
     assert_eq!(stdout.status.code(), Some(0), "{}", text(&stdout.stderr));
     assert!(stdout.stdout.len() > 1 << 20);
     let small = out.join("small.ngc");
@@ -1265,34 +1247,18 @@ fn a_large_output_becomes_its_file_without_a_copy() {
     let mode = |p: &std::path::Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
     let big = out.join("big.ngc");
     std::fs::write(&big, "an older file\n").unwrap();
-    for (format, expected) in [
-        (None, stdout.stdout.clone()),
-        (
-            Some("crlf"),
-            stdout.stdout.iter().fold(Vec::new(), |mut v, &b| {
-                if b == b'\n' {
-                    v.push(b'\r');
-                }
-                v.push(b);
-                v
-            }),
-        ),
-    ] {
-        let mut args = vec![
-            "convert",
-            source.to_str().unwrap(),
-            "--from",
-            "czech",
-            "--to",
-            "iso",
-        ];
-        args.extend(["-o", big.to_str().unwrap()]);
-        if let Some(f) = format {
-            args.extend(["--eol", f]);
+    let crlf = stdout.stdout.iter().fold(Vec::new(), |mut v, &b| {
+        if b == b'\n' {
+            v.push(b'\r');
         }
-        let run = ncthread(&args, None);
+        v.push(b);
+        v
+    });
+    for (eol, expected) in [("keep", stdout.stdout.clone()), ("crlf", crlf)] {
+        let args = [source, "-o", big.to_str().unwrap(), "--eol", eol];
+        let run = czech_to_iso(&args, None);
         assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
-        assert!(std::fs::read(&big).unwrap() == expected, "{format:?}");
+        assert!(std::fs::read(&big).unwrap() == expected, "{eol}");
         assert_eq!(mode(&big), mode(&small));
         let mut names: Vec<_> = std::fs::read_dir(&out)
             .unwrap()

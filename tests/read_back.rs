@@ -239,15 +239,7 @@ fn a_large_program_converts_with_its_writer_in_a_thread_as_the_whole_program_doe
 #[test]
 fn a_large_output_made_beside_its_destination_is_linked_into_place() {
     use ncthread::text::{Encoded, Eol, Input, OutputOptions, encode_output_owned};
-    let mut program = String::from("N10 G95 M03 S800 T1 D1\n");
-    let mut n = 20;
-    while program.len() < 3 << 20 {
-        for line in ["G00 X34. Z2.", "G01 Z-40. F0.25", "G00 X40."] {
-            program.push_str(&format!("N{n} {line}\n"));
-            n += 10;
-        }
-    }
-    program.push_str(&format!("N{n} M30\n"));
+    let program = common::large_czech_program(3 << 20);
     let src = SourceFile::new("big.nc", program.as_str());
     let czech = dialect::by_id("czech").unwrap().id();
     let options = ncthread::ConvertOptions::new(czech, dialect::by_id("iso").unwrap().id());

@@ -313,6 +313,21 @@ pub fn ncthread(args: &[&str], stdin: Option<&[u8]>) -> std::process::Output {
     child.wait_with_output().unwrap()
 }
 
+/// A czech program of at least `bytes` bytes (a rapid, a cut and a retract over and over):
+/// past the 1 MiB where a conversion spools its output and runs its writer in a thread.
+pub fn large_czech_program(bytes: usize) -> String {
+    let mut program = String::from("N10 G95 M03 S800 T1 D1\n");
+    let mut n = 20;
+    while program.len() < bytes {
+        for line in ["G00 X34. Z2.", "G01 Z-40. F0.25", "G00 X40."] {
+            program.push_str(&format!("N{n} {line}\n"));
+            n += 10;
+        }
+    }
+    program.push_str(&format!("N{n} M30\n"));
+    program
+}
+
 pub fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
