@@ -223,7 +223,9 @@ impl FrontEnd<'_> {
         } else {
             block
         };
-        let mut words = self.sort_words(line, block)?;
+        // Filled in place: returned, the struct (some 400 bytes) was copied twice a line.
+        let mut words = Words::default();
+        self.sort_words(line, block, &mut words)?;
         if words.refused_by_name {
             return None;
         }
@@ -588,13 +590,17 @@ impl FrontEnd<'_> {
     /// Sorts the block's words by group: G and M codes into their groups (or among the
     /// unsupported), the address letters kept in order. G76 is refused here, by name. `None`
     /// when an M code is not a whole number (said).
-    fn sort_words<'w>(&mut self, line: Line<'_>, block: &'w Block) -> Option<Words<'w>> {
-        let mut words = Words::default();
+    fn sort_words<'w>(
+        &mut self,
+        line: Line<'_>,
+        block: &'w Block,
+        words: &mut Words<'w>,
+    ) -> Option<()> {
         for w in &block.words {
             let text = &line.text[w.range.clone()];
             match w.letter {
-                'G' => self.sort_g(line, w, &mut words),
-                'M' => self.sort_m(line, w, &mut words)?,
+                'G' => self.sort_g(line, w, words),
+                'M' => self.sort_m(line, w, words)?,
                 'X' | 'Z' | 'U' | 'W' | 'I' | 'K' | 'R' | 'F' | 'S' | 'T' | 'P' | 'Q' | 'O'
                 | 'D' | 'A' | 'C' => {
                     if words.present & letter_bit(w.letter) != 0 {
@@ -613,7 +619,7 @@ impl FrontEnd<'_> {
                 )),
             }
         }
-        Some(words)
+        Some(())
     }
 
     /// A G word into its modal group, or among the unsupported; G76 refused by name.
