@@ -367,10 +367,7 @@ pub fn write_atomically_with(
     fill: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<()>,
 ) -> Result<(), WriteError> {
     use std::io::Write as _;
-    let parent = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
+    let parent = folder_of(path);
     // The source tree is checked before any folder is made.
     if let Some(guard) = guard {
         match resolve(parent) {
@@ -419,12 +416,16 @@ static SPOOL_FOLDER: std::sync::Mutex<Option<PathBuf>> = std::sync::Mutex::new(N
 static BESIDE: std::sync::Mutex<Vec<(u64, u64, PathBuf)>> = std::sync::Mutex::new(Vec::new());
 
 /// The folder of `file` (`.` for a bare name).
-fn folder_of(file: &Path) -> PathBuf {
+fn folder_of(file: &Path) -> &Path {
     match file.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
     }
 }
+
+/// The help of a refusal for a temporary file that failed (a full disk): where room is
+/// needed.
+pub(crate) const MAKE_ROOM: &str = "nothing is written; make room in the output's folder and the temporary folder (TMPDIR), and convert again";
 
 /// Has the temporary files of the outputs made from now on in this process (until it is
 /// called again) made beside `file` (`None`: in the system's temporary folder, the default),
@@ -436,7 +437,7 @@ fn folder_of(file: &Path) -> PathBuf {
 /// whose outputs go to many folders at once, does not.
 pub fn spool_beside(file: Option<&Path>) {
     if let Ok(mut set) = SPOOL_FOLDER.lock() {
-        *set = file.map(folder_of);
+        *set = file.map(|f| folder_of(f).to_path_buf());
     }
 }
 
@@ -485,7 +486,7 @@ pub(crate) fn link_into_place(file: &std::fs::File, path: &Path) -> Result<bool,
     let made_here = BESIDE.lock().is_ok_and(|beside| {
         beside
             .iter()
-            .any(|(dev, ino, f)| (*dev, *ino) == (meta.dev(), meta.ino()) && *f == folder)
+            .any(|(dev, ino, f)| (*dev, *ino) == (meta.dev(), meta.ino()) && f == folder)
     });
     if !made_here || meta.nlink() != 0 {
         return Ok(false);
@@ -495,7 +496,7 @@ pub(crate) fn link_into_place(file: &std::fs::File, path: &Path) -> Result<bool,
     };
     let linked = tempfile::Builder::new()
         .prefix(".ncthread-")
-        .make_in(&folder, |name| {
+        .make_in(folder, |name| {
             let to = std::ffi::CString::new(name.as_os_str().as_bytes())
                 .map_err(|_| std::io::Error::from(std::io::ErrorKind::InvalidInput))?;
             // SAFETY: two NUL-terminated paths that live through the call.

@@ -200,7 +200,7 @@ fn held(
                         options.to
                     ),
                 )
-                .help("nothing is written; make room in the output's folder and the temporary folder (TMPDIR), and convert again"),
+                .help(crate::files::MAKE_ROOM),
             )
         })
         .ok()

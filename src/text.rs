@@ -591,9 +591,7 @@ fn encode_borrowed(
                 codes::OUTPUT_UNREADABLE,
                 format!("{output_name} could not be encoded: its temporary file failed ({e})"),
             )
-            .help(
-                "nothing is written; make room in the output's folder and the temporary folder (TMPDIR), and convert again",
-            ),
+            .help(crate::files::MAKE_ROOM),
         )
     };
     use std::io::Write as _;
