@@ -156,8 +156,11 @@ fn read_fast(line: &str, block: &mut Block) -> Option<()> {
 /// The length of the quote that opens a comment at the cursor, if one does.
 fn comment_quote(c: &Cursor<'_>) -> Option<usize> {
     let rest = c.rest();
-    if rest.starts_with('"') {
-        return Some(1);
+    // Each typographic quote starts with the byte 0xE2: most words need one look.
+    match rest.as_bytes().first() {
+        Some(b'"') => return Some(1),
+        Some(0xE2) => {}
+        _ => return None,
     }
     QUOTES
         .iter()
