@@ -279,18 +279,29 @@ impl Growing {
             self.ended.store(true, Relaxed);
             return false;
         }
+        // Checked a stretch at a time: a reader far behind its writer does not touch the
+        // pages ahead of it (which it would hold until it passes them).
+        let mut checked = seen;
         if len > seen {
-            if std::str::from_utf8(self.bytes(seen, len)).is_err() {
-                self.ended.store(true, Relaxed);
-                return false;
-            }
-            self.seen.fetch_max(len, Relaxed);
+            let to = len.min(seen.saturating_add(READ_LAG));
+            checked = match std::str::from_utf8(self.bytes(seen, to)) {
+                Ok(_) => to,
+                // A character cut by the stretch's end: checked from its start with the next.
+                Err(e) if e.error_len().is_none() && to < len && e.valid_up_to() > 0 => {
+                    seen + e.valid_up_to()
+                }
+                Err(_) => {
+                    self.ended.store(true, Relaxed);
+                    return false;
+                }
+            };
+            self.seen.fetch_max(checked, Relaxed);
         }
-        if done {
+        if done && checked >= len {
             self.ended.store(true, Relaxed);
             self.complete.store(true, Relaxed);
         }
-        len > seen
+        checked > seen
     }
 }
 
@@ -1225,6 +1236,60 @@ mod tests {
         let b = czech.diagnostics(&whole, &profile, Default::default());
         assert!(!a.is_empty());
         assert_eq!(a, b);
+    }
+
+    /// The ISO reader over a text still being written (read as it comes while no line may
+    /// hold an O-word; else again once the text has ended) reports what it reports over the
+    /// whole text: an error in a straight program, the `%`s and the end, a loop (the run
+    /// gives up at it), a contour subroutine called before its definition.
+    #[cfg(unix)]
+    #[test]
+    fn the_iso_reader_over_a_text_being_written_reports_as_over_the_whole() {
+        use std::io::Write as _;
+        let straight: String = (0..300)
+            .map(|i| {
+                format!(
+                    "G0 X{} Z2\nG1 Z-{} F0.2 (pass {i})\n",
+                    30 + i % 5,
+                    10 + i % 7
+                )
+            })
+            .collect();
+        let iso = crate::dialect::get(crate::dialect::iso::ID);
+        let profile = crate::profile::Profile::default();
+        for text in [
+            format!("G7 G18 G21 G90 G95\n{straight}G1 X20 Z-40 Q7\n{straight}M30\n"),
+            format!("%\nG7 G18 G21 G90 G95\n{straight}%\nG0 X1\n"),
+            format!("G7 G18 G21 G90 G95\n{straight}"),
+            format!(
+                "G7 G18 G21 G90 G95\n{straight}#1 = 0\no100 while [#1 LT 2]\nG0 X40\n#1 = [#1 + 1]\no100 endwhile\n{straight}M30\n"
+            ),
+            format!(
+                "G7 G18 G21 G90 G95\nG0 X40 Z2\n{straight}G71 Q100 D1 I0.2 K0.1\nG0 X50\nM30\no100 sub\nG1 X20 Z0\nG1 Z-10\nG1 X40\no100 endsub\n"
+            ),
+        ] {
+            let (follow, following) = follow();
+            let owned = text.clone();
+            let writer = std::thread::spawn(move || {
+                let mut file = tempfile::tempfile().unwrap();
+                let mut len = 0u64;
+                for piece in owned.split_inclusive('\n').collect::<Vec<_>>().chunks(40) {
+                    let piece = piece.concat();
+                    file.write_all(piece.as_bytes()).unwrap();
+                    len += piece.len() as u64;
+                    follow.publish(&file, len);
+                    std::thread::sleep(std::time::Duration::from_millis(2));
+                }
+                follow.finish();
+            });
+            let src = SourceFile::of_text("followed", following.text().expect("a file"));
+            let a = iso.diagnostics(&src, &profile, Default::default());
+            writer.join().unwrap();
+            assert!(src.text.is_complete());
+            let whole = SourceFile::new("followed", text.as_str());
+            let b = iso.diagnostics(&whole, &profile, Default::default());
+            assert_eq!(a, b, "{}", &text[text.len() - 120..]);
+        }
     }
 
     /// A reading cancelled (its output refused) ends at once, even with every line

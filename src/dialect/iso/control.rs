@@ -502,6 +502,37 @@ pub struct FileRun<'s> {
     /// Where the last look-ups in `read` and `bodies` ended: lines are mostly asked for in
     /// order, so the next answer is usually there or one further.
     hints: std::cell::Cell<(usize, usize)>,
+    /// A text still being written, read as it comes ([`FileRun::following`]).
+    follow: Option<Follow<'s>>,
+}
+
+/// The lines of a text still being written, taken in order as they come: the line last
+/// taken is at hand, and the next one is taken when asked for.
+struct Follow<'s> {
+    lines: std::cell::RefCell<Box<dyn Iterator<Item = Line<'s>> + 's>>,
+    /// The 0-based number of the line last taken, and that line (`None`: the text ended
+    /// before it). `None` before the first.
+    at: std::cell::Cell<Option<(usize, Option<Line<'s>>)>>,
+}
+
+impl<'s> Follow<'s> {
+    /// Line `i`: `Some(None)` past the text's end; `None` when it is neither the line last
+    /// taken nor the next one (the whole text's index must answer).
+    fn get(&self, i: usize) -> Option<Option<Line<'s>>> {
+        match self.at.get() {
+            Some((j, line)) if j == i => Some(line),
+            Some((j, None)) if i > j => Some(None),
+            Some((j, Some(_))) if i == j + 1 => Some(self.take(i)),
+            None if i == 0 => Some(self.take(0)),
+            _ => None,
+        }
+    }
+
+    fn take(&self, i: usize) -> Option<Line<'s>> {
+        let line = self.lines.borrow_mut().next();
+        self.at.set(Some((i, line)));
+        line
+    }
 }
 
 /// `v.partition_point(below)` for a `v` sorted by it, tried first at `hint` and one past it.
@@ -524,6 +555,9 @@ pub const BODY_LINES_KEPT: usize = 4096;
 impl<'s> FileRun<'s> {
     /// Line `i` (0-based) of the file.
     pub fn line(&self, i: usize) -> Line<'s> {
+        if let Some(Some(line)) = self.follow.as_ref().and_then(|f| f.get(i)) {
+            return line;
+        }
         self.src.line(u32::try_from(i + 1).unwrap_or(u32::MAX))
     }
 
@@ -539,12 +573,33 @@ impl<'s> FileRun<'s> {
 
     /// Line `i` (0-based), when the file has it.
     pub fn get_line(&self, i: usize) -> Option<Line<'s>> {
-        (i < self.line_count).then(|| self.line(i))
+        if let Some(line) = self.follow.as_ref().and_then(|f| f.get(i)) {
+            return line;
+        }
+        (i < self.line_count()).then(|| self.line(i))
     }
 
-    /// How many lines the file has.
+    /// How many lines the file has (a text still being written: once it has ended).
     pub fn line_count(&self) -> usize {
+        if self.follow.is_some() {
+            return self.src.line_count();
+        }
         self.line_count
+    }
+
+    /// How many lines were looked at before the run: none for a text still being written.
+    pub fn lines_up_front(&self) -> usize {
+        if self.follow.is_some() {
+            0
+        } else {
+            self.line_count
+        }
+    }
+
+    /// Whether the file is a text still being written, read as it comes
+    /// ([`FileRun::following`]).
+    pub fn is_following(&self) -> bool {
+        self.follow.is_some()
     }
 
     /// The program's closing `%` line, when its first line (not blank) is a `%`: LinuxCNC's
@@ -552,7 +607,7 @@ impl<'s> FileRun<'s> {
     /// **\[evidence\]** LinuxCNC `interp_read.cc` (`read_text`: a `%` line under the
     /// percent flag is the end of the file).
     pub fn closing_percent(&self) -> Option<usize> {
-        let mut lines = (0..self.line_count).filter(|&i| !self.blank(i) || self.percent(i));
+        let mut lines = (0..self.line_count()).filter(|&i| !self.blank(i) || self.percent(i));
         let first = lines.next()?;
         if !self.percent(first) {
             return None;
@@ -602,6 +657,28 @@ impl<'s> FileRun<'s> {
             bodies,
             kept: Default::default(),
             hints: Default::default(),
+            follow: None,
+        }
+    }
+
+    /// The run of a text still being written (a conversion's output, read back beside its
+    /// writer), its lines read as they come with nothing read up front: no structure, no
+    /// bodies. It holds only for a text in which no line may hold an O-word
+    /// ([`may_hold_oword`]) — the run looks at each line before it runs it, and gives up at
+    /// the first that may, to be read again by [`FileRun::new`] once the text has ended.
+    pub fn following(src: &'s SourceFile) -> FileRun<'s> {
+        FileRun {
+            src,
+            line_count: 0,
+            read: Vec::new(),
+            structure: Structure::default(),
+            bodies: Vec::new(),
+            kept: Default::default(),
+            hints: Default::default(),
+            follow: Some(Follow {
+                lines: std::cell::RefCell::new(Box::new(src.lines())),
+                at: std::cell::Cell::new(None),
+            }),
         }
     }
 
@@ -650,7 +727,7 @@ impl<'s> FileRun<'s> {
             return None;
         }
         let mut i = 0;
-        while i < self.line_count {
+        while i < self.line_count() {
             if let Some(Flow::Sub { end }) = self.structure.flow.get(&i) {
                 i = end + 1;
                 continue;

@@ -19,6 +19,14 @@ use crate::source::{Line, SourceFile, Span};
 
 /// [`parse`](super::parse), keeping the program or only the diagnostics.
 pub(crate) fn read(src: &SourceFile, options: &Options, keep: Keep) -> (Program, Vec<Diagnostic>) {
+    // A conversion's output read back beside its writer: read as it comes, unless a line
+    // may hold an O-word (then once it has ended, as any other file).
+    if matches!(keep, Keep::Diagnostics)
+        && !src.text.is_complete()
+        && let Some(read) = read_following(src, options)
+    {
+        return read;
+    }
     let mut fe = FrontEnd::new(src, options, keep);
     // Subroutines in files of their own (`o<name> call` → name.ngc on the subroutine path),
     // read before the run so that every file outlives the reader.
@@ -37,10 +45,39 @@ pub(crate) fn read(src: &SourceFile, options: &Options, keep: Keep) -> (Program,
         params: control::Params::default(),
         reported: fe.report_up_front(src, &runs, load_errors),
         broken: runs.iter().any(|r| !r.structure.errors.is_empty()),
+        given_up: false,
     };
     st.errored = fe.r.diags.has_errors();
     fe.run(src, &runs, &mut st);
     fe.finish_run(src, &runs, &st)
+}
+
+/// [`read`] of a text still being written, its diagnostics only, each line read as it comes
+/// ([`FileRun::following`]): what [`read`] finds once the text has ended, for a text in which
+/// no line may hold an O-word (so no structure, no subroutine file, no look ahead). `None`
+/// when a line may hold one, or a roughing cycle calls its contour subroutine: the run gives
+/// up there, and its reading is thrown away.
+fn read_following(src: &SourceFile, options: &Options) -> Option<(Program, Vec<Diagnostic>)> {
+    let mut fe = FrontEnd::new(src, options, Keep::Diagnostics);
+    let runs = [FileRun::following(src)];
+    let mut st = Run {
+        f: 0,
+        pc: 0,
+        iterations: 0,
+        errored: false,
+        percent: false,
+        first: true,
+        ended: None,
+        params: control::Params::default(),
+        reported: vec![control::LineSet::new(0)],
+        broken: false,
+        given_up: false,
+    };
+    fe.run(src, &runs, &mut st);
+    if st.given_up {
+        return None;
+    }
+    Some(fe.finish_run(src, &runs, &st))
 }
 
 /// Where the run stands.
@@ -63,6 +100,9 @@ struct Run {
     reported: Vec<control::LineSet>,
     /// A program whose blocks do not match runs nowhere.
     broken: bool,
+    /// A run of a text still being written met what it cannot read as it comes: an O-word,
+    /// or a call of a contour subroutine ([`read_following`]).
+    given_up: bool,
 }
 
 impl<'a> FrontEnd<'a> {
@@ -147,7 +187,7 @@ impl<'a> FrontEnd<'a> {
         self.r.src = src;
         let mut reported: Vec<control::LineSet> = runs
             .iter()
-            .map(|r| control::LineSet::new(r.line_count()))
+            .map(|r| control::LineSet::new(r.lines_up_front()))
             .collect();
         for (f, run) in runs.iter().enumerate() {
             self.r.src = run.src;
@@ -167,12 +207,15 @@ impl<'a> FrontEnd<'a> {
     fn run(&mut self, src: &'a SourceFile, runs: &[FileRun<'a>], st: &mut Run) {
         loop {
             let run = &runs[st.f];
-            if st.pc >= run.line_count() {
+            let Some(line) = run.get_line(st.pc) else {
                 // The program's last line; or an external file ends without its `endsub`:
                 // the structure check said so.
                 break;
+            };
+            if run.is_following() && control::may_hold_oword(line.text) {
+                st.given_up = true;
+                break;
             }
-            let line = run.line(st.pc);
             let here = st.pc;
             st.pc += 1;
             if control::is_blank(line.text) {
@@ -278,6 +321,11 @@ impl<'a> FrontEnd<'a> {
         self.line(line, block, &mut st.params);
         // A G70–G72 line calls its contour subroutine, as `o<Q> call` there would.
         if let Some(call) = self.cycle_call.take() {
+            if run.is_following() {
+                // Its subroutine may be defined further on.
+                st.given_up = true;
+                return ControlFlow::Break(());
+            }
             if self.stop_beside_cycle(items_before) {
                 self.contour = None;
                 self.stopped = true;
