@@ -485,10 +485,10 @@ type Answer = Option<(source::Text, Vec<Diagnostic>)>;
 
 /// The read-back of a large conversion's output in a thread of its own, reading the output
 /// as the writer spools it ([`source::follow`]): the czech, НЦ-31, SINUMERIK and HEIDENHAIN
-/// readers read forward and keep up with the writer, and so does the ISO reader while no line
-/// may hold an O-word (which the ISO writer never writes); at one it waits for the end and
-/// reads the whole output up front, as the FANUC reader (its macro pre-pass) always does.
-/// Its answer counts only when it read the whole output
+/// readers read forward and keep up with the writer, and so do the ISO reader while no line
+/// may hold an O-word and the FANUC reader while no line uses macros or subprograms (which
+/// their writers never write); at such a line they wait for the end and read the whole
+/// output up front. Its answer counts only when it read the whole output
 /// of the writer the conversion kept; otherwise (the writer let go of, or failing, or a short
 /// output held in memory) the read-back is made after the writer, as for a small conversion.
 /// Dropped, it is told to stop.

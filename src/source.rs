@@ -1245,7 +1245,6 @@ mod tests {
     #[cfg(unix)]
     #[test]
     fn the_iso_reader_over_a_text_being_written_reports_as_over_the_whole() {
-        use std::io::Write as _;
         let straight: String = (0..300)
             .map(|i| {
                 format!(
@@ -1255,19 +1254,56 @@ mod tests {
                 )
             })
             .collect();
-        let iso = crate::dialect::get(crate::dialect::iso::ID);
+        let head = "G7 G18 G21 G90 G95\n";
+        let texts = [
+            format!("{head}{straight}G1 X20 Z-40 Q7\n{straight}M30\n"),
+            format!("%\n{head}{straight}%\nG0 X1\n"),
+            format!("{head}{straight}"),
+            format!(
+                "{head}{straight}#1 = 0\no100 while [#1 LT 2]\nG0 X40\n#1 = [#1 + 1]\no100 endwhile\n{straight}M30\n"
+            ),
+            format!(
+                "{head}G0 X40 Z2\n{straight}G71 Q100 D1 I0.2 K0.1\nG0 X50\nM30\no100 sub\nG1 X20 Z0\nG1 Z-10\nG1 X40\no100 endsub\n"
+            ),
+        ];
+        reads_as_the_whole_while_written(crate::dialect::iso::ID, &texts);
+    }
+
+    /// The FANUC reader over a text still being written (read as it comes while no line uses
+    /// macros or subprograms; else again once the text has ended) reports what it reports
+    /// over the whole text: an error, a title line and the `%`s, a line after the end, a
+    /// macro variable, a subprogram call.
+    #[cfg(unix)]
+    #[test]
+    fn the_fanuc_reader_over_a_text_being_written_reports_as_over_the_whole() {
+        let straight: String = (0..300)
+            .map(|i| {
+                format!(
+                    "G00 X{}. Z2.\nG01 Z-{}. F0.2 (PASS {i})\n",
+                    30 + i % 5,
+                    10 + i % 7
+                )
+            })
+            .collect();
+        let head = "%\nO0100\nG21 G99\nT0101\nG97 S500 M03\n";
+        let texts = [
+            format!("{head}{straight}G01 X20. Z-40. Q7\n{straight}M30\n%\n"),
+            format!("SHAFT ONE\n{head}{straight}M30\nG00 X1.\n%\n"),
+            format!("{head}{straight}"),
+            format!("{head}{straight}#100=2.\nG00 X#100\n{straight}M30\n%\n"),
+            format!("{head}{straight}M98 P1234\n{straight}M30\n%\n"),
+        ];
+        reads_as_the_whole_while_written(crate::dialect::fanuc::ID, &texts);
+    }
+
+    /// Each of `texts`, written 40 lines at a time in another thread while `dialect`'s
+    /// reader reads it for its diagnostics, gives the diagnostics of the whole text.
+    #[cfg(unix)]
+    fn reads_as_the_whole_while_written(dialect: crate::dialect::DialectId, texts: &[String]) {
+        use std::io::Write as _;
+        let reader = crate::dialect::get(dialect);
         let profile = crate::profile::Profile::default();
-        for text in [
-            format!("G7 G18 G21 G90 G95\n{straight}G1 X20 Z-40 Q7\n{straight}M30\n"),
-            format!("%\nG7 G18 G21 G90 G95\n{straight}%\nG0 X1\n"),
-            format!("G7 G18 G21 G90 G95\n{straight}"),
-            format!(
-                "G7 G18 G21 G90 G95\n{straight}#1 = 0\no100 while [#1 LT 2]\nG0 X40\n#1 = [#1 + 1]\no100 endwhile\n{straight}M30\n"
-            ),
-            format!(
-                "G7 G18 G21 G90 G95\nG0 X40 Z2\n{straight}G71 Q100 D1 I0.2 K0.1\nG0 X50\nM30\no100 sub\nG1 X20 Z0\nG1 Z-10\nG1 X40\no100 endsub\n"
-            ),
-        ] {
+        for text in texts {
             let (follow, following) = follow();
             let owned = text.clone();
             let writer = std::thread::spawn(move || {
@@ -1283,12 +1319,12 @@ mod tests {
                 follow.finish();
             });
             let src = SourceFile::of_text("followed", following.text().expect("a file"));
-            let a = iso.diagnostics(&src, &profile, Default::default());
+            let a = reader.diagnostics(&src, &profile, Default::default());
             writer.join().unwrap();
             assert!(src.text.is_complete());
             let whole = SourceFile::new("followed", text.as_str());
-            let b = iso.diagnostics(&whole, &profile, Default::default());
-            assert_eq!(a, b, "{}", &text[text.len() - 120..]);
+            let b = reader.diagnostics(&whole, &profile, Default::default());
+            assert_eq!(a, b, "{dialect}: {}", &text[text.len() - 120..]);
         }
     }
 

@@ -219,9 +219,29 @@ pub(crate) fn read(
     unsupported: Unsupported,
     keep: Keep,
 ) -> (Program, Vec<Diagnostic>) {
+    // A conversion's output read back beside its writer: read as it comes, unless a line
+    // uses macros or subprograms (then once it has ended, as any other file).
+    let follow = matches!(keep, Keep::Diagnostics) && !src.text.is_complete();
+    read_with(src, profile, subroutine_path, unsupported, keep, follow)
+}
+
+/// [`read`]; with `follow`, a text still being written (its diagnostics only) read as it
+/// comes, as a program without macros or subprograms: at the first line that uses them
+/// ([`macros::line_uses_macros`]) that reading is thrown away and the text read again once
+/// it has ended, as [`read`] reads any other.
+fn read_with(
+    src: &SourceFile,
+    profile: &FanucProfile,
+    subroutine_path: &[std::path::PathBuf],
+    unsupported: Unsupported,
+    keep: Keep,
+    follow: bool,
+) -> (Program, Vec<Diagnostic>) {
     // A program with custom macro B or subprograms runs first (`macros.rs`); its files
     // outlive the reader.
-    let loaded = macros::uses_macros(src).then(|| macros::load(src, subroutine_path));
+    let loaded = (!follow && macros::uses_macros(src)).then(|| macros::load(src, subroutine_path));
+    // The lines to look at before each runs (the title line, known from the first two).
+    let watch = follow.then(|| macros::title_line(src));
     let mut fe = FrontEnd {
         r: Reader::new(src, super::ID, keep),
         profile,
@@ -262,7 +282,19 @@ pub(crate) fn read(
     };
     match &loaded {
         Some(loaded) => fe.macro_lines(src, loaded),
-        None => fe.lines(src),
+        None => {
+            if !fe.lines(src, watch) {
+                drop(fe);
+                return read_with(
+                    src,
+                    profile,
+                    subroutine_path,
+                    unsupported,
+                    Keep::Diagnostics,
+                    false,
+                );
+            }
+        }
     }
     fe.cycle_closing();
     fe.closing_notes(src);
@@ -321,8 +353,10 @@ impl<'a> FrontEnd<'a> {
 
 impl FrontEnd<'_> {
     /// Every line of the program, block by block, until its end (M02/M30 or the closing `%`);
-    /// a block after the end is refused, a comment after it kept.
-    fn lines(&mut self, src: &SourceFile) {
+    /// a block after the end is refused, a comment after it kept. With `watch` (the title
+    /// line), each line is looked at first, and at one that uses macros or subprograms the
+    /// reading gives up: `false`.
+    fn lines(&mut self, src: &SourceFile, watch: Option<Option<u32>>) -> bool {
         let mut ended = false;
         let mut percents = 0;
         // The first line, when it cannot be read: a title if the program starts after it.
@@ -335,6 +369,11 @@ impl FrontEnd<'_> {
             self.line_read();
             if line.is_blank() {
                 continue;
+            }
+            if let Some(title) = watch
+                && macros::line_uses_macros(line, title)
+            {
+                return false;
             }
             if self.billet(src, line) {
                 first = false;
@@ -377,6 +416,7 @@ impl FrontEnd<'_> {
         if let Some((t, e)) = title {
             self.syntax_error(t, e);
         }
+        true
     }
 
     fn syntax_error(&mut self, line: Line<'_>, e: syntax::SyntaxError) {

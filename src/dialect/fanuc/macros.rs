@@ -45,25 +45,29 @@ const MAX_MACRO_LEVELS: usize = 4;
 /// Whether a program uses custom macro B or subprograms (see the module's comment).
 pub(super) fn uses_macros(src: &SourceFile) -> bool {
     let title = title_line(src);
-    src.lines().any(|line| {
-        if Some(line.number) == title || is_billet(line.text) {
-            return false;
-        }
-        let code = without_comments(line.text);
-        // Lines are short: a plain look at each byte beats a vector search's set-up.
-        if code.bytes().any(|b| b == b'#' || b == b'[') || starts_with_statement(&code) {
-            return true;
-        }
-        may_call(&code)
-            && syntax::parse_line(line.text).is_ok_and(|b| {
-                b.words.iter().any(|w| {
-                    matches!(
-                        (w.letter, w.value.to_whole()),
-                        ('G', Ok(65..=67)) | ('M', Ok(98 | 99))
-                    )
-                })
+    src.lines().any(|line| line_uses_macros(line, title))
+}
+
+/// Whether `line` makes its program one that [`uses_macros`] (`title`: the program's title
+/// line, [`title_line`]).
+pub(super) fn line_uses_macros(line: Line<'_>, title: Option<u32>) -> bool {
+    if Some(line.number) == title || is_billet(line.text) {
+        return false;
+    }
+    let code = without_comments(line.text);
+    // Lines are short: a plain look at each byte beats a vector search's set-up.
+    if code.bytes().any(|b| b == b'#' || b == b'[') || starts_with_statement(&code) {
+        return true;
+    }
+    may_call(&code)
+        && syntax::parse_line(line.text).is_ok_and(|b| {
+            b.words.iter().any(|w| {
+                matches!(
+                    (w.letter, w.value.to_whole()),
+                    ('G', Ok(65..=67)) | ('M', Ok(98 | 99))
+                )
             })
-    })
+        })
 }
 
 /// `IF`, `WHILE`, `GOTO`, `DO` or `END` first in a block's code (after `/` and its N).
@@ -108,7 +112,7 @@ fn may_call(code: &str) -> bool {
 
 /// The line of a title before the program's start (see `front.rs`): a first line that is
 /// no block and starts with a letter, followed by a `%` or the program number.
-fn title_line(src: &SourceFile) -> Option<u32> {
+pub(super) fn title_line(src: &SourceFile) -> Option<u32> {
     let mut lines = src.lines().filter(|l| !l.is_blank());
     let first = lines.next()?;
     let next = lines.next()?;
