@@ -521,8 +521,9 @@ impl std::ops::Deref for Text {
             // SAFETY: checked to be UTF-8 when mapped, and the file is not changed.
             #[cfg(unix)]
             Repr::Mapped(m) => unsafe { std::str::from_utf8_unchecked(&m.map) },
-            // SAFETY: what is seen was checked to be UTF-8 when published (whole lines, so
-            // whole characters), and the file is only appended to past it.
+            // SAFETY: what is seen was checked to be UTF-8 after it was published (to a
+            // character's end: a stretch that cuts one stops before it), and the file is only
+            // appended to past it.
             #[cfg(unix)]
             Repr::Growing(g) => unsafe { std::str::from_utf8_unchecked(g.seen_bytes()) },
         }
@@ -1241,7 +1242,8 @@ mod tests {
     /// The ISO reader over a text still being written (read as it comes while no line may
     /// hold an O-word; else again once the text has ended) reports what it reports over the
     /// whole text: an error in a straight program, the `%`s and the end, a loop (the run
-    /// gives up at it), a contour subroutine called before its definition.
+    /// gives up at it), a contour subroutine called before its definition, an error that
+    /// stops the run before an O-word.
     #[cfg(unix)]
     #[test]
     fn the_iso_reader_over_a_text_being_written_reports_as_over_the_whole() {
@@ -1265,8 +1267,14 @@ mod tests {
             format!(
                 "{head}G0 X40 Z2\n{straight}G71 Q100 D1 I0.2 K0.1\nG0 X50\nM30\no100 sub\nG1 X20 Z0\nG1 Z-10\nG1 X40\no100 endsub\n"
             ),
+            // An error that stops the run, an O-word after it (reported up front).
+            format!("{head}M72\n{straight}o1 endif\nM30\n"),
         ];
         reads_as_the_whole_while_written(crate::dialect::iso::ID, &texts);
+        let followed = crate::dialect::iso::FOLLOWED.load(std::sync::atomic::Ordering::Relaxed);
+        // The straight programs are read as they come (the others give up): unless this
+        // thread was kept waiting for a whole text's writing.
+        assert!(followed > 0, "no text was read as it came");
     }
 
     /// The FANUC reader over a text still being written (read as it comes while no line uses
@@ -1294,6 +1302,8 @@ mod tests {
             format!("{head}{straight}M98 P1234\n{straight}M30\n%\n"),
         ];
         reads_as_the_whole_while_written(crate::dialect::fanuc::ID, &texts);
+        let followed = crate::dialect::fanuc::FOLLOWED.load(std::sync::atomic::Ordering::Relaxed);
+        assert!(followed > 0, "no text was read as it came");
     }
 
     /// Each of `texts`, written 40 lines at a time in another thread while `dialect`'s
@@ -1346,5 +1356,41 @@ mod tests {
         cancel.cancel();
         assert_eq!(lines.next().map(|l| l.text), None);
         assert!(!src.text.is_complete());
+    }
+
+    /// A text published in one step of more than the stretch checked at a time (with a
+    /// character cut at the stretch's end) is seen whole and complete, a megabyte at a time;
+    /// one with a byte that is no UTF-8 further on ends before the stretch that holds it,
+    /// incomplete.
+    #[cfg(unix)]
+    #[test]
+    fn a_text_published_at_once_is_checked_a_stretch_at_a_time() {
+        use std::io::Write as _;
+        let mut text = "a".repeat(READ_LAG - 1);
+        text.push('é');
+        text.push_str(&"N10 X1\n".repeat(READ_LAG / 7));
+        let mut bad = text.clone().into_bytes();
+        bad.extend_from_slice(b"N20 \xFF\n");
+        for (bytes, good) in [(text.as_bytes(), true), (&bad[..], false)] {
+            let (follow, following) = follow();
+            let mut file = tempfile::tempfile().unwrap();
+            file.write_all(bytes).unwrap();
+            follow.publish(&file, bytes.len() as u64);
+            follow.finish();
+            let text = following.text().unwrap();
+            assert!(text.grow());
+            assert_eq!(
+                text.len(),
+                READ_LAG - 1,
+                "the stretch stops before the cut é"
+            );
+            text.wait_end();
+            assert_eq!(text.is_complete(), good);
+            if good {
+                assert_eq!(text.as_bytes(), bytes);
+            } else {
+                assert_eq!(text.len(), 2 * READ_LAG - 1);
+            }
+        }
     }
 }

@@ -225,6 +225,11 @@ pub(crate) fn read(
     read_with(src, profile, subroutine_path, unsupported, keep, follow)
 }
 
+/// How many reads of a text being written [`read_with`] made as the lines came (for the
+/// tests that it does).
+#[cfg(test)]
+pub(crate) static FOLLOWED: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
 /// [`read`]; with `follow`, a text still being written (its diagnostics only) read as it
 /// comes, as a program without macros or subprograms: at the first line that uses them
 /// ([`macros::line_uses_macros`]) that reading is thrown away and the text read again once
@@ -283,6 +288,8 @@ fn read_with(
     match &loaded {
         Some(loaded) => fe.macro_lines(src, loaded),
         None => {
+            #[cfg(test)]
+            let counted = watch.is_some();
             if !fe.lines(src, watch) {
                 drop(fe);
                 return read_with(
@@ -293,6 +300,10 @@ fn read_with(
                     Keep::Diagnostics,
                     false,
                 );
+            }
+            #[cfg(test)]
+            if counted {
+                FOLLOWED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
             }
         }
     }

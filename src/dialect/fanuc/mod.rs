@@ -4,6 +4,8 @@
 pub mod codes;
 mod emit;
 mod front;
+#[cfg(test)]
+pub(crate) use front::FOLLOWED;
 mod macros;
 pub mod profile;
 pub mod syntax;

@@ -602,6 +602,13 @@ impl<'s> FileRun<'s> {
         self.follow.is_some()
     }
 
+    /// Whether a text read as it came was taken to its end (every line looked at).
+    pub fn followed_to_end(&self) -> bool {
+        self.follow
+            .as_ref()
+            .is_some_and(|f| matches!(f.at.get(), Some((_, None))))
+    }
+
     /// The program's closing `%` line, when its first line (not blank) is a `%`: LinuxCNC's
     /// file ends there, so nothing after it is ever read, a definition included.
     /// **\[evidence\]** LinuxCNC `interp_read.cc` (`read_text`: a `%` line under the

@@ -180,6 +180,8 @@ mod offsets;
 mod position;
 mod roughing;
 mod run;
+#[cfg(test)]
+pub(crate) use run::FOLLOWED;
 mod thread;
 mod unsupported;
 mod values;

@@ -6,6 +6,8 @@ mod control;
 mod emit;
 pub(crate) mod expr;
 mod front;
+#[cfg(test)]
+pub(crate) use front::FOLLOWED;
 mod gcode;
 mod long_double;
 pub mod profile;

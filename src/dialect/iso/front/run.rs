@@ -55,8 +55,10 @@ pub(crate) fn read(src: &SourceFile, options: &Options, keep: Keep) -> (Program,
 /// [`read`] of a text still being written, its diagnostics only, each line read as it comes
 /// ([`FileRun::following`]): what [`read`] finds once the text has ended, for a text in which
 /// no line may hold an O-word (so no structure, no subroutine file, no look ahead). `None`
-/// when a line may hold one, or a roughing cycle calls its contour subroutine: the run gives
-/// up there, and its reading is thrown away.
+/// when a line may hold one, or a roughing cycle calls its contour subroutine (the run gives
+/// up there), or the run stopped before the text's end (an error: the lines after it are
+/// not looked at, and an O-word there would be reported up front): the reading is thrown
+/// away.
 fn read_following(src: &SourceFile, options: &Options) -> Option<(Program, Vec<Diagnostic>)> {
     let mut fe = FrontEnd::new(src, options, Keep::Diagnostics);
     let runs = [FileRun::following(src)];
@@ -74,11 +76,17 @@ fn read_following(src: &SourceFile, options: &Options) -> Option<(Program, Vec<D
         given_up: false,
     };
     fe.run(src, &runs, &mut st);
-    if st.given_up {
+    if st.given_up || !runs[0].followed_to_end() {
         return None;
     }
+    #[cfg(test)]
+    FOLLOWED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     Some(fe.finish_run(src, &runs, &st))
 }
+
+/// How many reads [`read_following`] answered (for the tests that it does).
+#[cfg(test)]
+pub(crate) static FOLLOWED: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
 
 /// Where the run stands.
 struct Run {
