@@ -34,19 +34,11 @@ pub(crate) fn read(src: &SourceFile, options: &Options, keep: Keep) -> (Program,
     let mut runs: Vec<FileRun<'_>> = Vec::with_capacity(1 + externals.len());
     runs.push(FileRun::new(src));
     runs.extend(externals.iter().map(FileRun::new));
-    let mut st = Run {
-        f: 0,
-        pc: 0,
-        iterations: 0,
-        errored: false,
-        percent: false,
-        first: true,
-        ended: None,
-        params: control::Params::default(),
-        reported: fe.report_up_front(src, &runs, load_errors),
-        broken: runs.iter().any(|r| !r.structure.errors.is_empty()),
-        given_up: false,
-    };
+    let reported = fe.report_up_front(src, &runs, load_errors);
+    let mut st = Run::new(
+        reported,
+        runs.iter().any(|r| !r.structure.errors.is_empty()),
+    );
     st.errored = fe.r.diags.has_errors();
     fe.run(src, &runs, &mut st);
     fe.finish_run(src, &runs, &st)
@@ -62,19 +54,7 @@ pub(crate) fn read(src: &SourceFile, options: &Options, keep: Keep) -> (Program,
 fn read_following(src: &SourceFile, options: &Options) -> Option<(Program, Vec<Diagnostic>)> {
     let mut fe = FrontEnd::new(src, options, Keep::Diagnostics);
     let runs = [FileRun::following(src)];
-    let mut st = Run {
-        f: 0,
-        pc: 0,
-        iterations: 0,
-        errored: false,
-        percent: false,
-        first: true,
-        ended: None,
-        params: control::Params::default(),
-        reported: vec![control::LineSet::new(0)],
-        broken: false,
-        given_up: false,
-    };
+    let mut st = Run::new(vec![control::LineSet::new(0)], false);
     fe.run(src, &runs, &mut st);
     if st.given_up || !runs[0].followed_to_end() {
         return None;
@@ -111,6 +91,26 @@ struct Run {
     /// A run of a text still being written met what it cannot read as it comes: an O-word,
     /// or a call of a contour subroutine ([`read_following`]).
     given_up: bool,
+}
+
+impl Run {
+    /// Before the program's first line: the lines `reported` up front, the structure
+    /// `broken` or not.
+    fn new(reported: Vec<control::LineSet>, broken: bool) -> Run {
+        Run {
+            f: 0,
+            pc: 0,
+            iterations: 0,
+            errored: false,
+            percent: false,
+            first: true,
+            ended: None,
+            params: control::Params::default(),
+            reported,
+            broken,
+            given_up: false,
+        }
+    }
 }
 
 impl<'a> FrontEnd<'a> {
