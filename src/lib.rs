@@ -487,7 +487,7 @@ type Answer = Option<(source::Text, Vec<Diagnostic>)>;
 /// as the writer spools it ([`source::follow`]): the czech, НЦ-31, SINUMERIK and HEIDENHAIN
 /// readers read forward and keep up with the writer, and so do the ISO reader while no line
 /// may hold an O-word and the FANUC reader while no line uses macros or subprograms (which
-/// their writers never write); at such a line they wait for the end and read the whole
+/// a converted program's output never holds); at such a line they wait for the end and read the whole
 /// output up front. Its answer counts only when it read the whole output
 /// of the writer the conversion kept; otherwise (the writer let go of, or failing, or a short
 /// output held in memory) the read-back is made after the writer, as for a small conversion.
