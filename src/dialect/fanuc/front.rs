@@ -288,8 +288,6 @@ fn read_with(
     match &loaded {
         Some(loaded) => fe.macro_lines(src, loaded),
         None => {
-            #[cfg(test)]
-            let counted = watch.is_some();
             if !fe.lines(src, watch) {
                 drop(fe);
                 return read_with(
@@ -302,7 +300,7 @@ fn read_with(
                 );
             }
             #[cfg(test)]
-            if counted {
+            if follow {
                 FOLLOWED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
             }
         }
