@@ -96,6 +96,7 @@ impl<'a> Cursor<'a> {
     /// A word's value after its letter, as the ISO, FANUC and czech grammars read it: blanks
     /// allowed, then a number. `None` may leave the cursor past the blanks (or past a number
     /// too long to read): a caller that tries another reading puts it back first.
+    #[inline(always)]
     pub fn value(&mut self, sep: impl Fn(u8) -> bool) -> Option<Decimal> {
         self.skip(sep);
         let start = self.pos;
@@ -115,11 +116,12 @@ impl<'a> Cursor<'a> {
             _ => false,
         };
         let (mut mantissa, mut digits, mut scale, mut has_point) = (0u64, 0u32, 0u32, false);
+        let mut long = false;
         while let Some(&b) = bytes.get(at) {
             if b.is_ascii_digit() {
                 if digits == 18 {
-                    // More than fit: read by `Decimal::parse`, whatever the length.
-                    return Decimal::parse(self.number()?);
+                    long = true;
+                    break;
                 }
                 mantissa = mantissa * 10 + u64::from(b - b'0');
                 digits += 1;
@@ -131,13 +133,24 @@ impl<'a> Cursor<'a> {
             }
             at += 1;
         }
-        if digits == 0 {
-            return Decimal::parse(self.number()?);
-        }
-        self.pos = at;
-        let mantissa = i128::from(mantissa);
+        // The parts as plain integers on both paths, put together once: a `Decimal` made on
+        // each path and merged is copied through memory, and stalls the store that follows.
+        let (mantissa, scale, has_point) = if long || digits == 0 {
+            // More digits than fit in a u64 (`Decimal::parse` knows what fits), or none
+            // (`number` takes nothing).
+            let d = Decimal::parse(self.number()?)?;
+            (d.mantissa, d.scale, d.has_point)
+        } else {
+            self.pos = at;
+            let mantissa = i128::from(mantissa);
+            (
+                if negative { -mantissa } else { mantissa },
+                scale,
+                has_point,
+            )
+        };
         Some(Decimal {
-            mantissa: if negative { -mantissa } else { mantissa },
+            mantissa,
             scale,
             has_point,
         })
