@@ -410,6 +410,20 @@ fn format_scaled(value: i64, decimals: u32, trailing: Trailing) -> String {
     out
 }
 
+/// 10⁰ to 10⁹, looked up rather than raised (a loop) for every word read and written.
+const POWERS_OF_TEN: [i64; 10] = [
+    1,
+    10,
+    100,
+    1_000,
+    10_000,
+    100_000,
+    1_000_000,
+    10_000_000,
+    100_000_000,
+    1_000_000_000,
+];
+
 /// [`format_scaled`] appended to `out`.
 fn format_scaled_into(out: &mut String, value: i64, decimals: u32, trailing: Trailing) {
     // Written digit by digit (no `format!`): the writers format every coordinate.
@@ -417,7 +431,9 @@ fn format_scaled_into(out: &mut String, value: i64, decimals: u32, trailing: Tra
         out.push('-');
     }
     let abs = value.unsigned_abs();
-    let scale = 10u64.pow(decimals);
+    let scale = POWERS_OF_TEN
+        .get(decimals as usize)
+        .map_or_else(|| 10u64.pow(decimals), |&p| p as u64);
     let (whole, frac) = (abs / scale, abs % scale);
     push_digits(out, whole, 1, false);
     if frac == 0 {
@@ -543,7 +559,7 @@ impl Decimal {
             && decimals - self.scale <= 9
             && let Ok(m) = i32::try_from(mantissa)
         {
-            let value = i64::from(m) * 10i64.pow(decimals - self.scale);
+            let value = i64::from(m) * POWERS_OF_TEN[(decimals - self.scale) as usize];
             return if i128::from(value).abs() > LIMIT {
                 Err(NumberError::TooLarge)
             } else {
