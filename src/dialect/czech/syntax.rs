@@ -154,6 +154,7 @@ fn read_fast(line: &str, block: &mut Block) -> Option<()> {
 }
 
 /// The length of the quote that opens a comment at the cursor, if one does.
+#[inline(always)]
 fn comment_quote(c: &Cursor<'_>) -> Option<usize> {
     let rest = c.rest();
     // Each typographic quote starts with the byte 0xE2: most words need one look.
