@@ -1001,23 +1001,25 @@ mod tests {
         }
     }
 
-    /// The first line end wherever it falls in the eight-byte words and after them, beside
-    /// the bytes one borrow or one bit away from a line feed (`\t`, `\x0b`, `\n` twice, a
-    /// character whose second byte is 0x8A).
+    /// The first line end at every byte of the eight-byte words and of the bytes after
+    /// them (texts of 0 to 79 characters), among bytes one borrow or one bit away from a line
+    /// feed before and after it (`\x0b`, a second `\n`, a character whose last byte is 0x8A).
     #[test]
     fn a_line_ends_at_its_first_line_feed() {
         for len in 0..80 {
-            for at in (0..=len).rev() {
-                for filler in ["a", "\t", "\x0b", "\n", "\u{28a}", "\u{10a0a}"] {
-                    let mut text: String = filler.repeat(len).chars().take(len).collect();
-                    if at < len {
-                        let cut = text.char_indices().nth(at).map_or(text.len(), |(i, _)| i);
-                        text.truncate(cut);
-                        text.push('\n');
-                        text.push_str("x\ny");
+            for at in 0..=len {
+                for before in ["a", "\x0b", "\n", "\u{28a}", "\u{10a0a}"] {
+                    for after in ["a", "\x0b", "\n", "\u{28a}"] {
+                        // `len` characters, the line feed the character at `at` (none when
+                        // `at` is `len`).
+                        let mut text = before.repeat(at);
+                        if at < len {
+                            text.push('\n');
+                            text.push_str(&after.repeat(len - at - 1));
+                        }
+                        let expected = text.find('\n').map_or(text.len(), |e| e + 1);
+                        assert_eq!(line_end(&text), expected, "{text:?}");
                     }
-                    let expected = text.find('\n').map_or(text.len(), |e| e + 1);
-                    assert_eq!(line_end(&text), expected, "{text:?}");
                 }
             }
         }
