@@ -96,6 +96,10 @@ impl<'a> Cursor<'a> {
     /// A word's value after its letter, as the ISO, FANUC and czech grammars read it: blanks
     /// allowed, then a number. `None` may leave the cursor past the blanks (or past a number
     /// too long to read): a caller that tries another reading puts it back first.
+    ///
+    /// Inlined on purpose: returned from a call, the `Decimal` goes through memory and the
+    /// store-forwarding stall its parts' merge below avoids comes back (BENCHMARKS.md,
+    /// twelfth round).
     #[inline(always)]
     pub fn value(&mut self, sep: impl Fn(u8) -> bool) -> Option<Decimal> {
         self.skip(sep);
