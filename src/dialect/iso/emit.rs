@@ -59,6 +59,10 @@ struct Units {
     /// The first value rounded, and its item.
     first: Option<String>,
     span: Option<crate::source::Span>,
+    /// The last tapered K written, by the unit, the lead and the move's ΔX and ΔZ, which
+    /// alone decide it ([`k_value`]): a thread cycle's passes end in the same runout, and finding the K
+    /// formats and reads back a number several times.
+    last_k: Option<((bool, Lead, Length, Length), String)>,
 }
 
 impl Units {
@@ -400,7 +404,6 @@ fn comment_text(text: &str) -> String {
 /// [`K_DECIMALS`]) that the iso reader turns back into exactly the same Z lead, so that a
 /// conversion read back (and `verify`, and ISO → ISO) holds the lead it was given.
 fn k_value(segment: &SyncSegment, units: &mut Units) -> String {
-    let trim = |text: String| text.trim_end_matches('0').trim_end_matches('.').to_string();
     let (Some(x0), Some(x1), Some(z0), Some(z1)) =
         (segment.from.x, segment.to.x, segment.from.z, segment.to.z)
     else {
@@ -409,8 +412,26 @@ fn k_value(segment: &SyncSegment, units: &mut Units) -> String {
     if x0 == x1 || z0 == z1 {
         return units.lead(segment.lead);
     }
+    let key = (units.inch, segment.lead, x1 - x0, z1 - z0);
+    if let Some((last, text)) = &units.last_k
+        && *last == key
+    {
+        return text.clone();
+    }
+    let text = tapered_k(segment, units.inch, (x0, x1, z0, z1));
+    units.last_k = Some((key, text.clone()));
+    text
+}
+
+/// [`k_value`] of a tapered move, found.
+fn tapered_k(
+    segment: &SyncSegment,
+    inch: bool,
+    (x0, x1, z0, z1): (Length, Length, Length, Length),
+) -> String {
+    let trim = |text: String| text.trim_end_matches('0').trim_end_matches('.').to_string();
     // The reader reads an inch K as K · 25.4 mm, in floating point.
-    let per_unit = if units.inch { 25.4 } else { 1.0 };
+    let per_unit = if inch { 25.4 } else { 1.0 };
     let k = segment.lead_along_path() / per_unit;
     let reads_back = |text: &str| {
         crate::fixed::Decimal::parse(text)
@@ -1096,6 +1117,39 @@ mod tests {
         assert_eq!(inch.rounded, 0);
         assert_eq!(inch.len(Length(100)), "0.000039");
         assert_eq!(inch.rounded, 1);
+    }
+
+    #[test]
+    fn a_k_remembered_is_the_k_found() {
+        let seg = |x0: i64, z0: i64, dx: i64, dz: i64, lead: i64| SyncSegment {
+            from: Pos::new(Length::from_steps(x0), Length::from_steps(z0)),
+            to: Pos::new(Length::from_steps(x0 + dx), Length::from_steps(z0 + dz)),
+            lead: crate::fixed::Lead::from_length(Length::from_steps(lead)),
+        };
+        // A runout written again (elsewhere, the same ΔX and ΔZ), then others between.
+        let moves = [
+            seg(326_000, -158_529, 9_200, -10_000, 15_000),
+            seg(322_000, -150_000, 9_200, -10_000, 15_000),
+            seg(322_000, -150_000, 9_201, -10_000, 15_000),
+            seg(322_000, -150_000, 9_200, -10_000, 15_001),
+            seg(322_000, -150_000, 9_200, -10_001, 15_000),
+            seg(300_000, -150_000, 9_200, -10_000, 15_000),
+            seg(300_000, -150_000, 0, -10_000, 15_000),
+            seg(300_000, -150_000, 9_200, -10_000, 15_000),
+        ];
+        for inch in [false, true] {
+            let kept = &mut Units {
+                inch,
+                ..Units::default()
+            };
+            for m in &moves {
+                let fresh = &mut Units {
+                    inch,
+                    ..Units::default()
+                };
+                assert_eq!(k_value(m, kept), k_value(m, fresh), "{m:?}");
+            }
+        }
     }
 
     #[test]
