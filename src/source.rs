@@ -705,10 +705,10 @@ impl LineStarts {
         if found && last == i {
             return Some((at, end));
         }
-        // From the last line found when it is before `i` in the same stretch, else from
-        // the entry before `i`.
-        let (mut line, mut start) = if found && last <= i && i - last <= i % STRIDE {
-            (last, at)
+        // From the line after the last one found (it starts where that one ends) when that
+        // is before `i` in the same stretch, else from the entry before `i`.
+        let (mut line, mut start) = if found && last < i && i - last <= i % STRIDE {
+            (last + 1, end)
         } else {
             let k = i / STRIDE;
             (k * STRIDE, self.entry(k)?)
@@ -1064,9 +1064,10 @@ mod tests {
             // Read again once indexed: the lines counted by the index, the same.
             let lines: Vec<&str> = src.lines().map(|l| l.text).collect();
             assert_eq!(lines, naive, "{text:?} (indexed)");
-            // Each line asked for alone, backwards, then forwards (the remembered line).
+            // Each line asked for alone, backwards, then forwards (from the remembered line),
+            // then every third.
             let n = naive.len() as u32;
-            for number in (1..=n).rev().chain(1..=n) {
+            for number in (1..=n).rev().chain(1..=n).chain((1..=n).step_by(3)) {
                 let line = src.line(number);
                 assert_eq!(line.text, naive[number as usize - 1], "{text:?} {number}");
                 assert_eq!(&text[line.offset..line.offset + line.text.len()], line.text);

@@ -535,6 +535,12 @@ impl<'s> Follow<'s> {
     }
 }
 
+/// A line read into a block (an empty one past the file's end).
+fn parse(line: Option<Line<'_>>) -> ReadLine {
+    let text = line.map_or("", |l| l.text);
+    (!text.contains('\0')).then(|| syntax::parse_line(text))
+}
+
 /// `v.partition_point(below)` for a `v` sorted by it, tried first at `hint` and one past it.
 fn partition_from<T>(v: &[T], hint: usize, below: impl Fn(&T) -> bool) -> usize {
     for at in [hint, hint + 1] {
@@ -624,12 +630,11 @@ impl<'s> FileRun<'s> {
 
     pub fn new(src: &'s SourceFile) -> FileRun<'s> {
         let line_count = src.line_count();
-        let parse = |l: &Line<'_>| (!l.text.contains('\0')).then(|| syntax::parse_line(l.text));
         // One pass over the lines: what is read up front.
         let mut read: Vec<(usize, Box<ReadLine>)> = Vec::new();
         for (i, l) in src.lines().enumerate() {
             if may_hold_oword(l.text) {
-                read.push((i, Box::new(parse(&l))));
+                read.push((i, Box::new(parse(Some(l)))));
             }
         }
         let structure = Structure::of(read.iter().filter_map(|(i, line)| {
@@ -691,6 +696,17 @@ impl<'s> FileRun<'s> {
 
     /// Line `i` read into a block; `None` when it holds a NUL.
     pub fn block(&self, i: usize) -> Got<'_> {
+        self.block_with(i, || self.get_line(i))
+    }
+
+    /// [`Self::block`] of line `i`, which is `line` (the run has it at hand: finding it
+    /// again costs a search of the text's line index).
+    pub fn block_of(&self, i: usize, line: Line<'s>) -> Got<'_> {
+        self.block_with(i, || Some(line))
+    }
+
+    /// Line `i` read into a block, its text from `line` when it must be read.
+    fn block_with(&self, i: usize, line: impl FnOnce() -> Option<Line<'s>>) -> Got<'_> {
         let (hint, body_hint) = self.hints.get();
         let at = partition_from(&self.read, hint, |r| r.0 < i);
         self.hints.set((at, body_hint));
@@ -701,21 +717,15 @@ impl<'s> FileRun<'s> {
                 if let Some(line) = kept.get(&i) {
                     return Got::Shared(line.clone());
                 }
-                let line = std::rc::Rc::new(self.parse(i));
+                let read = std::rc::Rc::new(parse(line()));
                 if kept.len() >= BODY_LINES_KEPT {
                     kept.clear();
                 }
-                kept.insert(i, line.clone());
-                Got::Shared(line)
+                kept.insert(i, read.clone());
+                Got::Shared(read)
             }
-            None => Got::Owned(self.parse(i)),
+            None => Got::Owned(parse(line())),
         }
-    }
-
-    /// Line `i` read into a block.
-    fn parse(&self, i: usize) -> ReadLine {
-        let text = self.get_line(i).map_or("", |l| l.text);
-        (!text.contains('\0')).then(|| syntax::parse_line(text))
     }
 
     /// Whether line `i` is inside a subroutine or a loop.

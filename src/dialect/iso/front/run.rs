@@ -238,7 +238,7 @@ impl<'a> FrontEnd<'a> {
                 continue;
             }
             st.first = false;
-            if self.run_line(src, runs, st, here).is_break() {
+            if self.run_line(src, runs, st, here, line).is_break() {
                 break;
             }
         }
@@ -307,14 +307,14 @@ impl<'a> FrontEnd<'a> {
         runs: &[FileRun<'a>],
         st: &mut Run,
         here: usize,
+        line: Line<'a>,
     ) -> ControlFlow<()> {
         let run = &runs[st.f];
-        let line = run.line(here);
         let diags_before = self.r.diags.len();
         // Nothing looks back past the line being read.
         self.r.line_read();
         let items_before = self.r.items.len();
-        let block = run.block(here);
+        let block = run.block_of(here, line);
         let oword = match &*block {
             Some(Ok(b)) => b.oword.as_ref(),
             _ => None,
