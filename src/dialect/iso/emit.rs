@@ -344,7 +344,21 @@ impl write::ItemWriter for Items<'_> {
 /// where one is near.
 fn split_long_lines(out: String) -> String {
     use super::syntax::LINE_MAX;
-    if !out.lines().any(|l| l.len() > LINE_MAX) {
+    // Each line's length from the line feeds found, as `lines` gives the line (without a CR
+    // before its line feed): a search per line took a tenth of the writer's time.
+    let bytes = out.as_bytes();
+    let mut start = 0;
+    let long = memchr::memchr_iter(b'\n', bytes)
+        .chain(std::iter::once(bytes.len()))
+        .any(|end| {
+            let mut line = &bytes[start.min(end)..end];
+            if end < bytes.len() {
+                line = line.strip_suffix(b"\r").unwrap_or(line);
+            }
+            start = end + 1;
+            line.len() > LINE_MAX
+        });
+    if !long {
         return out;
     }
     let mut split = String::with_capacity(out.len() + 64);
@@ -1068,6 +1082,35 @@ mod tests {
             .collect();
         assert_eq!(back, wide);
         assert_eq!(&lines[6..], ["G0 X1", "%"]);
+    }
+
+    #[test]
+    fn a_line_is_long_as_lines_measures_it() {
+        let max = super::super::syntax::LINE_MAX;
+        let a = |n: usize| "a".repeat(n);
+        for text in [
+            String::new(),
+            "\n".into(),
+            format!("{}\n", a(max)),
+            format!("{}\r\n", a(max)),
+            format!("{}\r", a(max)),
+            format!("{}", a(max)),
+            format!("{}", a(max + 1)),
+            format!("x\n{}\nG0\n", a(max + 1)),
+            format!("x\n{}\r\nG0\n", a(max)),
+            format!("x\n{}\r\r\nG0\n", a(max)),
+        ] {
+            // The lines are split, or the text kept whole, as when each line was measured
+            // with `lines` (the text is rebuilt from its lines only then).
+            let fits = !text.lines().any(|l| l.len() > max);
+            let rebuilt: String = text.lines().flat_map(|l| [l, "\n"]).collect();
+            let split = split_long_lines(text.clone());
+            if fits {
+                assert_eq!(split, text, "{text:?}");
+            } else if !text.contains('(') {
+                assert_eq!(split, rebuilt, "{text:?}");
+            }
+        }
     }
 
     #[test]
