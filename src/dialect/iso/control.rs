@@ -136,7 +136,7 @@ impl Structure {
         let mut stack: Vec<Open> = Vec::new();
         let mut last: HashMap<Label, usize> = HashMap::new();
         for (i, block) in blocks {
-            let Some(o) = block.oword.as_ref() else {
+            let Some(o) = block.oword.as_deref() else {
                 continue;
             };
             if let Some(before) = last.insert(o.label.clone(), i) {

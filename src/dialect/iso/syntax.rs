@@ -142,7 +142,8 @@ pub struct Block {
     pub exprs: Vec<Expr>,
     /// Parameter settings: they take effect after the line is read.
     pub settings: Vec<Setting>,
-    pub oword: Option<OWord>,
+    /// Boxed: few lines hold one, and every line's block is moved a few times as it is read.
+    pub oword: Option<Box<OWord>>,
     /// Every `( )` and `;` comment, trimmed.
     pub comments: Vec<String>,
     pub unread: Vec<Unread>,
@@ -308,7 +309,7 @@ fn parse_with_grammar(line: &str) -> Result<Block, SyntaxError> {
                         range,
                     });
                 }
-                Rule::oword => block.oword = Some(oword_of(part, range, &mut block)?),
+                Rule::oword => block.oword = Some(Box::new(oword_of(part, range, &mut block)?)),
                 Rule::word => word_of(part, range, &mut block)?,
                 Rule::comment | Rule::semicolon_comment => {
                     let text = part.into_inner().next().map_or("", |t| t.as_str());

@@ -316,7 +316,7 @@ impl<'a> FrontEnd<'a> {
         let items_before = self.r.items.len();
         let block = run.block_of(here, line);
         let oword = match &*block {
-            Some(Ok(b)) => b.oword.as_ref(),
+            Some(Ok(b)) => b.oword.as_deref(),
             _ => None,
         };
         if let Some(o) = oword {

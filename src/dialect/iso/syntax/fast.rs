@@ -50,7 +50,7 @@ pub(super) fn fast_line(line: &str) -> Option<Block> {
     };
     if matches!(c.peek(), Some(b'O' | b'o')) {
         sized_ok()?;
-        block.oword = Some(oword(&mut c, &mut block.comments)?);
+        block.oword = Some(Box::new(oword(&mut c, &mut block.comments)?));
         return Some(block);
     }
     while !c.at_end() {
