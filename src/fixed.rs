@@ -424,6 +424,12 @@ const POWERS_OF_TEN: [i64; 10] = [
     1_000_000_000,
 ];
 
+/// 10⁰ to 10²², each exact in f64.
+const EXACT_POWERS_OF_TEN: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
 /// [`format_scaled`] appended to `out`.
 fn format_scaled_into(out: &mut String, value: i64, decimals: u32, trailing: Trailing) {
     // Written digit by digit (no `format!`): the writers format every coordinate.
@@ -642,6 +648,14 @@ impl Decimal {
     pub fn to_f64(self) -> f64 {
         // The mantissa and the power of ten are exact in f64 for the numbers programs
         // hold (up to 15 digits), so one correctly rounded division gives strtod's value.
+        // A mantissa in i64 converts alike without the library call an i128 takes, and the
+        // powers of ten to 10²² are exact (as `powi` gives them).
+        if let (Ok(m), Some(&p)) = (
+            i64::try_from(self.mantissa),
+            EXACT_POWERS_OF_TEN.get(self.scale as usize),
+        ) {
+            return m as f64 / p;
+        }
         self.mantissa as f64 / 10f64.powi(self.scale as i32)
     }
 }
@@ -661,6 +675,41 @@ impl fmt::Display for Decimal {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn a_decimal_as_f64_is_the_mantissa_over_the_power_of_ten() {
+        for (i, &p) in super::EXACT_POWERS_OF_TEN.iter().enumerate() {
+            assert_eq!(p, 10f64.powi(i as i32), "10^{i}");
+        }
+        let mantissas = [
+            0,
+            1,
+            -1,
+            15,
+            -1_651_090_548_698,
+            123_456_789_012_345_678,
+            i128::from(i64::MAX),
+            i128::from(i64::MIN),
+            i128::from(i64::MAX) + 1,
+            (1 << 70) + 12_345,
+            -(1 << 90),
+        ];
+        for mantissa in mantissas {
+            for scale in 0..30 {
+                let d = super::Decimal {
+                    mantissa,
+                    scale,
+                    has_point: true,
+                };
+                let by_powi = mantissa as f64 / 10f64.powi(scale as i32);
+                assert_eq!(
+                    d.to_f64().to_bits(),
+                    by_powi.to_bits(),
+                    "{mantissa} e-{scale}"
+                );
+            }
+        }
+    }
 
     /// The formatting as `format!` writes it: what `format_scaled` must equal.
     fn format_reference(value: i64, decimals: u32, trailing: Trailing) -> String {
