@@ -6,6 +6,17 @@ use crate::dialect::iso::codes;
 use crate::fixed::{Lead, Length, div_round};
 use crate::source::Line;
 
+/// 10⁰ to 10¹⁸, the powers of ten an i64 holds.
+const POWERS_OF_TEN: [i64; 19] = {
+    let mut p = [1; 19];
+    let mut i = 1;
+    while i < p.len() {
+        p[i] = p[i - 1] * 10;
+        i += 1;
+    }
+    p
+};
+
 impl FrontEnd<'_> {
     /// A length word in program units → a length on the grid: millimetres exact to 0.00001
     /// mm, inches to 0.0001 in; warns once when it rounds.
@@ -23,11 +34,24 @@ impl FrontEnd<'_> {
         } else {
             Length::PER_MM
         } as i128;
-        let den = 10i128.checked_pow(d.scale);
-        let num = d.mantissa.checked_mul(per_unit * times);
-        let (Some(num), Some(den)) = (num, den) else {
-            self.too_large(line, w);
-            return None;
+        // A word's few digits in i64, where the product cannot overflow (|num| < 2⁶³): i128's
+        // remainder is a library call, for every length read.
+        let small = i64::try_from(d.mantissa)
+            .ok()
+            .filter(|m| m.unsigned_abs() < 1 << 40 && (-2..=2).contains(&times))
+            .zip(POWERS_OF_TEN.get(d.scale as usize))
+            .map(|(m, &den)| (m * per_unit as i64 * times as i64, den));
+        let (num, den) = match small {
+            Some((num, den)) => (i128::from(num), i128::from(den)),
+            None => {
+                let den = 10i128.checked_pow(d.scale);
+                let num = d.mantissa.checked_mul(per_unit * times);
+                let (Some(num), Some(den)) = (num, den) else {
+                    self.too_large(line, w);
+                    return None;
+                };
+                (num, den)
+            }
         };
         let v = div_round(num, den);
         if v.abs() > (1 << 50) * Length::STEP as i128 {
@@ -35,7 +59,11 @@ impl FrontEnd<'_> {
             return None;
         }
         let length = Length(v as i64);
-        if num % den != 0 && !self.warned_rounding {
+        let rounds = match small {
+            Some((num, den)) => num % den != 0,
+            None => num % den != 0,
+        };
+        if rounds && !self.warned_rounding {
             self.warned_rounding = true;
             let exact = num as f64 / den as f64 / Length::PER_MM as f64;
             self.diag(
