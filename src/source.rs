@@ -860,6 +860,8 @@ impl SourceFile {
         let mut count = self.line_starts.get().map(LineStarts::len);
         std::iter::from_fn(move || {
             let i = number as usize;
+            // Where the line ends (its line end included), once a search has found it.
+            let mut found = None;
             match count {
                 Some(count) if i >= count => return None,
                 Some(_) => {}
@@ -873,7 +875,9 @@ impl SourceFile {
                         return None;
                     }
                     let rest = &self.text[offset..];
-                    if memchr::memchr(b'\n', rest.as_bytes()).is_some() {
+                    let end = line_end(rest);
+                    if rest.as_bytes().get(end.wrapping_sub(1)) == Some(&b'\n') {
+                        found = Some(end);
                         break;
                     }
                     if !self.text.grow() {
@@ -887,7 +891,7 @@ impl SourceFile {
             }
             self.text.read_to(offset);
             let rest = &self.text[offset..];
-            let end = line_end(rest);
+            let end = found.unwrap_or_else(|| line_end(rest));
             number += 1;
             let line = line_at(number, offset, &rest[..end]);
             offset += end;
