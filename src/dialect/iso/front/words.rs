@@ -35,6 +35,7 @@ impl<'b> Words<'b> {
         self.g.iter().find(|(c, _)| *c == code).map(|(_, w)| *w)
     }
 
+    #[cfg(test)]
     pub(super) fn has_m(&self, code: i64) -> Option<&'b Word> {
         self.m.iter().find(|(c, _)| *c == code).map(|(_, w)| *w)
     }
@@ -113,6 +114,7 @@ const USER_CODES: [i64; (USER_M_LAST - USER_M_FIRST + 1) as usize] = {
 /// refused a line with two codes of one group, so each group holds one code at most; the
 /// plane (G17 and G18 may share a line, G18 winning) and the codes kept opaque are not a
 /// group here.
+#[cfg_attr(test, derive(Debug, PartialEq))]
 pub(super) struct Asks<'b> {
     /// G94 / G95.
     pub(super) feed_mode: Option<FeedMode>,
@@ -165,89 +167,117 @@ pub(super) struct Asks<'b> {
 }
 
 impl<'b> Asks<'b> {
-    /// Sorts the line's G and M codes by modal group.
+    /// Sorts the line's G and M codes by modal group, in one pass over them: a group's
+    /// code is the first of the line's codes in it, and of a pair (G94 / G95, …) the first
+    /// named wins (the line has one code of a group at most, [`FrontEnd::sort_words`]).
     pub(super) fn of(words: &Words<'b>) -> Self {
-        let g = |codes: &[GCode]| words.g.iter().find(|(c, _)| codes.contains(c)).copied();
-        let either = |a: GCode, b: GCode| match (words.has_g(a), words.has_g(b)) {
-            (Some(_), _) => Some(true),
-            (None, Some(_)) => Some(false),
-            (None, None) => None,
-        };
-        Asks {
-            feed_mode: either(G94, G95).map(|min| {
-                if min {
-                    FeedMode::PerMin
-                } else {
-                    FeedMode::PerRev
-                }
-            }),
-            inch: either(G20, G21),
-            surface_speed: words.has_g(G96),
-            rpm: words.has_g(G97).is_some(),
-            tool_change: words.has_m(6),
-            tool_length: words.has_g(G43).is_some(),
-            direction: if words.has_m(3).is_some() {
-                Some(SpindleDirection::Clockwise)
-            } else if words.has_m(4).is_some() {
-                Some(SpindleDirection::CounterClockwise)
-            } else {
-                None
-            },
-            spindle_stop: words.has_m(5).is_some(),
-            coolant: words.m.iter().find_map(|&(code, w)| match code {
-                7 => Some((Coolant::Mist, w)),
-                8 => Some((Coolant::Flood, w)),
-                9 => Some((Coolant::Off, w)),
-                _ => None,
-            }),
-            dwell: words.has_g(G4),
-            diameter: either(G7, G8),
-            kept: words
-                .g
-                .iter()
-                .filter(|(c, _)| matches!(g_meaning(*c), Meaning::Kept))
-                .copied()
-                .collect(),
-            plane_xy: words.has_g(G17),
-            plane_zx: words.has_g(G18).is_some(),
-            compensation: g(&[G40, G41, G42, G41_1, G42_1]),
-            work_offset: g(&[G54, G55, G56, G57, G58, G59, G59_1, G59_2, G59_3])
-                .map(|(c, w)| (work_offset(c), w)),
-            incremental: either(G91, G90),
-            absolute_centres: either(G90_1, G91_1),
-            retract: g(&[G98, G99]),
-            motion: Self::motion(words),
-            offsets: g(&[G52, G92, G92_1, G92_2, G92_3]),
-            machine: g(&[G28, G28_1, G30, G30_1, G53]),
-            stop: words
-                .m
-                .iter()
-                .find(|(c, _)| matches!(c, 0 | 1 | 2 | 30))
-                .copied(),
-            user: words
-                .m
-                .iter()
-                .filter(|(c, _)| (USER_M_FIRST..=USER_M_LAST).contains(c))
-                .find_map(|&(c, w)| Some((u32::try_from(c).ok()?, w))),
+        fn first<T>(slot: &mut Option<T>, value: T) {
+            if slot.is_none() {
+                *slot = Some(value);
+            }
         }
+        let mut a = Asks {
+            feed_mode: None,
+            inch: None,
+            surface_speed: None,
+            rpm: false,
+            tool_change: None,
+            tool_length: false,
+            direction: None,
+            spindle_stop: false,
+            coolant: None,
+            dwell: None,
+            diameter: None,
+            kept: Vec::new(),
+            plane_xy: None,
+            plane_zx: false,
+            compensation: None,
+            work_offset: None,
+            incremental: None,
+            absolute_centres: None,
+            retract: None,
+            motion: None,
+            offsets: None,
+            machine: None,
+            stop: None,
+            user: None,
+        };
+        let mut cycle_off = false;
+        for &(code, w) in &words.g {
+            match code {
+                // Of a pair, the first named wins wherever it stands.
+                G94 => a.feed_mode = Some(FeedMode::PerMin),
+                G95 => first(&mut a.feed_mode, FeedMode::PerRev),
+                G20 => a.inch = Some(true),
+                G21 => first(&mut a.inch, false),
+                G7 => a.diameter = Some(true),
+                G8 => first(&mut a.diameter, false),
+                G91 => a.incremental = Some(true),
+                G90 => first(&mut a.incremental, false),
+                G90_1 => a.absolute_centres = Some(true),
+                G91_1 => first(&mut a.absolute_centres, false),
+                G96 => first(&mut a.surface_speed, w),
+                G97 => a.rpm = true,
+                G43 => a.tool_length = true,
+                G4 => first(&mut a.dwell, w),
+                G17 => first(&mut a.plane_xy, w),
+                G18 => a.plane_zx = true,
+                G40 | G41 | G42 | G41_1 | G42_1 => first(&mut a.compensation, (code, w)),
+                G54 | G55 | G56 | G57 | G58 | G59 | G59_1 | G59_2 | G59_3 => {
+                    first(&mut a.work_offset, (work_offset(code), w));
+                }
+                G98 | G99 => first(&mut a.retract, (code, w)),
+                G52 | G92 | G92_1 | G92_2 | G92_3 => first(&mut a.offsets, (code, w)),
+                G28 | G28_1 | G30 | G30_1 | G53 => first(&mut a.machine, (code, w)),
+                G80 => cycle_off = true,
+                _ => {}
+            }
+            if let Some(motion) = Self::motion_of(code) {
+                first(&mut a.motion, motion);
+            }
+            if matches!(g_meaning(code), Meaning::Kept) {
+                a.kept.push((code, w));
+            }
+        }
+        if cycle_off {
+            first(&mut a.motion, Motion::CycleOff);
+        }
+        for &(code, w) in &words.m {
+            match code {
+                3 => a.direction = Some(SpindleDirection::Clockwise),
+                4 => first(&mut a.direction, SpindleDirection::CounterClockwise),
+                5 => a.spindle_stop = true,
+                6 => first(&mut a.tool_change, w),
+                7 => first(&mut a.coolant, (Coolant::Mist, w)),
+                8 => first(&mut a.coolant, (Coolant::Flood, w)),
+                9 => first(&mut a.coolant, (Coolant::Off, w)),
+                0 | 1 | 2 | 30 => first(&mut a.stop, (code, w)),
+                USER_M_FIRST..=USER_M_LAST => {
+                    if let Ok(c) = u32::try_from(code) {
+                        first(&mut a.user, (c, w));
+                    }
+                }
+                _ => {}
+            }
+        }
+        a
     }
 
-    /// The line's motion code; G80 only when the line has no other (LinuxCNC ignores a G80
-    /// beside another motion code). **[evidence]** `read_g`.
-    fn motion(words: &Words<'b>) -> Option<Motion> {
-        let code = words.g.iter().find_map(|&(c, _)| match c {
-            G0 => Some(Motion::Rapid),
-            G1 => Some(Motion::Feed),
-            G2 => Some(Motion::Arc { clockwise: true }),
-            G3 => Some(Motion::Arc { clockwise: false }),
-            G33 => Some(Motion::Thread),
-            G33_1 => Some(Motion::Tap),
-            G76 => Some(Motion::Cycle),
-            G70 | G71 | G71_1 | G71_2 | G72 | G72_1 | G72_2 => Some(Motion::Roughing(c)),
-            G73 | G81 | G82 | G83 | G85 | G89 => Some(Motion::Drill(c)),
-            _ => None,
-        });
-        code.or(words.has_g(G80).map(|_| Motion::CycleOff))
+    /// The motion a motion code asks for. G80 counts only when the line has no other: LinuxCNC
+    /// ignores a G80 beside another motion code. **[evidence]** `read_g`.
+    fn motion_of(code: GCode) -> Option<Motion> {
+        Some(match code {
+            G0 => Motion::Rapid,
+            G1 => Motion::Feed,
+            G2 => Motion::Arc { clockwise: true },
+            G3 => Motion::Arc { clockwise: false },
+            G33 => Motion::Thread,
+            G33_1 => Motion::Tap,
+            G76 => Motion::Cycle,
+            G70 | G71 | G71_1 | G71_2 | G72 | G72_1 | G72_2 => Motion::Roughing(code),
+            G73 | G81 | G82 | G83 | G85 | G89 => Motion::Drill(code),
+            _ => return None,
+        })
     }
 }
 
@@ -354,5 +384,151 @@ impl FrontEnd<'_> {
             }
         }
         ok
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `Asks::of` as it was, a look over the codes for each group.
+    /// Sorts the line's G and M codes by modal group.
+    fn of_by_groups<'b>(words: &Words<'b>) -> Asks<'b> {
+        let g = |codes: &[GCode]| words.g.iter().find(|(c, _)| codes.contains(c)).copied();
+        let either = |a: GCode, b: GCode| match (words.has_g(a), words.has_g(b)) {
+            (Some(_), _) => Some(true),
+            (None, Some(_)) => Some(false),
+            (None, None) => None,
+        };
+        Asks {
+            feed_mode: either(G94, G95).map(|min| {
+                if min {
+                    FeedMode::PerMin
+                } else {
+                    FeedMode::PerRev
+                }
+            }),
+            inch: either(G20, G21),
+            surface_speed: words.has_g(G96),
+            rpm: words.has_g(G97).is_some(),
+            tool_change: words.has_m(6),
+            tool_length: words.has_g(G43).is_some(),
+            direction: if words.has_m(3).is_some() {
+                Some(SpindleDirection::Clockwise)
+            } else if words.has_m(4).is_some() {
+                Some(SpindleDirection::CounterClockwise)
+            } else {
+                None
+            },
+            spindle_stop: words.has_m(5).is_some(),
+            coolant: words.m.iter().find_map(|&(code, w)| match code {
+                7 => Some((Coolant::Mist, w)),
+                8 => Some((Coolant::Flood, w)),
+                9 => Some((Coolant::Off, w)),
+                _ => None,
+            }),
+            dwell: words.has_g(G4),
+            diameter: either(G7, G8),
+            kept: words
+                .g
+                .iter()
+                .filter(|(c, _)| matches!(g_meaning(*c), Meaning::Kept))
+                .copied()
+                .collect(),
+            plane_xy: words.has_g(G17),
+            plane_zx: words.has_g(G18).is_some(),
+            compensation: g(&[G40, G41, G42, G41_1, G42_1]),
+            work_offset: g(&[G54, G55, G56, G57, G58, G59, G59_1, G59_2, G59_3])
+                .map(|(c, w)| (work_offset(c), w)),
+            incremental: either(G91, G90),
+            absolute_centres: either(G90_1, G91_1),
+            retract: g(&[G98, G99]),
+            motion: motion(words),
+            offsets: g(&[G52, G92, G92_1, G92_2, G92_3]),
+            machine: g(&[G28, G28_1, G30, G30_1, G53]),
+            stop: words
+                .m
+                .iter()
+                .find(|(c, _)| matches!(c, 0 | 1 | 2 | 30))
+                .copied(),
+            user: words
+                .m
+                .iter()
+                .filter(|(c, _)| (USER_M_FIRST..=USER_M_LAST).contains(c))
+                .find_map(|&(c, w)| Some((u32::try_from(c).ok()?, w))),
+        }
+    }
+
+    /// The line's motion code; G80 only when the line has no other (LinuxCNC ignores a G80
+    /// beside another motion code). **[evidence]** `read_g`.
+    fn motion<'b>(words: &Words<'b>) -> Option<Motion> {
+        let code = words.g.iter().find_map(|&(c, _)| match c {
+            G0 => Some(Motion::Rapid),
+            G1 => Some(Motion::Feed),
+            G2 => Some(Motion::Arc { clockwise: true }),
+            G3 => Some(Motion::Arc { clockwise: false }),
+            G33 => Some(Motion::Thread),
+            G33_1 => Some(Motion::Tap),
+            G76 => Some(Motion::Cycle),
+            G70 | G71 | G71_1 | G71_2 | G72 | G72_1 | G72_2 => Some(Motion::Roughing(c)),
+            G73 | G81 | G82 | G83 | G85 | G89 => Some(Motion::Drill(c)),
+            _ => None,
+        });
+        code.or(words.has_g(G80).map(|_| Motion::CycleOff))
+    }
+
+    #[test]
+    fn a_block_asks_what_a_look_per_group_finds() {
+        let mut codes: Vec<(char, i64)> = [
+            G0, G1, G2, G3, G4, G7, G8, G17, G18, G20, G21, G28, G28_1, G30, G30_1, G33, G33_1,
+            G40, G41, G42, G41_1, G42_1, G43, G49, G52, G53, G54, G55, G59_3, G61, G64, G70, G71,
+            G72_2, G73, G76, G80, G81, G89, G90, G91, G90_1, G91_1, G92, G92_3, G94, G95, G96, G97,
+            G98, G99,
+        ]
+        .into_iter()
+        .map(|g| ('G', g))
+        .collect();
+        codes.extend([0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 30, 60, 100, 150, 199].map(|m| ('M', m)));
+        let word = |i: usize| Word {
+            letter: 'G',
+            value: crate::fixed::Decimal::default(),
+            range: i..i + 1,
+            expr: None,
+        };
+        let words: Vec<Word> = (0..3).map(word).collect();
+        let mut lines = 0;
+        // Every code alone, every pair and every triple of codes, in every order given.
+        for a in 0..codes.len() {
+            for b in a..codes.len() + 1 {
+                for c in [b, b + 1, b + 7, b + 13].map(|c| c.min(codes.len())) {
+                    let line: Vec<(char, i64)> = [
+                        Some(a),
+                        (b < codes.len()).then_some(b),
+                        (c < codes.len() && b < codes.len()).then_some(c),
+                    ]
+                    .into_iter()
+                    .flatten()
+                    .map(|i| codes[i])
+                    .collect();
+                    for order in [line.clone(), line.iter().rev().copied().collect()] {
+                        let mut sorted = Words {
+                            g: smallvec::SmallVec::new(),
+                            m: smallvec::SmallVec::new(),
+                            other: Letters::default(),
+                            used: smallvec::SmallVec::new(),
+                        };
+                        for (i, &(letter, code)) in order.iter().enumerate() {
+                            match letter {
+                                'G' => sorted.g.push((code, &words[i])),
+                                _ => sorted.m.push((code, &words[i])),
+                            }
+                        }
+                        assert_eq!(Asks::of(&sorted), of_by_groups(&sorted), "{order:?}");
+                        lines += 1;
+                    }
+                }
+            }
+        }
+        assert!(lines > 10_000, "{lines}");
     }
 }
