@@ -41,7 +41,7 @@ impl Length {
     /// Rounds a float (the result of trigonometry) onto the 0.0001 mm step, half away from
     /// zero.
     pub fn from_mm_f64(mm: f64) -> Length {
-        Length((mm * 10_000.0).round() as i64 * Self::STEP)
+        Length(round_half_away(mm * 10_000.0) as i64 * Self::STEP)
     }
 
     pub fn to_mm_f64(self) -> f64 {
@@ -373,6 +373,25 @@ impl fmt::Display for Lead {
     }
 }
 
+/// `x.round()` (half away from zero), without the library call it is on x86-64: below 2⁵²
+/// the part cut off by truncating is exact, and compared with ½.
+#[inline]
+pub fn round_half_away(x: f64) -> f64 {
+    if x.abs() < 4_503_599_627_370_496.0 {
+        let t = x as i64 as f64;
+        let cut = x - t;
+        if cut >= 0.5 {
+            t + 1.0
+        } else if cut <= -0.5 {
+            t - 1.0
+        } else {
+            t.copysign(x)
+        }
+    } else {
+        x.round()
+    }
+}
+
 /// Integer division rounding half away from zero.
 pub fn div_round(num: i128, den: i128) -> i128 {
     debug_assert!(den != 0);
@@ -423,6 +442,10 @@ const POWERS_OF_TEN: [i64; 10] = [
     100_000_000,
     1_000_000_000,
 ];
+
+/// The largest magnitude [`Decimal::to_scaled`] gives: well inside i64, so that later
+/// products (lead · length) cannot overflow.
+const SCALED_LIMIT: i128 = 1 << 50;
 
 /// 10⁰ to 10²², each exact in f64.
 const EXACT_POWERS_OF_TEN: [f64; 23] = [
@@ -556,22 +579,28 @@ impl Decimal {
     }
 
     /// The value as an integer of `10^-decimals` units, exactly, or why not.
+    // Inlined: the readers ask it of every G code a few times.
+    #[inline]
     pub fn to_scaled(self, decimals: u32) -> Result<i64, NumberError> {
-        // Keep well inside i64 so later products (lead · length) cannot overflow.
-        const LIMIT: i128 = 1 << 50;
         // The common case in i64: a few digits scaled up by at most 10^9.
-        let mantissa = self.mantissa;
         if self.scale <= decimals
             && decimals - self.scale <= 9
-            && let Ok(m) = i32::try_from(mantissa)
+            && let Ok(m) = i32::try_from(self.mantissa)
         {
             let value = i64::from(m) * POWERS_OF_TEN[(decimals - self.scale) as usize];
-            return if i128::from(value).abs() > LIMIT {
+            return if i128::from(value).abs() > SCALED_LIMIT {
                 Err(NumberError::TooLarge)
             } else {
                 Ok(value)
             };
         }
+        self.to_scaled_wide(decimals)
+    }
+
+    /// [`Self::to_scaled`] of a value that needs more than an i32's digits or 10⁹.
+    #[inline(never)]
+    fn to_scaled_wide(self, decimals: u32) -> Result<i64, NumberError> {
+        const LIMIT: i128 = SCALED_LIMIT;
         let value = if self.scale <= decimals {
             let factor = 10i128
                 .checked_pow(decimals - self.scale)
@@ -675,6 +704,49 @@ impl fmt::Display for Decimal {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn rounding_half_away_is_f64_round() {
+        let mut values = vec![
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.5,
+            2.5,
+            -2.5,
+            0.49999999999999994,
+            -0.49999999999999994,
+            0.5000000000000001,
+            1.4999999999999998,
+            4_503_599_627_370_495.5,
+            -4_503_599_627_370_495.5,
+            4_503_599_627_370_496.0,
+            9.3e18,
+            -9.3e18,
+            1e300,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::MIN_POSITIVE,
+            -f64::MIN_POSITIVE,
+            f64::EPSILON,
+        ];
+        // Every quarter step around the grid's values, and values from a walk over the range.
+        values.extend((-40..=40).map(|i| i as f64 * 0.25));
+        let mut x = 1e-9f64;
+        while x < 1e17 {
+            values.extend([x, -x, x + 0.5, -x - 0.5, (x * 10_000.0).floor() + 0.5]);
+            x *= 1.37;
+        }
+        for v in values {
+            assert_eq!(
+                super::round_half_away(v).to_bits(),
+                v.round().to_bits(),
+                "{v:e}"
+            );
+        }
+        assert!(super::round_half_away(f64::NAN).is_nan());
+    }
 
     #[test]
     fn a_decimal_as_f64_is_the_mantissa_over_the_power_of_ten() {
