@@ -538,7 +538,9 @@ impl<'s> Follow<'s> {
 /// A line read into a block (an empty one past the file's end).
 fn parse(line: Option<Line<'_>>) -> ReadLine {
     let text = line.map_or("", |l| l.text);
-    (!text.contains('\0')).then(|| syntax::parse_line(text))
+    memchr::memchr(0, text.as_bytes())
+        .is_none()
+        .then(|| syntax::parse_line(text))
 }
 
 /// `v.partition_point(below)` for a `v` sorted by it, tried first at `hint` and one past it.
