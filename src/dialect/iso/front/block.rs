@@ -1,6 +1,6 @@
 //! The block interpreter, shaped as LinuxCNC's (`interp_convert.cc`: `execute_block`, then
 //! `convert_m` and `convert_g`): the line's words are sorted first ([`FrontEnd::sort_words`],
-//! then [`Asks::of`]: what the block asks of each modal group), then one step per group
+//! then [`Asks::fill`]: what the block asks of each modal group), then one step per group
 //! runs, in one order. A step reads what the groups before it left: the units are set
 //! before every length, the spindle mode before S, the plane before compensation and motion.
 //!
@@ -78,14 +78,12 @@ impl FrontEnd<'_> {
         if self.unsupported(line, block) {
             return;
         }
-        let Some(words) = self.sort_words(line, block) else {
-            return;
-        };
-        let asks = Asks::of(&words);
+        // Made where they stand: the words and what the block asks are a few hundred bytes
+        // each, and were moved into the interpreter's block.
         let mut b = Interp {
             line,
-            words,
-            asks,
+            words: Words::new(),
+            asks: Asks::none(),
             span: self.r.src.line_span(line),
             diags_before: self.r.diags.len(),
             inch_before: self.inch,
@@ -93,6 +91,11 @@ impl FrontEnd<'_> {
             f_word: None,
             speed: None,
         };
+        if !self.sort_words(line, block, &mut b.words) {
+            return;
+        }
+        b.diags_before = self.r.diags.len();
+        b.asks.fill(&b.words);
         let _ = self.interpret(&mut b);
     }
 

@@ -25,6 +25,15 @@ pub(super) struct Words<'b> {
 }
 
 impl<'b> Words<'b> {
+    pub(super) fn new() -> Self {
+        Words {
+            g: smallvec::SmallVec::new(),
+            m: smallvec::SmallVec::new(),
+            other: Letters::default(),
+            used: smallvec::SmallVec::new(),
+        }
+    }
+
     pub(super) fn take(&mut self, letter: char) -> Option<&'b Word> {
         let w = self.other.get(&letter).copied()?;
         self.used.push(letter);
@@ -170,13 +179,16 @@ impl<'b> Asks<'b> {
     /// Sorts the line's G and M codes by modal group, in one pass over them: a group's
     /// code is the first of the line's codes in it, and of a pair (G94 / G95, …) the first
     /// named wins (the line has one code of a group at most, [`FrontEnd::sort_words`]).
+    #[cfg(test)]
     pub(super) fn of(words: &Words<'b>) -> Self {
-        fn first<T>(slot: &mut Option<T>, value: T) {
-            if slot.is_none() {
-                *slot = Some(value);
-            }
-        }
-        let mut a = Asks {
+        let mut a = Asks::none();
+        a.fill(words);
+        a
+    }
+
+    /// A block that asks nothing.
+    pub(super) fn none() -> Self {
+        Asks {
             feed_mode: None,
             inch: None,
             surface_speed: None,
@@ -201,7 +213,18 @@ impl<'b> Asks<'b> {
             machine: None,
             stop: None,
             user: None,
-        };
+        }
+    }
+
+    /// [`Asks::of`] into `self`, which asks nothing yet (filled where it stands: a block's
+    /// asks and words were moved a few hundred bytes each, a line).
+    pub(super) fn fill(&mut self, words: &Words<'b>) {
+        fn first<T>(slot: &mut Option<T>, value: T) {
+            if slot.is_none() {
+                *slot = Some(value);
+            }
+        }
+        let a = self;
         let mut cycle_off = false;
         for &(code, w) in &words.g {
             match code {
@@ -260,7 +283,6 @@ impl<'b> Asks<'b> {
                 _ => {}
             }
         }
-        a
     }
 
     /// The motion a motion code asks for. G80 counts only when the line has no other: LinuxCNC
@@ -297,19 +319,18 @@ fn work_offset(code: GCode) -> u8 {
 }
 
 impl FrontEnd<'_> {
-    /// Sorts the line's words: the G and M codes in the line's order, every other word by
-    /// its letter. Reports a letter given twice and two codes of one modal group; `None`
-    /// when the line has either (LinuxCNC refuses it).
-    pub(super) fn sort_words<'b>(&mut self, line: Line<'_>, block: &'b Block) -> Option<Words<'b>> {
-        let mut words = Words {
-            g: smallvec::SmallVec::new(),
-            m: smallvec::SmallVec::new(),
-            other: Letters::default(),
-            used: smallvec::SmallVec::new(),
-        };
-        let mut ok = self.sort_letters(line, block, &mut words);
-        ok &= self.one_code_per_group(line, &words);
-        ok.then_some(words)
+    /// Sorts the line's words into `words` (empty): the G and M codes in the line's order,
+    /// every other word by its letter. Reports a letter given twice and two codes of one
+    /// modal group; false when the line has either (LinuxCNC refuses it).
+    pub(super) fn sort_words<'b>(
+        &mut self,
+        line: Line<'_>,
+        block: &'b Block,
+        words: &mut Words<'b>,
+    ) -> bool {
+        let mut ok = self.sort_letters(line, block, words);
+        ok &= self.one_code_per_group(line, words);
+        ok
     }
 
     /// Each word into `words` by its letter; false when a letter is given twice.
@@ -511,12 +532,7 @@ mod tests {
                     .map(|i| codes[i])
                     .collect();
                     for order in [line.clone(), line.iter().rev().copied().collect()] {
-                        let mut sorted = Words {
-                            g: smallvec::SmallVec::new(),
-                            m: smallvec::SmallVec::new(),
-                            other: Letters::default(),
-                            used: smallvec::SmallVec::new(),
-                        };
+                        let mut sorted = Words::new();
                         for (i, &(letter, code)) in order.iter().enumerate() {
                             match letter {
                                 'G' => sorted.g.push((code, &words[i])),
