@@ -166,6 +166,25 @@ pub(super) fn m_meaning(code: i64) -> Meaning {
     }
 }
 
+/// Whether ncthread reads all the line holds: nothing unread, no axis but X and Z, and only G
+/// and M codes it reads or keeps — the lines [`FrontEnd::unsupported`] reports nothing of, told
+/// in one look at each word (most lines; the look of each check took three).
+fn reads_every_word(block: &Block) -> bool {
+    block.unread.is_empty()
+        && block.words.iter().all(|w| match w.letter {
+            'Y' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W' => false,
+            'G' => w
+                .value
+                .to_scaled(1)
+                .is_ok_and(|g| !matches!(g_meaning(g), Meaning::Unsupported(_))),
+            'M' => w
+                .value
+                .to_whole()
+                .is_ok_and(|m| !matches!(m_meaning(m), Meaning::Unsupported(_))),
+            _ => true,
+        })
+}
+
 /// What a line holds that ncthread does not read: its unread parts, then its G and M codes
 /// that are not read, each with its message.
 fn unread_words(line: Line<'_>, block: &Block) -> Vec<(Range<usize>, String)> {
@@ -276,6 +295,9 @@ impl FrontEnd<'_> {
     /// Reports what the line holds that ncthread does not read; true when the line must
     /// be skipped (or was kept opaque).
     pub(super) fn unsupported(&mut self, line: Line<'_>, block: &Block) -> bool {
+        if reads_every_word(block) {
+            return false;
+        }
         if self.not_a_lathe_program(line, block) {
             return true;
         }
@@ -332,5 +354,46 @@ impl FrontEnd<'_> {
         }) {
             self.motion = None;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::source::SourceFile;
+
+    /// A line read in whole is one the checks report nothing of: nothing unread, no G or M
+    /// code not read, no axis or plane of a mill (and a line they would report is not one).
+    #[test]
+    fn a_line_read_in_whole_is_one_nothing_is_reported_of() {
+        let mut lines = vec![];
+        for g in [
+            "", "G0", "G1", "G17", "G18", "G19", "G17.1", "G18.1", "G10", "G33", "G38.2", "G49",
+            "G64", "G70", "G71", "G84", "G93", "G95", "G5.3",
+        ] {
+            for m in ["", "M3", "M6", "M19", "M62", "M70", "M150", "M250", "M1.5"] {
+                for axes in ["X1 Z2", "Y1", "A5", "U1 W2", "K1.5 F0.1", "X#1", "/X1"] {
+                    lines.push(format!("{g} {m} {axes}"));
+                }
+            }
+        }
+        let src = SourceFile::new("t", &lines.join("\n"));
+        let mut whole = 0;
+        for line in src.lines() {
+            let Ok(block) = crate::dialect::iso::syntax::parse_line(line.text) else {
+                continue;
+            };
+            let mill = block.words.iter().any(|w| {
+                matches!(w.letter, 'Y' | 'A' | 'B' | 'C' | 'U' | 'V' | 'W')
+                    || w.letter == 'G'
+                        && w.value
+                            .to_scaled(1)
+                            .is_ok_and(|g| matches!(g, G19 | G17_1 | G18_1 | G19_1))
+            });
+            let reported = !unread_words(line, &block).is_empty() || mill;
+            assert_eq!(reads_every_word(&block), !reported, "{}", line.text);
+            whole += usize::from(!reported);
+        }
+        assert!(whole > 50, "{whole}");
     }
 }
