@@ -36,6 +36,35 @@ pub struct Unread {
     pub range: Range<usize>,
 }
 
+/// A line's [`Unread`] parts: rare (a block delete), so held apart, that a block, which is
+/// moved a few times a line, fits in 128 bytes (moved without a `memcpy` call).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Unreads(Option<Box<Vec<Unread>>>);
+
+impl Unreads {
+    pub fn push(&mut self, unread: Unread) {
+        self.0.get_or_insert_default().push(unread);
+    }
+
+    /// Takes out the part at `at` (when there is one).
+    pub fn remove(&mut self, at: usize) -> Option<Unread> {
+        let parts = self.0.as_mut()?;
+        let part = (at < parts.len()).then(|| parts.remove(at));
+        if parts.is_empty() {
+            self.0 = None;
+        }
+        part
+    }
+}
+
+impl std::ops::Deref for Unreads {
+    type Target = [Unread];
+
+    fn deref(&self) -> &[Unread] {
+        self.0.as_deref().map_or(&[], Vec::as_slice)
+    }
+}
+
 /// `#1 = 5`, `#<depth> = [#1 * 2]`
 #[derive(Clone, Debug, PartialEq)]
 pub struct Setting {
@@ -146,7 +175,7 @@ pub struct Block {
     pub oword: Option<Box<OWord>>,
     /// Every `( )` and `;` comment, trimmed.
     pub comments: Vec<String>,
-    pub unread: Vec<Unread>,
+    pub unread: Unreads,
     /// A `%` line.
     pub delimiter: bool,
 }
@@ -670,8 +699,13 @@ mod tests {
         assert_eq!(b.oword.unwrap().label, Label::Number("100".into()));
         let b = parse_line("G0 X[ATAN[1]/[1] + ABS[-2] ** 2 MOD 3]").unwrap();
         assert_eq!(b.exprs.len(), 1);
-        let b = parse_line("/G0 X1").unwrap();
+        let mut b = parse_line("/G0 X1").unwrap();
         assert_eq!(b.unread[0].what, "block delete `/`");
+        assert_eq!(b.unread.remove(1), None);
+        assert_eq!(b.unread.remove(0).map(|u| u.range), Some(0..1));
+        assert!(b.unread.is_empty() && b.unread == Unreads::default());
+        // A block is moved a few times a line: in 128 bytes, without a `memcpy` call.
+        assert!(std::mem::size_of::<Block>() <= 128);
         // O-words take nothing but brackets and a comment.
         assert!(parse_line("o100 call G0").is_err());
         // A hostile nesting is refused, not a stack overflow.
