@@ -122,7 +122,9 @@ pub fn pass_segments(start: Pos, pass: &ThreadPass) -> Result<Vec<SyncSegment>, 
     };
     let line_from = (sx - pass.entry.map_or(Length::ZERO, |e| e.offset), sz);
     let line_to = (ex, ez);
-    let mut points = vec![Pos::new(sx, sz)];
+    // The start, the entry's end, the exit's start and end: room for all four.
+    let mut points = Vec::with_capacity(4);
+    points.push(Pos::new(sx, sz));
     if let Some(entry) = pass.entry {
         let z = sz + Length(direction * entry.length.0);
         points.push(Pos::new(x_on_line(line_from, line_to, z), z));
@@ -803,12 +805,20 @@ impl Expansion {
     pub fn heading(&self, pass: usize) -> String {
         let n = self.passes.len();
         match pass.checked_sub(1).and_then(|i| self.passes.get(i)) {
-            Some(p) => format!(
-                "pass {}/{n}: depth {}, cut {}",
-                p.number,
-                p.depth.mm(),
-                p.cut.mm()
-            ),
+            // "pass {number}/{n}: depth {depth mm}, cut {cut mm}", put together without the
+            // formatter (a heading a pass).
+            Some(p) => {
+                let mut text = String::with_capacity(48);
+                text.push_str("pass ");
+                crate::fixed::push_whole(&mut text, p.number as u64);
+                text.push('/');
+                crate::fixed::push_whole(&mut text, n as u64);
+                text.push_str(": depth ");
+                p.depth.push_mm(&mut text);
+                text.push_str(", cut ");
+                p.cut.push_mm(&mut text);
+                text
+            }
             None => "back to the cycle start".to_string(),
         }
     }
@@ -1203,6 +1213,25 @@ mod tests {
             "{refused} of {}",
             cycles.len()
         );
+    }
+
+    #[test]
+    fn a_pass_heading_says_its_number_depth_and_cut() {
+        {
+            let e = expand(&m36(Schedule::Halving)).unwrap();
+            let n = e.passes.len();
+            for (i, p) in e.passes.iter().enumerate() {
+                let formatted = format!(
+                    "pass {}/{n}: depth {}, cut {}",
+                    p.number,
+                    p.depth.mm(),
+                    p.cut.mm()
+                );
+                assert_eq!(e.heading(i + 1), formatted);
+            }
+            assert_eq!(e.heading(0), "back to the cycle start");
+            assert_eq!(e.heading(n + 1), "back to the cycle start");
+        }
     }
 
     #[test]
