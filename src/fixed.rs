@@ -455,49 +455,77 @@ const EXACT_POWERS_OF_TEN: [f64; 23] = [
 
 /// [`format_scaled`] appended to `out`.
 fn format_scaled_into(out: &mut String, value: i64, decimals: u32, trailing: Trailing) {
-    // Written digit by digit (no `format!`): the writers format every coordinate.
-    if value < 0 {
-        out.push('-');
-    }
+    // Written digit by digit (no `format!`), into one buffer appended once: the writers
+    // format every coordinate.
     let abs = value.unsigned_abs();
     let scale = POWERS_OF_TEN
         .get(decimals as usize)
         .map_or_else(|| 10u64.pow(decimals), |&p| p as u64);
     let (whole, frac) = (abs / scale, abs % scale);
-    push_digits(out, whole, 1, false);
+    let mut buf = [0u8; 64];
+    let mut len = usize::from(value < 0);
+    buf[0] = b'-';
+    len = digits_into(&mut buf, len, whole, 1, false);
     if frac == 0 {
         match trailing {
             Trailing::None => {}
-            Trailing::Point => out.push('.'),
+            Trailing::Point => {
+                buf[len] = b'.';
+                len += 1;
+            }
             Trailing::All => {
-                out.push('.');
-                out.extend(std::iter::repeat_n('0', (decimals as usize).max(1)));
+                let zeros = (decimals as usize).max(1);
+                buf[len] = b'.';
+                buf[len + 1..len + 1 + zeros].fill(b'0');
+                len += 1 + zeros;
             }
         }
-        return;
+    } else {
+        buf[len] = b'.';
+        len = digits_into(
+            &mut buf,
+            len + 1,
+            frac,
+            decimals as usize,
+            trailing != Trailing::All,
+        );
     }
-    out.push('.');
-    push_digits(out, frac, decimals as usize, trailing != Trailing::All);
+    push_ascii(out, &buf[..len]);
+}
+
+/// Writes `n` in decimal into `buf` at `at`, with at least `width` digits (leading zeros),
+/// without its trailing zeros when `trim` is set; where it ends.
+fn digits_into(buf: &mut [u8; 64], at: usize, mut n: u64, width: usize, trim: bool) -> usize {
+    let mut digits = [b'0'; 20];
+    let mut start = digits.len();
+    while n > 0 || digits.len() - start < width {
+        start -= 1;
+        digits[start] = b'0' + (n % 10) as u8;
+        n /= 10;
+    }
+    let mut end = digits.len();
+    while trim && end > start + 1 && digits[end - 1] == b'0' {
+        end -= 1;
+    }
+    let len = end - start;
+    buf[at..at + len].copy_from_slice(&digits[start..end]);
+    at + len
+}
+
+/// Appends ASCII bytes (digits, a sign, a point) to `out`.
+fn push_ascii(out: &mut String, bytes: &[u8]) {
+    // The check cannot fail, and is quicker than a char at a time.
+    if let Ok(text) = std::str::from_utf8(bytes) {
+        out.push_str(text);
+    }
 }
 
 /// Appends `n` in decimal with at least `width` digits (leading zeros), without its trailing
 /// zeros when `trim` is set.
-fn push_digits(out: &mut String, mut n: u64, width: usize, trim: bool) {
-    let mut buf = [b'0'; 20];
-    let mut start = buf.len();
-    while n > 0 || buf.len() - start < width {
-        start -= 1;
-        buf[start] = b'0' + (n % 10) as u8;
-        n /= 10;
-    }
-    let mut end = buf.len();
-    while trim && end > start + 1 && buf[end - 1] == b'0' {
-        end -= 1;
-    }
-    // Digits are ASCII: the check cannot fail, and is quicker than a char at a time.
-    if let Ok(digits) = std::str::from_utf8(&buf[start..end]) {
-        out.push_str(digits);
-    }
+fn push_digits(out: &mut String, n: u64, width: usize, trim: bool) {
+    let mut buf = [0u8; 64];
+    let len = digits_into(&mut buf, 0, n, width, trim);
+    push_ascii(out, &buf[..len]);
 }
 
 /// `n` in decimal appended to `out` (as `write!(out, "{n}")` writes it, without the
