@@ -9,6 +9,15 @@ use crate::ir::ItemKind;
 use crate::profile::BlockDelete;
 use crate::source::Line;
 
+/// The line's comments as one, taken from it (a line's one comment is moved, not copied).
+fn joined(comments: &mut Vec<String>) -> String {
+    if comments.len() == 1 {
+        comments.pop().unwrap_or_default()
+    } else {
+        comments.join("; ")
+    }
+}
+
 /// A block's copy that its words' values are evaluated into (without its expressions,
 /// settings and O-word, which stay in the block read).
 pub(super) fn evaluated_copy(source: &Block) -> Block {
@@ -93,7 +102,7 @@ impl FrontEnd<'_> {
         if self.modal_state(line, &block, params) {
             return;
         }
-        self.line_items(line, &block, params);
+        self.line_items(line, &mut block, params);
     }
 
     /// A line that starts with `/`: skipped when the block delete switch is on (true; the
@@ -131,14 +140,14 @@ impl FrontEnd<'_> {
 
     /// The line's items: a `%` delimiter, a line of comments only, or its block; stamped
     /// with the line's number and comment.
-    fn line_items(&mut self, line: Line<'_>, block: &Block, params: &mut control::Params) {
+    fn line_items(&mut self, line: Line<'_>, block: &mut Block, params: &mut control::Params) {
         let first = self.r.items.len();
         let span = self.r.src.line_span(line);
         if block.delimiter {
             self.push(ItemKind::Delimiter, span);
         } else if block.is_empty() {
             if !block.comments.is_empty() {
-                self.push(ItemKind::Comment(block.comments.join("; ")), span);
+                self.push(ItemKind::Comment(joined(&mut block.comments)), span);
             }
             return;
         } else {
@@ -146,7 +155,7 @@ impl FrontEnd<'_> {
             params.numbered[5210] = self.offset_params[0];
         }
         // A line whose words made no item (G21, G90…) keeps its comment as an item.
-        let comment = (!block.comments.is_empty()).then(|| block.comments.join("; "));
+        let comment = (!block.comments.is_empty()).then(|| joined(&mut block.comments));
         if self.cycle_call.is_some() {
             // The comment stays on the cycle's rapid, if it made one.
             let pushed = self.r.items.len() > first;
