@@ -538,9 +538,23 @@ impl<'s> Follow<'s> {
 /// A line read into a block (an empty one past the file's end).
 fn parse(line: Option<Line<'_>>) -> ReadLine {
     let text = line.map_or("", |l| l.text);
-    memchr::memchr(0, text.as_bytes())
-        .is_none()
-        .then(|| syntax::parse_line(text))
+    (!has_nul(text)).then(|| syntax::parse_line(text))
+}
+
+/// Whether a line holds a NUL: a short line looked at eight bytes at a time (a vector
+/// search's setup is most of its cost on a line of a program), a long one searched.
+fn has_nul(text: &str) -> bool {
+    let bytes = text.as_bytes();
+    if bytes.len() > 64 {
+        return memchr::memchr(0, bytes).is_some();
+    }
+    let mut words = bytes.chunks_exact(8);
+    let zero_in = |x: u64| x.wrapping_sub(0x0101_0101_0101_0101) & !x & 0x8080_8080_8080_8080 != 0;
+    words.by_ref().any(|w| {
+        let mut word = [0; 8];
+        word.copy_from_slice(w);
+        zero_in(u64::from_le_bytes(word))
+    }) || words.remainder().contains(&0)
 }
 
 /// `v.partition_point(below)` for a `v` sorted by it, tried first at `hint` and one past it.
@@ -798,8 +812,9 @@ pub fn load_externals(
         let mut defined = std::collections::HashSet::new();
         let mut calls = Vec::new();
         for line in file.lines() {
-            if line.text.contains('\0')
-                || !matches!(line.text.trim_start().as_bytes().first(), Some(b'o' | b'O'))
+            // An O-word line first (few are), then without a NUL.
+            if !matches!(line.text.trim_start().as_bytes().first(), Some(b'o' | b'O'))
+                || has_nul(line.text)
             {
                 continue;
             }
@@ -1028,6 +1043,24 @@ pub fn eval_error(line: usize, e: EvalError) -> StructureError {
 mod tests {
     use super::*;
     use crate::dialect::iso::syntax::parse_line;
+
+    #[test]
+    fn a_nul_is_found_wherever_it_stands() {
+        for len in 0..80 {
+            for filler in ['a', '\u{1}', '\u{80}', 'ÿ'] {
+                let text: String = std::iter::repeat_n(filler, len).collect();
+                assert!(!has_nul(&text), "{len} {filler:?}");
+                for at in 0..text.chars().count() {
+                    let with: String = text
+                        .chars()
+                        .enumerate()
+                        .map(|(i, c)| if i == at { '\0' } else { c })
+                        .collect();
+                    assert!(has_nul(&with), "{len} {filler:?} @{at}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn a_hinted_partition_point_is_the_partition_point() {
