@@ -401,6 +401,11 @@ pub fn looks_like_oword(text: &str) -> bool {
 /// Whether a line may hold an O-word: an `o` outside its comments (`( )`, and `;` to the
 /// line's end). A comment line (a converted program's pass headings) is not read up front.
 pub fn may_hold_oword(text: &str) -> bool {
+    // Most lines hold no `o` at all: told eight bytes at a time (the run asks it of every
+    // line of a text read as it comes).
+    if !has_byte(text, |word| word | 0x2020_2020_2020_2020, b'o') {
+        return false;
+    }
     let mut in_comment = false;
     for b in text.bytes() {
         match b {
@@ -544,17 +549,34 @@ fn parse(line: Option<Line<'_>>) -> ReadLine {
 /// Whether a line holds a NUL: a short line looked at eight bytes at a time (a vector
 /// search's setup is most of its cost on a line of a program), a long one searched.
 fn has_nul(text: &str) -> bool {
-    let bytes = text.as_bytes();
-    if bytes.len() > 64 {
-        return memchr::memchr(0, bytes).is_some();
+    if text.len() > 64 {
+        return memchr::memchr(0, text.as_bytes()).is_some();
     }
+    has_byte(text, |word| word, 0)
+}
+
+/// Whether a byte of `text` is `byte` once `fold` has made it (`fold` maps each byte of an
+/// eight-byte word alone, as `| 0x20` folds case): eight bytes at a time.
+fn has_byte(text: &str, fold: impl Fn(u64) -> u64, byte: u8) -> bool {
+    let bytes = text.as_bytes();
+    let pattern = u64::from_le_bytes([byte; 8]);
+    // A zero byte where the folded word has `byte` (the test is exact for "any").
+    let found = |word: u64| {
+        let x = fold(word) ^ pattern;
+        x.wrapping_sub(0x0101_0101_0101_0101) & !x & 0x8080_8080_8080_8080 != 0
+    };
     let mut words = bytes.chunks_exact(8);
-    let zero_in = |x: u64| x.wrapping_sub(0x0101_0101_0101_0101) & !x & 0x8080_8080_8080_8080 != 0;
     words.by_ref().any(|w| {
         let mut word = [0; 8];
         word.copy_from_slice(w);
-        zero_in(u64::from_le_bytes(word))
-    }) || words.remainder().contains(&0)
+        found(u64::from_le_bytes(word))
+    }) || {
+        let mut last = [0xff; 8];
+        let rest = words.remainder();
+        last[..rest.len()].copy_from_slice(rest);
+        // The padding (0xff, folded 0xff) is never `byte`: both callers look for ASCII.
+        found(u64::from_le_bytes(last))
+    }
 }
 
 /// `v.partition_point(below)` for a `v` sorted by it, tried first at `hint` and one past it.
@@ -1057,6 +1079,30 @@ mod tests {
                         .map(|(i, c)| if i == at { '\0' } else { c })
                         .collect();
                     assert!(has_nul(&with), "{len} {filler:?} @{at}");
+                    for o in ['o', 'O'] {
+                        let with: String = text
+                            .chars()
+                            .enumerate()
+                            .map(|(i, c)| if i == at { o } else { c })
+                            .collect();
+                        assert!(may_hold_oword(&with), "{len} {filler:?} {o} @{at}");
+                        let in_comment = format!("({with})");
+                        assert!(!may_hold_oword(&in_comment), "{in_comment:?}");
+                    }
+                }
+                // Bytes that fold near an `o` are not one.
+                for near in [
+                    'n',
+                    'p',
+                    'N',
+                    'P',
+                    '/',
+                    '\u{ef}',
+                    '\u{4f}'.to_ascii_lowercase(),
+                ] {
+                    let with = format!("{text}{near}");
+                    let expected = near.eq_ignore_ascii_case(&'o');
+                    assert_eq!(may_hold_oword(&with), expected, "{with:?}");
                 }
             }
         }
