@@ -361,6 +361,24 @@ pub fn to_decimal(v: f64) -> Option<crate::fixed::Decimal> {
     if !v.is_finite() || v.abs() >= 1e15 {
         return None;
     }
+    // The common value (a computed coordinate, `30 - 2 · 0.25`) is the double nearest a
+    // number of four decimals: below 1024 it lies within half an ulp (< 10⁻¹³) of it, so
+    // that `{v:.12}` writes that number's digits; made without formatting and parsing.
+    if v.abs() < 1024.0 {
+        let m = crate::fixed::round_half_away(v * 1e4);
+        if m / 1e4 == v {
+            let (mut mantissa, mut scale) = (m as i128, 4);
+            while scale > 0 && mantissa % 10 == 0 {
+                mantissa /= 10;
+                scale -= 1;
+            }
+            return Some(crate::fixed::Decimal {
+                mantissa,
+                scale,
+                has_point: true,
+            });
+        }
+    }
     let text = format!("{v:.12}");
     let text = text.trim_end_matches('0');
     crate::fixed::Decimal::parse(text)
@@ -460,5 +478,34 @@ mod tests {
             "-0.333333333333"
         );
         assert!(to_decimal(f64::NAN).is_none());
+        // Formatted and read back, as the values a program computes, in and out of the
+        // quick path.
+        let by_text = |v: f64| {
+            let text = format!("{v:.12}");
+            crate::fixed::Decimal::parse(text.trim_end_matches('0'))
+        };
+        let mut values: Vec<f64> = (-20_000..=20_000).map(|k| f64::from(k) * 0.0125).collect();
+        values.extend((0..2_000).map(|k| 30.0 - f64::from(k) * 0.25));
+        values.extend((-300..=300).map(|k| f64::from(k) / 3.0));
+        values.extend([
+            0.0,
+            -0.0,
+            1e-13,
+            -1e-13,
+            0.00005,
+            1023.9999,
+            1024.0,
+            1024.0001,
+            999.99995,
+            0.1 + 0.2,
+            -1023.99995,
+            5e-5,
+            4.99999e-5,
+            1e14,
+            -1e14,
+        ]);
+        for v in values {
+            assert_eq!(to_decimal(v), by_text(v), "{v:e}");
+        }
     }
 }
