@@ -542,8 +542,13 @@ impl<'s> Follow<'s> {
 
 /// A line read into a block (an empty one past the file's end).
 fn parse(line: Option<Line<'_>>) -> ReadLine {
+    parse_into(line, Vec::new())
+}
+
+/// [`parse`], the words put into `words` (empty).
+fn parse_into(line: Option<Line<'_>>, words: Vec<syntax::Word>) -> ReadLine {
     let text = line.map_or("", |l| l.text);
-    (!has_nul(text)).then(|| syntax::parse_line(text))
+    (!has_nul(text)).then(|| syntax::parse_line_into(text, words))
 }
 
 /// Whether a line holds a NUL: a short line looked at eight bytes at a time (a vector
@@ -734,17 +739,23 @@ impl<'s> FileRun<'s> {
 
     /// Line `i` read into a block; `None` when it holds a NUL.
     pub fn block(&self, i: usize) -> Got<'_> {
-        self.block_with(i, || self.get_line(i))
+        self.block_with(i, || self.get_line(i), &mut Vec::new())
     }
 
     /// [`Self::block`] of line `i`, which is `line` (the run has it at hand: finding it
-    /// again costs a search of the text's line index).
-    pub fn block_of(&self, i: usize, line: Line<'s>) -> Got<'_> {
-        self.block_with(i, || Some(line))
+    /// again costs a search of the text's line index); a line read for this run alone takes
+    /// its words' room from `spare` (an earlier line's: no allocation a line).
+    pub fn block_of(&self, i: usize, line: Line<'s>, spare: &mut Vec<syntax::Word>) -> Got<'_> {
+        self.block_with(i, || Some(line), spare)
     }
 
     /// Line `i` read into a block, its text from `line` when it must be read.
-    fn block_with(&self, i: usize, line: impl FnOnce() -> Option<Line<'s>>) -> Got<'_> {
+    fn block_with(
+        &self,
+        i: usize,
+        line: impl FnOnce() -> Option<Line<'s>>,
+        spare: &mut Vec<syntax::Word>,
+    ) -> Got<'_> {
         let (hint, body_hint) = self.hints.get();
         let at = partition_from(&self.read, hint, |r| r.0 < i);
         self.hints.set((at, body_hint));
@@ -762,7 +773,7 @@ impl<'s> FileRun<'s> {
                 kept.insert(i, read.clone());
                 Got::Shared(read)
             }
-            None => Got::Owned(parse(line())),
+            None => Got::Owned(parse_into(line(), std::mem::take(spare))),
         }
     }
 

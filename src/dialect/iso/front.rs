@@ -83,6 +83,8 @@ struct ProgramZ {
 }
 
 struct FrontEnd<'a> {
+    /// The room of the last line's words, for the next line read ([`FrontEnd::line`]).
+    spare_words: Vec<syntax::Word>,
     r: Reader<'a>,
     options: &'a Options,
     motion: Option<Motion>,

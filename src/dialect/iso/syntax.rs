@@ -9,7 +9,9 @@ use super::expr::{Expr, ExprKind, Func, Op, Param};
 use crate::fixed::Decimal;
 
 mod fast;
+#[cfg(test)]
 use fast::fast_line;
+use fast::fast_line_into;
 
 #[derive(Parser)]
 #[grammar = "../grammar/iso.pest"]
@@ -292,10 +294,15 @@ pub fn comment_error(line: &str) -> Option<SyntaxError> {
 
 /// Parses one line (without its line ending).
 pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
+    parse_line_into(line, Vec::new())
+}
+
+/// [`parse_line`], its words put into `words` (empty: the room of a line read before).
+pub fn parse_line_into(line: &str, words: Vec<Word>) -> Result<Block, SyntaxError> {
     if let Some(e) = too_long(line) {
         return Err(e);
     }
-    match fast_line(line) {
+    match fast_line_into(line, words) {
         Some(block) => Ok(block),
         None => parse_with_grammar(line),
     }
@@ -870,6 +877,13 @@ mod tests {
             if let Some(fast) = fast_line(line) {
                 assert_eq!(Ok(fast), grammar, "{line:?}");
             }
+            // Into the room an earlier line's words left: the same block.
+            let room = Vec::with_capacity(8);
+            assert_eq!(
+                parse_line_into(line, room),
+                parse_line(line),
+                "{line:?} (into room)"
+            );
         }
         for line in &lines[..13] {
             assert!(fast_line(line).is_some(), "the fast path declines {line:?}");

@@ -9,6 +9,10 @@ use crate::ir::ItemKind;
 use crate::profile::BlockDelete;
 use crate::source::Line;
 
+/// The most words a line's room kept for the next line may have room for (a line of many
+/// words does not keep its room).
+const SPARE_WORDS: usize = 16;
+
 /// The line's comments as one, taken from it (a line's one comment is moved, not copied).
 fn joined(comments: &mut Vec<String>) -> String {
     if comments.len() == 1 {
@@ -72,7 +76,25 @@ impl FrontEnd<'_> {
         let Some((source, mut block)) = evaluated_block(parsed) else {
             return;
         };
-        if self.block_deleted(line, &mut block) {
+        self.evaluated_line(line, source, &mut block, params);
+        // The room of its words is the next line's.
+        let mut words = std::mem::take(&mut block.words);
+        if words.capacity() <= SPARE_WORDS {
+            words.clear();
+            self.spare_words = words;
+        }
+    }
+
+    /// [`FrontEnd::line`] of the line's block to evaluate (`source`: the block as read, when
+    /// it has expressions or settings).
+    fn evaluated_line(
+        &mut self,
+        line: Line<'_>,
+        source: Option<control::Got<'_>>,
+        block: &mut Block,
+        params: &mut control::Params,
+    ) {
+        if self.block_deleted(line, block) {
             return;
         }
         if let Some(Some(Ok(source))) = source.as_deref()
@@ -96,13 +118,13 @@ impl FrontEnd<'_> {
         ];
         // A line of a roughing cycle's contour: only its shape counts.
         if self.contour.is_some() {
-            self.contour_line(line, &block);
+            self.contour_line(line, block);
             return;
         }
-        if self.modal_state(line, &block, params) {
+        if self.modal_state(line, block, params) {
             return;
         }
-        self.line_items(line, &mut block, params);
+        self.line_items(line, block, params);
     }
 
     /// A line that starts with `/`: skipped when the block delete switch is on (true; the

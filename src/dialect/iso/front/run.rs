@@ -117,6 +117,7 @@ impl<'a> FrontEnd<'a> {
     /// The reader before the program's first line: LinuxCNC's start-up modes.
     fn new<'k: 'a>(src: &'a SourceFile, options: &'a Options, keep: Keep<'k>) -> Self {
         FrontEnd {
+            spare_words: Vec::new(),
             r: Reader::new(src, super::super::ID, keep),
             options,
             motion: None,
@@ -314,7 +315,7 @@ impl<'a> FrontEnd<'a> {
         // Nothing looks back past the line being read.
         self.r.line_read();
         let items_before = self.r.items.len();
-        let block = run.block_of(here, line);
+        let block = run.block_of(here, line, &mut self.spare_words);
         let oword = match &*block {
             Some(Ok(b)) => b.oword.as_deref(),
             _ => None,

@@ -15,10 +15,19 @@ use crate::fixed::Decimal;
 
 /// A line of words, comments, settings or one O-word, as the grammar reads it; `None` when
 /// the grammar may read it otherwise.
+#[cfg(test)]
 pub(super) fn fast_line(line: &str) -> Option<Block> {
+    fast_line_into(line, Vec::new())
+}
+
+/// [`fast_line`], its words put into `words` (empty: the room of a line read before).
+pub(super) fn fast_line_into(line: &str, words: Vec<Word>) -> Option<Block> {
     let mut c = Cursor::new(line);
     c.skip(blank_tab_or_cr);
-    let mut block = Block::default();
+    let mut block = Block {
+        words,
+        ..Block::default()
+    };
     if c.delimiter(blank_tab_or_cr)? {
         block.delimiter = true;
         return Some(block);
