@@ -377,7 +377,7 @@ mod tests {
                 }
             }
         }
-        let src = SourceFile::new("t", &lines.join("\n"));
+        let src = SourceFile::new("t", lines.join("\n"));
         let mut whole = 0;
         for line in src.lines() {
             let Ok(block) = crate::dialect::iso::syntax::parse_line(line.text) else {
