@@ -546,6 +546,8 @@ fn parse(line: Option<Line<'_>>) -> ReadLine {
 }
 
 /// [`parse`], the words put into `words` (empty).
+// Inlined: its answer, a block, is then made where the run holds it, not moved there.
+#[inline]
 fn parse_into(line: Option<Line<'_>>, words: Vec<syntax::Word>) -> ReadLine {
     let text = line.map_or("", |l| l.text);
     (!has_nul(text)).then(|| syntax::parse_line_into(text, words))
