@@ -625,7 +625,8 @@ impl Decimal {
         self.to_scaled_wide(decimals)
     }
 
-    /// [`Self::to_scaled`] of a value that needs more than an i32's digits or 10⁹.
+    /// [`Self::to_scaled`] of a value that needs more than an i32's digits or a factor over
+    /// 10⁹, or has more decimals than `decimals` (rounding is refused: too precise).
     #[inline(never)]
     fn to_scaled_wide(self, decimals: u32) -> Result<i64, NumberError> {
         const LIMIT: i128 = SCALED_LIMIT;

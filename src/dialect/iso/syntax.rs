@@ -299,7 +299,8 @@ pub fn parse_line(line: &str) -> Result<Block, SyntaxError> {
     parse_line_into(line, Vec::new())
 }
 
-/// [`parse_line`], its words put into `words` (empty: the room of a line read before).
+/// [`parse_line`], its words put into `words` (the room of a line read before; what it
+/// still holds is dropped).
 pub fn parse_line_into(line: &str, words: Vec<Word>) -> Result<Block, SyntaxError> {
     if let Some(e) = too_long(line) {
         return Err(e);
@@ -879,8 +880,10 @@ mod tests {
             if let Some(fast) = fast_line(line) {
                 assert_eq!(Ok(fast), grammar, "{line:?}");
             }
-            // Into the room an earlier line's words left: the same block.
-            let room = Vec::with_capacity(8);
+            // Into the room an earlier line's words left, even with those words still in it:
+            // the same block.
+            let room = parse_line("G1 X1 Z2 F3 K4 I5").map_or_else(|_| Vec::new(), |b| b.words);
+            assert_eq!(room.len(), 6);
             assert_eq!(
                 parse_line_into(line, room),
                 parse_line(line),

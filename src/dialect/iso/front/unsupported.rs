@@ -167,8 +167,9 @@ pub(super) fn m_meaning(code: i64) -> Meaning {
 }
 
 /// Whether ncthread reads all the line holds: nothing unread, no axis but X and Z, and only G
-/// and M codes it reads or keeps — the lines [`FrontEnd::unsupported`] reports nothing of, told
-/// in one look at each word (most lines; the look of each check took three).
+/// and M codes it reads or keeps — the lines [`FrontEnd::unsupported`] neither reports nor
+/// skips (it returns false), told in one look at each word (most lines; the look of each of
+/// its checks took three).
 fn reads_every_word(block: &Block) -> bool {
     block.unread.is_empty()
         && block.words.iter().all(|w| match w.letter {

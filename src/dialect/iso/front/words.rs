@@ -176,9 +176,7 @@ pub(super) struct Asks<'b> {
 }
 
 impl<'b> Asks<'b> {
-    /// Sorts the line's G and M codes by modal group, in one pass over them: a group's
-    /// code is the first of the line's codes in it, and of a pair (G94 / G95, …) the first
-    /// named wins (the line has one code of a group at most, [`FrontEnd::sort_words`]).
+    /// What the line's sorted words ask ([`Asks::fill`] of [`Asks::none`]).
     #[cfg(test)]
     pub(super) fn of(words: &Words<'b>) -> Self {
         let mut a = Asks::none();
@@ -216,8 +214,11 @@ impl<'b> Asks<'b> {
         }
     }
 
-    /// [`Asks::of`] into `self`, which asks nothing yet (filled where it stands: a block's
-    /// asks and words were moved a few hundred bytes each, a line).
+    /// Sorts the line's G and M codes by modal group into `self`, which asks nothing yet
+    /// ([`Asks::none`]), in one pass over them: a group's code is the first of the line's
+    /// codes in it, and of a pair (G94 / G95, …) the first named wins wherever it stands (the
+    /// line has one code of a group at most, [`FrontEnd::sort_words`]). Filled where it
+    /// stands: a block's asks and words were moved a few hundred bytes each, a line.
     pub(super) fn fill(&mut self, words: &Words<'b>) {
         fn first<T>(slot: &mut Option<T>, value: T) {
             if slot.is_none() {
@@ -502,14 +503,15 @@ mod tests {
     fn a_block_asks_what_a_look_per_group_finds() {
         let mut codes: Vec<(char, i64)> = [
             G0, G1, G2, G3, G4, G7, G8, G17, G18, G20, G21, G28, G28_1, G30, G30_1, G33, G33_1,
-            G40, G41, G42, G41_1, G42_1, G43, G49, G52, G53, G54, G55, G59_3, G61, G64, G70, G71,
-            G72_2, G73, G76, G80, G81, G89, G90, G91, G90_1, G91_1, G92, G92_3, G94, G95, G96, G97,
-            G98, G99,
+            G40, G41, G42, G41_1, G42_1, G43, G49, G52, G53, G54, G55, G56, G57, G58, G59, G59_1,
+            G59_2, G59_3, G61, G61_1, G64, G70, G71, G71_1, G71_2, G72, G72_1, G72_2, G73, G76,
+            G80, G81, G82, G83, G85, G89, G90, G91, G90_1, G91_1, G92, G92_1, G92_2, G92_3, G94,
+            G95, G96, G97, G98, G99,
         ]
         .into_iter()
         .map(|g| ('G', g))
         .collect();
-        codes.extend([0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 30, 60, 100, 150, 199].map(|m| ('M', m)));
+        codes.extend([0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 30, 60, 61, 100, 150, 199].map(|m| ('M', m)));
         let word = |i: usize| Word {
             letter: 'G',
             value: crate::fixed::Decimal::default(),
@@ -517,34 +519,30 @@ mod tests {
             expr: None,
         };
         let words: Vec<Word> = (0..3).map(word).collect();
-        let mut lines = 0;
-        // Every code alone, every pair and every triple of codes, in every order given.
-        for a in 0..codes.len() {
-            for b in a..codes.len() + 1 {
-                for c in [b, b + 1, b + 7, b + 13].map(|c| c.min(codes.len())) {
-                    let line: Vec<(char, i64)> = [
-                        Some(a),
-                        (b < codes.len()).then_some(b),
-                        (c < codes.len() && b < codes.len()).then_some(c),
-                    ]
-                    .into_iter()
-                    .flatten()
-                    .map(|i| codes[i])
-                    .collect();
-                    for order in [line.clone(), line.iter().rev().copied().collect()] {
-                        let mut sorted = Words::new();
-                        for (i, &(letter, code)) in order.iter().enumerate() {
-                            match letter {
-                                'G' => sorted.g.push((code, &words[i])),
-                                _ => sorted.m.push((code, &words[i])),
-                            }
-                        }
-                        assert_eq!(Asks::of(&sorted), of_by_groups(&sorted), "{order:?}");
-                        lines += 1;
-                    }
+        let n = codes.len();
+        // Every code alone, every pair in both orders, and each pair with a third code from
+        // across the list before, between and after it.
+        let mut lines: Vec<Vec<(char, i64)>> = codes.iter().map(|&c| vec![c]).collect();
+        for a in 0..n {
+            for b in 0..n {
+                lines.push(vec![codes[a], codes[b]]);
+                for c in [0, n / 5, n / 3, n / 2, 2 * n / 3, n - 1] {
+                    lines.push(vec![codes[c], codes[a], codes[b]]);
+                    lines.push(vec![codes[a], codes[c], codes[b]]);
+                    lines.push(vec![codes[a], codes[b], codes[c]]);
                 }
             }
         }
-        assert!(lines > 10_000, "{lines}");
+        for line in &lines {
+            let mut sorted = Words::new();
+            for (i, &(letter, code)) in line.iter().enumerate() {
+                match letter {
+                    'G' => sorted.g.push((code, &words[i])),
+                    _ => sorted.m.push((code, &words[i])),
+                }
+            }
+            assert_eq!(Asks::of(&sorted), of_by_groups(&sorted), "{line:?}");
+        }
+        assert!(lines.len() > 100_000, "{}", lines.len());
     }
 }

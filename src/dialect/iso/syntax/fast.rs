@@ -13,15 +13,17 @@ use crate::dialect::iso::expr::{Expr, ExprKind, Op, Param};
 use crate::dialect::lex::{Cursor, blank_tab_or_cr};
 use crate::fixed::Decimal;
 
-/// A line of words, comments, settings or one O-word, as the grammar reads it; `None` when
-/// the grammar may read it otherwise.
+/// [`fast_line_into`] into a new block.
 #[cfg(test)]
 pub(super) fn fast_line(line: &str) -> Option<Block> {
     fast_line_into(line, Vec::new())
 }
 
-/// [`fast_line`], its words put into `words` (empty: the room of a line read before).
-pub(super) fn fast_line_into(line: &str, words: Vec<Word>) -> Option<Block> {
+/// A line of words, comments, settings or one O-word, as the grammar reads it; `None` when
+/// the grammar may read it otherwise. Its words go into `words` (the room of a line read
+/// before; emptied first).
+pub(super) fn fast_line_into(line: &str, mut words: Vec<Word>) -> Option<Block> {
+    words.clear();
     let mut c = Cursor::new(line);
     c.skip(blank_tab_or_cr);
     let mut block = Block {
