@@ -545,7 +545,7 @@ fn parse(line: Option<Line<'_>>) -> ReadLine {
     parse_into(line, Vec::new())
 }
 
-/// [`parse`], the words put into `words` (empty).
+/// [`parse`], the words put into `words` (an earlier line's room, emptied first).
 // Inlined: its answer, a block, is then made where the run holds it, not moved there.
 #[inline]
 fn parse_into(line: Option<Line<'_>>, words: Vec<syntax::Word>) -> ReadLine {
