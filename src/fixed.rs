@@ -429,19 +429,17 @@ fn format_scaled(value: i64, decimals: u32, trailing: Trailing) -> String {
     out
 }
 
-/// 10⁰ to 10⁹, looked up rather than raised (a loop) for every word read and written.
-const POWERS_OF_TEN: [i64; 10] = [
-    1,
-    10,
-    100,
-    1_000,
-    10_000,
-    100_000,
-    1_000_000,
-    10_000_000,
-    100_000_000,
-    1_000_000_000,
-];
+/// 10⁰ to 10¹⁸ (the powers an i64 holds), looked up rather than raised (a loop) for every
+/// word read and written.
+pub(crate) const POWERS_OF_TEN: [i64; 19] = {
+    let mut p = [1; 19];
+    let mut i = 1;
+    while i < p.len() {
+        p[i] = p[i - 1] * 10;
+        i += 1;
+    }
+    p
+};
 
 /// The largest magnitude [`Decimal::to_scaled`] gives: well inside i64, so that later
 /// products (lead · length) cannot overflow.

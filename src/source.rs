@@ -741,6 +741,12 @@ impl LineStarts {
     }
 }
 
+/// The high bit of each zero byte of `x` (eight bytes at a time): none when it has none, and
+/// the lowest set bit marks the first (a bit above a true one may be false, none below it).
+pub(crate) fn zero_bytes(x: u64) -> u64 {
+    x.wrapping_sub(0x0101_0101_0101_0101) & !x & 0x8080_8080_8080_8080
+}
+
 /// Where the first line of `text` ends, its line end included.
 fn line_end(text: &str) -> usize {
     // Most program lines are short: a look at their first bytes, eight at a time, is quicker
@@ -753,8 +759,7 @@ fn line_end(text: &str) -> usize {
         word.copy_from_slice(chunk);
         // A zero byte where the word has a line feed: the lowest flagged byte is the first
         // line feed (a flag above a true one may be false; none below it is).
-        let x = u64::from_le_bytes(word) ^ 0x0A0A_0A0A_0A0A_0A0A;
-        let found = x.wrapping_sub(0x0101_0101_0101_0101) & !x & 0x8080_8080_8080_8080;
+        let found = zero_bytes(u64::from_le_bytes(word) ^ 0x0A0A_0A0A_0A0A_0A0A);
         if found != 0 {
             return i * 8 + (found.trailing_zeros() / 8) as usize + 1;
         }

@@ -567,11 +567,8 @@ fn has_nul(text: &str) -> bool {
 fn has_byte(text: &str, fold: impl Fn(u64) -> u64, byte: u8) -> bool {
     let bytes = text.as_bytes();
     let pattern = u64::from_le_bytes([byte; 8]);
-    // A zero byte where the folded word has `byte` (the test is exact for "any").
-    let found = |word: u64| {
-        let x = fold(word) ^ pattern;
-        x.wrapping_sub(0x0101_0101_0101_0101) & !x & 0x8080_8080_8080_8080 != 0
-    };
+    // A zero byte where the folded word has `byte`.
+    let found = |word: u64| crate::source::zero_bytes(fold(word) ^ pattern) != 0;
     let mut words = bytes.chunks_exact(8);
     words.by_ref().any(|w| {
         let mut word = [0; 8];

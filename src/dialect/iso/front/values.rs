@@ -3,19 +3,8 @@
 use super::super::syntax::Word;
 use super::FrontEnd;
 use crate::dialect::iso::codes;
-use crate::fixed::{Lead, Length, div_round};
+use crate::fixed::{Lead, Length, POWERS_OF_TEN, div_round};
 use crate::source::Line;
-
-/// 10⁰ to 10¹⁸, the powers of ten an i64 holds.
-const POWERS_OF_TEN: [i64; 19] = {
-    let mut p = [1; 19];
-    let mut i = 1;
-    while i < p.len() {
-        p[i] = p[i - 1] * 10;
-        i += 1;
-    }
-    p
-};
 
 impl FrontEnd<'_> {
     /// A length word in program units → a length on the grid: millimetres exact to 0.00001
